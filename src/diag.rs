@@ -1,0 +1,191 @@
+//! Located diagnostics shared by every front end (timed-game specs, SCT projects, …).
+//!
+//! A diagnostic carries a byte span into the source, the 1-based line and column of its start,
+//! a one-line message and optional notes. Front ends collect all diagnostics of a file instead of
+//! stopping at the first; the CLI renders them with the offending source line and a caret, the
+//! playground turns them into editor squiggles.
+
+use serde::Serialize;
+
+/// A half-open byte range `start..end` into the source text.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize)]
+pub struct Span {
+    pub start: u32,
+    pub end: u32,
+}
+
+impl Span {
+    pub fn new(start: usize, end: usize) -> Span {
+        Span { start: start as u32, end: end.max(start) as u32 }
+    }
+
+    /// The smallest span covering both.
+    pub fn to(self, other: Span) -> Span {
+        Span { start: self.start.min(other.start), end: self.end.max(other.end) }
+    }
+
+    pub fn range(self) -> std::ops::Range<usize> {
+        self.start as usize..self.end as usize
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Severity {
+    Error,
+    Warning,
+}
+
+/// One located message about the input.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Diagnostic {
+    pub severity: Severity,
+    pub span: Span,
+    /// 1-based line of `span.start`.
+    pub line: u32,
+    /// 1-based column of `span.start`, counted in characters.
+    pub column: u32,
+    pub message: String,
+    pub notes: Vec<String>,
+}
+
+impl Diagnostic {
+    pub fn is_error(&self) -> bool {
+        self.severity == Severity::Error
+    }
+}
+
+/// Maps byte offsets to line/column; built once per source.
+pub struct LineIndex<'a> {
+    source: &'a str,
+    line_starts: Vec<usize>,
+}
+
+impl<'a> LineIndex<'a> {
+    pub fn new(source: &'a str) -> LineIndex<'a> {
+        let mut line_starts = vec![0];
+        line_starts.extend(source.match_indices('\n').map(|(i, _)| i + 1));
+        LineIndex { source, line_starts }
+    }
+
+    /// 1-based (line, column) of a byte offset; offsets inside a UTF-8 sequence are rounded down.
+    pub fn line_col(&self, offset: usize) -> (u32, u32) {
+        let offset = offset.min(self.source.len());
+        let line = self.line_starts.partition_point(|&s| s <= offset) - 1;
+        let start = self.line_starts[line];
+        let mut end = offset;
+        while !self.source.is_char_boundary(end) {
+            end -= 1;
+        }
+        let column = self.source[start..end].chars().count() + 1;
+        (line as u32 + 1, column as u32)
+    }
+
+    /// The text of a 1-based line without its line break.
+    pub fn line_text(&self, line: u32) -> &'a str {
+        let i = (line as usize).saturating_sub(1).min(self.line_starts.len() - 1);
+        let start = self.line_starts[i];
+        let end = self.line_starts.get(i + 1).copied().unwrap_or(self.source.len());
+        self.source[start..end].trim_end_matches(['\n', '\r'])
+    }
+}
+
+/// Collects diagnostics for one source, computing line and column as they are added.
+pub struct Diagnostics<'a> {
+    index: LineIndex<'a>,
+    pub items: Vec<Diagnostic>,
+}
+
+impl<'a> Diagnostics<'a> {
+    pub fn new(source: &'a str) -> Diagnostics<'a> {
+        Diagnostics { index: LineIndex::new(source), items: Vec::new() }
+    }
+
+    pub fn error(&mut self, span: Span, message: impl Into<String>) -> &mut Diagnostic {
+        self.push(Severity::Error, span, message.into())
+    }
+
+    pub fn warning(&mut self, span: Span, message: impl Into<String>) -> &mut Diagnostic {
+        self.push(Severity::Warning, span, message.into())
+    }
+
+    fn push(&mut self, severity: Severity, span: Span, message: String) -> &mut Diagnostic {
+        let (line, column) = self.index.line_col(span.start as usize);
+        self.items.push(Diagnostic { severity, span, line, column, message, notes: Vec::new() });
+        self.items.last_mut().expect("just pushed")
+    }
+
+    pub fn has_errors(&self) -> bool {
+        self.items.iter().any(Diagnostic::is_error)
+    }
+
+    pub fn line_col(&self, offset: usize) -> (u32, u32) {
+        self.index.line_col(offset)
+    }
+}
+
+impl Diagnostic {
+    pub fn with_note(&mut self, note: impl Into<String>) -> &mut Diagnostic {
+        self.notes.push(note.into());
+        self
+    }
+}
+
+/// Renders diagnostics as plain text: `file:line:col: error: message`, the source line and a
+/// caret under the span. Used by the CLI and by tests; the page renders its own squiggles.
+pub fn render_plain(file: &str, source: &str, diagnostics: &[Diagnostic]) -> String {
+    let index = LineIndex::new(source);
+    let mut out = String::new();
+    for d in diagnostics {
+        let kind = match d.severity {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+        };
+        out.push_str(&format!("{file}:{}:{}: {kind}: {}\n", d.line, d.column, d.message));
+        let text = index.line_text(d.line);
+        let gutter = d.line.to_string();
+        out.push_str(&format!("{gutter} | {text}\n"));
+        let line_start = source[..d.span.start as usize].rfind('\n').map_or(0, |i| i + 1);
+        let line_end = line_start + text.len();
+        let end = (d.span.end as usize).clamp(d.span.start as usize, line_end);
+        let width = source.get(d.span.start as usize..end).map_or(1, |s| s.chars().count()).max(1);
+        out.push_str(&format!(
+            "{} | {}{}\n",
+            " ".repeat(gutter.len()),
+            " ".repeat(d.column as usize - 1),
+            "^".repeat(width)
+        ));
+        for note in &d.notes {
+            out.push_str(&format!("{} = note: {note}\n", " ".repeat(gutter.len())));
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn line_col_counts_characters_from_one() {
+        let src = "ab\ncdé\nf";
+        let idx = LineIndex::new(src);
+        assert_eq!(idx.line_col(0), (1, 1));
+        assert_eq!(idx.line_col(3), (2, 1));
+        assert_eq!(idx.line_col(7), (2, 4)); // after the two-byte é
+        assert_eq!(idx.line_text(2), "cdé");
+        assert_eq!(idx.line_col(src.len()), (3, 2));
+    }
+
+    #[test]
+    fn render_shows_source_line_and_caret() {
+        let src = "plant {\n  automaton A { nodes q0; q0 -> q9 ?a; }\n}\n";
+        let start = src.find("q9").unwrap();
+        let mut diags = Diagnostics::new(src);
+        diags.error(Span::new(start, start + 2), "unknown node `q9`");
+        let text = render_plain("x.tga", src, &diags.items);
+        assert!(text.starts_with("x.tga:2:33: error: unknown node `q9`\n"), "{text}");
+        assert!(text.contains("2 |   automaton A { nodes q0; q0 -> q9 ?a; }\n"));
+        assert!(text.contains("  |                                 ^^\n"), "{text}");
+    }
+}

@@ -1,0 +1,12 @@
+//! plcsynth: correct-by-construction PLC programs synthesised from specifications.
+//!
+//! The engines do no I/O and know nothing of the browser:
+//! - [`zone`]: difference bound matrices (clock zones);
+//! - [`timed`]: the timed-game engine of Peter (2005): specification language, timed game
+//!   automata, precomputation and the on-the-fly safety-game solver.
+//!
+//! [`diag`] holds the located diagnostics every front end reports.
+
+pub mod diag;
+pub mod timed;
+pub mod zone;

@@ -1,0 +1,1 @@
+//! Difference bound matrices (clock zones). Implementation in progress.
