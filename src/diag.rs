@@ -122,6 +122,11 @@ impl<'a> Diagnostics<'a> {
     pub fn line_col(&self, offset: usize) -> (u32, u32) {
         self.index.line_col(offset)
     }
+
+    /// The source text the spans refer to.
+    pub fn source(&self) -> &'a str {
+        self.index.source
+    }
 }
 
 impl Diagnostic {

@@ -1,1 +1,38 @@
 //! The timed-game engine (Peter 2005, chapters 2–5).
+//!
+//! Pipeline: [`parse`] (syntax, all diagnostics) → [`compile`] (semantic check, game model) →
+//! `precompute` (clock usage, unique choice intervals) → `solve` (forward exploration with
+//! reverse fail-state removal).
+
+pub mod ast;
+pub mod check;
+pub mod lexer;
+pub mod model;
+pub mod parser;
+
+use crate::diag::{Diagnostic, Diagnostics};
+
+/// A parsed specification with every syntax diagnostic.
+pub struct Parsed {
+    pub spec: ast::Spec,
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// Parses a `.tga` source; never fails, never panics: problems are in `diagnostics`.
+pub fn parse(source: &str) -> Parsed {
+    let mut diags = Diagnostics::new(source);
+    let spec = parser::parse(source, &mut diags);
+    Parsed { spec, diagnostics: diags.items }
+}
+
+/// Parses and checks a `.tga` source. On success returns the game and the warnings; otherwise
+/// every diagnostic (syntax errors first, then semantic ones when the syntax was sound enough).
+pub fn compile(source: &str) -> Result<(model::Game, Vec<Diagnostic>), Vec<Diagnostic>> {
+    let mut diags = Diagnostics::new(source);
+    let spec = parser::parse(source, &mut diags);
+    let game = check::check(&spec, &mut diags);
+    match game {
+        Some(game) if !diags.has_errors() => Ok((game, diags.items)),
+        _ => Err(diags.items),
+    }
+}

@@ -1,0 +1,223 @@
+//! The timed game built from a checked specification (Peter 2005, chapter 3 and 4.3).
+//!
+//! Hardware and operator units are already expanded into automata (4.3.2, 4.3.3); plans are
+//! plan automata (algorithm 4) whose `reset` commands are folded into the transitions that
+//! reach them; conditions are resolved to sets of locations. Names are kept for display only:
+//! everything else refers to dense indices.
+
+use super::ast::{Interval, IoTarget, MessageKind};
+use crate::diag::Span;
+use serde::Serialize;
+
+pub type ClockId = u32;
+pub type MsgId = u32;
+pub type CompId = u32;
+pub type LocId = u32;
+
+/// The complete game: plant components, plans, safety predicate, guards and side information.
+#[derive(Clone, Debug, Serialize)]
+pub struct Game {
+    /// Milliseconds per clock time unit (`timeunit`, default 1 s).
+    pub timeunit_ms: u64,
+    /// Index 0 is the reference clock of the zones; real clocks start at 1.
+    pub clocks: Vec<Clock>,
+    pub messages: Vec<Message>,
+    pub components: Vec<Automaton>,
+    pub plans: Vec<PlanAutomaton>,
+    /// Every rule must hold in every reachable state (4.3.4).
+    pub assertions: Vec<AssertionRule>,
+    pub guards: Vec<GuardRule>,
+    pub dependencies: Vec<DependencyRule>,
+    pub io: Vec<IoBinding>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Clock {
+    /// Qualified name: `unit.clock` or `plan1.timeout`.
+    pub name: String,
+    pub owner: ClockOwner,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(tag = "kind", content = "index", rename_all = "lowercase")]
+pub enum ClockOwner {
+    Reference,
+    Component(CompId),
+    Plan(u32),
+}
+
+/// What a message is to the controller.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MessageRole {
+    /// Sent by the controller (`?`): an output of the PLC.
+    Request,
+    /// Sent by the plant (`!`): an input of the PLC.
+    Reaction,
+    /// A state-guard condition (4.2.1): an input of the PLC.
+    Guard,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Message {
+    pub name: String,
+    pub role: MessageRole,
+    /// The one component that sends it with `?` or `!` (none for guard messages).
+    pub sender: Option<CompId>,
+    /// Components that take a `$` transition on it.
+    pub synchronised: Vec<CompId>,
+}
+
+/// Where a plant component came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ComponentOrigin {
+    Automaton,
+    Hardware,
+    Operator,
+}
+
+/// A timed game automaton of the plant.
+#[derive(Clone, Debug, Serialize)]
+pub struct Automaton {
+    pub name: String,
+    pub origin: ComponentOrigin,
+    pub locations: Vec<Location>,
+    pub initial: LocId,
+    pub clocks: Vec<ClockId>,
+    pub edges: Vec<Edge>,
+    pub span: Span,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Location {
+    pub name: String,
+    pub invariant: Vec<ClockInterval>,
+}
+
+/// `clock ∈ interval`; guards and invariants are conjunctions of these.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct ClockInterval {
+    pub clock: ClockId,
+    pub interval: Interval,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Edge {
+    pub from: LocId,
+    pub to: LocId,
+    pub kind: MessageKind,
+    pub message: MsgId,
+    pub guard: Vec<ClockInterval>,
+    pub resets: Vec<ClockId>,
+    pub instant: bool,
+    pub span: Span,
+}
+
+/// A plan automaton (3.2, algorithm 4). Location `failed` is a sink; every other location waits
+/// for messages, and fails when a timeout clock exceeds its bound.
+#[derive(Clone, Debug, Serialize)]
+pub struct PlanAutomaton {
+    pub name: String,
+    pub locations: Vec<PlanLocation>,
+    pub initial: LocId,
+    pub failed: LocId,
+    /// Timeout clocks and their bounds: the plan fails as soon as a clock exceeds its bound.
+    pub clocks: Vec<(ClockId, u32)>,
+    pub edges: Vec<PlanEdge>,
+    pub span: Span,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct PlanLocation {
+    pub name: String,
+    pub span: Span,
+}
+
+/// Observing `message` in `from` moves the plan to `to`, resetting the clocks of the `reset`
+/// commands passed on the way.
+#[derive(Clone, Debug, Serialize)]
+pub struct PlanEdge {
+    pub from: LocId,
+    pub message: MsgId,
+    pub to: LocId,
+    pub resets: Vec<ClockId>,
+}
+
+/// A predicate over the current locations of the plant components.
+#[derive(Clone, Debug, Serialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum Pred {
+    Const { value: bool },
+    /// Component `comp` is in one of `locations`.
+    At { comp: CompId, locations: Vec<LocId> },
+    Not { operand: Box<Pred> },
+    And { left: Box<Pred>, right: Box<Pred> },
+    Or { left: Box<Pred>, right: Box<Pred> },
+}
+
+impl Pred {
+    /// Evaluates on a vector holding one location per plant component.
+    pub fn eval(&self, locations: &[LocId]) -> bool {
+        match self {
+            Pred::Const { value } => *value,
+            Pred::At { comp, locations: set } => set.contains(&locations[*comp as usize]),
+            Pred::Not { operand } => !operand.eval(locations),
+            Pred::And { left, right } => left.eval(locations) && right.eval(locations),
+            Pred::Or { left, right } => left.eval(locations) || right.eval(locations),
+        }
+    }
+}
+
+/// An assertion: `holds` must be true in every state of a winning strategy.
+#[derive(Clone, Debug, Serialize)]
+pub struct AssertionRule {
+    pub holds: Pred,
+    /// The assertion as written, for explanations.
+    pub text: String,
+    pub span: Span,
+}
+
+/// Entering a state satisfying `cond` by a controller request requires `message` (4.2.1).
+#[derive(Clone, Debug, Serialize)]
+pub struct GuardRule {
+    pub cond: Pred,
+    pub message: MsgId,
+    pub text: String,
+    pub span: Span,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(tag = "kind", content = "message", rename_all = "lowercase")]
+pub enum DependsOn {
+    Time,
+    Message(MsgId),
+}
+
+/// `message dependson …` (4.1.5): used by the optimiser of the code generator.
+#[derive(Clone, Debug, Serialize)]
+pub struct DependencyRule {
+    pub message: MsgId,
+    pub on: Vec<DependsOn>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct IoBinding {
+    pub message: MsgId,
+    pub target: IoTarget,
+}
+
+impl Game {
+    pub fn message_id(&self, name: &str) -> Option<MsgId> {
+        self.messages.iter().position(|m| m.name == name).map(|i| i as MsgId)
+    }
+
+    pub fn component_id(&self, name: &str) -> Option<CompId> {
+        self.components.iter().position(|c| c.name == name).map(|i| i as CompId)
+    }
+
+    /// Number of zone indices: the reference clock plus every real clock.
+    pub fn dim(&self) -> usize {
+        self.clocks.len()
+    }
+}

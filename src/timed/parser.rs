@@ -1,0 +1,732 @@
+//! Recursive-descent parser for `.tga` specifications.
+//!
+//! Keywords are contextual (see `lexer`). On a syntax error the parser reports it and skips to
+//! the end of the statement (`;`) or of the enclosing block (`}`), so one run reports every
+//! independent error of a file. Every loop consumes a token or stops, so no input can hang it.
+
+use super::ast::*;
+use super::lexer::{tokenize, Tok, Token};
+use crate::diag::{Diagnostics, Span};
+
+/// Parses `source`, appending every syntax diagnostic to `diags`. The returned tree holds
+/// everything that could be recovered.
+pub fn parse(source: &str, diags: &mut Diagnostics) -> Spec {
+    let mut parser = Parser { source, tokens: tokenize(source), pos: 0, diags, spec: Spec::default() };
+    parser.report_lexical_errors();
+    parser.spec();
+    parser.spec
+}
+
+struct Parser<'s, 'd, 'a> {
+    source: &'s str,
+    tokens: Vec<Token>,
+    pos: usize,
+    diags: &'d mut Diagnostics<'a>,
+    spec: Spec,
+}
+
+/// Marks a syntax error already reported; the caller recovers.
+struct Reported;
+
+type PResult<T> = Result<T, Reported>;
+
+impl Parser<'_, '_, '_> {
+    // ----- token access -------------------------------------------------------------------
+
+    fn report_lexical_errors(&mut self) {
+        let mut kept = Vec::with_capacity(self.tokens.len());
+        for t in std::mem::take(&mut self.tokens) {
+            match t.tok {
+                Tok::Error => {
+                    let text = &self.source[t.span.range()];
+                    self.diags.error(t.span, format!("unexpected character `{}`", text.escape_debug()));
+                }
+                Tok::UnterminatedComment => {
+                    self.diags.error(t.span, "block comment is never closed").with_note("add `*/` to close it");
+                }
+                _ => kept.push(t),
+            }
+        }
+        self.tokens = kept;
+    }
+
+    fn peek(&self) -> Token {
+        self.tokens[self.pos.min(self.tokens.len() - 1)]
+    }
+
+    fn peek_at(&self, ahead: usize) -> Token {
+        self.tokens[(self.pos + ahead).min(self.tokens.len() - 1)]
+    }
+
+    fn text(&self, t: Token) -> &str {
+        &self.source[t.span.range()]
+    }
+
+    fn at(&self, tok: Tok) -> bool {
+        self.peek().tok == tok
+    }
+
+    /// True if the next token is the identifier `word`.
+    fn at_word(&self, word: &str) -> bool {
+        let t = self.peek();
+        t.tok == Tok::Ident && self.text(t) == word
+    }
+
+    fn bump(&mut self) -> Token {
+        let t = self.peek();
+        if t.tok != Tok::Eof {
+            self.pos += 1;
+        }
+        t
+    }
+
+    fn eat(&mut self, tok: Tok) -> bool {
+        if self.at(tok) {
+            self.bump();
+            true
+        } else {
+            false
+        }
+    }
+
+    fn eat_word(&mut self, word: &str) -> bool {
+        if self.at_word(word) {
+            self.bump();
+            true
+        } else {
+            false
+        }
+    }
+
+    fn describe(&self, t: Token) -> String {
+        match t.tok {
+            Tok::Eof => "end of file".to_string(),
+            Tok::Ident => format!("`{}`", self.text(t)),
+            Tok::Int => format!("number `{}`", self.text(t)),
+            _ => format!("`{}`", self.text(t)),
+        }
+    }
+
+    fn error_expected(&mut self, what: &str) -> Reported {
+        let t = self.peek();
+        let found = self.describe(t);
+        self.diags.error(t.span, format!("expected {what}, found {found}"));
+        Reported
+    }
+
+    fn expect(&mut self, tok: Tok, what: &str) -> PResult<Token> {
+        if self.at(tok) {
+            Ok(self.bump())
+        } else {
+            Err(self.error_expected(what))
+        }
+    }
+
+    fn expect_word(&mut self, word: &str) -> PResult<Token> {
+        if self.at_word(word) {
+            Ok(self.bump())
+        } else {
+            Err(self.error_expected(&format!("`{word}`")))
+        }
+    }
+
+    fn ident(&mut self, what: &str) -> PResult<Ident> {
+        let t = self.expect(Tok::Ident, what)?;
+        Ok(Ident { name: self.text(t).to_string(), span: t.span })
+    }
+
+    fn int(&mut self, what: &str) -> PResult<u32> {
+        let t = self.expect(Tok::Int, what)?;
+        match self.text(t).parse::<u32>() {
+            Ok(v) if v <= MAX_CONSTANT => Ok(v),
+            _ => {
+                self.diags.error(t.span, format!("number is too large (at most {MAX_CONSTANT})"));
+                Err(Reported)
+            }
+        }
+    }
+
+    fn prev_end(&self) -> usize {
+        if self.pos == 0 {
+            0
+        } else {
+            self.tokens[self.pos - 1].span.end as usize
+        }
+    }
+
+    fn span_from(&self, start: Span) -> Span {
+        Span::new(start.start as usize, self.prev_end())
+    }
+
+    // ----- recovery -----------------------------------------------------------------------
+
+    /// Skips to just after the next `;` of this nesting level, or to the `}` closing the current
+    /// block (not consumed), whichever comes first.
+    fn recover_statement(&mut self) {
+        let mut depth = 0usize;
+        loop {
+            match self.peek().tok {
+                Tok::Eof => return,
+                Tok::Semi if depth == 0 => {
+                    self.bump();
+                    return;
+                }
+                Tok::RBrace if depth == 0 => return,
+                Tok::LBrace => depth += 1,
+                Tok::RBrace => depth -= 1,
+                _ => {}
+            }
+            self.bump();
+        }
+    }
+
+    /// Parses `{ item* }` where each item is parsed by `item`; errors in one item are recovered
+    /// at the next `;` or at the closing brace. Returns the span up to the closing brace.
+    fn block(&mut self, what: &str, mut item: impl FnMut(&mut Self) -> PResult<()>) -> PResult<()> {
+        self.expect(Tok::LBrace, &format!("`{{` to open the {what}"))?;
+        loop {
+            if self.eat(Tok::RBrace) {
+                return Ok(());
+            }
+            if self.at(Tok::Eof) {
+                self.error_expected(&format!("`}}` to close the {what}"));
+                return Err(Reported);
+            }
+            let before = self.pos;
+            if item(self).is_err() {
+                self.recover_statement();
+            }
+            if self.pos == before {
+                // Nothing consumed: report once and skip the token to guarantee progress.
+                let t = self.bump();
+                if !matches!(t.tok, Tok::Semi) {
+                    let found = self.describe(t);
+                    self.diags.error(t.span, format!("unexpected {found} in the {what}"));
+                }
+            }
+        }
+    }
+
+    // ----- top level ----------------------------------------------------------------------
+
+    fn spec(&mut self) {
+        while !self.at(Tok::Eof) {
+            let before = self.pos;
+            if self.section().is_err() {
+                self.recover_section();
+            }
+            if self.pos == before {
+                self.bump();
+            }
+        }
+    }
+
+    /// After an error at the top level, skip to the next word that starts a section.
+    fn recover_section(&mut self) {
+        let mut depth = 0usize;
+        loop {
+            let t = self.peek();
+            match t.tok {
+                Tok::Eof => return,
+                Tok::LBrace => depth += 1,
+                Tok::RBrace => {
+                    depth = depth.saturating_sub(1);
+                    if depth == 0 {
+                        self.bump();
+                        return;
+                    }
+                }
+                Tok::Ident if depth == 0 && SECTION_WORDS.contains(&self.text(t)) => return,
+                _ => {}
+            }
+            self.bump();
+        }
+    }
+
+    fn section(&mut self) -> PResult<()> {
+        let t = self.peek();
+        if t.tok == Tok::Semi {
+            self.bump();
+            return Ok(());
+        }
+        if t.tok == Tok::RBrace {
+            self.bump();
+            self.diags.warning(t.span, "unmatched `}` at the top level is ignored");
+            return Ok(());
+        }
+        if t.tok != Tok::Ident {
+            return Err(self.error_expected("a section (`plant`, `assertions`, `dependencies`, `guards`, `plans`, `timeunit` or `io`)"));
+        }
+        match self.text(t) {
+            "plant" => {
+                self.bump();
+                self.block("plant", |p| p.component())
+            }
+            "assertions" => {
+                self.bump();
+                self.block("assertions", |p| p.assertion())
+            }
+            "dependencies" => {
+                self.bump();
+                self.block("dependencies", |p| p.dependency())
+            }
+            "guards" => {
+                self.bump();
+                self.block("guards", |p| p.guard())
+            }
+            "plans" => {
+                self.bump();
+                self.block("plans", |p| p.plan())
+            }
+            "io" => {
+                self.bump();
+                self.block("io section", |p| p.io_entry())
+            }
+            "timeunit" => self.timeunit(),
+            _ => Err(self.error_expected("a section (`plant`, `assertions`, `dependencies`, `guards`, `plans`, `timeunit` or `io`)")),
+        }
+    }
+
+    fn timeunit(&mut self) -> PResult<()> {
+        let start = self.bump().span;
+        let value_tok = self.peek();
+        let value = self.int("a duration such as `100ms`")?;
+        let unit = self.ident("a time unit (`ms`, `s`, `min` or `h`)")?;
+        let factor = match unit.name.as_str() {
+            "ms" => 1,
+            "s" => 1000,
+            "min" => 60_000,
+            "h" => 3_600_000,
+            other => {
+                self.diags
+                    .error(unit.span, format!("unknown time unit `{other}`"))
+                    .with_note("use `ms`, `s`, `min` or `h`");
+                return Err(Reported);
+            }
+        };
+        if value == 0 {
+            self.diags.error(value_tok.span, "the time unit must be longer than zero");
+        }
+        self.expect(Tok::Semi, "`;` after the time unit")?;
+        self.spec.timeunit.push(TimeUnitDecl { millis: value as u64 * factor, span: self.span_from(start) });
+        Ok(())
+    }
+
+    // ----- plant components ---------------------------------------------------------------
+
+    fn component(&mut self) -> PResult<()> {
+        if self.eat(Tok::Semi) {
+            return Ok(());
+        }
+        let start = self.peek().span;
+        let kind = self.peek();
+        let word = if kind.tok == Tok::Ident { self.text(kind).to_string() } else { String::new() };
+        match word.as_str() {
+            "automaton" => {
+                self.bump();
+                let name = self.ident("the automaton's name")?;
+                let mut decl = AutomatonDecl { name, clocks: Vec::new(), nodes: Vec::new(), transitions: Vec::new(), span: start };
+                let res = self.block("automaton", |p| p.automaton_item(&mut decl));
+                decl.span = self.span_from(start);
+                self.spec.components.push(Component::Automaton(decl));
+                res
+            }
+            "hardware" | "operator" => {
+                self.bump();
+                let name = self.ident(&format!("the {word}'s name"))?;
+                let mut states = Vec::new();
+                let mut moves = Vec::new();
+                let res = self.block(&word, |p| p.move_item(&mut states, &mut moves));
+                let span = self.span_from(start);
+                self.spec.components.push(if word == "hardware" {
+                    Component::Hardware(HardwareDecl { name, states, moves, span })
+                } else {
+                    Component::Operator(OperatorDecl { name, states, moves, span })
+                });
+                res
+            }
+            _ => Err(self.error_expected("a component (`automaton`, `hardware` or `operator`)")),
+        }
+    }
+
+    fn automaton_item(&mut self, decl: &mut AutomatonDecl) -> PResult<()> {
+        if self.at_word("clocks") && self.peek_at(1).tok == Tok::Ident {
+            self.bump();
+            decl.clocks.extend(self.ident_list("a clock name")?);
+            self.expect(Tok::Semi, "`;` after the clock list")?;
+            return Ok(());
+        }
+        if self.at_word("nodes") && self.peek_at(1).tok == Tok::Ident && !self.is_arrow(self.peek_at(1).tok) {
+            self.bump();
+            loop {
+                let name = self.ident("a node name")?;
+                let invariant = if self.at(Tok::LBrace) { self.constraint_block()? } else { Vec::new() };
+                decl.nodes.push(NodeDecl { name, invariant });
+                if !self.eat(Tok::Comma) {
+                    break;
+                }
+            }
+            self.expect(Tok::Semi, "`,` or `;` in the node list")?;
+            return Ok(());
+        }
+        self.transition(decl)
+    }
+
+    fn is_arrow(&self, tok: Tok) -> bool {
+        matches!(tok, Tok::Arrow | Tok::UnicodeArrow)
+    }
+
+    fn transition(&mut self, decl: &mut AutomatonDecl) -> PResult<()> {
+        let start = self.peek().span;
+        let from = self.ident("a transition (`from -> to ?message`), `clocks` or `nodes`")?;
+        if !(self.eat(Tok::Arrow) || self.eat(Tok::UnicodeArrow)) {
+            return Err(self.error_expected("`->`"));
+        }
+        let to = self.ident("the target node")?;
+        let kind = match self.peek().tok {
+            Tok::Question => MessageKind::Controllable,
+            Tok::Bang => MessageKind::Uncontrollable,
+            Tok::Dollar => MessageKind::Synchronised,
+            _ => return Err(self.error_expected("a message type `?`, `!` or `$`")),
+        };
+        self.bump();
+        let message = self.ident("a message name")?;
+        let mut guard = Vec::new();
+        let mut resets = Vec::new();
+        let mut instant = false;
+        loop {
+            if self.at(Tok::LBrace) {
+                guard.extend(self.constraint_block()?);
+            } else if self.at_word("reset") {
+                self.bump();
+                self.expect(Tok::LBrace, "`{` before the clocks to reset")?;
+                resets.extend(self.ident_list("a clock name")?);
+                self.expect(Tok::RBrace, "`}` after the clocks to reset")?;
+            } else if self.at_word("instant") {
+                self.bump();
+                instant = true;
+            } else {
+                break;
+            }
+        }
+        self.expect(Tok::Semi, "`;`, a guard `{…}`, `reset{…}` or `instant` after the transition")?;
+        decl.transitions.push(TransitionDecl { from, to, kind, message, guard, resets, instant, span: self.span_from(start) });
+        Ok(())
+    }
+
+    fn ident_list(&mut self, what: &str) -> PResult<Vec<Ident>> {
+        let mut list = vec![self.ident(what)?];
+        while self.eat(Tok::Comma) {
+            list.push(self.ident(what)?);
+        }
+        Ok(list)
+    }
+
+    /// `{ c in [a,b] and d in (0,inf) }`; `,` is accepted in place of `and` as in the thesis.
+    fn constraint_block(&mut self) -> PResult<Vec<ClockConstraint>> {
+        self.expect(Tok::LBrace, "`{`")?;
+        let mut list = Vec::new();
+        if self.eat(Tok::RBrace) {
+            return Ok(list);
+        }
+        loop {
+            let clock = self.ident("a clock name")?;
+            self.expect_word("in")?;
+            let interval = self.interval()?;
+            let span = clock.span.to(interval.span);
+            list.push(ClockConstraint { clock, interval, span });
+            if !(self.eat_word("and") || self.eat(Tok::Comma)) {
+                break;
+            }
+        }
+        self.expect(Tok::RBrace, "`and` or `}` in the clock constraints")?;
+        Ok(list)
+    }
+
+    fn interval(&mut self) -> PResult<Interval> {
+        let open = self.peek();
+        let lower_closed = match open.tok {
+            Tok::LBracket => true,
+            Tok::LParen => false,
+            _ => return Err(self.error_expected("an interval such as `[2,4]` or `(0,inf)`")),
+        };
+        self.bump();
+        let lower = self.int("the interval's lower bound")?;
+        self.expect(Tok::Comma, "`,` between the interval's bounds")?;
+        let upper = if self.at_word("inf") {
+            self.bump();
+            None
+        } else {
+            Some(self.int("the interval's upper bound or `inf`")?)
+        };
+        let close = self.peek();
+        let upper_closed = match close.tok {
+            Tok::RBracket => true,
+            Tok::RParen => false,
+            _ => return Err(self.error_expected("`]` or `)` to close the interval")),
+        };
+        self.bump();
+        let span = self.span_from(open.span);
+        if upper.is_none() && upper_closed {
+            self.diags
+                .error(close.span, "an interval unbounded above must end with `)`")
+                .with_note("write `[3,inf)`: no clock value equals infinity");
+        }
+        Ok(Interval { lower, lower_closed, upper, upper_closed, span })
+    }
+
+    fn move_item(&mut self, states: &mut Vec<Ident>, moves: &mut Vec<MoveDecl>) -> PResult<()> {
+        if self.at_word("states") && self.peek_at(1).tok == Tok::Ident {
+            self.bump();
+            states.extend(self.ident_list("a state name")?);
+            self.expect(Tok::Semi, "`,` or `;` in the state list")?;
+            return Ok(());
+        }
+        let start = self.peek().span;
+        let first = self.ident("a move (`A -> B`, `A <- B`, `A <-> B` or `A, B`) or `states`")?;
+        let (shape, states_of_move) = match self.peek().tok {
+            Tok::Arrow | Tok::UnicodeArrow => {
+                self.bump();
+                (MoveShape::Forward, vec![first, self.ident("the target state")?])
+            }
+            Tok::BackArrow => {
+                self.bump();
+                (MoveShape::Backward, vec![first, self.ident("the source state")?])
+            }
+            Tok::BothArrow => {
+                self.bump();
+                (MoveShape::Both, vec![first, self.ident("the other state")?])
+            }
+            Tok::Comma => {
+                let mut list = vec![first];
+                while self.eat(Tok::Comma) {
+                    list.push(self.ident("a state name")?);
+                }
+                (MoveShape::All, list)
+            }
+            _ => return Err(self.error_expected("`->`, `<-`, `<->` or `,`")),
+        };
+        let takes = if self.eat_word("takes") { Some(self.interval()?) } else { None };
+        self.expect(Tok::Semi, "`;` after the move")?;
+        moves.push(MoveDecl { shape, states: states_of_move, takes, span: self.span_from(start) });
+        Ok(())
+    }
+
+    // ----- assertions, dependencies, guards ---------------------------------------------
+
+    fn assertion(&mut self) -> PResult<()> {
+        let start = self.peek().span;
+        let not_unit = self.peek_at(1).tok != Tok::Dot;
+        let assertion = if self.at_word("never") && not_unit {
+            self.bump();
+            let cond = self.cond()?;
+            Assertion::Never { cond, span: self.span_from(start) }
+        } else if self.at_word("always") && not_unit {
+            self.bump();
+            let cond = self.cond()?;
+            Assertion::Always { cond, span: self.span_from(start) }
+        } else {
+            let cond = self.cond()?;
+            if self.eat_word("onlyif") {
+                let requires = self.cond()?;
+                Assertion::OnlyIf { cond, requires, span: self.span_from(start) }
+            } else if self.at(Tok::Semi) {
+                // A bare condition describes undesired states: the thesis (4.1.4) calls
+                // `x onlyif y` equivalent to `x and not y`.
+                Assertion::Never { cond, span: self.span_from(start) }
+            } else {
+                return Err(self.error_expected("`onlyif`, `and`, `or` or `;`"));
+            }
+        };
+        self.expect(Tok::Semi, "`;` after the assertion")?;
+        self.spec.assertions.push(assertion);
+        Ok(())
+    }
+
+    fn cond(&mut self) -> PResult<Cond> {
+        let mut left = self.cond_and()?;
+        while self.eat_word("or") {
+            let right = self.cond_and()?;
+            left = Cond::Or { left: Box::new(left), right: Box::new(right) };
+        }
+        Ok(left)
+    }
+
+    fn cond_and(&mut self) -> PResult<Cond> {
+        let mut left = self.cond_unary()?;
+        while self.eat_word("and") {
+            let right = self.cond_unary()?;
+            left = Cond::And { left: Box::new(left), right: Box::new(right) };
+        }
+        Ok(left)
+    }
+
+    fn cond_unary(&mut self) -> PResult<Cond> {
+        let t = self.peek();
+        if t.tok == Tok::LParen {
+            self.bump();
+            let inner = self.cond()?;
+            self.expect(Tok::RParen, "`)` to close the parenthesis")?;
+            return Ok(inner);
+        }
+        if t.tok == Tok::Ident && self.peek_at(1).tok != Tok::Dot {
+            match self.text(t) {
+                "not" => {
+                    self.bump();
+                    let operand = self.cond_unary()?;
+                    let span = self.span_from(t.span);
+                    return Ok(Cond::Not { operand: Box::new(operand), span });
+                }
+                "true" | "false" => {
+                    self.bump();
+                    return Ok(Cond::Const { value: self.text(t) == "true", span: t.span });
+                }
+                _ => {}
+            }
+        }
+        let unit = self.ident("a condition (`unit.node`, `not`, `(`, `true` or `false`)")?;
+        self.expect(Tok::Dot, "`.` between unit and node (`unit.node`)")?;
+        let node = self.ident("a node name")?;
+        let prefix = self.eat(Tok::Star);
+        let span = self.span_from(unit.span);
+        Ok(Cond::State { unit, node, prefix, span })
+    }
+
+    fn dependency(&mut self) -> PResult<()> {
+        let start = self.peek().span;
+        let message = self.ident("a message name")?;
+        if !self.eat_word("dependson") {
+            if self.at_word("depends") && self.peek_at(1).tok == Tok::Ident && self.text(self.peek_at(1)) == "on" {
+                self.bump();
+                self.bump();
+            } else {
+                return Err(self.error_expected("`dependson`"));
+            }
+        }
+        let mut targets = Vec::new();
+        loop {
+            let t = self.peek();
+            if t.tok == Tok::Ident && self.text(t) == "time" {
+                self.bump();
+                targets.push(DependencyTarget::Time { span: t.span });
+            } else {
+                targets.push(DependencyTarget::Message { name: self.ident("`time` or a message name")? });
+            }
+            if !self.eat(Tok::Comma) {
+                break;
+            }
+        }
+        self.expect(Tok::Semi, "`,` or `;` in the dependency")?;
+        self.spec.dependencies.push(Dependency { message, targets, span: self.span_from(start) });
+        Ok(())
+    }
+
+    fn guard(&mut self) -> PResult<()> {
+        let start = self.peek().span;
+        let cond = self.cond()?;
+        self.expect_word("guardedby")?;
+        let message = self.ident("the guarding message")?;
+        self.expect(Tok::Semi, "`;` after the guard")?;
+        self.spec.guards.push(StateGuard { cond, message, span: self.span_from(start) });
+        Ok(())
+    }
+
+    // ----- plans --------------------------------------------------------------------------
+
+    fn plan(&mut self) -> PResult<()> {
+        if self.eat(Tok::Semi) {
+            return Ok(());
+        }
+        let start = self.expect_word("plan")?.span;
+        let mut plan = Plan { clocks: Vec::new(), commands: Vec::new(), span: start };
+        let res = self.block("plan", |p| p.plan_item(&mut plan));
+        plan.span = self.span_from(start);
+        self.spec.plans.push(plan);
+        res
+    }
+
+    fn plan_item(&mut self, plan: &mut Plan) -> PResult<()> {
+        if self.at_word("clocks") && self.peek_at(1).tok == Tok::Ident && self.peek_at(2).tok == Tok::Int {
+            self.bump();
+            loop {
+                let name = self.ident("a timeout clock name")?;
+                let bound = self.int("the clock's timeout bound")?;
+                let span = self.span_from(name.span);
+                plan.clocks.push(PlanClock { name, bound, span });
+                if !self.eat(Tok::Comma) {
+                    break;
+                }
+            }
+            self.expect(Tok::Semi, "`,` or `;` in the clock list")?;
+            return Ok(());
+        }
+        let start = self.peek().span;
+        let label = if self.peek().tok == Tok::Ident && self.peek_at(1).tok == Tok::Colon {
+            let l = self.ident("a label")?;
+            self.bump();
+            Some(l)
+        } else {
+            None
+        };
+        let action = if self.eat_word("reset") {
+            PlanAction::Reset { clocks: self.ident_list("a timeout clock name")? }
+        } else if self.eat_word("waitfor") {
+            let mut items = Vec::new();
+            loop {
+                let message = self.ident("a message name")?;
+                let target = if self.eat(Tok::Arrow) || self.eat(Tok::UnicodeArrow) {
+                    Some(self.ident("a label or `failed`")?)
+                } else {
+                    None
+                };
+                items.push(WaitItem { message, target });
+                if !self.eat(Tok::Comma) {
+                    break;
+                }
+            }
+            PlanAction::Waitfor { items }
+        } else {
+            return Err(self.error_expected("`reset`, `waitfor`, `clocks` or a label"));
+        };
+        self.expect(Tok::Semi, "`;` after the plan command")?;
+        plan.commands.push(PlanCommand { label, action, span: self.span_from(start) });
+        Ok(())
+    }
+
+    // ----- io -----------------------------------------------------------------------------
+
+    fn io_entry(&mut self) -> PResult<()> {
+        let start = self.peek().span;
+        let message = self.ident("a message name")?;
+        self.expect(Tok::Eq, "`=`")?;
+        let t = self.peek();
+        let target = match t.tok {
+            Tok::Address => {
+                self.bump();
+                IoTarget::Address { text: self.text(t)[1..].to_string(), span: t.span }
+            }
+            Tok::Str => {
+                self.bump();
+                let text = self.text(t);
+                IoTarget::Symbol { text: text[1..text.len() - 1].to_string(), span: t.span }
+            }
+            Tok::Ident => {
+                let mut text = self.ident("a symbol")?.name;
+                while self.eat(Tok::Dot) {
+                    text.push('.');
+                    text.push_str(&self.ident("a name after `.`")?.name);
+                }
+                IoTarget::Symbol { text, span: self.span_from(t.span) }
+            }
+            _ => return Err(self.error_expected("a PLC address such as `%I0.0` or a symbol")),
+        };
+        self.expect(Tok::Semi, "`;` after the io entry")?;
+        self.spec.io.push(IoEntry { message, target, span: self.span_from(start) });
+        Ok(())
+    }
+}
+
+/// Constants are bounded so that zone arithmetic cannot overflow.
+pub const MAX_CONSTANT: u32 = 1 << 24;
+
+const SECTION_WORDS: &[&str] = &["plant", "assertions", "dependencies", "guards", "plans", "timeunit", "io"];
