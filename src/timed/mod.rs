@@ -4,11 +4,15 @@
 //! `precompute` (clock usage, unique choice intervals) → `solve` (forward exploration with
 //! reverse fail-state removal).
 
+pub mod arena;
 pub mod ast;
 pub mod check;
+pub mod explain;
 pub mod lexer;
 pub mod model;
 pub mod parser;
+pub mod precompute;
+pub mod solve;
 
 use crate::diag::{Diagnostic, Diagnostics};
 
@@ -35,4 +39,24 @@ pub fn compile(source: &str) -> Result<(model::Game, Vec<Diagnostic>), Vec<Diagn
         Some(game) if !diags.has_errors() => Ok((game, diags.items)),
         _ => Err(diags.items),
     }
+}
+
+/// A solved game: the split automata, the solver's result and, when the initial state is
+/// lost, the explanation.
+pub struct Synthesis {
+    pub split: precompute::SplitGame,
+    pub solution: solve::Solution,
+    pub explanation: Option<explain::Explanation>,
+}
+
+/// Precomputes and solves a checked game.
+pub fn synthesize(game: &model::Game, options: &solve::SolveOptions, progress: &mut dyn FnMut(&solve::Stats) -> bool) -> Synthesis {
+    let split = precompute::split(game);
+    let solution = solve::solve(game, &split, options, progress);
+    let explanation = if solution.verdict == solve::Verdict::Unrealizable {
+        explain::explain(game, &split, &solution.space, solution.space.initial)
+    } else {
+        None
+    };
+    Synthesis { split, solution, explanation }
 }

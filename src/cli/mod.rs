@@ -1,0 +1,3 @@
+//! Command implementations of the CLI; `main.rs` only parses arguments and dispatches here.
+
+pub mod timed;

@@ -1,0 +1,76 @@
+//! `plcsynth solve`: solve a timed-game specification.
+
+use plcsynth::diag::render_plain;
+use plcsynth::timed::{self, solve::Verdict};
+use std::process::ExitCode;
+use std::time::Instant;
+
+/// Exit status: 0 realizable, 1 unrealizable, 2 input error, 3 budget exceeded.
+pub fn solve(file: &str, json: bool, max_states: Option<usize>, dump_states: bool) -> ExitCode {
+    let source = match std::fs::read_to_string(file) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: cannot read {file}: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let (game, warnings) = match timed::compile(&source) {
+        Ok(ok) => ok,
+        Err(diags) => {
+            eprint!("{}", render_plain(file, &source, &diags));
+            return ExitCode::from(2);
+        }
+    };
+    if !warnings.is_empty() {
+        eprint!("{}", render_plain(file, &source, &warnings));
+    }
+    let mut options = timed::solve::SolveOptions::default();
+    if let Some(n) = max_states {
+        options.max_states = n;
+    }
+    let started = Instant::now();
+    let result = timed::synthesize(&game, &options, &mut |_| true);
+    let millis = started.elapsed().as_secs_f64() * 1000.0;
+    let stats = &result.solution.stats;
+    let explanation = result.explanation.as_ref().map(|e| e.render());
+    if json {
+        let value = serde_json::json!({
+            "file": file,
+            "verdict": result.solution.verdict,
+            "realizable": result.solution.verdict == Verdict::Realizable,
+            "visited": stats.visited,
+            "expanded": stats.expanded,
+            "winning": stats.winning,
+            "removed": stats.removed,
+            "edges": stats.edges,
+            "zones": stats.zones,
+            "bytes": stats.bytes,
+            "millis": millis,
+            "explanation": explanation,
+        });
+        println!("{value}");
+    } else {
+        let verdict = match result.solution.verdict {
+            Verdict::Realizable => "realizable".to_string(),
+            Verdict::Unrealizable => "unrealizable".to_string(),
+            Verdict::BudgetExceeded => format!("budget exceeded after {} states", stats.visited),
+            Verdict::Cancelled => "cancelled".to_string(),
+        };
+        println!("{file}: {verdict}");
+        println!(
+            "visited {} · winning {} · removed {} · edges {} · {:.1} ms",
+            stats.visited, stats.winning, stats.removed, stats.edges, millis
+        );
+        if let Some(text) = explanation {
+            println!("\nwhy the initial state is lost:\n{text}");
+        }
+        if dump_states {
+            println!("\n{}", timed::explain::dump(&game, &result.split, &result.solution.space));
+        }
+    }
+    match result.solution.verdict {
+        Verdict::Realizable => ExitCode::SUCCESS,
+        Verdict::Unrealizable => ExitCode::from(1),
+        Verdict::BudgetExceeded | Verdict::Cancelled => ExitCode::from(3),
+    }
+}

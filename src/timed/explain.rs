@@ -1,0 +1,352 @@
+//! Why a state was lost: a shortest counter-strategy of the plant, as a tree.
+//!
+//! Every removed state gets a *rank*, the number of moves within which the plant can force a
+//! failure against every controller choice (the attractor rank of 2.1.3): violations are rank
+//! 0; a forced move adds one to the best (smallest) rank among its removed targets; a state
+//! lost for want of a controller move adds one to the worst (largest) rank among the
+//! controller's choices. The explanation follows, from the initial state, the plant's
+//! best moves and every controller choice.
+
+use super::model::Game;
+use super::precompute::SplitGame;
+use super::solve::{Edge, EdgeKind, Label, Removal, StateId, StateKind, StateSpace};
+use serde::Serialize;
+use std::collections::VecDeque;
+
+const NONE: u32 = u32::MAX;
+const UNRANKED: u32 = u32::MAX;
+
+/// One step of the explanation.
+#[derive(Clone, Debug, Serialize)]
+pub struct Step {
+    pub state: StateId,
+    /// The move that led here (absent at the root).
+    pub event: Option<String>,
+    /// The state, as `unit.location` names and the zone.
+    pub locations: String,
+    pub outcome: Outcome,
+}
+
+#[derive(Clone, Debug, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Outcome {
+    /// The state itself is a failure.
+    Violation { reason: String },
+    /// The plant (or passing time) moves on.
+    Forced { next: Box<Step> },
+    /// Every controller choice fails; one branch per choice.
+    Choices { branches: Vec<Step> },
+    /// Cut off to keep the explanation readable.
+    Truncated,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Explanation {
+    pub root: Step,
+    /// Moves the plant needs at most to force a failure.
+    pub depth: u32,
+}
+
+/// Builds the explanation for the removed state `from` (normally the initial state).
+pub fn explain(game: &Game, split: &SplitGame, space: &StateSpace, from: StateId) -> Option<Explanation> {
+    space.states[from as usize].removal?;
+    let ranks = ranks(space);
+    let mut budget = 400usize;
+    let root = step(game, split, space, &ranks, from, None, 0, &mut budget);
+    Some(Explanation { root, depth: ranks.rank[from as usize] })
+}
+
+struct Ranks {
+    rank: Vec<u32>,
+    /// The plant's best forced edge, or its best reaction to waiting.
+    witness: Vec<u32>,
+}
+
+fn is_option(e: &Edge) -> bool {
+    matches!(e.kind, EdgeKind::Request | EdgeKind::Guard)
+}
+
+fn is_wait(e: &Edge) -> bool {
+    e.kind == EdgeKind::Delay
+}
+
+/// Retrograde analysis over the removed states.
+fn ranks(space: &StateSpace) -> Ranks {
+    let n = space.states.len();
+    let mut rank = vec![UNRANKED; n];
+    let mut witness = vec![NONE; n];
+    let mut pending = vec![0u32; n];
+    let mut wait_done = vec![false; n];
+    let mut preds: Vec<Vec<u32>> = vec![Vec::new(); n];
+    let mut queue = VecDeque::new();
+    for (s, st) in space.states.iter().enumerate() {
+        let Some(removal) = st.removal else { continue };
+        let mut options = 0;
+        let mut waits = false;
+        let mut forced = false;
+        for (id, e) in space.out_edges(s as StateId) {
+            if e.to != NONE {
+                preds[e.to as usize].push(id);
+            }
+            options += u32::from(is_option(e));
+            waits |= is_wait(e);
+            forced |= e.kind == EdgeKind::Reaction;
+        }
+        // Waiting fails once a delay target is lost; without delays it stays possible while the
+        // plant has a move, so only a lost forced target can then decide the state.
+        pending[s] = options + u32::from(waits || forced);
+        match removal {
+            Removal::Assertion { .. } | Removal::PlanFailed { .. } | Removal::Deadlock => {
+                rank[s] = 0;
+                queue.push_back(s as StateId);
+            }
+            Removal::ZenoLoop { edge } => {
+                rank[s] = 1;
+                witness[s] = edge;
+                queue.push_back(s as StateId);
+            }
+            Removal::Forced { .. } | Removal::NoMove => {}
+        }
+    }
+    while let Some(y) = queue.pop_front() {
+        let r = rank[y as usize];
+        for &id in &preds[y as usize] {
+            let e = &space.edges[id as usize];
+            let x = e.from as usize;
+            if space.states[x].removal.is_none() || rank[x] != UNRANKED {
+                continue;
+            }
+            let done = match e.kind {
+                EdgeKind::Reaction => {
+                    witness[x] = id;
+                    true
+                }
+                EdgeKind::Request | EdgeKind::Guard => {
+                    pending[x] -= 1;
+                    pending[x] == 0
+                }
+                EdgeKind::Delay => {
+                    // Time passing is the plant's choice once the controller waits. A state with
+                    // no option is forced by time (the first removed delay target suffices).
+                    if !wait_done[x] {
+                        wait_done[x] = true;
+                        witness[x] = id;
+                        pending[x] -= 1;
+                    }
+                    pending[x] == 0
+                }
+                EdgeKind::Timeout => false,
+            };
+            if done {
+                rank[x] = r + 1;
+                queue.push_back(x as StateId);
+            }
+        }
+    }
+    Ranks { rank, witness }
+}
+
+/// `unit.location` names of a state, the plan locations and the zone.
+pub fn describe_state(game: &Game, split: &SplitGame, space: &StateSpace, s: StateId) -> String {
+    let mut parts: Vec<String> = Vec::new();
+    for (u, &sub) in space.env(s).iter().enumerate() {
+        let unit = &split.units[u];
+        let loc = unit.sublocs[sub as usize].location;
+        parts.push(format!("{}.{}", unit.name, game.components[u].locations[loc as usize].name));
+    }
+    let plant = parts.join(", ");
+    let plans: Vec<String> = space
+        .plan(s)
+        .iter()
+        .enumerate()
+        .map(|(p, &sub)| {
+            let unit = &split.units[split.plant_count + p];
+            let loc = unit.sublocs[sub as usize].location;
+            format!("{}.{}", unit.name, game.plans[p].locations[loc as usize].name)
+        })
+        .collect();
+    let names: Vec<&str> = game.clocks.iter().map(|c| c.name.as_str()).collect();
+    let zone = space.zone(s);
+    let zone_text = zone.display_with(&names).to_string();
+    let mut text = plant;
+    if !plans.is_empty() {
+        text.push_str(" | ");
+        text.push_str(&plans.join(", "));
+    }
+    if !zone_text.is_empty() && zone_text != "true" {
+        text.push_str(" | ");
+        text.push_str(&zone_text);
+    }
+    match space.states[s as usize].kind {
+        StateKind::Waiting => text.push_str(" (waiting)"),
+        StateKind::Guard => text.push_str(" (checking a guard)"),
+        _ => {}
+    }
+    text
+}
+
+/// A move in words: `!press`, `?turn_on`, `%part_present`, `time passes until c ∈ (2,4]`.
+pub fn describe_edge(game: &Game, split: &SplitGame, e: &Edge) -> String {
+    match e.label {
+        Label::Message { message } => format!("{}{}", e.kind.sigil(), game.messages[message as usize].name),
+        Label::Wait => "wait".to_string(),
+        Label::Piece { clock, piece } => {
+            format!("time passes until {} ∈ {}", game.clocks[clock as usize].name, split.pieces[clock as usize][piece as usize])
+        }
+        Label::Overrun { clock } => format!("timeout: {} exceeds its invariant", game.clocks[clock as usize].name),
+    }
+}
+
+fn violation(game: &Game, split: &SplitGame, space: &StateSpace, s: StateId) -> Option<String> {
+    Some(match space.states[s as usize].removal? {
+        Removal::Assertion { rule } => format!("assertion violated: {}", game.assertions[rule as usize].text),
+        Removal::PlanFailed { plan } => {
+            let p = &game.plans[plan as usize];
+            let sub = space.plan(s)[plan as usize];
+            let unit = &split.units[split.plant_count + plan as usize];
+            if unit.sublocs[sub as usize].location == p.failed {
+                format!("{} fails: a message it forbids occurred", p.name)
+            } else {
+                format!("{} fails: a timeout clock exceeded its bound", p.name)
+            }
+        }
+        Removal::Deadlock => "deadlock: nothing can happen any more".to_string(),
+        _ => return None,
+    })
+}
+
+#[allow(clippy::too_many_arguments)]
+fn step(game: &Game, split: &SplitGame, space: &StateSpace, ranks: &Ranks, s: StateId, event: Option<String>, depth: u32, budget: &mut usize) -> Step {
+    let locations = describe_state(game, split, space, s);
+    if *budget == 0 || depth > 60 {
+        return Step { state: s, event, locations, outcome: Outcome::Truncated };
+    }
+    *budget -= 1;
+    if let Some(reason) = violation(game, split, space, s) {
+        return Step { state: s, event, locations, outcome: Outcome::Violation { reason } };
+    }
+    let removal = space.states[s as usize].removal;
+    let outcome = match removal {
+        Some(Removal::ZenoLoop { edge }) => {
+            let e = &space.edges[edge as usize];
+            Outcome::Violation {
+                reason: format!("the plant can send {} and return to a plant state it visited since the last plan progress (zeno loop)", describe_edge(game, split, e)),
+            }
+        }
+        Some(Removal::Forced { .. }) | Some(Removal::NoMove) if is_forced_state(space, ranks, s) => {
+            let e = &space.edges[ranks.witness[s as usize] as usize];
+            let next = step(game, split, space, ranks, e.to, Some(describe_edge(game, split, e)), depth + 1, budget);
+            Outcome::Forced { next: Box::new(next) }
+        }
+        Some(Removal::NoMove) => {
+            let mut branches = Vec::new();
+            for (_, e) in space.out_edges(s) {
+                if is_option(e) && e.to != NONE {
+                    let label = describe_edge(game, split, e);
+                    if e.zeno {
+                        branches.push(Step { state: s, event: Some(label), locations: String::new(), outcome: Outcome::Violation { reason: "zeno loop".into() } });
+                    } else {
+                        branches.push(step(game, split, space, ranks, e.to, Some(label), depth + 1, budget));
+                    }
+                } else if is_option(e) && e.zeno {
+                    branches.push(Step {
+                        state: s,
+                        event: Some(describe_edge(game, split, e)),
+                        locations: String::new(),
+                        outcome: Outcome::Violation { reason: "returns to a plant state visited since the last plan progress (zeno loop)".into() },
+                    });
+                }
+            }
+            let w = ranks.witness[s as usize];
+            if w != NONE {
+                let e = &space.edges[w as usize];
+                branches.push(step(game, split, space, ranks, e.to, Some(format!("wait; then {}", describe_edge(game, split, e))), depth + 1, budget));
+            } else if !space.out_edges(s).any(|(_, e)| is_wait(e)) {
+                branches.push(Step { state: s, event: Some("wait".into()), locations: String::new(), outcome: Outcome::Violation { reason: "nothing would ever happen".into() } });
+            }
+            Outcome::Choices { branches }
+        }
+        _ => Outcome::Truncated,
+    };
+    Step { state: s, event, locations, outcome }
+}
+
+/// True if the plant can force the loss without a controller choice: by a reaction, or by
+/// passing time where the controller has no move.
+fn is_forced_state(space: &StateSpace, ranks: &Ranks, s: StateId) -> bool {
+    let w = ranks.witness[s as usize];
+    if w == NONE {
+        return false;
+    }
+    match space.edges[w as usize].kind {
+        EdgeKind::Reaction => true,
+        EdgeKind::Delay => !space.out_edges(s).any(|(_, e)| is_option(e)),
+        _ => false,
+    }
+}
+
+impl Explanation {
+    /// Indented text, one move per line.
+    pub fn render(&self) -> String {
+        let mut out = String::new();
+        render_step(&self.root, 0, &mut out);
+        out
+    }
+}
+
+fn render_step(step: &Step, indent: usize, out: &mut String) {
+    let pad = "  ".repeat(indent);
+    if let Some(ev) = &step.event {
+        out.push_str(&format!("{pad}{ev}"));
+        if !step.locations.is_empty() {
+            out.push_str(&format!("  → {}", step.locations));
+        }
+        out.push('\n');
+    } else {
+        out.push_str(&format!("{pad}in {}\n", step.locations));
+    }
+    match &step.outcome {
+        Outcome::Violation { reason } => out.push_str(&format!("{pad}  ✗ {reason}\n")),
+        Outcome::Forced { next } => render_step(next, indent, out),
+        Outcome::Choices { branches } => {
+            out.push_str(&format!("{pad}  every controller choice fails:\n"));
+            for b in branches {
+                render_step(b, indent + 2, out);
+            }
+        }
+        Outcome::Truncated => out.push_str(&format!("{pad}  …\n")),
+    }
+}
+
+/// The whole explored state space as text: one line per state with its status, then its edges.
+pub fn dump(game: &Game, split: &SplitGame, space: &StateSpace) -> String {
+    let mut out = String::new();
+    for (s, st) in space.states.iter().enumerate() {
+        let s = s as StateId;
+        let status = match st.removal {
+            None => "winning".to_string(),
+            Some(r) => format!("removed ({})", removal_text(game, split, space, s, r)),
+        };
+        let initial = if s == space.initial { " initial" } else { "" };
+        out.push_str(&format!("s{s}{initial} [{status}] {}\n", describe_state(game, split, space, s)));
+        for (_, e) in space.out_edges(s) {
+            let target = if e.to == NONE {
+                if e.zeno { "zeno".to_string() } else { "timeout".to_string() }
+            } else {
+                format!("s{}", e.to)
+            };
+            out.push_str(&format!("    {} -> {target}\n", describe_edge(game, split, e)));
+        }
+    }
+    out
+}
+
+/// A removal reason in words.
+pub fn removal_text(game: &Game, split: &SplitGame, space: &StateSpace, s: StateId, r: Removal) -> String {
+    match r {
+        Removal::Forced { edge } => format!("forced: {} leads to a removed state", describe_edge(game, split, &space.edges[edge as usize])),
+        Removal::ZenoLoop { edge } => format!("zeno loop: {}", describe_edge(game, split, &space.edges[edge as usize])),
+        Removal::NoMove => "every controller move fails and waiting is not possible".to_string(),
+        _ => violation(game, split, space, s).unwrap_or_default(),
+    }
+}

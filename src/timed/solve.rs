@@ -1,0 +1,870 @@
+//! Solving the timed safety game (Peter 2005, 5.3): on-the-fly forward exploration of the
+//! combined state space (algorithm 5) with incremental reverse removal of losing states
+//! (algorithm 6).
+//!
+//! A state is a vector of sub-locations (one per plant unit and per plan) and a clock zone.
+//! Its outgoing edges fall in three classes:
+//! - *forced*: uncontrollable messages `!m`; if any leads to a removed state, so is this one;
+//! - *options*: controller requests `?m` and state guards `%g`; removing one only removes
+//!   the edge;
+//! - *waiting*: letting time pass. An *entry* state (just reached by a message) has one wait
+//!   edge to the same locations with the time-closed zone, where plant reactions may come at
+//!   any moment; a time-closed state has one delay edge (D) per clock piece that time can reach
+//!   next. Waiting is possible if all its targets survive, or, where time cannot reach another
+//!   piece, if some forced move exists (the plant must act).
+//!
+//! A state survives while no forced edge leads to a removed state and either an option
+//! survives or waiting is possible. This makes delays forced unless the controller has a
+//! better move: where the thesis turns a delay into a failed state into a tolerated timeout,
+//! a plan deadline could be missed; here it cannot. Timeout edges (T) past a plant invariant
+//! remain tolerated exceptions (5.2.2).
+//!
+//! Zeno avoidance (5.1): every search item remembers the plant states visited since the last
+//! plan progress; a message that returns to one of them without progress leads nowhere.
+//! Transitions marked `instant` are urgent: while one is enabled, no other transition and no
+//! delay is possible.
+
+use super::arena::SliceArena;
+use super::ast::MessageKind;
+use super::model::*;
+use super::precompute::{SplitGame, SubLocId, STAY};
+use crate::zone::{Bound, Dbm};
+use serde::Serialize;
+use std::collections::VecDeque;
+
+pub type StateId = u32;
+pub type EdgeId = u32;
+
+const NONE: u32 = u32::MAX;
+
+/// Limits and switches of one solver run.
+#[derive(Clone, Debug)]
+pub struct SolveOptions {
+    /// Stop with [`Verdict::BudgetExceeded`] once this many states are stored.
+    pub max_states: usize,
+    /// How many expansions between two calls of the progress callback.
+    pub progress_interval: usize,
+}
+
+impl Default for SolveOptions {
+    fn default() -> Self {
+        SolveOptions { max_states: 2_000_000, progress_interval: 4096 }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    Realizable,
+    Unrealizable,
+    BudgetExceeded,
+    Cancelled,
+}
+
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct Stats {
+    /// States stored (explored or found losing on arrival).
+    pub visited: usize,
+    /// States whose successors were generated.
+    pub expanded: usize,
+    /// Surviving states reachable from the initial state.
+    pub winning: usize,
+    /// States removed as losing.
+    pub removed: usize,
+    pub edges: usize,
+    /// Distinct zones stored.
+    pub zones: usize,
+    /// Approximate heap bytes of the state space.
+    pub bytes: usize,
+}
+
+/// What kind of move an edge is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum EdgeKind {
+    /// `?m`: a controller request.
+    Request,
+    /// `!m`: a plant reaction.
+    Reaction,
+    /// `%g`: a state guard checked before a request.
+    Guard,
+    /// Time passes: to the time-closed state, or into the next piece of a clock.
+    Delay,
+    /// Time passes beyond a plant invariant: the exceptional timeout of 5.2.2.
+    Timeout,
+}
+
+impl EdgeKind {
+    pub fn sigil(self) -> &'static str {
+        match self {
+            EdgeKind::Request => "?",
+            EdgeKind::Reaction => "!",
+            EdgeKind::Guard => "%",
+            EdgeKind::Delay => "D",
+            EdgeKind::Timeout => "T",
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Class {
+    Forced,
+    Option,
+    Wait,
+    Inert,
+}
+
+/// What an edge carries.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum Label {
+    Message { message: MsgId },
+    /// Waiting in the current locations.
+    Wait,
+    /// Time passes until `clock` enters piece `piece`.
+    Piece { clock: ClockId, piece: u16 },
+    /// Time passes beyond the invariant on `clock`.
+    Overrun { clock: ClockId },
+}
+
+#[derive(Clone, Copy, Debug)]
+pub struct Edge {
+    pub from: StateId,
+    /// `NONE` for timeouts and for zeno repetitions.
+    pub to: StateId,
+    pub kind: EdgeKind,
+    pub label: Label,
+    /// Clocks reset by the move, as a bit set over clock ids.
+    pub resets: u64,
+    pub instant: bool,
+    /// The move returns to a plant state visited since the last plan progress.
+    pub zeno: bool,
+    class: Class,
+    next_in: EdgeId,
+}
+
+/// Why a state was removed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Removal {
+    /// The state violates assertion number `rule`.
+    Assertion { rule: u32 },
+    /// Plan number `plan` has failed (forbidden message or timeout).
+    PlanFailed { plan: u32 },
+    /// Nothing can happen any more: no move and no time can pass usefully.
+    Deadlock,
+    /// A forced move (plant reaction or passing time) leads to a removed state.
+    Forced { edge: EdgeId },
+    /// A plant reaction returns to a plant state visited since the last plan progress.
+    ZenoLoop { edge: EdgeId },
+    /// Every controller move leads to a removed state and waiting is not possible.
+    NoMove,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum StateKind {
+    /// Reached by a message: the controller may act at once.
+    Entry,
+    /// Time-closed: reached by waiting; only the plant and time move.
+    Waiting,
+    /// Time-closed and reached by a delay: the controller may act, or wait further.
+    Interval,
+    /// The intermediate state of a state guard (5.3.4).
+    Guard,
+}
+
+#[derive(Clone, Debug)]
+pub struct State {
+    pub env: u32,
+    pub plan: u32,
+    pub zone: u32,
+    pub kind: StateKind,
+    pub removal: Option<Removal>,
+    pub expanded: bool,
+    out_start: u32,
+    out_end: u32,
+    first_in: EdgeId,
+    options_alive: u32,
+    wait_viable: bool,
+    vis: u32,
+}
+
+/// The explored game graph with the surviving (winning) and removed states.
+pub struct StateSpace {
+    pub dim: usize,
+    pub states: Vec<State>,
+    pub edges: Vec<Edge>,
+    pub initial: StateId,
+    envs: SliceArena<SubLocId>,
+    plans: SliceArena<SubLocId>,
+    zones: SliceArena<Bound>,
+    plant_count: usize,
+}
+
+impl StateSpace {
+    pub fn is_winning(&self, s: StateId) -> bool {
+        self.states[s as usize].removal.is_none()
+    }
+
+    /// Sub-locations of the plant units in state `s`.
+    pub fn env(&self, s: StateId) -> &[SubLocId] {
+        self.envs.get(self.states[s as usize].env)
+    }
+
+    /// Sub-locations of the plans in state `s`.
+    pub fn plan(&self, s: StateId) -> &[SubLocId] {
+        self.plans.get(self.states[s as usize].plan)
+    }
+
+    pub fn zone(&self, s: StateId) -> Dbm {
+        Dbm::from_slice(self.dim, self.zones.get(self.states[s as usize].zone))
+    }
+
+    pub fn out_edges(&self, s: StateId) -> impl Iterator<Item = (EdgeId, &Edge)> {
+        let st = &self.states[s as usize];
+        (st.out_start..st.out_end).map(move |e| (e, &self.edges[e as usize]))
+    }
+
+    pub fn plant_count(&self) -> usize {
+        self.plant_count
+    }
+
+    /// Surviving states reachable from the initial state through surviving states.
+    pub fn winning_states(&self) -> Vec<StateId> {
+        let mut seen = vec![false; self.states.len()];
+        let mut order = Vec::new();
+        if !self.is_winning(self.initial) {
+            return order;
+        }
+        seen[self.initial as usize] = true;
+        let mut queue = VecDeque::from([self.initial]);
+        while let Some(s) = queue.pop_front() {
+            order.push(s);
+            for (_, e) in self.out_edges(s) {
+                if e.to != NONE && !seen[e.to as usize] && self.is_winning(e.to) {
+                    seen[e.to as usize] = true;
+                    queue.push_back(e.to);
+                }
+            }
+        }
+        order
+    }
+}
+
+/// The outcome of [`solve`].
+pub struct Solution {
+    pub verdict: Verdict,
+    pub stats: Stats,
+    pub space: StateSpace,
+}
+
+/// Solves the game. `progress` is called every `options.progress_interval` expansions with the
+/// statistics so far; returning `false` cancels the run.
+pub fn solve(game: &Game, split: &SplitGame, options: &SolveOptions, progress: &mut dyn FnMut(&Stats) -> bool) -> Solution {
+    let mut solver = Solver::new(game, split);
+    let verdict = solver.run(options, progress);
+    let mut stats = solver.stats();
+    let space = solver.space;
+    if verdict == Verdict::Realizable || verdict == Verdict::Unrealizable {
+        stats.winning = space.winning_states().len();
+    }
+    Solution { verdict, stats, space }
+}
+
+/// One discrete move under construction.
+struct Move {
+    kind: MessageKind,
+    message: MsgId,
+    instant: bool,
+    env: Vec<SubLocId>,
+    resets: u64,
+}
+
+/// How the zeno memory of a new state is formed.
+#[derive(Clone, Copy)]
+enum Vis {
+    /// A plan progressed: remember only the new plant state.
+    Fresh,
+    /// No progress: remember the new plant state on top of `parent`'s memory.
+    Extend(u32),
+    /// Time passed or a guard was checked: the plant state is unchanged.
+    Same(u32),
+}
+
+struct Solver<'g> {
+    game: &'g Game,
+    split: &'g SplitGame,
+    space: StateSpace,
+    state_index: hashbrown::HashMap<(u32, u32, u32, StateKind), StateId>,
+    queue: VecDeque<StateId>,
+    /// Zeno memory: (env id, parent node) pairs forming one list per search item.
+    vis_nodes: Vec<(u32, u32)>,
+    /// Per env id: 1 + index of the first violated assertion, or 0.
+    env_violation: Vec<u32>,
+    /// Per plan vector id: 1 + index of the first failed plan, or 0.
+    plan_failure: Vec<u32>,
+    /// Per env id: the original locations of the plant units (for predicates), flat.
+    env_locations: Vec<LocId>,
+    /// Clocks used per env id and per plan vector id, as bit sets.
+    env_clocks: Vec<u64>,
+    plan_clocks: Vec<u64>,
+    lost_queue: Vec<StateId>,
+    dim: usize,
+    max_constants: Vec<i32>,
+    removed: usize,
+    moves: Vec<Move>,
+    pending_edges: Vec<Edge>,
+}
+
+impl<'g> Solver<'g> {
+    fn new(game: &'g Game, split: &'g SplitGame) -> Solver<'g> {
+        let dim = game.dim();
+        let plant_count = split.plant_count;
+        let space = StateSpace {
+            dim,
+            states: Vec::new(),
+            edges: Vec::new(),
+            initial: 0,
+            envs: SliceArena::new(plant_count),
+            plans: SliceArena::new(split.units.len() - plant_count),
+            zones: SliceArena::new(dim * dim),
+            plant_count,
+        };
+        Solver {
+            game,
+            split,
+            space,
+            state_index: hashbrown::HashMap::new(),
+            queue: VecDeque::new(),
+            vis_nodes: Vec::new(),
+            env_violation: Vec::new(),
+            plan_failure: Vec::new(),
+            env_locations: Vec::new(),
+            env_clocks: Vec::new(),
+            plan_clocks: Vec::new(),
+            lost_queue: Vec::new(),
+            dim,
+            max_constants: vec![-1; dim],
+            removed: 0,
+            moves: Vec::new(),
+            pending_edges: Vec::new(),
+        }
+    }
+
+    fn stats(&self) -> Stats {
+        let s = &self.space;
+        Stats {
+            visited: s.states.len(),
+            expanded: s.states.iter().filter(|st| st.expanded).count(),
+            winning: 0,
+            removed: self.removed,
+            edges: s.edges.len(),
+            zones: s.zones.len(),
+            bytes: s.states.capacity() * std::mem::size_of::<State>()
+                + s.edges.capacity() * std::mem::size_of::<Edge>()
+                + s.envs.heap_bytes()
+                + s.plans.heap_bytes()
+                + s.zones.heap_bytes()
+                + self.state_index.capacity() * 24
+                + self.vis_nodes.capacity() * 8
+                + self.env_locations.capacity() * 4,
+        }
+    }
+
+    fn run(&mut self, options: &SolveOptions, progress: &mut dyn FnMut(&Stats) -> bool) -> Verdict {
+        let plant_count = self.split.plant_count;
+        let env: Vec<SubLocId> = self.split.units[..plant_count].iter().map(|u| u.initial).collect();
+        let plan: Vec<SubLocId> = self.split.units[plant_count..].iter().map(|u| u.initial).collect();
+        let mut zone = Dbm::zero(self.dim);
+        let (env_id, plan_id) = self.intern_discrete(&env, &plan);
+        self.normalise(env_id, plan_id, &mut zone);
+        let kind = if self.is_closed(&env, &plan, &zone) { StateKind::Interval } else { StateKind::Entry };
+        self.space.initial = self.find_or_add(env_id, plan_id, &zone, kind, Vis::Fresh).0;
+        let mut expansions = 0usize;
+        while let Some(s) = self.queue.pop_front() {
+            if !self.space.is_winning(self.space.initial) {
+                return Verdict::Unrealizable;
+            }
+            let st = &self.space.states[s as usize];
+            if st.removal.is_some() || st.expanded {
+                continue;
+            }
+            if self.space.states.len() > options.max_states {
+                return Verdict::BudgetExceeded;
+            }
+            expansions += 1;
+            if options.progress_interval > 0 && expansions % options.progress_interval == 0 && !progress(&self.stats()) {
+                return Verdict::Cancelled;
+            }
+            self.expand(s);
+        }
+        if self.space.is_winning(self.space.initial) {
+            Verdict::Realizable
+        } else {
+            Verdict::Unrealizable
+        }
+    }
+
+    // ----- discrete parts and zones ------------------------------------------------------------
+
+    fn intern_discrete(&mut self, env: &[SubLocId], plan: &[SubLocId]) -> (u32, u32) {
+        let units = &self.split.units;
+        let (env_id, new_env) = self.space.envs.intern(env);
+        if new_env {
+            let locs: Vec<LocId> = env.iter().enumerate().map(|(u, &s)| units[u].sublocs[s as usize].location).collect();
+            self.env_locations.extend_from_slice(&locs);
+            let violated = self.game.assertions.iter().position(|a| !a.holds.eval(&locs)).map_or(0, |i| i as u32 + 1);
+            self.env_violation.push(violated);
+            let mut clocks = 0u64;
+            for (u, &s) in env.iter().enumerate() {
+                for &(c, _) in &units[u].sublocs[s as usize].pieces {
+                    clocks |= 1 << c;
+                }
+            }
+            self.env_clocks.push(clocks);
+        }
+        let (plan_id, new_plan) = self.space.plans.intern(plan);
+        if new_plan {
+            let base = self.split.plant_count;
+            let failed = plan.iter().enumerate().position(|(p, &s)| units[base + p].sublocs[s as usize].failed).map_or(0, |i| i as u32 + 1);
+            self.plan_failure.push(failed);
+            let mut clocks = 0u64;
+            for (p, &s) in plan.iter().enumerate() {
+                for &(c, _) in &units[base + p].sublocs[s as usize].pieces {
+                    clocks |= 1 << c;
+                }
+            }
+            self.plan_clocks.push(clocks);
+        }
+        (env_id, plan_id)
+    }
+
+    /// Extrapolates with the maximal constants of the clocks in use; unused clocks are freed
+    /// (the clock usage reduction of 5.2.1).
+    fn normalise(&mut self, env_id: u32, plan_id: u32, zone: &mut Dbm) {
+        let used = self.env_clocks[env_id as usize] | self.plan_clocks[plan_id as usize];
+        for c in 1..self.dim {
+            self.max_constants[c] = if used >> c & 1 == 1 { self.split.max_constant[c].max(0) } else { -1 };
+        }
+        zone.extrapolate_max(&self.max_constants);
+    }
+
+    /// Applies the upper bounds of every piece in use (time may not leave a sub-location).
+    fn constrain_upper(&self, env: &[SubLocId], plan: &[SubLocId], zone: &mut Dbm) -> bool {
+        let units = &self.split.units;
+        let base = self.split.plant_count;
+        for (u, &s) in env.iter().enumerate().chain(plan.iter().enumerate().map(|(p, s)| (base + p, s))) {
+            for &(clock, piece) in &units[u].sublocs[s as usize].pieces {
+                let iv = &self.split.pieces[clock as usize][piece as usize];
+                if let Some(upper) = iv.upper {
+                    let b = if iv.upper_closed { Bound::le(upper as i32) } else { Bound::lt(upper as i32) };
+                    if !zone.constrain(clock as usize, 0, b) {
+                        return false;
+                    }
+                }
+            }
+        }
+        true
+    }
+
+    /// The zone after letting time pass as long as every piece in use allows.
+    fn time_closure(&self, env: &[SubLocId], plan: &[SubLocId], zone: &Dbm) -> Option<Dbm> {
+        let mut closed = zone.clone();
+        closed.up();
+        self.constrain_upper(env, plan, &mut closed).then_some(closed)
+    }
+
+    fn is_closed(&self, env: &[SubLocId], plan: &[SubLocId], zone: &Dbm) -> bool {
+        self.time_closure(env, plan, zone).is_some_and(|c| &c == zone)
+    }
+
+    fn locations_of(&self, env_id: u32) -> &[LocId] {
+        let w = self.split.plant_count;
+        &self.env_locations[env_id as usize * w..env_id as usize * w + w]
+    }
+
+    /// Finds or adds the state. A new state violating an assertion or with a failed plan is
+    /// stored as removed; any other new state is queued for expansion.
+    fn find_or_add(&mut self, env_id: u32, plan_id: u32, zone: &Dbm, kind: StateKind, vis: Vis) -> (StateId, bool) {
+        let (zone_id, _) = self.space.zones.intern(zone.as_slice());
+        let key = (env_id, plan_id, zone_id, kind);
+        if let Some(&id) = self.state_index.get(&key) {
+            return (id, false);
+        }
+        let id = self.space.states.len() as StateId;
+        let vis = match vis {
+            Vis::Fresh => {
+                self.vis_nodes.push((env_id, NONE));
+                (self.vis_nodes.len() - 1) as u32
+            }
+            Vis::Extend(parent) => {
+                self.vis_nodes.push((env_id, parent));
+                (self.vis_nodes.len() - 1) as u32
+            }
+            Vis::Same(v) => v,
+        };
+        let removal = match (self.env_violation[env_id as usize], self.plan_failure[plan_id as usize]) {
+            (0, 0) => None,
+            (0, p) => Some(Removal::PlanFailed { plan: p - 1 }),
+            (a, _) => Some(Removal::Assertion { rule: a - 1 }),
+        };
+        self.space.states.push(State {
+            env: env_id,
+            plan: plan_id,
+            zone: zone_id,
+            kind,
+            removal,
+            expanded: false,
+            out_start: 0,
+            out_end: 0,
+            first_in: NONE,
+            options_alive: 0,
+            wait_viable: false,
+            vis,
+        });
+        self.state_index.insert(key, id);
+        if removal.is_some() {
+            self.removed += 1;
+        } else if kind != StateKind::Guard {
+            self.queue.push_back(id);
+        }
+        (id, true)
+    }
+
+    /// True if the plant state `env_id` is in the zeno memory `vis`.
+    fn visited(&self, mut vis: u32, env_id: u32) -> bool {
+        while vis != NONE {
+            let (e, parent) = self.vis_nodes[vis as usize];
+            if e == env_id {
+                return true;
+            }
+            vis = parent;
+        }
+        false
+    }
+
+    // ----- expansion -----------------------------------------------------------------------
+
+    /// Collects the discrete moves enabled in `env`, resolving `$` synchronisation (algorithm 3):
+    /// a sender's move needs one enabled `$` transition in every unit synchronising on the
+    /// message; each combination is a move.
+    fn collect_moves(&mut self, env: &[SubLocId], requests_allowed: bool) {
+        self.moves.clear();
+        let units = &self.split.units;
+        for (u, &s) in env.iter().enumerate() {
+            for e in &units[u].sublocs[s as usize].edges {
+                if e.kind == MessageKind::Synchronised || (e.kind == MessageKind::Controllable && !requests_allowed) {
+                    continue;
+                }
+                let mut partial = vec![Move { kind: e.kind, message: e.message, instant: e.instant, env: env.to_vec(), resets: clock_bits(&e.resets) }];
+                partial[0].env[u] = e.target;
+                for &other in &self.split.sync_units[e.message as usize] {
+                    let other = other as usize;
+                    let options: Vec<_> = units[other].sublocs[env[other] as usize]
+                        .edges
+                        .iter()
+                        .filter(|se| se.kind == MessageKind::Synchronised && se.message == e.message)
+                        .collect();
+                    let mut next = Vec::with_capacity(partial.len() * options.len());
+                    for m in &partial {
+                        for o in &options {
+                            let mut env2 = m.env.clone();
+                            env2[other] = o.target;
+                            next.push(Move { kind: m.kind, message: m.message, instant: m.instant || o.instant, env: env2, resets: m.resets | clock_bits(&o.resets) });
+                        }
+                    }
+                    partial = next;
+                }
+                self.moves.extend(partial);
+            }
+        }
+        if self.moves.iter().any(|m| m.instant) {
+            self.moves.retain(|m| m.instant);
+        }
+    }
+
+    fn expand(&mut self, s: StateId) {
+        let st = self.space.states[s as usize].clone();
+        let env = self.space.envs.get(st.env).to_vec();
+        let plan = self.space.plans.get(st.plan).to_vec();
+        let zone = Dbm::from_slice(self.dim, self.space.zones.get(st.zone));
+        let plant_count = self.split.plant_count;
+        let requests_allowed = st.kind != StateKind::Waiting;
+        self.collect_moves(&env, requests_allowed);
+        let urgent = self.moves.iter().any(|m| m.instant);
+        let moves = std::mem::take(&mut self.moves);
+        self.pending_edges.clear();
+        let mut guard_chains: Vec<(usize, Vec<MsgId>)> = Vec::new();
+        for m in &moves {
+            // Plans observe the message (they never block it).
+            let mut plan2 = plan.clone();
+            let mut resets = m.resets;
+            let mut progress = false;
+            for (p, sub) in plan2.iter_mut().enumerate() {
+                let slot = *sub as usize * self.split.message_count + m.message as usize;
+                let next = self.split.plan_next[p][slot];
+                if next != STAY {
+                    let unit = &self.split.units[plant_count + p];
+                    progress |= unit.sublocs[next as usize].location != unit.sublocs[*sub as usize].location;
+                    resets |= self.split.plan_resets[p][slot];
+                    *sub = next;
+                }
+            }
+            let mut z = zone.clone();
+            for c in 1..self.dim {
+                if resets >> c & 1 == 1 {
+                    z.reset(c);
+                }
+            }
+            let (env_id, plan_id) = self.intern_discrete(&m.env, &plan2);
+            self.normalise(env_id, plan_id, &mut z);
+            let kind = if self.is_closed(&m.env, &plan2, &z) { StateKind::Interval } else { StateKind::Entry };
+            let edge_kind = if m.kind == MessageKind::Controllable { EdgeKind::Request } else { EdgeKind::Reaction };
+            let class = if m.kind == MessageKind::Controllable { Class::Option } else { Class::Forced };
+            let label = Label::Message { message: m.message };
+            let zeno = !progress && self.visited(st.vis, env_id);
+            let to = if zeno
+                && self.env_violation[env_id as usize] == 0
+                && self.plan_failure[plan_id as usize] == 0
+            {
+                NONE
+            } else {
+                let vis = if progress { Vis::Fresh } else { Vis::Extend(st.vis) };
+                self.find_or_add(env_id, plan_id, &z, kind, vis).0
+            };
+            let edge = Edge { from: s, to, kind: edge_kind, label, resets, instant: m.instant, zeno: to == NONE, class, next_in: NONE };
+            if m.kind == MessageKind::Controllable && to != NONE {
+                let before = self.locations_of(st.env).to_vec();
+                let after = self.locations_of(env_id).to_vec();
+                let guards: Vec<MsgId> =
+                    self.game.guards.iter().filter(|g| g.cond.eval(&after) && !g.cond.eval(&before)).map(|g| g.message).collect();
+                if !guards.is_empty() {
+                    guard_chains.push((self.pending_edges.len(), guards));
+                }
+            }
+            self.pending_edges.push(edge);
+        }
+        self.moves = moves;
+        if !urgent {
+            if st.kind == StateKind::Entry {
+                if let Some(closed) = self.time_closure(&env, &plan, &zone) {
+                    let mut closed = closed;
+                    self.normalise(st.env, st.plan, &mut closed);
+                    let to = self.find_or_add(st.env, st.plan, &closed, StateKind::Waiting, Vis::Same(st.vis)).0;
+                    self.pending_edges.push(Edge { from: s, to, kind: EdgeKind::Delay, label: Label::Wait, resets: 0, instant: false, zeno: false, class: Class::Wait, next_in: NONE });
+                }
+            } else {
+                self.delay_edges(s, &st, &env, &plan, &zone);
+            }
+        }
+
+        // A guarded request becomes `s -%g1-> G1 -%g2-> … -?m-> target` (5.3.4). Guard states
+        // are settled (and their removal propagated) before the edges of `s` exist, so that no
+        // removal is counted twice.
+        let mut own = std::mem::take(&mut self.pending_edges);
+        for (index, guards) in guard_chains {
+            let request = own[index];
+            let chain: Vec<StateId> = guards.iter().map(|_| self.add_guard_state(&st)).collect();
+            for k in (0..chain.len()).rev() {
+                let edge = match chain.get(k + 1) {
+                    Some(&next) => guard_edge(chain[k], next, guards[k + 1], request.instant),
+                    None => Edge { from: chain[k], ..request },
+                };
+                self.commit_edges(chain[k], vec![edge]);
+                self.evaluate(chain[k]);
+                self.propagate();
+            }
+            own[index] = guard_edge(s, chain[0], guards[0], request.instant);
+        }
+        self.commit_edges(s, own);
+        self.evaluate(s);
+        self.propagate();
+    }
+
+    fn add_guard_state(&mut self, st: &State) -> StateId {
+        let id = self.space.states.len() as StateId;
+        self.space.states.push(State {
+            env: st.env,
+            plan: st.plan,
+            zone: st.zone,
+            kind: StateKind::Guard,
+            removal: None,
+            expanded: false,
+            out_start: 0,
+            out_end: 0,
+            first_in: NONE,
+            options_alive: 0,
+            wait_viable: false,
+            vis: st.vis,
+        });
+        id
+    }
+
+    /// Delay edges of a time-closed state: into the next piece of each clock, and timeouts.
+    fn delay_edges(&mut self, s: StateId, st: &State, env: &[SubLocId], plan: &[SubLocId], zone: &Dbm) {
+        let plant_count = self.split.plant_count;
+        let unit_count = self.split.units.len();
+        for u in 0..unit_count {
+            let sub = if u < plant_count { env[u] } else { plan[u - plant_count] };
+            let delays = self.split.units[u].sublocs[sub as usize].delays.clone();
+            for d in delays {
+                let mut env2 = env.to_vec();
+                let mut plan2 = plan.to_vec();
+                if u < plant_count {
+                    env2[u] = d.target;
+                } else {
+                    plan2[u - plant_count] = d.target;
+                }
+                let piece = self.split.units[u].sublocs[d.target as usize].pieces.iter().find(|(c, _)| *c == d.clock).map_or(0, |&(_, p)| p);
+                let iv = self.split.pieces[d.clock as usize][piece as usize];
+                let mut z = zone.clone();
+                z.up();
+                let lower = if iv.lower_closed { Bound::le(-(iv.lower as i32)) } else { Bound::lt(-(iv.lower as i32)) };
+                if !z.constrain(0, d.clock as usize, lower) || !self.constrain_upper(&env2, &plan2, &mut z) {
+                    continue;
+                }
+                let (env_id, plan_id) = self.intern_discrete(&env2, &plan2);
+                self.normalise(env_id, plan_id, &mut z);
+                let to = self.find_or_add(env_id, plan_id, &z, StateKind::Interval, Vis::Same(st.vis)).0;
+                self.pending_edges.push(Edge {
+                    from: s,
+                    to,
+                    kind: EdgeKind::Delay,
+                    label: Label::Piece { clock: d.clock, piece },
+                    resets: 0,
+                    instant: false,
+                    zeno: false,
+                    class: Class::Wait,
+                    next_in: NONE,
+                });
+            }
+            if u < plant_count {
+                if let Some(clock) = self.split.units[u].sublocs[sub as usize].timeout {
+                    self.pending_edges.push(Edge { from: s, to: NONE, kind: EdgeKind::Timeout, label: Label::Overrun { clock }, resets: 0, instant: false, zeno: false, class: Class::Inert, next_in: NONE });
+                }
+            }
+        }
+    }
+
+    fn commit_edges(&mut self, s: StateId, edges: Vec<Edge>) {
+        let start = self.space.edges.len() as EdgeId;
+        for mut e in edges {
+            let id = self.space.edges.len() as EdgeId;
+            e.from = s;
+            if e.to != NONE {
+                let target = &mut self.space.states[e.to as usize];
+                e.next_in = target.first_in;
+                target.first_in = id;
+            }
+            self.space.edges.push(e);
+        }
+        let st = &mut self.space.states[s as usize];
+        st.out_start = start;
+        st.out_end = self.space.edges.len() as EdgeId;
+        st.expanded = true;
+    }
+
+    /// Decides a freshly expanded state from its edges (the local rule of the module doc).
+    fn evaluate(&mut self, s: StateId) {
+        let (start, end) = {
+            let st = &self.space.states[s as usize];
+            (st.out_start, st.out_end)
+        };
+        let mut forced_any = false;
+        let mut options_alive = 0u32;
+        let mut wait_edges = 0u32;
+        let mut wait_ok = true;
+        let mut dead_forced: Option<(EdgeId, bool)> = None;
+        let mut instant_forced = false;
+        for id in start..end {
+            let e = &self.space.edges[id as usize];
+            let alive = e.to != NONE && self.space.states[e.to as usize].removal.is_none();
+            match e.class {
+                Class::Forced => {
+                    forced_any = true;
+                    instant_forced |= e.instant;
+                    if !alive && dead_forced.is_none() {
+                        dead_forced = Some((id, e.zeno));
+                    }
+                }
+                Class::Option => options_alive += u32::from(alive),
+                Class::Wait => {
+                    wait_edges += 1;
+                    wait_ok &= alive;
+                }
+                Class::Inert => {}
+            }
+        }
+        let st = &mut self.space.states[s as usize];
+        st.options_alive = options_alive;
+        st.wait_viable = if wait_edges > 0 { wait_ok } else { forced_any || instant_forced };
+        let removal = match dead_forced {
+            Some((edge, true)) => Some(Removal::ZenoLoop { edge }),
+            Some((edge, false)) => Some(Removal::Forced { edge }),
+            None if options_alive == 0 && !st.wait_viable => {
+                if end == start || (start..end).all(|id| self.space.edges[id as usize].class == Class::Inert) {
+                    Some(Removal::Deadlock)
+                } else {
+                    Some(Removal::NoMove)
+                }
+            }
+            None => None,
+        };
+        if let Some(r) = removal {
+            self.remove(s, r);
+        }
+    }
+
+    fn remove(&mut self, s: StateId, reason: Removal) {
+        let st = &mut self.space.states[s as usize];
+        if st.removal.is_none() {
+            st.removal = Some(reason);
+            self.removed += 1;
+            self.lost_queue.push(s);
+        }
+    }
+
+    /// Algorithm 6: removes, backwards, every state that can no longer avoid a removed one.
+    fn propagate(&mut self) {
+        while let Some(y) = self.lost_queue.pop() {
+            let mut id = self.space.states[y as usize].first_in;
+            while id != NONE {
+                let edge_id = id;
+                let e = self.space.edges[id as usize];
+                id = e.next_in;
+                let x = e.from;
+                let xs = &mut self.space.states[x as usize];
+                if xs.removal.is_some() || !xs.expanded {
+                    continue;
+                }
+                match e.class {
+                    Class::Forced => self.remove(x, Removal::Forced { edge: edge_id }),
+                    Class::Option => {
+                        xs.options_alive -= 1;
+                        if xs.options_alive == 0 && !xs.wait_viable {
+                            self.remove(x, Removal::NoMove);
+                        }
+                    }
+                    Class::Wait => {
+                        if xs.wait_viable {
+                            xs.wait_viable = false;
+                            if xs.options_alive == 0 {
+                                self.remove(x, Removal::NoMove);
+                            }
+                        }
+                    }
+                    Class::Inert => {}
+                }
+            }
+        }
+    }
+}
+
+fn guard_edge(from: StateId, to: StateId, message: MsgId, instant: bool) -> Edge {
+    Edge { from, to, kind: EdgeKind::Guard, label: Label::Message { message }, resets: 0, instant, zeno: false, class: Class::Option, next_in: NONE }
+}
+
+fn clock_bits(clocks: &[ClockId]) -> u64 {
+    clocks.iter().fold(0, |bits, &c| bits | 1 << c)
+}
