@@ -139,6 +139,8 @@ pub struct Edge {
     pub instant: bool,
     /// The move returns to a plant state visited since the last plan progress.
     pub zeno: bool,
+    /// Some plan reached a goal (took a transition) with this move.
+    pub progress: bool,
     class: Class,
     next_in: EdgeId,
 }
@@ -605,8 +607,8 @@ impl<'g> Solver<'g> {
                 let slot = *sub as usize * self.split.message_count + m.message as usize;
                 let next = self.split.plan_next[p][slot];
                 if next != STAY {
-                    let unit = &self.split.units[plant_count + p];
-                    progress |= unit.sublocs[next as usize].location != unit.sublocs[*sub as usize].location;
+                    // Reaching a goal is progress even when the plan loops to the same location.
+                    progress = true;
                     resets |= self.split.plan_resets[p][slot];
                     *sub = next;
                 }
@@ -633,7 +635,7 @@ impl<'g> Solver<'g> {
                 let vis = if progress { Vis::Fresh } else { Vis::Extend(st.vis) };
                 self.find_or_add(env_id, plan_id, &z, kind, vis).0
             };
-            let edge = Edge { from: s, to, kind: edge_kind, label, resets, instant: m.instant, zeno: to == NONE, class, next_in: NONE };
+            let edge = Edge { from: s, to, kind: edge_kind, label, resets, instant: m.instant, zeno: to == NONE, progress, class, next_in: NONE };
             if m.kind == MessageKind::Controllable && to != NONE {
                 let before = self.locations_of(st.env).to_vec();
                 let after = self.locations_of(env_id).to_vec();
@@ -652,7 +654,7 @@ impl<'g> Solver<'g> {
                     let mut closed = closed;
                     self.normalise(st.env, st.plan, &mut closed);
                     let to = self.find_or_add(st.env, st.plan, &closed, StateKind::Waiting, Vis::Same(st.vis)).0;
-                    self.pending_edges.push(Edge { from: s, to, kind: EdgeKind::Delay, label: Label::Wait, resets: 0, instant: false, zeno: false, class: Class::Wait, next_in: NONE });
+                    self.pending_edges.push(Edge { from: s, to, kind: EdgeKind::Delay, label: Label::Wait, resets: 0, instant: false, zeno: false, progress: false, class: Class::Wait, next_in: NONE });
                 }
             } else {
                 self.delay_edges(s, &st, &env, &plan, &zone);
@@ -701,50 +703,113 @@ impl<'g> Solver<'g> {
         id
     }
 
-    /// Delay edges of a time-closed state: into the next piece of each clock, and timeouts.
+    /// Delay edges of a time-closed state (5.2.2). Time leaves the current box of pieces when
+    /// the first clocks reach the end of their pieces; for every set `S` of clocks that can be
+    /// the first to leave, together, there is one edge into the box where the clocks of `S`
+    /// are in their next piece. Restricting the zone to the valuations whose first exit set is
+    /// `S` keeps every successor immediate, so no intermediate state is skipped. Leaving a piece
+    /// past a plant invariant is a timeout edge instead.
     fn delay_edges(&mut self, s: StateId, st: &State, env: &[SubLocId], plan: &[SubLocId], zone: &Dbm) {
         let plant_count = self.split.plant_count;
-        let unit_count = self.split.units.len();
-        for u in 0..unit_count {
+        let mut exits: Vec<Exit> = Vec::new();
+        for u in 0..self.split.units.len() {
             let sub = if u < plant_count { env[u] } else { plan[u - plant_count] };
-            let delays = self.split.units[u].sublocs[sub as usize].delays.clone();
-            for d in delays {
-                let mut env2 = env.to_vec();
-                let mut plan2 = plan.to_vec();
-                if u < plant_count {
-                    env2[u] = d.target;
-                } else {
-                    plan2[u - plant_count] = d.target;
-                }
-                let piece = self.split.units[u].sublocs[d.target as usize].pieces.iter().find(|(c, _)| *c == d.clock).map_or(0, |&(_, p)| p);
-                let iv = self.split.pieces[d.clock as usize][piece as usize];
-                let mut z = zone.clone();
-                z.up();
-                let lower = if iv.lower_closed { Bound::le(-(iv.lower as i32)) } else { Bound::lt(-(iv.lower as i32)) };
-                if !z.constrain(0, d.clock as usize, lower) || !self.constrain_upper(&env2, &plan2, &mut z) {
-                    continue;
-                }
-                let (env_id, plan_id) = self.intern_discrete(&env2, &plan2);
-                self.normalise(env_id, plan_id, &mut z);
-                let to = self.find_or_add(env_id, plan_id, &z, StateKind::Interval, Vis::Same(st.vis)).0;
-                self.pending_edges.push(Edge {
-                    from: s,
-                    to,
-                    kind: EdgeKind::Delay,
-                    label: Label::Piece { clock: d.clock, piece },
-                    resets: 0,
-                    instant: false,
-                    zeno: false,
-                    class: Class::Wait,
-                    next_in: NONE,
-                });
-            }
-            if u < plant_count {
-                if let Some(clock) = self.split.units[u].sublocs[sub as usize].timeout {
-                    self.pending_edges.push(Edge { from: s, to: NONE, kind: EdgeKind::Timeout, label: Label::Overrun { clock }, resets: 0, instant: false, zeno: false, class: Class::Inert, next_in: NONE });
-                }
+            let sl = &self.split.units[u].sublocs[sub as usize];
+            for &(clock, piece) in &sl.pieces {
+                let iv = self.split.pieces[clock as usize][piece as usize];
+                let Some(upper) = iv.upper else { continue };
+                let target = sl.delays.iter().find(|d| d.clock == clock).map(|d| d.target);
+                exits.push(Exit { unit: u, clock, upper: upper as i32, closed: iv.upper_closed, target, next_piece: piece + 1 });
             }
         }
+        for r in 0..exits.len() {
+            let mut base = zone.clone();
+            // Clocks before `r` are not in S: they leave strictly later than `r`.
+            let feasible = (0..r).all(|c| later(&mut base, &exits[c], &exits[r]));
+            if feasible {
+                self.exit_sets(s, st, env, plan, &exits, r, r + 1, base, vec![r]);
+            }
+        }
+    }
+
+    /// Enumerates the exit sets with smallest member `r`, deciding clocks `k..` one by one.
+    #[allow(clippy::too_many_arguments)]
+    fn exit_sets(&mut self, s: StateId, st: &State, env: &[SubLocId], plan: &[SubLocId], exits: &[Exit], r: usize, k: usize, zone: Dbm, set: Vec<usize>) {
+        if zone.is_empty() {
+            return;
+        }
+        if k == exits.len() {
+            self.delay_into(s, st, env, plan, exits, &set, zone);
+            return;
+        }
+        // k leaves together with r.
+        if exits[k].closed == exits[r].closed {
+            let mut with = zone.clone();
+            let d = exits[k].upper - exits[r].upper;
+            let (ck, cr) = (exits[k].clock as usize, exits[r].clock as usize);
+            if with.constrain(ck, cr, Bound::le(d)) && with.constrain(cr, ck, Bound::le(-d)) {
+                let mut set2 = set.clone();
+                set2.push(k);
+                self.exit_sets(s, st, env, plan, exits, r, k + 1, with, set2);
+            }
+        }
+        // k leaves later.
+        let mut without = zone;
+        if later(&mut without, &exits[k], &exits[r]) {
+            self.exit_sets(s, st, env, plan, exits, r, k + 1, without, set);
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn delay_into(&mut self, s: StateId, st: &State, env: &[SubLocId], plan: &[SubLocId], exits: &[Exit], set: &[usize], mut zone: Dbm) {
+        let plant_count = self.split.plant_count;
+        if let Some(&k) = set.iter().find(|&&k| exits[k].target.is_none()) {
+            // A clock runs past its invariant (plant) or past the last piece it may have.
+            if exits[k].unit < plant_count {
+                let clock = exits[k].clock;
+                self.pending_edges.push(Edge { from: s, to: NONE, kind: EdgeKind::Timeout, label: Label::Overrun { clock }, resets: 0, instant: false, zeno: false, progress: false, class: Class::Inert, next_in: NONE });
+            }
+            return;
+        }
+        let mut env2 = env.to_vec();
+        let mut plan2 = plan.to_vec();
+        for &k in set {
+            let e = &exits[k];
+            let target = e.target.expect("checked above");
+            if e.unit < plant_count {
+                env2[e.unit] = target;
+            } else {
+                plan2[e.unit - plant_count] = target;
+            }
+        }
+        zone.up();
+        for &k in set {
+            let e = &exits[k];
+            let iv = self.split.pieces[e.clock as usize][e.next_piece as usize];
+            let lower = if iv.lower_closed { Bound::le(-(iv.lower as i32)) } else { Bound::lt(-(iv.lower as i32)) };
+            if !zone.constrain(0, e.clock as usize, lower) {
+                return;
+            }
+        }
+        if !self.constrain_upper(&env2, &plan2, &mut zone) {
+            return;
+        }
+        let (env_id, plan_id) = self.intern_discrete(&env2, &plan2);
+        self.normalise(env_id, plan_id, &mut zone);
+        let to = self.find_or_add(env_id, plan_id, &zone, StateKind::Interval, Vis::Same(st.vis)).0;
+        let first = &exits[set[0]];
+        self.pending_edges.push(Edge {
+            from: s,
+            to,
+            kind: EdgeKind::Delay,
+            label: Label::Piece { clock: first.clock, piece: first.next_piece },
+            resets: 0,
+            instant: false,
+            zeno: false,
+            progress: false,
+            class: Class::Wait,
+            next_in: NONE,
+        });
     }
 
     fn commit_edges(&mut self, s: StateId, edges: Vec<Edge>) {
@@ -861,8 +926,28 @@ impl<'g> Solver<'g> {
     }
 }
 
+/// A clock that time can move out of its current piece.
+struct Exit {
+    unit: usize,
+    clock: ClockId,
+    /// End of the current piece, and whether it belongs to the piece.
+    upper: i32,
+    closed: bool,
+    /// The sub-location with the next piece, or `None` past an invariant or the last piece.
+    target: Option<SubLocId>,
+    next_piece: u16,
+}
+
+/// Constrains `zone` so that clock `c` leaves its piece strictly after clock `r` leaves its own.
+/// A closed end `u` is left just after the clock reaches `u`, an open end exactly at `u`.
+fn later(zone: &mut Dbm, c: &Exit, r: &Exit) -> bool {
+    let d = c.upper - r.upper;
+    let bound = if c.closed && !r.closed { Bound::le(d) } else { Bound::lt(d) };
+    zone.constrain(c.clock as usize, r.clock as usize, bound)
+}
+
 fn guard_edge(from: StateId, to: StateId, message: MsgId, instant: bool) -> Edge {
-    Edge { from, to, kind: EdgeKind::Guard, label: Label::Message { message }, resets: 0, instant, zeno: false, class: Class::Option, next_in: NONE }
+    Edge { from, to, kind: EdgeKind::Guard, label: Label::Message { message }, resets: 0, instant, zeno: false, progress: false, class: Class::Option, next_in: NONE }
 }
 
 fn clock_bits(clocks: &[ClockId]) -> u64 {
