@@ -347,6 +347,8 @@ impl Dbm {
     /// with clock `c` (`max[0]` is ignored); a negative value marks an
     /// inactive clock, which is freed. The result is canonical and contains
     /// the original zone.
+    // Matrix indices and per-clock constants share the index: plain loops read best.
+    #[allow(clippy::needless_range_loop)]
     pub fn extrapolate_max(&mut self, max: &[i32]) {
         assert_eq!(max.len(), self.dim, "one constant per index expected");
         if self.is_empty() {
@@ -395,6 +397,8 @@ impl Dbm {
     /// compared that way). Coarser than [`Dbm::extrapolate_max`] with
     /// `max = max(lower, upper)`, still sound for reachability. The result
     /// is canonical and contains the original zone.
+    // Matrix indices and per-clock constants share the index: plain loops read best.
+    #[allow(clippy::needless_range_loop)]
     pub fn extrapolate_lu(&mut self, lower: &[i32], upper: &[i32]) {
         assert_eq!(lower.len(), self.dim, "one constant per index expected");
         assert_eq!(upper.len(), self.dim, "one constant per index expected");
