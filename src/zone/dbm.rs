@@ -141,7 +141,8 @@ impl Dbm {
 
     /// Brings the matrix to canonical form (all-pairs shortest paths,
     /// Floyd–Warshall, O(dim³)). Returns false, leaving the zone marked
-    /// empty, if the constraints are contradictory.
+    /// empty, if the constraints are contradictory. Intermediate entries are
+    /// sums along simple paths, so `dim · max|c|` must stay below 2^29.
     pub fn close(&mut self) -> bool {
         let n = self.dim;
         for i in 0..n {
