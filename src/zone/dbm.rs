@@ -141,7 +141,8 @@ impl Dbm {
 
     /// Brings the matrix to canonical form (all-pairs shortest paths,
     /// Floyd–Warshall, O(dim³)). Returns false, leaving the zone marked
-    /// empty, if the constraints are contradictory.
+    /// empty, if the constraints are contradictory. Intermediate entries are
+    /// sums along simple paths, so `dim · max|c|` must stay below 2^29.
     pub fn close(&mut self) -> bool {
         let n = self.dim;
         for i in 0..n {
@@ -338,7 +339,13 @@ impl Dbm {
         if self.is_empty() {
             return false;
         }
-        other.m.iter().zip(self.m.iter()).all(|(o, s)| o <= s)
+        // Branch-free within a row so it vectorises; early exit per row.
+        let n = self.dim;
+        other
+            .m
+            .chunks_exact(n)
+            .zip(self.m.chunks_exact(n))
+            .all(|(o, s)| o.iter().zip(s).fold(true, |ok, (a, b)| ok & (a <= b)))
     }
 
     /// Classic k-normalisation (Extra_M): bounds above a clock's maximal
@@ -347,6 +354,8 @@ impl Dbm {
     /// with clock `c` (`max[0]` is ignored); a negative value marks an
     /// inactive clock, which is freed. The result is canonical and contains
     /// the original zone.
+    // Matrix indices and per-clock constants share the index: plain loops read best.
+    #[allow(clippy::needless_range_loop)]
     pub fn extrapolate_max(&mut self, max: &[i32]) {
         assert_eq!(max.len(), self.dim, "one constant per index expected");
         if self.is_empty() {
@@ -395,6 +404,8 @@ impl Dbm {
     /// compared that way). Coarser than [`Dbm::extrapolate_max`] with
     /// `max = max(lower, upper)`, still sound for reachability. The result
     /// is canonical and contains the original zone.
+    // Matrix indices and per-clock constants share the index: plain loops read best.
+    #[allow(clippy::needless_range_loop)]
     pub fn extrapolate_lu(&mut self, lower: &[i32], upper: &[i32]) {
         assert_eq!(lower.len(), self.dim, "one constant per index expected");
         assert_eq!(upper.len(), self.dim, "one constant per index expected");

@@ -1,6 +1,8 @@
 //! Unit tests on hand-computed zones and property tests against brute-force
 //! evaluation on rational sample points.
 
+#![allow(clippy::needless_range_loop)]
+
 use super::*;
 use proptest::prelude::*;
 use std::collections::hash_map::DefaultHasher;
