@@ -8,6 +8,7 @@ pub mod arena;
 pub mod ast;
 pub mod check;
 pub mod explain;
+pub mod export;
 pub mod lexer;
 pub mod model;
 pub mod parser;

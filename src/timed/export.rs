@@ -1,0 +1,241 @@
+//! JSON views of a game and of a solved state space, for the playground and `--json` output.
+//! Shapes are documented in `docs/timed-language.md` (section "JSON output").
+
+use super::explain::{describe_edge, removal_text};
+use super::model::{ClockInterval, Game};
+use super::solve::{Removal, StateId, StateKind, Verdict};
+use super::Synthesis;
+use serde::Serialize;
+use std::collections::VecDeque;
+
+#[derive(Serialize)]
+pub struct AutomatonView {
+    pub name: String,
+    /// `automaton`, `hardware`, `operator` or `plan`.
+    pub kind: &'static str,
+    pub initial: u32,
+    pub locations: Vec<LocationView>,
+    pub edges: Vec<EdgeView>,
+}
+
+#[derive(Serialize)]
+pub struct LocationView {
+    pub name: String,
+    /// Invariant as text, empty when `true`.
+    pub invariant: String,
+    /// Plans only: the fail location.
+    pub failed: bool,
+}
+
+#[derive(Serialize)]
+pub struct EdgeView {
+    pub from: u32,
+    pub to: u32,
+    /// `?`, `!` or `$`; plan transitions use `$`.
+    pub sigil: char,
+    pub message: String,
+    pub guard: String,
+    pub resets: Vec<String>,
+    pub instant: bool,
+}
+
+fn constraints_text(game: &Game, list: &[ClockInterval]) -> String {
+    let parts: Vec<String> = list
+        .iter()
+        .map(|ci| {
+            let name = &game.clocks[ci.clock as usize].name;
+            let short = name.rsplit('.').next().unwrap_or(name);
+            format!("{short} in {}", ci.interval)
+        })
+        .collect();
+    parts.join(" and ")
+}
+
+/// The plant units and plans as automata, for drawing.
+pub fn automata(game: &Game) -> Vec<AutomatonView> {
+    let clock_name = |c: u32| {
+        let name = &game.clocks[c as usize].name;
+        name.rsplit('.').next().unwrap_or(name).to_string()
+    };
+    let mut out: Vec<AutomatonView> = game
+        .components
+        .iter()
+        .map(|a| AutomatonView {
+            name: a.name.clone(),
+            kind: match a.origin {
+                super::model::ComponentOrigin::Automaton => "automaton",
+                super::model::ComponentOrigin::Hardware => "hardware",
+                super::model::ComponentOrigin::Operator => "operator",
+            },
+            initial: a.initial,
+            locations: a.locations.iter().map(|l| LocationView { name: l.name.clone(), invariant: constraints_text(game, &l.invariant), failed: false }).collect(),
+            edges: a
+                .edges
+                .iter()
+                .map(|e| EdgeView {
+                    from: e.from,
+                    to: e.to,
+                    sigil: e.kind.sigil(),
+                    message: game.messages[e.message as usize].name.clone(),
+                    guard: constraints_text(game, &e.guard),
+                    resets: e.resets.iter().map(|&c| clock_name(c)).collect(),
+                    instant: e.instant,
+                })
+                .collect(),
+        })
+        .collect();
+    for p in &game.plans {
+        let deadline: Vec<String> = p.clocks.iter().map(|&(c, b)| format!("{} in [0,{b}]", clock_name(c))).collect();
+        out.push(AutomatonView {
+            name: p.name.clone(),
+            kind: "plan",
+            initial: p.initial,
+            locations: p
+                .locations
+                .iter()
+                .enumerate()
+                .map(|(i, l)| LocationView {
+                    name: l.name.clone(),
+                    invariant: if i as u32 == p.failed { String::new() } else { deadline.join(" and ") },
+                    failed: i as u32 == p.failed,
+                })
+                .collect(),
+            edges: p
+                .edges
+                .iter()
+                .map(|e| EdgeView {
+                    from: e.from,
+                    to: e.to,
+                    sigil: '$',
+                    message: game.messages[e.message as usize].name.clone(),
+                    guard: String::new(),
+                    resets: e.resets.iter().map(|&c| clock_name(c)).collect(),
+                    instant: false,
+                })
+                .collect(),
+        });
+    }
+    out
+}
+
+#[derive(Serialize)]
+pub struct SpaceView {
+    pub verdict: Verdict,
+    pub initial: StateId,
+    /// Clock names, index 0 being the reference clock.
+    pub clocks: Vec<String>,
+    /// Unit names in the order of `StateView::locations` (plant units, then plans).
+    pub units: Vec<String>,
+    pub states: Vec<StateView>,
+    pub edges: Vec<TransitionView>,
+    /// True if the space had more states than were exported.
+    pub truncated: bool,
+    pub total_states: usize,
+}
+
+#[derive(Serialize)]
+pub struct StateView {
+    pub id: StateId,
+    /// Location name per unit.
+    pub locations: Vec<String>,
+    /// The zone as text (`true` when unconstrained).
+    pub zone: String,
+    /// The zone as constraints `x_i - x_j ≺ c`.
+    pub constraints: Vec<crate::zone::Constraint>,
+    pub kind: StateKind,
+    pub winning: bool,
+    /// Why the state was removed, in words.
+    pub reason: Option<String>,
+    pub removal: Option<Removal>,
+}
+
+#[derive(Serialize)]
+pub struct TransitionView {
+    pub from: StateId,
+    /// Absent for timeouts and zeno repetitions.
+    pub to: Option<StateId>,
+    pub kind: super::solve::EdgeKind,
+    pub label: String,
+    pub zeno: bool,
+    pub progress: bool,
+}
+
+/// The explored state space, at most `limit` states in breadth-first order from the initial
+/// state (winning and removed alike), with the edges among them.
+pub fn space(game: &Game, synthesis: &Synthesis, limit: usize) -> SpaceView {
+    let space = &synthesis.solution.space;
+    let split = &synthesis.split;
+    let n = space.states.len();
+    let mut index = vec![u32::MAX; n];
+    let mut order = Vec::new();
+    if n > 0 {
+        let mut queue = VecDeque::from([space.initial]);
+        index[space.initial as usize] = 0;
+        while let Some(s) = queue.pop_front() {
+            order.push(s);
+            if order.len() >= limit {
+                break;
+            }
+            for (_, e) in space.out_edges(s) {
+                if e.to != u32::MAX && index[e.to as usize] == u32::MAX {
+                    index[e.to as usize] = 0;
+                    queue.push_back(e.to);
+                }
+            }
+        }
+    }
+    let exported: std::collections::HashSet<StateId> = order.iter().copied().collect();
+    let names: Vec<&str> = game.clocks.iter().map(|c| c.name.as_str()).collect();
+    let states = order
+        .iter()
+        .map(|&s| {
+            let st = &space.states[s as usize];
+            let mut locations = Vec::new();
+            for (u, &sub) in space.env(s).iter().enumerate() {
+                let loc = split.units[u].sublocs[sub as usize].location;
+                locations.push(game.components[u].locations[loc as usize].name.clone());
+            }
+            for (p, &sub) in space.plan(s).iter().enumerate() {
+                let loc = split.units[split.plant_count + p].sublocs[sub as usize].location;
+                locations.push(game.plans[p].locations[loc as usize].name.clone());
+            }
+            let zone = space.zone(s);
+            StateView {
+                id: s,
+                locations,
+                zone: zone.display_with(&names).to_string(),
+                constraints: zone.constraints(),
+                kind: st.kind,
+                winning: st.removal.is_none(),
+                reason: st.removal.map(|r| removal_text(game, split, space, s, r)),
+                removal: st.removal,
+            }
+        })
+        .collect();
+    let mut edges = Vec::new();
+    for &s in &order {
+        for (_, e) in space.out_edges(s) {
+            if e.to != u32::MAX && !exported.contains(&e.to) {
+                continue;
+            }
+            edges.push(TransitionView {
+                from: s,
+                to: (e.to != u32::MAX).then_some(e.to),
+                kind: e.kind,
+                label: describe_edge(game, split, e),
+                zeno: e.zeno,
+                progress: e.progress,
+            });
+        }
+    }
+    SpaceView {
+        verdict: synthesis.solution.verdict,
+        initial: space.initial,
+        clocks: game.clocks.iter().map(|c| c.name.clone()).collect(),
+        units: split.units.iter().map(|u| u.name.clone()).collect(),
+        states,
+        edges,
+        truncated: order.len() < n,
+        total_states: n,
+    }
+}
