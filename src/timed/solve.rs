@@ -591,7 +591,6 @@ impl<'g> Solver<'g> {
         let env = self.space.envs.get(st.env).to_vec();
         let plan = self.space.plans.get(st.plan).to_vec();
         let zone = Dbm::from_slice(self.dim, self.space.zones.get(st.zone));
-        let plant_count = self.split.plant_count;
         let requests_allowed = st.kind != StateKind::Waiting;
         self.collect_moves(&env, requests_allowed);
         let urgent = self.moves.iter().any(|m| m.instant);
