@@ -244,3 +244,19 @@ fn too_many_clocks_is_an_error_not_a_crash() {
     let errs = errors(&src);
     assert!(errs.iter().any(|e| e.contains("70 clocks; at most 63")), "{errs:#?}");
 }
+
+#[test]
+fn every_example_in_the_language_reference_parses() {
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/timed-language.md")).unwrap();
+    let blocks: Vec<&str> = doc.split("```tga\n").skip(1).map(|b| b.split("```").next().unwrap()).collect();
+    assert!(blocks.len() >= 8, "found {} tga blocks", blocks.len());
+    for block in blocks {
+        // Fragments of a plant body are wrapped so that they form a specification.
+        let src = if block.trim_start().starts_with("hardware") || block.trim_start().starts_with("operator") {
+            format!("plant {{\n{block}}}\n")
+        } else {
+            block.to_string()
+        };
+        assert_eq!(syntax_errors(&src), Vec::<String>::new(), "{block}");
+    }
+}
