@@ -10,3 +10,4 @@ test: test-native
 
 test-native:
 	$(CARGO) test --all-targets --release
+	$(CARGO) test --doc --release

@@ -280,3 +280,29 @@ fn both_forms_of_the_robot_arm_assertion_are_equivalent() {
     assert_eq!(sa.solution.stats.visited, sb.solution.stats.visited);
     assert_eq!(sa.solution.stats.winning, sb.solution.stats.winning);
 }
+
+#[test]
+fn json_views_describe_automata_and_the_state_space() {
+    use plcsynth::timed::export;
+    let source = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/timed/lamp.tga")).unwrap();
+    let (game, s) = solve(&source, 1000);
+    let automata = serde_json::to_value(export::automata(&game)).unwrap();
+    assert_eq!(automata[1]["name"], "button");
+    assert_eq!(automata[1]["locations"][1]["invariant"], "c in [0,1)");
+    assert_eq!(automata[1]["edges"][0]["sigil"], "!");
+    assert_eq!(automata[2]["kind"], "plan");
+    let view = serde_json::to_value(export::space(&game, &s, 1000)).unwrap();
+    assert_eq!(view["verdict"], "realizable");
+    assert_eq!(view["total_states"], s.solution.stats.visited);
+    assert_eq!(view["truncated"], false);
+    let states = view["states"].as_array().unwrap();
+    assert_eq!(states.len(), s.solution.stats.visited);
+    assert_eq!(states[0]["locations"], serde_json::json!(["off", "released", "waitfor1"]));
+    assert!(states.iter().any(|st| st["reason"].as_str().is_some_and(|r| r.contains("assertion violated"))));
+    let edges = view["edges"].as_array().unwrap();
+    assert!(edges.iter().any(|e| e["kind"] == "delay" && e["label"].as_str().unwrap().contains("time passes")));
+    assert!(edges.iter().any(|e| e["zeno"] == true && e["to"].is_null()));
+    let small = serde_json::to_value(export::space(&game, &s, 3)).unwrap();
+    assert_eq!(small["states"].as_array().unwrap().len(), 3);
+    assert_eq!(small["truncated"], true);
+}
