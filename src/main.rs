@@ -28,11 +28,27 @@ enum Command {
         #[arg(long)]
         states: bool,
     },
+    /// Synthesise the controller program of a timed-game specification.
+    Compile {
+        file: String,
+        /// What to produce.
+        #[arg(long, value_enum, default_value_t = Target::Program)]
+        target: Target,
+        /// Write to this file instead of standard output.
+        #[arg(short, long)]
+        output: Option<String>,
+    },
     /// Print benchmark tables beside the published figures.
     Bench {
         #[command(subcommand)]
         engine: BenchEngine,
     },
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum Target {
+    /// The intermediate controller program (Peter 2005, chapter 6).
+    Program,
 }
 
 #[derive(Subcommand)]
@@ -51,6 +67,7 @@ enum BenchEngine {
 fn main() -> ExitCode {
     match Cli::parse().command {
         Command::Solve { file, json, max_states, states } => cli::timed::solve(&file, json, max_states, states),
+        Command::Compile { file, target: Target::Program, output } => cli::timed::compile(&file, output.as_deref()),
         Command::Bench { engine: BenchEngine::Timed { runs, examples } } => cli::bench::timed(&examples, runs),
     }
 }

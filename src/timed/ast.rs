@@ -78,7 +78,7 @@ pub struct ClockConstraint {
 }
 
 /// An interval with integer bounds; `upper: None` is `inf`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
 pub struct Interval {
     pub lower: u32,
     pub lower_closed: bool,
