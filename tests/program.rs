@@ -218,3 +218,43 @@ fn optimisation_preserves_behaviour_on_every_example() {
         assert!(optimised.len() <= raw.len(), "{name}");
     }
 }
+
+// ----- closed loop: the generated program against the plant -------------------------------------
+
+#[test]
+fn generated_programs_keep_the_plant_safe_and_progressing_in_1000_random_runs() {
+    use plcsynth::program::simulate;
+    for name in ["lamp", "gear_checking", "round_table_1", "round_table_2", "round_table_3", "two_robots_14", "two_robots_22", "robot_arm", "gripper_guard", "hardware_xyz"] {
+        let (game, program) = controller(&format!("examples/timed/{name}.tga"));
+        let observable = Context::from_game(&game).observable;
+        let mut progress = 0;
+        for seed in 0..1000u64 {
+            let report = simulate::run(&game, &program, &observable, seed, 300);
+            assert!(report.failure.is_none(), "{name}, seed {seed}: {:?}\n{}\nprogram:\n{}", report.failure, report.trace.join("\n"), program.render(&game));
+            progress += report.progress;
+        }
+        assert!(progress > 1000, "{name}: the plans progressed only {progress} times in 1000 runs");
+    }
+}
+
+#[test]
+fn the_checker_catches_a_wrong_program() {
+    use plcsynth::program::simulate::{self, Failure};
+    // Swapping the lamp's actions violates the assertions at once.
+    let game = game_of(&read("examples/timed/lamp.tga"));
+    let wrong = listing(&game, "0: WAITUNTIL (press); 1: DO (turn_off); 2: GOTO 0;", &|m| m.to_string());
+    let observable = Context::from_game(&game).observable;
+    let failures = (0..50).filter_map(|seed| simulate::run(&game, &wrong, &observable, seed, 100).failure).count();
+    assert!(failures > 0);
+    // A GCM program that forgets to lift the gripper before moving it crashes into the obstacle.
+    let game = game_of(&read("examples/timed/gear_checking.tga"));
+    let text = read("tests/fixtures/thesis/gcm_program.txt").replace("3 :   WAITUNTIL (reached_up);\n", "");
+    let wrong = listing(&game, &text, &|m| m.to_string());
+    let report = simulate::run(&game, &wrong, &Context::from_game(&game).observable, 1, 100);
+    assert!(matches!(report.failure, Some(Failure::Assertion { .. })), "{report:?}");
+    // Waiting for an event that already happened stalls the machine until the plan times out.
+    let text = read("tests/fixtures/thesis/gcm_program.txt").replace("3 :   WAITUNTIL (reached_up);", "3 :   WAITUNTIL (loaded);");
+    let wrong = listing(&game, &text, &|m| m.to_string());
+    let report = simulate::run(&game, &wrong, &Context::from_game(&game).observable, 1, 100);
+    assert!(matches!(report.failure, Some(Failure::PlanFailed { .. })), "{report:?}");
+}

@@ -14,6 +14,7 @@
 pub mod generate;
 pub mod optimize;
 pub mod select;
+pub mod simulate;
 
 use crate::timed::ast::Interval;
 use crate::timed::model::{ClockId, Game, MsgId};
