@@ -631,11 +631,7 @@ pub fn layout(program: &mut Program) -> bool {
     let cmds = &program.commands;
     // Segments: maximal runs that end with a GOTO (or at the end of the program).
     let mut starts = vec![0usize];
-    for i in 0..n - 1 {
-        if matches!(cmds[i].instruction, Instruction::Goto { .. }) {
-            starts.push(i + 1);
-        }
-    }
+    starts.extend(cmds[..n - 1].iter().enumerate().filter(|(_, c)| matches!(c.instruction, Instruction::Goto { .. })).map(|(i, _)| i + 1));
     let segment_of_start: std::collections::HashMap<usize, usize> = starts.iter().enumerate().map(|(k, &s)| (s, k)).collect();
     let seg_end = |k: usize| starts.get(k + 1).copied().unwrap_or(n);
     let mut placed = vec![false; starts.len()];

@@ -100,7 +100,6 @@ pub fn select(game: &Game, space: &StateSpace) -> Strategy {
         let waits: Vec<EdgeId> = wait_edges(space, s).collect();
         let wait_viable = !waits.is_empty() && waits.iter().all(|&e| alive(space, space.edges[e as usize].to));
         let wait_distance = waits.iter().map(|&e| edge_distance(space, &dist, e)).min().filter(|_| wait_viable);
-        let _ = wait_distance.map(|d| d.min(u32::MAX));
         let mut best: Option<(u32, u8, &str, EdgeId)> = None;
         for (id, e) in space.out_edges(s) {
             if e.kind != EdgeKind::Request || !alive(space, e.to) {

@@ -48,7 +48,7 @@ impl Rng {
         Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
     }
 
-    pub fn next(&mut self) -> u64 {
+    pub fn next_u64(&mut self) -> u64 {
         self.0 ^= self.0 >> 12;
         self.0 ^= self.0 << 25;
         self.0 ^= self.0 >> 27;
@@ -56,7 +56,7 @@ impl Rng {
     }
 
     pub fn below(&mut self, n: u64) -> u64 {
-        self.next() % n.max(1)
+        self.next_u64() % n.max(1)
     }
 }
 
@@ -82,7 +82,6 @@ fn room(i: &Interval, ticks: i64) -> Option<i64> {
 /// One plant move: a sending transition and the `$` transitions taken with it.
 struct PlantMove {
     message: MsgId,
-    kind: MessageKind,
     instant: bool,
     /// (unit, edge index) of every participating transition.
     parts: Vec<(usize, usize)>,
@@ -127,7 +126,7 @@ impl World<'_> {
                 for parts in combos {
                     let instant = parts.iter().any(|&(pu, pe)| self.game.components[pu].edges[pe].instant);
                     if self.targets_ok(&parts) {
-                        out.push(PlantMove { message: e.message, kind: e.kind, instant, parts });
+                        out.push(PlantMove { message: e.message, instant, parts });
                     }
                 }
             }
@@ -205,15 +204,6 @@ impl World<'_> {
             }
         }
         None
-    }
-}
-
-/// An event is received once: a test that succeeds on it takes it.
-fn consume(pending: &mut Option<MsgId>, condition: &Condition) {
-    if let Condition::Message { message } = condition {
-        if *pending == Some(*message) {
-            *pending = None;
-        }
     }
 }
 
