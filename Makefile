@@ -3,11 +3,15 @@
 
 CARGO ?= cargo
 
-.PHONY: test test-native
+.PHONY: test test-native checkers
 
-## Run every test: native unit, integration and property tests.
+## Run every test: native unit, integration and property tests, against the independent checkers.
 test: test-native
 
-test-native:
+## Independent checkers (libFAUDES, blark, awlsim in .venv; xmllint from Debian).
+checkers:
+	bash scripts/python-checkers.sh
+
+test-native: checkers
 	$(CARGO) test --all-targets --release
 	$(CARGO) test --doc --release

@@ -8,6 +8,7 @@
 //! [`diag`] holds the located diagnostics every front end reports.
 
 pub mod diag;
+pub mod plc;
 pub mod program;
 pub mod timed;
 pub mod zone;

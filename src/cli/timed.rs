@@ -75,8 +75,9 @@ pub fn solve(file: &str, json: bool, max_states: Option<usize>, dump_states: boo
     }
 }
 
-/// `plcsynth compile FILE --target program`: the intermediate controller program.
-pub fn compile(file: &str, out: Option<&str>) -> ExitCode {
+/// `plcsynth compile FILE --target T`: the intermediate program (`target` = None) or PLC code.
+/// Unrealizable specifications exit 1 with the explanation and write nothing.
+pub fn compile(file: &str, target: Option<plcsynth::plc::Target>, out: Option<&str>) -> ExitCode {
     let source = match std::fs::read_to_string(file) {
         Ok(s) => s,
         Err(e) => {
@@ -110,7 +111,11 @@ pub fn compile(file: &str, out: Option<&str>) -> ExitCode {
             }
         }
     };
-    let text = program.render(&game);
+    let name = std::path::Path::new(file).file_stem().and_then(|s| s.to_str()).unwrap_or("controller");
+    let text = match target {
+        None => program.render(&game),
+        Some(t) => plcsynth::plc::generate(&game, &program, t, name, &source),
+    };
     match out {
         Some(path) => {
             if let Err(e) = std::fs::write(path, text) {
