@@ -3,10 +3,14 @@
 
 CARGO ?= cargo
 
-.PHONY: test test-native
+.PHONY: test test-native python-checkers
 
 ## Run every test: native unit, integration and property tests.
 test: test-native
 
-test-native:
+## Independent reference checkers (libFAUDES) in a git-ignored .venv; idempotent.
+python-checkers:
+	bash scripts/python-checkers.sh
+
+test-native: python-checkers
 	$(CARGO) test --all-targets --release

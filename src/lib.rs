@@ -8,5 +8,6 @@
 //! [`diag`] holds the located diagnostics every front end reports.
 
 pub mod diag;
+pub mod sct;
 pub mod timed;
 pub mod zone;
