@@ -10,4 +10,5 @@
 
 pub mod classic;
 pub mod gen;
+pub mod model;
 pub mod textbook;
