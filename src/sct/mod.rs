@@ -11,4 +11,7 @@
 pub mod classic;
 pub mod gen;
 pub mod model;
+pub mod project;
+pub mod report;
+pub mod syntax;
 pub mod textbook;
