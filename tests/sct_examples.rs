@@ -91,3 +91,59 @@ fn heating_tank_heats_only_while_stirring() {
         no_uncontrollable_prohibitions(&l, &reps);
     }
 }
+
+#[test]
+fn three_tanks_templates_bind_and_synthesise() {
+    for m in [Method::Incremental, Method::Monolithic] {
+        let (l, reps) = synth("three_tanks.sct", m);
+        assert_eq!(reps.len(), 10);
+        assert!(reps.iter().all(|r| r.realizable));
+        let s = sup(&reps, "NoReflux");
+        assert!(!allowed(&l, s, &["Y2.op", "Y3.op"]));
+        assert!(allowed(&l, s, &["Y2.op", "Y2.cl", "Y3.op"]));
+        let r = sup(&reps, "NoReaction");
+        assert!(!allowed(&l, r, &["Y2.op", "Y3.op"]));
+        assert!(allowed(&l, r, &["Y2.op", "T3.empty", "Y3.op"]));
+        let x = sup(&reps, "Mtx.Y0Y2");
+        assert!(!allowed(&l, x, &["Y0.op", "Y2.op"]));
+        assert!(allowed(&l, x, &["Y0.op", "Y0.cl", "Y2.op"]));
+        no_uncontrollable_prohibitions(&l, &reps);
+    }
+}
+
+#[test]
+fn crane_prohibits_stepping_beyond_the_sensor() {
+    let (l, reps) = synth("crane.sct", Method::Incremental);
+    let r = sup(&reps, "Right.NoCrash");
+    assert_eq!(r.states.len(), 2);
+    assert!(allowed(&l, r, &["stepRight", "stepRight", "stepLeft"]));
+    assert!(!allowed(&l, r, &["sensorRight", "stepRight"]));
+    assert!(allowed(&l, r, &["sensorRight", "stepLeft", "stepRight"]));
+    let lft = sup(&reps, "Left.NoCrash");
+    assert!(!allowed(&l, lft, &["sensorLeft", "stepLeft"]));
+    no_uncontrollable_prohibitions(&l, &reps);
+}
+
+#[test]
+fn singularizer_prevents_stacking() {
+    let (l, reps) = synth("singularizer.sct", Method::Incremental);
+    let s = sup(&reps, "NoStacking");
+    assert!(!allowed(&l, s, &["Clasp.open"]));
+    assert!(allowed(&l, s, &["Belt.start", "Clasp.open", "Clasp.closed", "Belt.stop"]));
+    assert!(!allowed(&l, s, &["Belt.start", "Clasp.open", "Belt.stop"]));
+    no_uncontrollable_prohibitions(&l, &reps);
+}
+
+#[test]
+fn timer_delays_enforcement_until_timeout() {
+    let (l, reps) = synth("tank_timer.sct", Method::Incremental);
+    assert_eq!(l.timers.len(), 1);
+    assert_eq!(l.timers[0].duration_ms, 15_000);
+    assert_eq!(l.timers[0].timeout, "T.timeout");
+    let s = sup(&reps, "NoOverflow");
+    let c1 = s.run(&word(&l, &["openInlet", "levelAlarm"])).unwrap();
+    assert_eq!(s.states[c1 as usize].enforced, None);
+    let c2 = s.run(&word(&l, &["openInlet", "levelAlarm", "T.timeout"])).unwrap();
+    assert_eq!(s.states[c2 as usize].enforced, l.project.event("forceCloseInlet"));
+    no_uncontrollable_prohibitions(&l, &reps);
+}

@@ -301,7 +301,8 @@ impl<'s, 'a> Ctx<'s, 'a> {
                 None
             }
             (Lookup::Missing, None) => {
-                self.diags.error(path.span, format!("unknown {what} `{}`", path.text()));
+                let noun = what.trim_start_matches("an ").trim_start_matches("a ");
+                self.diags.error(path.span, format!("unknown {noun} `{}`", path.text()));
                 None
             }
         }

@@ -169,6 +169,10 @@ pub enum Item {
     Instance(InstanceDecl),
 }
 
+/// Words that start an item; error recovery stops in front of them.
+const ITEM_KEYWORDS: &[&str] =
+    &["module", "event", "timer", "plant", "spec", "template", "instance", "state", "alphabet", "selfloops", "bind", "namespace"];
+
 struct Parser<'s, 'd> {
     src: &'s str,
     toks: Vec<(Tok, Span)>,
@@ -196,10 +200,14 @@ pub fn parse<'s>(src: &'s str, diags: &mut Diagnostics<'s>) -> Vec<Item> {
     let mut p = Parser { src, toks, pos: 0, diags };
     let mut items = Vec::new();
     while p.peek() != Tok::Eof {
+        let before = p.pos;
         match p.item() {
             Ok(Some(i)) => items.push(i),
             Ok(None) => {}
             Err(()) => {
+                if p.pos == before {
+                    p.bump();
+                }
                 p.recover_item();
                 if p.peek() == Tok::RBrace {
                     let sp = p.bump().1;
@@ -318,6 +326,7 @@ impl<'s> Parser<'s, '_> {
         loop {
             match self.peek() {
                 Tok::Eof => return,
+                Tok::Ident if depth == 0 && ITEM_KEYWORDS.contains(&self.text()) => return,
                 Tok::Semi if depth == 0 => {
                     self.bump();
                     return;
@@ -349,7 +358,11 @@ impl<'s> Parser<'s, '_> {
                     return self.err("`}`");
                 }
                 _ => {
+                    let before = self.pos;
                     if inner(self).is_err() {
+                        if self.pos == before {
+                            self.bump();
+                        }
                         self.recover_item();
                     }
                 }
@@ -597,13 +610,13 @@ impl<'s> Parser<'s, '_> {
         }
         self.block(|p| {
             let start = p.span();
-            if p.is_kw("forbid") && p.peek_at(1) == Tok::Ident {
+            if p.is_kw("forbid") && p.peek_at(1) != Tok::Arrow && p.peek_at(1) != Tok::Dot {
                 p.bump();
                 let events = p.path_list("an event to forbid")?;
                 let cond = p.opt_cond()?;
                 p.expect(Tok::Semi, "`;`")?;
                 st.items.push(StateItem::Forbid { events, cond, span: start });
-            } else if p.is_kw("impossible") && p.peek_at(1) == Tok::Ident {
+            } else if p.is_kw("impossible") && p.peek_at(1) != Tok::Arrow && p.peek_at(1) != Tok::Dot {
                 p.bump();
                 let events = p.path_list("an event")?;
                 p.expect(Tok::Semi, "`;`")?;

@@ -1,0 +1,152 @@
+//! Bad `.sct` input: every problem is reported with line:column and a readable message, all
+//! at once where possible, and nothing panics.
+
+use plcsynth::diag::{render_plain, Diagnostic};
+use plcsynth::sct::model::Config;
+use plcsynth::sct::project::load;
+use plcsynth::sct::report::synthesize_all;
+use proptest::prelude::*;
+
+fn errors(src: &str) -> Vec<Diagnostic> {
+    let (loaded, diags) = load(src);
+    let mut errs: Vec<Diagnostic> = diags.into_iter().filter(|d| d.is_error()).collect();
+    if errs.is_empty() {
+        let l = loaded.expect("no errors means a project");
+        let (_, d) = synthesize_all(src, &l, &Config::default(), None);
+        errs = d.into_iter().filter(|d| d.is_error()).collect();
+    }
+    errs
+}
+
+/// Asserts an error containing `msg` at `line:col`.
+fn expect_at(errs: &[Diagnostic], line: u32, col: u32, msg: &str) {
+    assert!(
+        errs.iter().any(|d| d.line == line && d.column == col && d.message.contains(msg)),
+        "no error `{msg}` at {line}:{col}; got:\n{:#?}",
+        errs.iter().map(|d| format!("{}:{} {}", d.line, d.column, d.message)).collect::<Vec<_>>()
+    );
+}
+
+#[test]
+fn unknown_names_are_located() {
+    let src = "event a : controllable;\nplant P {\n  alphabet a, b;\n  state s { a -> t; }\n}\nspec H { state s { forbid c; } }\n";
+    let e = errors(src);
+    expect_at(&e, 3, 15, "unknown event `b`");
+    expect_at(&e, 4, 18, "unknown state `t`");
+    expect_at(&e, 6, 27, "`c`");
+    assert_eq!(e.len(), 3, "all three reported at once");
+}
+
+#[test]
+fn ambiguous_relative_names_are_reported_with_candidates() {
+    let src = "module A {\n  event x : uncontrollable;\n  module B {\n    event x : uncontrollable;\n    module C { spec H { state s { forbid x; } } }\n  }\n}\n";
+    let e = errors(src);
+    expect_at(&e, 5, 42, "ambiguous name `x`");
+    let d = e.iter().find(|d| d.message.contains("ambiguous")).unwrap();
+    assert!(d.notes.iter().any(|n| n.contains("A.B.x")) && d.notes.iter().any(|n| n.contains("`A.x`")), "{:?}", d.notes);
+}
+
+#[test]
+fn absolute_names_win_over_relative_ones() {
+    let src = "module A { event x : uncontrollable; module A { event x : controllable; spec H { state s { forbid A.x; } } } }\n";
+    let (loaded, diags) = load(src);
+    assert!(diags.iter().all(|d| !d.is_error()), "{diags:?}");
+    let l = loaded.unwrap();
+    let p = &l.project.specs[0].prohib[0];
+    assert_eq!(l.project.event_name(p.event), "A.x");
+}
+
+#[test]
+fn unbound_binding_events_name_the_instance() {
+    let src = "template plant V {\n  bind op, cl;\n  alphabet op, cl;\n  state c { op -> o; }\n  state o { cl -> c; }\n}\nmodule Y { event op : controllable;\n  instance b : V;\n}\n";
+    let e = errors(src);
+    expect_at(&e, 8, 12, "binding event `cl` of template `V` is not bound");
+}
+
+#[test]
+fn conditions_over_unknown_states() {
+    let src = "event j : uncontrollable;\nplant H { alphabet j; state off { j -> off; } }\nplant J { alphabet j; state s { j -> s if [H.warm or Q.x]; } }\n";
+    let e = errors(src);
+    expect_at(&e, 3, 44, "plant `H` has no state `warm`");
+    expect_at(&e, 3, 54, "unknown plant `Q`");
+}
+
+#[test]
+fn overlapping_conditional_transitions_report_both_locations() {
+    let src = "event a : controllable;\nevent u : uncontrollable;\nplant G { alphabet a; state g0 { a -> g1; } state g1 { a -> g0; } }\nspec H {\n  state s {\n    u -> t if [G.g0];\n    u -> s if [G.g0 or G.g1];\n  }\n  state t { forbid u; }\n}\n";
+    let e = errors(src);
+    let d = e.iter().find(|d| d.message.contains("two transitions on `u` can both be taken")).expect("conflict reported");
+    assert_eq!((d.line, d.column), (6, 5));
+    assert!(d.notes.iter().any(|n| n.contains("7:5")), "{:?}", d.notes);
+}
+
+#[test]
+fn unconditional_duplicate_transitions() {
+    let src = "event a : controllable;\nspec H { state s { a -> s; a -> t; } state t; }\n";
+    let e = errors(src);
+    expect_at(&e, 2, 28, "two unconditional transitions on `a`");
+}
+
+#[test]
+fn enforcement_cycles_are_errors() {
+    let src = "event u : uncontrollable;\nevent f1 : enforceable { on accept \"x := 1;\"; }\nevent f2 : enforceable { on accept \"x := 0;\"; }\nplant P {\n  alphabet u, f1, f2;\n  state A { u -> A; f1 -> B; }\n  state B { u -> B; f2 -> A; }\n}\nspec H { state s { forbid u; } }\n";
+    let e = errors(src);
+    let d = e.iter().find(|d| d.message.contains("enforces a cycle")).expect("cycle reported");
+    assert_eq!(d.line, 6);
+}
+
+#[test]
+fn event_declaration_rules() {
+    let src = "event f : enforceable { detect rising \"x\"; }\nevent u : uncontrollable { executed; }\nevent c : sometimes;\n";
+    let e = errors(src);
+    expect_at(&e, 1, 7, "needs `on accept");
+    expect_at(&e, 1, 25, "cannot be detected");
+    expect_at(&e, 2, 28, "cannot be executed");
+    expect_at(&e, 3, 11, "unknown event type `sometimes`");
+}
+
+#[test]
+fn syntax_errors_are_all_reported() {
+    let src = "plant P {\n  alphabet a\n  state s { a -> ; }\n}\nspec H { state s { forbid ; } }\n$\n";
+    let e = errors(src);
+    assert!(e.len() >= 3, "{e:?}");
+    expect_at(&e, 3, 3, "expected `;`");
+    expect_at(&e, 5, 27, "expected an event to forbid");
+    // Recovery resumes at `state`, so the plant keeps its state and no follow-up error appears.
+    assert!(!e.iter().any(|d| d.message.contains("has no states")), "{e:?}");
+    expect_at(&e, 6, 1, "unexpected character `$`");
+    let text = render_plain("bad.sct", src, &e);
+    assert!(text.contains("bad.sct:5:27: error:"), "{text}");
+}
+
+#[test]
+fn plants_need_alphabets_and_specs_must_not_have_one() {
+    let src = "event a : controllable;\nplant P { state s { a -> s; } }\nspec H { alphabet a; state s; }\n";
+    let e = errors(src);
+    expect_at(&e, 2, 7, "needs an `alphabet`");
+    expect_at(&e, 3, 10, "cannot have an alphabet");
+}
+
+const TOKENS: &[&str] = &[
+    "module", "event", "plant", "spec", "template", "instance", "state", "initial", "forbid", "alphabet", "selfloops",
+    "impossible", "bind", "namespace", "timer", "duration", "start", "stop", "if", "and", "or", "not", "a", "b", "X",
+    "X.a", "{", "}", "[", "]", "(", ")", ";", ":", ",", ".", "->", "=", "controllable", "uncontrollable", "enforceable",
+    "\"s\"", "15s", "detect", "rising", "on", "accept", "denial", "reset", "executed", "\n",
+];
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 400, .. ProptestConfig::default() })]
+
+    #[test]
+    fn never_panics_on_random_bytes(bytes in proptest::collection::vec(any::<u8>(), 0..300)) {
+        let src = String::from_utf8_lossy(&bytes);
+        let _ = errors(&src);
+    }
+
+    #[test]
+    fn never_panics_on_random_token_soup(idx in proptest::collection::vec(0..TOKENS.len(), 0..120)) {
+        let src: Vec<&str> = idx.iter().map(|&i| TOKENS[i]).collect();
+        let src = src.join(" ");
+        let _ = errors(&src);
+    }
+}
