@@ -15,3 +15,4 @@ pub mod project;
 pub mod report;
 pub mod syntax;
 pub mod textbook;
+pub mod transfer;

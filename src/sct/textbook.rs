@@ -105,3 +105,61 @@ pub fn transfer_line(c1: usize, c2: usize) -> (Automaton, Automaton, Events) {
     let spec = product(&b1, &b2, ev.len()).automaton;
     (plant, spec, ev)
 }
+
+/// The transfer-line family of [`super::transfer`] as a classic problem: the plant is the
+/// product of all machines and test units, the specification the product of all buffers
+/// (marked when empty). Used to compare SupCon times with libFAUDES on identical inputs.
+pub fn transfer_lines_classic(k: usize, m: usize, cap: usize) -> (Automaton, Automaton, Events) {
+    let mut ev = Events::new();
+    let dev = |i: usize, j: usize| if j == m + 1 { format!("TL{i}.TU") } else { format!("TL{i}.M{j}") };
+    for i in 1..=k {
+        for j in 1..=m + 1 {
+            ev.intern(&format!("{}.start", dev(i, j)), true);
+            if j == m + 1 {
+                ev.intern(&format!("{}.reject", dev(i, j)), false);
+                ev.intern(&format!("{}.accept", dev(i, j)), false);
+            } else {
+                ev.intern(&format!("{}.finish", dev(i, j)), false);
+            }
+        }
+    }
+    let mut plant: Option<Automaton> = None;
+    for i in 1..=k {
+        for j in 1..=m + 1 {
+            let d = dev(i, j);
+            let (s, names) = (format!("{d}.start"), [format!("{d}.finish"), format!("{d}.reject"), format!("{d}.accept")]);
+            let a = if j == m + 1 {
+                build(&ev, &[&s, &names[1], &names[2]], &["I", "W"], &["I"], &[("I", &s, "W"), ("W", &names[1], "I"), ("W", &names[2], "I")])
+            } else {
+                build(&ev, &[&s, &names[0]], &["I", "W"], &["I"], &[("I", &s, "W"), ("W", &names[0], "I")])
+            };
+            plant = Some(match plant {
+                None => a,
+                Some(p) => product(&p, &a, ev.len()).automaton,
+            });
+        }
+    }
+    let mut spec: Option<Automaton> = None;
+    for i in 1..=k {
+        for j in 1..=m {
+            let mut ins = vec![format!("{}.finish", dev(i, j))];
+            if j == 1 {
+                ins.push(format!("TL{i}.TU.reject"));
+            }
+            let outs = [format!("{}.start", dev(i, j + 1))];
+            let ins: Vec<&str> = ins.iter().map(String::as_str).collect();
+            let outs: Vec<&str> = outs.iter().map(String::as_str).collect();
+            let b = buffer(&ev, &ins, &outs, cap);
+            spec = Some(match spec {
+                None => b,
+                Some(s) => product(&s, &b, ev.len()).automaton,
+            });
+        }
+        if i < k {
+            let (a, s) = (format!("TL{i}.TU.accept"), format!("TL{}.M1.start", i + 1));
+            let b = buffer(&ev, &[&a], &[&s], cap);
+            spec = Some(product(spec.as_ref().expect("k >= 1"), &b, ev.len()).automaton);
+        }
+    }
+    (plant.expect("k >= 1"), spec.expect("k >= 1"), ev)
+}
