@@ -254,6 +254,29 @@ impl Automaton {
         a
     }
 
+    /// The same language over a larger alphabet: every event of `extra` not yet in the
+    /// alphabet is added with a self-loop in every state (libFAUDES wants equal alphabets).
+    pub fn with_selfloops(&self, extra: &[EventId]) -> Automaton {
+        let new: Vec<EventId> = extra.iter().copied().filter(|e| !self.has_event(*e)).collect();
+        let mut b = AutomatonBuilder::new();
+        for &e in self.alphabet.iter().chain(&new) {
+            b.add_event(e);
+        }
+        for s in 0..self.num_states() {
+            b.add_state(self.names[s].clone(), self.marked[s]);
+            for e in self.edges(s as StateId) {
+                b.add_transition(s as StateId, e.event, e.target);
+            }
+            for &e in &new {
+                b.add_transition(s as StateId, e, s as StateId);
+            }
+        }
+        if let Some(i) = self.init {
+            b.set_init(i);
+        }
+        b.build().expect("adding self-loops on new events keeps determinism")
+    }
+
     /// Keeps the states for which `keep` holds, renumbered in order; transitions into dropped
     /// states are dropped. The initial state is dropped too if `keep` rejects it.
     pub fn restrict(&self, keep: &[bool]) -> Automaton {

@@ -1,0 +1,3 @@
+//! Command implementations behind `src/main.rs`; each engine has its own module.
+
+pub mod sct;
