@@ -294,10 +294,7 @@ impl Automaton {
         let mut edges = Vec::new();
         let mut marked = Vec::with_capacity(next as usize);
         let mut names = Vec::with_capacity(next as usize);
-        for s in 0..n {
-            if !keep[s] {
-                continue;
-            }
+        for (s, _) in keep.iter().enumerate().take(n).filter(|(_, k)| **k) {
             for e in self.edges(s as StateId) {
                 let t = map[e.target as usize];
                 if t != u32::MAX {
@@ -512,8 +509,7 @@ pub fn supcon(plant: &Automaton, spec: &Automaton, events: &Events, nonblocking:
     // Initially bad: the plant can do an uncontrollable spec event that the product refuses.
     let mut alive = vec![true; n];
     let mut work: Vec<StateId> = Vec::new();
-    for s in 0..n {
-        let (g, _) = prod.pairs[s];
+    for (s, &(g, _)) in prod.pairs.iter().enumerate() {
         let pe = p.edges(s as StateId);
         for e in plant.edges(g) {
             if controllable(e.event) || !in_spec[e.event.0 as usize] {

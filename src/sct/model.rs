@@ -375,6 +375,9 @@ fn state_label(project: &Project, spec: &Spec, a: &SynthAut, s: u32) -> String {
     format!("({})", parts.join(", "))
 }
 
+/// A transition under construction: event, condition, target pair, origins.
+type NewTrans = (EventId, Cond, (u32, u32), [u32; 2]);
+
 /// Application product `C @ G` (definitions 20, 27 and 32): applies the knowledge of plant
 /// `g` to the synthesis automaton `c`. Conflicting transitions that both become unconditional
 /// are reported.
@@ -410,7 +413,7 @@ pub fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32) -> Result<
     let mut pairs: Vec<(u32, u32)> = vec![(ci, g.init)];
     index.insert((ci, g.init), 0);
     let mut k = 0;
-    let mut new_trans: Vec<(EventId, Cond, (u32, u32), [u32; 2])> = Vec::new();
+    let mut new_trans: Vec<NewTrans> = Vec::new();
     while k < pairs.len() {
         let (qc, qg) = pairs[k];
         let ctuple = &c.tuples[qc as usize * w_old..(qc as usize + 1) * w_old];

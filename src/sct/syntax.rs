@@ -130,6 +130,9 @@ pub enum AutKind {
     Spec,
 }
 
+/// A template namespace (role): its name, location and binding events.
+pub type Namespace = (String, Span, Vec<(String, Span)>);
+
 #[derive(Clone, Debug)]
 pub struct AutDecl {
     pub kind: AutKind,
@@ -141,7 +144,7 @@ pub struct AutDecl {
     /// Template only: binding events without a namespace.
     pub binds: Vec<(String, Span)>,
     /// Template only: namespaces (roles) and their binding events.
-    pub namespaces: Vec<(String, Span, Vec<(String, Span)>)>,
+    pub namespaces: Vec<Namespace>,
 }
 
 #[derive(Clone, Debug)]
