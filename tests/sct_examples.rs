@@ -147,3 +147,45 @@ fn timer_delays_enforcement_until_timeout() {
     assert_eq!(s.states[c2 as usize].enforced, l.project.event("forceCloseInlet"));
     no_uncontrollable_prohibitions(&l, &reps);
 }
+
+#[test]
+fn enforcement_conflict_is_resolved_by_the_specification_product() {
+    let (l, reps) = synth("enforcement_conflict.sct", Method::Incremental);
+    assert_eq!(reps.len(), 1, "operands of the product are not synthesised alone");
+    let s = sup(&reps, "Safety");
+    let c = s.run(&word(&l, &["openInlet", "levelAlarm"])).unwrap();
+    assert_eq!(s.states[c as usize].enforced, l.project.event("closeInlNow"));
+    assert!(!allowed(&l, s, &["pumpOn", "openInlet"]));
+    assert!(!allowed(&l, s, &["openInlet", "pumpOn"]));
+    assert!(allowed(&l, s, &["openInlet", "closeInlet", "pumpOn", "pumpOff", "openInlet"]));
+    no_uncontrollable_prohibitions(&l, &reps);
+
+    // Without the product: two supervisors and the 6.4.2 warning.
+    let (src, _) = example("enforcement_conflict.sct");
+    let src = src.replace("spec Safety = NoOverflow | PumpProtection;", "");
+    let (loaded, _) = load(&src);
+    let (reps, diags) = synthesize_all(&src, &loaded.unwrap(), &Config::default(), None);
+    assert_eq!(reps.len(), 2);
+    let w = diags.iter().find(|d| !d.is_error() && d.message.contains("prohibits `closeInlNow`, which supervisor `NoOverflow` enforces"));
+    assert!(w.is_some(), "{diags:?}");
+}
+
+#[test]
+fn unrealizable_specifications_are_reported() {
+    let src = "event u : uncontrollable;\nspec H { state s { forbid u; } }\n";
+    let (loaded, _) = load(src);
+    let (reps, diags) = synthesize_all(src, &loaded.unwrap(), &Config::default(), None);
+    assert!(!reps[0].realizable);
+    assert!(diags.iter().any(|d| d.line == 2 && d.message.contains("`H` is unrealizable")), "{diags:?}");
+}
+
+#[test]
+fn selfloops_helper_adds_missing_loops_except_impossible_ones() {
+    let src = "event a : controllable;\nevent b : uncontrollable;\nplant P {\n  alphabet a, b;\n  selfloops;\n  state s { a -> t; impossible b; }\n  state t;\n}\n";
+    let (loaded, d) = load(src);
+    assert!(d.is_empty(), "{d:?}");
+    let p = &loaded.unwrap().project.plants[0];
+    let mut t: Vec<(u32, u32, u32)> = p.trans.iter().map(|t| (t.src, t.event.0, t.dst)).collect();
+    t.sort_unstable();
+    assert_eq!(t, vec![(0, 0, 1), (1, 0, 1), (1, 1, 1)]);
+}

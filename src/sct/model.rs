@@ -375,6 +375,79 @@ fn state_label(project: &Project, spec: &Spec, a: &SynthAut, s: u32) -> String {
     format!("({})", parts.join(", "))
 }
 
+/// Specification product `H1 | H2` (definition 6, with conditions): prohibits everything
+/// either operand prohibits; an event moves the operands that have a transition for it, and
+/// an operand without one stays unless it prohibits the event. Only the accessible part is
+/// built. Conditions of competing transitions are combined as in the application product.
+pub fn spec_product(name: &str, a: &Spec, b: &Spec) -> Spec {
+    fn by_state(h: &Spec) -> (Vec<Vec<&Transition>>, Vec<Vec<&Prohibition>>) {
+        let mut t: Vec<Vec<&Transition>> = vec![Vec::new(); h.states.len()];
+        let mut p: Vec<Vec<&Prohibition>> = vec![Vec::new(); h.states.len()];
+        for x in &h.trans {
+            t[x.src as usize].push(x);
+        }
+        for x in &h.prohib {
+            p[x.state as usize].push(x);
+        }
+        (t, p)
+    }
+    let (ta, pa) = by_state(a);
+    let (tb, pb) = by_state(b);
+    let mut index: hashbrown::HashMap<(u32, u32), u32> = hashbrown::HashMap::new();
+    let mut pairs = vec![(a.init, b.init)];
+    index.insert((a.init, b.init), 0);
+    let mut out = Spec { name: name.to_string(), states: Vec::new(), init: 0, trans: Vec::new(), prohib: Vec::new() };
+    let any = |cs: &mut dyn Iterator<Item = &Cond>| cs.fold(Cond::False, |acc, c| acc.or(c.clone()));
+    let mut k = 0;
+    while k < pairs.len() {
+        let (q1, q2) = pairs[k];
+        out.states.push(format!("{}|{}", a.states[q1 as usize], b.states[q2 as usize]));
+        let mut evs: Vec<EventId> = ta[q1 as usize]
+            .iter()
+            .map(|t| t.event)
+            .chain(tb[q2 as usize].iter().map(|t| t.event))
+            .chain(pa[q1 as usize].iter().map(|p| p.event))
+            .chain(pb[q2 as usize].iter().map(|p| p.event))
+            .collect();
+        evs.sort_unstable();
+        evs.dedup();
+        let mut moves: Vec<(EventId, Cond, (u32, u32), u32)> = Vec::new();
+        for e in evs {
+            let t1: Vec<&&Transition> = ta[q1 as usize].iter().filter(|t| t.event == e).collect();
+            let t2: Vec<&&Transition> = tb[q2 as usize].iter().filter(|t| t.event == e).collect();
+            let p1 = any(&mut pa[q1 as usize].iter().filter(|p| p.event == e).map(|p| &p.cond));
+            let p2 = any(&mut pb[q2 as usize].iter().filter(|p| p.event == e).map(|p| &p.cond));
+            let c1 = any(&mut t1.iter().map(|t| &t.cond));
+            let c2 = any(&mut t2.iter().map(|t| &t.cond));
+            for x in &t1 {
+                for y in &t2 {
+                    moves.push((e, x.cond.clone().and(y.cond.clone()), (x.dst, y.dst), x.origin));
+                }
+                moves.push((e, x.cond.clone().and(c2.clone().negate()).and(p2.clone().negate()), (x.dst, q2), x.origin));
+            }
+            for y in &t2 {
+                moves.push((e, y.cond.clone().and(c1.clone().negate()).and(p1.clone().negate()), (q1, y.dst), y.origin));
+            }
+            for p in pa[q1 as usize].iter().chain(pb[q2 as usize].iter()).filter(|p| p.event == e) {
+                out.prohib.push(Prohibition { state: k as u32, ..(*p).clone() });
+            }
+        }
+        for (e, cond, pair, origin) in moves {
+            if cond == Cond::False {
+                continue;
+            }
+            let next = pairs.len() as u32;
+            let dst = *index.entry(pair).or_insert_with(|| {
+                pairs.push(pair);
+                next
+            });
+            out.trans.push(Transition { src: k as u32, event: e, cond, dst, origin });
+        }
+        k += 1;
+    }
+    out
+}
+
 /// A transition under construction: event, condition, target pair, origins.
 type NewTrans = (EventId, Cond, (u32, u32), [u32; 2]);
 
@@ -1003,6 +1076,31 @@ mod tests {
             assert_eq!(s.enforced_events(), vec![EventId(4)]);
             assert!(s.prohibited_events().iter().all(|e| p.kind(*e) != EventKind::Uncontrollable));
         }
+    }
+
+    #[test]
+    fn spec_product_unites_prohibitions_and_moves_independently() {
+        // H1: s -a-> t, t forbids b.  H2: forbids a in its initial state after c.
+        let t1 = Spec {
+            name: "H1".into(),
+            states: vec!["s".into(), "t".into()],
+            init: 0,
+            trans: vec![t(0, 0, 1)],
+            prohib: vec![Prohibition { state: 1, event: EventId(1), cond: Cond::True, origin: NO_ORIGIN }],
+        };
+        let t2 = Spec {
+            name: "H2".into(),
+            states: vec!["u".into(), "v".into()],
+            init: 0,
+            trans: vec![t(0, 2, 1)],
+            prohib: vec![Prohibition { state: 1, event: EventId(0), cond: Cond::True, origin: NO_ORIGIN }],
+        };
+        let h = spec_product("H", &t1, &t2);
+        // From (s,u): a -> (t,u), c -> (s,v); (s,v) forbids a; (t,u) forbids b, c -> (t,v).
+        assert_eq!(h.states.len(), 4);
+        let p = h.prohib.iter().map(|p| (h.states[p.state as usize].as_str(), p.event.0)).collect::<Vec<_>>();
+        assert!(p.contains(&("s|v", 0)) && p.contains(&("t|u", 1)) && p.contains(&("t|v", 1)) && p.contains(&("t|v", 0)));
+        assert!(!h.trans.iter().any(|x| h.states[x.src as usize] == "s|v" && x.event == EventId(0)), "prohibition dominates");
     }
 
     #[test]

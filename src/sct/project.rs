@@ -66,6 +66,8 @@ enum Entry {
     Timer(usize),
     /// An instance whose template is not resolved yet.
     Instance(usize),
+    /// A specification product.
+    Product(usize),
 }
 
 impl Entry {
@@ -78,6 +80,7 @@ impl Entry {
             Entry::Template(_) => "a template",
             Entry::Timer(_) => "a timer",
             Entry::Instance(_) => "an instance",
+            Entry::Product(_) => "a specification product",
         }
     }
 }
@@ -107,6 +110,7 @@ struct Ctx<'s, 'a> {
     instances: Vec<(&'a syntax::InstanceDecl, usize)>,
     plants: Vec<AutRef<'a>>,
     specs: Vec<AutRef<'a>>,
+    products: Vec<(String, Span, &'a [Path], usize)>,
     origins: Vec<Span>,
 }
 
@@ -132,6 +136,7 @@ pub fn load(src: &str) -> (Option<Loaded>, Vec<Diagnostic>) {
         instances: Vec::new(),
         plants: Vec::new(),
         specs: Vec::new(),
+        products: Vec::new(),
         origins: Vec::new(),
     };
     cx.declare(&items, 0);
@@ -139,8 +144,43 @@ pub fn load(src: &str) -> (Option<Loaded>, Vec<Diagnostic>) {
     cx.resolve_instances();
     let timers = cx.build_timers();
     let plants: Vec<model::Plant> = (0..cx.plants.len()).map(|i| cx.build_plant(i)).collect();
-    let specs: Vec<model::Spec> = (0..cx.specs.len()).map(|i| cx.build_spec(i, &plants)).collect();
-    let spec_spans = cx.specs.iter().map(|s| s.binding.as_ref().map_or(s.decl.name_span, |b| b.1)).collect();
+    let built: Vec<model::Spec> = (0..cx.specs.len()).map(|i| cx.build_spec(i, &plants)).collect();
+    let mut consumed = vec![false; built.len()];
+    let mut specs = Vec::new();
+    let mut spec_spans = Vec::new();
+    let mut product_specs = Vec::new();
+    for k in 0..cx.products.len() {
+        let (name, span, operands, module) = cx.products[k].clone();
+        let mut parts: Vec<usize> = Vec::new();
+        for p in operands {
+            if let Some(Entry::Spec(i)) = cx.resolve(module, p, "a specification", &|e| matches!(e, Entry::Spec(_))) {
+                if parts.contains(&i) {
+                    cx.diags.error(p.span, format!("`{}` appears twice in the product", p.text()));
+                }
+                consumed[i] = true;
+                parts.push(i);
+            }
+        }
+        if parts.len() == operands.len() {
+            let full = qualify(&cx.modules[module].path, &name);
+            let mut acc = built[parts[0]].clone();
+            for &i in &parts[1..] {
+                acc = model::spec_product(&full, &acc, &built[i]);
+            }
+            acc.name = full;
+            product_specs.push((acc, span));
+        }
+    }
+    for (i, s) in built.into_iter().enumerate() {
+        if !consumed[i] {
+            spec_spans.push(cx.specs[i].binding.as_ref().map_or(cx.specs[i].decl.name_span, |b| b.1));
+            specs.push(s);
+        }
+    }
+    for (s, span) in product_specs {
+        specs.push(s);
+        spec_spans.push(span);
+    }
     let mut items = std::mem::take(&mut cx.diags.items);
     items.sort_by_key(|d| (d.span.start, d.span.end));
     if items.iter().any(Diagnostic::is_error) {
@@ -235,6 +275,10 @@ impl<'s, 'a> Ctx<'s, 'a> {
                 Item::Instance(i) => {
                     self.instances.push((i, module));
                     self.add(module, &i.name, Entry::Instance(self.instances.len() - 1), i.name_span);
+                }
+                Item::SpecProduct { name, name_span, operands } => {
+                    self.products.push((name.clone(), *name_span, operands, module));
+                    self.add(module, name, Entry::Product(self.products.len() - 1), *name_span);
                 }
             }
         }

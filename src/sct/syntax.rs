@@ -45,6 +45,8 @@ pub enum Tok {
     Arrow,
     #[token("=")]
     Eq,
+    #[token("|")]
+    Bar,
     /// Any character no other token accepts.
     Error,
     Eof,
@@ -170,6 +172,8 @@ pub enum Item {
     Automaton(AutDecl),
     Template(AutDecl),
     Instance(InstanceDecl),
+    /// `spec NAME = A | B | ...;` — the specification product (definition 6).
+    SpecProduct { name: String, name_span: Span, operands: Vec<Path> },
 }
 
 /// Words that start an item; error recovery stops in front of them.
@@ -392,6 +396,21 @@ impl<'s> Parser<'s, '_> {
             }
             "event" => self.event().map(|e| Some(Item::Event(e))),
             "timer" => self.timer().map(|t| Some(Item::Timer(t))),
+            "spec" if self.peek_at(1) == Tok::Ident && self.peek_at(2) == Tok::Eq => {
+                self.bump();
+                let (name, name_span) = self.ident("a specification name")?;
+                self.bump();
+                let mut operands = vec![self.path("a specification")?];
+                while self.peek() == Tok::Bar {
+                    self.bump();
+                    operands.push(self.path("a specification")?);
+                }
+                if operands.len() < 2 {
+                    return self.err("`|` and a second specification");
+                }
+                self.expect(Tok::Semi, "`;`")?;
+                Ok(Some(Item::SpecProduct { name, name_span, operands }))
+            }
             "plant" | "spec" => {
                 let kind = if self.text() == "plant" { AutKind::Plant } else { AutKind::Spec };
                 self.bump();
