@@ -375,6 +375,73 @@ fn state_label(project: &Project, spec: &Spec, a: &SynthAut, s: u32) -> String {
     format!("({})", parts.join(", "))
 }
 
+/// Plant composition `G1 || G2` (definitions 17 and 26): synchronous on shared events, the
+/// conditions of each operand refined on the other's state (conditions naming `g1` or `g2`
+/// are decided, those naming other plants remain). Only the accessible part is built.
+pub fn plant_compose(project: &Project, g1: u32, g2: u32) -> Plant {
+    let (a, b) = (&project.plants[g1 as usize], &project.plants[g2 as usize]);
+    let n = project.events.len();
+    let mut in_a = vec![false; n];
+    let mut in_b = vec![false; n];
+    a.alphabet.iter().for_each(|e| in_a[e.0 as usize] = true);
+    b.alphabet.iter().for_each(|e| in_b[e.0 as usize] = true);
+    fn out_of(p: &Plant) -> Vec<Vec<&Transition>> {
+        let mut v: Vec<Vec<&Transition>> = vec![Vec::new(); p.states.len()];
+        p.trans.iter().for_each(|t| v[t.src as usize].push(t));
+        v
+    }
+    let (ta, tb) = (out_of(a), out_of(b));
+    let mut alphabet: Vec<EventId> = a.alphabet.iter().chain(&b.alphabet).copied().collect();
+    alphabet.sort_unstable();
+    alphabet.dedup();
+    let mut out = Plant { name: format!("{}||{}", a.name, b.name), alphabet, states: Vec::new(), init: 0, trans: Vec::new() };
+    let mut index: hashbrown::HashMap<(u32, u32), u32> = hashbrown::HashMap::new();
+    let mut pairs = vec![(a.init, b.init)];
+    index.insert((a.init, b.init), 0);
+    let mut k = 0;
+    while k < pairs.len() {
+        let (q1, q2) = pairs[k];
+        out.states.push(format!("{}|{}", a.states[q1 as usize], b.states[q2 as usize]));
+        let lookup = |p: u32| {
+            if p == g1 {
+                Some(q1)
+            } else if p == g2 {
+                Some(q2)
+            } else {
+                None
+            }
+        };
+        let mut moves: Vec<(EventId, Cond, (u32, u32), u32)> = Vec::new();
+        for x in &ta[q1 as usize] {
+            if !in_b[x.event.0 as usize] {
+                moves.push((x.event, x.cond.refine(&lookup), (x.dst, q2), x.origin));
+            } else {
+                for y in tb[q2 as usize].iter().filter(|y| y.event == x.event) {
+                    moves.push((x.event, x.cond.refine(&lookup).and(y.cond.refine(&lookup)), (x.dst, y.dst), x.origin));
+                }
+            }
+        }
+        for y in &tb[q2 as usize] {
+            if !in_a[y.event.0 as usize] {
+                moves.push((y.event, y.cond.refine(&lookup), (q1, y.dst), y.origin));
+            }
+        }
+        for (e, cond, pair, origin) in moves {
+            if cond == Cond::False {
+                continue;
+            }
+            let next = pairs.len() as u32;
+            let dst = *index.entry(pair).or_insert_with(|| {
+                pairs.push(pair);
+                next
+            });
+            out.trans.push(Transition { src: k as u32, event: e, cond, dst, origin });
+        }
+        k += 1;
+    }
+    out
+}
+
 /// Specification product `H1 | H2` (definition 6, with conditions): prohibits everything
 /// either operand prohibits; an event moves the operands that have a transition for it, and
 /// an operand without one stays unless it prohibits the event. Only the accessible part is
@@ -1101,6 +1168,28 @@ mod tests {
         let p = h.prohib.iter().map(|p| (h.states[p.state as usize].as_str(), p.event.0)).collect::<Vec<_>>();
         assert!(p.contains(&("s|v", 0)) && p.contains(&("t|u", 1)) && p.contains(&("t|v", 1)) && p.contains(&("t|v", 0)));
         assert!(!h.trans.iter().any(|x| h.states[x.src as usize] == "s|v" && x.event == EventId(0)), "prohibition dominates");
+    }
+
+    #[test]
+    fn plant_composition_resolves_conditions_on_each_other() {
+        use EventKind::*;
+        // A: a-loop only while B is in v, and only while C (not composed) is in state 0.
+        let cond = Cond::State { plant: 1, state: 0 }.and(Cond::State { plant: 2, state: 0 });
+        let p = Project {
+            events: vec![ev("a", Controllable), ev("c", Uncontrollable)],
+            plants: vec![
+                Plant { name: "A".into(), alphabet: vec![EventId(0)], states: vec!["x".into()], init: 0, trans: vec![Transition { src: 0, event: EventId(0), cond, dst: 0, origin: NO_ORIGIN }] },
+                Plant { name: "B".into(), alphabet: vec![EventId(1)], states: vec!["v".into(), "w".into()], init: 0, trans: vec![t(0, 1, 1)] },
+                Plant { name: "C".into(), alphabet: vec![], states: vec!["0".into()], init: 0, trans: vec![] },
+            ],
+            specs: vec![],
+        };
+        let g = plant_compose(&p, 0, 1);
+        assert_eq!(g.states, vec!["x|v".to_string(), "x|w".to_string()]);
+        let a_moves: Vec<_> = g.trans.iter().filter(|t| t.event == EventId(0)).collect();
+        assert_eq!(a_moves.len(), 1, "the a-loop survives only in x|v");
+        assert_eq!(a_moves[0].src, 0);
+        assert_eq!(a_moves[0].cond, Cond::State { plant: 2, state: 0 }, "the condition on C remains");
     }
 
     #[test]
