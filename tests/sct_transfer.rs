@@ -74,3 +74,20 @@ fn incremental_equals_monolithic_on_small_lines() {
         assert!(inc.plants_used.len() <= mono.plants_used.len());
     }
 }
+
+#[test]
+fn incremental_synthesis_only_applies_the_plants_it_needs() {
+    let (l, _) = load(&transfer_lines(2, 2, 2));
+    let p = l.unwrap().project;
+    let cfg = Config { method: Method::Incremental, ..Config::default() };
+    let used = |name: &str| {
+        let i = p.specs.iter().position(|s| s.name == name).unwrap();
+        synthesize(&p, i, &cfg).unwrap().plants_used
+    };
+    // B1_1 overflows on M1's finish and TU's reject: only those two plants matter.
+    assert_eq!(used("B1_1"), vec!["TL1.M1.P".to_string(), "TL1.TU.P".to_string()]);
+    // B1_2 overflows on M2's finish only.
+    assert_eq!(used("B1_2"), vec!["TL1.M2.P".to_string()]);
+    // TB1 overflows on TL1's accept.
+    assert_eq!(used("TB1"), vec!["TL1.TU.P".to_string()]);
+}
