@@ -91,3 +91,22 @@ fn incremental_synthesis_only_applies_the_plants_it_needs() {
     // TB1 overflows on TL1's accept.
     assert_eq!(used("TB1"), vec!["TL1.TU.P".to_string()]);
 }
+
+#[test]
+fn extended_line_ignores_the_shared_sensor() {
+    let (l, d) = load(&plcsynth::sct::transfer::extended_line(3));
+    assert!(d.iter().all(|d| !d.is_error()), "{d:?}");
+    let p = l.unwrap().project;
+    assert_eq!((p.plants.len(), p.specs.len()), (12, 4));
+    let cfg = Config::default();
+    let mut dep_all = false;
+    for i in 0..p.specs.len() {
+        let s = synthesize(&p, i, &cfg).unwrap();
+        assert!(s.realizable());
+        assert!(!s.plants_used.iter().any(|n| n == "Sensor"), "{:?}", s.plants_used);
+        let dep = plcsynth::sct::model::dep_closure(&p, i);
+        assert!(s.plants_used.len() <= dep.len());
+        dep_all |= dep.len() == p.plants.len() - 2; // all but the abstract M1 and the TU
+    }
+    assert!(dep_all, "the shared sensor should pull every extended plant into some Dep closure");
+}

@@ -976,6 +976,40 @@ pub fn synthesize(project: &Project, spec_id: usize, cfg: &Config) -> Result<Sup
     Ok(to_supervisor(project, spec, &c, cfg))
 }
 
+/// The plants Åkesson et al.'s modular criterion would compose with a specification (the
+/// `Dep` closure of 5.8.3): start from the uncontrollable events the specification mentions,
+/// add every plant sharing one of them, then those plants' uncontrollable events, until
+/// nothing changes. Incremental synthesis usually needs far fewer; used for comparison.
+pub fn dep_closure(project: &Project, spec_id: usize) -> Vec<u32> {
+    let spec = &project.specs[spec_id];
+    let n = project.events.len();
+    let mut events = vec![false; n];
+    for e in spec.trans.iter().map(|t| t.event).chain(spec.prohib.iter().map(|p| p.event)) {
+        if project.kind(e) == EventKind::Uncontrollable {
+            events[e.0 as usize] = true;
+        }
+    }
+    let mut taken = vec![false; project.plants.len()];
+    loop {
+        let mut changed = false;
+        for (i, g) in project.plants.iter().enumerate() {
+            if !taken[i] && g.alphabet.iter().any(|e| events[e.0 as usize]) {
+                taken[i] = true;
+                changed = true;
+                for e in &g.alphabet {
+                    if project.kind(*e) == EventKind::Uncontrollable {
+                        events[e.0 as usize] = true;
+                    }
+                }
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    (0..project.plants.len() as u32).filter(|&i| taken[i as usize]).collect()
+}
+
 /// Converts a synthesis fixpoint into a supervisor: drops the plant alphabet, explicit
 /// self-loops (they mean the same as no transition), preempted prohibitions in enforcing
 /// states and enforceable transitions that are not enforced (6.4.2); then minimises.

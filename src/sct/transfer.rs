@@ -75,3 +75,58 @@ pub fn transfer_lines(k: usize, m: usize, cap: usize) -> String {
     }
     s
 }
+
+/// A reconstruction of the "extended machines" line of table 7.2 (the thesis gives only the
+/// automaton sizes): one line whose first machine is abstract and whose other `extended`
+/// machines each consist of a process model (6 states), a drill (5 states) and a cooling unit
+/// (2 states), followed by the test unit, plus one global sensor (3 states) that shares its
+/// `pulse` event with every process model. Process, drill and cooling share uncontrollable
+/// events, so the `Dep` closure of every buffer reaches all plants. Buffers (capacity 2) are
+/// specifications.
+pub fn extended_line(extended: usize) -> String {
+    let mut s = String::new();
+    let m = extended + 1;
+    let _ = writeln!(s, "// One transfer line with {extended} extended machines and a shared sensor (generated).");
+    let _ = writeln!(s, "event pulse : uncontrollable;\nevent sensorReset : uncontrollable;");
+    let _ = writeln!(s, "plant Sensor {{ alphabet pulse, sensorReset; state s0 initial {{ pulse -> s1; }} state s1 {{ pulse -> s2; }} state s2 {{ sensorReset -> s0; }} }}");
+    let _ = writeln!(s, "module TL1 {{");
+    let _ = writeln!(s, "  module M1 {{\n    event start : controllable;\n    event finish : uncontrollable;");
+    let _ = writeln!(s, "    plant P {{ alphabet start, finish; state I initial {{ start -> W; }} state W {{ finish -> I; }} }}\n  }}");
+    for j in 2..=m {
+        let _ = writeln!(s, "  module M{j} {{");
+        for (e, k) in [("start", "controllable"), ("finish", "uncontrollable"), ("drillOn", "controllable"), ("drillOff", "controllable"),
+            ("coolOn", "controllable"), ("cooled", "uncontrollable"), ("lower", "uncontrollable"), ("raise", "uncontrollable"), ("stopped", "uncontrollable")]
+        {
+            let _ = writeln!(s, "    event {e} : {k};");
+        }
+        let _ = writeln!(
+            s,
+            "    plant P {{ alphabet start, drillOn, stopped, coolOn, cooled, finish, pulse;\n      \
+             state idle initial {{ start -> loaded; pulse -> idle; }}\n      \
+             state loaded {{ drillOn -> drilling; pulse -> loaded; }}\n      \
+             state drilling {{ stopped -> drilled; pulse -> drilling; }}\n      \
+             state drilled {{ coolOn -> cooling; pulse -> drilled; }}\n      \
+             state cooling {{ cooled -> done; pulse -> cooling; }}\n      \
+             state done {{ finish -> idle; pulse -> done; }} }}"
+        );
+        let _ = writeln!(
+            s,
+            "    plant Drill {{ alphabet drillOn, lower, raise, drillOff, stopped;\n      \
+             state off initial {{ drillOn -> spinUp; }} state spinUp {{ lower -> down; }} state down {{ raise -> up; }}\n      \
+             state up {{ drillOff -> spinDown; }} state spinDown {{ stopped -> off; }} }}"
+        );
+        let _ = writeln!(s, "    plant Cooling {{ alphabet coolOn, cooled; state off initial {{ coolOn -> on; }} state on {{ cooled -> off; }} }}");
+        let _ = writeln!(s, "  }}");
+    }
+    let _ = writeln!(s, "  module TU {{\n    event start : controllable;\n    event reject : uncontrollable;\n    event accept : uncontrollable;");
+    let _ = writeln!(s, "    plant P {{ alphabet start, reject, accept; state I initial {{ start -> W; }} state W {{ reject -> I; accept -> I; }} }}\n  }}");
+    let _ = writeln!(s, "}}");
+    for j in 1..=m {
+        let mut ins = vec![format!("{}.finish", dev(1, j, m))];
+        if j == 1 {
+            ins.push("TL1.TU.reject".to_string());
+        }
+        buffer(&mut s, &format!("B1_{j}"), &ins, &[format!("{}.start", dev(1, j + 1, m))], 2);
+    }
+    s
+}
