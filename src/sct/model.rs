@@ -458,6 +458,9 @@ pub fn spec_product(name: &str, a: &Spec, b: &Spec) -> Spec {
         }
         (t, p)
     }
+    if a.states.is_empty() || b.states.is_empty() {
+        return Spec { name: name.to_string(), states: Vec::new(), init: 0, trans: Vec::new(), prohib: Vec::new() };
+    }
     let (ta, pa) = by_state(a);
     let (tb, pb) = by_state(b);
     let mut index: hashbrown::HashMap<(u32, u32), u32> = hashbrown::HashMap::new();

@@ -161,7 +161,7 @@ pub fn load(src: &str) -> (Option<Loaded>, Vec<Diagnostic>) {
                 parts.push(i);
             }
         }
-        if parts.len() == operands.len() {
+        if parts.len() == operands.len() && !cx.diags.has_errors() {
             let full = qualify(&cx.modules[module].path, &name);
             let mut acc = built[parts[0]].clone();
             for &i in &parts[1..] {
