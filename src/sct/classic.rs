@@ -569,63 +569,47 @@ pub fn is_controllable(plant: &Automaton, sup: &Automaton, events: &Events) -> b
 /// first trimmed to the accessible part). `key` gives an extra initial distinction per state
 /// (e.g. prohibitions of a supervisor); states with different keys are never merged.
 ///
-/// Partition refinement: every round gives each state the signature (class, marked/key,
-/// [(event, class of target)]) and renumbers classes by sorted signature; it stops when the
-/// number of classes no longer grows.
+/// The reachable part is completed with a sink state (for missing transitions) and refined
+/// with Hopcroft's algorithm ([`super::partition`]). Returns the quotient and, for every
+/// original state, its quotient state (`u32::MAX` for unreachable ones).
 pub fn minimize_with_key(a: &Automaton, key: &[u64]) -> (Automaton, Vec<StateId>) {
     let reach = a.reachable();
     let n = a.num_states();
-    // class ids of reachable states; unreachable ones get u32::MAX and are dropped.
-    let mut class = vec![u32::MAX; n];
     let states: Vec<StateId> = (0..n as StateId).filter(|s| reach[*s as usize]).collect();
     if states.is_empty() {
-        return (Automaton::empty(a.alphabet.clone()), class);
+        return (Automaton::empty(a.alphabet.clone()), vec![u32::MAX; n]);
     }
-    // Initial partition by (marked, key).
-    let mut order = states.clone();
-    order.sort_by_key(|&s| (a.marked[s as usize], key.get(s as usize).copied().unwrap_or(0)));
-    let mut count = 0u32;
-    let mut prev: Option<(bool, u64)> = None;
-    for &s in &order {
-        let k = (a.marked[s as usize], key.get(s as usize).copied().unwrap_or(0));
-        if prev != Some(k) {
-            count += 1;
-            prev = Some(k);
-        }
-        class[s as usize] = count - 1;
+    let m = states.len();
+    let mut local = vec![u32::MAX; n];
+    for (i, &s) in states.iter().enumerate() {
+        local[s as usize] = i as u32;
     }
-    let mut sig: Vec<u64> = Vec::new();
-    let mut sig_off: Vec<usize> = vec![0; n + 1];
-    loop {
-        sig.clear();
-        for s in 0..n {
-            if reach[s] {
-                sig.push(class[s] as u64);
-                for e in a.edges(s as StateId) {
-                    sig.push(((e.event.0 as u64) << 32) | class[e.target as usize] as u64);
-                }
-            }
-            sig_off[s + 1] = sig.len();
+    let k = a.alphabet.len();
+    let sink = m as u32;
+    let mut delta = vec![sink; (m + 1) * k];
+    for (i, &s) in states.iter().enumerate() {
+        for e in a.edges(s) {
+            let ai = a.alphabet.binary_search(&e.event).expect("edge events are in the alphabet");
+            delta[i * k + ai] = local[e.target as usize];
         }
-        let slice = |s: StateId| &sig[sig_off[s as usize]..sig_off[s as usize + 1]];
-        order.sort_unstable_by(|&x, &y| slice(x).cmp(slice(y)));
-        let mut next = vec![u32::MAX; n];
-        let mut c = 0u32;
-        for (i, &s) in order.iter().enumerate() {
-            if i > 0 && slice(order[i - 1]) != slice(s) {
-                c += 1;
-            }
-            next[s as usize] = c;
-        }
-        let new_count = c + 1;
-        class = next;
-        if new_count == count {
-            break;
-        }
-        count = new_count;
+    }
+    // Keys: (marked, user key) made dense; the sink gets a key of its own.
+    let mut dense: HashMap<(bool, u64), u64> = HashMap::new();
+    let mut keys = Vec::with_capacity(m + 1);
+    for &s in &states {
+        let kk = (a.marked[s as usize], key.get(s as usize).copied().unwrap_or(0));
+        let next = dense.len() as u64;
+        keys.push(*dense.entry(kk).or_insert(next));
+    }
+    keys.push(u64::MAX);
+    let blocks = super::partition::coarsest_partition(m + 1, k, &delta, &keys);
+    let count = blocks.iter().copied().max().map_or(0, |b| b as usize + 1);
+    let mut class = vec![u32::MAX; n];
+    for (i, &s) in states.iter().enumerate() {
+        class[s as usize] = blocks[i];
     }
     // Build the quotient, numbering classes in order of first visit from the initial state.
-    let mut renum = vec![u32::MAX; count as usize];
+    let mut renum = vec![u32::MAX; count];
     let mut rep: Vec<StateId> = Vec::new();
     let init = a.init.expect("non-empty");
     let mut b = AutomatonBuilder::new();

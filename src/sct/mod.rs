@@ -32,6 +32,7 @@
 pub mod classic;
 pub mod gen;
 pub mod model;
+pub mod partition;
 pub mod project;
 pub mod report;
 pub mod syntax;

@@ -1052,48 +1052,48 @@ fn to_supervisor(project: &Project, spec: &Spec, c: &SynthAut, cfg: &Config) -> 
 }
 
 /// Minimisation (5.4.4): states are equivalent if they prohibit and enforce the same events and
-/// their transitions lead to equivalent states. Partition refinement on exact signatures.
+/// their transitions lead to equivalent states, where a missing transition means "stay". The
+/// supervisor is read as a complete automaton over the events it mentions (prohibited events
+/// lead to a sink) and refined with Hopcroft's algorithm.
 pub fn minimize_supervisor(sup: &Supervisor) -> Supervisor {
     let Some(init) = sup.init else { return sup.clone() };
     let n = sup.states.len();
-    // Initial classes: exact (prohibited, enforced) keys.
-    let mut keys: hashbrown::HashMap<(Vec<EventId>, Option<EventId>), u32> = hashbrown::HashMap::new();
-    let mut class: Vec<u32> = sup
+    let mut events: Vec<EventId> = sup
+        .states
+        .iter()
+        .flat_map(|s| s.transitions.iter().map(|t| t.0).chain(s.prohibited.iter().copied()).chain(s.enforced))
+        .collect();
+    events.sort_unstable();
+    events.dedup();
+    let k = events.len();
+    let sink = n as u32;
+    let mut delta = vec![0u32; (n + 1) * k];
+    for (s, st) in sup.states.iter().enumerate() {
+        for (a, e) in events.iter().enumerate() {
+            delta[s * k + a] = if st.prohibited.contains(e) {
+                sink
+            } else {
+                st.transitions.iter().find(|t| t.0 == *e).map_or(s as u32, |t| t.1)
+            };
+        }
+    }
+    for a in 0..k {
+        delta[n * k + a] = sink;
+    }
+    let mut keys: hashbrown::HashMap<(Vec<EventId>, Option<EventId>), u64> = hashbrown::HashMap::new();
+    let mut key: Vec<u64> = sup
         .states
         .iter()
         .map(|s| {
             let mut p = s.prohibited.clone();
             p.sort_unstable();
-            let next = keys.len() as u32;
+            let next = keys.len() as u64;
             *keys.entry((p, s.enforced)).or_insert(next)
         })
         .collect();
-    let mut count = keys.len();
-    let mut sigs: hashbrown::HashMap<Vec<u64>, u32> = hashbrown::HashMap::new();
-    let mut sig = Vec::new();
-    loop {
-        sigs.clear();
-        let mut next = vec![0u32; n];
-        for s in 0..n {
-            sig.clear();
-            sig.push(class[s] as u64);
-            for &(e, t) in &sup.states[s].transitions {
-                // A transition into the own class is the same as staying.
-                if class[t as usize] != class[s] {
-                    sig.push(((e.0 as u64) << 32) | class[t as usize] as u64);
-                }
-            }
-            sig[1..].sort_unstable();
-            let id = sigs.len() as u32;
-            next[s] = *sigs.entry(sig.clone()).or_insert(id);
-        }
-        let new_count = sigs.len();
-        class = next;
-        if new_count == count {
-            break;
-        }
-        count = new_count;
-    }
+    key.push(u64::MAX);
+    let class = super::partition::coarsest_partition(n + 1, k, &delta, &key);
+    let count = class.iter().copied().max().map_or(0, |c| c as usize + 1);
     // Build the quotient from the initial state.
     let mut renum = vec![u32::MAX; count];
     let mut reps: Vec<usize> = vec![init as usize];
