@@ -191,3 +191,34 @@ proptest! {
         let _ = errors(&src);
     }
 }
+
+#[test]
+fn namespace_bindings_inherit_from_modules_and_can_be_overridden() {
+    let src = "template spec Mutex {\n  namespace local { op, cl }\n  namespace remote { op }\n  state idle initial { local.op -> busy; }\n  state busy { forbid remote.op; local.cl -> idle; }\n}\nmodule A { event op : controllable; event cl : controllable; }\nmodule B { event op : controllable; event open : controllable; }\ninstance M : Mutex { local = A; remote = B; remote.op = B.open; }\n";
+    let (loaded, diags) = load(src);
+    assert!(diags.iter().all(|d| !d.is_error()), "{diags:?}");
+    let l = loaded.unwrap();
+    let spec = &l.project.specs[0];
+    assert_eq!(spec.name, "M");
+    let forbidden: Vec<&str> = spec.prohib.iter().map(|p| l.project.event_name(p.event)).collect();
+    assert_eq!(forbidden, vec!["B.open"], "the override replaces the inherited B.op");
+    let moves: Vec<&str> = spec.trans.iter().map(|t| l.project.event_name(t.event)).collect();
+    assert_eq!(moves, vec!["A.op", "A.cl"]);
+}
+
+#[test]
+fn namespace_module_missing_an_event_is_an_unbound_binding() {
+    let src = "template spec Mutex {\n  namespace local { op, cl }\n  state idle { forbid local.cl; }\n}\nmodule A { event op : controllable; }\ninstance M : Mutex { local = A; }\nevent x : controllable;\ninstance N : Mutex { lokal = A; }\n";
+    let e = errors(src);
+    expect_at(&e, 6, 10, "binding event `local.cl` is not bound: module `A` has no event `cl`");
+    expect_at(&e, 8, 22, "template `Mutex` has no binding event or namespace `lokal`");
+}
+
+#[test]
+fn timers_need_a_duration_and_a_start_event() {
+    let src = "event go : controllable;\ntimer T { stop go; }\ntimer U { duration 1m 30s; start nothing; }\n";
+    let e = errors(src);
+    expect_at(&e, 2, 7, "timer `T` has no `duration`");
+    expect_at(&e, 2, 7, "timer `T` has no `start` event");
+    expect_at(&e, 3, 34, "unknown event `nothing`");
+}
