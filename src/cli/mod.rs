@@ -1,3 +1,12 @@
 //! Command implementations behind `src/main.rs`; each engine has its own module.
 
+/// `println!` that ignores write errors, so that `plcsynth ... | head` ends quietly instead of
+/// panicking on a closed pipe.
+macro_rules! outln {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($t)*);
+    }};
+}
+
 pub mod sct;

@@ -103,13 +103,13 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
             "timers": loaded.timers,
             "diagnostics": diags.iter().chain(&sdiags).collect::<Vec<_>>(),
         });
-        println!("{}", serde_json::to_string_pretty(&out).unwrap_or_default());
+        outln!("{}", serde_json::to_string_pretty(&out).unwrap_or_default());
     } else {
-        println!("{:<28} {:>10} {:>7} {:>6} {:>7}  {:>9}  enforced", "supervisor", "realizable", "states", "trans", "prohib", "millis");
+        outln!("{:<28} {:>10} {:>7} {:>6} {:>7}  {:>9}  enforced", "supervisor", "realizable", "states", "trans", "prohib", "millis");
         let mut total = 0;
         for r in &reports {
             total += r.states;
-            println!(
+            outln!(
                 "{:<28} {:>10} {:>7} {:>6} {:>7}  {:>9.3}  {}",
                 r.name,
                 if r.realizable { "yes" } else { "NO" },
@@ -120,7 +120,7 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
                 r.enforced_events.join(", ")
             );
         }
-        println!("{} supervisors, {} states in total", reports.len(), total);
+        outln!("{} supervisors, {} states in total", reports.len(), total);
     }
     if failed {
         ExitCode::from(2)
@@ -161,7 +161,7 @@ pub fn supcon(a: &SupconArgs) -> ExitCode {
     };
     let sup = if a.minimize { minimize(&sup) } else { sup };
     let ms = start.elapsed().as_secs_f64() * 1000.0;
-    println!(
+    outln!(
         "{}: {} states, {} transitions ({:.3} ms){}",
         if a.closed { "SupConClosed" } else { "SupCon" },
         sup.num_states(),
@@ -201,10 +201,10 @@ fn run_lines(k: usize, m: usize, method: Method, runs: usize) -> (f64, usize, us
 }
 
 pub fn bench(a: &BenchArgs) -> ExitCode {
-    println!("Incremental synthesis on transfer lines (Göbe 2019, table 7.1; buffers of capacity 2)");
-    println!("ours: median of {} runs on this machine; thesis: Intel Core i5 750, 2.67 GHz", a.runs);
-    println!();
-    println!("{:<22} {:>7} {:>6} | {:>12} {:>8} | {:>12} {:>8} | {:>12} {:>8}", "TLs x machines", "plants", "specs", "IncSyn ms", "states", "thesis ms", "states", "ModSyn ms", "states");
+    outln!("Incremental synthesis on transfer lines (Göbe 2019, table 7.1; buffers of capacity 2)");
+    outln!("ours: median of {} runs on this machine; thesis: Intel Core i5 750, 2.67 GHz", a.runs);
+    outln!();
+    outln!("{:<22} {:>7} {:>6} | {:>12} {:>8} | {:>12} {:>8} | {:>12} {:>8}", "TLs x machines", "plants", "specs", "IncSyn ms", "states", "thesis ms", "states", "ModSyn ms", "states");
     // (k, m, thesis label, thesis IncSyn ms, thesis states, thesis ModSyn)
     let rows: &[(usize, usize, &str, &str, &str, &str)] = &[
         (2, 2, "2 x 2", "164", "38", "985 ms / 5994"),
@@ -222,11 +222,11 @@ pub fn bench(a: &BenchArgs) -> ExitCode {
         } else {
             format!("{:>12} {:>8}", "skipped", "")
         };
-        println!("{label:<22} {np:>7} {ns:>6} | {ms:>12.3} {states:>8} | {t_ms:>12} {t_states:>8} | {modsyn}   (thesis ModSyn {t_mod})");
+        outln!("{label:<22} {np:>7} {ns:>6} | {ms:>12.3} {states:>8} | {t_ms:>12} {t_states:>8} | {modsyn}   (thesis ModSyn {t_mod})");
     }
-    println!();
-    println!("Table 7.2: one line, 3 extended machines, a globally shared sensor (thesis: 15 plants, 4 specs,");
-    println!("IncSyn 156 ms / 48 states; iModSyn out of memory). Reconstructed: the thesis publishes only sizes.");
+    outln!();
+    outln!("Table 7.2: one line, 3 extended machines, a globally shared sensor (thesis: 15 plants, 4 specs,");
+    outln!("IncSyn 156 ms / 48 states; iModSyn out of memory). Reconstructed: the thesis publishes only sizes.");
     {
         let src = extended_line(3);
         let (loaded, _) = load(&src);
@@ -244,7 +244,7 @@ pub fn bench(a: &BenchArgs) -> ExitCode {
             used = reps.iter().map(|r| r.plants_used.len()).sum();
         }
         let dep: usize = (0..p.specs.len()).map(|i| dep_closure(p, i).len()).sum();
-        println!(
+        outln!(
             "  ours: {} plants, {} specs, IncSyn {:.3} ms, {} states; plants applied {} (Dep criterion would compose {})",
             p.plants.len(),
             p.specs.len(),
@@ -254,7 +254,7 @@ pub fn bench(a: &BenchArgs) -> ExitCode {
             dep
         );
     }
-    println!();
+    outln!();
     if a.no_faudes {
         return ExitCode::SUCCESS;
     }
@@ -262,11 +262,11 @@ pub fn bench(a: &BenchArgs) -> ExitCode {
 }
 
 fn bench_faudes(runs: usize) -> ExitCode {
-    println!("Classic SupCon, plcsynth vs libFAUDES on identical .gen inputs (median ms)");
+    outln!("Classic SupCon, plcsynth vs libFAUDES on identical .gen inputs (median ms)");
     let py = std::path::Path::new(".venv/bin/python");
     let script = std::path::Path::new("tests/faudes_bench.py");
     if !py.exists() || !script.exists() {
-        println!("  libFAUDES not available: run `scripts/python-checkers.sh` from the repository root");
+        outln!("  libFAUDES not available: run `scripts/python-checkers.sh` from the repository root");
         return ExitCode::SUCCESS;
     }
     let dir = std::env::temp_dir().join(format!("plcsynth-bench-{}", std::process::id()));
@@ -278,7 +278,7 @@ fn bench_faudes(runs: usize) -> ExitCode {
         ("transfer lines 2x2", transfer_lines_classic(2, 2, 2)),
         ("transfer lines 1x4", transfer_lines_classic(1, 4, 2)),
     ];
-    println!("{:<22} {:>8} {:>8} | {:>10} {:>10} {:>7}", "problem", "states", "trans", "ours ms", "faudes ms", "ratio");
+    outln!("{:<22} {:>8} {:>8} | {:>10} {:>10} {:>7}", "problem", "states", "trans", "ours ms", "faudes ms", "ratio");
     for (name, (plant, spec, ev)) in &cases {
         let spec = &spec.with_selfloops(plant.alphabet());
         let mut times = Vec::new();
@@ -308,17 +308,17 @@ fn bench_faudes(runs: usize) -> ExitCode {
         match faudes {
             Some((fms, fst, ftr)) => {
                 let agree = if fst as usize == sup.num_states() && ftr as usize == sup.num_transitions() { "" } else { "  (sizes differ!)" };
-                println!(
+                outln!(
                     "{name:<22} {:>8} {:>8} | {ours:>10.3} {fms:>10.3} {:>7.2}{agree}",
                     sup.num_states(),
                     sup.num_transitions(),
                     ours / fms.max(1e-6)
                 );
             }
-            None => println!("{name:<22} {:>8} {:>8} | {ours:>10.3} {:>10} {:>7}", sup.num_states(), sup.num_transitions(), "error", "-"),
+            None => outln!("{name:<22} {:>8} {:>8} | {ours:>10.3} {:>10} {:>7}", sup.num_states(), sup.num_transitions(), "error", "-"),
         }
     }
-    println!("ratio = ours / libFAUDES (below 1 means plcsynth is faster); libFAUDES time excludes file reading.");
+    outln!("ratio = ours / libFAUDES (below 1 means plcsynth is faster); libFAUDES time excludes file reading.");
     let _ = std::fs::remove_dir_all(&dir);
     ExitCode::SUCCESS
 }
