@@ -10,5 +10,6 @@
 pub mod diag;
 pub mod plc;
 pub mod program;
+pub mod sct;
 pub mod timed;
 pub mod zone;
