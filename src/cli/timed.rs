@@ -5,25 +5,33 @@ use plcsynth::timed::{self, solve::Verdict};
 use std::process::ExitCode;
 use std::time::Instant;
 
-/// Exit status: 0 realizable, 1 unrealizable, 2 input error, 3 budget exceeded.
-pub fn solve(file: &str, json: bool, max_states: Option<usize>, dump_states: bool) -> ExitCode {
-    let source = match std::fs::read_to_string(file) {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!("error: cannot read {file}: {e}");
-            return ExitCode::from(2);
+/// Reads and checks a specification, printing diagnostics (and warnings) to stderr; an input
+/// error is exit status 2.
+fn load(file: &str) -> Result<(String, timed::model::Game), ExitCode> {
+    let source = std::fs::read_to_string(file).map_err(|e| {
+        eprintln!("error: cannot read {file}: {e}");
+        ExitCode::from(2)
+    })?;
+    match timed::compile(&source) {
+        Ok((game, warnings)) => {
+            if !warnings.is_empty() {
+                eprint!("{}", render_plain(file, &source, &warnings));
+            }
+            Ok((source, game))
         }
-    };
-    let (game, warnings) = match timed::compile(&source) {
-        Ok(ok) => ok,
         Err(diags) => {
             eprint!("{}", render_plain(file, &source, &diags));
-            return ExitCode::from(2);
+            Err(ExitCode::from(2))
         }
-    };
-    if !warnings.is_empty() {
-        eprint!("{}", render_plain(file, &source, &warnings));
     }
+}
+
+/// Exit status: 0 realizable, 1 unrealizable, 2 input error, 3 budget exceeded.
+pub fn solve(file: &str, json: bool, max_states: Option<usize>, dump_states: bool) -> ExitCode {
+    let (source, game) = match load(file) {
+        Ok(ok) => ok,
+        Err(code) => return code,
+    };
     let mut options = timed::solve::SolveOptions::default();
     if let Some(n) = max_states {
         options.max_states = n;
@@ -78,23 +86,10 @@ pub fn solve(file: &str, json: bool, max_states: Option<usize>, dump_states: boo
 /// `plcsynth compile FILE --target T`: the intermediate program (`target` = None) or PLC code.
 /// Unrealizable specifications exit 1 with the explanation and write nothing.
 pub fn compile(file: &str, target: Option<plcsynth::plc::Target>, out: Option<&str>) -> ExitCode {
-    let source = match std::fs::read_to_string(file) {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!("error: cannot read {file}: {e}");
-            return ExitCode::from(2);
-        }
-    };
-    let (game, warnings) = match timed::compile(&source) {
+    let (source, game) = match load(file) {
         Ok(ok) => ok,
-        Err(diags) => {
-            eprint!("{}", render_plain(file, &source, &diags));
-            return ExitCode::from(2);
-        }
+        Err(code) => return code,
     };
-    if !warnings.is_empty() {
-        eprint!("{}", render_plain(file, &source, &warnings));
-    }
     let result = timed::synthesize(&game, &timed::solve::SolveOptions::default(), &mut |_| true);
     let Some(program) = plcsynth::program::controller(&game, &result) else {
         match result.solution.verdict {

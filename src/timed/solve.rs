@@ -192,6 +192,25 @@ pub struct State {
     vis: u32,
 }
 
+impl State {
+    fn new(env: u32, plan: u32, zone: u32, kind: StateKind, removal: Option<Removal>, vis: u32) -> State {
+        State {
+            env,
+            plan,
+            zone,
+            kind,
+            removal,
+            expanded: false,
+            out_start: 0,
+            out_end: 0,
+            first_in: NONE,
+            options_alive: 0,
+            wait_viable: false,
+            vis,
+        }
+    }
+}
+
 /// The explored game graph with the surviving (winning) and removed states.
 pub struct StateSpace {
     pub dim: usize,
@@ -511,20 +530,7 @@ impl<'g> Solver<'g> {
             (0, p) => Some(Removal::PlanFailed { plan: p - 1 }),
             (a, _) => Some(Removal::Assertion { rule: a - 1 }),
         };
-        self.space.states.push(State {
-            env: env_id,
-            plan: plan_id,
-            zone: zone_id,
-            kind,
-            removal,
-            expanded: false,
-            out_start: 0,
-            out_end: 0,
-            first_in: NONE,
-            options_alive: 0,
-            wait_viable: false,
-            vis,
-        });
+        self.space.states.push(State::new(env_id, plan_id, zone_id, kind, removal, vis));
         self.state_index.insert(key, id);
         if removal.is_some() {
             self.removed += 1;
@@ -685,20 +691,7 @@ impl<'g> Solver<'g> {
 
     fn add_guard_state(&mut self, st: &State) -> StateId {
         let id = self.space.states.len() as StateId;
-        self.space.states.push(State {
-            env: st.env,
-            plan: st.plan,
-            zone: st.zone,
-            kind: StateKind::Guard,
-            removal: None,
-            expanded: false,
-            out_start: 0,
-            out_end: 0,
-            first_in: NONE,
-            options_alive: 0,
-            wait_viable: false,
-            vis: st.vis,
-        });
+        self.space.states.push(State::new(st.env, st.plan, st.zone, StateKind::Guard, None, st.vis));
         id
     }
 
