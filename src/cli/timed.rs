@@ -28,7 +28,7 @@ fn load(file: &str) -> Result<(String, timed::model::Game), ExitCode> {
 
 /// Exit status: 0 realizable, 1 unrealizable, 2 input error, 3 budget exceeded.
 pub fn solve(file: &str, json: bool, max_states: Option<usize>, dump_states: bool) -> ExitCode {
-    let (source, game) = match load(file) {
+    let (_, game) = match load(file) {
         Ok(ok) => ok,
         Err(code) => return code,
     };
