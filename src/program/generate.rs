@@ -5,10 +5,15 @@
 //! must react before it acts; then it sends the chosen request (`DO`) and jumps to the
 //! successor, or, when it waits, checks the delays and loops (`GOTO` its own entry). A state
 //! reached by a message that waits continues unconditionally in its time-closed state.
+//!
+//! Several clocks may reach the ends of their pieces at the same instant; the solver then has
+//! one delay edge per set of clocks that can move on together. Such a set is tested as a chain
+//! of single-clock tests, larger sets first, each falling through to the next candidate when a
+//! clock has not got there yet.
 
 use super::select::{Choice, Strategy};
-use super::{Condition, Instruction, Program};
-use crate::timed::model::Game;
+use super::{CmdId, Condition, Instruction, Program};
+use crate::timed::model::{ClockOwner, Game};
 use crate::timed::precompute::SplitGame;
 use crate::timed::solve::{EdgeKind, Label, StateId, StateKind, StateSpace};
 
@@ -18,8 +23,25 @@ pub struct Generated {
     pub origin: Vec<StateId>,
 }
 
+/// The delay conditions meaning "every clock of `clocks` has entered the piece it has in state
+/// `to`".
+fn delay_conditions(game: &Game, split: &SplitGame, space: &StateSpace, to: StateId, clocks: u64) -> Vec<Condition> {
+    let mut out = Vec::new();
+    for clock in (1..64u32).filter(|c| clocks >> c & 1 == 1) {
+        let (unit, sub) = match game.clocks[clock as usize].owner {
+            ClockOwner::Component(u) => (u as usize, space.env(to)[u as usize]),
+            ClockOwner::Plan(p) => (split.plant_count + p as usize, space.plan(to)[p as usize]),
+            ClockOwner::Reference => continue,
+        };
+        if let Some(&(_, piece)) = split.units[unit].sublocs[sub as usize].pieces.iter().find(|(c, _)| *c == clock) {
+            out.push(Condition::Delay { clock, interval: split.pieces[clock as usize][piece as usize] });
+        }
+    }
+    out
+}
+
 /// Algorithm 10 over the strategy states (initial state first, so its entry is label 0).
-pub fn generate(_game: &Game, split: &SplitGame, space: &StateSpace, strategy: &Strategy) -> Generated {
+pub fn generate(game: &Game, split: &SplitGame, space: &StateSpace, strategy: &Strategy) -> Generated {
     let mut program = Program::new();
     let mut entry = vec![u32::MAX; space.states.len()];
     for &s in &strategy.states {
@@ -28,54 +50,65 @@ pub fn generate(_game: &Game, split: &SplitGame, space: &StateSpace, strategy: &
     let mut origin = Vec::new();
     for &s in &strategy.states {
         let choice = strategy.choice[s as usize];
-        let mut block: Vec<(Instruction, u64)> = Vec::new();
-        let alive = |to: StateId| to != u32::MAX && space.is_winning(to);
+        // (id, instruction, resets); the first command takes the state's entry id.
+        let mut block: Vec<(Option<CmdId>, Instruction, u64)> = Vec::new();
         for (_, e) in space.out_edges(s) {
-            if !alive(e.to) {
+            if !space.is_live(e) {
                 continue;
             }
             if let (EdgeKind::Reaction | EdgeKind::Guard, Label::Message { message }) = (e.kind, e.label) {
-                block.push((Instruction::If { condition: Condition::Message { message }, target: entry[e.to as usize] }, e.resets));
+                block.push((None, Instruction::If { condition: Condition::Message { message }, target: entry[e.to as usize] }, e.resets));
             }
         }
         match choice {
             Choice::Request(id) => {
                 let e = &space.edges[id as usize];
                 if let Label::Message { message } = e.label {
-                    block.push((Instruction::Do { request: message }, e.resets));
+                    block.push((None, Instruction::Do { request: message }, e.resets));
                 }
-                block.push((Instruction::Goto { target: entry[e.to as usize] }, 0));
+                block.push((None, Instruction::Goto { target: entry[e.to as usize] }, 0));
             }
             Choice::Wait => {
-                let mut continued = false;
+                let mut continued = None;
+                let mut delays: Vec<(Vec<Condition>, StateId)> = Vec::new();
                 for (_, e) in space.out_edges(s) {
-                    if e.kind != EdgeKind::Delay || !alive(e.to) {
+                    if e.kind != EdgeKind::Delay || !space.is_live(e) {
                         continue;
                     }
                     match e.label {
-                        Label::Wait => {
-                            block.push((Instruction::Goto { target: entry[e.to as usize] }, 0));
-                            continued = true;
-                        }
-                        Label::Piece { clock, piece } => {
-                            let interval = split.pieces[clock as usize][piece as usize];
-                            block.push((Instruction::If { condition: Condition::Delay { clock, interval }, target: entry[e.to as usize] }, 0));
-                        }
+                        Label::Wait => continued = Some(e.to),
+                        Label::Piece { clocks, .. } => delays.push((delay_conditions(game, split, space, e.to, clocks), e.to)),
                         _ => {}
                     }
                 }
-                if !continued {
-                    block.push((Instruction::Goto { target: entry[s as usize] }, 0));
+                match continued {
+                    Some(to) => block.push((None, Instruction::Goto { target: entry[to as usize] }, 0)),
+                    None => {
+                        delays.sort_by_key(|(conds, _)| std::cmp::Reverse(conds.len()));
+                        let heads: Vec<CmdId> = delays.iter().map(|_| program.fresh_id()).collect();
+                        let waiting = program.fresh_id();
+                        for (k, (conds, to)) in delays.iter().enumerate() {
+                            let next = heads.get(k + 1).copied().unwrap_or(waiting);
+                            let mut id = Some(heads[k]);
+                            for (j, &condition) in conds.iter().enumerate() {
+                                let last = j + 1 == conds.len();
+                                let target = if last { entry[*to as usize] } else { program.fresh_id() };
+                                block.push((id, Instruction::If { condition, target }, 0));
+                                if conds.len() > 1 {
+                                    block.push((None, Instruction::Goto { target: next }, 0));
+                                }
+                                id = (!last).then_some(target);
+                            }
+                        }
+                        block.push((Some(waiting), Instruction::Goto { target: entry[s as usize] }, 0));
+                    }
                 }
             }
         }
         debug_assert!(space.states[s as usize].kind != StateKind::Guard || matches!(choice, Choice::Request(_)));
-        for (k, (instruction, resets)) in block.into_iter().enumerate() {
-            if k == 0 {
-                program.push_with_id(entry[s as usize], instruction, resets);
-            } else {
-                program.push(instruction, resets);
-            }
+        for (k, (id, instruction, resets)) in block.into_iter().enumerate() {
+            let id = if k == 0 { entry[s as usize] } else { id.unwrap_or_else(|| program.fresh_id()) };
+            program.push_with_id(id, instruction, resets);
             origin.push(s);
         }
     }

@@ -411,6 +411,13 @@ fn remove_if(
     }
     for k in range {
         let c = program.commands[k];
+        // A command that jumps also reach starts a block of its own: what is known on the way
+        // in through this block need not hold on the other ways in (algorithm 13 assumes one
+        // entry per block, which the other rules do not keep).
+        if k != start && r[k] > 1 {
+            remove_if(program, pos, r, cx, k, vis, t, f, edits, depth + 1);
+            return;
+        }
         vis.insert(c.id);
         match c.instruction {
             Instruction::Goto { target } => {

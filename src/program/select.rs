@@ -12,7 +12,6 @@ use crate::timed::solve::{EdgeId, EdgeKind, StateId, StateKind, StateSpace};
 use serde::Serialize;
 use std::collections::VecDeque;
 
-const NONE: u32 = u32::MAX;
 
 /// The controller's decision in one state.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -33,9 +32,6 @@ pub struct Strategy {
     pub choice: Vec<Choice>,
 }
 
-fn alive(space: &StateSpace, to: StateId) -> bool {
-    to != NONE && space.is_winning(to)
-}
 
 /// Moves from each winning state to the nearest plan progress, along winning states.
 pub fn goal_distances(space: &StateSpace) -> Vec<u32> {
@@ -48,7 +44,7 @@ pub fn goal_distances(space: &StateSpace) -> Vec<u32> {
             continue;
         }
         for (_, e) in space.out_edges(s) {
-            if !alive(space, e.to) {
+            if !space.is_live(e) {
                 continue;
             }
             if e.progress && dist[s as usize] == u32::MAX {
@@ -98,11 +94,11 @@ pub fn select(game: &Game, space: &StateSpace) -> Strategy {
     while let Some(s) = queue.pop_front() {
         states.push(s);
         let waits: Vec<EdgeId> = wait_edges(space, s).collect();
-        let wait_viable = !waits.is_empty() && waits.iter().all(|&e| alive(space, space.edges[e as usize].to));
+        let wait_viable = !waits.is_empty() && waits.iter().all(|&e| space.is_live(&space.edges[e as usize]));
         let wait_distance = waits.iter().map(|&e| edge_distance(space, &dist, e)).min().filter(|_| wait_viable);
         let mut best: Option<(u32, u8, &str, EdgeId)> = None;
         for (id, e) in space.out_edges(s) {
-            if e.kind != EdgeKind::Request || !alive(space, e.to) {
+            if e.kind != EdgeKind::Request || !space.is_live(e) {
                 continue;
             }
             let name = match e.label {
@@ -143,7 +139,7 @@ pub fn select(game: &Game, space: &StateSpace) -> Strategy {
 pub fn strategy_successors(space: &StateSpace, s: StateId, choice: Choice) -> Vec<StateId> {
     let mut out = Vec::new();
     for (id, e) in space.out_edges(s) {
-        if !alive(space, e.to) {
+        if !space.is_live(e) {
             continue;
         }
         let taken = match e.kind {

@@ -71,6 +71,16 @@ fn holds(i: &Interval, ticks: i64) -> bool {
     above && below
 }
 
+/// True if `ticks` has reached the interval's lower bound.
+fn reached(i: &Interval, ticks: i64) -> bool {
+    let lo = i.lower as i64 * TICKS;
+    if i.lower_closed {
+        ticks >= lo
+    } else {
+        ticks > lo
+    }
+}
+
 /// Largest delay (in ticks) that keeps `ticks` inside `i`, if bounded.
 fn room(i: &Interval, ticks: i64) -> Option<i64> {
     i.upper.map(|u| {
@@ -223,6 +233,22 @@ struct Run<'g, 'p> {
 
 impl Run<'_, '_> {
     fn trace(&mut self, line: String) {
+        let plans: Vec<String> = self
+            .w
+            .game
+            .plans
+            .iter()
+            .enumerate()
+            .map(|(p, plan)| {
+                let clocks: Vec<String> =
+                    plan.clocks.iter().map(|&(c, _)| format!("{}={:.3}", self.w.game.clocks[c as usize].name, self.w.clocks[c as usize] as f64 / TICKS as f64)).collect();
+                format!("{}.{} {}", plan.name, plan.locations[self.w.plan_locs[p] as usize].name, clocks.join(" "))
+            })
+            .collect();
+        let clocks: Vec<String> = (1..self.w.clocks.len())
+            .map(|c| format!("{}={:.3}/{:.3}", self.w.game.clocks[c].name, self.w.clocks[c] as f64 / TICKS as f64, self.w.timers[c] as f64 / TICKS as f64))
+            .collect();
+        let line = format!("{line}   [pc {}; clock/timer {}{}{}]", self.pc, clocks.join(" "), if plans.is_empty() { "" } else { "; " }, plans.join("; "));
         self.report.trace.push(line);
         if self.report.trace.len() > 40 {
             self.report.trace.remove(0);
@@ -241,18 +267,32 @@ impl Run<'_, '_> {
     /// One scan: executes commands until the program waits. Returns whether it sent a request.
     fn scan(&mut self) -> bool {
         let mut acted = false;
+        let progress_before = self.report.progress;
         let mut executed = 0usize;
-        let mut seen = std::collections::HashSet::new();
+        // A scan ends when control comes back to a command it already ran (a wait loop); it
+        // then resumes at that command, the head of the loop, as the generated PLC code does.
+        let mut seen = std::collections::HashSet::from([self.pc]);
         loop {
             executed += 1;
-            if executed > 100_000 || self.pc >= self.program.len() {
+            if self.pc >= self.program.len() {
                 self.report.failure = Some(Failure::ControllerLoops);
+                return acted;
+            }
+            if executed > 10_000 {
+                // Acting forever at one instant: a zeno controller. One that keeps making plan
+                // progress is the specification's business (5.1; the PLC code spreads it over
+                // scans); one that makes none is a failure.
+                if self.report.progress == progress_before {
+                    self.report.failure = Some(Failure::ControllerLoops);
+                }
                 return acted;
             }
             let c = self.program.commands[self.pc];
             let truth = |run: &Self, cond: &Condition| match cond {
                 Condition::Message { message } => run.pending == Some(*message) || run.guard_values[*message as usize],
-                Condition::Delay { clock, interval } => holds(interval, run.w.timers[*clock as usize]),
+                // `{c} WAIT k`: the timer has reached k (passed k when the bound is open), as the
+                // PLC code tests it with `ET >= k`.
+                Condition::Delay { clock, interval } => reached(interval, run.w.timers[*clock as usize]),
             };
             match c.instruction {
                 Instruction::Do { .. } if self.w.moves(&[MessageKind::Uncontrollable]).iter().any(|m| m.instant) => {

@@ -453,7 +453,7 @@ pub fn product(a: &Automaton, b: &Automaton, n_events: usize) -> Product {
                     i += 1;
                     j += 1;
                 }
-                (Some(x), y) if y.map_or(true, |y| x < y) => {
+                (Some(x), y) if y.is_none_or(|y| x < y) => {
                     if !in_b[x.0 as usize] {
                         out.push((x, ea[i].target, sb));
                     }

@@ -190,8 +190,13 @@ pub fn describe_edge(game: &Game, split: &SplitGame, e: &Edge) -> String {
     match e.label {
         Label::Message { message } => format!("{}{}", e.kind.sigil(), game.messages[message as usize].name),
         Label::Wait => "wait".to_string(),
-        Label::Piece { clock, piece } => {
-            format!("time passes until {} ∈ {}", game.clocks[clock as usize].name, split.pieces[clock as usize][piece as usize])
+        Label::Piece { clock, piece, clocks } => {
+            let mut text = format!("time passes until {} ∈ {}", game.clocks[clock as usize].name, split.pieces[clock as usize][piece as usize]);
+            let others: Vec<&str> = (1..64).filter(|&c| c != clock && clocks >> c & 1 == 1).map(|c| game.clocks[c as usize].name.as_str()).collect();
+            if !others.is_empty() {
+                text.push_str(&format!(" (and, at the same instant, {} into their next pieces)", others.join(", ")));
+            }
+            text
         }
         Label::Overrun { clock } => format!("timeout: {} exceeds its invariant", game.clocks[clock as usize].name),
     }
@@ -330,10 +335,11 @@ pub fn dump(game: &Game, split: &SplitGame, space: &StateSpace) -> String {
         let initial = if s == space.initial { " initial" } else { "" };
         out.push_str(&format!("s{s}{initial} [{status}] {}\n", describe_state(game, split, space, s)));
         for (_, e) in space.out_edges(s) {
-            let target = if e.to == NONE {
-                if e.zeno { "zeno".to_string() } else { "timeout".to_string() }
-            } else {
-                format!("s{}", e.to)
+            let target = match (e.to == NONE, e.zeno) {
+                (true, true) => "zeno".to_string(),
+                (true, false) => "timeout".to_string(),
+                (false, true) => format!("s{} (cut: a zero-time cycle of requests)", e.to),
+                (false, false) => format!("s{}", e.to),
             };
             out.push_str(&format!("    {} -> {target}\n", describe_edge(game, split, e)));
         }

@@ -121,8 +121,9 @@ pub enum Label {
     Message { message: MsgId },
     /// Waiting in the current locations.
     Wait,
-    /// Time passes until `clock` enters piece `piece`.
-    Piece { clock: ClockId, piece: u16 },
+    /// Time passes until `clock` enters piece `piece`; `clocks` (a bit set) holds every clock
+    /// that enters its next piece at the same instant, `clock` included.
+    Piece { clock: ClockId, piece: u16, clocks: u64 },
     /// Time passes beyond the invariant on `clock`.
     Overrun { clock: ClockId },
 }
@@ -228,6 +229,11 @@ impl StateSpace {
         self.states[s as usize].removal.is_none()
     }
 
+    /// True if the edge leads to a winning state and was not cut as a zeno loop.
+    pub fn is_live(&self, e: &Edge) -> bool {
+        e.to != NONE && !e.zeno && self.is_winning(e.to)
+    }
+
     /// Sub-locations of the plant units in state `s`.
     pub fn env(&self, s: StateId) -> &[SubLocId] {
         self.envs.get(self.states[s as usize].env)
@@ -309,7 +315,7 @@ enum Vis {
     Fresh,
     /// No progress: remember the new plant state on top of `parent`'s memory.
     Extend(u32),
-    /// Time passed or a guard was checked: the plant state is unchanged.
+    /// Waiting or a guard check: the plant state is unchanged.
     Same(u32),
 }
 
@@ -420,10 +426,64 @@ impl<'g> Solver<'g> {
             }
             self.expand(s);
         }
+        self.remove_zeno_cycles();
         if self.space.is_winning(self.space.initial) {
             Verdict::Realizable
         } else {
             Verdict::Unrealizable
+        }
+    }
+
+    /// Controller zenoness (5.1 leaves it open): the zeno memory of the search is path-dependent,
+    /// so a cycle of requests that never lets time pass and makes no plan progress can survive,
+    /// and a controller could "win" by acting forever at one instant. Such cycles are strongly
+    /// connected components of the winning states under requests and guard checks without
+    /// progress; their edges are removed as zeno loops, the removal propagated, until none is
+    /// left. Conservative: a zero-time cycle of requests is never relied upon.
+    fn remove_zeno_cycles(&mut self) {
+        loop {
+            let n = self.space.states.len();
+            let controller_edges = |space: &StateSpace, s: StateId| -> Vec<(EdgeId, StateId)> {
+                space
+                    .out_edges(s)
+                    .filter(|(_, e)| e.class == Class::Option && !e.zeno && !e.progress && e.to != NONE && space.is_winning(e.to))
+                    .map(|(id, e)| (id, e.to))
+                    .collect()
+            };
+            let component = strongly_connected(n, |s| {
+                if self.space.states[s as usize].removal.is_none() && self.space.states[s as usize].expanded {
+                    controller_edges(&self.space, s).into_iter().map(|(_, t)| t).collect()
+                } else {
+                    Vec::new()
+                }
+            });
+            let mut cut = Vec::new();
+            for s in 0..n as StateId {
+                if self.space.states[s as usize].removal.is_some() {
+                    continue;
+                }
+                for (id, t) in controller_edges(&self.space, s) {
+                    if component[s as usize] == component[t as usize] {
+                        cut.push((s, id));
+                    }
+                }
+            }
+            if cut.is_empty() {
+                return;
+            }
+            for (s, id) in cut {
+                let e = &mut self.space.edges[id as usize];
+                if e.zeno {
+                    continue;
+                }
+                e.zeno = true;
+                let st = &mut self.space.states[s as usize];
+                st.options_alive -= 1;
+                if st.options_alive == 0 && !st.wait_viable {
+                    self.remove(s, Removal::NoMove);
+                }
+            }
+            self.propagate();
         }
     }
 
@@ -788,13 +848,15 @@ impl<'g> Solver<'g> {
         }
         let (env_id, plan_id) = self.intern_discrete(&env2, &plan2);
         self.normalise(env_id, plan_id, &mut zone);
-        let to = self.find_or_add(env_id, plan_id, &zone, StateKind::Interval, Vis::Same(st.vis)).0;
+        // Time moved some clock into its next piece: a new plant state for the zeno memory.
+        let to = self.find_or_add(env_id, plan_id, &zone, StateKind::Interval, Vis::Extend(st.vis)).0;
         let first = &exits[set[0]];
+        let clocks = set.iter().fold(0u64, |bits, &k| bits | 1 << exits[k].clock);
         self.pending_edges.push(Edge {
             from: s,
             to,
             kind: EdgeKind::Delay,
-            label: Label::Piece { clock: first.clock, piece: first.next_piece },
+            label: Label::Piece { clock: first.clock, piece: first.next_piece, clocks },
             resets: 0,
             instant: false,
             zeno: false,
@@ -892,8 +954,8 @@ impl<'g> Solver<'g> {
                 id = e.next_in;
                 let x = e.from;
                 let xs = &mut self.space.states[x as usize];
-                if xs.removal.is_some() || !xs.expanded {
-                    continue;
+                if xs.removal.is_some() || !xs.expanded || e.zeno {
+                    continue; // a zeno edge was already discounted when it was cut
                 }
                 match e.class {
                     Class::Forced => self.remove(x, Removal::Forced { edge: edge_id }),
@@ -944,4 +1006,61 @@ fn guard_edge(from: StateId, to: StateId, message: MsgId, instant: bool) -> Edge
 
 fn clock_bits(clocks: &[ClockId]) -> u64 {
     clocks.iter().fold(0, |bits, &c| bits | 1 << c)
+}
+
+/// Tarjan's algorithm without recursion: the component number of every node.
+fn strongly_connected(n: usize, successors: impl Fn(StateId) -> Vec<StateId>) -> Vec<u32> {
+    const UNSEEN: u32 = u32::MAX;
+    let mut index = vec![UNSEEN; n];
+    let mut low = vec![0u32; n];
+    let mut on_stack = vec![false; n];
+    let mut component = vec![UNSEEN; n];
+    let mut stack: Vec<StateId> = Vec::new();
+    let mut next_index = 0u32;
+    let mut next_component = 0u32;
+    for root in 0..n as StateId {
+        if index[root as usize] != UNSEEN {
+            continue;
+        }
+        // Frames: (node, its successors, position in them).
+        let mut frames: Vec<(StateId, Vec<StateId>, usize)> = vec![(root, successors(root), 0)];
+        index[root as usize] = next_index;
+        low[root as usize] = next_index;
+        next_index += 1;
+        stack.push(root);
+        on_stack[root as usize] = true;
+        while let Some(frame) = frames.last_mut() {
+            let v = frame.0;
+            if frame.2 < frame.1.len() {
+                let w = frame.1[frame.2];
+                frame.2 += 1;
+                if index[w as usize] == UNSEEN {
+                    index[w as usize] = next_index;
+                    low[w as usize] = next_index;
+                    next_index += 1;
+                    stack.push(w);
+                    on_stack[w as usize] = true;
+                    frames.push((w, successors(w), 0));
+                } else if on_stack[w as usize] {
+                    low[v as usize] = low[v as usize].min(index[w as usize]);
+                }
+            } else {
+                frames.pop();
+                if let Some(parent) = frames.last() {
+                    low[parent.0 as usize] = low[parent.0 as usize].min(low[v as usize]);
+                }
+                if low[v as usize] == index[v as usize] {
+                    while let Some(w) = stack.pop() {
+                        on_stack[w as usize] = false;
+                        component[w as usize] = next_component;
+                        if w == v {
+                            break;
+                        }
+                    }
+                    next_component += 1;
+                }
+            }
+        }
+    }
+    component
 }
