@@ -2,11 +2,36 @@
 # Every install step is idempotent and works as root on a fresh machine.
 
 CARGO ?= cargo
+PORT ?= 8080
 
-.PHONY: test test-native
+.PHONY: test test-native test-wasm test-browser serve web web-setup browser-setup
 
-## Run every test: native unit, integration and property tests.
-test: test-native
+## Run every test: native, wasm-bindgen-test (in Node) and the browser tests (in Chromium).
+test: test-native test-wasm test-browser
 
 test-native:
 	$(CARGO) test --all-targets --release
+
+## Install what the playground needs (wasm32 target, wasm-bindgen-cli, npm packages).
+web-setup:
+	bash scripts/setup-web.sh
+
+browser-setup:
+	bash scripts/setup-web.sh --browser
+
+## Build the static playground into www/pkg and www/dist.
+web: web-setup
+	bash scripts/build-web.sh
+
+## Serve the playground at http://localhost:$(PORT) (static files only).
+serve: web
+	@echo "plcsynth playground: http://localhost:$(PORT)/"
+	python3 -m http.server --bind 127.0.0.1 --directory www $(PORT)
+
+## The wasm boundary, tested with wasm-bindgen-test in Node.
+test-wasm: web-setup
+	$(CARGO) test --target wasm32-unknown-unknown --no-default-features --test wasm_api
+
+## The page in headless Chromium (playwright-core); screenshots go to target/screenshots.
+test-browser: browser-setup web
+	node --test --test-concurrency=1 tests/browser/

@@ -9,4 +9,6 @@
 
 pub mod diag;
 pub mod timed;
+#[cfg(target_arch = "wasm32")]
+pub mod wasm;
 pub mod zone;

@@ -1,0 +1,86 @@
+// Graphs drawn by Graphviz (compiled to wasm, @viz-js/viz, loaded on first use): component
+// automata and (parts of) the explored state space, as DOT with CSS classes for styling.
+
+let vizPromise = null;
+function viz() {
+  vizPromise ??= import('@viz-js/viz').then((m) => m.instance());
+  return vizPromise;
+}
+
+const q = (s) => `"${String(s).replace(/\\/g, '\\\\').replace(/"/g, '\\"').replace(/\n/g, '\\n')}"`;
+
+/** `?` request (controller), `!` reaction (plant), `$` plan step. */
+const sigilClass = { '?': 'edge-request', '!': 'edge-reaction', $: 'edge-plan' };
+
+export function automatonDot(a) {
+  const lines = [
+    'digraph automaton {',
+    '  graph [rankdir=LR, bgcolor="transparent", nodesep=0.35, ranksep=0.5, fontname="sans-serif"];',
+    '  node [shape=box, style="rounded", fontname="sans-serif", fontsize=11, margin="0.12,0.05"];',
+    '  edge [fontname="sans-serif", fontsize=10, arrowsize=0.7];',
+    '  init [shape=point, width=0.08, class="init"];',
+  ];
+  a.locations.forEach((l, i) => {
+    const label = l.invariant ? `${l.name}\n${l.invariant}` : l.name;
+    const cls = l.failed ? 'location failed' : 'location';
+    lines.push(`  l${i} [label=${q(label)}, class=${q(cls)}, tooltip=${q(l.failed ? 'the plan has failed' : l.name)}];`);
+  });
+  lines.push(`  init -> l${a.initial} [class="init"];`);
+  for (const e of a.edges) {
+    const parts = [`${e.sigil}${e.message}${e.instant ? ' (instant)' : ''}`];
+    if (e.guard) parts.push(e.guard);
+    if (e.resets.length) parts.push(`reset{${e.resets.join(', ')}}`);
+    const cls = sigilClass[e.sigil] ?? 'edge-plan';
+    const style = e.sigil === '!' ? 'dashed' : e.sigil === '$' ? 'bold' : 'solid';
+    lines.push(`  l${e.from} -> l${e.to} [label=${q(parts.join('\n'))}, class=${q(cls)}, style=${style}];`);
+  }
+  lines.push('}');
+  return lines.join('\n');
+}
+
+const kindClass = { request: 'edge-request', reaction: 'edge-reaction', guard: 'edge-guard', delay: 'edge-delay', timeout: 'edge-timeout' };
+const kindSigil = { request: '?', reaction: '!', guard: '%', delay: 'D', timeout: 'T' };
+
+/**
+ * A state-space (or neighbourhood) graph. Winning and removed states are coloured; controller
+ * requests between winning states (the moves the winning strategy allows) are highlighted.
+ */
+export function spaceDot(view, { selected = null, maxLabel = 60 } = {}) {
+  const winning = new Map(view.states.map((s) => [s.id, s.winning]));
+  const lines = [
+    'digraph space {',
+    '  graph [rankdir=TB, bgcolor="transparent", nodesep=0.25, ranksep=0.35, fontname="sans-serif"];',
+    '  node [shape=box, style="rounded,filled", fontname="sans-serif", fontsize=10, margin="0.08,0.03"];',
+    '  edge [fontname="sans-serif", fontsize=8, arrowsize=0.6];',
+  ];
+  for (const s of view.states) {
+    let loc = s.locations.join(', ');
+    if (loc.length > maxLabel) loc = `${loc.slice(0, maxLabel - 1)}…`;
+    const cls = ['state', s.winning ? 'winning' : 'removed', s.id === view.initial ? 'initial' : '', s.id === selected ? 'selected' : '']
+      .filter(Boolean)
+      .join(' ');
+    const tip = s.winning ? `s${s.id}: winning` : `s${s.id}: removed: ${s.reason ?? ''}`;
+    lines.push(`  s${s.id} [id=${q(`st-${s.id}`)}, label=${q(`s${s.id} ${s.kind}\n${loc}`)}, class=${q(cls)}, tooltip=${q(tip)}];`);
+  }
+  let dangling = 0;
+  for (const e of view.edges) {
+    const allowed = e.kind === 'request' && winning.get(e.from) && winning.get(e.to);
+    const cls = `${kindClass[e.kind] ?? ''}${allowed ? ' allowed' : ''}${e.zeno ? ' zeno' : ''}`;
+    const label = e.kind === 'delay' ? 'D' : e.label.length > 28 ? `${e.label.slice(0, 27)}…` : e.label;
+    let to = `s${e.to}`;
+    if (e.to === null) {
+      to = `x${dangling++}`;
+      lines.push(`  ${to} [shape=point, width=0.06, class="dangling", label=""];`);
+    }
+    const style = e.kind === 'reaction' ? 'dashed' : e.kind === 'delay' || e.kind === 'timeout' ? 'dotted' : 'solid';
+    lines.push(`  s${e.from} -> ${to} [label=${q(label)}, class=${q(cls)}, style=${style}, tooltip=${q(`${kindSigil[e.kind]} ${e.label}`)}];`);
+  }
+  lines.push('}');
+  return lines.join('\n');
+}
+
+/** Renders DOT into an SVG element (throws with Graphviz's message on failure). */
+export async function render(dot) {
+  const v = await viz();
+  return v.renderSVGElement(dot);
+}
