@@ -242,6 +242,7 @@ async function run() {
   app.automataDrawn = false;
   app.meta = null;
   spaceView.reset(null);
+  $('#summary').replaceChildren(h('p', { class: 'muted' }, 'Running…'));
   setStatus('Compiling…', 'running');
   try {
     const summary = await solver.call(
