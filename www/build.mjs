@@ -25,10 +25,11 @@ export function describeExample(id, source) {
 function loadExamples() {
   return readdirSync(examplesDir)
     .filter((f) => f.endsWith('.tga'))
+    .map((f) => basename(f, '.tga'))
     .sort((a, b) => a.localeCompare(b, 'en', { numeric: true }))
-    .map((f) => {
-      const source = readFileSync(join(examplesDir, f), 'utf8');
-      return { ...describeExample(basename(f, '.tga'), source), source };
+    .map((id) => {
+      const source = readFileSync(join(examplesDir, `${id}.tga`), 'utf8');
+      return { ...describeExample(id, source), source };
     });
 }
 

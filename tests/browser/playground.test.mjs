@@ -173,6 +173,37 @@ test('cancel in the same page restarts the worker without a reload', async () =>
   await page.context().close();
 });
 
+test('a budget-exceeded run shows the message and the statistics so far', async () => {
+  const page = await newPage(browser, `${server.url}#example/round_table_8`);
+  await page.fill('#max-states', '500');
+  assert.equal(await runAndWait(page), 'budget_exceeded');
+  assert.match(await page.textContent('#summary'), /more than 500 states/);
+  assert.ok((await number(page, '#stat-visited')) >= 500);
+  await shot(page, '15-budget-exceeded');
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
+test('dark theme follows the system setting', async () => {
+  const page = await newPage(browser, null);
+  await page.emulateMedia({ colorScheme: 'dark' });
+  await open(page, `${server.url}#example/two_robots_14`);
+  assert.equal(await runAndWait(page), 'realizable');
+  const bg = await page.evaluate(() => getComputedStyle(document.body).backgroundColor);
+  assert.equal(bg, 'rgb(22, 24, 29)');
+  await page.click('[data-tab=space]');
+  await page.waitForSelector('#space-graph svg g.state');
+  await page.locator('#state-list li[data-id]').nth(3).click();
+  await page.click('#selected-bar a');
+  await page.waitForSelector('#zone svg.zone-plot');
+  await shot(page, '16-dark-zone');
+  await page.click('[data-tab=automata]');
+  await page.waitForSelector('#automata svg');
+  await shot(page, '17-dark-automata');
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
 test('a reload keeps the edit (localStorage autosave)', async () => {
   const page = await newPage(browser, `${server.url}#example/gripper_guard`);
   await page.click('.cm-content');

@@ -50,8 +50,8 @@ export function spaceDot(view, { selected = null, maxLabel = 60 } = {}) {
   const lines = [
     'digraph space {',
     '  graph [rankdir=TB, bgcolor="transparent", nodesep=0.25, ranksep=0.35, fontname="sans-serif"];',
-    '  node [shape=box, style="rounded,filled", fontname="sans-serif", fontsize=10, margin="0.08,0.03"];',
-    '  edge [fontname="sans-serif", fontsize=8, arrowsize=0.6];',
+    '  node [shape=box, style="rounded,filled", fontname="Courier", fontsize=10, margin="0.08,0.03", class="mono"];',
+    '  edge [fontname="Courier", fontsize=8, arrowsize=0.6];',
   ];
   for (const s of view.states) {
     let loc = s.locations.join(', ');

@@ -14,7 +14,7 @@ const byId = new Map(examples.map((e) => [e.id, e]));
 
 const checker = new Engine('checker');
 const solver = new Engine('solver');
-const app = { running: false, name: 'spec', expected: null, result: null, automata: null, automataDrawn: false, meta: null, code: '' };
+const app = { running: false, name: 'spec', result: null, automata: null, automataDrawn: false, meta: null, code: '' };
 window.plcsynth = app; // for the console and the browser tests
 
 // ---- editor, diagnostics list, autosave -------------------------------------------------
@@ -42,6 +42,7 @@ const editor = createEditor($('#editor'), {
   onChange: (text) => {
     // An edit makes an #example/ or #share/ link stale: drop it, so a reload keeps the edit.
     if (!app.loading && location.hash) history.replaceState(null, '', location.pathname + location.search);
+    if (!app.loading) showName(text);
     clearTimeout(saveTimer);
     saveTimer = setTimeout(() => localStorage.setItem(STORAGE_KEY, JSON.stringify({ text, name: app.name })), 300);
   },
@@ -51,12 +52,18 @@ app.getText = () => editor.text;
 
 function openSpec(text, name) {
   app.name = name;
-  app.expected = byId.get(name)?.expected ?? null;
-  $('#spec-name').textContent = byId.has(name) ? `${name}: ${byId.get(name).title}` : name;
   app.loading = true;
   editor.text = text;
   app.loading = false;
   localStorage.setItem(STORAGE_KEY, JSON.stringify({ text, name }));
+  showName(text);
+}
+
+/** The open example's id and title, marked `(edited)` once the text differs from it. */
+function showName(text) {
+  const ex = byId.get(app.name);
+  const edited = ex && ex.source !== text ? ' (edited)' : '';
+  $('#spec-name').textContent = ex ? `${ex.id}${edited}: ${ex.title}` : app.name;
 }
 
 // ---- examples gallery -------------------------------------------------------------------
@@ -70,8 +77,9 @@ $('#gallery-list').replaceChildren(
         'a',
         { href: `#example/${e.id}`, 'data-example': e.id, onclick: () => $('#gallery').close() },
         h('span', { class: 'id' }, e.id),
+        h('span', { class: 'title' }, ` ${e.title}`),
         e.expected ? h('span', { class: `badge ${e.expected}` }, e.expected) : null,
-        h('span', { class: 'desc' }, e.description),
+        h('span', { class: 'desc', title: e.description }, e.description),
       ),
     ),
   ),
@@ -236,6 +244,7 @@ async function run() {
   if (app.running) return;
   setRunning(true);
   const started = performance.now();
+  const source = editor.text;
   const maxStates = Math.max(10, Number($('#max-states').value) || 2000000);
   app.result = null;
   app.automata = null;
@@ -247,7 +256,7 @@ async function run() {
   try {
     const summary = await solver.call(
       'run',
-      { source: editor.text, options: { maxStates, progressInterval: 256 } },
+      { source, options: { maxStates, progressInterval: 256 } },
       {
         onCompiled: (automata) => {
           app.automata = automata;
@@ -260,7 +269,9 @@ async function run() {
     );
     const ms = performance.now() - started;
     app.result = summary;
-    renderSummary($('#summary'), { summary, ms, expected: app.expected, maxStates });
+    const ex = byId.get(app.name);
+    const expected = ex && ex.source === source ? ex.expected : null;
+    renderSummary($('#summary'), { summary, ms, expected, maxStates });
     setStatus(`${summary.verdict.replace('_', ' ')}: ${fmtInt(summary.stats.visited)} states visited, ${fmtInt(summary.stats.winning)} winning, ${fmtInt(summary.stats.removed)} removed in ${fmtMs(summary.ms)}`, 'done');
     setRunning(false);
     if (currentTab === 'automata') drawAutomata();

@@ -32,12 +32,14 @@ function fmt(b) {
 /** The projection of the zone on clocks x and y, as readable bounds. */
 export function projectionText(d, x, y, names) {
   const parts = [];
-  for (const [i, n] of [[x, names[x]], [y, names[y]]]) {
+  const axes = x === y ? [[x, names[x]]] : [[x, names[x]], [y, names[y]]];
+  for (const [i, n] of axes) {
     const lo = d[0][i];
     const hi = d[i][0];
     const low = -lo.c === 0 && !lo.strict ? '0 ≤' : `${-lo.c} ${lo.strict ? '<' : '≤'}`;
     parts.push(`${low} ${n}${hi.c === Infinity ? '' : ` ${fmt(hi)}`}`);
   }
+  if (x === y) return parts;
   if (d[x][y].c !== Infinity) parts.push(`${names[x]} − ${names[y]} ${fmt(d[x][y])}`);
   if (d[y][x].c !== Infinity) parts.push(`${names[y]} − ${names[x]} ${fmt(d[y][x])}`);
   return parts;
