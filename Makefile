@@ -11,6 +11,7 @@ test: test-native test-wasm test-browser
 
 test-native:
 	$(CARGO) test --all-targets --release
+	$(CARGO) test --doc --release
 
 ## Install what the playground needs (wasm32 target, wasm-bindgen-cli, npm packages).
 web-setup:

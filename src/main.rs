@@ -28,10 +28,29 @@ enum Command {
         #[arg(long)]
         states: bool,
     },
+    /// Print benchmark tables beside the published figures.
+    Bench {
+        #[command(subcommand)]
+        engine: BenchEngine,
+    },
+}
+
+#[derive(Subcommand)]
+enum BenchEngine {
+    /// The timed-game examples beside Peter 2005, table 7.3.
+    Timed {
+        /// Runs per example; the median is printed.
+        #[arg(long, default_value_t = 5)]
+        runs: usize,
+        /// Folder holding the examples.
+        #[arg(long, default_value = "examples/timed")]
+        examples: std::path::PathBuf,
+    },
 }
 
 fn main() -> ExitCode {
     match Cli::parse().command {
         Command::Solve { file, json, max_states, states } => cli::timed::solve(&file, json, max_states, states),
+        Command::Bench { engine: BenchEngine::Timed { runs, examples } } => cli::bench::timed(&examples, runs),
     }
 }

@@ -28,3 +28,235 @@ fn thesis_listings_with_a_plant_check() {
         }
     }
 }
+
+/// Compiles `src` and returns the errors as `line:col: message`.
+fn errors(src: &str) -> Vec<String> {
+    match compile(src) {
+        Ok(_) => Vec::new(),
+        Err(d) => d.iter().filter(|d| d.is_error()).map(|d| format!("{}:{}: {}", d.line, d.column, d.message)).collect(),
+    }
+}
+
+/// Asserts an error at the `occurrence`-th (1-based) appearance of `at` in `src` whose message
+/// contains `fragment`; the expected line and column are derived from the source text.
+fn assert_error_at(src: &str, at: &str, occurrence: usize, fragment: &str) {
+    let offset = src.match_indices(at).nth(occurrence - 1).unwrap_or_else(|| panic!("{at:?} not in source")).0;
+    let line = src[..offset].matches('\n').count() + 1;
+    let col = src[..offset].rsplit('\n').next().unwrap().chars().count() + 1;
+    let errs = errors(src);
+    assert!(
+        errs.iter().any(|e| e.starts_with(&format!("{line}:{col}: ")) && e.contains(fragment)),
+        "expected an error at {line}:{col} ({at:?}) containing {fragment:?}, got {errs:#?}"
+    );
+}
+
+fn assert_error(src: &str, at: &str, fragment: &str) {
+    assert_error_at(src, at, 1, fragment)
+}
+
+const PLAN: &str = "plans { plan { waitfor a; } }\n";
+
+#[test]
+fn lexical_errors_are_located() {
+    assert_error("plant { automaton A { nodes q; q -> q ?a; } }\n#\n", "#", "unexpected character `#`");
+    assert_error("plant { } /* never closed\n", "/*", "block comment is never closed");
+}
+
+#[test]
+fn syntax_errors_are_located_and_all_reported() {
+    let src = "plant {\n  automaton A {\n    nodes q0, q1;\n    q0 -> q1 a;\n    q1 -> q0 ?b {c in [1,2}\n  }\n}\n";
+    assert_error(src, "a;", "expected a message type");
+    assert_error(src, "}\n  }", "`]` or `)`");
+    assert_error("plant { automaton A { nodes q; } }\nassertions { never A.q and ; }\n", "; }\n", "expected a condition");
+    assert_error("timeunit 5 parsecs;\n", "parsecs", "unknown time unit `parsecs`");
+    assert_error("plant { automaton A { clocks c; nodes q{c in [0,inf]}; } }\n", "]}", "must end with `)`");
+}
+
+#[test]
+fn semantic_errors_are_located() {
+    let unit = "plant { automaton A { clocks c; nodes q0, q1; q0 -> q1 ?a; q1 -> q0 !b; } }\n";
+    // Unknown unit, node, wildcard.
+    assert_error(&format!("{unit}assertions {{ never B.q0; }}\n{PLAN}"), "B.q0", "unknown unit `B`");
+    assert_error(&format!("{unit}assertions {{ never A.q9; }}\n{PLAN}"), "q9", "unknown node `q9` in unit `A`");
+    assert_error(&format!("{unit}assertions {{ never A.z*; }}\n{PLAN}"), "z*", "no node of `A` starts with `z`");
+    // Unknown node in a transition, unknown clock, clock of another component.
+    assert_error("plant { automaton A { nodes q0; q0 -> q7 ?a; } }\n", "q7", "unknown node `q7` in `A`");
+    assert_error("plant { automaton A { nodes q0{d in [0,1]}; } }\n", "d in", "unknown clock `d` in `A`");
+    let other = "plant {\n automaton A { clocks c; nodes q0; }\n automaton B { nodes r0; r0 -> r0 ?m {c in [1,2]}; }\n}\n";
+    assert_error(other, "c in", "unknown clock `c` in `B`");
+    let d = compile(other).unwrap_err();
+    assert!(d.iter().any(|d| d.notes.iter().any(|n| n.contains("`A.c` belongs to another unit"))), "{d:#?}");
+    // Duplicate names.
+    assert_error("plant { automaton A { nodes q; } automaton A { nodes r; } }\n", "A { nodes r", "a unit named `A` is already declared");
+    assert_error("plant { automaton A { nodes q, q; } }\n", "q;", "node `q` is declared twice");
+    assert_error("plant { automaton A { clocks c, c; nodes q; } }\n", "c;", "clock `c` is declared twice");
+    // Empty interval.
+    assert_error("plant { automaton A { clocks c; nodes q{c in [5,2]}; } }\n", "[5,2]", "lower bound 5 exceeds its upper bound 2");
+    assert_error("plant { hardware H { states a, b; a -> b takes [3,3); } }\n", "[3,3)", "is empty");
+    // Synchronised message nobody sends.
+    assert_error("plant { automaton A { nodes q; q -> q $ghost; } }\n", "ghost", "synchronised message `ghost` is never sent");
+    // The same ?/! message in two components (3.3).
+    assert_error_at("plant { automaton A { nodes q; q -> q ?m; } automaton B { nodes r; r -> r ?m; } }\n", "m;", 2, "message `m` is already sent by unit `A`");
+    // Plans: undefined label, unknown message, reserved label, plan without waitfor, unknown clock.
+    assert_error(&format!("{unit}plans {{ plan {{ waitfor a -> nowhere; }} }}\n"), "nowhere", "undefined label `nowhere`");
+    assert_error(&format!("{unit}plans {{ plan {{ waitfor zz; }} }}\n"), "zz", "no unit sends the message `zz`");
+    assert_error(&format!("{unit}plans {{ plan {{ failed: waitfor a; }} }}\n"), "failed:", "`failed` is the plan's fail location");
+    assert_error(&format!("{unit}plans {{ plan {{ clocks t 5; reset t; }} }}\n"), "plan {", "no `waitfor` command");
+    assert_error(&format!("{unit}plans {{ plan {{ reset u; waitfor a; }} }}\n"), "u;", "unknown timeout clock `u`");
+    // io entry for an unknown message, and a double mapping.
+    assert_error(&format!("{unit}{PLAN}io {{ aa = %I0.0; }}\n"), "aa =", "io entry for unknown message `aa`");
+    assert_error(&format!("{unit}{PLAN}io {{ a = %Q0.0; a = %Q0.1; }}\n"), "a = %Q0.1", "`a` is mapped twice");
+    // Hardware: unknown state, missing duration; operator with a duration.
+    assert_error("plant { hardware H { states a, b; a -> c takes [1,2]; } }\n", "c takes", "unknown state `c` in `H`");
+    assert_error("plant { hardware H { states a, b; a -> b; } }\n", "a -> b;", "a hardware move needs its duration");
+    assert_error("plant { operator O { states a, b; a <-> b takes [1,2]; } }\n", "[1,2]", "operator moves take no duration");
+}
+
+#[test]
+fn all_errors_of_a_file_are_reported_at_once() {
+    let src = "plant {\n  automaton A { nodes q; q -> r ?a; }\n  automaton A { nodes s; }\n}\nassertions { never X.q; }\nplans { plan { waitfor nothing; } }\n";
+    assert!(errors(src).len() >= 4, "{:#?}", errors(src));
+    assert_error(src, "r ?a", "unknown node `r`");
+    assert_error_at(src, "A {", 2, "already declared");
+    assert_error(src, "X.q", "unknown unit `X`");
+    assert_error(src, "nothing", "no unit sends the message `nothing`");
+}
+
+#[test]
+fn did_you_mean_for_near_misses() {
+    let src = "plant { automaton lamp { nodes off, on; off -> on ?turn_on; } }\nplans { plan { waitfor turn_onn; } }\n";
+    let d = compile(src).unwrap_err();
+    assert!(d.iter().any(|d| d.notes.iter().any(|n| n == "did you mean `turn_on`?")), "{d:#?}");
+}
+
+#[test]
+fn rendered_diagnostics_show_the_line_and_a_caret() {
+    let src = "plant { automaton A { nodes q0; q0 -> q7 ?a; } }\n";
+    let d = compile(src).unwrap_err();
+    let text = render_plain("x.tga", src, &d);
+    assert!(text.contains("x.tga:1:39: error: unknown node `q7` in `A`"), "{text}");
+    assert!(text.contains("1 | plant { automaton A { nodes q0; q0 -> q7 ?a; } }"), "{text}");
+    assert!(text.contains("  |                                       ^^"), "{text}");
+}
+
+#[test]
+fn hardware_expands_as_in_4_3_2() {
+    let (game, _) = compile("plant { hardware H { states X, Y; X -> Y takes [2,4]; } }\nplans { plan { waitfor reached_Y; } }\n").unwrap();
+    let h = &game.components[0];
+    let names: Vec<&str> = h.locations.iter().map(|l| l.name.as_str()).collect();
+    assert_eq!(names, ["X", "Y", "moving_X_Y"]);
+    assert_eq!(h.clocks.len(), 1);
+    assert_eq!(h.locations[2].invariant[0].interval.to_string(), "[0,4]");
+    let msg = |e: &plcsynth::timed::model::Edge| game.messages[e.message as usize].name.clone();
+    assert_eq!(msg(&h.edges[0]), "moveto_Y");
+    assert_eq!(h.edges[0].kind.sigil(), '?');
+    assert_eq!(h.edges[0].resets, h.clocks);
+    assert_eq!(msg(&h.edges[1]), "reached_Y");
+    assert_eq!(h.edges[1].kind.sigil(), '!');
+    assert_eq!(h.edges[1].guard[0].interval.to_string(), "[2,inf)");
+}
+
+#[test]
+fn operator_expands_as_in_4_3_3() {
+    let (game, _) = compile("plant { operator button { states released, pressed; released <-> pressed; } }\nplans { plan { waitfor reached_pressed; } }\n").unwrap();
+    let b = &game.components[0];
+    let names: Vec<&str> = b.locations.iter().map(|l| l.name.as_str()).collect();
+    assert_eq!(names, ["released", "pressed", "moving_released_pressed", "moving_pressed_released"]);
+    assert_eq!(game.messages[b.edges[0].message as usize].name, "occurred_pressed");
+    assert_eq!(b.edges[0].kind.sigil(), '!');
+    assert_eq!(b.edges[1].guard[0].interval.to_string(), "(0,inf)");
+    assert_eq!(b.locations[2].invariant[0].interval.to_string(), "[0,1)");
+}
+
+#[test]
+fn plans_compile_with_algorithm_4() {
+    let src = "plant { automaton A { nodes q; q -> q !a; q -> q !b; q -> q !c; } }\nplans { plan { clocks t 15; L1: reset t; waitfor a, b -> failed, c -> L1; waitfor b; } }\n";
+    let (game, _) = compile(src).unwrap();
+    let p = &game.plans[0];
+    let names: Vec<&str> = p.locations.iter().map(|l| l.name.as_str()).collect();
+    assert_eq!(names, ["waitfor1", "waitfor2", "failed"]);
+    let t = p.clocks[0].0;
+    let edge = |m: &str| p.edges.iter().find(|e| game.messages[e.message as usize].name == m && e.from == 0).unwrap();
+    assert_eq!(edge("a").to, 1);
+    assert!(edge("a").resets.is_empty());
+    assert_eq!(edge("b").to, p.failed);
+    // `c -> L1` passes the reset command and comes back to the first waitfor.
+    assert_eq!(edge("c").to, 0);
+    assert_eq!(edge("c").resets, vec![t]);
+    // After the last command the plan wraps around through the reset.
+    let last = p.edges.iter().find(|e| e.from == 1).unwrap();
+    assert_eq!((last.to, last.resets.clone()), (0, vec![t]));
+}
+
+mod robustness {
+    use super::*;
+    use proptest::prelude::*;
+
+    const WORDS: &[&str] = &[
+        "plant", "automaton", "hardware", "operator", "clocks", "nodes", "states", "takes", "reset", "instant", "in", "inf", "and",
+        "or", "not", "never", "always", "onlyif", "assertions", "dependencies", "dependson", "time", "guards", "guardedby",
+        "plans", "plan", "waitfor", "failed", "timeunit", "io", "ms", "{", "}", "(", ")", "[", "]", ",", ";", ":", ".", "*", "?",
+        "!", "$", "=", "->", "<-", "<->", "A", "q", "c", "x", "0", "1", "5", "%I0.0", "\"s\"", "/*", "*/", "//", "\n",
+    ];
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+
+        #[test]
+        fn arbitrary_bytes_never_panic(bytes in proptest::collection::vec(any::<u8>(), 0..400)) {
+            let src = String::from_utf8_lossy(&bytes);
+            let _ = parse(&src);
+            let _ = compile(&src);
+        }
+
+        #[test]
+        fn token_soup_never_panics(tokens in proptest::collection::vec(proptest::sample::select(WORDS), 0..120)) {
+            let src = tokens.join(" ");
+            let _ = compile(&src);
+        }
+
+        /// Damaging an example anywhere never panics; what still compiles also solves.
+        #[test]
+        fn damaged_examples_never_panic(which in 0usize..4, at in 0usize..2000, cut in 0usize..12, insert in proptest::sample::select(WORDS)) {
+            let names = ["lamp.tga", "gear_checking.tga", "round_table_2.tga", "two_robots_14.tga"];
+            let path = format!("{}/examples/timed/{}", env!("CARGO_MANIFEST_DIR"), names[which]);
+            let mut src = std::fs::read_to_string(path).unwrap();
+            let mut at = at.min(src.len());
+            while !src.is_char_boundary(at) { at -= 1; }
+            let mut end = (at + cut).min(src.len());
+            while !src.is_char_boundary(end) { end -= 1; }
+            src.replace_range(at..end, insert);
+            if let Ok((game, _)) = compile(&src) {
+                let options = plcsynth::timed::solve::SolveOptions { max_states: 20_000, ..Default::default() };
+                let _ = plcsynth::timed::synthesize(&game, &options, &mut |_| true);
+            }
+        }
+    }
+}
+
+#[test]
+fn too_many_clocks_is_an_error_not_a_crash() {
+    let mut src = String::from("plant {\n");
+    for i in 0..70 {
+        src.push_str(&format!("  hardware h{i} {{ states a{i}, b{i}; a{i} -> b{i} takes [1,2]; }}\n"));
+    }
+    src.push_str("}\nplans { plan { waitfor reached_b0; } }\n");
+    let errs = errors(&src);
+    assert!(errs.iter().any(|e| e.contains("70 clocks; at most 63")), "{errs:#?}");
+}
+
+#[test]
+fn every_example_in_the_language_reference_parses() {
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/timed-language.md")).unwrap();
+    let blocks: Vec<&str> = doc.split("```tga\n").skip(1).map(|b| b.split("```").next().unwrap()).collect();
+    assert!(blocks.len() >= 8, "found {} tga blocks", blocks.len());
+    for block in blocks {
+        // Fragments of a plant body are wrapped so that they form a specification.
+        let src = if block.trim_start().starts_with("hardware") || block.trim_start().starts_with("operator") {
+            format!("plant {{\n{block}}}\n")
+        } else {
+            block.to_string()
+        };
+        assert_eq!(syntax_errors(&src), Vec::<String>::new(), "{block}");
+    }
+}

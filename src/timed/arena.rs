@@ -67,7 +67,8 @@ mod tests {
             a.intern(&[i, i + 1, i + 2]);
         }
         assert_eq!(a.intern(&[500, 501, 502]).1, false);
-        assert_eq!(a.get(a.intern(&[7, 8, 9]).0), &[7, 8, 9]);
+        let id = a.intern(&[7, 8, 9]).0;
+        assert_eq!(a.get(id), &[7, 8, 9]);
     }
 
     #[test]

@@ -19,6 +19,12 @@ pub fn check(spec: &ast::Spec, diags: &mut Diagnostics) -> Option<Game> {
     cx.plans(spec);
     cx.dependencies(spec);
     cx.io(spec);
+    if cx.game.clocks.len() > MAX_CLOCKS + 1 {
+        let n = cx.game.clocks.len() - 1;
+        cx.diags
+            .error(Span::default(), format!("the specification uses {n} clocks; at most {MAX_CLOCKS} are supported"))
+            .with_note("every hardware and operator unit has one clock, plans have their timeout clocks");
+    }
     if spec.components.is_empty() {
         cx.diags.error(Span::default(), "the specification has no plant components").with_note("add a `plant { … }` section");
     }
@@ -33,6 +39,9 @@ pub fn check(spec: &ast::Spec, diags: &mut Diagnostics) -> Option<Game> {
         Some(cx.game)
     }
 }
+
+/// Clocks are kept in 64-bit sets (bit 0 is the reference clock).
+pub const MAX_CLOCKS: usize = 63;
 
 fn empty_game() -> Game {
     Game {

@@ -1,8 +1,26 @@
 //! The timed-game engine (Peter 2005, chapters 2–5).
 //!
 //! Pipeline: [`parse`] (syntax, all diagnostics) → [`compile`] (semantic check, game model) →
-//! `precompute` (clock usage, unique choice intervals) → `solve` (forward exploration with
-//! reverse fail-state removal).
+//! [`precompute`] (clock usage, unique choice intervals) → [`solve`] (forward exploration with
+//! reverse fail-state removal); [`synthesize`] runs the last two and explains a loss.
+//!
+//! ```
+//! use plcsynth::timed::{compile, synthesize, solve::{SolveOptions, Verdict}};
+//!
+//! let source = "
+//!     plant {
+//!       automaton lamp { nodes off, on; off -> on ?turn_on; on -> off ?turn_off; }
+//!       automaton button { nodes released, pressed;
+//!                          released -> pressed !press; pressed -> released !release; }
+//!     }
+//!     assertions { never lamp.off and button.pressed; }
+//!     plans { plan { waitfor press; waitfor release; } }";
+//! let (game, _warnings) = compile(source).expect("a valid specification");
+//! let result = synthesize(&game, &SolveOptions::default(), &mut |_stats| true);
+//! // The controller can only react after the press: no controller exists.
+//! assert_eq!(result.solution.verdict, Verdict::Unrealizable);
+//! assert!(result.explanation.unwrap().render().contains("!press"));
+//! ```
 
 pub mod arena;
 pub mod ast;

@@ -1,0 +1,83 @@
+//! `plcsynth bench timed`: our figures beside the published ones (Peter 2005, table of 7.3).
+
+use plcsynth::timed::{compile, solve::SolveOptions, solve::Verdict, synthesize};
+use std::path::Path;
+use std::time::Instant;
+
+/// (example, label, thesis visited, thesis winning, thesis code size, thesis seconds).
+const THESIS: &[(&str, &str, Option<(u32, u32, u32, f64)>)] = &[
+    ("lamp", "Lamp", Some((11, 10, 5, 0.0))),
+    ("gear_checking", "GCM", Some((1660, 483, 30, 6.0))),
+    ("round_table_1", "RT 1/8", Some((60, 51, 53, 0.0))),
+    ("round_table_2", "RT 2/8", Some((206, 138, 141, 0.4))),
+    ("round_table_3", "RT 3/8", Some((656, 330, 312, 1.1))),
+    ("round_table_4", "RT 4/8", Some((2118, 841, 773, 5.5))),
+    ("round_table_5", "RT 5/8", None),
+    ("round_table_6", "RT 6/8", None),
+    ("round_table_7", "RT 7/8", None),
+    ("round_table_8", "RT 8/8", None),
+    ("two_robots_14", "Robots 14 s", None),
+];
+
+/// Runs every example `runs` times and prints medians beside the thesis figures.
+pub fn timed(examples_dir: &Path, runs: usize) -> std::process::ExitCode {
+    println!("Timed-game synthesis: plcsynth (median of {runs} runs) beside Peter 2005, table 7.3 (Pentium III 1.2 GHz)");
+    println!();
+    println!("| example | verdict | visited | winning | time [ms] | state space [MiB] | thesis visited | thesis winning | thesis time [s] |");
+    println!("|---|---|---:|---:|---:|---:|---:|---:|---:|");
+    for (file, label, thesis) in THESIS {
+        let path = examples_dir.join(format!("{file}.tga"));
+        let Ok(source) = std::fs::read_to_string(&path) else {
+            eprintln!("missing {}", path.display());
+            return std::process::ExitCode::from(2);
+        };
+        let (game, _) = match compile(&source) {
+            Ok(ok) => ok,
+            Err(_) => {
+                eprintln!("{} does not compile", path.display());
+                return std::process::ExitCode::from(2);
+            }
+        };
+        let mut times = Vec::new();
+        let mut last = None;
+        for _ in 0..runs.max(1) {
+            let started = Instant::now();
+            let s = synthesize(&game, &SolveOptions { max_states: 20_000_000, ..SolveOptions::default() }, &mut |_| true);
+            times.push(started.elapsed().as_secs_f64() * 1000.0);
+            last = Some(s);
+        }
+        times.sort_by(f64::total_cmp);
+        let median = times[times.len() / 2];
+        let s = last.expect("at least one run");
+        let st = &s.solution.stats;
+        let verdict = match s.solution.verdict {
+            Verdict::Realizable => "realizable",
+            Verdict::Unrealizable => "unrealizable",
+            Verdict::BudgetExceeded => "budget exceeded",
+            Verdict::Cancelled => "cancelled",
+        };
+        let (tv, tw, tt) = match thesis {
+            Some((v, w, _, t)) => (v.to_string(), w.to_string(), format!("{t:.1}")),
+            None if file.starts_with("round_table_5") => ("out of memory".into(), "–".into(), "–".into()),
+            None => ("–".into(), "–".into(), "–".into()),
+        };
+        println!(
+            "| {label} | {verdict} | {} | {} | {median:.1} | {:.1} | {tv} | {tw} | {tt} |",
+            st.visited,
+            st.winning,
+            st.bytes as f64 / (1024.0 * 1024.0)
+        );
+    }
+    if let Some(peak) = peak_rss_kib() {
+        println!();
+        println!("peak resident memory of this process: {:.1} MiB", peak as f64 / 1024.0);
+    }
+    std::process::ExitCode::SUCCESS
+}
+
+/// Peak resident set size from /proc (Linux), in KiB.
+fn peak_rss_kib() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    line.split_whitespace().nth(1)?.parse().ok()
+}

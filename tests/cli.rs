@@ -1,0 +1,54 @@
+//! The CLI as a user runs it: exit statuses, JSON output, rendered diagnostics.
+
+use std::process::Command;
+
+fn plcsynth(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_plcsynth")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap();
+    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+#[test]
+fn solve_exit_status_follows_the_verdict() {
+    assert_eq!(plcsynth(&["solve", "examples/timed/lamp.tga"]).0, 0);
+    let (code, out, _) = plcsynth(&["solve", "examples/timed/lamp_naive.tga"]);
+    assert_eq!(code, 1);
+    assert!(out.contains("unrealizable") && out.contains("why the initial state is lost") && out.contains("!press"), "{out}");
+    let (code, out, _) = plcsynth(&["solve", "examples/timed/round_table_8.tga", "--max-states", "500"]);
+    assert_eq!(code, 3);
+    assert!(out.contains("budget exceeded after"), "{out}");
+}
+
+#[test]
+fn solve_json_has_the_documented_fields() {
+    let (code, out, _) = plcsynth(&["solve", "examples/timed/gear_checking.tga", "--json"]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(v["realizable"], true);
+    assert_eq!(v["verdict"], "realizable");
+    for field in ["visited", "winning", "removed", "millis"] {
+        assert!(v[field].is_number(), "{field} in {v}");
+    }
+    assert!(v["winning"].as_u64().unwrap() > 0 && v["visited"].as_u64() >= v["winning"].as_u64());
+}
+
+#[test]
+fn bad_input_exits_2_with_a_located_diagnostic() {
+    let dir = std::env::temp_dir().join(format!("plcsynth-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("bad.tga");
+    std::fs::write(&file, "plant {\n  automaton A { nodes q; q -> r ?a; }\n}\n").unwrap();
+    let (code, _, err) = plcsynth(&["solve", file.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("bad.tga:2:31: error: unknown node `r` in `A`"), "{err}");
+    assert!(err.contains("2 |   automaton A { nodes q; q -> r ?a; }"), "{err}");
+    let (code, _, err) = plcsynth(&["solve", "no/such/file.tga"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("cannot read"), "{err}");
+}
+
+#[test]
+fn states_flag_lists_removal_reasons() {
+    let (_, out, _) = plcsynth(&["solve", "examples/timed/lamp.tga", "--states"]);
+    assert!(out.contains("[removed (assertion violated: never lamp.on and button.released)]"), "{out}");
+    assert!(out.contains("zeno"), "{out}");
+}
