@@ -38,6 +38,18 @@ export function automatonDot(a) {
   return lines.join('\n');
 }
 
+/** Location names joined in lines of about `width` characters, at most three lines. */
+function wrap(names, width) {
+  const lines = [''];
+  for (const n of names) {
+    const last = lines.length - 1;
+    if (lines[last] && lines[last].length + n.length + 2 > width) lines.push(n);
+    else lines[last] += lines[last] ? `, ${n}` : n;
+  }
+  if (lines.length > 3) return `${lines.slice(0, 3).join('\n')}…`;
+  return lines.join('\n');
+}
+
 const kindClass = { request: 'edge-request', reaction: 'edge-reaction', guard: 'edge-guard', delay: 'edge-delay', timeout: 'edge-timeout' };
 const kindSigil = { request: '?', reaction: '!', guard: '%', delay: 'D', timeout: 'T' };
 
@@ -45,7 +57,7 @@ const kindSigil = { request: '?', reaction: '!', guard: '%', delay: 'D', timeout
  * A state-space (or neighbourhood) graph. Winning and removed states are coloured; controller
  * requests between winning states (the moves the winning strategy allows) are highlighted.
  */
-export function spaceDot(view, { selected = null, maxLabel = 60 } = {}) {
+export function spaceDot(view, { selected = null, maxLabel = 30 } = {}) {
   const winning = new Map(view.states.map((s) => [s.id, s.winning]));
   const lines = [
     'digraph space {',
@@ -54,8 +66,7 @@ export function spaceDot(view, { selected = null, maxLabel = 60 } = {}) {
     '  edge [fontname="Courier", fontsize=8, arrowsize=0.6];',
   ];
   for (const s of view.states) {
-    let loc = s.locations.join(', ');
-    if (loc.length > maxLabel) loc = `${loc.slice(0, maxLabel - 1)}…`;
+    const loc = wrap(s.locations, maxLabel);
     const cls = ['state', s.winning ? 'winning' : 'removed', s.id === view.initial ? 'initial' : '', s.id === selected ? 'selected' : '']
       .filter(Boolean)
       .join(' ');
