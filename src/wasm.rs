@@ -12,6 +12,7 @@ use crate::timed::model::Game;
 use crate::timed::solve::{SolveOptions, StateId, Stats, Verdict};
 use crate::timed::{self, Synthesis};
 use serde::{Deserialize, Serialize};
+use std::cell::OnceCell;
 use std::collections::{HashMap, VecDeque};
 use wasm_bindgen::prelude::*;
 
@@ -92,6 +93,8 @@ pub struct Session {
     game: Game,
     warnings: Vec<Diagnostic>,
     synthesis: Option<Synthesis>,
+    /// Predecessors of every state, built on the first `neighbourhood` query after a solve.
+    incoming: OnceCell<Vec<Vec<StateId>>>,
 }
 
 #[wasm_bindgen]
@@ -100,7 +103,7 @@ impl Session {
     #[wasm_bindgen(constructor)]
     pub fn new(source: &str) -> Result<Session, JsValue> {
         match timed::compile(source) {
-            Ok((game, warnings)) => Ok(Session { game, warnings, synthesis: None }),
+            Ok((game, warnings)) => Ok(Session { game, warnings, synthesis: None, incoming: OnceCell::new() }),
             Err(errors) => Err(to_js(&CheckResult { ok: false, diagnostics: &errors })?),
         }
     }
@@ -157,6 +160,7 @@ impl Session {
             explanation_depth: synthesis.explanation.as_ref().map(|e| e.depth),
         };
         self.synthesis = Some(synthesis);
+        self.incoming = OnceCell::new();
         to_js(&summary)
     }
 
@@ -200,15 +204,20 @@ impl Session {
             if (filter == "winning" && !winning) || (filter == "removed" && winning) {
                 continue;
             }
-            let text = describe_state(&self.game, &s.split, space, id);
-            if !words.is_empty() {
+            // Describing a state costs; without a query only the listed rows need it.
+            let text = if words.is_empty() {
+                None
+            } else {
+                let text = describe_state(&self.game, &s.split, space, id);
                 let lower = format!("s{id} {}", text.to_lowercase());
                 if !words.iter().all(|w| lower.contains(w.as_str())) {
                     continue;
                 }
-            }
+                Some(text)
+            };
             total += 1;
             if rows.len() < limit {
+                let text = text.unwrap_or_else(|| describe_state(&self.game, &s.split, space, id));
                 rows.push(StateRow { id, text, winning, initial: id == space.initial });
             }
         }
@@ -224,12 +233,15 @@ impl Session {
         if state as usize >= n {
             return Err(JsValue::from_str(&format!("no state s{state}")));
         }
-        let mut incoming: HashMap<StateId, Vec<StateId>> = HashMap::new();
-        for e in &space.edges {
-            if e.to != NONE {
-                incoming.entry(e.to).or_default().push(e.from);
+        let incoming = self.incoming.get_or_init(|| {
+            let mut incoming = vec![Vec::new(); n];
+            for e in &space.edges {
+                if e.to != NONE {
+                    incoming[e.to as usize].push(e.from);
+                }
             }
-        }
+            incoming
+        });
         let mut dist: HashMap<StateId, u32> = HashMap::from([(state, 0)]);
         let mut order = vec![state];
         let mut queue = VecDeque::from([state]);
@@ -240,7 +252,7 @@ impl Session {
                 continue;
             }
             let succ = space.out_edges(x).map(|(_, e)| e.to).filter(|&t| t != NONE);
-            let pred = incoming.get(&x).into_iter().flatten().copied();
+            let pred = incoming[x as usize].iter().copied();
             for y in succ.chain(pred).collect::<Vec<_>>() {
                 if dist.contains_key(&y) {
                     continue;

@@ -170,6 +170,9 @@ fn state_search_and_neighbourhood() {
     let all = s.states("", "all", 5).unwrap();
     assert_eq!(num(&all, "total"), total);
     assert_eq!(array(&get(&all, "rows")).length(), 5);
+    let first = array(&get(&all, "rows")).get(0);
+    assert_eq!(get(&first, "initial").as_bool(), Some(true));
+    assert!(string(&first, "text").contains("table."), "rows are described without a query too");
     let winning = s.states("", "winning", 0).unwrap();
     let removed = s.states("", "removed", 0).unwrap();
     assert_eq!(num(&winning, "total") + num(&removed, "total"), total);

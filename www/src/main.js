@@ -16,6 +16,7 @@ const checker = new Engine('checker');
 const solver = new Engine('solver');
 const app = { running: false, name: 'spec', result: null, automata: null, automataDrawn: false, meta: null, code: '' };
 window.plcsynth = app; // for the console and the browser tests
+app.engines = { checker, solver };
 
 // ---- editor, diagnostics list, autosave -------------------------------------------------
 
