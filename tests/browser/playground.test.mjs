@@ -17,7 +17,12 @@ after(async () => {
 const number = async (page, selector) => Number((await page.textContent(selector)).replace(/[^0-9]/g, ''));
 
 test('the lamp example runs: verdict, counts, automata, state space and zone', async () => {
-  const page = await newPage(browser, `${server.url}#example/lamp`);
+  const page = await newPage(browser, null);
+  const foreign = [];
+  page.on('request', (r) => {
+    if (!r.url().startsWith(server.url) && !/^(data|blob):/.test(r.url())) foreign.push(r.url());
+  });
+  await open(page, `${server.url}#example/lamp`);
   assert.equal(await editorText(page), readExample('lamp'));
   await shot(page, '01-lamp-editor');
   assert.equal(await runAndWait(page), 'realizable');
@@ -63,13 +68,17 @@ test('the lamp example runs: verdict, counts, automata, state space and zone', a
   const [download] = await Promise.all([page.waitForEvent('download'), page.click('#download-code')]);
   assert.equal(download.suggestedFilename(), 'lamp.states.txt');
   await shot(page, '06-lamp-code');
+  assert.deepEqual(foreign, [], 'no request leaves the origin');
   assert.deepEqual(page.errors, []);
   await page.context().close();
 });
 
 test('an unrealizable spec shows the explanation', async () => {
   const page = await newPage(browser, `${server.url}#example/lamp_naive`);
-  assert.equal(await runAndWait(page), 'unrealizable');
+  await page.click('.cm-content');
+  await page.keyboard.press('Control+Enter');
+  await page.waitForSelector('#verdict');
+  assert.equal(await page.getAttribute('#verdict', 'data-verdict'), 'unrealizable');
   const text = await page.textContent('#explanation');
   assert.match(text, /✗/);
   assert.match(await page.textContent('#summary'), /As the example expects \(unrealizable\)/);
@@ -198,6 +207,13 @@ test('dark theme follows the system setting', async () => {
   await page.locator('#state-list li[data-id]').nth(3).click();
   await page.click('#selected-bar a');
   await page.waitForSelector('#zone svg.zone-plot');
+  // Two different clocks on the axes; switching one redraws the polygon.
+  const [x, y] = [await page.inputValue('#zone-x'), await page.inputValue('#zone-y')];
+  assert.notEqual(x, y);
+  const before = await page.getAttribute('#zone svg.zone-plot', 'aria-label');
+  const other = await page.locator('#zone-y option').evaluateAll((os, [x, y]) => os.map((o) => o.value).find((v) => v !== x && v !== y), [x, y]);
+  await page.selectOption('#zone-y', other);
+  assert.notEqual(await page.getAttribute('#zone svg.zone-plot', 'aria-label'), before);
   await shot(page, '16-dark-zone');
   await page.click('[data-tab=automata]');
   await page.waitForSelector('#automata svg');

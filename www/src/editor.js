@@ -8,6 +8,20 @@ import { linter, lintGutter, forceLinting } from '@codemirror/lint';
 import { tags as t } from '@lezer/highlight';
 import { tga } from './tga.js';
 
+/** Editor chrome in the page's colours, so that it follows the light/dark setting. */
+const chrome = EditorView.theme({
+  '&': { color: 'var(--fg)', backgroundColor: 'var(--bg)' },
+  '.cm-content': { caretColor: 'var(--fg)' },
+  '.cm-cursor, .cm-dropCursor': { borderLeftColor: 'var(--fg)' },
+  '.cm-gutters': { backgroundColor: 'var(--panel)', color: 'var(--muted)', borderRight: '1px solid var(--line)' },
+  '.cm-activeLine': { backgroundColor: 'var(--active-line)' },
+  '.cm-activeLineGutter': { backgroundColor: 'var(--active-line)' },
+  '&.cm-focused > .cm-scroller > .cm-selectionLayer .cm-selectionBackground, .cm-selectionBackground, ::selection': { backgroundColor: 'var(--selection)' },
+  '.cm-tooltip': { backgroundColor: 'var(--panel)', color: 'var(--fg)', border: '1px solid var(--line)' },
+  '.cm-panels': { backgroundColor: 'var(--panel)', color: 'var(--fg)' },
+  '&.cm-focused .cm-matchingBracket': { backgroundColor: 'var(--match)', outline: '1px solid var(--accent)' },
+});
+
 const highlight = HighlightStyle.define([
   { tag: t.heading, color: 'var(--hl-section)', fontWeight: 'bold' },
   { tag: t.keyword, color: 'var(--hl-keyword)' },
@@ -90,6 +104,7 @@ export function createEditor(parent, { doc, check, onDiagnostics, onChange, onRu
         Prec.highest(keymap.of([{ key: 'Mod-Enter', run: () => (onRun(), true) }])),
         basicSetup,
         tga,
+        chrome,
         syntaxHighlighting(highlight),
         lint,
         lintGutter(),

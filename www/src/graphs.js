@@ -90,6 +90,11 @@ export function spaceDot(view, { selected = null, maxLabel = 30 } = {}) {
   return lines.join('\n');
 }
 
+/** Loads Graphviz's module ahead of use, so that the page works offline once loaded. */
+export function preload() {
+  import('@viz-js/viz').catch(() => {});
+}
+
 /** Renders DOT into an SVG element (throws with Graphviz's message on failure). */
 export async function render(dot) {
   const v = await viz();

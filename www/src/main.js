@@ -7,7 +7,7 @@ import { encodeShare, decodeShare } from './share.js';
 import { renderSummary } from './summary.js';
 import { SpaceView } from './space.js';
 import { ZoneView } from './zoneview.js';
-import { automatonDot, render } from './graphs.js';
+import { automatonDot, render, preload } from './graphs.js';
 
 const STORAGE_KEY = 'plcsynth.playground.v1';
 const byId = new Map(examples.map((e) => [e.id, e]));
@@ -324,6 +324,7 @@ window.addEventListener('unhandledrejection', (e) => {
     setStatus(`Ready: plcsynth ${v}. Press Run or Ctrl+Enter.`);
     document.body.dataset.engine = 'ready';
     app.interactiveMs = performance.now();
+    setTimeout(preload, 500);
   } catch (error) {
     setStatus(`The engine could not start: ${error}`, 'error');
   }

@@ -40,8 +40,9 @@ export function projectionText(d, x, y, names) {
     parts.push(`${low} ${n}${hi.c === Infinity ? '' : ` ${fmt(hi)}`}`);
   }
   if (x === y) return parts;
-  if (d[x][y].c !== Infinity) parts.push(`${names[x]} − ${names[y]} ${fmt(d[x][y])}`);
-  if (d[y][x].c !== Infinity) parts.push(`${names[y]} − ${names[x]} ${fmt(d[y][x])}`);
+  // A difference only when it says more than the single-clock bounds imply.
+  if (less(d[x][y], add(d[x][0], d[0][y]))) parts.push(`${names[x]} − ${names[y]} ${fmt(d[x][y])}`);
+  if (less(d[y][x], add(d[y][0], d[0][x]))) parts.push(`${names[y]} − ${names[x]} ${fmt(d[y][x])}`);
   return parts;
 }
 
@@ -81,10 +82,11 @@ export function polygon(d, x, y) {
 export function zoneSvg(d, x, y, names, px = 280) {
   const { points, size, unbounded } = polygon(d, x, y);
   const m = 28;
-  const scale = (px - 2 * m) / size;
+  const bottom = 42; // room for the ticks and the x label
+  const scale = (px - m - bottom) / size;
   const X = (v) => m + v * scale;
-  const Y = (v) => px - m - v * scale;
-  const step = size > 40 ? 10 : size > 16 ? 5 : 1;
+  const Y = (v) => px - bottom - v * scale;
+  const step = size > 50 ? 10 : size > 20 ? 5 : size > 8 ? 2 : 1;
   let grid = '';
   for (let v = 0; v <= size + 1e-9; v += step) {
     grid += `<line class="grid" x1="${X(v)}" y1="${Y(0)}" x2="${X(v)}" y2="${Y(size)}"/>`;
@@ -102,7 +104,7 @@ export function zoneSvg(d, x, y, names, px = 280) {
     <line class="axis" x1="${X(0)}" y1="${Y(0)}" x2="${X(size)}" y2="${Y(0)}"/>
     <line class="axis" x1="${X(0)}" y1="${Y(0)}" x2="${X(0)}" y2="${Y(size)}"/>
     ${shape}
-    <text class="axis-label" x="${px - m}" y="${px - 4}" text-anchor="end">${esc(names[x])}</text>
+    <text class="axis-label" x="${X(size)}" y="${px - 6}" text-anchor="end">${esc(names[x])}</text>
     <text class="axis-label" x="4" y="${m - 10}">${esc(names[y])}</text>
   </svg>`;
   return svg;

@@ -22,6 +22,13 @@ export class ZoneView {
   show(state, meta) {
     this.state = state;
     this.meta = meta;
+    if (!this.chosen) {
+      // Until the user picks axes: the clocks this zone constrains, then the others.
+      const used = [...new Set(state.constraints.flatMap((c) => [c.i, c.j]).filter((i) => i > 0))];
+      const rest = meta.clocks.map((_, i) => i).filter((i) => i > 0 && !used.includes(i));
+      const axes = [...used, ...rest];
+      this.axes = [axes[0] ?? 1, axes[1] ?? axes[0] ?? 1];
+    }
     this.render();
   }
 
@@ -37,7 +44,7 @@ export class ZoneView {
       const menu = (axis, value) =>
         h(
           'select',
-          { id: `zone-${axis}`, 'aria-label': `${axis} axis clock`, onchange: (e) => ((this.axes[axis === 'x' ? 0 : 1] = Number(e.target.value)), this.render()) },
+          { id: `zone-${axis}`, 'aria-label': `${axis} axis clock`, onchange: (e) => ((this.chosen = true), (this.axes[axis === 'x' ? 0 : 1] = Number(e.target.value)), this.render()) },
           names.slice(1).map((n, i) => {
             const o = h('option', { value: i + 1 }, n);
             o.selected = i + 1 === value;
