@@ -7,6 +7,11 @@ cd "$(dirname "$0")/.."
 target_dir=${CARGO_TARGET_DIR:-target}
 cargo build --lib --target wasm32-unknown-unknown --profile wasm >&2
 raw="$target_dir/wasm32-unknown-unknown/wasm/plcsynth.wasm"
+if [[ -f www/pkg/.built-from ]] && [[ "$(cat www/pkg/.built-from)" == "$(stat -c '%Y %s' "$raw") $(sha1sum < scripts/build-web.sh)" ]]; then
+    echo "build-web: www/pkg is up to date" >&2
+    node www/build.mjs
+    exit 0
+fi
 rm -rf www/pkg.tmp
 wasm-bindgen --target web --no-typescript --out-dir www/pkg.tmp "$raw"
 wasm=www/pkg.tmp/plcsynth_bg.wasm
@@ -33,6 +38,7 @@ if [[ -n "$wasm_opt" ]]; then
 else
     echo "build-web: no usable wasm-opt (npm ci installs binaryen); skipping that size step" >&2
 fi
+echo "$(stat -c '%Y %s' "$raw") $(sha1sum < scripts/build-web.sh)" > www/pkg.tmp/.built-from
 rm -rf www/pkg && mv www/pkg.tmp www/pkg
 echo "build-web: $(stat -c %s www/pkg/plcsynth_bg.wasm) bytes in www/pkg/plcsynth_bg.wasm" >&2
 node www/build.mjs
