@@ -52,6 +52,9 @@ test('the lamp example runs: verdict, counts, automata, state space and zone', a
   await page.click(`#space-graph svg #st-${id}`);
   await page.waitForSelector(`#space-graph svg #st-${id}.selected`);
   assert.match(await page.textContent('#selected-bar'), new RegExp(`s${id} removed — \\S`));
+  await page.check('#fit-graph');
+  const fitted = await page.$eval('#space-graph svg', (svg) => svg.getBoundingClientRect().width <= svg.parentElement.clientWidth + 1);
+  assert.ok(fitted, 'fit width scales the graph into its box');
   await shot(page, '04-lamp-space');
 
   await page.click('#selected-bar a');

@@ -20,6 +20,7 @@ export class SpaceView {
     });
     $('#state-filter').addEventListener('change', () => this.refreshList());
     $('#hood-k').addEventListener('change', () => this.drawGraph());
+    $('#fit-graph').addEventListener('change', () => ((this.fitChosen = true), this.fit()));
   }
 
   /** A new run: `meta` is a one-state SpaceView (clocks, units, initial, total_states) or null. */
@@ -94,19 +95,22 @@ export class SpaceView {
       g.addEventListener('click', () => this.select(id));
     });
     this.drawn = svg;
-    const legend = h(
-      'div',
-      { class: 'legend' },
-      h('span', { class: 'l-win' }, 'winning'),
-      h('span', { class: 'l-lose' }, 'removed (hover: why)'),
-      h('span', { class: 'l-allowed' }, '?request kept by the winning strategy'),
-      h('span', { class: 'l-request' }, '?request'),
-      h('span', { class: 'l-reaction' }, '!reaction'),
-      h('span', { class: 'l-delay' }, 'time passes'),
-    );
     const cut = view.truncated ? h('p', { class: 'muted' }, `Showing ${view.states.length} states; the neighbourhood is larger.`) : null;
-    box.replaceChildren(legend, cut ?? '', svg);
+    box.replaceChildren(cut ?? '', svg);
+    // Until the user decides: fit the width when that keeps the text legible, else scroll.
+    if (!this.fitChosen) {
+      const natural = svg.width.baseVal.value;
+      $('#fit-graph').checked = natural > 0 && box.clientWidth / natural >= 0.55;
+    }
+    this.fit();
     this.markSelected();
+  }
+
+  fit() {
+    if (!this.drawn) return;
+    const on = $('#fit-graph').checked;
+    this.drawn.style.maxWidth = on ? '100%' : '';
+    this.drawn.style.height = on ? 'auto' : '';
   }
 
   markSelected() {
