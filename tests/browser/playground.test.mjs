@@ -86,6 +86,12 @@ test('an unrealizable spec shows the explanation', async () => {
   assert.match(text, /✗/);
   assert.match(await page.textContent('#summary'), /As the example expects \(unrealizable\)/);
   await shot(page, '07-unrealizable-explanation');
+  // A state in the explanation opens in the state space, with its removal reason.
+  const link = page.locator('#explanation .state-link').last();
+  const id = await link.getAttribute('data-state');
+  await link.click();
+  await page.waitForSelector(`#space-graph svg #st-${id}.selected`);
+  assert.match(await page.textContent('#selected-bar'), new RegExp(`s${id} removed — `));
   assert.deepEqual(page.errors, []);
   await page.context().close();
 });

@@ -105,6 +105,7 @@ export function createEditor(parent, { doc, check, onDiagnostics, onChange, onRu
         basicSetup,
         tga,
         chrome,
+        EditorView.lineWrapping,
         syntaxHighlighting(highlight),
         lint,
         lintGutter(),

@@ -241,6 +241,7 @@ function setRunning(on) {
   $('#cancel').disabled = !on;
 }
 
+let spaceReady = Promise.resolve();
 async function run() {
   if (app.running) return;
   setRunning(true);
@@ -272,12 +273,23 @@ async function run() {
     app.result = summary;
     const ex = byId.get(app.name);
     const expected = ex && ex.source === source ? ex.expected : null;
-    renderSummary($('#summary'), { summary, ms, expected, maxStates });
+    renderSummary($('#summary'), {
+      summary,
+      ms,
+      expected,
+      maxStates,
+      onState: async (id) => {
+        showTab('space');
+        await spaceReady;
+        await spaceView.select(id);
+      },
+    });
     setStatus(`${summary.verdict.replace('_', ' ')}: ${fmtInt(summary.stats.visited)} states visited, ${fmtInt(summary.stats.winning)} winning, ${fmtInt(summary.stats.removed)} removed in ${fmtMs(summary.ms)}`, 'done');
     setRunning(false);
     if (currentTab === 'automata') drawAutomata();
     app.meta = await query('space', [1]);
-    await spaceView.load(app.meta);
+    spaceReady = spaceView.load(app.meta);
+    await spaceReady;
     if (currentTab === 'code') refreshCode();
   } catch (error) {
     setRunning(false);

@@ -8,7 +8,22 @@ const verdictText = {
   cancelled: 'Cancelled',
 };
 
-export function renderSummary(root, { summary, ms, expected, maxStates }) {
+/** The explanation tree: one item per move; state ids link to the state space. */
+function stepTree(step, onState) {
+  const link = h('a', { class: 'state-link', 'data-state': step.state, onclick: () => onState(step.state) }, `s${step.state}`);
+  const head = h('div', { class: 'step' }, step.event ? [h('strong', {}, step.event), ' → '] : 'initially ', step.locations, ' ', link);
+  const o = step.outcome;
+  if (o.kind === 'violation') return [head, h('div', { class: 'violation' }, `✗ ${o.reason}`)];
+  if (o.kind === 'forced') return [head, ...stepTree(o.next, onState)];
+  if (o.kind === 'truncated') return [head, h('div', { class: 'muted' }, '… (cut off)')];
+  return [
+    head,
+    h('div', { class: 'muted' }, 'every controller choice fails:'),
+    h('ul', { class: 'choices' }, o.branches.map((b) => h('li', {}, stepTree(b, onState)))),
+  ];
+}
+
+export function renderSummary(root, { summary, ms, expected, maxStates, onState }) {
   const s = summary.stats;
   const row = (label, value, id) => h('tr', {}, h('th', {}, label), h('td', { id }, value));
   const parts = [
@@ -37,8 +52,8 @@ export function renderSummary(root, { summary, ms, expected, maxStates }) {
           'section',
           {},
           h('h3', {}, `Why: the plant can force a failure within ${summary.explanation_depth} moves`),
-          h('p', { class: 'muted' }, 'Each line is a move from the initial state; where the controller has choices, every one of them is shown failing.'),
-          h('pre', { class: 'explanation', id: 'explanation' }, summary.explanationText),
+          h('p', { class: 'muted' }, 'Each line is a move from the initial state; where the controller has choices, every one of them is shown failing. Click a state to inspect it.'),
+          h('div', { class: 'explanation', id: 'explanation' }, stepTree(summary.explanation.root, onState)),
         )
       : null,
   ];
