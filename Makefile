@@ -4,12 +4,17 @@
 CARGO ?= cargo
 PORT ?= 8080
 
-.PHONY: test test-native test-wasm test-browser serve web web-setup browser-setup
+.PHONY: test test-native test-wasm test-browser serve web web-setup browser-setup checkers
 
-## Run every test: native, wasm-bindgen-test (in Node) and the browser tests (in Chromium).
+## Run every test: native (against the independent checkers), wasm-bindgen-test (in Node) and
+## the browser tests (in Chromium).
 test: test-native test-wasm test-browser
 
-test-native:
+## Independent checkers (libFAUDES, blark, awlsim in .venv; xmllint from Debian).
+checkers:
+	bash scripts/python-checkers.sh
+
+test-native: checkers
 	$(CARGO) test --all-targets --release
 	$(CARGO) test --doc --release
 

@@ -8,6 +8,8 @@
 //! [`diag`] holds the located diagnostics every front end reports.
 
 pub mod diag;
+pub mod plc;
+pub mod program;
 pub mod timed;
 #[cfg(target_arch = "wasm32")]
 pub mod wasm;

@@ -28,11 +28,54 @@ enum Command {
         #[arg(long)]
         states: bool,
     },
+    /// Synthesise the controller program of a timed-game specification.
+    Compile {
+        file: String,
+        /// What to produce.
+        #[arg(long, value_enum, default_value_t = Target::Program)]
+        target: Target,
+        /// Write to this file instead of standard output.
+        #[arg(short, long)]
+        output: Option<String>,
+    },
     /// Print benchmark tables beside the published figures.
     Bench {
         #[command(subcommand)]
         engine: BenchEngine,
     },
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Target {
+    /// The intermediate controller program (Peter 2005, chapter 6).
+    Program,
+    /// IEC 61131-3 Structured Text function block.
+    St,
+    /// Siemens SCL source for TIA Portal (S7-1200/1500).
+    Scl,
+    /// CODESYS / TwinCAT Structured Text.
+    Codesys,
+    /// IEC 61131-3 Instruction List.
+    Il,
+    /// Siemens S7 Statement List (AWL) with marker byte and jump list.
+    Stl,
+    /// PLCopen TC6 XML v2.01 project.
+    Plcopen,
+}
+
+impl Target {
+    fn plc(self) -> Option<plcsynth::plc::Target> {
+        use plcsynth::plc::Target as T;
+        Some(match self {
+            Target::Program => return None,
+            Target::St => T::St,
+            Target::Scl => T::Scl,
+            Target::Codesys => T::Codesys,
+            Target::Il => T::Il,
+            Target::Stl => T::Stl,
+            Target::Plcopen => T::Plcopen,
+        })
+    }
 }
 
 #[derive(Subcommand)]
@@ -51,6 +94,7 @@ enum BenchEngine {
 fn main() -> ExitCode {
     match Cli::parse().command {
         Command::Solve { file, json, max_states, states } => cli::timed::solve(&file, json, max_states, states),
+        Command::Compile { file, target, output } => cli::timed::compile(&file, target.plc(), output.as_deref()),
         Command::Bench { engine: BenchEngine::Timed { runs, examples } } => cli::bench::timed(&examples, runs),
     }
 }

@@ -4,8 +4,11 @@ use plcsynth::timed::{compile, solve::SolveOptions, solve::Verdict, synthesize};
 use std::path::Path;
 use std::time::Instant;
 
-/// (example, label, thesis visited, thesis winning, thesis code size, thesis seconds).
-const THESIS: &[(&str, &str, Option<(u32, u32, u32, f64)>)] = &[
+/// The thesis's figures: visited, winning, code size (lines), seconds.
+type Published = Option<(u32, u32, u32, f64)>;
+
+/// (example file, label, the thesis's figures).
+const THESIS: &[(&str, &str, Published)] = &[
     ("lamp", "Lamp", Some((11, 10, 5, 0.0))),
     ("gear_checking", "GCM", Some((1660, 483, 30, 6.0))),
     ("round_table_1", "RT 1/8", Some((60, 51, 53, 0.0))),

@@ -74,3 +74,56 @@ pub fn solve(file: &str, json: bool, max_states: Option<usize>, dump_states: boo
         Verdict::BudgetExceeded | Verdict::Cancelled => ExitCode::from(3),
     }
 }
+
+/// `plcsynth compile FILE --target T`: the intermediate program (`target` = None) or PLC code.
+/// Unrealizable specifications exit 1 with the explanation and write nothing.
+pub fn compile(file: &str, target: Option<plcsynth::plc::Target>, out: Option<&str>) -> ExitCode {
+    let source = match std::fs::read_to_string(file) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: cannot read {file}: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let (game, warnings) = match timed::compile(&source) {
+        Ok(ok) => ok,
+        Err(diags) => {
+            eprint!("{}", render_plain(file, &source, &diags));
+            return ExitCode::from(2);
+        }
+    };
+    if !warnings.is_empty() {
+        eprint!("{}", render_plain(file, &source, &warnings));
+    }
+    let result = timed::synthesize(&game, &timed::solve::SolveOptions::default(), &mut |_| true);
+    let Some(program) = plcsynth::program::controller(&game, &result) else {
+        match result.solution.verdict {
+            Verdict::BudgetExceeded => {
+                eprintln!("{file}: budget exceeded after {} states; nothing written", result.solution.stats.visited);
+                return ExitCode::from(3);
+            }
+            _ => {
+                eprintln!("{file}: unrealizable; nothing written");
+                if let Some(e) = &result.explanation {
+                    eprintln!("\nwhy the initial state is lost:\n{}", e.render());
+                }
+                return ExitCode::from(1);
+            }
+        }
+    };
+    let name = std::path::Path::new(file).file_stem().and_then(|s| s.to_str()).unwrap_or("controller");
+    let text = match target {
+        None => program.render(&game),
+        Some(t) => plcsynth::plc::generate(&game, &program, t, name, &source),
+    };
+    match out {
+        Some(path) => {
+            if let Err(e) = std::fs::write(path, text) {
+                eprintln!("error: cannot write {path}: {e}");
+                return ExitCode::from(2);
+            }
+        }
+        None => print!("{text}"),
+    }
+    ExitCode::SUCCESS
+}

@@ -66,7 +66,7 @@ mod tests {
         for i in 0..1000u32 {
             a.intern(&[i, i + 1, i + 2]);
         }
-        assert_eq!(a.intern(&[500, 501, 502]).1, false);
+        assert!(!a.intern(&[500, 501, 502]).1);
         let id = a.intern(&[7, 8, 9]).0;
         assert_eq!(a.get(id), &[7, 8, 9]);
     }

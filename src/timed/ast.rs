@@ -78,7 +78,7 @@ pub struct ClockConstraint {
 }
 
 /// An interval with integer bounds; `upper: None` is `inf`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
 pub struct Interval {
     pub lower: u32,
     pub lower_closed: bool,
@@ -317,12 +317,31 @@ pub struct WaitItem {
     pub target: Option<Ident>,
 }
 
-/// `message = %I0.0;` in the `io` section.
+/// `message = [mode] target;` in the `io` section.
 #[derive(Clone, Debug, Serialize)]
 pub struct IoEntry {
     pub message: Ident,
+    pub mode: IoMode,
     pub target: IoTarget,
     pub span: Span,
+}
+
+/// How a message maps to its signal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum IoMode {
+    /// Input: the message holds while the signal is TRUE (the default for inputs).
+    Level,
+    /// Input: the message holds while the signal is FALSE (`not %I0.0`).
+    Negated,
+    /// Output: the signal is TRUE for one scan (the default for requests).
+    Pulse,
+    /// Output: the request sets the signal (`set %Q0.0`).
+    Set,
+    /// Output: the request resets the signal (`reset %Q0.0`).
+    Reset,
+    /// Not written: chosen by the message's role.
+    Default,
 }
 
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]

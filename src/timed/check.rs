@@ -645,7 +645,25 @@ impl Checker<'_, '_> {
                 self.diags.error(e.span, format!("`{}` is mapped twice", e.message.name)).with_note(format!("first mapped at {at}"));
                 continue;
             }
-            self.game.io.push(IoBinding { message, target: e.target.clone() });
+            let request = self.game.messages[message as usize].role == MessageRole::Request;
+            let mode = match (e.mode, request) {
+                (ast::IoMode::Default, true) => ast::IoMode::Pulse,
+                (ast::IoMode::Default, false) => ast::IoMode::Level,
+                (m @ (ast::IoMode::Pulse | ast::IoMode::Set | ast::IoMode::Reset), true) | (m @ (ast::IoMode::Level | ast::IoMode::Negated), false) => m,
+                (m, _) => {
+                    let (word, what) = match m {
+                        ast::IoMode::Negated => ("not", "inputs (reactions and guards)"),
+                        ast::IoMode::Set => ("set", "requests"),
+                        ast::IoMode::Reset => ("reset", "requests"),
+                        _ => ("pulse", "requests"),
+                    };
+                    self.diags
+                        .error(e.span, format!("`{word}` applies to {what}, but `{}` is {}", e.message.name, if request { "a request" } else { "an input" }))
+                        .with_note("requests (`?`) may be `pulse`, `set` or `reset`; inputs (`!`, guards) may be negated with `not`");
+                    continue;
+                }
+            };
+            self.game.io.push(IoBinding { message, mode, target: e.target.clone() });
         }
     }
 }

@@ -5,7 +5,7 @@
 //! reach them; conditions are resolved to sets of locations. Names are kept for display only:
 //! everything else refers to dense indices.
 
-use super::ast::{Interval, IoTarget, MessageKind};
+use super::ast::{Interval, IoMode, IoTarget, MessageKind};
 use crate::diag::Span;
 use serde::Serialize;
 
@@ -201,9 +201,11 @@ pub struct DependencyRule {
     pub on: Vec<DependsOn>,
 }
 
+/// A message's PLC signal. `mode` is never `Default` here: inputs get `Level`, requests `Pulse`.
 #[derive(Clone, Debug, Serialize)]
 pub struct IoBinding {
     pub message: MsgId,
+    pub mode: IoMode,
     pub target: IoTarget,
 }
 

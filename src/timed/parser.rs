@@ -699,6 +699,22 @@ impl Parser<'_, '_, '_> {
         let start = self.peek().span;
         let message = self.ident("a message name")?;
         self.expect(Tok::Eq, "`=`")?;
+        let mode = match self.peek() {
+            t if t.tok == Tok::Ident && matches!(self.peek_at(1).tok, Tok::Address | Tok::Str | Tok::Ident) => {
+                let mode = match self.text(t) {
+                    "not" => Some(IoMode::Negated),
+                    "set" => Some(IoMode::Set),
+                    "reset" => Some(IoMode::Reset),
+                    "pulse" => Some(IoMode::Pulse),
+                    _ => None,
+                };
+                if mode.is_some() {
+                    self.bump();
+                }
+                mode.unwrap_or(IoMode::Default)
+            }
+            _ => IoMode::Default,
+        };
         let t = self.peek();
         let target = match t.tok {
             Tok::Address => {
@@ -721,7 +737,7 @@ impl Parser<'_, '_, '_> {
             _ => return Err(self.error_expected("a PLC address such as `%I0.0` or a symbol")),
         };
         self.expect(Tok::Semi, "`;` after the io entry")?;
-        self.spec.io.push(IoEntry { message, target, span: self.span_from(start) });
+        self.spec.io.push(IoEntry { message, mode, target, span: self.span_from(start) });
         Ok(())
     }
 }

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs the independent checkers the tests compare against, idempotently:
+# - a git-ignored virtualenv `.venv` with libFAUDES (faudes), blark (IEC 61131-3 ST parser)
+#   and awlsim (an S7 PLC that runs STL/AWL);
+# - xmllint (Debian libxml2-utils) for the PLCopen TC6 schema.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+if ! command -v xmllint >/dev/null 2>&1; then
+  if [ "$(id -u)" = 0 ]; then
+    apt-get update -qq && apt-get install -y -qq libxml2-utils >/dev/null
+  else
+    echo "xmllint is missing: install Debian's libxml2-utils" >&2
+    exit 1
+  fi
+fi
+if [ ! -x .venv/bin/python ]; then
+  python3 -m venv .venv
+fi
+missing=()
+.venv/bin/python -c 'import faudes' >/dev/null 2>&1 || missing+=(faudes)
+.venv/bin/python -c 'import blark' >/dev/null 2>&1 || missing+=(blark)
+.venv/bin/python -c 'import awlsim' >/dev/null 2>&1 || missing+=(awlsim)
+if [ ${#missing[@]} -gt 0 ]; then
+  .venv/bin/pip install --quiet "${missing[@]}"
+fi
+echo "checkers ready: faudes, blark, awlsim, xmllint"

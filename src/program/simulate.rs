@@ -1,0 +1,428 @@
+//! Closed-loop checking: a controller program run against the plant it was made for.
+//!
+//! The plant is the specification's own automata (not the solver's split game), with concrete
+//! clock values in eighths of a time unit; the controller is an interpreter of the intermediate
+//! program under the scan-cycle model of 6.3: after every plant step it runs, in zero time,
+//! until it waits. The plant chooses at random among its enabled reactions and delays within
+//! the guards and invariants; `instant` transitions fire before anything else, and the
+//! controller does not act while one is enabled. Each plant event is received once: the test
+//! that succeeds on it takes it. A run fails if an
+//! assertion is violated, a plan fails, the program sends a request the plant cannot take, or
+//! the controller stops waiting or stops making plan progress.
+
+use super::{Condition, Instruction, Program};
+use crate::timed::ast::{Interval, MessageKind};
+use crate::timed::model::{Game, LocId, MessageRole, MsgId};
+use serde::Serialize;
+
+/// Clock values are counted in `1 / TICKS` time units.
+pub const TICKS: i64 = 8;
+
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Failure {
+    Assertion { text: String },
+    PlanFailed { plan: String },
+    RequestRefused { request: String },
+    ControllerLoops,
+    NoProgress,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct RunReport {
+    pub steps: usize,
+    pub progress: usize,
+    pub requests: usize,
+    /// Elapsed time in time units.
+    pub time: f64,
+    pub failure: Option<Failure>,
+    /// The last steps, for diagnosis.
+    pub trace: Vec<String>,
+}
+
+/// A small deterministic generator (xorshift64*), so runs are reproducible from a seed.
+pub struct Rng(u64);
+
+impl Rng {
+    pub fn new(seed: u64) -> Rng {
+        Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
+    }
+
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+
+    pub fn below(&mut self, n: u64) -> u64 {
+        self.next_u64() % n.max(1)
+    }
+}
+
+fn holds(i: &Interval, ticks: i64) -> bool {
+    let lo = i.lower as i64 * TICKS;
+    let above = if i.lower_closed { ticks >= lo } else { ticks > lo };
+    let below = match i.upper {
+        None => true,
+        Some(u) if i.upper_closed => ticks <= u as i64 * TICKS,
+        Some(u) => ticks < u as i64 * TICKS,
+    };
+    above && below
+}
+
+/// Largest delay (in ticks) that keeps `ticks` inside `i`, if bounded.
+fn room(i: &Interval, ticks: i64) -> Option<i64> {
+    i.upper.map(|u| {
+        let limit = u as i64 * TICKS - i64::from(!i.upper_closed);
+        (limit - ticks).max(0)
+    })
+}
+
+/// One plant move: a sending transition and the `$` transitions taken with it.
+struct PlantMove {
+    message: MsgId,
+    instant: bool,
+    /// (unit, edge index) of every participating transition.
+    parts: Vec<(usize, usize)>,
+}
+
+struct World<'g> {
+    game: &'g Game,
+    locs: Vec<LocId>,
+    plan_locs: Vec<LocId>,
+    clocks: Vec<i64>,
+    timers: Vec<i64>,
+    time: i64,
+}
+
+impl World<'_> {
+    fn guard_ok(&self, unit: usize, edge: usize) -> bool {
+        let e = &self.game.components[unit].edges[edge];
+        e.guard.iter().all(|ci| holds(&ci.interval, self.clocks[ci.clock as usize]))
+    }
+
+    /// Enabled moves of the plant: each sending transition with one enabled `$` transition of
+    /// every unit that synchronises on its message (algorithm 3); the target invariants must hold.
+    fn moves(&self, kinds: &[MessageKind]) -> Vec<PlantMove> {
+        let mut out = Vec::new();
+        for (u, a) in self.game.components.iter().enumerate() {
+            for (ei, e) in a.edges.iter().enumerate() {
+                if e.from != self.locs[u] || !kinds.contains(&e.kind) || !self.guard_ok(u, ei) {
+                    continue;
+                }
+                let mut combos: Vec<Vec<(usize, usize)>> = vec![vec![(u, ei)]];
+                for &other in &self.game.messages[e.message as usize].synchronised {
+                    let o = other as usize;
+                    let options: Vec<usize> = self.game.components[o]
+                        .edges
+                        .iter()
+                        .enumerate()
+                        .filter(|(oi, oe)| oe.kind == MessageKind::Synchronised && oe.message == e.message && oe.from == self.locs[o] && self.guard_ok(o, *oi))
+                        .map(|(oi, _)| oi)
+                        .collect();
+                    combos = combos.into_iter().flat_map(|c| options.iter().map(move |&oi| [c.clone(), vec![(o, oi)]].concat())).collect();
+                }
+                for parts in combos {
+                    let instant = parts.iter().any(|&(pu, pe)| self.game.components[pu].edges[pe].instant);
+                    if self.targets_ok(&parts) {
+                        out.push(PlantMove { message: e.message, instant, parts });
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    fn targets_ok(&self, parts: &[(usize, usize)]) -> bool {
+        let mut clocks = self.clocks.clone();
+        for &(u, ei) in parts {
+            for &c in &self.game.components[u].edges[ei].resets {
+                clocks[c as usize] = 0;
+            }
+        }
+        parts.iter().all(|&(u, ei)| {
+            let to = self.game.components[u].edges[ei].to;
+            self.game.components[u].locations[to as usize].invariant.iter().all(|ci| holds(&ci.interval, clocks[ci.clock as usize]))
+        })
+    }
+
+    /// Applies a move to the plant and the plans; returns whether a plan made progress.
+    fn apply(&mut self, m: &PlantMove) -> bool {
+        for &(u, ei) in &m.parts {
+            let e = &self.game.components[u].edges[ei];
+            for &c in &e.resets {
+                self.clocks[c as usize] = 0;
+            }
+            self.locs[u] = e.to;
+        }
+        let mut progress = false;
+        for (p, plan) in self.game.plans.iter().enumerate() {
+            if let Some(e) = plan.edges.iter().find(|e| e.from == self.plan_locs[p] && e.message == m.message) {
+                for &c in &e.resets {
+                    self.clocks[c as usize] = 0;
+                }
+                self.plan_locs[p] = e.to;
+                progress = true;
+            }
+        }
+        progress
+    }
+
+    fn max_delay(&self) -> Option<i64> {
+        let mut best: Option<i64> = None;
+        for (u, a) in self.game.components.iter().enumerate() {
+            for ci in &a.locations[self.locs[u] as usize].invariant {
+                if let Some(r) = room(&ci.interval, self.clocks[ci.clock as usize]) {
+                    best = Some(best.map_or(r, |b| b.min(r)));
+                }
+            }
+        }
+        best
+    }
+
+    fn delay(&mut self, d: i64) {
+        for c in self.clocks.iter_mut().skip(1) {
+            *c += d;
+        }
+        for t in self.timers.iter_mut().skip(1) {
+            *t += d;
+        }
+        self.time += d;
+    }
+
+    fn failure(&self) -> Option<Failure> {
+        for a in &self.game.assertions {
+            if !a.holds.eval(&self.locs) {
+                return Some(Failure::Assertion { text: a.text.clone() });
+            }
+        }
+        for (p, plan) in self.game.plans.iter().enumerate() {
+            let timed_out = plan.clocks.iter().any(|&(c, bound)| self.clocks[c as usize] > bound as i64 * TICKS);
+            if self.plan_locs[p] == plan.failed || timed_out {
+                return Some(Failure::PlanFailed { plan: plan.name.clone() });
+            }
+        }
+        None
+    }
+}
+
+/// The state of one closed-loop run.
+struct Run<'g, 'p> {
+    w: World<'g>,
+    program: &'p Program,
+    pos: Vec<u32>,
+    pc: usize,
+    pending: Option<MsgId>,
+    guards: Vec<MsgId>,
+    guard_values: Vec<bool>,
+    rng: Rng,
+    report: RunReport,
+    requests_since_progress: usize,
+}
+
+impl Run<'_, '_> {
+    fn trace(&mut self, line: String) {
+        self.report.trace.push(line);
+        if self.report.trace.len() > 40 {
+            self.report.trace.remove(0);
+        }
+    }
+
+    fn name(&self, m: MsgId) -> String {
+        self.w.game.messages[m as usize].name.clone()
+    }
+
+    fn progressed(&mut self) {
+        self.report.progress += 1;
+        self.requests_since_progress = 0;
+    }
+
+    /// One scan: executes commands until the program waits. Returns whether it sent a request.
+    fn scan(&mut self) -> bool {
+        let mut acted = false;
+        let mut executed = 0usize;
+        let mut seen = std::collections::HashSet::new();
+        loop {
+            executed += 1;
+            if executed > 100_000 || self.pc >= self.program.len() {
+                self.report.failure = Some(Failure::ControllerLoops);
+                return acted;
+            }
+            let c = self.program.commands[self.pc];
+            let truth = |run: &Self, cond: &Condition| match cond {
+                Condition::Message { message } => run.pending == Some(*message) || run.guard_values[*message as usize],
+                Condition::Delay { clock, interval } => holds(interval, run.w.timers[*clock as usize]),
+            };
+            match c.instruction {
+                Instruction::Do { .. } if self.w.moves(&[MessageKind::Uncontrollable]).iter().any(|m| m.instant) => {
+                    return acted; // an instant reaction has priority: the controller acts after it
+                }
+                Instruction::Do { request } => {
+                    let candidates: Vec<PlantMove> =
+                        self.w.moves(&[MessageKind::Controllable]).into_iter().filter(|m| m.message == request).collect();
+                    if candidates.is_empty() {
+                        self.report.failure = Some(Failure::RequestRefused { request: self.name(request) });
+                        return acted;
+                    }
+                    let k = self.rng.below(candidates.len() as u64) as usize;
+                    if self.w.apply(&candidates[k]) {
+                        self.progressed();
+                    }
+                    self.reset(c.resets);
+                    self.report.requests += 1;
+                    self.requests_since_progress += 1;
+                    acted = true;
+                    let line = format!("{:.3}: DO ({})", self.w.time as f64 / TICKS as f64, self.name(request));
+                    self.trace(line);
+                    seen.clear();
+                    self.pc += 1;
+                    if let Some(f) = self.w.failure() {
+                        self.report.failure = Some(f);
+                        return acted;
+                    }
+                }
+                Instruction::Goto { target } => self.pc = self.pos[target as usize] as usize,
+                Instruction::If { condition, target } => {
+                    if truth(self, &condition) {
+                        self.reset(c.resets);
+                        self.consume(&condition);
+                        self.pc = self.pos[target as usize] as usize;
+                    } else {
+                        self.pc += 1;
+                    }
+                }
+                Instruction::WaitUntil { condition } => {
+                    let awaited_guard = matches!(condition, Condition::Message { message } if self.guards.contains(&message));
+                    if awaited_guard || truth(self, &condition) {
+                        self.reset(c.resets);
+                        self.consume(&condition);
+                        self.pc += 1;
+                    } else {
+                        return acted; // waits
+                    }
+                }
+            }
+            if !seen.insert(self.pc) {
+                return acted; // a wait loop: back at a command of this scan without acting
+            }
+        }
+    }
+
+    fn reset(&mut self, resets: u64) {
+        for (b, t) in self.w.timers.iter_mut().enumerate().skip(1) {
+            if resets >> b & 1 == 1 {
+                *t = 0;
+            }
+        }
+    }
+
+    /// An event is received once: a test that succeeds on it takes it.
+    fn consume(&mut self, condition: &Condition) {
+        if let Condition::Message { message } = condition {
+            if self.pending == Some(*message) {
+                self.pending = None;
+            }
+        }
+    }
+
+    fn check(&mut self) -> bool {
+        if self.report.failure.is_none() {
+            self.report.failure = self.w.failure();
+        }
+        if self.report.failure.is_none() && self.requests_since_progress > 1000 {
+            self.report.failure = Some(Failure::NoProgress);
+        }
+        self.report.failure.is_some()
+    }
+
+    /// One plant step: an urgent reaction, another reaction, or a delay during which the
+    /// controller scans every tick. Returns false when the plant can neither move nor wait.
+    fn plant_step(&mut self, observable: &[bool]) -> bool {
+        self.pending = None;
+        for i in 0..self.guards.len() {
+            let g = self.guards[i];
+            self.guard_values[g as usize] = self.rng.below(2) == 0;
+        }
+        let reactions = self.w.moves(&[MessageKind::Uncontrollable]);
+        let urgent: Vec<usize> = (0..reactions.len()).filter(|&i| reactions[i].instant).collect();
+        let max = self.w.max_delay();
+        let chosen = if !urgent.is_empty() {
+            Some(urgent[self.rng.below(urgent.len() as u64) as usize])
+        } else if !reactions.is_empty() && (max == Some(0) || self.rng.below(3) == 0) {
+            Some(self.rng.below(reactions.len() as u64) as usize)
+        } else {
+            None
+        };
+        match chosen {
+            Some(i) => {
+                let m = &reactions[i];
+                if self.w.apply(m) {
+                    self.progressed();
+                }
+                let line = format!("{:.3}: !{}", self.w.time as f64 / TICKS as f64, self.name(m.message));
+                self.trace(line);
+                if observable.get(m.message as usize).copied().unwrap_or(true) {
+                    self.pending = Some(m.message);
+                }
+                if !self.check() {
+                    self.scan();
+                }
+            }
+            None => {
+                let limit = max.unwrap_or(4 * TICKS).min(4 * TICKS);
+                if limit == 0 {
+                    self.trace("the plant can neither move nor wait (timeout)".into());
+                    return false; // an exceptional timeout ends the run; not the controller's fault
+                }
+                let d = 1 + self.rng.below(limit as u64) as i64;
+                for _ in 0..d {
+                    self.w.delay(1);
+                    if self.check() || self.scan() {
+                        break; // the controller acted: the plant decides anew
+                    }
+                }
+            }
+        }
+        true
+    }
+}
+
+/// Runs `program` against the plant of `game` for at most `steps` plant steps.
+pub fn run(game: &Game, program: &Program, observable: &[bool], seed: u64, steps: usize) -> RunReport {
+    let guards: Vec<MsgId> = (0..game.messages.len() as MsgId).filter(|&m| game.messages[m as usize].role == MessageRole::Guard).collect();
+    // Guard messages are sensor conditions (4.2.1): the environment sets them at random, anew
+    // before every plant step, for the controller's IF tests. The game treats a guard check as
+    // the controller's option (5.3.4), i.e. it assumes the guard holds when the controller
+    // needs it: a WAITUNTIL on a guard is therefore satisfied at once.
+    let mut run = Run {
+        w: World {
+            game,
+            locs: game.components.iter().map(|a| a.initial).collect(),
+            plan_locs: game.plans.iter().map(|p| p.initial).collect(),
+            clocks: vec![0; game.dim()],
+            timers: vec![0; game.dim()],
+            time: 0,
+        },
+        program,
+        pos: program.positions(),
+        pc: 0,
+        pending: None,
+        guard_values: vec![false; game.messages.len()],
+        guards,
+        rng: Rng::new(seed),
+        report: RunReport { steps: 0, progress: 0, requests: 0, time: 0.0, failure: None, trace: Vec::new() },
+        requests_since_progress: 0,
+    };
+    if !run.check() {
+        run.scan();
+    }
+    for step in 0..steps {
+        run.report.steps = step;
+        if run.check() || !run.plant_step(observable) || run.check() {
+            break;
+        }
+    }
+    run.report.time = run.w.time as f64 / TICKS as f64;
+    run.report
+}

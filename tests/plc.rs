@@ -1,0 +1,161 @@
+//! PLC code checked by independent implementations: blark parses the Structured Text (plain,
+//! CODESYS and SCL), xmllint validates PLCopen XML against the TC6 v2.01 schema, and awlsim loads
+//! and runs the S7 STL. The checkers are installed by `scripts/python-checkers.sh` (`make test`
+//! runs it); without them these tests fail and say so.
+
+use plcsynth::plc::{self, Target};
+use plcsynth::program;
+use plcsynth::timed::{compile, solve::SolveOptions, synthesize};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn venv_tool(name: &str) -> PathBuf {
+    let path = root().join(".venv/bin").join(name);
+    assert!(path.exists(), "{} is missing: run `bash scripts/python-checkers.sh` (make test does)", path.display());
+    path
+}
+
+fn generate(example: &str, target: Target) -> String {
+    let source = std::fs::read_to_string(root().join(format!("examples/timed/{example}.tga"))).unwrap();
+    let (game, _) = compile(&source).unwrap();
+    let s = synthesize(&game, &SolveOptions::default(), &mut |_| true);
+    let p = program::controller(&game, &s).expect("realizable");
+    plc::generate(&game, &p, target, example, &source)
+}
+
+fn scratch(name: &str, text: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("plcsynth-plc-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn run(cmd: &mut Command) -> (bool, String) {
+    let out = cmd.output().unwrap_or_else(|e| panic!("cannot run {cmd:?}: {e}"));
+    (out.status.success(), format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr)))
+}
+
+const EXAMPLES: &[&str] = &["lamp", "gear_checking", "round_table_2", "two_robots_14", "robot_arm", "gripper_guard", "hardware_xyz"];
+
+fn blark(path: &Path) {
+    let (ok, out) = run(Command::new(venv_tool("blark")).arg("parse").arg(path));
+    assert!(ok, "blark rejects {}:\n{}\n{}", path.display(), out.lines().rev().take(12).collect::<Vec<_>>().join("\n"), std::fs::read_to_string(path).unwrap());
+}
+
+#[test]
+fn structured_text_parses_with_blark() {
+    for example in EXAMPLES {
+        for (target, suffix) in [(Target::St, "st"), (Target::Codesys, "codesys")] {
+            let path = scratch(&format!("{example}_{suffix}.st"), &generate(example, target));
+            blark(&path);
+        }
+    }
+}
+
+#[test]
+fn scl_parses_with_blark_once_the_tia_header_lines_are_removed() {
+    // blark reads TwinCAT-style IEC ST; the TIA Portal source lines (block attribute, VERSION
+    // and BEGIN) are Siemens-only and are removed before parsing. Everything else is checked.
+    for example in EXAMPLES {
+        let scl = generate(example, Target::Scl);
+        assert!(scl.contains("VERSION : 0.1\n") && scl.contains("BEGIN\n"), "TIA source layout");
+        let stripped: String = scl
+            .lines()
+            .filter(|l| !(l.starts_with("{ S7_Optimized_Access") || l.starts_with("VERSION :") || *l == "BEGIN"))
+            .map(|l| format!("{l}\n"))
+            .collect();
+        blark(&scratch(&format!("{example}_scl.st"), &stripped));
+    }
+}
+
+#[test]
+fn plcopen_xml_validates_against_the_tc6_schema() {
+    let schema = root().join("../shared/schemas/tc6_xml_v201.xsd");
+    assert!(schema.exists(), "the PLCopen schema is expected at {}", schema.display());
+    for example in EXAMPLES {
+        let path = scratch(&format!("{example}.xml"), &generate(example, Target::Plcopen));
+        let (ok, out) = run(Command::new("xmllint").arg("--noout").arg("--schema").arg(&schema).arg(&path));
+        assert!(ok, "{example}: {out}");
+    }
+}
+
+#[test]
+fn stl_loads_and_runs_in_awlsim() {
+    for example in EXAMPLES {
+        let path = scratch(&format!("{example}.awl"), &generate(example, Target::Stl));
+        let (ok, out) = run(Command::new(venv_tool("python")).arg(root().join("tests/checkers/awl_run.py")).arg(&path));
+        assert!(ok, "{example}: awlsim fails:\n{out}\n{}", std::fs::read_to_string(&path).unwrap());
+    }
+}
+
+#[test]
+fn the_lamp_follows_the_button_cycle_by_cycle_in_awlsim() {
+    let path = scratch("lamp_run.awl", &generate("lamp", Target::Stl));
+    // Bit 0 of IB 124 is the button, bit 6 of QB 125 the lamp (the thesis's lookup table).
+    let script = "I124=0 ?Q125; I124=1 ?Q125; I124=1 ?Q125; I124=0 ?Q125; I124=0 ?Q125; I124=1 ?Q125; I124=0 ?Q125";
+    let (ok, out) = run(Command::new(venv_tool("python")).arg(root().join("tests/checkers/awl_run.py")).arg(&path).arg(script));
+    assert!(ok, "{out}");
+    let lamp: Vec<bool> = out.lines().map(|l| l.trim() == "Q125=64").collect();
+    assert_eq!(lamp, [false, true, true, false, false, true, false], "{out}");
+}
+
+#[test]
+fn the_lamp_in_stl_is_the_thesis_listing_with_a_cycle_end_after_each_request() {
+    let text = generate("lamp", Target::Stl);
+    let body: Vec<String> = text
+        .lines()
+        .skip_while(|l| !l.starts_with("BEGIN"))
+        .filter(|l| !l.contains("NOP\t0\t//"))
+        .map(|l| l.split_whitespace().collect::<Vec<_>>().join(" "))
+        .collect();
+    // Peter 2005, 6.7.2, with `L 1; T MB 0; JU end` after `S Q 125.6` (the cycle ends after a
+    // request) and the out-of-range entry of the jump list restarting the program.
+    let expected = [
+        "BEGIN", "L MB 0", "JL ud", "JU aaaa", "JU aaac", "ud: L 0", "T MB 0", "JU aaaa", "aaaa: NOP 0 // WAITUNTIL (press)",
+    ];
+    assert_eq!(body[..8], expected[..8], "{text}");
+    let joined = body.join("\n");
+    for fragment in [
+        "L 0\nT MB 0\nA I 124.0\nJCN end\nSET\nS Q 125.6\nL 1\nT MB 0\nJU end",
+        "L 1\nT MB 0\nAN I 124.0\nJCN end\nSET\nR Q 125.6\nL 0\nT MB 0\nJU end",
+        "end: NOP 0\nEND_ORGANIZATION_BLOCK",
+    ] {
+        assert!(joined.contains(fragment), "missing\n{fragment}\nin\n{joined}");
+    }
+}
+
+#[test]
+fn every_file_names_plcsynth_its_version_and_the_spec_hash() {
+    let source = std::fs::read_to_string(root().join("examples/timed/lamp.tga")).unwrap();
+    let hash = plc::source_hash(&source);
+    for target in Target::ALL {
+        let text = generate("lamp", target);
+        assert!(text.lines().take(4).any(|l| l.contains(&format!("plcsynth {}", env!("CARGO_PKG_VERSION")))), "{target:?}");
+        assert!(text.contains(&hash), "{target:?}");
+    }
+}
+
+#[test]
+fn without_io_the_signals_are_named_after_the_messages() {
+    let st = generate("gear_checking", Target::St);
+    for name in ["loaded : BOOL", "reached_up : BOOL", "moveto_up : BOOL", "load : BOOL"] {
+        assert!(st.contains(name), "{name} in\n{st}");
+    }
+    assert!(!st.contains("PROGRAM"), "no wiring program without bindings");
+    let il = generate("gear_checking", Target::Il);
+    assert!(il.contains("JMPC S0") && il.contains("ST step") && il.contains("RET"), "{il}");
+}
+
+#[test]
+fn timers_restart_where_the_program_resets_a_clock() {
+    let st = generate("two_robots_14", Target::St);
+    // The robots' arms are timed: every clock the program reads is a TON restarted at its resets.
+    assert!(st.contains(": TON;"), "{st}");
+    assert!(st.contains("(IN := FALSE"), "{st}");
+    assert!(st.contains(".ET >="), "{st}");
+}
