@@ -6,6 +6,8 @@
 //! (`std::time::Instant` panics on `wasm32-unknown-unknown`): the page measures time.
 
 use crate::diag::Diagnostic;
+use crate::plc::{self, Target};
+use crate::program::{self, Program};
 use crate::timed::explain::{describe_edge, describe_state, dump, removal_text};
 use crate::timed::export::{self, SpaceView, StateView, TransitionView};
 use crate::timed::model::Game;
@@ -71,6 +73,42 @@ struct SolveSummary {
     explanation_depth: Option<u32>,
 }
 
+/// A code target of the page's menu.
+#[derive(Serialize)]
+struct TargetInfo {
+    /// `program` (the intermediate language) or a [`Target`] name.
+    id: &'static str,
+    label: &'static str,
+    extension: &'static str,
+}
+
+const TARGET_LABELS: [(Target, &str); 6] = [
+    (Target::St, "Structured Text (IEC 61131-3)"),
+    (Target::Scl, "SCL (Siemens S7-1200/1500)"),
+    (Target::Codesys, "CODESYS / TwinCAT ST"),
+    (Target::Il, "Instruction List (IEC 61131-3)"),
+    (Target::Stl, "S7 STL / AWL"),
+    (Target::Plcopen, "PLCopen TC6 XML"),
+];
+
+/// The code targets: the intermediate program first, then every PLC back end.
+#[wasm_bindgen]
+pub fn targets() -> Result<JsValue, JsValue> {
+    let mut list = vec![TargetInfo { id: "program", label: "Intermediate program (thesis notation)", extension: "txt" }];
+    for target in Target::ALL {
+        let label = TARGET_LABELS.iter().find(|(t, _)| *t == target).map_or(target.name(), |(_, l)| l);
+        list.push(TargetInfo { id: target.name(), label, extension: target.extension() });
+    }
+    to_js(&list)
+}
+
+#[derive(Serialize)]
+struct GeneratedCode {
+    target: String,
+    extension: &'static str,
+    code: String,
+}
+
 /// One row of the state explorer.
 #[derive(Serialize)]
 struct StateRow {
@@ -90,11 +128,14 @@ struct StateSearch {
 /// A compiled specification and, once solved, its synthesis.
 #[wasm_bindgen]
 pub struct Session {
+    source: String,
     game: Game,
     warnings: Vec<Diagnostic>,
     synthesis: Option<Synthesis>,
     /// Predecessors of every state, built on the first `neighbourhood` query after a solve.
     incoming: OnceCell<Vec<Vec<StateId>>>,
+    /// The optimised controller program, built on the first `program`/`code` call after a solve.
+    program: OnceCell<Option<Program>>,
 }
 
 #[wasm_bindgen]
@@ -103,7 +144,14 @@ impl Session {
     #[wasm_bindgen(constructor)]
     pub fn new(source: &str) -> Result<Session, JsValue> {
         match timed::compile(source) {
-            Ok((game, warnings)) => Ok(Session { game, warnings, synthesis: None, incoming: OnceCell::new() }),
+            Ok((game, warnings)) => Ok(Session {
+                source: source.to_string(),
+                game,
+                warnings,
+                synthesis: None,
+                incoming: OnceCell::new(),
+                program: OnceCell::new(),
+            }),
             Err(errors) => Err(to_js(&CheckResult { ok: false, diagnostics: &errors })?),
         }
     }
@@ -161,6 +209,7 @@ impl Session {
         };
         self.synthesis = Some(synthesis);
         self.incoming = OnceCell::new();
+        self.program = OnceCell::new();
         to_js(&summary)
     }
 
@@ -295,6 +344,25 @@ impl Session {
         })
     }
 
+    /// The controller program in the thesis's notation, or `undefined` when the game is not
+    /// realizable (no controller exists, or the run stopped before deciding).
+    pub fn program(&self) -> Result<Option<String>, JsValue> {
+        Ok(self.controller()?.map(|p| p.render(&self.game)))
+    }
+
+    /// The controller as code for `target` (an id from `targets()`), the function block named
+    /// after `name`: `{ target, extension, code }`, or `null` when the game is not realizable.
+    pub fn code(&self, target: &str, name: &str) -> Result<JsValue, JsValue> {
+        let Some(program) = self.controller()? else { return Ok(JsValue::NULL) };
+        let generated = if target == "program" {
+            GeneratedCode { target: target.to_string(), extension: "txt", code: program.render(&self.game) }
+        } else {
+            let t = Target::ALL.into_iter().find(|t| t.name() == target).ok_or_else(|| JsValue::from_str(&format!("unknown target {target}")))?;
+            GeneratedCode { target: target.to_string(), extension: t.extension(), code: plc::generate(&self.game, program, t, name, &self.source) }
+        };
+        to_js(&generated)
+    }
+
     /// One state: `StateView`.
     pub fn state(&self, state: StateId) -> Result<JsValue, JsValue> {
         let s = self.synthesis()?;
@@ -306,6 +374,11 @@ impl Session {
 }
 
 impl Session {
+    fn controller(&self) -> Result<Option<&Program>, JsValue> {
+        let s = self.synthesis()?;
+        Ok(self.program.get_or_init(|| program::controller(&self.game, s)).as_ref())
+    }
+
     /// The same view of one state as `export::space` gives.
     fn state_view(&self, s: &Synthesis, id: StateId) -> StateView {
         let (game, split, space) = (&self.game, &s.split, &s.solution.space);

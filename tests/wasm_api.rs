@@ -3,7 +3,7 @@
 #![cfg(target_arch = "wasm32")]
 
 use js_sys::{Array, Function, Reflect};
-use plcsynth::wasm::{check, parse, version, Session};
+use plcsynth::wasm::{check, parse, targets, version, Session};
 use wasm_bindgen::{JsCast, JsValue};
 use wasm_bindgen_test::*;
 
@@ -193,4 +193,36 @@ fn state_search_and_neighbourhood() {
     let two = s.neighbourhood(0, 2, 100_000).unwrap();
     assert!(array(&get(&two, "states")).length() > states.length());
     assert!(s.neighbourhood(u32::MAX - 1, 1, 10).is_err());
+}
+
+#[wasm_bindgen_test]
+fn targets_list_the_program_and_every_plc_back_end() {
+    let list = array(&targets().unwrap());
+    let ids: Vec<String> = list.iter().map(|t| string(&t, "id")).collect();
+    assert_eq!(ids, ["program", "st", "scl", "codesys", "il", "stl", "plcopen"]);
+    let exts: Vec<String> = list.iter().map(|t| string(&t, "extension")).collect();
+    assert_eq!(exts, ["txt", "st", "scl", "st", "il", "awl", "xml"]);
+}
+
+#[wasm_bindgen_test]
+fn code_for_every_target_of_a_realizable_spec() {
+    let (s, _) = solved(LAMP);
+    let program = s.program().unwrap().expect("a controller");
+    assert!(program.contains("DO (turn_on)"), "{program}");
+    for (target, marker) in [("program", "DO (turn_on)"), ("st", "FUNCTION_BLOCK"), ("scl", "FUNCTION_BLOCK"), ("codesys", "FUNCTION_BLOCK"), ("il", "turn_on"), ("stl", "turn_on"), ("plcopen", "<project")] {
+        let code = s.code(target, "lamp").unwrap();
+        assert_eq!(string(&code, "target"), target);
+        let text = string(&code, "code");
+        assert!(text.contains(marker), "{target}: no {marker} in\n{text}");
+    }
+    assert!(s.code("cobol", "lamp").is_err());
+}
+
+#[wasm_bindgen_test]
+fn no_code_without_a_controller() {
+    let (s, _) = solved(LAMP_NAIVE);
+    assert!(s.program().unwrap().is_none());
+    assert!(s.code("st", "lamp_naive").unwrap().is_null());
+    let unsolved = Session::new(LAMP).map_err(|_| "compile").unwrap();
+    assert!(unsolved.code("st", "lamp").is_err());
 }

@@ -1,6 +1,7 @@
 // The playground in headless Chromium: `node --test tests/browser/` (after `make web`).
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
+import { readFileSync } from 'node:fs';
 import { startServer, launch, newPage, open, shot, editorText, setEditorText, runAndWait, readExample, record } from './harness.mjs';
 
 let server;
@@ -65,12 +66,23 @@ test('the lamp example runs: verdict, counts, automata, state space and zone', a
   assert.equal(await page.locator('#zone svg.zone-plot polygon.zone').count(), 1, 'the zone polygon is drawn');
   await shot(page, '05-lamp-zone');
 
+  // Code: Structured Text by default; Download gives `lamp.st` with the same text.
   await page.click('[data-tab=code]');
-  await page.waitForFunction(() => document.querySelector('#code').textContent.startsWith('s0'));
-  assert.match(await page.textContent('#code'), /winning/);
+  assert.equal(await page.inputValue('#target'), 'st');
+  await page.waitForFunction(() => document.querySelector('#code').textContent.includes('FUNCTION_BLOCK'));
+  const st = await page.textContent('#code');
+  assert.match(st, /FUNCTION_BLOCK lamp\b/);
+  assert.match(st, /turn_on/);
   const [download] = await Promise.all([page.waitForEvent('download'), page.click('#download-code')]);
-  assert.equal(download.suggestedFilename(), 'lamp.states.txt');
-  await shot(page, '06-lamp-code');
+  assert.equal(download.suggestedFilename(), 'lamp.st');
+  assert.equal(readFileSync(await download.path(), 'utf8'), st);
+  await shot(page, '06-lamp-code-st');
+  for (const [target, file, marker] of [['program', 'lamp.txt', /DO \(turn_on\)/], ['stl', 'lamp.awl', /turn_on/], ['plcopen', 'lamp.xml', /<project/], ['space', 'lamp.states.txt', /^s0/]]) {
+    await page.selectOption('#target', target);
+    await page.waitForFunction((m) => new RegExp(m).test(document.querySelector('#code').textContent), marker.source);
+    const [d] = await Promise.all([page.waitForEvent('download'), page.click('#download-code')]);
+    assert.equal(d.suggestedFilename(), file);
+  }
   assert.deepEqual(foreign, [], 'no request leaves the origin');
   assert.deepEqual(page.errors, []);
   await page.context().close();
@@ -92,6 +104,9 @@ test('an unrealizable spec shows the explanation', async () => {
   await link.click();
   await page.waitForSelector(`#space-graph svg #st-${id}.selected`);
   assert.match(await page.textContent('#selected-bar'), new RegExp(`s${id} removed — `));
+  await page.click('[data-tab=code]');
+  await page.waitForFunction(() => /No controller: the spec is unrealizable/.test(document.querySelector('#code-note').textContent));
+  assert.equal(await page.textContent('#code'), '');
   assert.deepEqual(page.errors, []);
   await page.context().close();
 });

@@ -172,26 +172,56 @@ const spaceView = new SpaceView({
 // ---- code pane ----------------------------------------------------------------------------
 
 const DUMP_LINES = 4000;
+const fileStem = () => app.name.replace(/[^A-Za-z0-9_-]+/g, '_');
+
+/** Fills the target menu from the engine's list (controller targets), then the text views. */
+function fillTargets(list) {
+  const select = $('#target');
+  const option = (value, label) => h('option', { value }, label);
+  select.replaceChildren(
+    h('optgroup', { label: 'Controller' }, list.map((t) => option(t.id, `${t.label} (.${t.extension})`))),
+    h('optgroup', { label: 'Analysis (text)' }, option('space', 'State space dump (.txt)'), option('explanation', 'Explanation (.txt)')),
+  );
+  select.value = app.pendingTarget ?? 'st';
+  if (!select.value) select.value = 'st';
+}
+
 function setTarget(target) {
   const select = $('#target');
-  if ([...select.options].some((o) => o.value === target && !o.disabled)) select.value = target;
+  if ([...select.options].some((o) => o.value === target)) select.value = target;
+  else app.pendingTarget = target;
 }
+
 async function refreshCode() {
   const target = $('#target').value;
   const note = $('#code-note');
+  app.code = '';
+  app.extension = 'txt';
+  app.suffix = '';
   if (!app.result) {
-    app.code = '';
     $('#code').textContent = '';
     note.textContent = 'Run the spec first.';
     return;
   }
   if (target === 'explanation') {
     app.code = app.result.explanationText ?? '';
+    app.suffix = '.explanation';
     note.textContent = app.code ? '' : 'No explanation: the spec is not unrealizable.';
-  } else {
+  } else if (target === 'space') {
     app.code = await query('dump', []);
-    note.textContent = 'Every explored state with its status, then its edges. PLC code generation is not available yet.';
+    app.suffix = '.states';
+    note.textContent = 'Every explored state with its status, then its edges.';
+  } else {
+    const generated = await query('code', [target, fileStem()]);
+    if (generated) {
+      app.code = generated.code;
+      app.extension = generated.extension;
+      note.textContent = target === 'program' ? 'The optimised controller program (Peter 2005, chapter 6).' : 'Generated from the optimised controller program.';
+    } else {
+      note.textContent = `No controller: the spec is ${app.result.verdict.replace('_', ' ')}.`;
+    }
   }
+  if ($('#target').value !== target) return;
   const lines = app.code.split('\n');
   $('#code').textContent = lines.length > DUMP_LINES ? `${lines.slice(0, DUMP_LINES).join('\n')}\n… ${fmtInt(lines.length - DUMP_LINES)} more lines: use Download` : app.code;
 }
@@ -206,8 +236,7 @@ $('#copy-code').addEventListener('click', async () => {
 });
 $('#download-code').addEventListener('click', () => {
   if (!app.code) return toast('Nothing to download yet: run the spec first.');
-  const suffix = $('#target').value === 'explanation' ? 'explanation' : 'states';
-  const file = `${app.name.replace(/[^A-Za-z0-9_-]+/g, '_')}.${suffix}.txt`;
+  const file = `${fileStem()}${app.suffix}.${app.extension}`;
   const a = h('a', { href: URL.createObjectURL(new Blob([app.code], { type: 'text/plain' })), download: file });
   a.click();
   setTimeout(() => URL.revokeObjectURL(a.href), 1000);
@@ -332,8 +361,9 @@ window.addEventListener('unhandledrejection', (e) => {
     else openSpec(byId.get('lamp')?.source ?? '', 'lamp');
   }
   try {
-    const v = await solver.call('version');
-    setStatus(`Ready: plcsynth ${v}. Press Run or Ctrl+Enter.`);
+    const { version, targets } = await solver.call('version');
+    fillTargets(targets);
+    setStatus(`Ready: plcsynth ${version}. Press Run or Ctrl+Enter.`);
     document.body.dataset.engine = 'ready';
     app.interactiveMs = performance.now();
     setTimeout(preload, 500);

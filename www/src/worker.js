@@ -4,7 +4,8 @@
 // Requests  {id, op, ...}: check {source} | run {source, options} | query {method, args}
 // Replies   {id, ok: true, value} | {id, ok: false, error}; during `run` also
 //           {id, progress: Stats} and {id, automata} as soon as the spec compiles.
-import init, { check, Session, version } from '../pkg/plcsynth.js';
+//           `version` answers {version, targets}.
+import init, { check, Session, targets, version } from '../pkg/plcsynth.js';
 
 let session = null;
 let lastConsoleError = '';
@@ -28,7 +29,7 @@ function describe(error) {
 }
 
 const ops = {
-  version: () => version(),
+  version: () => ({ version: version(), targets: targets() }),
   check: ({ source }) => check(source),
   run({ id, source, options }) {
     session?.free();
@@ -53,7 +54,7 @@ const ops = {
   },
   query({ method, args }) {
     if (!session) throw new Error('nothing solved yet');
-    if (!['space', 'states', 'neighbourhood', 'state', 'dump'].includes(method)) throw new Error(`unknown query ${method}`);
+    if (!['space', 'states', 'neighbourhood', 'state', 'dump', 'program', 'code'].includes(method)) throw new Error(`unknown query ${method}`);
     return session[method](...(args ?? []));
   },
 };
