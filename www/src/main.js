@@ -35,6 +35,15 @@ function showDiagnostics(list) {
   );
 }
 
+/** Autosave; a full or disabled localStorage only costs the autosave. */
+function save(text, name) {
+  try {
+    localStorage.setItem(STORAGE_KEY, JSON.stringify({ text, name }));
+  } catch {
+    // nothing to do: the edit stays in the editor
+  }
+}
+
 let saveTimer = 0;
 const editor = createEditor($('#editor'), {
   doc: '',
@@ -45,7 +54,7 @@ const editor = createEditor($('#editor'), {
     if (!app.loading && location.hash) history.replaceState(null, '', location.pathname + location.search);
     if (!app.loading) showName(text);
     clearTimeout(saveTimer);
-    saveTimer = setTimeout(() => localStorage.setItem(STORAGE_KEY, JSON.stringify({ text, name: app.name })), 300);
+    saveTimer = setTimeout(() => save(text, app.name), 300);
   },
   onRun: () => run(),
 });
@@ -56,7 +65,7 @@ function openSpec(text, name) {
   app.loading = true;
   editor.text = text;
   app.loading = false;
-  localStorage.setItem(STORAGE_KEY, JSON.stringify({ text, name }));
+  save(text, name);
   showName(text);
 }
 
