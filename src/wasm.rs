@@ -109,6 +109,17 @@ struct GeneratedCode {
     code: String,
 }
 
+/// What the winning strategy does in one of its states.
+#[derive(Serialize)]
+struct StrategyChoice {
+    state: StateId,
+    /// `request` or `wait`.
+    choice: &'static str,
+    /// For a request: its target state and its label (as in `TransitionView::label`).
+    to: Option<StateId>,
+    label: Option<String>,
+}
+
 /// One row of the state explorer.
 #[derive(Serialize)]
 struct StateRow {
@@ -361,6 +372,30 @@ impl Session {
             GeneratedCode { target: target.to_string(), extension: t.extension(), code: plc::generate(&self.game, program, t, name, &self.source) }
         };
         to_js(&generated)
+    }
+
+    /// The strategy the controller program follows (request selection, Peter 2005, 6.3): for
+    /// each state it reaches, the request it makes or `wait`. `{ state, choice, to, label }[]`,
+    /// initial state first, or `null` when the game is not realizable.
+    pub fn strategy(&self) -> Result<JsValue, JsValue> {
+        let s = self.synthesis()?;
+        if s.solution.verdict != Verdict::Realizable {
+            return Ok(JsValue::NULL);
+        }
+        let space = &s.solution.space;
+        let strategy = program::select::select(&self.game, space);
+        let choices: Vec<StrategyChoice> = strategy
+            .states
+            .iter()
+            .map(|&st| match strategy.choice[st as usize] {
+                program::select::Choice::Request(e) => {
+                    let edge = &space.edges[e as usize];
+                    StrategyChoice { state: st, choice: "request", to: Some(edge.to), label: Some(describe_edge(&self.game, &s.split, edge)) }
+                }
+                program::select::Choice::Wait => StrategyChoice { state: st, choice: "wait", to: None, label: None },
+            })
+            .collect();
+        to_js(&choices)
     }
 
     /// One state: `StateView`.

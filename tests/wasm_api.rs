@@ -226,3 +226,32 @@ fn no_code_without_a_controller() {
     let unsolved = Session::new(LAMP).map_err(|_| "compile").unwrap();
     assert!(unsolved.code("st", "lamp").is_err());
 }
+
+#[wasm_bindgen_test]
+fn strategy_requests_stay_among_winning_states() {
+    let (s, summary) = solved(LAMP);
+    let choices = array(&s.strategy().unwrap());
+    assert!(choices.length() > 0);
+    let first = choices.get(0);
+    let space = s.space(10_000).unwrap();
+    assert_eq!(num(&first, "state"), num(&space, "initial"));
+    let states = array(&get(&space, "states"));
+    let winning = |id: f64| states.iter().find(|x| num(x, "id") == id).map(|x| get(&x, "winning").as_bool() == Some(true)).unwrap();
+    let mut requests = 0;
+    for c in choices.iter() {
+        assert!(winning(num(&c, "state")));
+        match string(&c, "choice").as_str() {
+            "request" => {
+                requests += 1;
+                assert!(winning(num(&c, "to")));
+                assert!(string(&c, "label").starts_with('?'), "{}", string(&c, "label"));
+            }
+            "wait" => assert!(get(&c, "to").is_null()),
+            other => panic!("choice {other}"),
+        }
+    }
+    assert!(requests >= 2, "the lamp controller turns the lamp on and off");
+    assert!(num(&get(&summary, "stats"), "winning") >= choices.length() as f64);
+    let (naive, _) = solved(LAMP_NAIVE);
+    assert!(naive.strategy().unwrap().is_null());
+}

@@ -47,6 +47,13 @@ test('the lamp example runs: verdict, counts, automata, state space and zone', a
   assert.equal(await page.locator('#space-graph svg g.state').count(), visited, 'every state is drawn');
   assert.equal(await page.locator('#space-graph svg g.state.removed').count(), removed);
   assert.equal(await page.locator('#state-list li[data-id]').count(), visited);
+  // The strategy: chosen requests are highlighted; the initial state waits for the button.
+  assert.ok((await page.locator('#space-graph svg g.edge.chosen').count()) >= 2, 'the chosen requests are drawn');
+  await page.click('#state-list li[data-id="0"]');
+  await page.waitForFunction(() => /strategy: wait/.test(document.querySelector('#selected-bar').textContent));
+  const chooser = page.locator('#space-graph svg g.state.winning').filter({ hasText: 'off, pressing' }).first();
+  await chooser.click();
+  await page.waitForFunction(() => /strategy: \?turn_on → s\d+/.test(document.querySelector('#selected-bar').textContent));
   // A removed state with a clock constraint: select it in the graph.
   const removedWithClock = page.locator('#state-list li.removed', { hasText: 'button.c' }).first();
   const id = Number(await removedWithClock.getAttribute('data-id'));

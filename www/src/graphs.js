@@ -54,11 +54,10 @@ const kindClass = { request: 'edge-request', reaction: 'edge-reaction', guard: '
 const kindSigil = { request: '?', reaction: '!', guard: '%', delay: 'D', timeout: 'T' };
 
 /**
- * A state-space (or neighbourhood) graph. Winning and removed states are coloured; controller
- * requests between winning states (the moves the winning strategy allows) are highlighted.
+ * A state-space (or neighbourhood) graph. Winning and removed states are coloured; the requests
+ * the strategy chooses (`strategy`: Map state → { choice, to, label }) are highlighted.
  */
-export function spaceDot(view, { selected = null, maxLabel = 30 } = {}) {
-  const winning = new Map(view.states.map((s) => [s.id, s.winning]));
+export function spaceDot(view, { selected = null, strategy = null, maxLabel = 30 } = {}) {
   const lines = [
     'digraph space {',
     '  graph [rankdir=TB, bgcolor="transparent", nodesep=0.25, ranksep=0.35, fontname="sans-serif"];',
@@ -70,13 +69,16 @@ export function spaceDot(view, { selected = null, maxLabel = 30 } = {}) {
     const cls = ['state', s.winning ? 'winning' : 'removed', s.id === view.initial ? 'initial' : '', s.id === selected ? 'selected' : '']
       .filter(Boolean)
       .join(' ');
-    const tip = s.winning ? `s${s.id}: winning` : `s${s.id}: removed: ${s.reason ?? ''}`;
+    const plan = strategy?.get(s.id);
+    const doing = plan ? (plan.choice === 'wait' ? '; strategy: wait' : `; strategy: ${plan.label}`) : '';
+    const tip = s.winning ? `s${s.id}: winning${doing}` : `s${s.id}: removed: ${s.reason ?? ''}`;
     lines.push(`  s${s.id} [id=${q(`st-${s.id}`)}, label=${q(`s${s.id} ${s.kind}\n${loc}`)}, class=${q(cls)}, tooltip=${q(tip)}];`);
   }
   let dangling = 0;
   for (const e of view.edges) {
-    const allowed = e.kind === 'request' && winning.get(e.from) && winning.get(e.to);
-    const cls = `${kindClass[e.kind] ?? ''}${allowed ? ' allowed' : ''}${e.zeno ? ' zeno' : ''}`;
+    const plan = strategy?.get(e.from);
+    const chosen = plan?.choice === 'request' && plan.to === e.to && plan.label === e.label;
+    const cls = `${kindClass[e.kind] ?? ''}${chosen ? ' chosen' : ''}${e.zeno ? ' zeno' : ''}`;
     const label = e.kind === 'delay' ? 'D' : e.label.length > 28 ? `${e.label.slice(0, 27)}…` : e.label;
     let to = `s${e.to}`;
     if (e.to === null) {

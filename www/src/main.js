@@ -169,9 +169,12 @@ const spaceView = new SpaceView({
   onSelect: async (id) => {
     const state = await query('state', [id]);
     zoneView.show(state, app.meta);
+    const plan = spaceView.strategy?.get(id);
+    const doing = !spaceView.strategy || !state.winning ? '' : !plan ? ' · not reached by the strategy' : plan.choice === 'wait' ? ' · strategy: wait' : ` · strategy: ${plan.label} → s${plan.to}`;
     $('#selected-bar').replaceChildren(
       h('strong', {}, `s${id}`), ` ${state.winning ? 'winning' : 'removed'}`,
       state.reason ? h('span', { class: 'reason' }, ` — ${state.reason}`) : '',
+      h('span', { id: 'selected-strategy' }, doing),
       ` · zone: ${state.zone} · `,
       h('a', { onclick: () => showTab('zone') }, 'show the zone'),
     );
@@ -326,7 +329,8 @@ async function run() {
     setRunning(false);
     if (currentTab === 'automata') drawAutomata();
     app.meta = await query('space', [1]);
-    spaceReady = spaceView.load(app.meta);
+    const strategy = summary.verdict === 'realizable' ? await query('strategy', []) : null;
+    spaceReady = spaceView.load(app.meta, strategy);
     await spaceReady;
     if (currentTab === 'code') refreshCode();
   } catch (error) {

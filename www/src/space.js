@@ -26,6 +26,7 @@ export class SpaceView {
   /** A new run: `meta` is a one-state SpaceView (clocks, units, initial, total_states) or null. */
   reset(meta) {
     this.meta = meta;
+    this.strategy = null;
     this.full = null;
     this.selected = null;
     this.drawn = null;
@@ -39,8 +40,10 @@ export class SpaceView {
     return this.meta && this.meta.total_states > FULL_LIMIT;
   }
 
-  async load(meta) {
+  /** `strategy`: the engine's strategy choices, or null without a controller. */
+  async load(meta, strategy) {
     this.reset(meta);
+    this.strategy = strategy ? new Map(strategy.map((c) => [c.state, c])) : null;
     $('#hood-label').hidden = !this.big;
     if (!this.big) this.full = await this.query('space', [FULL_LIMIT]);
     this.selected = meta.initial;
@@ -84,7 +87,7 @@ export class SpaceView {
     }
     let svg;
     try {
-      svg = await render(spaceDot(view, { selected: this.selected }));
+      svg = await render(spaceDot(view, { selected: this.selected, strategy: this.strategy }));
     } catch (error) {
       box.replaceChildren(h('p', { class: 'reason' }, `Graphviz could not draw the graph: ${error.message ?? error}`));
       return;

@@ -54,7 +54,7 @@ const ops = {
   },
   query({ method, args }) {
     if (!session) throw new Error('nothing solved yet');
-    if (!['space', 'states', 'neighbourhood', 'state', 'dump', 'program', 'code'].includes(method)) throw new Error(`unknown query ${method}`);
+    if (!['space', 'states', 'neighbourhood', 'state', 'dump', 'program', 'code', 'strategy'].includes(method)) throw new Error(`unknown query ${method}`);
     return session[method](...(args ?? []));
   },
 };
