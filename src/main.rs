@@ -38,6 +38,10 @@ enum Command {
         #[arg(short, long)]
         output: Option<String>,
     },
+    /// Synthesise one supervisor per specification of a `.sct` project (Göbe 2019).
+    Supervise(cli::sct::SuperviseArgs),
+    /// Classic Ramadge–Wonham SupCon of a plant and a specification in libFAUDES `.gen` format.
+    Supcon(cli::sct::SupconArgs),
     /// Print benchmark tables beside the published figures.
     Bench {
         #[command(subcommand)]
@@ -89,12 +93,17 @@ enum BenchEngine {
         #[arg(long, default_value = "examples/timed")]
         examples: std::path::PathBuf,
     },
+    /// Supervisory control: transfer lines (Göbe 2019, tables 7.1/7.2) and SupCon vs libFAUDES.
+    Sct(cli::sct::BenchArgs),
 }
 
 fn main() -> ExitCode {
     match Cli::parse().command {
         Command::Solve { file, json, max_states, states } => cli::timed::solve(&file, json, max_states, states),
         Command::Compile { file, target, output } => cli::timed::compile(&file, target.plc(), output.as_deref()),
+        Command::Supervise(a) => cli::sct::supervise(&a),
+        Command::Supcon(a) => cli::sct::supcon(&a),
         Command::Bench { engine: BenchEngine::Timed { runs, examples } } => cli::bench::timed(&examples, runs),
+        Command::Bench { engine: BenchEngine::Sct(a) } => cli::sct::bench(&a),
     }
 }

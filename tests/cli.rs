@@ -52,3 +52,24 @@ fn states_flag_lists_removal_reasons() {
     assert!(out.contains("[removed (assertion violated: never lamp.on and button.released)]"), "{out}");
     assert!(out.contains("zeno"), "{out}");
 }
+
+#[test]
+fn compile_writes_every_target_and_refuses_unrealizable_specs() {
+    let dir = std::env::temp_dir().join(format!("plcsynth-compile-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (code, out, _) = plcsynth(&["compile", "examples/timed/lamp.tga"]);
+    assert_eq!(code, 0);
+    assert_eq!(out, "0 : WAITUNTIL (press);\n1 : DO (turn_on);\n2 : WAITUNTIL (release);\n3 : DO (turn_off);\n4 : GOTO 0;\n");
+    for (target, marker) in [("st", "FUNCTION_BLOCK lamp"), ("scl", "VERSION : 0.1"), ("codesys", "AT %IX124.0"), ("il", "JMPCN END_SCAN"), ("stl", "JL\tud"), ("plcopen", "tc6_0201")] {
+        let file = dir.join(format!("lamp.{target}"));
+        let (code, _, err) = plcsynth(&["compile", "examples/timed/lamp.tga", "--target", target, "-o", file.to_str().unwrap()]);
+        assert_eq!(code, 0, "{target}: {err}");
+        let text = std::fs::read_to_string(&file).unwrap();
+        assert!(text.contains(marker), "{target}:\n{text}");
+    }
+    let file = dir.join("naive.st");
+    let (code, _, err) = plcsynth(&["compile", "examples/timed/lamp_naive.tga", "--target", "st", "-o", file.to_str().unwrap()]);
+    assert_eq!(code, 1);
+    assert!(err.contains("unrealizable; nothing written") && err.contains("!press"), "{err}");
+    assert!(!file.exists());
+}

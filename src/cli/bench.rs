@@ -26,8 +26,8 @@ const THESIS: &[(&str, &str, Published)] = &[
 pub fn timed(examples_dir: &Path, runs: usize) -> std::process::ExitCode {
     println!("Timed-game synthesis: plcsynth (median of {runs} runs) beside Peter 2005, table 7.3 (Pentium III 1.2 GHz)");
     println!();
-    println!("| example | verdict | visited | winning | time [ms] | state space [MiB] | thesis visited | thesis winning | thesis time [s] |");
-    println!("|---|---|---:|---:|---:|---:|---:|---:|---:|");
+    println!("| example | verdict | visited | winning | code lines | time [ms] | state space [MiB] | thesis visited | thesis winning | thesis code | thesis time [s] |");
+    println!("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for (file, label, thesis) in THESIS {
         let path = examples_dir.join(format!("{file}.tga"));
         let Ok(source) = std::fs::read_to_string(&path) else {
@@ -59,13 +59,14 @@ pub fn timed(examples_dir: &Path, runs: usize) -> std::process::ExitCode {
             Verdict::BudgetExceeded => "budget exceeded",
             Verdict::Cancelled => "cancelled",
         };
-        let (tv, tw, tt) = match thesis {
-            Some((v, w, _, t)) => (v.to_string(), w.to_string(), format!("{t:.1}")),
-            None if file.starts_with("round_table_5") => ("out of memory".into(), "–".into(), "–".into()),
-            None => ("–".into(), "–".into(), "–".into()),
+        let (tv, tw, tc, tt) = match thesis {
+            Some((v, w, c, t)) => (v.to_string(), w.to_string(), c.to_string(), format!("{t:.1}")),
+            None if file.starts_with("round_table_5") => ("out of memory".into(), "–".into(), "–".into(), "–".into()),
+            None => ("–".into(), "–".into(), "–".into(), "–".into()),
         };
+        let lines = plcsynth::program::controller(&game, &s).map_or("–".to_string(), |p| p.len().to_string());
         println!(
-            "| {label} | {verdict} | {} | {} | {median:.1} | {:.1} | {tv} | {tw} | {tt} |",
+            "| {label} | {verdict} | {} | {} | {lines} | {median:.1} | {:.1} | {tv} | {tw} | {tc} | {tt} |",
             st.visited,
             st.winning,
             st.bytes as f64 / (1024.0 * 1024.0)

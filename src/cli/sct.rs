@@ -1,0 +1,324 @@
+//! `plcsynth supervise`, `plcsynth supcon` and `plcsynth bench sct`.
+
+use clap::{Args, ValueEnum};
+use plcsynth::diag::{render_plain, Diagnostics, Span};
+use plcsynth::sct::classic::{minimize, supcon as classic_supcon, Events, SupConError};
+use plcsynth::sct::gen::{read_gen, write_gen};
+use plcsynth::sct::model::{Config, Method};
+use plcsynth::sct::project::load;
+use plcsynth::sct::report::synthesize_all;
+use plcsynth::sct::textbook::{small_factory, transfer_line, transfer_lines_classic};
+use plcsynth::sct::model::dep_closure;
+use plcsynth::sct::transfer::{extended_line, transfer_lines};
+use std::process::{Command, ExitCode};
+use std::time::Instant;
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum MethodArg {
+    Incremental,
+    Monolithic,
+}
+
+#[derive(Args)]
+pub struct SuperviseArgs {
+    /// The `.sct` project file.
+    pub file: String,
+    /// Synthesis method.
+    #[arg(long, value_enum, default_value = "incremental")]
+    pub method: MethodArg,
+    /// Print the supervisors as JSON (for the playground).
+    #[arg(long)]
+    pub json: bool,
+    /// Do not use enforceable events to preempt uncontrollable ones.
+    #[arg(long)]
+    pub no_preemption: bool,
+    /// Keep the supervisors unminimised.
+    #[arg(long)]
+    pub no_minimize: bool,
+}
+
+#[derive(Args)]
+pub struct SupconArgs {
+    /// Plant generator (`.gen`).
+    pub plant: String,
+    /// Specification generator (`.gen`), over a subset of the plant's events.
+    pub spec: String,
+    /// Write the supervisor here.
+    #[arg(short = 'o', long)]
+    pub output: Option<String>,
+    /// Supremal controllable closed sublanguage (no nonblocking requirement).
+    #[arg(long)]
+    pub closed: bool,
+    /// Minimise the supervisor before writing it.
+    #[arg(long)]
+    pub minimize: bool,
+}
+
+#[derive(Args)]
+pub struct BenchArgs {
+    /// Repetitions per measurement (the median is printed).
+    #[arg(long, default_value_t = 5)]
+    pub runs: usize,
+    /// Skip the libFAUDES comparison.
+    #[arg(long)]
+    pub no_faudes: bool,
+}
+
+fn read(path: &str) -> Result<String, ExitCode> {
+    std::fs::read_to_string(path).map_err(|e| {
+        eprintln!("error: cannot read `{path}`: {e}");
+        ExitCode::from(2)
+    })
+}
+
+pub fn supervise(a: &SuperviseArgs) -> ExitCode {
+    let src = match read(&a.file) {
+        Ok(s) => s,
+        Err(c) => return c,
+    };
+    let (loaded, diags) = load(&src);
+    if !diags.is_empty() {
+        eprint!("{}", render_plain(&a.file, &src, &diags));
+    }
+    let Some(loaded) = loaded else { return ExitCode::from(2) };
+    let method = match a.method {
+        MethodArg::Incremental => Method::Incremental,
+        MethodArg::Monolithic => Method::Monolithic,
+    };
+    let cfg = Config { method, preempt: !a.no_preemption, minimize: !a.no_minimize };
+    let start = Instant::now();
+    let clock = move || start.elapsed().as_secs_f64() * 1000.0;
+    let (reports, sdiags) = synthesize_all(&src, &loaded, &cfg, Some(&clock));
+    if !sdiags.is_empty() {
+        eprint!("{}", render_plain(&a.file, &src, &sdiags));
+    }
+    let failed = sdiags.iter().any(|d| d.is_error());
+    if a.json {
+        let out = serde_json::json!({
+            "file": a.file,
+            "method": method,
+            "supervisors": reports,
+            "events": loaded.project.events,
+            "event_actions": loaded.events,
+            "timers": loaded.timers,
+            "diagnostics": diags.iter().chain(&sdiags).collect::<Vec<_>>(),
+        });
+        outln!("{}", serde_json::to_string_pretty(&out).unwrap_or_default());
+    } else {
+        outln!("{:<28} {:>10} {:>7} {:>6} {:>7}  {:>9}  enforced", "supervisor", "realizable", "states", "trans", "prohib", "millis");
+        let mut total = 0;
+        for r in &reports {
+            total += r.states;
+            outln!(
+                "{:<28} {:>10} {:>7} {:>6} {:>7}  {:>9.3}  {}",
+                r.name,
+                if r.realizable { "yes" } else { "NO" },
+                r.states,
+                r.transitions,
+                r.prohibitions,
+                r.millis,
+                r.enforced_events.join(", ")
+            );
+        }
+        outln!("{} supervisors, {} states in total", reports.len(), total);
+    }
+    if failed {
+        ExitCode::from(2)
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
+fn read_gen_file(path: &str, events: &mut Events) -> Result<plcsynth::sct::classic::Automaton, ExitCode> {
+    let src = read(path)?;
+    read_gen(&src, events).map_err(|e| {
+        let mut d = Diagnostics::new(&src);
+        let end = (e.offset + 1).min(src.len());
+        d.error(Span::new(e.offset, end), e.message);
+        eprint!("{}", render_plain(path, &src, &d.items));
+        ExitCode::from(2)
+    })
+}
+
+pub fn supcon(a: &SupconArgs) -> ExitCode {
+    let mut events = Events::new();
+    let plant = match read_gen_file(&a.plant, &mut events) {
+        Ok(p) => p,
+        Err(c) => return c,
+    };
+    let spec = match read_gen_file(&a.spec, &mut events) {
+        Ok(p) => p,
+        Err(c) => return c,
+    };
+    let start = Instant::now();
+    let sup = match classic_supcon(&plant, &spec, &events, !a.closed) {
+        Ok(s) => s,
+        Err(SupConError::SpecEventsOutsidePlant(v)) => {
+            let names: Vec<&str> = v.iter().map(|e| events.name(*e)).collect();
+            eprintln!("{}: error: the specification uses events the plant does not know: {}", a.spec, names.join(", "));
+            return ExitCode::from(2);
+        }
+    };
+    let sup = if a.minimize { minimize(&sup) } else { sup };
+    let ms = start.elapsed().as_secs_f64() * 1000.0;
+    outln!(
+        "{}: {} states, {} transitions ({:.3} ms){}",
+        if a.closed { "SupConClosed" } else { "SupCon" },
+        sup.num_states(),
+        sup.num_transitions(),
+        ms,
+        if sup.init().is_none() { " -- empty: no supervisor exists" } else { "" }
+    );
+    if let Some(o) = &a.output {
+        if let Err(e) = std::fs::write(o, write_gen(&sup, &events, "supervisor")) {
+            eprintln!("error: cannot write `{o}`: {e}");
+            return ExitCode::from(1);
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    v[v.len() / 2]
+}
+
+/// Median milliseconds and Σ supervisor states for all specifications of a generated line.
+fn run_lines(k: usize, m: usize, method: Method, runs: usize) -> (f64, usize, usize, usize) {
+    let src = transfer_lines(k, m, 2);
+    let (loaded, _) = load(&src);
+    let l = loaded.expect("generated transfer lines are valid");
+    let cfg = Config { method, ..Config::default() };
+    let mut times = Vec::new();
+    let mut states = 0;
+    for _ in 0..runs.max(1) {
+        let t = Instant::now();
+        let (reps, _) = synthesize_all(&src, &l, &cfg, None);
+        times.push(t.elapsed().as_secs_f64() * 1000.0);
+        states = reps.iter().map(|r| r.states).sum();
+    }
+    (median(times), states, l.project.plants.len(), l.project.specs.len())
+}
+
+pub fn bench(a: &BenchArgs) -> ExitCode {
+    outln!("Incremental synthesis on transfer lines (Göbe 2019, table 7.1; buffers of capacity 2)");
+    outln!("ours: median of {} runs on this machine; thesis: Intel Core i5 750, 2.67 GHz", a.runs);
+    outln!();
+    outln!("{:<22} {:>7} {:>6} | {:>12} {:>8} | {:>12} {:>8} | {:>12} {:>8}", "TLs x machines", "plants", "specs", "IncSyn ms", "states", "thesis ms", "states", "ModSyn ms", "states");
+    // (k, m, thesis label, thesis IncSyn ms, thesis states, thesis ModSyn)
+    let rows: &[(usize, usize, &str, &str, &str, &str)] = &[
+        (2, 2, "2 x 2", "164", "38", "985 ms / 5994"),
+        (2, 6, "2 x 4 (14 plants)", "242", "112", "TO/MO"),
+        (3, 2, "3 x 2", "186", "60", "60 s / 262440"),
+        (4, 2, "4 x 2", "194", "82", "TO/MO"),
+        (5, 2, "5 x 2", "238", "104", "TO/MO"),
+        (50, 4, "50 x 4 (goal < 1 s)", "-", "-", "-"),
+    ];
+    for &(k, m, label, t_ms, t_states, t_mod) in rows {
+        let (ms, states, np, ns) = run_lines(k, m, Method::Incremental, a.runs);
+        let modsyn = if np <= 9 {
+            let (mms, mst, _, _) = run_lines(k, m, Method::Monolithic, a.runs.min(3));
+            format!("{mms:>12.3} {mst:>8}")
+        } else {
+            format!("{:>12} {:>8}", "skipped", "")
+        };
+        outln!("{label:<22} {np:>7} {ns:>6} | {ms:>12.3} {states:>8} | {t_ms:>12} {t_states:>8} | {modsyn}   (thesis ModSyn {t_mod})");
+    }
+    outln!();
+    outln!("Table 7.2: one line, 3 extended machines, a globally shared sensor (thesis: 15 plants, 4 specs,");
+    outln!("IncSyn 156 ms / 48 states; iModSyn out of memory). Reconstructed: the thesis publishes only sizes.");
+    {
+        let src = extended_line(3);
+        let (loaded, _) = load(&src);
+        let l = loaded.expect("generated line is valid");
+        let p = &l.project;
+        let cfg = Config::default();
+        let mut times = Vec::new();
+        let mut states = 0;
+        let mut used = 0;
+        for _ in 0..a.runs.max(1) {
+            let t = Instant::now();
+            let (reps, _) = synthesize_all(&src, &l, &cfg, None);
+            times.push(t.elapsed().as_secs_f64() * 1000.0);
+            states = reps.iter().map(|r| r.states).sum();
+            used = reps.iter().map(|r| r.plants_used.len()).sum();
+        }
+        let dep: usize = (0..p.specs.len()).map(|i| dep_closure(p, i).len()).sum();
+        outln!(
+            "  ours: {} plants, {} specs, IncSyn {:.3} ms, {} states; plants applied {} (Dep criterion would compose {})",
+            p.plants.len(),
+            p.specs.len(),
+            median(times),
+            states,
+            used,
+            dep
+        );
+    }
+    outln!();
+    if a.no_faudes {
+        return ExitCode::SUCCESS;
+    }
+    bench_faudes(a.runs)
+}
+
+fn bench_faudes(runs: usize) -> ExitCode {
+    outln!("Classic SupCon, plcsynth vs libFAUDES on identical .gen inputs (median ms)");
+    let py = std::path::Path::new(".venv/bin/python");
+    let script = std::path::Path::new("tests/faudes_bench.py");
+    if !py.exists() || !script.exists() {
+        outln!("  libFAUDES not available: run `scripts/python-checkers.sh` from the repository root");
+        return ExitCode::SUCCESS;
+    }
+    let dir = std::env::temp_dir().join(format!("plcsynth-bench-{}", std::process::id()));
+    let _ = std::fs::create_dir_all(&dir);
+    let cases: Vec<(&str, (plcsynth::sct::classic::Automaton, plcsynth::sct::classic::Automaton, Events))> = vec![
+        ("small factory", small_factory()),
+        ("transfer line 3/1", transfer_line(3, 1)),
+        ("transfer lines 1x2", transfer_lines_classic(1, 2, 2)),
+        ("transfer lines 2x2", transfer_lines_classic(2, 2, 2)),
+        ("transfer lines 1x4", transfer_lines_classic(1, 4, 2)),
+    ];
+    outln!("{:<22} {:>8} {:>8} | {:>10} {:>10} {:>7}", "problem", "states", "trans", "ours ms", "faudes ms", "ratio");
+    for (name, (plant, spec, ev)) in &cases {
+        let spec = &spec.with_selfloops(plant.alphabet());
+        let mut times = Vec::new();
+        let mut sup = None;
+        for _ in 0..runs.max(1) {
+            let t = Instant::now();
+            let s = classic_supcon(plant, spec, ev, true).expect("textbook specs use plant events");
+            times.push(t.elapsed().as_secs_f64() * 1000.0);
+            sup = Some(s);
+        }
+        let sup = sup.expect("ran at least once");
+        let ours = median(times);
+        let pf = dir.join("plant.gen");
+        let sf = dir.join("spec.gen");
+        let _ = std::fs::write(&pf, write_gen(plant, ev, "plant"));
+        let _ = std::fs::write(&sf, write_gen(spec, ev, "spec"));
+        let out = Command::new(py).arg(script).arg(&pf).arg(&sf).arg(runs.max(1).to_string()).output();
+        if let Ok(o) = &out {
+            if !o.status.success() {
+                eprintln!("libFAUDES failed on {name}: {}", String::from_utf8_lossy(&o.stderr).lines().last().unwrap_or(""));
+            }
+        }
+        let faudes = out.ok().and_then(|o| String::from_utf8(o.stdout).ok()).and_then(|s| {
+            let v: serde_json::Value = serde_json::from_str(s.lines().last()?).ok()?;
+            Some((v["ms"].as_f64()?, v["states"].as_u64()?, v["transitions"].as_u64()?))
+        });
+        match faudes {
+            Some((fms, fst, ftr)) => {
+                let agree = if fst as usize == sup.num_states() && ftr as usize == sup.num_transitions() { "" } else { "  (sizes differ!)" };
+                outln!(
+                    "{name:<22} {:>8} {:>8} | {ours:>10.3} {fms:>10.3} {:>7.2}{agree}",
+                    sup.num_states(),
+                    sup.num_transitions(),
+                    ours / fms.max(1e-6)
+                );
+            }
+            None => outln!("{name:<22} {:>8} {:>8} | {ours:>10.3} {:>10} {:>7}", sup.num_states(), sup.num_transitions(), "error", "-"),
+        }
+    }
+    outln!("ratio = ours / libFAUDES (below 1 means plcsynth is faster); libFAUDES time excludes file reading.");
+    let _ = std::fs::remove_dir_all(&dir);
+    ExitCode::SUCCESS
+}

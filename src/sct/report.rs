@@ -1,0 +1,143 @@
+//! Synthesis of every specification of a loaded project, with the per-supervisor report
+//! (states, transitions, prohibitions, enforced events, time) and its JSON form.
+//!
+//! Problems found during synthesis become located diagnostics: conflicting conditional
+//! transitions (6.4.4) with both locations, cycles of enforced transitions (5.5.5), and a warning
+//! when one supervisor enforces an event another one prohibits (6.4.2).
+
+use super::model::{self, Config, EventId, SynthError};
+use super::project::Loaded;
+use crate::diag::{Diagnostic, Diagnostics, Span};
+use serde::Serialize;
+
+/// One supervisor transition in the JSON form.
+#[derive(Clone, Debug, Serialize)]
+pub struct JsonTransition {
+    pub event: String,
+    pub target: u32,
+}
+
+/// One supervisor state in the JSON form.
+#[derive(Clone, Debug, Serialize)]
+pub struct JsonState {
+    pub label: String,
+    pub transitions: Vec<JsonTransition>,
+    pub prohibited: Vec<String>,
+    pub enforced: Option<String>,
+}
+
+/// The report for one specification's supervisor.
+#[derive(Clone, Debug, Serialize)]
+pub struct SupervisorReport {
+    pub name: String,
+    pub realizable: bool,
+    pub states: usize,
+    pub transitions: usize,
+    pub prohibitions: usize,
+    pub prohibited_events: Vec<String>,
+    pub enforced_events: Vec<String>,
+    pub plants_used: Vec<String>,
+    pub millis: f64,
+    pub initial: Option<u32>,
+    pub automaton: Vec<JsonState>,
+    /// The supervisor itself, for callers that continue working with it.
+    #[serde(skip)]
+    pub supervisor: model::Supervisor,
+}
+
+/// Synthesises one supervisor per specification. Timing uses `now` (milliseconds) so that
+/// the engine stays free of clocks on targets without one; pass `None` to skip timing.
+pub fn synthesize_all(src: &str, loaded: &Loaded, cfg: &Config, now: Option<&dyn Fn() -> f64>) -> (Vec<SupervisorReport>, Vec<Diagnostic>) {
+    let mut diags = Diagnostics::new(src);
+    let p = &loaded.project;
+    let name = |e: EventId| p.event_name(e).to_string();
+    let mut out = Vec::new();
+    for (i, spec) in p.specs.iter().enumerate() {
+        let t0 = now.map(|f| f());
+        let sup = match model::synthesize(p, i, cfg) {
+            Ok(s) => s,
+            Err(SynthError::Conflict(c)) => {
+                let spans: Vec<Span> = c.origins.iter().filter_map(|&o| loaded.origins.get(o as usize).copied()).collect();
+                let at = spans.first().copied().unwrap_or(loaded.spec_spans[i]);
+                let locs: Vec<String> = spans
+                    .iter()
+                    .skip(1)
+                    .map(|s| {
+                        let (l, c) = diags.line_col(s.start as usize);
+                        format!("the other transition is at {l}:{c}")
+                    })
+                    .collect();
+                let d = diags.error(
+                    at,
+                    format!("two transitions on `{}` can both be taken in state {} (while synthesising `{}`)", name(c.event), c.state, spec.name),
+                );
+                for l in locs {
+                    d.with_note(l);
+                }
+                d.with_note("make the conditions mutually exclusive");
+                continue;
+            }
+        };
+        let millis = match (t0, now) {
+            (Some(a), Some(f)) => f() - a,
+            _ => 0.0,
+        };
+        if let Some(cycle) = sup.enforcement_cycle() {
+            let mut spans: Vec<Span> = cycle
+                .iter()
+                .flat_map(|&s| sup.states[s as usize].enforced_origin.iter().copied())
+                .filter_map(|o| loaded.origins.get(o as usize).copied())
+                .collect();
+            spans.sort_by_key(|s| s.start);
+            spans.dedup();
+            let at = spans.first().copied().unwrap_or(loaded.spec_spans[i]);
+            let evs: Vec<String> = cycle.iter().filter_map(|&s| sup.states[s as usize].enforced).map(name).collect();
+            let d = diags.error(at, format!("supervisor `{}` enforces a cycle of events ({}) that would never end", spec.name, evs.join(" -> ")));
+            d.with_note("enforced events are executed in the same PLC cycle; break the cycle in the plant models (5.5.5)");
+        }
+        let automaton = sup
+            .states
+            .iter()
+            .map(|s| JsonState {
+                label: s.label.clone(),
+                transitions: s.transitions.iter().map(|&(e, t)| JsonTransition { event: name(e), target: t }).collect(),
+                prohibited: s.prohibited.iter().map(|&e| name(e)).collect(),
+                enforced: s.enforced.map(name),
+            })
+            .collect();
+        out.push(SupervisorReport {
+            name: spec.name.clone(),
+            realizable: sup.realizable(),
+            states: sup.states.len(),
+            transitions: sup.num_transitions(),
+            prohibitions: sup.num_prohibitions(),
+            prohibited_events: sup.prohibited_events().into_iter().map(name).collect(),
+            enforced_events: sup.enforced_events().into_iter().map(name).collect(),
+            plants_used: sup.plants_used.clone(),
+            millis,
+            initial: sup.init,
+            automaton,
+            supervisor: sup,
+        });
+    }
+    // 6.4.2: supervisors do not synchronise on enforced events.
+    for (i, a) in out.iter().enumerate() {
+        for e in &a.enforced_events {
+            for (j, b) in out.iter().enumerate() {
+                if i != j && b.prohibited_events.contains(e) {
+                    let at = loaded.spec_spans[j];
+                    diags
+                        .warning(at, format!("`{}` prohibits `{e}`, which supervisor `{}` enforces", b.name, a.name))
+                        .with_note("compose the two specifications into one to resolve the conflict (6.4.2)");
+                }
+            }
+        }
+    }
+    for r in &out {
+        if !r.realizable {
+            let k = p.specs.iter().position(|s| s.name == r.name).unwrap_or(0);
+            diags.warning(loaded.spec_spans[k], format!("specification `{}` is unrealizable: no safe supervisor exists with the given plant models", r.name));
+        }
+    }
+    (out, diags.items)
+}

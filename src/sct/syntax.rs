@@ -1,0 +1,754 @@
+//! The `.sct` text format: lexer (logos), abstract syntax tree and a recursive-descent parser
+//! that recovers at `;` and `}` so that every syntax error of a file is reported at once.
+//!
+//! Keywords are contextual: every word is lexed as an identifier and the parser compares its
+//! text where a keyword may stand, so that users may name states `on`, `start` or `state`.
+//! The grammar is documented in `docs/sct-language.md`.
+
+use crate::diag::{Diagnostics, Span};
+use logos::Logos;
+
+#[derive(Logos, Clone, Copy, Debug, PartialEq, Eq)]
+#[logos(skip r"[ \t\r\n\f]+")]
+#[logos(skip(r"//[^\n]*", allow_greedy = true))]
+#[logos(skip r"/\*([^*]|\*+[^*/])*\*+/")]
+pub enum Tok {
+    #[regex(r"[A-Za-z_][A-Za-z0-9_]*")]
+    Ident,
+    #[regex(r"[0-9]+")]
+    Number,
+    #[regex(r"[0-9]+(ms|s|m|h)")]
+    Duration,
+    #[regex(r#""([^"\\\n]|\\.)*""#)]
+    Str,
+    #[token("{")]
+    LBrace,
+    #[token("}")]
+    RBrace,
+    #[token("[")]
+    LBracket,
+    #[token("]")]
+    RBracket,
+    #[token("(")]
+    LParen,
+    #[token(")")]
+    RParen,
+    #[token(";")]
+    Semi,
+    #[token(":")]
+    Colon,
+    #[token(",")]
+    Comma,
+    #[token(".")]
+    Dot,
+    #[token("->")]
+    Arrow,
+    #[token("=")]
+    Eq,
+    #[token("|")]
+    Bar,
+    /// Any character no other token accepts.
+    Error,
+    Eof,
+}
+
+/// A dotted name such as `Machine1.React.S2`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Path {
+    pub parts: Vec<String>,
+    pub span: Span,
+}
+
+impl Path {
+    pub fn text(&self) -> String {
+        self.parts.join(".")
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum EdgeKind {
+    Rising,
+    Falling,
+    Either,
+    Cyclic,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum EventItem {
+    Detect { edge: EdgeKind, expr: String, span: Span },
+    Executed { span: Span },
+    ResetOnDenial { addrs: Vec<String>, span: Span },
+    OnAccept { code: String, span: Span },
+    OnDenial { code: String, span: Span },
+}
+
+#[derive(Clone, Debug)]
+pub struct EventDecl {
+    pub name: String,
+    pub name_span: Span,
+    pub kind: Option<crate::sct::model::EventKind>,
+    pub kind_span: Span,
+    pub items: Vec<EventItem>,
+}
+
+#[derive(Clone, Debug)]
+pub struct TimerDecl {
+    pub name: String,
+    pub name_span: Span,
+    pub duration_ms: Option<u64>,
+    pub start: Option<Path>,
+    pub stops: Vec<Path>,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum CondExpr {
+    True,
+    False,
+    State(Path),
+    Not(Box<CondExpr>),
+    And(Box<CondExpr>, Box<CondExpr>),
+    Or(Box<CondExpr>, Box<CondExpr>),
+}
+
+#[derive(Clone, Debug)]
+pub enum StateItem {
+    Trans { event: Path, target: String, target_span: Span, cond: Option<CondExpr>, span: Span },
+    Forbid { events: Vec<Path>, cond: Option<CondExpr>, span: Span },
+    Impossible { events: Vec<Path>, span: Span },
+}
+
+#[derive(Clone, Debug)]
+pub struct StateDecl {
+    pub name: String,
+    pub span: Span,
+    pub initial: bool,
+    pub items: Vec<StateItem>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AutKind {
+    Plant,
+    Spec,
+}
+
+/// A template namespace (role): its name, location and binding events.
+pub type Namespace = (String, Span, Vec<(String, Span)>);
+
+#[derive(Clone, Debug)]
+pub struct AutDecl {
+    pub kind: AutKind,
+    pub name: String,
+    pub name_span: Span,
+    pub alphabet: Option<(Vec<Path>, Span)>,
+    pub selfloops: Option<Span>,
+    pub states: Vec<StateDecl>,
+    /// Template only: binding events without a namespace.
+    pub binds: Vec<(String, Span)>,
+    /// Template only: namespaces (roles) and their binding events.
+    pub namespaces: Vec<Namespace>,
+}
+
+#[derive(Clone, Debug)]
+pub struct Binding {
+    /// `ns`, `ns.event` or `event`.
+    pub lhs: Path,
+    pub rhs: Path,
+}
+
+#[derive(Clone, Debug)]
+pub struct InstanceDecl {
+    pub name: String,
+    pub name_span: Span,
+    pub template: Path,
+    pub bindings: Vec<Binding>,
+}
+
+#[derive(Clone, Debug)]
+pub enum Item {
+    Module { name: String, name_span: Span, items: Vec<Item> },
+    Event(EventDecl),
+    Timer(TimerDecl),
+    Automaton(AutDecl),
+    Template(AutDecl),
+    Instance(InstanceDecl),
+    /// `spec NAME = A | B | ...;` — the specification product (definition 6).
+    SpecProduct { name: String, name_span: Span, operands: Vec<Path> },
+}
+
+/// Words that start an item; error recovery stops in front of them.
+const ITEM_KEYWORDS: &[&str] =
+    &["module", "event", "timer", "plant", "spec", "template", "instance", "state", "alphabet", "selfloops", "bind", "namespace"];
+
+struct Parser<'s, 'd> {
+    src: &'s str,
+    toks: Vec<(Tok, Span)>,
+    pos: usize,
+    diags: &'d mut Diagnostics<'s>,
+}
+
+type PResult<T> = Result<T, ()>;
+
+/// Parses a `.sct` file. Returns the items that could be parsed; errors go to `diags`.
+pub fn parse<'s>(src: &'s str, diags: &mut Diagnostics<'s>) -> Vec<Item> {
+    let mut toks = Vec::new();
+    let mut lex = Tok::lexer(src);
+    while let Some(t) = lex.next() {
+        let r = lex.span();
+        let span = Span::new(r.start, r.end);
+        match t {
+            Ok(t) => toks.push((t, span)),
+            Err(()) => {
+                diags.error(span, format!("unexpected character `{}`", &src[r.clone()].chars().next().unwrap_or('?')));
+            }
+        }
+    }
+    toks.push((Tok::Eof, Span::new(src.len(), src.len())));
+    let mut p = Parser { src, toks, pos: 0, diags };
+    let mut items = Vec::new();
+    while p.peek() != Tok::Eof {
+        let before = p.pos;
+        match p.item() {
+            Ok(Some(i)) => items.push(i),
+            Ok(None) => {}
+            Err(()) => {
+                if p.pos == before {
+                    p.bump();
+                }
+                p.recover_item();
+                if p.peek() == Tok::RBrace {
+                    let sp = p.bump().1;
+                    p.diags.error(sp, "unmatched `}`");
+                }
+            }
+        }
+    }
+    items
+}
+
+impl<'s> Parser<'s, '_> {
+    fn peek(&self) -> Tok {
+        self.toks[self.pos].0
+    }
+
+    fn peek_at(&self, k: usize) -> Tok {
+        self.toks.get(self.pos + k).map_or(Tok::Eof, |t| t.0)
+    }
+
+    fn span(&self) -> Span {
+        self.toks[self.pos].1
+    }
+
+    fn text(&self) -> &'s str {
+        let s = self.toks[self.pos].1;
+        &self.src[s.range()]
+    }
+
+    fn bump(&mut self) -> (Tok, Span) {
+        let t = self.toks[self.pos];
+        if t.0 != Tok::Eof {
+            self.pos += 1;
+        }
+        t
+    }
+
+    fn is_kw(&self, kw: &str) -> bool {
+        self.peek() == Tok::Ident && self.text() == kw
+    }
+
+    fn describe(&self) -> String {
+        match self.peek() {
+            Tok::Eof => "end of file".into(),
+            _ => format!("`{}`", self.text()),
+        }
+    }
+
+    fn err<T>(&mut self, expected: &str) -> PResult<T> {
+        let span = self.span();
+        let found = self.describe();
+        self.diags.error(span, format!("expected {expected}, found {found}"));
+        Err(())
+    }
+
+    fn expect(&mut self, t: Tok, what: &str) -> PResult<Span> {
+        if self.peek() == t {
+            Ok(self.bump().1)
+        } else {
+            self.err(what)
+        }
+    }
+
+    fn expect_kw(&mut self, kw: &str) -> PResult<Span> {
+        if self.is_kw(kw) {
+            Ok(self.bump().1)
+        } else {
+            self.err(&format!("`{kw}`"))
+        }
+    }
+
+    fn ident(&mut self, what: &str) -> PResult<(String, Span)> {
+        if self.peek() == Tok::Ident {
+            let s = self.text().to_string();
+            Ok((s, self.bump().1))
+        } else {
+            self.err(what)
+        }
+    }
+
+    fn string(&mut self, what: &str) -> PResult<String> {
+        if self.peek() == Tok::Str {
+            let t = self.text();
+            self.bump();
+            Ok(unescape(&t[1..t.len() - 1]))
+        } else {
+            self.err(what)
+        }
+    }
+
+    fn path(&mut self, what: &str) -> PResult<Path> {
+        let (first, mut span) = self.ident(what)?;
+        let mut parts = vec![first];
+        while self.peek() == Tok::Dot && self.peek_at(1) == Tok::Ident {
+            self.bump();
+            let (p, s) = self.ident("a name")?;
+            parts.push(p);
+            span = span.to(s);
+        }
+        Ok(Path { parts, span })
+    }
+
+    fn path_list(&mut self, what: &str) -> PResult<Vec<Path>> {
+        let mut v = vec![self.path(what)?];
+        while self.peek() == Tok::Comma {
+            self.bump();
+            v.push(self.path(what)?);
+        }
+        Ok(v)
+    }
+
+    /// Skips to the end of the current item: past the next `;` at depth 0 or past a balanced
+    /// `{ ... }` block, or up to a `}` that closes an enclosing block.
+    fn recover_item(&mut self) {
+        let mut depth = 0usize;
+        loop {
+            match self.peek() {
+                Tok::Eof => return,
+                Tok::Ident if depth == 0 && ITEM_KEYWORDS.contains(&self.text()) => return,
+                Tok::Semi if depth == 0 => {
+                    self.bump();
+                    return;
+                }
+                Tok::LBrace => depth += 1,
+                Tok::RBrace => {
+                    if depth == 0 {
+                        return;
+                    }
+                    depth -= 1;
+                    if depth == 0 {
+                        self.bump();
+                        return;
+                    }
+                }
+                _ => {}
+            }
+            self.bump();
+        }
+    }
+
+    /// Parses `{ inner* }` calling `inner` until the closing brace, recovering per element.
+    fn block(&mut self, mut inner: impl FnMut(&mut Self) -> PResult<()>) -> PResult<Span> {
+        self.expect(Tok::LBrace, "`{`")?;
+        loop {
+            match self.peek() {
+                Tok::RBrace => return Ok(self.bump().1),
+                Tok::Eof => {
+                    return self.err("`}`");
+                }
+                _ => {
+                    let before = self.pos;
+                    if inner(self).is_err() {
+                        if self.pos == before {
+                            self.bump();
+                        }
+                        self.recover_item();
+                    }
+                }
+            }
+        }
+    }
+
+    fn item(&mut self) -> PResult<Option<Item>> {
+        if self.peek() != Tok::Ident {
+            self.err("an item (`module`, `event`, `timer`, `plant`, `spec`, `template` or `instance`)")?;
+        }
+        match self.text() {
+            "module" => {
+                self.bump();
+                let (name, name_span) = self.ident("a module name")?;
+                let mut items = Vec::new();
+                self.block(|p| {
+                    if let Some(i) = p.item()? {
+                        items.push(i);
+                    }
+                    Ok(())
+                })?;
+                Ok(Some(Item::Module { name, name_span, items }))
+            }
+            "event" => self.event().map(|e| Some(Item::Event(e))),
+            "timer" => self.timer().map(|t| Some(Item::Timer(t))),
+            "spec" if self.peek_at(1) == Tok::Ident && self.peek_at(2) == Tok::Eq => {
+                self.bump();
+                let (name, name_span) = self.ident("a specification name")?;
+                self.bump();
+                let mut operands = vec![self.path("a specification")?];
+                while self.peek() == Tok::Bar {
+                    self.bump();
+                    operands.push(self.path("a specification")?);
+                }
+                if operands.len() < 2 {
+                    return self.err("`|` and a second specification");
+                }
+                self.expect(Tok::Semi, "`;`")?;
+                Ok(Some(Item::SpecProduct { name, name_span, operands }))
+            }
+            "plant" | "spec" => {
+                let kind = if self.text() == "plant" { AutKind::Plant } else { AutKind::Spec };
+                self.bump();
+                self.automaton(kind, false).map(|a| Some(Item::Automaton(a)))
+            }
+            "template" => {
+                self.bump();
+                let kind = if self.is_kw("plant") {
+                    AutKind::Plant
+                } else if self.is_kw("spec") {
+                    AutKind::Spec
+                } else {
+                    return self.err("`plant` or `spec` after `template`");
+                };
+                self.bump();
+                self.automaton(kind, true).map(|a| Some(Item::Template(a)))
+            }
+            "instance" => self.instance().map(|i| Some(Item::Instance(i))),
+            _ => self.err("an item (`module`, `event`, `timer`, `plant`, `spec`, `template` or `instance`)"),
+        }
+    }
+
+    fn event(&mut self) -> PResult<EventDecl> {
+        use crate::sct::model::EventKind;
+        self.bump();
+        let (name, name_span) = self.ident("an event name")?;
+        self.expect(Tok::Colon, "`:` and the event type")?;
+        let kind_span = self.span();
+        let kind = match self.ident("an event type")?.0.as_str() {
+            "controllable" => Some(EventKind::Controllable),
+            "uncontrollable" => Some(EventKind::Uncontrollable),
+            "enforceable" => Some(EventKind::Enforceable),
+            other => {
+                self.diags
+                    .error(kind_span, format!("unknown event type `{other}`"))
+                    .with_note("expected `controllable`, `uncontrollable` or `enforceable`");
+                None
+            }
+        };
+        let mut items = Vec::new();
+        if self.peek() == Tok::Semi {
+            self.bump();
+        } else {
+            self.block(|p| {
+                let start = p.span();
+                let kw = p.ident("an event property")?.0;
+                let item = match kw.as_str() {
+                    "detect" => {
+                        let (e, es) = p.ident("`rising`, `falling`, `edge` or `cyclic`")?;
+                        let edge = match e.as_str() {
+                            "rising" => EdgeKind::Rising,
+                            "falling" => EdgeKind::Falling,
+                            "edge" => EdgeKind::Either,
+                            "cyclic" => EdgeKind::Cyclic,
+                            _ => {
+                                p.diags.error(es, format!("unknown trigger `{e}`")).with_note("expected `rising`, `falling`, `edge` or `cyclic`");
+                                return Err(());
+                            }
+                        };
+                        let expr = p.string("the trigger expression as a string")?;
+                        EventItem::Detect { edge, expr, span: start.to(es) }
+                    }
+                    "executed" => EventItem::Executed { span: start },
+                    "reset" => {
+                        p.expect_kw("on")?;
+                        p.expect_kw("denial")?;
+                        let mut addrs = vec![p.string("an address string")?];
+                        while p.peek() == Tok::Comma {
+                            p.bump();
+                            addrs.push(p.string("an address string")?);
+                        }
+                        EventItem::ResetOnDenial { addrs, span: start }
+                    }
+                    "on" => {
+                        let (w, ws) = p.ident("`accept` or `denial`")?;
+                        let code = p.string("the code as a string")?;
+                        match w.as_str() {
+                            "accept" => EventItem::OnAccept { code, span: start.to(ws) },
+                            "denial" => EventItem::OnDenial { code, span: start.to(ws) },
+                            _ => {
+                                p.diags.error(ws, format!("expected `accept` or `denial`, found `{w}`"));
+                                return Err(());
+                            }
+                        }
+                    }
+                    _ => {
+                        p.diags.error(start, format!("unknown event property `{kw}`")).with_note(
+                            "expected `detect`, `executed`, `reset on denial`, `on accept` or `on denial`",
+                        );
+                        return Err(());
+                    }
+                };
+                p.expect(Tok::Semi, "`;`")?;
+                items.push(item);
+                Ok(())
+            })?;
+        }
+        Ok(EventDecl { name, name_span, kind, kind_span, items })
+    }
+
+    fn timer(&mut self) -> PResult<TimerDecl> {
+        self.bump();
+        let (name, name_span) = self.ident("a timer name")?;
+        let mut t = TimerDecl { name, name_span, duration_ms: None, start: None, stops: Vec::new() };
+        self.block(|p| {
+            let (kw, ks) = p.ident("`duration`, `start` or `stop`")?;
+            match kw.as_str() {
+                "duration" => {
+                    let mut total: u64 = 0;
+                    let mut any = false;
+                    while p.peek() == Tok::Duration {
+                        let txt = p.text();
+                        let split = txt.find(|c: char| !c.is_ascii_digit()).unwrap_or(txt.len());
+                        let n: u64 = txt[..split].parse().unwrap_or(u64::MAX / 4_000_000);
+                        let unit = match &txt[split..] {
+                            "ms" => 1,
+                            "s" => 1000,
+                            "m" => 60_000,
+                            _ => 3_600_000,
+                        };
+                        total = total.saturating_add(n.saturating_mul(unit));
+                        any = true;
+                        p.bump();
+                    }
+                    if !any {
+                        return p.err("a duration such as `15s` or `1m 30s`");
+                    }
+                    t.duration_ms = Some(total);
+                }
+                "start" => t.start = Some(p.path("the start event")?),
+                "stop" => t.stops.extend(p.path_list("a stop event")?),
+                _ => {
+                    p.diags.error(ks, format!("unknown timer property `{kw}`")).with_note("expected `duration`, `start` or `stop`");
+                    return Err(());
+                }
+            }
+            p.expect(Tok::Semi, "`;`")?;
+            Ok(())
+        })?;
+        Ok(t)
+    }
+
+    fn automaton(&mut self, kind: AutKind, template: bool) -> PResult<AutDecl> {
+        let (name, name_span) = self.ident("an automaton name")?;
+        let mut a = AutDecl {
+            kind,
+            name,
+            name_span,
+            alphabet: None,
+            selfloops: None,
+            states: Vec::new(),
+            binds: Vec::new(),
+            namespaces: Vec::new(),
+        };
+        self.block(|p| {
+            let (kw, ks) = p.ident("`alphabet`, `selfloops` or `state`")?;
+            match kw.as_str() {
+                "alphabet" => {
+                    let list = p.path_list("an event")?;
+                    p.expect(Tok::Semi, "`;`")?;
+                    if let Some((_, prev)) = &a.alphabet {
+                        let prev = *prev;
+                        p.diags.error(ks, "second `alphabet` declaration").with_note(format!("first declared at byte {}", prev.start));
+                    }
+                    a.alphabet = Some((list, ks));
+                }
+                "selfloops" => {
+                    p.expect(Tok::Semi, "`;`")?;
+                    a.selfloops = Some(ks);
+                }
+                "state" => {
+                    let st = p.state()?;
+                    a.states.push(st);
+                }
+                "bind" if template => {
+                    a.binds.push(p.ident("a binding event")?);
+                    while p.peek() == Tok::Comma {
+                        p.bump();
+                        a.binds.push(p.ident("a binding event")?);
+                    }
+                    p.expect(Tok::Semi, "`;`")?;
+                }
+                "namespace" if template => {
+                    let (ns, nss) = p.ident("a namespace name")?;
+                    let mut evs = Vec::new();
+                    p.expect(Tok::LBrace, "`{`")?;
+                    while p.peek() == Tok::Ident {
+                        evs.push(p.ident("a binding event")?);
+                        if p.peek() == Tok::Comma {
+                            p.bump();
+                        } else {
+                            break;
+                        }
+                    }
+                    p.expect(Tok::RBrace, "`}`")?;
+                    a.namespaces.push((ns, nss, evs));
+                }
+                _ => {
+                    let extra = if template { ", `bind`, `namespace`" } else { "" };
+                    p.diags.error(ks, format!("unknown automaton item `{kw}`")).with_note(format!("expected `alphabet`, `selfloops`{extra} or `state`"));
+                    return Err(());
+                }
+            }
+            Ok(())
+        })?;
+        Ok(a)
+    }
+
+    fn state(&mut self) -> PResult<StateDecl> {
+        let (name, span) = self.ident("a state name")?;
+        let mut st = StateDecl { name, span, initial: false, items: Vec::new() };
+        if self.is_kw("initial") {
+            self.bump();
+            st.initial = true;
+        }
+        if self.peek() == Tok::Semi {
+            self.bump();
+            return Ok(st);
+        }
+        self.block(|p| {
+            let start = p.span();
+            if p.is_kw("forbid") && p.peek_at(1) != Tok::Arrow && p.peek_at(1) != Tok::Dot {
+                p.bump();
+                let events = p.path_list("an event to forbid")?;
+                let cond = p.opt_cond()?;
+                p.expect(Tok::Semi, "`;`")?;
+                st.items.push(StateItem::Forbid { events, cond, span: start });
+            } else if p.is_kw("impossible") && p.peek_at(1) != Tok::Arrow && p.peek_at(1) != Tok::Dot {
+                p.bump();
+                let events = p.path_list("an event")?;
+                p.expect(Tok::Semi, "`;`")?;
+                st.items.push(StateItem::Impossible { events, span: start });
+            } else {
+                let event = p.path("an event, `forbid` or `impossible`")?;
+                p.expect(Tok::Arrow, "`->`")?;
+                let (target, target_span) = p.ident("a target state")?;
+                let cond = p.opt_cond()?;
+                p.expect(Tok::Semi, "`;`")?;
+                let span = event.span;
+                st.items.push(StateItem::Trans { event, target, target_span, cond, span });
+            }
+            Ok(())
+        })?;
+        Ok(st)
+    }
+
+    fn opt_cond(&mut self) -> PResult<Option<CondExpr>> {
+        if !self.is_kw("if") {
+            return Ok(None);
+        }
+        self.bump();
+        self.expect(Tok::LBracket, "`[` to open the condition")?;
+        let c = self.cond_or(0)?;
+        self.expect(Tok::RBracket, "`]` to close the condition")?;
+        Ok(Some(c))
+    }
+
+    fn cond_or(&mut self, depth: usize) -> PResult<CondExpr> {
+        let mut l = self.cond_and(depth)?;
+        while self.is_kw("or") {
+            self.bump();
+            let r = self.cond_and(depth)?;
+            l = CondExpr::Or(Box::new(l), Box::new(r));
+        }
+        Ok(l)
+    }
+
+    fn cond_and(&mut self, depth: usize) -> PResult<CondExpr> {
+        let mut l = self.cond_unary(depth)?;
+        while self.is_kw("and") {
+            self.bump();
+            let r = self.cond_unary(depth)?;
+            l = CondExpr::And(Box::new(l), Box::new(r));
+        }
+        Ok(l)
+    }
+
+    fn cond_unary(&mut self, depth: usize) -> PResult<CondExpr> {
+        if depth > 64 {
+            return self.err("a shallower condition (nesting limit 64)");
+        }
+        if self.is_kw("not") {
+            self.bump();
+            return Ok(CondExpr::Not(Box::new(self.cond_unary(depth + 1)?)));
+        }
+        if self.peek() == Tok::LParen {
+            self.bump();
+            let c = self.cond_or(depth + 1)?;
+            self.expect(Tok::RParen, "`)`")?;
+            return Ok(c);
+        }
+        if self.is_kw("true") {
+            self.bump();
+            return Ok(CondExpr::True);
+        }
+        if self.is_kw("false") {
+            self.bump();
+            return Ok(CondExpr::False);
+        }
+        Ok(CondExpr::State(self.path("a state such as `Heater.on`")?))
+    }
+
+    fn instance(&mut self) -> PResult<InstanceDecl> {
+        self.bump();
+        let (name, name_span) = self.ident("an instance name")?;
+        self.expect(Tok::Colon, "`:` and the template name")?;
+        let template = self.path("a template name")?;
+        let mut inst = InstanceDecl { name, name_span, template, bindings: Vec::new() };
+        if self.peek() == Tok::Semi {
+            self.bump();
+            return Ok(inst);
+        }
+        self.block(|p| {
+            let lhs = p.path("a namespace or binding event")?;
+            p.expect(Tok::Eq, "`=`")?;
+            let rhs = p.path("a module or event")?;
+            p.expect(Tok::Semi, "`;`")?;
+            inst.bindings.push(Binding { lhs, rhs });
+            Ok(())
+        })?;
+        Ok(inst)
+    }
+}
+
+fn unescape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    let mut it = s.chars();
+    while let Some(c) = it.next() {
+        if c == '\\' {
+            match it.next() {
+                Some('n') => out.push('\n'),
+                Some('t') => out.push('\t'),
+                Some(o) => out.push(o),
+                None => {}
+            }
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}

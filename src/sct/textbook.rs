@@ -1,0 +1,165 @@
+//! Classic textbook problems rebuilt from their published definitions (Wonham's course notes,
+//! "Supervisory Control of Discrete-Event Systems"): the small factory and the transfer line.
+//! Each function returns the plant, the specification and the shared event table.
+
+use super::classic::{product, Automaton, AutomatonBuilder, EventId, Events};
+
+/// Builds an automaton from `(from, event, to)` triples over named states; the first state
+/// listed in `states` is initial, `marked` lists the marked ones.
+pub fn build(events: &Events, alphabet: &[&str], states: &[&str], marked: &[&str], trans: &[(&str, &str, &str)]) -> Automaton {
+    let mut b = AutomatonBuilder::new();
+    for a in alphabet {
+        b.add_event(events.get(a).expect("event declared"));
+    }
+    for s in states {
+        b.add_state(*s, marked.contains(s));
+    }
+    let id = |n: &str| states.iter().position(|s| *s == n).expect("state declared") as u32;
+    for (f, e, t) in trans {
+        b.add_transition(id(f), events.get(e).expect("event declared"), id(t));
+    }
+    b.set_init(0);
+    b.build().expect("textbook automaton is deterministic")
+}
+
+fn declare(events: &mut Events, controllable: &[&str], uncontrollable: &[&str]) {
+    for c in controllable {
+        events.intern(c, true);
+    }
+    for u in uncontrollable {
+        events.intern(u, false);
+    }
+}
+
+/// A machine `I -start-> W -finish-> I`, with optional breakdown `W -brk-> D -rep-> I`.
+fn machine(events: &Events, start: &str, finish: &str, brk: Option<(&str, &str)>) -> Automaton {
+    match brk {
+        None => build(events, &[start, finish], &["I", "W"], &["I"], &[("I", start, "W"), ("W", finish, "I")]),
+        Some((b, r)) => build(
+            events,
+            &[start, finish, b, r],
+            &["I", "W", "D"],
+            &["I"],
+            &[("I", start, "W"), ("W", finish, "I"), ("W", b, "D"), ("D", r, "I")],
+        ),
+    }
+}
+
+/// Wonham's small factory: two machines with breakdown and repair, a buffer of capacity one
+/// between them (BUFSPEC) and priority of repair for the second machine (BRSPEC).
+/// Events: `a_i` start (c), `b_i` finish (u), `l_i` breakdown (u), `m_i` repair (c).
+/// The published supervisor has 12 states and 24 transitions.
+pub fn small_factory() -> (Automaton, Automaton, Events) {
+    let mut ev = Events::new();
+    declare(&mut ev, &["a1", "m1", "a2", "m2"], &["b1", "l1", "b2", "l2"]);
+    let m1 = machine(&ev, "a1", "b1", Some(("l1", "m1")));
+    let m2 = machine(&ev, "a2", "b2", Some(("l2", "m2")));
+    let plant = product(&m1, &m2, ev.len()).automaton;
+    let buf = build(&ev, &["b1", "a2"], &["0", "1"], &["0"], &[("0", "b1", "1"), ("1", "a2", "0")]);
+    let br = build(&ev, &["l2", "m2", "m1"], &["0", "1"], &["0"], &[("0", "l2", "1"), ("1", "m2", "0"), ("0", "m1", "0")]);
+    let spec = product(&buf, &br, ev.len()).automaton;
+    (plant, spec, ev)
+}
+
+/// A buffer counting `up` events in and `down` events out, holding at most `cap` pieces;
+/// every count is marked only at zero.
+pub fn buffer(events: &Events, up: &[&str], down: &[&str], cap: usize) -> Automaton {
+    let mut b = AutomatonBuilder::new();
+    let ups: Vec<EventId> = up.iter().map(|e| events.get(e).expect("declared")).collect();
+    let downs: Vec<EventId> = down.iter().map(|e| events.get(e).expect("declared")).collect();
+    for &e in ups.iter().chain(&downs) {
+        b.add_event(e);
+    }
+    for k in 0..=cap {
+        b.add_state(k.to_string(), k == 0);
+    }
+    for k in 0..=cap as u32 {
+        if (k as usize) < cap {
+            for &u in &ups {
+                b.add_transition(k, u, k + 1);
+            }
+        }
+        if k > 0 {
+            for &d in &downs {
+                b.add_transition(k, d, k - 1);
+            }
+        }
+    }
+    b.set_init(0);
+    b.build().expect("buffer is deterministic")
+}
+
+/// Wonham's transfer line: machines M1, M2 and test unit TU; buffer B1 (capacity `c1`) fed by
+/// M1's output (2) and TU's rejects (60), emptied by M2 (3); buffer B2 (capacity `c2`) fed by
+/// M2 (4), emptied by TU (5). Controllable: 1, 3, 5; uncontrollable: 2, 4, 60, 80.
+/// With capacities 3 and 1 the published supervisor has 28 states and 65 transitions.
+pub fn transfer_line(c1: usize, c2: usize) -> (Automaton, Automaton, Events) {
+    let mut ev = Events::new();
+    declare(&mut ev, &["1", "3", "5"], &["2", "4", "60", "80"]);
+    let m1 = machine(&ev, "1", "2", None);
+    let m2 = machine(&ev, "3", "4", None);
+    let tu = build(&ev, &["5", "60", "80"], &["I", "W"], &["I"], &[("I", "5", "W"), ("W", "60", "I"), ("W", "80", "I")]);
+    let plant = product(&product(&m1, &m2, ev.len()).automaton, &tu, ev.len()).automaton;
+    let b1 = buffer(&ev, &["2", "60"], &["3"], c1);
+    let b2 = buffer(&ev, &["4"], &["5"], c2);
+    let spec = product(&b1, &b2, ev.len()).automaton;
+    (plant, spec, ev)
+}
+
+/// The transfer-line family of [`super::transfer`] as a classic problem: the plant is the
+/// product of all machines and test units, the specification the product of all buffers
+/// (marked when empty). Used to compare SupCon times with libFAUDES on identical inputs.
+pub fn transfer_lines_classic(k: usize, m: usize, cap: usize) -> (Automaton, Automaton, Events) {
+    let mut ev = Events::new();
+    let dev = |i: usize, j: usize| if j == m + 1 { format!("TL{i}.TU") } else { format!("TL{i}.M{j}") };
+    for i in 1..=k {
+        for j in 1..=m + 1 {
+            ev.intern(&format!("{}.start", dev(i, j)), true);
+            if j == m + 1 {
+                ev.intern(&format!("{}.reject", dev(i, j)), false);
+                ev.intern(&format!("{}.accept", dev(i, j)), false);
+            } else {
+                ev.intern(&format!("{}.finish", dev(i, j)), false);
+            }
+        }
+    }
+    let mut plant: Option<Automaton> = None;
+    for i in 1..=k {
+        for j in 1..=m + 1 {
+            let d = dev(i, j);
+            let (s, names) = (format!("{d}.start"), [format!("{d}.finish"), format!("{d}.reject"), format!("{d}.accept")]);
+            let a = if j == m + 1 {
+                build(&ev, &[&s, &names[1], &names[2]], &["I", "W"], &["I"], &[("I", &s, "W"), ("W", &names[1], "I"), ("W", &names[2], "I")])
+            } else {
+                build(&ev, &[&s, &names[0]], &["I", "W"], &["I"], &[("I", &s, "W"), ("W", &names[0], "I")])
+            };
+            plant = Some(match plant {
+                None => a,
+                Some(p) => product(&p, &a, ev.len()).automaton,
+            });
+        }
+    }
+    let mut spec: Option<Automaton> = None;
+    for i in 1..=k {
+        for j in 1..=m {
+            let mut ins = vec![format!("{}.finish", dev(i, j))];
+            if j == 1 {
+                ins.push(format!("TL{i}.TU.reject"));
+            }
+            let outs = [format!("{}.start", dev(i, j + 1))];
+            let ins: Vec<&str> = ins.iter().map(String::as_str).collect();
+            let outs: Vec<&str> = outs.iter().map(String::as_str).collect();
+            let b = buffer(&ev, &ins, &outs, cap);
+            spec = Some(match spec {
+                None => b,
+                Some(s) => product(&s, &b, ev.len()).automaton,
+            });
+        }
+        if i < k {
+            let (a, s) = (format!("TL{i}.TU.accept"), format!("TL{}.M1.start", i + 1));
+            let b = buffer(&ev, &[&a], &[&s], cap);
+            spec = Some(product(spec.as_ref().expect("k >= 1"), &b, ev.len()).automaton);
+        }
+    }
+    (plant.expect("k >= 1"), spec.expect("k >= 1"), ev)
+}

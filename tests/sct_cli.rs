@@ -1,0 +1,75 @@
+//! The `supervise`, `supcon` and `bench sct` commands, run as a user would.
+
+use std::process::Command;
+
+fn plcsynth(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_plcsynth")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap();
+    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
+}
+
+#[test]
+fn supervise_prints_one_line_per_supervisor() {
+    let (code, out, err) = plcsynth(&["supervise", "examples/sct/tank_preemption.sct"]);
+    assert_eq!(code, 0, "{err}");
+    let line = out.lines().find(|l| l.starts_with("Safety.NoOverflow")).expect(&out);
+    assert!(line.contains("yes") && line.contains("Tank.closeInlNow"), "{line}");
+}
+
+#[test]
+fn supervise_json_serialises_supervisors() {
+    let (code, out, err) = plcsynth(&["supervise", "examples/sct/transfer_line_2x2.sct", "--method", "monolithic", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["method"], "monolithic");
+    let sups = v["supervisors"].as_array().unwrap();
+    assert_eq!(sups.len(), 5);
+    for s in sups {
+        assert_eq!(s["realizable"], true);
+        assert_eq!(s["automaton"].as_array().unwrap().len() as u64, s["states"].as_u64().unwrap());
+        assert!(s["millis"].as_f64().unwrap() >= 0.0);
+    }
+}
+
+#[test]
+fn supervise_bad_input_exits_2_with_located_diagnostics() {
+    let dir = std::env::temp_dir().join(format!("plcsynth-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("bad.sct");
+    std::fs::write(&f, "event a : controllable;\nspec H { state s { forbid b; } }\n").unwrap();
+    let (code, _, err) = plcsynth(&["supervise", f.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("bad.sct:2:27: error: unknown event `b`"), "{err}");
+    assert!(err.contains("2 | spec H { state s { forbid b; } }"), "{err}");
+    let (code, _, err) = plcsynth(&["supervise", dir.join("missing.sct").to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+}
+
+#[test]
+fn supcon_reads_and_writes_gen_files() {
+    let dir = std::env::temp_dir().join(format!("plcsynth-cli-gen-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (plant, spec, ev) = plcsynth::sct::textbook::transfer_line(3, 1);
+    use plcsynth::sct::gen::write_gen;
+    std::fs::write(dir.join("p.gen"), write_gen(&plant, &ev, "TL")).unwrap();
+    std::fs::write(dir.join("s.gen"), write_gen(&spec, &ev, "BUF")).unwrap();
+    let out = dir.join("sup.gen");
+    let (code, stdout, err) = plcsynth(&["supcon", dir.join("p.gen").to_str().unwrap(), dir.join("s.gen").to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.starts_with("SupCon: 28 states, 65 transitions"), "{stdout}");
+    let mut ev2 = plcsynth::sct::classic::Events::new();
+    let sup = plcsynth::sct::gen::read_gen(&std::fs::read_to_string(&out).unwrap(), &mut ev2).unwrap();
+    assert_eq!((sup.num_states(), sup.num_transitions()), (28, 65));
+    std::fs::write(dir.join("bad.gen"), "<Generator> <Alphabet> a </Alphabet> <States> 1 </States>\n<TransRel> 1 zz 1 </TransRel> </Generator>").unwrap();
+    let (code, _, err) = plcsynth(&["supcon", dir.join("bad.gen").to_str().unwrap(), dir.join("s.gen").to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("bad.gen:2:14: error: event `zz` is not in the alphabet"), "{err}");
+}
+
+#[test]
+fn bench_sct_prints_thesis_figures_beside_ours() {
+    let (code, out, err) = plcsynth(&["bench", "sct", "--runs", "1", "--no-faudes"]);
+    assert_eq!(code, 0, "{err}");
+    let row = out.lines().find(|l| l.starts_with("2 x 2 ")).expect(&out);
+    assert!(row.contains("164") && row.contains("38"), "{row}");
+    assert!(out.contains("50 x 4"), "{out}");
+}

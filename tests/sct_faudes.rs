@@ -1,0 +1,157 @@
+//! Cross-check against libFAUDES: random plant/specification pairs are solved by plcsynth and
+//! by libFAUDES (`SupCon`, `SupConClosed`, `StateMin`, `LanguageEquality`), side by side.
+//!
+//! Needs the virtualenv created by `scripts/python-checkers.sh` (run by `make test`). Without
+//! it the test fails and says so: a silently skipped comparison proves nothing.
+
+use plcsynth::sct::classic::{
+    is_controllable, language_equal, minimize, product, supcon, Automaton, AutomatonBuilder, EventId, Events,
+};
+use plcsynth::sct::gen::write_gen;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// xorshift64*: a tiny deterministic generator so that every run sees the same cases.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+    fn below(&mut self, n: u64) -> u64 {
+        self.next() % n.max(1)
+    }
+    fn chance(&mut self, p: f64) -> bool {
+        (self.next() >> 11) as f64 / (1u64 << 53) as f64 <= p
+    }
+}
+
+fn random_automaton(
+    rng: &mut Rng,
+    ev: &Events,
+    alphabet: &[EventId],
+    states: usize,
+    density: (f64, f64),
+    marked: f64,
+) -> Automaton {
+    let mut b = AutomatonBuilder::new();
+    for &e in alphabet {
+        b.add_event(e);
+    }
+    for s in 0..states {
+        b.add_state(format!("q{s}"), rng.chance(marked));
+    }
+    // A spanning tree first, so that every state is reachable, then random extra transitions.
+    let mut taken = std::collections::HashSet::new();
+    for s in 1..states as u32 {
+        for _ in 0..8 {
+            let from = rng.below(s as u64) as u32;
+            let e = alphabet[rng.below(alphabet.len() as u64) as usize];
+            if taken.insert((from, e)) {
+                b.add_transition(from, e, s);
+                break;
+            }
+        }
+    }
+    for s in 0..states as u32 {
+        for &e in alphabet {
+            if taken.contains(&(s, e)) {
+                continue;
+            }
+            let d = if ev.is_controllable(e) { density.0 } else { density.1 };
+            if rng.chance(d) {
+                let t = rng.below(states as u64) as u32;
+                taken.insert((s, e));
+                b.add_transition(s, e, t);
+            }
+        }
+    }
+    b.set_init(0);
+    b.build().unwrap()
+}
+
+fn venv_python() -> PathBuf {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let py = root.join(".venv/bin/python");
+    let ok = py.exists()
+        && Command::new(&py).args(["-c", "import faudes"]).output().map(|o| o.status.success()).unwrap_or(false);
+    assert!(
+        ok,
+        "libFAUDES is not installed in {}: run `scripts/python-checkers.sh` (or `make test`) first",
+        root.join(".venv").display()
+    );
+    py
+}
+
+#[test]
+fn supcon_agrees_with_libfaudes_on_random_problems() {
+    let py = venv_python();
+    let dir = std::env::temp_dir().join(format!("plcsynth-sct-faudes-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut rng = Rng(0x5EED_0005_u64);
+    let mut manifest = String::new();
+    let mut ours_min = Vec::new();
+    let cases = 240;
+    let mut nontrivial = 0;
+    let mut empty = 0;
+    for case in 0..cases {
+        let mut ev = Events::new();
+        let n_events = 2 + rng.below(6) as usize;
+        let ratio = [0.0, 0.25, 0.5, 0.75, 1.0][case % 5];
+        let alphabet: Vec<EventId> = (0..n_events).map(|i| ev.intern(&format!("e{i}"), rng.chance(ratio))).collect();
+        let plant_states = 2 + rng.below([4, 12, 40][case % 3]) as usize;
+        let spec_states = 1 + rng.below(6) as usize;
+        let density = [0.3, 0.5, 0.8][(case / 3) % 3];
+        let plant = random_automaton(&mut rng, &ev, &alphabet, plant_states, (density, density * 0.6), 0.75);
+        // Specifications are more permissive on uncontrollable events, so that synthesis has
+        // something to keep in most cases.
+        let spec = random_automaton(&mut rng, &ev, &alphabet, spec_states, (0.7, [0.9, 0.97, 1.0][(case / 5) % 3]), 0.8);
+        let sup = supcon(&plant, &spec, &ev, true).unwrap();
+        let supc = supcon(&plant, &spec, &ev, false).unwrap();
+        // Our own checks against the definitions.
+        assert!(is_controllable(&plant, &sup, &ev), "case {case}: SupCon result not controllable");
+        assert!(is_controllable(&plant, &supc, &ev), "case {case}: SupConClosed result not controllable");
+        assert!(sup.is_nonblocking(), "case {case}: SupCon result blocks");
+        let both = product(&plant, &spec, ev.len()).automaton;
+        let inside = product(&both, &sup, ev.len()).automaton;
+        assert!(language_equal(&minimize(&inside), &minimize(&sup)), "case {case}: result not inside plant||spec");
+        let min = minimize(&sup);
+        let restricted_nb = sup.num_states() > 0 && !language_equal(&minimize(&sup), &minimize(&both.trim()));
+        let restricted_closed = supc.num_states() > 0 && !language_equal(&minimize(&supc), &minimize(&both));
+        if restricted_nb || restricted_closed {
+            nontrivial += 1;
+        }
+        if sup.num_states() == 0 {
+            empty += 1;
+        }
+        ours_min.push(if sup.init().is_some() { min.num_states() } else { 0 });
+        let d = dir.join(format!("case{case:03}"));
+        std::fs::create_dir_all(&d).unwrap();
+        std::fs::write(d.join("plant.gen"), write_gen(&plant, &ev, "plant")).unwrap();
+        std::fs::write(d.join("spec.gen"), write_gen(&spec, &ev, "spec")).unwrap();
+        std::fs::write(d.join("sup.gen"), write_gen(&sup, &ev, "sup")).unwrap();
+        std::fs::write(d.join("supc.gen"), write_gen(&supc, &ev, "supc")).unwrap();
+        manifest.push_str(&format!("{}\n", d.display()));
+    }
+    eprintln!("{cases} cases: {nontrivial} restricted by synthesis, {empty} empty supervisors");
+    assert!(nontrivial >= 12 && empty <= cases / 2, "too few informative cases: {nontrivial} restricted, {empty} empty");
+    let mpath = dir.join("manifest.txt");
+    std::fs::write(&mpath, manifest).unwrap();
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/faudes_check.py");
+    let out = Command::new(&py).arg(&script).arg(&mpath).output().unwrap();
+    assert!(out.status.success(), "libFAUDES checker failed: {}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<serde_json::Value> = text.lines().filter(|l| l.starts_with('{')).map(|l| serde_json::from_str(l).unwrap()).collect();
+    assert_eq!(lines.len(), cases, "checker answered {} of {cases} cases", lines.len());
+    for (case, v) in lines.iter().enumerate() {
+        for key in ["marked_eq", "closure_eq", "closed_gen_eq", "closed_marked_eq"] {
+            assert_eq!(v[key], serde_json::Value::Bool(true), "case {case}: libFAUDES disagrees on {key}: {v}");
+        }
+        let faudes_min = v["faudes_min_states"].as_u64().unwrap() as usize;
+        assert_eq!(faudes_min, ours_min[case], "case {case}: minimal state counts differ: {v}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
