@@ -2,11 +2,13 @@
 # Every install step is idempotent and works as root on a fresh machine.
 
 CARGO ?= cargo
+PORT ?= 8080
 
-.PHONY: test test-native checkers
+.PHONY: test test-native test-wasm test-browser serve web web-setup browser-setup checkers
 
-## Run every test: native unit, integration and property tests, against the independent checkers.
-test: test-native
+## Run every test: native (against the independent checkers), wasm-bindgen-test (in Node) and
+## the browser tests (in Chromium).
+test: test-native test-wasm test-browser
 
 ## Independent checkers (libFAUDES, blark, awlsim in .venv; xmllint from Debian).
 checkers:
@@ -15,3 +17,27 @@ checkers:
 test-native: checkers
 	$(CARGO) test --all-targets --release
 	$(CARGO) test --doc --release
+
+## Install what the playground needs (wasm32 target, wasm-bindgen-cli, npm packages).
+web-setup:
+	bash scripts/setup-web.sh
+
+browser-setup:
+	bash scripts/setup-web.sh --browser
+
+## Build the static playground into www/pkg and www/dist.
+web: web-setup
+	bash scripts/build-web.sh
+
+## Serve the playground at http://localhost:$(PORT) (static files only).
+serve: web
+	@echo "plcsynth playground: http://localhost:$(PORT)/"
+	python3 -m http.server --bind 127.0.0.1 --directory www $(PORT)
+
+## The wasm boundary, tested with wasm-bindgen-test in Node.
+test-wasm: web-setup
+	$(CARGO) test --target wasm32-unknown-unknown --no-default-features --test wasm_api
+
+## The page in headless Chromium (playwright-core); screenshots go to target/screenshots.
+test-browser: browser-setup web
+	node --test --test-concurrency=1 tests/browser/

@@ -12,4 +12,6 @@ pub mod plc;
 pub mod program;
 pub mod sct;
 pub mod timed;
+#[cfg(target_arch = "wasm32")]
+pub mod wasm;
 pub mod zone;

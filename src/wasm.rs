@@ -1,0 +1,443 @@
+//! The WebAssembly boundary of the playground: the only module that knows wasm-bindgen.
+//!
+//! Everything crosses as plain JS values made by serde-wasm-bindgen (JSON-compatible: `None`
+//! becomes `null`). Shapes are documented in `docs/playground.md`. Engines stay free of I/O and
+//! of the browser; this module only adapts their results. Nothing here reads a clock
+//! (`std::time::Instant` panics on `wasm32-unknown-unknown`): the page measures time.
+
+use crate::diag::Diagnostic;
+use crate::plc::{self, Target};
+use crate::program::{self, Program};
+use crate::timed::explain::{describe_edge, describe_state, dump, removal_text};
+use crate::timed::export::{self, SpaceView, StateView, TransitionView};
+use crate::timed::model::Game;
+use crate::timed::solve::{SolveOptions, StateId, Stats, Verdict};
+use crate::timed::{self, Synthesis};
+use serde::{Deserialize, Serialize};
+use std::cell::OnceCell;
+use std::collections::{HashMap, VecDeque};
+use wasm_bindgen::prelude::*;
+
+const NONE: u32 = u32::MAX;
+
+fn to_js<T: Serialize + ?Sized>(value: &T) -> Result<JsValue, JsValue> {
+    value.serialize(&serde_wasm_bindgen::Serializer::json_compatible()).map_err(|e| JsValue::from_str(&e.to_string()))
+}
+
+/// Installs the panic hook, so that a panic reaches the console with its message.
+#[wasm_bindgen(start)]
+pub fn start() {
+    console_error_panic_hook::set_once();
+}
+
+/// The crate version, shown in the page footer.
+#[wasm_bindgen]
+pub fn version() -> String {
+    env!("CARGO_PKG_VERSION").to_string()
+}
+
+/// Syntax diagnostics only: `Diagnostic[]`.
+#[wasm_bindgen]
+pub fn parse(source: &str) -> Result<JsValue, JsValue> {
+    to_js(&timed::parse(source).diagnostics)
+}
+
+#[derive(Serialize)]
+struct CheckResult<'a> {
+    ok: bool,
+    diagnostics: &'a [Diagnostic],
+}
+
+/// Syntax and semantic check: `{ ok, diagnostics }` (warnings included when `ok`).
+#[wasm_bindgen]
+pub fn check(source: &str) -> Result<JsValue, JsValue> {
+    match timed::compile(source) {
+        Ok((_, warnings)) => to_js(&CheckResult { ok: true, diagnostics: &warnings }),
+        Err(errors) => to_js(&CheckResult { ok: false, diagnostics: &errors }),
+    }
+}
+
+/// Options of [`Session::solve`]; every field is optional.
+#[derive(Deserialize, Default)]
+#[serde(rename_all = "camelCase", default)]
+struct JsSolveOptions {
+    max_states: Option<usize>,
+    progress_interval: Option<usize>,
+}
+
+#[derive(Serialize)]
+struct SolveSummary {
+    verdict: Verdict,
+    stats: Stats,
+    /// Present when the verdict is `unrealizable`.
+    explanation_depth: Option<u32>,
+}
+
+/// A code target of the page's menu.
+#[derive(Serialize)]
+struct TargetInfo {
+    /// `program` (the intermediate language) or a [`Target`] name.
+    id: &'static str,
+    label: &'static str,
+    extension: &'static str,
+}
+
+const TARGET_LABELS: [(Target, &str); 6] = [
+    (Target::St, "Structured Text (IEC 61131-3)"),
+    (Target::Scl, "SCL (Siemens S7-1200/1500)"),
+    (Target::Codesys, "CODESYS / TwinCAT ST"),
+    (Target::Il, "Instruction List (IEC 61131-3)"),
+    (Target::Stl, "S7 STL / AWL"),
+    (Target::Plcopen, "PLCopen TC6 XML"),
+];
+
+/// The code targets: the intermediate program first, then every PLC back end.
+#[wasm_bindgen]
+pub fn targets() -> Result<JsValue, JsValue> {
+    let mut list = vec![TargetInfo { id: "program", label: "Intermediate program (thesis notation)", extension: "txt" }];
+    for target in Target::ALL {
+        let label = TARGET_LABELS.iter().find(|(t, _)| *t == target).map_or(target.name(), |(_, l)| l);
+        list.push(TargetInfo { id: target.name(), label, extension: target.extension() });
+    }
+    to_js(&list)
+}
+
+#[derive(Serialize)]
+struct GeneratedCode {
+    target: String,
+    extension: &'static str,
+    code: String,
+}
+
+/// What the winning strategy does in one of its states.
+#[derive(Serialize)]
+struct StrategyChoice {
+    state: StateId,
+    /// `request` or `wait`.
+    choice: &'static str,
+    /// For a request: its target state and its label (as in `TransitionView::label`).
+    to: Option<StateId>,
+    label: Option<String>,
+}
+
+/// One row of the state explorer.
+#[derive(Serialize)]
+struct StateRow {
+    id: StateId,
+    text: String,
+    winning: bool,
+    initial: bool,
+}
+
+#[derive(Serialize)]
+struct StateSearch {
+    /// How many states match (the rows are the first `limit` of them).
+    total: usize,
+    rows: Vec<StateRow>,
+}
+
+/// A compiled specification and, once solved, its synthesis.
+#[wasm_bindgen]
+pub struct Session {
+    source: String,
+    game: Game,
+    warnings: Vec<Diagnostic>,
+    synthesis: Option<Synthesis>,
+    /// Predecessors of every state, built on the first `neighbourhood` query after a solve.
+    incoming: OnceCell<Vec<Vec<StateId>>>,
+    /// The optimised controller program, built on the first `program`/`code` call after a solve.
+    program: OnceCell<Option<Program>>,
+}
+
+#[wasm_bindgen]
+impl Session {
+    /// Compiles `source`; throws `{ diagnostics: Diagnostic[] }` when it has errors.
+    #[wasm_bindgen(constructor)]
+    pub fn new(source: &str) -> Result<Session, JsValue> {
+        match timed::compile(source) {
+            Ok((game, warnings)) => Ok(Session {
+                source: source.to_string(),
+                game,
+                warnings,
+                synthesis: None,
+                incoming: OnceCell::new(),
+                program: OnceCell::new(),
+            }),
+            Err(errors) => Err(to_js(&CheckResult { ok: false, diagnostics: &errors })?),
+        }
+    }
+
+    /// The warnings of the compilation: `Diagnostic[]`.
+    pub fn warnings(&self) -> Result<JsValue, JsValue> {
+        to_js(&self.warnings)
+    }
+
+    /// Plant units and plans: `AutomatonView[]`.
+    pub fn automata(&self) -> Result<JsValue, JsValue> {
+        to_js(&export::automata(&self.game))
+    }
+
+    /// Solves the game. `options`: `{ maxStates?, progressInterval? }`; `progress`, if given, is
+    /// called with `Stats` every `progressInterval` expansions, and a return value of `false`
+    /// cancels the run. Returns `{ verdict, stats, explanation_depth }`.
+    pub fn solve(&mut self, options: JsValue, progress: Option<js_sys::Function>) -> Result<JsValue, JsValue> {
+        let opts: JsSolveOptions = if options.is_undefined() || options.is_null() {
+            JsSolveOptions::default()
+        } else {
+            serde_wasm_bindgen::from_value(options).map_err(|e| JsValue::from_str(&format!("bad solve options: {e}")))?
+        };
+        let defaults = SolveOptions::default();
+        let options = SolveOptions {
+            max_states: opts.max_states.unwrap_or(defaults.max_states),
+            progress_interval: opts.progress_interval.unwrap_or(defaults.progress_interval).max(1),
+        };
+        let mut callback_error = None;
+        let mut report = |stats: &Stats| -> bool {
+            let Some(f) = &progress else { return true };
+            let value = match to_js(stats) {
+                Ok(v) => v,
+                Err(e) => {
+                    callback_error = Some(e);
+                    return false;
+                }
+            };
+            match f.call1(&JsValue::NULL, &value) {
+                Ok(answer) => answer.as_bool() != Some(false),
+                Err(e) => {
+                    callback_error = Some(e);
+                    false
+                }
+            }
+        };
+        let synthesis = timed::synthesize(&self.game, &options, &mut report);
+        if let Some(e) = callback_error {
+            return Err(e);
+        }
+        let summary = SolveSummary {
+            verdict: synthesis.solution.verdict,
+            stats: synthesis.solution.stats,
+            explanation_depth: synthesis.explanation.as_ref().map(|e| e.depth),
+        };
+        self.synthesis = Some(synthesis);
+        self.incoming = OnceCell::new();
+        self.program = OnceCell::new();
+        to_js(&summary)
+    }
+
+    fn synthesis(&self) -> Result<&Synthesis, JsValue> {
+        self.synthesis.as_ref().ok_or_else(|| JsValue::from_str("not solved yet: call solve() first"))
+    }
+
+    /// The explored space, at most `limit` states breadth-first from the initial one: `SpaceView`.
+    pub fn space(&self, limit: usize) -> Result<JsValue, JsValue> {
+        to_js(&export::space(&self.game, self.synthesis()?, limit))
+    }
+
+    /// Why the initial state is lost, as a tree: `Explanation | null`.
+    pub fn explanation(&self) -> Result<JsValue, JsValue> {
+        to_js(&self.synthesis()?.explanation)
+    }
+
+    /// The explanation as indented text, or `undefined` when there is none.
+    #[wasm_bindgen(js_name = explanationText)]
+    pub fn explanation_text(&self) -> Result<Option<String>, JsValue> {
+        Ok(self.synthesis()?.explanation.as_ref().map(|e| e.render()))
+    }
+
+    /// The whole explored state space as text, one line per state and per edge.
+    pub fn dump(&self) -> Result<String, JsValue> {
+        let s = self.synthesis()?;
+        Ok(dump(&self.game, &s.split, &s.solution.space))
+    }
+
+    /// Searches the states whose description contains every word of `query` (case-insensitive).
+    /// `filter`: `all`, `winning` or `removed`. Returns `{ total, rows: StateRow[] }` with at
+    /// most `limit` rows, in state order.
+    pub fn states(&self, query: &str, filter: &str, limit: usize) -> Result<JsValue, JsValue> {
+        let s = self.synthesis()?;
+        let space = &s.solution.space;
+        let words: Vec<String> = query.split_whitespace().map(str::to_lowercase).collect();
+        let mut total = 0;
+        let mut rows = Vec::new();
+        for id in 0..space.states.len() as StateId {
+            let winning = space.is_winning(id);
+            if (filter == "winning" && !winning) || (filter == "removed" && winning) {
+                continue;
+            }
+            // Describing a state costs; without a query only the listed rows need it.
+            let text = if words.is_empty() {
+                None
+            } else {
+                let text = describe_state(&self.game, &s.split, space, id);
+                let lower = format!("s{id} {}", text.to_lowercase());
+                if !words.iter().all(|w| lower.contains(w.as_str())) {
+                    continue;
+                }
+                Some(text)
+            };
+            total += 1;
+            if rows.len() < limit {
+                let text = text.unwrap_or_else(|| describe_state(&self.game, &s.split, space, id));
+                rows.push(StateRow { id, text, winning, initial: id == space.initial });
+            }
+        }
+        to_js(&StateSearch { total, rows })
+    }
+
+    /// The states within `k` steps of `state` (following edges both ways), at most `limit` of
+    /// them, with the edges among them: a `SpaceView` whose `truncated` tells if `limit` cut it.
+    pub fn neighbourhood(&self, state: StateId, k: u32, limit: usize) -> Result<JsValue, JsValue> {
+        let s = self.synthesis()?;
+        let space = &s.solution.space;
+        let n = space.states.len();
+        if state as usize >= n {
+            return Err(JsValue::from_str(&format!("no state s{state}")));
+        }
+        let incoming = self.incoming.get_or_init(|| {
+            let mut incoming = vec![Vec::new(); n];
+            for e in &space.edges {
+                if e.to != NONE {
+                    incoming[e.to as usize].push(e.from);
+                }
+            }
+            incoming
+        });
+        let mut dist: HashMap<StateId, u32> = HashMap::from([(state, 0)]);
+        let mut order = vec![state];
+        let mut queue = VecDeque::from([state]);
+        let mut cut = false;
+        'bfs: while let Some(x) = queue.pop_front() {
+            let d = dist[&x];
+            if d >= k {
+                continue;
+            }
+            let succ = space.out_edges(x).map(|(_, e)| e.to).filter(|&t| t != NONE);
+            let pred = incoming[x as usize].iter().copied();
+            for y in succ.chain(pred).collect::<Vec<_>>() {
+                if dist.contains_key(&y) {
+                    continue;
+                }
+                if order.len() >= limit {
+                    cut = true;
+                    break 'bfs;
+                }
+                dist.insert(y, d + 1);
+                order.push(y);
+                queue.push_back(y);
+            }
+        }
+        let states: Vec<StateView> = order.iter().map(|&x| self.state_view(s, x)).collect();
+        let mut edges = Vec::new();
+        for &x in &order {
+            for (_, e) in space.out_edges(x) {
+                if e.to != NONE && !dist.contains_key(&e.to) {
+                    continue;
+                }
+                edges.push(TransitionView {
+                    from: x,
+                    to: (e.to != NONE).then_some(e.to),
+                    kind: e.kind,
+                    label: describe_edge(&self.game, &s.split, e),
+                    zeno: e.zeno,
+                    progress: e.progress,
+                });
+            }
+        }
+        to_js(&SpaceView {
+            verdict: s.solution.verdict,
+            initial: space.initial,
+            clocks: self.game.clocks.iter().map(|c| c.name.clone()).collect(),
+            units: s.split.units.iter().map(|u| u.name.clone()).collect(),
+            states,
+            edges,
+            truncated: cut,
+            total_states: n,
+        })
+    }
+
+    /// The controller program in the thesis's notation, or `undefined` when the game is not
+    /// realizable (no controller exists, or the run stopped before deciding).
+    pub fn program(&self) -> Result<Option<String>, JsValue> {
+        Ok(self.controller()?.map(|p| p.render(&self.game)))
+    }
+
+    /// The controller as code for `target` (an id from `targets()`), the function block named
+    /// after `name`: `{ target, extension, code }`, or `null` when the game is not realizable.
+    pub fn code(&self, target: &str, name: &str) -> Result<JsValue, JsValue> {
+        let Some(program) = self.controller()? else { return Ok(JsValue::NULL) };
+        let generated = if target == "program" {
+            GeneratedCode { target: target.to_string(), extension: "txt", code: program.render(&self.game) }
+        } else {
+            let t = Target::ALL.into_iter().find(|t| t.name() == target).ok_or_else(|| JsValue::from_str(&format!("unknown target {target}")))?;
+            GeneratedCode { target: target.to_string(), extension: t.extension(), code: plc::generate(&self.game, program, t, name, &self.source) }
+        };
+        to_js(&generated)
+    }
+
+    /// The strategy the controller program follows (request selection, Peter 2005, 6.3): for
+    /// each state it reaches, the request it makes or `wait`. `{ state, choice, to, label }[]`,
+    /// initial state first, or `null` when the game is not realizable.
+    pub fn strategy(&self) -> Result<JsValue, JsValue> {
+        let s = self.synthesis()?;
+        if s.solution.verdict != Verdict::Realizable {
+            return Ok(JsValue::NULL);
+        }
+        let space = &s.solution.space;
+        let strategy = program::select::select(&self.game, space);
+        let choices: Vec<StrategyChoice> = strategy
+            .states
+            .iter()
+            .map(|&st| match strategy.choice[st as usize] {
+                program::select::Choice::Request(e) => {
+                    let edge = &space.edges[e as usize];
+                    StrategyChoice { state: st, choice: "request", to: Some(edge.to), label: Some(describe_edge(&self.game, &s.split, edge)) }
+                }
+                program::select::Choice::Wait => StrategyChoice { state: st, choice: "wait", to: None, label: None },
+            })
+            .collect();
+        to_js(&choices)
+    }
+
+    /// One state: `StateView`.
+    pub fn state(&self, state: StateId) -> Result<JsValue, JsValue> {
+        let s = self.synthesis()?;
+        if state as usize >= s.solution.space.states.len() {
+            return Err(JsValue::from_str(&format!("no state s{state}")));
+        }
+        to_js(&self.state_view(s, state))
+    }
+}
+
+impl Session {
+    fn controller(&self) -> Result<Option<&Program>, JsValue> {
+        let s = self.synthesis()?;
+        Ok(self.program.get_or_init(|| program::controller(&self.game, s)).as_ref())
+    }
+
+    /// The same view of one state as `export::space` gives.
+    fn state_view(&self, s: &Synthesis, id: StateId) -> StateView {
+        let (game, split, space) = (&self.game, &s.split, &s.solution.space);
+        let mut locations = Vec::new();
+        for (u, &sub) in space.env(id).iter().enumerate() {
+            let loc = split.units[u].sublocs[sub as usize].location;
+            locations.push(game.components[u].locations[loc as usize].name.clone());
+        }
+        for (p, &sub) in space.plan(id).iter().enumerate() {
+            let loc = split.units[split.plant_count + p].sublocs[sub as usize].location;
+            locations.push(game.plans[p].locations[loc as usize].name.clone());
+        }
+        let names: Vec<&str> = game.clocks.iter().map(|c| c.name.as_str()).collect();
+        let zone = space.zone(id);
+        let st = &space.states[id as usize];
+        StateView {
+            id,
+            locations,
+            zone: zone.display_with(&names).to_string(),
+            constraints: zone.constraints(),
+            kind: st.kind,
+            winning: st.removal.is_none(),
+            reason: st.removal.map(|r| removal_text(game, split, space, id, r)),
+            removal: st.removal,
+        }
+    }
+}

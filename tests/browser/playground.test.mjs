@@ -1,0 +1,314 @@
+// The playground in headless Chromium: `node --test tests/browser/` (after `make web`).
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { readFileSync } from 'node:fs';
+import { startServer, launch, newPage, open, shot, editorText, setEditorText, runAndWait, readExample, record } from './harness.mjs';
+
+let server;
+let browser;
+before(async () => {
+  server = await startServer();
+  browser = await launch();
+});
+after(async () => {
+  await browser?.close();
+  server?.stop();
+});
+
+const number = async (page, selector) => Number((await page.textContent(selector)).replace(/[^0-9]/g, ''));
+
+test('the lamp example runs: verdict, counts, automata, state space and zone', async () => {
+  const page = await newPage(browser, null);
+  const foreign = [];
+  page.on('request', (r) => {
+    if (!r.url().startsWith(server.url) && !/^(data|blob):/.test(r.url())) foreign.push(r.url());
+  });
+  await open(page, `${server.url}#example/lamp`);
+  assert.equal(await editorText(page), readExample('lamp'));
+  await shot(page, '01-lamp-editor');
+  assert.equal(await runAndWait(page), 'realizable');
+  const visited = await number(page, '#stat-visited');
+  const winning = await number(page, '#stat-winning');
+  const removed = await number(page, '#stat-removed');
+  assert.ok(visited > 0 && winning > 0 && winning <= visited, `visited ${visited}, winning ${winning}`);
+  assert.match(await page.textContent('#status'), new RegExp(`realizable: ${visited} states visited, ${winning} winning, ${removed} removed`));
+  await shot(page, '02-lamp-summary');
+
+  await page.click('[data-tab=automata]');
+  await page.waitForSelector('#automata section[data-name=button] svg');
+  for (const cls of ['edge-request', 'edge-reaction', 'edge-plan']) {
+    assert.ok((await page.locator(`#automata svg g.edge.${cls}`).count()) > 0, `no ${cls} edge drawn`);
+  }
+  assert.match(await page.textContent('#automata section[data-name=button]'), /c in \[0,1\)/);
+  await shot(page, '03-lamp-automata');
+
+  await page.click('[data-tab=space]');
+  await page.waitForSelector('#space-graph svg g.state');
+  assert.equal(await page.locator('#space-graph svg g.state').count(), visited, 'every state is drawn');
+  assert.equal(await page.locator('#space-graph svg g.state.removed').count(), removed);
+  assert.equal(await page.locator('#state-list li[data-id]').count(), visited);
+  // The strategy: chosen requests are highlighted; the initial state waits for the button.
+  assert.ok((await page.locator('#space-graph svg g.edge.chosen').count()) >= 2, 'the chosen requests are drawn');
+  await page.click('#state-list li[data-id="0"]');
+  await page.waitForFunction(() => /strategy: wait/.test(document.querySelector('#selected-bar').textContent));
+  const chooser = page.locator('#space-graph svg g.state.winning').filter({ hasText: 'off, pressing' }).first();
+  await chooser.click();
+  await page.waitForFunction(() => /strategy: \?turn_on → s\d+/.test(document.querySelector('#selected-bar').textContent));
+  // A removed state with a clock constraint: select it in the graph.
+  const removedWithClock = page.locator('#state-list li.removed', { hasText: 'button.c' }).first();
+  const id = Number(await removedWithClock.getAttribute('data-id'));
+  await page.click(`#space-graph svg #st-${id}`);
+  await page.waitForSelector(`#space-graph svg #st-${id}.selected`);
+  assert.match(await page.textContent('#selected-bar'), new RegExp(`s${id} removed — \\S`));
+  await page.check('#fit-graph');
+  const fitted = await page.$eval('#space-graph svg', (svg) => svg.getBoundingClientRect().width <= svg.parentElement.clientWidth + 1);
+  assert.ok(fitted, 'fit width scales the graph into its box');
+  await shot(page, '04-lamp-space');
+
+  await page.click('#selected-bar a');
+  await page.waitForSelector('#zone-title');
+  assert.match(await page.textContent('#zone-title'), new RegExp(`State s${id} .* removed`));
+  assert.match(await page.textContent('#zone-text'), /button\.c/);
+  assert.ok((await page.locator('#zone-constraints li').count()) > 0);
+  assert.equal(await page.locator('#zone svg.zone-plot polygon.zone').count(), 1, 'the zone polygon is drawn');
+  await shot(page, '05-lamp-zone');
+
+  // Code: Structured Text by default; Download gives `lamp.st` with the same text.
+  await page.click('[data-tab=code]');
+  assert.equal(await page.inputValue('#target'), 'st');
+  await page.waitForFunction(() => document.querySelector('#code').textContent.includes('FUNCTION_BLOCK'));
+  const st = await page.textContent('#code');
+  assert.match(st, /FUNCTION_BLOCK lamp\b/);
+  assert.match(st, /turn_on/);
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#download-code')]);
+  assert.equal(download.suggestedFilename(), 'lamp.st');
+  assert.equal(readFileSync(await download.path(), 'utf8'), st);
+  await shot(page, '06-lamp-code-st');
+  for (const [target, file, marker] of [['program', 'lamp.txt', /DO \(turn_on\)/], ['stl', 'lamp.awl', /turn_on/], ['plcopen', 'lamp.xml', /<project/], ['space', 'lamp.states.txt', /^s0/]]) {
+    await page.selectOption('#target', target);
+    await page.waitForFunction((m) => new RegExp(m).test(document.querySelector('#code').textContent), marker.source);
+    const [d] = await Promise.all([page.waitForEvent('download'), page.click('#download-code')]);
+    assert.equal(d.suggestedFilename(), file);
+  }
+  assert.deepEqual(foreign, [], 'no request leaves the origin');
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
+test('an unrealizable spec shows the explanation', async () => {
+  const page = await newPage(browser, `${server.url}#example/lamp_naive`);
+  await page.click('.cm-content');
+  await page.keyboard.press('Control+Enter');
+  await page.waitForSelector('#verdict');
+  assert.equal(await page.getAttribute('#verdict', 'data-verdict'), 'unrealizable');
+  const text = await page.textContent('#explanation');
+  assert.match(text, /✗/);
+  assert.match(await page.textContent('#summary'), /As the example expects \(unrealizable\)/);
+  await shot(page, '07-unrealizable-explanation');
+  // A state in the explanation opens in the state space, with its removal reason.
+  const link = page.locator('#explanation .state-link').last();
+  const id = await link.getAttribute('data-state');
+  await link.click();
+  await page.waitForSelector(`#space-graph svg #st-${id}.selected`);
+  assert.match(await page.textContent('#selected-bar'), new RegExp(`s${id} removed — `));
+  await page.click('[data-tab=code]');
+  await page.waitForFunction(() => /No controller: the spec is unrealizable/.test(document.querySelector('#code-note').textContent));
+  assert.equal(await page.textContent('#code'), '');
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
+test('share: the link restores the spec and the target in a fresh page', async () => {
+  const page = await newPage(browser, `${server.url}#example/robot_arm`, { permissions: ['clipboard-read', 'clipboard-write'] });
+  const spec = `${readExample('robot_arm')}\n// shared with ünïcode → ✓\n`;
+  await setEditorText(page, spec);
+  await page.click('[data-tab=code]');
+  await page.selectOption('#target', 'explanation');
+  await page.click('#share');
+  await page.waitForFunction(() => location.hash.startsWith('#share/v1/'));
+  const link = await page.evaluate(() => navigator.clipboard.readText());
+  assert.equal(link, await page.evaluate(() => location.href));
+  assert.match(link, /#share\/v1\/explanation\/[A-Za-z0-9_-]+$/);
+  assert.ok(link.length < spec.length, 'the spec is compressed');
+  await page.context().close();
+
+  const fresh = await newPage(browser, link);
+  assert.equal(await editorText(fresh), spec);
+  await fresh.click('[data-tab=code]');
+  assert.equal(await fresh.inputValue('#target'), 'explanation');
+  await shot(fresh, '08-shared-link');
+  assert.deepEqual(fresh.errors, []);
+  await fresh.context().close();
+});
+
+test('a syntax error is shown at its line, in the editor and the list; Run reports it', async () => {
+  const page = await newPage(browser, `${server.url}#example/lamp`);
+  await setEditorText(page, 'plant {\n  automaton a {\n    nodes x y;\n    x -> y ?go;\n  }\n}\n');
+  await page.waitForSelector('#diagnostics button.diag', { timeout: 5000 });
+  const first = page.locator('#diagnostics button.diag').first();
+  assert.equal(await first.getAttribute('data-line'), '3');
+  assert.match(await first.textContent(), /error line 3:/);
+  await page.waitForSelector('.cm-lintRange-error');
+  // The squiggle is on line 3 of the editor.
+  const squiggleLine = await page.evaluate(() => {
+    const range = document.querySelector('.cm-lintRange-error');
+    const lines = [...document.querySelectorAll('.cm-content .cm-line')];
+    return lines.findIndex((l) => l.contains(range)) + 1;
+  });
+  assert.equal(squiggleLine, 3);
+  assert.ok((await page.locator('.cm-gutter-lint .cm-lint-marker-error').count()) > 0, 'gutter marker');
+  await shot(page, '09-syntax-error');
+  await page.click('#run');
+  await page.waitForSelector('#status[data-kind=error]');
+  assert.match(await page.textContent('#status'), /error/);
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
+test('round_table_8 can be cancelled: the UI stays responsive, the worker restarts, a second run works', async () => {
+  const page = await newPage(browser, `${server.url}#example/round_table_8`);
+  await page.evaluate(() => {
+    window.longTasks = [];
+    new PerformanceObserver((list) => window.longTasks.push(...list.getEntries().map((e) => e.duration))).observe({ type: 'longtask' });
+  });
+  const generation = await page.evaluate(() => window.plcsynth.engines.solver.generation);
+  await page.click('#run');
+  await page.waitForFunction(() => /Exploring… [1-9]/.test(document.querySelector('#status').textContent), null, { timeout: 20000 });
+  // RT 8/8 takes about 3 s here: cancel well before it could finish.
+  const progress = await page.textContent('#status');
+  await shot(page, '10-rt8-running');
+  // Responsive while the search runs: the editor takes input at once.
+  const t0 = Date.now();
+  await page.click('.cm-content');
+  await page.keyboard.press('Control+End');
+  await page.keyboard.insertText('\n// typing during a search\n');
+  assert.match(await editorText(page), /typing during a search/);
+  const typingMs = Date.now() - t0;
+  await page.click('#cancel');
+  await page.waitForSelector('#status[data-kind=cancelled]', { timeout: 2000 });
+  assert.equal(await page.evaluate(() => window.plcsynth.engines.solver.generation), generation + 1, 'a new worker');
+  assert.equal(await page.isDisabled('#run'), false);
+  assert.equal(await page.isDisabled('#cancel'), true);
+  const longTasks = await page.evaluate(() => window.longTasks);
+  record('rt8_search_long_tasks_ms', { count: longTasks.length, max: Math.max(0, ...longTasks), progress, typingMs });
+  await shot(page, '11-rt8-cancelled');
+
+  await open(page, `${server.url}#example/lamp`);
+  await page.evaluate(() => {
+    location.hash = '#example/lamp_naive';
+  });
+  await page.waitForFunction(() => window.plcsynth.name === 'lamp_naive');
+  assert.equal(await runAndWait(page), 'unrealizable', 'the restarted worker solves');
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
+test('cancel in the same page restarts the worker without a reload', async () => {
+  const page = await newPage(browser, `${server.url}#example/round_table_8`);
+  await page.click('#run');
+  await page.waitForFunction(() => /Exploring…/.test(document.querySelector('#status').textContent), null, { timeout: 20000 });
+  await page.click('#cancel');
+  await page.waitForSelector('#status[data-kind=cancelled]', { timeout: 2000 });
+  await setEditorText(page, readExample('lamp'));
+  assert.equal(await runAndWait(page), 'realizable');
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
+test('a budget-exceeded run shows the message and the statistics so far', async () => {
+  const page = await newPage(browser, `${server.url}#example/round_table_8`);
+  await page.fill('#max-states', '500');
+  assert.equal(await runAndWait(page), 'budget_exceeded');
+  assert.match(await page.textContent('#summary'), /more than 500 states/);
+  assert.ok((await number(page, '#stat-visited')) >= 500);
+  await shot(page, '15-budget-exceeded');
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
+test('dark theme follows the system setting', async () => {
+  const page = await newPage(browser, null);
+  await page.emulateMedia({ colorScheme: 'dark' });
+  await open(page, `${server.url}#example/two_robots_14`);
+  assert.equal(await runAndWait(page), 'realizable');
+  const bg = await page.evaluate(() => getComputedStyle(document.body).backgroundColor);
+  assert.equal(bg, 'rgb(22, 24, 29)');
+  await page.click('[data-tab=space]');
+  await page.waitForSelector('#space-graph svg g.state');
+  await page.locator('#state-list li[data-id]').nth(3).click();
+  await page.click('#selected-bar a');
+  await page.waitForSelector('#zone svg.zone-plot');
+  // Two different clocks on the axes; switching one redraws the polygon.
+  const [x, y] = [await page.inputValue('#zone-x'), await page.inputValue('#zone-y')];
+  assert.notEqual(x, y);
+  const before = await page.getAttribute('#zone svg.zone-plot', 'aria-label');
+  const other = await page.locator('#zone-y option').evaluateAll((os, [x, y]) => os.map((o) => o.value).find((v) => v !== x && v !== y), [x, y]);
+  await page.selectOption('#zone-y', other);
+  assert.notEqual(await page.getAttribute('#zone svg.zone-plot', 'aria-label'), before);
+  await shot(page, '16-dark-zone');
+  await page.click('[data-tab=automata]');
+  await page.waitForSelector('#automata svg');
+  await shot(page, '17-dark-automata');
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
+test('a reload keeps the edit (localStorage autosave)', async () => {
+  const page = await newPage(browser, `${server.url}#example/gripper_guard`);
+  await page.click('.cm-content');
+  await page.keyboard.press('Control+End');
+  await page.keyboard.insertText('\n// my edit survives a reload\n');
+  await page.waitForFunction(() => !location.hash, null, { timeout: 2000 });
+  await page.waitForTimeout(600);
+  await page.reload();
+  await page.waitForSelector('body[data-engine=ready]');
+  assert.match(await editorText(page), /gripper[\s\S]*my edit survives a reload\n$/);
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
+test('examples gallery lists every example and opens one', async () => {
+  const page = await newPage(browser, server.url);
+  await page.click('#examples-button');
+  const items = page.locator('#gallery-list a');
+  assert.ok((await items.count()) >= 17);
+  await shot(page, '12-gallery');
+  await page.click('#gallery-list a[data-example=two_robots_14]');
+  await page.waitForFunction(() => window.plcsynth.name === 'two_robots_14');
+  assert.equal(await editorText(page), readExample('two_robots_14'));
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
+test('measurements: time to interactive, RT 4/8 and 8/8 solve time (reported, not asserted)', async () => {
+  const page = await newPage(browser, null);
+  const ttis = [];
+  for (let i = 0; i < 3; i++) {
+    await open(page, `${server.url}?m=${i}#example/round_table_4`);
+    ttis.push(await page.evaluate(() => window.plcsynth.interactiveMs));
+  }
+  const solves = [];
+  for (let i = 0; i < 5; i++) {
+    await runAndWait(page);
+    solves.push(await page.evaluate(() => window.plcsynth.result.ms));
+    await page.waitForSelector('#run:not([disabled])');
+  }
+  await page.evaluate(() => {
+    window.longTasks = [];
+    new PerformanceObserver((list) => window.longTasks.push(...list.getEntries().map((e) => e.duration))).observe({ type: 'longtask' });
+    location.hash = '#example/round_table_8';
+  });
+  await page.waitForFunction(() => window.plcsynth.name === 'round_table_8');
+  assert.equal(await runAndWait(page, 120000), 'realizable');
+  const rt8 = await page.evaluate(() => ({ ms: window.plcsynth.result.ms, visited: window.plcsynth.result.stats.visited, longTasks: window.longTasks }));
+  const median = (xs) => [...xs].sort((a, b) => a - b)[Math.floor(xs.length / 2)];
+  const wasmBytes = await page.evaluate(async () => (await (await fetch('pkg/plcsynth_bg.wasm')).arrayBuffer()).byteLength);
+  const result = { tti_ms_median: median(ttis), tti_ms: ttis, rt4_solve_ms_median: median(solves), rt4_solve_ms: solves, rt8_solve_ms: rt8.ms, rt8_visited: rt8.visited, rt8_long_tasks_ms: rt8.longTasks, wasm_bytes: wasmBytes };
+  record('page', result);
+  console.log(`# measurements: ${JSON.stringify(result)}`);
+  await shot(page, '13-rt4-summary');
+  await page.click('[data-tab=space]');
+  await page.waitForSelector('#space-graph svg g.state');
+  await shot(page, '14-rt4-explorer');
+  await page.context().close();
+});

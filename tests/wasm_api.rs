@@ -1,0 +1,257 @@
+//! The wasm boundary (`src/wasm.rs`), run with wasm-bindgen-test in Node:
+//! `cargo test --target wasm32-unknown-unknown --test wasm_api` (runner in `.cargo/config.toml`).
+#![cfg(target_arch = "wasm32")]
+
+use js_sys::{Array, Function, Reflect};
+use plcsynth::wasm::{check, parse, targets, version, Session};
+use wasm_bindgen::{JsCast, JsValue};
+use wasm_bindgen_test::*;
+
+const LAMP: &str = include_str!("../examples/timed/lamp.tga");
+const LAMP_NAIVE: &str = include_str!("../examples/timed/lamp_naive.tga");
+const RT4: &str = include_str!("../examples/timed/round_table_4.tga");
+
+fn get(v: &JsValue, key: &str) -> JsValue {
+    Reflect::get(v, &JsValue::from_str(key)).unwrap()
+}
+
+fn num(v: &JsValue, key: &str) -> f64 {
+    get(v, key).as_f64().unwrap_or_else(|| panic!("{key} is not a number"))
+}
+
+fn string(v: &JsValue, key: &str) -> String {
+    get(v, key).as_string().unwrap_or_else(|| panic!("{key} is not a string"))
+}
+
+fn array(v: &JsValue) -> Array {
+    v.clone().dyn_into::<Array>().expect("an array")
+}
+
+fn solved(src: &str) -> (Session, JsValue) {
+    let mut s = Session::new(src).map_err(|_| "compile failed").unwrap();
+    let summary = s.solve(JsValue::UNDEFINED, None).unwrap();
+    (s, summary)
+}
+
+#[wasm_bindgen_test]
+fn version_is_the_crate_version() {
+    assert_eq!(version(), env!("CARGO_PKG_VERSION"));
+}
+
+#[wasm_bindgen_test]
+fn parse_reports_located_syntax_errors() {
+    let diags = array(&parse("plant {\n  automaton a {\n    nodes x y;\n  }\n}\n").unwrap());
+    assert!(diags.length() >= 1);
+    let d = diags.get(0);
+    assert_eq!(string(&d, "severity"), "error");
+    assert_eq!(num(&d, "line"), 3.0);
+    assert!(num(&get(&d, "span"), "end") >= num(&get(&d, "span"), "start"));
+    assert!(!string(&d, "message").is_empty());
+    assert_eq!(array(&parse(LAMP).unwrap()).length(), 0);
+}
+
+#[wasm_bindgen_test]
+fn check_separates_ok_from_errors() {
+    let ok = check(LAMP).unwrap();
+    assert_eq!(get(&ok, "ok").as_bool(), Some(true));
+    let bad = check("plant { automaton a { nodes x; x -> y ?m; } }").unwrap();
+    assert_eq!(get(&bad, "ok").as_bool(), Some(false));
+    let diags = array(&get(&bad, "diagnostics"));
+    assert!(diags.length() >= 1, "an unknown location is an error");
+}
+
+#[wasm_bindgen_test]
+fn session_constructor_throws_the_diagnostics() {
+    let err = Session::new("plant {").err().expect("a syntax error must not compile");
+    assert_eq!(get(&err, "ok").as_bool(), Some(false));
+    assert!(array(&get(&err, "diagnostics")).length() >= 1);
+}
+
+#[wasm_bindgen_test]
+fn automata_have_locations_and_typed_edges() {
+    let s = Session::new(LAMP).map_err(|_| "compile").unwrap();
+    let automata = array(&s.automata().unwrap());
+    let names: Vec<String> = automata.iter().map(|a| string(&a, "name")).collect();
+    assert!(names.contains(&"lamp".to_string()) && names.contains(&"button".to_string()), "{names:?}");
+    let button = automata.iter().find(|a| string(a, "name") == "button").unwrap();
+    let locations = array(&get(&button, "locations"));
+    assert_eq!(locations.length(), 4);
+    assert!(locations.iter().any(|l| string(&l, "invariant").contains("c in")));
+    let sigils: Vec<String> = automata.iter().flat_map(|a| array(&get(&a, "edges")).iter().map(|e| string(&e, "sigil")).collect::<Vec<_>>()).collect();
+    for sigil in ["?", "!", "$"] {
+        assert!(sigils.iter().any(|x| x == sigil), "no {sigil} edge in {sigils:?}");
+    }
+}
+
+#[wasm_bindgen_test]
+fn solve_lamp_is_realizable_with_a_state_space() {
+    let (s, summary) = solved(LAMP);
+    assert_eq!(string(&summary, "verdict"), "realizable");
+    let stats = get(&summary, "stats");
+    let visited = num(&stats, "visited");
+    assert!(visited > 0.0 && num(&stats, "winning") > 0.0 && num(&stats, "winning") <= visited);
+    assert!(get(&summary, "explanation_depth").is_null());
+    assert!(s.explanation().unwrap().is_null());
+    assert!(s.explanation_text().unwrap().is_none());
+
+    let space = s.space(1000).unwrap();
+    assert_eq!(num(&space, "total_states"), visited);
+    assert_eq!(get(&space, "truncated").as_bool(), Some(false));
+    let states = array(&get(&space, "states"));
+    assert_eq!(states.length() as f64, visited);
+    let first = states.get(0);
+    assert_eq!(num(&first, "id"), num(&space, "initial"));
+    assert!(array(&get(&first, "locations")).length() >= 2);
+    assert!(array(&get(&space, "edges")).length() > 0);
+
+    let small = s.space(3).unwrap();
+    assert_eq!(array(&get(&small, "states")).length(), 3);
+    assert_eq!(get(&small, "truncated").as_bool(), Some(true));
+
+    let dump = s.dump().unwrap();
+    assert!(dump.starts_with("s0"), "{dump}");
+    assert!(dump.contains("winning"));
+}
+
+#[wasm_bindgen_test]
+fn unrealizable_lamp_has_an_explanation() {
+    let (s, summary) = solved(LAMP_NAIVE);
+    assert_eq!(string(&summary, "verdict"), "unrealizable");
+    assert!(num(&summary, "explanation_depth") >= 0.0);
+    let tree = s.explanation().unwrap();
+    assert!(!get(&get(&tree, "root"), "outcome").is_undefined());
+    let text = s.explanation_text().unwrap().expect("an explanation");
+    assert!(text.contains('✗'), "{text}");
+    let initial = s.state(0).unwrap();
+    assert_eq!(get(&initial, "winning").as_bool(), Some(false));
+    assert!(get(&initial, "reason").as_string().is_some());
+}
+
+#[wasm_bindgen_test]
+fn progress_is_reported_and_false_cancels() {
+    let mut s = Session::new(RT4).map_err(|_| "compile").unwrap();
+    let calls = Array::new();
+    let log = Function::new_with_args("stats", "this.push(stats.visited); return this.length < 2;").bind0(&calls);
+    let options = js_sys::JSON::parse(r#"{"progressInterval": 10}"#).unwrap();
+    let summary = s.solve(options, Some(log)).unwrap();
+    assert_eq!(string(&summary, "verdict"), "cancelled");
+    assert_eq!(calls.length(), 2, "the run stops at the first false");
+    assert!(calls.get(0).as_f64().unwrap() > 0.0);
+}
+
+#[wasm_bindgen_test]
+fn budget_exceeded_keeps_statistics() {
+    let mut s = Session::new(RT4).map_err(|_| "compile").unwrap();
+    let options = js_sys::JSON::parse(r#"{"maxStates": 50}"#).unwrap();
+    let summary = s.solve(options, None).unwrap();
+    assert_eq!(string(&summary, "verdict"), "budget_exceeded");
+    assert!(num(&get(&summary, "stats"), "visited") >= 50.0);
+}
+
+#[wasm_bindgen_test]
+fn a_throwing_progress_callback_surfaces_as_an_error() {
+    let mut s = Session::new(LAMP).map_err(|_| "compile").unwrap();
+    let boom = Function::new_with_args("stats", "throw new Error('boom')");
+    let options = js_sys::JSON::parse(r#"{"progressInterval": 1}"#).unwrap();
+    assert!(s.solve(options, Some(boom)).is_err());
+}
+
+#[wasm_bindgen_test]
+fn queries_need_a_solve_first() {
+    let s = Session::new(LAMP).map_err(|_| "compile").unwrap();
+    assert!(s.space(10).is_err());
+    assert!(s.dump().is_err());
+}
+
+#[wasm_bindgen_test]
+fn state_search_and_neighbourhood() {
+    let (s, summary) = solved(RT4);
+    let total = num(&get(&summary, "stats"), "visited");
+    let all = s.states("", "all", 5).unwrap();
+    assert_eq!(num(&all, "total"), total);
+    assert_eq!(array(&get(&all, "rows")).length(), 5);
+    let first = array(&get(&all, "rows")).get(0);
+    assert_eq!(get(&first, "initial").as_bool(), Some(true));
+    assert!(string(&first, "text").contains("table."), "rows are described without a query too");
+    let winning = s.states("", "winning", 0).unwrap();
+    let removed = s.states("", "removed", 0).unwrap();
+    assert_eq!(num(&winning, "total") + num(&removed, "total"), total);
+    let hits = s.states("pos_0.p3", "all", 1000).unwrap();
+    assert!(num(&hits, "total") > 0.0 && num(&hits, "total") < total);
+    for row in array(&get(&hits, "rows")).iter() {
+        assert!(string(&row, "text").contains("pos_0.p3"));
+    }
+
+    let hood = s.neighbourhood(0, 1, 100).unwrap();
+    let states = array(&get(&hood, "states"));
+    assert!(states.length() >= 2);
+    assert_eq!(num(&states.get(0), "id"), 0.0);
+    let ids: Vec<f64> = states.iter().map(|x| num(&x, "id")).collect();
+    for e in array(&get(&hood, "edges")).iter() {
+        assert!(ids.contains(&num(&e, "from")));
+    }
+    let two = s.neighbourhood(0, 2, 100_000).unwrap();
+    assert!(array(&get(&two, "states")).length() > states.length());
+    assert!(s.neighbourhood(u32::MAX - 1, 1, 10).is_err());
+}
+
+#[wasm_bindgen_test]
+fn targets_list_the_program_and_every_plc_back_end() {
+    let list = array(&targets().unwrap());
+    let ids: Vec<String> = list.iter().map(|t| string(&t, "id")).collect();
+    assert_eq!(ids, ["program", "st", "scl", "codesys", "il", "stl", "plcopen"]);
+    let exts: Vec<String> = list.iter().map(|t| string(&t, "extension")).collect();
+    assert_eq!(exts, ["txt", "st", "scl", "st", "il", "awl", "xml"]);
+}
+
+#[wasm_bindgen_test]
+fn code_for_every_target_of_a_realizable_spec() {
+    let (s, _) = solved(LAMP);
+    let program = s.program().unwrap().expect("a controller");
+    assert!(program.contains("DO (turn_on)"), "{program}");
+    for (target, marker) in [("program", "DO (turn_on)"), ("st", "FUNCTION_BLOCK"), ("scl", "FUNCTION_BLOCK"), ("codesys", "FUNCTION_BLOCK"), ("il", "turn_on"), ("stl", "turn_on"), ("plcopen", "<project")] {
+        let code = s.code(target, "lamp").unwrap();
+        assert_eq!(string(&code, "target"), target);
+        let text = string(&code, "code");
+        assert!(text.contains(marker), "{target}: no {marker} in\n{text}");
+    }
+    assert!(s.code("cobol", "lamp").is_err());
+}
+
+#[wasm_bindgen_test]
+fn no_code_without_a_controller() {
+    let (s, _) = solved(LAMP_NAIVE);
+    assert!(s.program().unwrap().is_none());
+    assert!(s.code("st", "lamp_naive").unwrap().is_null());
+    let unsolved = Session::new(LAMP).map_err(|_| "compile").unwrap();
+    assert!(unsolved.code("st", "lamp").is_err());
+}
+
+#[wasm_bindgen_test]
+fn strategy_requests_stay_among_winning_states() {
+    let (s, summary) = solved(LAMP);
+    let choices = array(&s.strategy().unwrap());
+    assert!(choices.length() > 0);
+    let first = choices.get(0);
+    let space = s.space(10_000).unwrap();
+    assert_eq!(num(&first, "state"), num(&space, "initial"));
+    let states = array(&get(&space, "states"));
+    let winning = |id: f64| states.iter().find(|x| num(x, "id") == id).map(|x| get(&x, "winning").as_bool() == Some(true)).unwrap();
+    let mut requests = 0;
+    for c in choices.iter() {
+        assert!(winning(num(&c, "state")));
+        match string(&c, "choice").as_str() {
+            "request" => {
+                requests += 1;
+                assert!(winning(num(&c, "to")));
+                assert!(string(&c, "label").starts_with('?'), "{}", string(&c, "label"));
+            }
+            "wait" => assert!(get(&c, "to").is_null()),
+            other => panic!("choice {other}"),
+        }
+    }
+    assert!(requests >= 2, "the lamp controller turns the lamp on and off");
+    assert!(num(&get(&summary, "stats"), "winning") >= choices.length() as f64);
+    let (naive, _) = solved(LAMP_NAIVE);
+    assert!(naive.strategy().unwrap().is_null());
+}

@@ -1,0 +1,65 @@
+// Bundles the playground with esbuild: www/src/main.js (page) and www/src/worker.js (engine)
+// into www/dist, with every examples/timed/*.tga embedded as the virtual module `examples`.
+import * as esbuild from 'esbuild';
+import { readdirSync, readFileSync, rmSync } from 'node:fs';
+import { basename, dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const www = dirname(fileURLToPath(import.meta.url));
+const examplesDir = join(www, '..', 'examples', 'timed');
+
+/** Title, description and expected verdict from the leading `//` lines of an example. */
+export function describeExample(id, source) {
+  const header = [];
+  for (const line of source.split('\n')) {
+    if (!line.startsWith('//')) break;
+    header.push(line.replace(/^\/\/\s?/, ''));
+  }
+  const text = header.join(' ').replace(/\s+/g, ' ').trim();
+  const sentence = (text.match(/^.*?[.!?](\s|$)/) || [text])[0].trim();
+  const title = sentence.split(/[:(]/)[0].trim() || id;
+  const expected = (text.match(/Expected:\s*(realizable|unrealizable)/i) || [])[1]?.toLowerCase() ?? null;
+  return { id, title, description: sentence, expected };
+}
+
+function loadExamples() {
+  return readdirSync(examplesDir)
+    .filter((f) => f.endsWith('.tga'))
+    .map((f) => basename(f, '.tga'))
+    .sort((a, b) => a.localeCompare(b, 'en', { numeric: true }))
+    .map((id) => {
+      const source = readFileSync(join(examplesDir, `${id}.tga`), 'utf8');
+      return { ...describeExample(id, source), source };
+    });
+}
+
+const examplesPlugin = {
+  name: 'examples',
+  setup(build) {
+    build.onResolve({ filter: /^examples$/ }, () => ({ path: 'examples', namespace: 'examples' }));
+    build.onLoad({ filter: /.*/, namespace: 'examples' }, () => ({
+      contents: `export default ${JSON.stringify(loadExamples())};`,
+      loader: 'js',
+      watchFiles: readdirSync(examplesDir).map((f) => join(examplesDir, f)),
+    }));
+  },
+};
+
+rmSync(join(www, 'dist'), { recursive: true, force: true });
+const result = await esbuild.build({
+  entryPoints: { main: join(www, 'src', 'main.js'), worker: join(www, 'src', 'worker.js') },
+  outdir: join(www, 'dist'),
+  bundle: true,
+  splitting: true,
+  format: 'esm',
+  minify: true,
+  sourcemap: true,
+  target: 'es2022',
+  plugins: [examplesPlugin],
+  metafile: true,
+  logLevel: 'warning',
+});
+const sizes = Object.entries(result.metafile.outputs)
+  .filter(([f]) => f.endsWith('.js'))
+  .map(([f, o]) => `${basename(f)} ${(o.bytes / 1024).toFixed(0)} KiB`);
+console.error(`build: www/dist: ${sizes.join(', ')}`);

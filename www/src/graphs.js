@@ -1,0 +1,104 @@
+// Graphs drawn by Graphviz (compiled to wasm, @viz-js/viz, loaded on first use): component
+// automata and (parts of) the explored state space, as DOT with CSS classes for styling.
+
+let vizPromise = null;
+function viz() {
+  vizPromise ??= import('@viz-js/viz').then((m) => m.instance());
+  return vizPromise;
+}
+
+const q = (s) => `"${String(s).replace(/\\/g, '\\\\').replace(/"/g, '\\"').replace(/\n/g, '\\n')}"`;
+
+/** `?` request (controller), `!` reaction (plant), `$` plan step. */
+const sigilClass = { '?': 'edge-request', '!': 'edge-reaction', $: 'edge-plan' };
+
+export function automatonDot(a) {
+  const lines = [
+    'digraph automaton {',
+    '  graph [rankdir=LR, bgcolor="transparent", nodesep=0.35, ranksep=0.5, fontname="sans-serif"];',
+    '  node [shape=box, style="rounded", fontname="sans-serif", fontsize=11, margin="0.12,0.05"];',
+    '  edge [fontname="sans-serif", fontsize=10, arrowsize=0.7];',
+    '  init [shape=point, width=0.08, class="init"];',
+  ];
+  a.locations.forEach((l, i) => {
+    const label = l.invariant ? `${l.name}\n${l.invariant}` : l.name;
+    const cls = l.failed ? 'location failed' : 'location';
+    lines.push(`  l${i} [label=${q(label)}, class=${q(cls)}, tooltip=${q(l.failed ? 'the plan has failed' : l.name)}];`);
+  });
+  lines.push(`  init -> l${a.initial} [class="init"];`);
+  for (const e of a.edges) {
+    const parts = [`${e.sigil}${e.message}${e.instant ? ' (instant)' : ''}`];
+    if (e.guard) parts.push(e.guard);
+    if (e.resets.length) parts.push(`reset{${e.resets.join(', ')}}`);
+    const cls = sigilClass[e.sigil] ?? 'edge-plan';
+    const style = e.sigil === '!' ? 'dashed' : e.sigil === '$' ? 'bold' : 'solid';
+    lines.push(`  l${e.from} -> l${e.to} [label=${q(parts.join('\n'))}, class=${q(cls)}, style=${style}];`);
+  }
+  lines.push('}');
+  return lines.join('\n');
+}
+
+/** Location names joined in lines of about `width` characters, at most three lines. */
+function wrap(names, width) {
+  const lines = [''];
+  for (const n of names) {
+    const last = lines.length - 1;
+    if (lines[last] && lines[last].length + n.length + 2 > width) lines.push(n);
+    else lines[last] += lines[last] ? `, ${n}` : n;
+  }
+  if (lines.length > 3) return `${lines.slice(0, 3).join('\n')}…`;
+  return lines.join('\n');
+}
+
+const kindClass = { request: 'edge-request', reaction: 'edge-reaction', guard: 'edge-guard', delay: 'edge-delay', timeout: 'edge-timeout' };
+const kindSigil = { request: '?', reaction: '!', guard: '%', delay: 'D', timeout: 'T' };
+
+/**
+ * A state-space (or neighbourhood) graph. Winning and removed states are coloured; the requests
+ * the strategy chooses (`strategy`: Map state → { choice, to, label }) are highlighted.
+ */
+export function spaceDot(view, { selected = null, strategy = null, maxLabel = 30 } = {}) {
+  const lines = [
+    'digraph space {',
+    '  graph [rankdir=TB, bgcolor="transparent", nodesep=0.25, ranksep=0.35, fontname="sans-serif"];',
+    '  node [shape=box, style="rounded,filled", fontname="Courier", fontsize=10, margin="0.08,0.03", class="mono"];',
+    '  edge [fontname="Courier", fontsize=8, arrowsize=0.6];',
+  ];
+  for (const s of view.states) {
+    const loc = wrap(s.locations, maxLabel);
+    const cls = ['state', s.winning ? 'winning' : 'removed', s.id === view.initial ? 'initial' : '', s.id === selected ? 'selected' : '']
+      .filter(Boolean)
+      .join(' ');
+    const plan = strategy?.get(s.id);
+    const doing = plan ? (plan.choice === 'wait' ? '; strategy: wait' : `; strategy: ${plan.label}`) : '';
+    const tip = s.winning ? `s${s.id}: winning${doing}` : `s${s.id}: removed: ${s.reason ?? ''}`;
+    lines.push(`  s${s.id} [id=${q(`st-${s.id}`)}, label=${q(`s${s.id} ${s.kind}\n${loc}`)}, class=${q(cls)}, tooltip=${q(tip)}];`);
+  }
+  let dangling = 0;
+  for (const e of view.edges) {
+    const plan = strategy?.get(e.from);
+    const chosen = plan?.choice === 'request' && plan.to === e.to && plan.label === e.label;
+    const cls = `${kindClass[e.kind] ?? ''}${chosen ? ' chosen' : ''}${e.zeno ? ' zeno' : ''}`;
+    const label = e.kind === 'delay' ? 'D' : e.label.length > 28 ? `${e.label.slice(0, 27)}…` : e.label;
+    let to = `s${e.to}`;
+    if (e.to === null) {
+      to = `x${dangling++}`;
+      lines.push(`  ${to} [shape=point, width=0.06, class="dangling", label=""];`);
+    }
+    const style = e.kind === 'reaction' ? 'dashed' : e.kind === 'delay' || e.kind === 'timeout' ? 'dotted' : 'solid';
+    lines.push(`  s${e.from} -> ${to} [label=${q(label)}, class=${q(cls)}, style=${style}, tooltip=${q(`${kindSigil[e.kind]} ${e.label}`)}];`);
+  }
+  lines.push('}');
+  return lines.join('\n');
+}
+
+/** Loads Graphviz's module ahead of use, so that the page works offline once loaded. */
+export function preload() {
+  import('@viz-js/viz').catch(() => {});
+}
+
+/** Renders DOT into an SVG element (throws with Graphviz's message on failure). */
+export async function render(dot) {
+  const v = await viz();
+  return v.renderSVGElement(dot);
+}

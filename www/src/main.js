@@ -1,0 +1,386 @@
+// The playground page: wires the editor, the engine workers and the views together.
+import examples from 'examples';
+import { $, h, toast, fmtInt, fmtMs } from './dom.js';
+import { Engine } from './engine.js';
+import { createEditor } from './editor.js';
+import { encodeShare, decodeShare } from './share.js';
+import { renderSummary } from './summary.js';
+import { SpaceView } from './space.js';
+import { ZoneView } from './zoneview.js';
+import { automatonDot, render, preload } from './graphs.js';
+
+const STORAGE_KEY = 'plcsynth.playground.v1';
+const byId = new Map(examples.map((e) => [e.id, e]));
+
+const checker = new Engine('checker');
+const solver = new Engine('solver');
+const app = { running: false, name: 'spec', result: null, automata: null, automataDrawn: false, meta: null, code: '' };
+window.plcsynth = app; // for the console and the browser tests
+app.engines = { checker, solver };
+
+// ---- editor, diagnostics list, autosave -------------------------------------------------
+
+function showDiagnostics(list) {
+  const box = $('#diagnostics');
+  if (!list.length) return box.replaceChildren(h('div', { class: 'ok' }, '✓ no problems'));
+  box.replaceChildren(
+    ...list.map((d) =>
+      h(
+        'button',
+        { class: 'diag', 'data-line': d.line, onclick: () => editor.goto(d.line, d.column) },
+        h('span', { class: `diag-${d.severity}` }, d.severity), ` line ${d.line}:${d.column}  ${d.message}`,
+        ...d.notes.map((n) => h('span', { class: 'muted' }, ` — ${n}`)),
+      ),
+    ),
+  );
+}
+
+/** Autosave; a full or disabled localStorage only costs the autosave. */
+function save(text, name) {
+  try {
+    localStorage.setItem(STORAGE_KEY, JSON.stringify({ text, name }));
+  } catch {
+    // nothing to do: the edit stays in the editor
+  }
+}
+
+let saveTimer = 0;
+const editor = createEditor($('#editor'), {
+  doc: '',
+  check: async (text) => (await checker.call('check', { source: text })).diagnostics,
+  onDiagnostics: showDiagnostics,
+  onChange: (text) => {
+    // An edit makes an #example/ or #share/ link stale: drop it, so a reload keeps the edit.
+    if (!app.loading && location.hash) history.replaceState(null, '', location.pathname + location.search);
+    if (!app.loading) showName(text);
+    clearTimeout(saveTimer);
+    saveTimer = setTimeout(() => save(text, app.name), 300);
+  },
+  onRun: () => run(),
+});
+app.getText = () => editor.text;
+
+function openSpec(text, name) {
+  app.name = name;
+  app.loading = true;
+  editor.text = text;
+  app.loading = false;
+  save(text, name);
+  showName(text);
+}
+
+/** The open example's id and title, marked `(edited)` once the text differs from it. */
+function showName(text) {
+  const ex = byId.get(app.name);
+  const edited = ex && ex.source !== text ? ' (edited)' : '';
+  $('#spec-name').textContent = ex ? `${ex.id}${edited}: ${ex.title}` : app.name;
+}
+
+// ---- examples gallery -------------------------------------------------------------------
+
+$('#gallery-list').replaceChildren(
+  ...examples.map((e) =>
+    h(
+      'li',
+      {},
+      h(
+        'a',
+        { href: `#example/${e.id}`, 'data-example': e.id, onclick: () => $('#gallery').close() },
+        h('span', { class: 'id' }, e.id),
+        h('span', { class: 'title' }, ` ${e.title}`),
+        e.expected ? h('span', { class: `badge ${e.expected}` }, e.expected) : null,
+        h('span', { class: 'desc', title: e.description }, e.description),
+      ),
+    ),
+  ),
+);
+$('#examples-button').addEventListener('click', () => $('#gallery').showModal());
+
+// ---- routing: #example/<id>, #share/v1/<target>/<data> ------------------------------------
+
+async function route() {
+  const hash = decodeURIComponent(location.hash.slice(1));
+  if (hash.startsWith('example/')) {
+    const ex = byId.get(hash.slice(8));
+    if (ex) return openSpec(ex.source, ex.id), true;
+    toast(`No example called "${hash.slice(8)}".`);
+  } else if (hash.startsWith('share/')) {
+    try {
+      const shared = await decodeShare(location.hash.slice(1));
+      if (shared) {
+        openSpec(shared.spec, 'shared spec');
+        setTarget(shared.target);
+        return true;
+      }
+    } catch (error) {
+      toast(`This share link cannot be read: ${error.message ?? error}`);
+    }
+  }
+  return false;
+}
+window.addEventListener('hashchange', route);
+
+// ---- tabs -------------------------------------------------------------------------------
+
+let currentTab = 'summary';
+function showTab(name) {
+  currentTab = name;
+  document.querySelectorAll('.tabs [role=tab]').forEach((b) => b.setAttribute('aria-selected', String(b.dataset.tab === name)));
+  document.querySelectorAll('.panel').forEach((p) => (p.hidden = p.dataset.panel !== name));
+  if (name === 'automata') drawAutomata();
+  if (name === 'code') refreshCode();
+}
+document.querySelectorAll('.tabs [role=tab]').forEach((b) => b.addEventListener('click', () => showTab(b.dataset.tab)));
+
+// ---- automata ---------------------------------------------------------------------------
+
+async function drawAutomata() {
+  if (!app.automata || app.automataDrawn) return;
+  app.automataDrawn = true;
+  const list = app.automata;
+  const box = $('#automata');
+  box.replaceChildren(
+    h(
+      'div',
+      { class: 'legend' },
+      h('span', { class: 'l-request' }, '?request (controller)'),
+      h('span', { class: 'l-reaction' }, '!reaction (plant)'),
+      h('span', { class: 'l-plan' }, '$plan step'),
+    ),
+  );
+  for (const a of list) {
+    const section = h('section', { class: 'automaton', 'data-name': a.name }, h('h3', {}, a.name, ' ', h('span', { class: 'muted' }, a.kind)));
+    box.append(section);
+    try {
+      section.append(await render(automatonDot(a)));
+    } catch (error) {
+      section.append(h('p', { class: 'reason' }, `Graphviz could not draw ${a.name}: ${error.message ?? error}`));
+    }
+    if (app.automata !== list) return;
+  }
+}
+
+// ---- state space and zone ----------------------------------------------------------------
+
+const query = (method, args) => solver.call('query', { method, args });
+const zoneView = new ZoneView($('#zone'));
+const spaceView = new SpaceView({
+  query,
+  onSelect: async (id) => {
+    const state = await query('state', [id]);
+    zoneView.show(state, app.meta);
+    const plan = spaceView.strategy?.get(id);
+    const doing = !spaceView.strategy || !state.winning ? '' : !plan ? ' · not reached by the strategy' : plan.choice === 'wait' ? ' · strategy: wait' : ` · strategy: ${plan.label} → s${plan.to}`;
+    $('#selected-bar').replaceChildren(
+      h('strong', {}, `s${id}`), ` ${state.winning ? 'winning' : 'removed'}`,
+      state.reason ? h('span', { class: 'reason' }, ` — ${state.reason}`) : '',
+      h('span', { id: 'selected-strategy' }, doing),
+      ` · zone: ${state.zone} · `,
+      h('a', { onclick: () => showTab('zone') }, 'show the zone'),
+    );
+  },
+});
+
+// ---- code pane ----------------------------------------------------------------------------
+
+const DUMP_LINES = 4000;
+const fileStem = () => app.name.replace(/[^A-Za-z0-9_-]+/g, '_');
+
+/** Fills the target menu from the engine's list (controller targets), then the text views. */
+function fillTargets(list) {
+  const select = $('#target');
+  const option = (value, label) => h('option', { value }, label);
+  select.replaceChildren(
+    h('optgroup', { label: 'Controller' }, list.map((t) => option(t.id, `${t.label} (.${t.extension})`))),
+    h('optgroup', { label: 'Analysis (text)' }, option('space', 'State space dump (.txt)'), option('explanation', 'Explanation (.txt)')),
+  );
+  select.value = app.pendingTarget ?? 'st';
+  if (!select.value) select.value = 'st';
+}
+
+function setTarget(target) {
+  const select = $('#target');
+  if ([...select.options].some((o) => o.value === target)) select.value = target;
+  else app.pendingTarget = target;
+}
+
+async function refreshCode() {
+  const target = $('#target').value;
+  const note = $('#code-note');
+  app.code = '';
+  app.extension = 'txt';
+  app.suffix = '';
+  if (!app.result) {
+    $('#code').textContent = '';
+    note.textContent = 'Run the spec first.';
+    return;
+  }
+  if (target === 'explanation') {
+    app.code = app.result.explanationText ?? '';
+    app.suffix = '.explanation';
+    note.textContent = app.code ? '' : 'No explanation: the spec is not unrealizable.';
+  } else if (target === 'space') {
+    app.code = await query('dump', []);
+    app.suffix = '.states';
+    note.textContent = 'Every explored state with its status, then its edges.';
+  } else {
+    const generated = await query('code', [target, fileStem()]);
+    if (generated) {
+      app.code = generated.code;
+      app.extension = generated.extension;
+      note.textContent = target === 'program' ? 'The optimised controller program (Peter 2005, chapter 6).' : 'Generated from the optimised controller program.';
+    } else {
+      note.textContent = `No controller: the spec is ${app.result.verdict.replace('_', ' ')}.`;
+    }
+  }
+  if ($('#target').value !== target) return;
+  const lines = app.code.split('\n');
+  $('#code').textContent = lines.length > DUMP_LINES ? `${lines.slice(0, DUMP_LINES).join('\n')}\n… ${fmtInt(lines.length - DUMP_LINES)} more lines: use Download` : app.code;
+}
+$('#target').addEventListener('change', refreshCode);
+$('#copy-code').addEventListener('click', async () => {
+  try {
+    await navigator.clipboard.writeText(app.code);
+    toast('Copied.');
+  } catch {
+    toast('The browser refused the clipboard; use Download.');
+  }
+});
+$('#download-code').addEventListener('click', () => {
+  if (!app.code) return toast('Nothing to download yet: run the spec first.');
+  const file = `${fileStem()}${app.suffix}.${app.extension}`;
+  const a = h('a', { href: URL.createObjectURL(new Blob([app.code], { type: 'text/plain' })), download: file });
+  a.click();
+  setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+});
+
+// ---- share ------------------------------------------------------------------------------
+
+$('#share').addEventListener('click', async () => {
+  const hash = await encodeShare(editor.text, $('#target').value);
+  history.replaceState(null, '', `#${hash}`);
+  try {
+    await navigator.clipboard.writeText(location.href);
+    toast('Link copied to the clipboard.');
+  } catch {
+    toast('The link is in the address bar (the browser refused the clipboard).');
+  }
+});
+
+// ---- run and cancel ---------------------------------------------------------------------
+
+function setStatus(text, kind = '') {
+  const el = $('#status');
+  el.textContent = text;
+  el.className = `status ${kind}`;
+  el.dataset.kind = kind;
+}
+
+function setRunning(on) {
+  app.running = on;
+  $('#run').disabled = on;
+  $('#cancel').disabled = !on;
+}
+
+let spaceReady = Promise.resolve();
+async function run() {
+  if (app.running) return;
+  setRunning(true);
+  const started = performance.now();
+  const source = editor.text;
+  const maxStates = Math.max(10, Number($('#max-states').value) || 2000000);
+  app.result = null;
+  app.automata = null;
+  app.automataDrawn = false;
+  app.meta = null;
+  spaceView.reset(null);
+  $('#summary').replaceChildren(h('p', { class: 'muted' }, 'Running…'));
+  setStatus('Compiling…', 'running');
+  try {
+    const summary = await solver.call(
+      'run',
+      { source, options: { maxStates, progressInterval: 256 } },
+      {
+        onCompiled: (automata) => {
+          app.automata = automata;
+          setStatus('Exploring…', 'running');
+          if (currentTab === 'automata') drawAutomata();
+        },
+        onProgress: (stats, elapsed) =>
+          setStatus(`Exploring… ${fmtInt(stats.visited)} states visited, ${fmtInt(stats.removed)} removed (${fmtMs(elapsed)})`, 'running'),
+      },
+    );
+    const ms = performance.now() - started;
+    app.result = summary;
+    const ex = byId.get(app.name);
+    const expected = ex && ex.source === source ? ex.expected : null;
+    renderSummary($('#summary'), {
+      summary,
+      ms,
+      expected,
+      maxStates,
+      onState: async (id) => {
+        showTab('space');
+        await spaceReady;
+        await spaceView.select(id);
+      },
+    });
+    setStatus(`${summary.verdict.replace('_', ' ')}: ${fmtInt(summary.stats.visited)} states visited, ${fmtInt(summary.stats.winning)} winning, ${fmtInt(summary.stats.removed)} removed in ${fmtMs(summary.ms)}`, 'done');
+    setRunning(false);
+    if (currentTab === 'automata') drawAutomata();
+    app.meta = await query('space', [1]);
+    const strategy = summary.verdict === 'realizable' ? await query('strategy', []) : null;
+    spaceReady = spaceView.load(app.meta, strategy);
+    await spaceReady;
+    if (currentTab === 'code') refreshCode();
+  } catch (error) {
+    setRunning(false);
+    if (error === 'cancelled') {
+      setStatus('Cancelled: the engine was stopped and restarted.', 'cancelled');
+    } else if (error && error.diagnostics) {
+      const n = error.diagnostics.filter((d) => d.severity === 'error').length;
+      setStatus(`The spec has ${n} error${n === 1 ? '' : 's'}: see the editor.`, 'error');
+      showDiagnostics(error.diagnostics);
+    } else {
+      setStatus(`Error: ${error?.message ?? error}`, 'error');
+    }
+  } finally {
+    app.lastRunMs = performance.now() - started;
+  }
+}
+
+$('#run').addEventListener('click', () => run());
+$('#cancel').addEventListener('click', () => {
+  solver.cancel();
+});
+
+// ---- start ------------------------------------------------------------------------------
+
+window.addEventListener('error', (e) => setStatus(`Error: ${e.message}`, 'error'));
+window.addEventListener('unhandledrejection', (e) => {
+  e.preventDefault();
+  if (e.reason !== 'cancelled') setStatus(`Error: ${e.reason?.message ?? e.reason}`, 'error');
+});
+
+(async () => {
+  if (!(await route())) {
+    let saved = null;
+    try {
+      saved = JSON.parse(localStorage.getItem(STORAGE_KEY) ?? 'null');
+    } catch {
+      saved = null;
+    }
+    if (saved?.text) openSpec(saved.text, saved.name ?? 'spec');
+    else openSpec(byId.get('lamp')?.source ?? '', 'lamp');
+  }
+  try {
+    const { version, targets } = await solver.call('version');
+    fillTargets(targets);
+    setStatus(`Ready: plcsynth ${version}. Press Run or Ctrl+Enter.`);
+    document.body.dataset.engine = 'ready';
+    app.interactiveMs = performance.now();
+    setTimeout(preload, 500);
+  } catch (error) {
+    setStatus(`The engine could not start: ${error}`, 'error');
+  }
+})();

@@ -1,0 +1,61 @@
+// The Summary tab: verdict, statistics, time, and the explanation of an unrealizable spec.
+import { h, fmtInt, fmtMs } from './dom.js';
+
+const verdictText = {
+  realizable: 'Realizable: a controller exists',
+  unrealizable: 'Unrealizable: no controller can meet the spec',
+  budget_exceeded: 'Budget exceeded: the search stopped before deciding',
+  cancelled: 'Cancelled',
+};
+
+/** The explanation tree: one item per move; state ids link to the state space. */
+function stepTree(step, onState) {
+  const link = h('a', { class: 'state-link', 'data-state': step.state, onclick: () => onState(step.state) }, `s${step.state}`);
+  const head = h('div', { class: 'step' }, step.event ? [h('strong', {}, step.event), ' → '] : 'initially ', step.locations, ' ', link);
+  const o = step.outcome;
+  if (o.kind === 'violation') return [head, h('div', { class: 'violation' }, `✗ ${o.reason}`)];
+  if (o.kind === 'forced') return [head, ...stepTree(o.next, onState)];
+  if (o.kind === 'truncated') return [head, h('div', { class: 'muted' }, '… (cut off)')];
+  return [
+    head,
+    h('div', { class: 'muted' }, 'every controller choice fails:'),
+    h('ul', { class: 'choices' }, o.branches.map((b) => h('li', {}, stepTree(b, onState)))),
+  ];
+}
+
+export function renderSummary(root, { summary, ms, expected, maxStates, onState }) {
+  const s = summary.stats;
+  const row = (label, value, id) => h('tr', {}, h('th', {}, label), h('td', { id }, value));
+  const parts = [
+    h('div', { class: `verdict ${summary.verdict}`, id: 'verdict', 'data-verdict': summary.verdict }, verdictText[summary.verdict] ?? summary.verdict),
+    expected && summary.verdict !== 'budget_exceeded'
+      ? h('p', { class: 'muted' }, expected === summary.verdict ? `As the example expects (${expected}).` : `The example says it should be ${expected}.`)
+      : null,
+    summary.verdict === 'budget_exceeded'
+      ? h('p', {}, `The search stored more than ${fmtInt(maxStates)} states (the "max states" setting). The statistics so far:`)
+      : null,
+    h(
+      'table',
+      { class: 'stats' },
+      row('visited states', fmtInt(s.visited), 'stat-visited'),
+      row('winning states', fmtInt(s.winning), 'stat-winning'),
+      row('removed states', fmtInt(s.removed), 'stat-removed'),
+      row('expanded states', fmtInt(s.expanded), 'stat-expanded'),
+      row('edges', fmtInt(s.edges), 'stat-edges'),
+      row('distinct zones', fmtInt(s.zones), 'stat-zones'),
+      row('memory (approx.)', `${(s.bytes / 1048576).toFixed(2)} MiB`, 'stat-bytes'),
+      row('solve time', fmtMs(summary.ms), 'stat-solve-ms'),
+      row('round trip', fmtMs(ms), 'stat-total-ms'),
+    ),
+    summary.explanationText
+      ? h(
+          'section',
+          {},
+          h('h3', {}, `Why: the plant can force a failure within ${summary.explanation_depth} moves`),
+          h('p', { class: 'muted' }, 'Each line is a move from the initial state; where the controller has choices, every one of them is shown failing. Click a state to inspect it.'),
+          h('div', { class: 'explanation', id: 'explanation' }, stepTree(summary.explanation.root, onState)),
+        )
+      : null,
+  ];
+  root.replaceChildren(...parts.filter(Boolean));
+}
