@@ -37,9 +37,14 @@ fn solve(source: &str, max_states: usize) -> (Game, Synthesis) {
     (game, synthesis)
 }
 
-/// The examples small enough for exhaustive checks in a debug test run.
+/// Every example: the per-state properties are checked on all of them, the largest included.
 fn checked_examples() -> Vec<(String, String)> {
-    examples().into_iter().filter(|(name, _)| !matches!(name.as_str(), "round_table_7" | "round_table_8")).collect()
+    examples()
+}
+
+/// The examples small enough for the quadratic backward-fixpoint comparison.
+fn fixpoint_examples() -> Vec<(String, String)> {
+    examples().into_iter().filter(|(name, _)| !matches!(name.as_str(), "round_table_6" | "round_table_7" | "round_table_8")).collect()
 }
 
 #[test]
@@ -184,7 +189,7 @@ fn losing_fixpoint(space: &StateSpace) -> Vec<bool> {
 
 #[test]
 fn on_the_fly_removal_agrees_with_a_backward_fixpoint_on_the_explored_graph() {
-    for (name, source) in checked_examples() {
+    for (name, source) in fixpoint_examples() {
         let (_, s) = solve(&source, 2_000_000);
         let space = &s.solution.space;
         if s.solution.verdict == Verdict::Unrealizable {

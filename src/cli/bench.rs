@@ -24,10 +24,10 @@ const THESIS: &[(&str, &str, Published)] = &[
 
 /// Runs every example `runs` times and prints medians beside the thesis figures.
 pub fn timed(examples_dir: &Path, runs: usize) -> std::process::ExitCode {
-    println!("Timed-game synthesis: plcsynth (median of {runs} runs) beside Peter 2005, table 7.3 (Pentium III 1.2 GHz)");
-    println!();
-    println!("| example | verdict | visited | winning | code lines | time [ms] | state space [MiB] | thesis visited | thesis winning | thesis code | thesis time [s] |");
-    println!("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    outln!("Timed-game synthesis: plcsynth (median of {runs} runs) beside Peter 2005, table 7.3 (Pentium III 1.2 GHz)");
+    outln!();
+    outln!("| example | verdict | visited | winning | code lines | time [ms] | state space [MiB] | thesis visited | thesis winning | thesis code | thesis time [s] |");
+    outln!("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for (file, label, thesis) in THESIS {
         let path = examples_dir.join(format!("{file}.tga"));
         let Ok(source) = std::fs::read_to_string(&path) else {
@@ -65,7 +65,7 @@ pub fn timed(examples_dir: &Path, runs: usize) -> std::process::ExitCode {
             None => ("–".into(), "–".into(), "–".into(), "–".into()),
         };
         let lines = plcsynth::program::controller(&game, &s).map_or("–".to_string(), |p| p.len().to_string());
-        println!(
+        outln!(
             "| {label} | {verdict} | {} | {} | {lines} | {median:.1} | {:.1} | {tv} | {tw} | {tc} | {tt} |",
             st.visited,
             st.winning,
@@ -73,8 +73,8 @@ pub fn timed(examples_dir: &Path, runs: usize) -> std::process::ExitCode {
         );
     }
     if let Some(peak) = peak_rss_kib() {
-        println!();
-        println!("peak resident memory of this process: {:.1} MiB", peak as f64 / 1024.0);
+        outln!();
+        outln!("peak resident memory of this process: {:.1} MiB", peak as f64 / 1024.0);
     }
     std::process::ExitCode::SUCCESS
 }

@@ -56,7 +56,7 @@ pub fn solve(file: &str, json: bool, max_states: Option<usize>, dump_states: boo
             "millis": millis,
             "explanation": explanation,
         });
-        println!("{value}");
+        outln!("{value}");
     } else {
         let verdict = match result.solution.verdict {
             Verdict::Realizable => "realizable".to_string(),
@@ -64,16 +64,16 @@ pub fn solve(file: &str, json: bool, max_states: Option<usize>, dump_states: boo
             Verdict::BudgetExceeded => format!("budget exceeded after {} states", stats.visited),
             Verdict::Cancelled => "cancelled".to_string(),
         };
-        println!("{file}: {verdict}");
-        println!(
+        outln!("{file}: {verdict}");
+        outln!(
             "visited {} · winning {} · removed {} · edges {} · {:.1} ms",
             stats.visited, stats.winning, stats.removed, stats.edges, millis
         );
         if let Some(text) = explanation {
-            println!("\nwhy the initial state is lost:\n{text}");
+            outln!("\nwhy the initial state is lost:\n{text}");
         }
         if dump_states {
-            println!("\n{}", timed::explain::dump(&game, &result.split, &result.solution.space));
+            outln!("\n{}", timed::explain::dump(&game, &result.split, &result.solution.space));
         }
     }
     match result.solution.verdict {
@@ -118,7 +118,10 @@ pub fn compile(file: &str, target: Option<plcsynth::plc::Target>, out: Option<&s
                 return ExitCode::from(2);
             }
         }
-        None => print!("{text}"),
+        None => {
+            use std::io::Write as _;
+            let _ = write!(std::io::stdout(), "{text}");
+        }
     }
     ExitCode::SUCCESS
 }
