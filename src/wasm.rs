@@ -8,7 +8,7 @@
 use crate::diag::Diagnostic;
 use crate::plc::{self, Target};
 use crate::program::{self, Program};
-use crate::timed::explain::{describe_edge, describe_state, dump, removal_text};
+use crate::timed::explain::{describe_edge, describe_state, dump};
 use crate::timed::export::{self, SpaceView, StateView, TransitionView};
 use crate::timed::model::Game;
 use crate::timed::solve::{SolveOptions, StateId, Stats, Verdict};
@@ -416,28 +416,6 @@ impl Session {
 
     /// The same view of one state as `export::space` gives.
     fn state_view(&self, s: &Synthesis, id: StateId) -> StateView {
-        let (game, split, space) = (&self.game, &s.split, &s.solution.space);
-        let mut locations = Vec::new();
-        for (u, &sub) in space.env(id).iter().enumerate() {
-            let loc = split.units[u].sublocs[sub as usize].location;
-            locations.push(game.components[u].locations[loc as usize].name.clone());
-        }
-        for (p, &sub) in space.plan(id).iter().enumerate() {
-            let loc = split.units[split.plant_count + p].sublocs[sub as usize].location;
-            locations.push(game.plans[p].locations[loc as usize].name.clone());
-        }
-        let names: Vec<&str> = game.clocks.iter().map(|c| c.name.as_str()).collect();
-        let zone = space.zone(id);
-        let st = &space.states[id as usize];
-        StateView {
-            id,
-            locations,
-            zone: zone.display_with(&names).to_string(),
-            constraints: zone.constraints(),
-            kind: st.kind,
-            winning: st.removal.is_none(),
-            reason: st.removal.map(|r| removal_text(game, split, space, id, r)),
-            removal: st.removal,
-        }
+        export::state_view(&self.game, s, id)
     }
 }

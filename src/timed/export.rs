@@ -160,6 +160,33 @@ pub struct TransitionView {
     pub progress: bool,
 }
 
+/// One state: its location names, zone, kind and, if removed, why.
+pub fn state_view(game: &Game, synthesis: &Synthesis, s: StateId) -> StateView {
+    let (split, space) = (&synthesis.split, &synthesis.solution.space);
+    let mut locations = Vec::new();
+    for (u, &sub) in space.env(s).iter().enumerate() {
+        let loc = split.units[u].sublocs[sub as usize].location;
+        locations.push(game.components[u].locations[loc as usize].name.clone());
+    }
+    for (p, &sub) in space.plan(s).iter().enumerate() {
+        let loc = split.units[split.plant_count + p].sublocs[sub as usize].location;
+        locations.push(game.plans[p].locations[loc as usize].name.clone());
+    }
+    let names: Vec<&str> = game.clocks.iter().map(|c| c.name.as_str()).collect();
+    let zone = space.zone(s);
+    let st = &space.states[s as usize];
+    StateView {
+        id: s,
+        locations,
+        zone: zone.display_with(&names).to_string(),
+        constraints: zone.constraints(),
+        kind: st.kind,
+        winning: st.removal.is_none(),
+        reason: st.removal.map(|r| removal_text(game, split, space, s, r)),
+        removal: st.removal,
+    }
+}
+
 /// The explored state space, at most `limit` states in breadth-first order from the initial
 /// state (winning and removed alike), with the edges among them.
 pub fn space(game: &Game, synthesis: &Synthesis, limit: usize) -> SpaceView {
@@ -185,33 +212,7 @@ pub fn space(game: &Game, synthesis: &Synthesis, limit: usize) -> SpaceView {
         }
     }
     let exported: std::collections::HashSet<StateId> = order.iter().copied().collect();
-    let names: Vec<&str> = game.clocks.iter().map(|c| c.name.as_str()).collect();
-    let states = order
-        .iter()
-        .map(|&s| {
-            let st = &space.states[s as usize];
-            let mut locations = Vec::new();
-            for (u, &sub) in space.env(s).iter().enumerate() {
-                let loc = split.units[u].sublocs[sub as usize].location;
-                locations.push(game.components[u].locations[loc as usize].name.clone());
-            }
-            for (p, &sub) in space.plan(s).iter().enumerate() {
-                let loc = split.units[split.plant_count + p].sublocs[sub as usize].location;
-                locations.push(game.plans[p].locations[loc as usize].name.clone());
-            }
-            let zone = space.zone(s);
-            StateView {
-                id: s,
-                locations,
-                zone: zone.display_with(&names).to_string(),
-                constraints: zone.constraints(),
-                kind: st.kind,
-                winning: st.removal.is_none(),
-                reason: st.removal.map(|r| removal_text(game, split, space, s, r)),
-                removal: st.removal,
-            }
-        })
-        .collect();
+    let states = order.iter().map(|&s| state_view(game, synthesis, s)).collect();
     let mut edges = Vec::new();
     for &s in &order {
         for (_, e) in space.out_edges(s) {
