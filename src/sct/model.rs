@@ -426,20 +426,32 @@ pub fn plant_compose(project: &Project, g1: u32, g2: u32) -> Plant {
                 moves.push((y.event, y.cond.refine(&lookup), (q1, y.dst), y.origin));
             }
         }
-        for (e, cond, pair, origin) in moves {
-            if cond == Cond::False {
-                continue;
-            }
-            let next = pairs.len() as u32;
-            let dst = *index.entry(pair).or_insert_with(|| {
-                pairs.push(pair);
-                next
-            });
-            out.trans.push(Transition { src: k as u32, event: e, cond, dst, origin });
-        }
+        push_moves(&mut out.trans, &mut index, &mut pairs, k as u32, moves);
         k += 1;
     }
     out
+}
+
+/// Adds the transitions of a product state: each move whose condition can hold goes to the
+/// pair it names, numbered on first sight (shared by the plant and specification products).
+fn push_moves(
+    trans: &mut Vec<Transition>,
+    index: &mut hashbrown::HashMap<(u32, u32), u32>,
+    pairs: &mut Vec<(u32, u32)>,
+    src: u32,
+    moves: Vec<(EventId, Cond, (u32, u32), u32)>,
+) {
+    for (event, cond, pair, origin) in moves {
+        if cond == Cond::False {
+            continue;
+        }
+        let next = pairs.len() as u32;
+        let dst = *index.entry(pair).or_insert_with(|| {
+            pairs.push(pair);
+            next
+        });
+        trans.push(Transition { src, event, cond, dst, origin });
+    }
 }
 
 /// Specification product `H1 | H2` (definition 6, with conditions): prohibits everything
@@ -502,17 +514,7 @@ pub fn spec_product(name: &str, a: &Spec, b: &Spec) -> Spec {
                 out.prohib.push(Prohibition { state: k as u32, ..(*p).clone() });
             }
         }
-        for (e, cond, pair, origin) in moves {
-            if cond == Cond::False {
-                continue;
-            }
-            let next = pairs.len() as u32;
-            let dst = *index.entry(pair).or_insert_with(|| {
-                pairs.push(pair);
-                next
-            });
-            out.trans.push(Transition { src: k as u32, event: e, cond, dst, origin });
-        }
+        push_moves(&mut out.trans, &mut index, &mut pairs, k as u32, moves);
         k += 1;
     }
     out
