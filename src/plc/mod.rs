@@ -145,8 +145,8 @@ pub struct Code {
 }
 
 impl Code {
-    /// True if the step is entered by a jump that goes backwards or by a wait loop (used by
-    /// printers that need labels only where jumped to).
+    /// For every step, whether some jump or branch targets it (printers that label only jump
+    /// targets use it).
     pub fn jumped_to(&self) -> Vec<bool> {
         let mut v = vec![false; self.steps.len()];
         for s in &self.steps {

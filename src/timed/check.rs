@@ -13,7 +13,7 @@ pub fn check(spec: &ast::Spec, diags: &mut Diagnostics) -> Option<Game> {
     let mut cx = Checker { diags, game: empty_game(), message_index: HashMap::new(), comp_index: HashMap::new() };
     cx.timeunit(spec);
     cx.components(spec);
-    cx.messages_consistency();
+    cx.sort_synchronised();
     cx.guards(spec);
     cx.assertions(spec);
     cx.plans(spec);
@@ -374,9 +374,9 @@ impl Checker<'_, '_> {
         }
     }
 
-    fn messages_consistency(&mut self) {
-        // Messages only interned by `$` uses without a sender were reported above; nothing else
-        // to do here yet, but keep senders sorted for deterministic output.
+    /// Sorts the synchronising units of every message, so that moves are generated in a
+    /// deterministic order whatever the declaration order.
+    fn sort_synchronised(&mut self) {
         for m in &mut self.game.messages {
             m.synchronised.sort_unstable();
         }
