@@ -477,13 +477,17 @@ pub fn bisimulation(program: &Program) -> Classes {
     let cmds = &program.commands;
     let (end, looping) = (n, n + 1);
     let at = |t: CmdId| pos.get(t as usize).map_or(end, |&p| if p == u32::MAX { end } else { p as usize });
-    let transparent = |i: usize| i < n && matches!(cmds[i].instruction, Instruction::Goto { .. }) && cmds[i].resets == 0;
+    // The target of a GOTO without resets: such a GOTO is not a step of its own.
+    let goto_target = |i: usize| match cmds.get(i) {
+        Some(Command { instruction: Instruction::Goto { target }, resets: 0, .. }) if i < n => Some(*target),
+        _ => None,
+    };
+    let transparent = |i: usize| goto_target(i).is_some();
     let mut resolved: Vec<usize> = (0..n + 2).collect();
     for (i, r) in resolved.iter_mut().enumerate().take(n) {
         let mut j = i;
         let mut hops = 0;
-        while transparent(j) {
-            let Instruction::Goto { target } = cmds[j].instruction else { unreachable!() };
+        while let Some(target) = goto_target(j) {
             j = at(target);
             hops += 1;
             if hops > n {

@@ -561,7 +561,8 @@ impl Checker<'_, '_> {
                 i = (i + 1) % commands.len();
             }
         };
-        let (initial, _initial_resets) = resolve(0);
+        // Clocks start at 0, so the resets before the first waitfor change nothing.
+        let (initial, _) = resolve(0);
         let mut edges = Vec::new();
         for (i, cmd) in commands.iter().enumerate() {
             let PlanAction::Waitfor { items } = &cmd.action else { continue };
