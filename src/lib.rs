@@ -10,6 +10,7 @@
 pub mod diag;
 pub mod plc;
 pub mod program;
+pub mod rng;
 pub mod sct;
 pub mod timed;
 #[cfg(target_arch = "wasm32")]

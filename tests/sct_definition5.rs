@@ -10,21 +10,7 @@
 use plcsynth::sct::classic::{self, language_equal, minimize, AutomatonBuilder, Events};
 use plcsynth::sct::model::{self, Cond, Config, EventId, EventInfo, EventKind, Method, Plant, Prohibition, Project, Spec, Transition, NO_ORIGIN};
 
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-    fn below(&mut self, n: u64) -> u64 {
-        self.next() % n.max(1)
-    }
-    fn chance(&mut self, pct: u64) -> bool {
-        self.below(100) < pct
-    }
-}
+use plcsynth::rng::Rng;
 
 fn random_project(rng: &mut Rng) -> Project {
     let n_events = 2 + rng.below(5) as usize;
@@ -153,7 +139,7 @@ fn closed_loop(p: &Project, sup: &model::Supervisor) -> classic::Automaton {
 
 #[test]
 fn monolithic_prohibition_synthesis_equals_classic_supconclosed() {
-    let mut rng = Rng(0xD5F1_2019);
+    let mut rng = Rng::new(0xD5F1_2019);
     let (mut restricted, mut empty) = (0, 0);
     for case in 0..300 {
         let p = random_project(&mut rng);
@@ -190,7 +176,7 @@ fn monolithic_prohibition_synthesis_equals_classic_supconclosed() {
 /// Lemma 9: applying the composition of two plants equals applying them one after the other.
 #[test]
 fn applying_composed_plants_equals_applying_them_in_turn() {
-    let mut rng = Rng(0x1E44A9);
+    let mut rng = Rng::new(0x1E44A9);
     for case in 0..200 {
         let mut p = random_project(&mut rng);
         // A second plant over a random sub-alphabet.

@@ -7,18 +7,7 @@
 use plcsynth::sct::model::{self, Cond, Config, EventId, EventInfo, EventKind, Method, Plant, Prohibition, Project, Spec, Transition, NO_ORIGIN};
 use std::collections::{HashSet, VecDeque};
 
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-    fn below(&mut self, n: u64) -> u64 {
-        self.next() % n.max(1)
-    }
-}
+use plcsynth::rng::Rng;
 
 fn random_project(rng: &mut Rng) -> Project {
     let kinds = [EventKind::Controllable, EventKind::Uncontrollable, EventKind::Enforceable];
@@ -108,7 +97,7 @@ fn check(p: &Project, sup: &model::Supervisor, case: usize) {
 
 #[test]
 fn preemptive_supervisors_are_safe_modulo_preemption() {
-    let mut rng = Rng(0x5EED_0505);
+    let mut rng = Rng::new(0x5EED_0505);
     let mut enforcing = 0;
     let mut realizable = 0;
     for case in 0..400 {
