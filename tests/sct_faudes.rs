@@ -128,30 +128,72 @@ fn supcon_agrees_with_libfaudes_on_random_problems() {
             empty += 1;
         }
         ours_min.push(if sup.init().is_some() { min.num_states() } else { 0 });
-        let d = dir.join(format!("case{case:03}"));
-        std::fs::create_dir_all(&d).unwrap();
-        std::fs::write(d.join("plant.gen"), write_gen(&plant, &ev, "plant")).unwrap();
-        std::fs::write(d.join("spec.gen"), write_gen(&spec, &ev, "spec")).unwrap();
-        std::fs::write(d.join("sup.gen"), write_gen(&sup, &ev, "sup")).unwrap();
-        std::fs::write(d.join("supc.gen"), write_gen(&supc, &ev, "supc")).unwrap();
-        manifest.push_str(&format!("{}\n", d.display()));
+        manifest.push_str(&format!("{}\n", write_case(&dir.join(format!("case{case:03}")), &plant, &spec, &sup, &supc, &ev).display()));
     }
     eprintln!("{cases} cases: {nontrivial} restricted by synthesis, {empty} empty supervisors");
     assert!(nontrivial >= 12 && empty <= cases / 2, "too few informative cases: {nontrivial} restricted, {empty} empty");
-    let mpath = dir.join("manifest.txt");
-    std::fs::write(&mpath, manifest).unwrap();
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/faudes_check.py");
-    let out = Command::new(&py).arg(&script).arg(&mpath).output().unwrap();
-    assert!(out.status.success(), "libFAUDES checker failed: {}", String::from_utf8_lossy(&out.stderr));
-    let text = String::from_utf8(out.stdout).unwrap();
-    let lines: Vec<serde_json::Value> = text.lines().filter(|l| l.starts_with('{')).map(|l| serde_json::from_str(l).unwrap()).collect();
+    let lines = run_checker(&py, &dir, &manifest);
     assert_eq!(lines.len(), cases, "checker answered {} of {cases} cases", lines.len());
     for (case, v) in lines.iter().enumerate() {
-        for key in ["marked_eq", "closure_eq", "closed_gen_eq", "closed_marked_eq"] {
-            assert_eq!(v[key], serde_json::Value::Bool(true), "case {case}: libFAUDES disagrees on {key}: {v}");
-        }
+        assert_languages_agree(v, &format!("case {case}"));
         let faudes_min = v["faudes_min_states"].as_u64().unwrap() as usize;
         assert_eq!(faudes_min, ours_min[case], "case {case}: minimal state counts differ: {v}");
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The textbook problems with published supervisor sizes (small factory, transfer line, the
+/// five AGVs): libFAUDES computes the same languages and the same (unminimised) state counts.
+#[test]
+fn textbook_supervisors_agree_with_libfaudes() {
+    use plcsynth::sct::textbook::{agv, small_factory, transfer_line};
+    let py = venv_python();
+    let dir = std::env::temp_dir().join(format!("plcsynth-sct-textbook-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let problems = [("small factory", small_factory()), ("transfer line 3/1", transfer_line(3, 1)), ("AGV", agv())];
+    let mut manifest = String::new();
+    let mut sizes = Vec::new();
+    for (name, (plant, spec, ev)) in &problems {
+        // libFAUDES asks for the specification over the plant's alphabet.
+        let spec = spec.with_selfloops(plant.alphabet());
+        let sup = supcon(plant, &spec, ev, true).unwrap();
+        let supc = supcon(plant, &spec, ev, false).unwrap();
+        sizes.push(sup.num_states());
+        manifest.push_str(&format!("{}\n", write_case(&dir.join(name.replace([' ', '/'], "_")), plant, &spec, &sup, &supc, ev).display()));
+    }
+    let lines = run_checker(&py, &dir, &manifest);
+    assert_eq!(lines.len(), problems.len());
+    for ((name, _), (v, ours)) in problems.iter().zip(lines.iter().zip(sizes)) {
+        assert_languages_agree(v, name);
+        assert_eq!(v["faudes_states"].as_u64().unwrap() as usize, ours, "{name}: SupCon state counts differ: {v}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Writes one case directory in the layout `faudes_check.py` reads.
+fn write_case(d: &Path, plant: &Automaton, spec: &Automaton, sup: &Automaton, supc: &Automaton, ev: &Events) -> PathBuf {
+    std::fs::create_dir_all(d).unwrap();
+    std::fs::write(d.join("plant.gen"), write_gen(plant, ev, "plant")).unwrap();
+    std::fs::write(d.join("spec.gen"), write_gen(spec, ev, "spec")).unwrap();
+    std::fs::write(d.join("sup.gen"), write_gen(sup, ev, "sup")).unwrap();
+    std::fs::write(d.join("supc.gen"), write_gen(supc, ev, "supc")).unwrap();
+    d.to_path_buf()
+}
+
+/// Runs `faudes_check.py` over the listed case directories; one JSON object per case.
+fn run_checker(py: &Path, dir: &Path, manifest: &str) -> Vec<serde_json::Value> {
+    let mpath = dir.join("manifest.txt");
+    std::fs::write(&mpath, manifest).unwrap();
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/faudes_check.py");
+    let out = Command::new(py).arg(&script).arg(&mpath).output().unwrap();
+    assert!(out.status.success(), "libFAUDES checker failed: {}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    text.lines().filter(|l| l.starts_with('{')).map(|l| serde_json::from_str(l).unwrap()).collect()
+}
+
+fn assert_languages_agree(v: &serde_json::Value, what: &str) {
+    for key in ["marked_eq", "closure_eq", "closed_gen_eq", "closed_marked_eq"] {
+        assert_eq!(v[key], serde_json::Value::Bool(true), "{what}: libFAUDES disagrees on {key}: {v}");
+    }
 }

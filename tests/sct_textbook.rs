@@ -55,3 +55,14 @@ mod gen_robustness {
         }
     }
 }
+
+#[test]
+fn agv_supervisor_is_4406_states_11338_transitions() {
+    let (plant, spec, ev) = plcsynth::sct::textbook::agv();
+    // Five vehicle routes of 4, 8, 4, 6 and 4 states.
+    assert_eq!(plant.num_states(), 4 * 8 * 4 * 6 * 4);
+    let sup = supcon(&plant, &spec, &ev, true).unwrap();
+    assert_eq!((sup.num_states(), sup.num_transitions()), (4406, 11338));
+    assert!(sup.is_nonblocking());
+    assert!(is_controllable(&plant, &sup, &ev));
+}

@@ -7,7 +7,7 @@ use plcsynth::sct::gen::{read_gen, write_gen};
 use plcsynth::sct::model::{Config, Method};
 use plcsynth::sct::project::load;
 use plcsynth::sct::report::synthesize_all;
-use plcsynth::sct::textbook::{small_factory, transfer_line, transfer_lines_classic};
+use plcsynth::sct::textbook::{agv, small_factory, transfer_line, transfer_lines_classic};
 use plcsynth::sct::model::dep_closure;
 use plcsynth::sct::transfer::{extended_line, transfer_lines};
 use std::process::{Command, ExitCode};
@@ -277,8 +277,9 @@ fn bench_faudes(runs: usize) -> ExitCode {
         ("transfer lines 1x2", transfer_lines_classic(1, 2, 2)),
         ("transfer lines 2x2", transfer_lines_classic(2, 2, 2)),
         ("transfer lines 1x4", transfer_lines_classic(1, 4, 2)),
+        ("AGV (published 4406/11338)", agv()),
     ];
-    outln!("{:<22} {:>8} {:>8} | {:>10} {:>10} {:>7}", "problem", "states", "trans", "ours ms", "faudes ms", "ratio");
+    outln!("{:<24} {:>8} {:>8} | {:>10} {:>10} {:>7}", "problem", "states", "trans", "ours ms", "faudes ms", "ratio");
     for (name, (plant, spec, ev)) in &cases {
         let spec = &spec.with_selfloops(plant.alphabet());
         let mut times = Vec::new();
@@ -309,13 +310,13 @@ fn bench_faudes(runs: usize) -> ExitCode {
             Some((fms, fst, ftr)) => {
                 let agree = if fst as usize == sup.num_states() && ftr as usize == sup.num_transitions() { "" } else { "  (sizes differ!)" };
                 outln!(
-                    "{name:<22} {:>8} {:>8} | {ours:>10.3} {fms:>10.3} {:>7.2}{agree}",
+                    "{name:<24} {:>8} {:>8} | {ours:>10.3} {fms:>10.3} {:>7.2}{agree}",
                     sup.num_states(),
                     sup.num_transitions(),
                     ours / fms.max(1e-6)
                 );
             }
-            None => outln!("{name:<22} {:>8} {:>8} | {ours:>10.3} {:>10} {:>7}", sup.num_states(), sup.num_transitions(), "error", "-"),
+            None => outln!("{name:<24} {:>8} {:>8} | {ours:>10.3} {:>10} {:>7}", sup.num_states(), sup.num_transitions(), "error", "-"),
         }
     }
     outln!("ratio = ours / libFAUDES (below 1 means plcsynth is faster); libFAUDES time excludes file reading.");

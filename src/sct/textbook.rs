@@ -163,3 +163,71 @@ pub fn transfer_lines_classic(k: usize, m: usize, cap: usize) -> (Automaton, Aut
     }
     (plant.expect("k >= 1"), spec.expect("k >= 1"), ev)
 }
+
+/// A cyclic vehicle route: states `0..n`, the i-th event leads from state i to i+1 (mod n);
+/// only the parked state 0 is marked.
+fn route(events: &Events, cycle: &[&str]) -> Automaton {
+    let names: Vec<String> = (0..cycle.len()).map(|i| i.to_string()).collect();
+    let states: Vec<&str> = names.iter().map(String::as_str).collect();
+    let trans: Vec<(&str, &str, &str)> = cycle.iter().enumerate().map(|(i, e)| (states[i], *e, states[(i + 1) % cycle.len()])).collect();
+    build(events, cycle, &states, &["0"], &trans)
+}
+
+/// Mutual exclusion of two vehicles in one zone: `enter_a` events take the zone for the first
+/// vehicle until one of its `leave_a` events, likewise for the second; all states are marked.
+fn zone(events: &Events, enter_a: [&str; 2], leave_a: [&str; 2], enter_b: [&str; 2], leave_b: [&str; 2]) -> Automaton {
+    let alphabet: Vec<&str> = enter_a.iter().chain(&leave_a).chain(&enter_b).chain(&leave_b).copied().collect();
+    let mut trans = Vec::new();
+    for e in enter_a {
+        trans.push(("free", e, "a"));
+    }
+    for e in leave_a {
+        trans.push(("a", e, "free"));
+    }
+    for e in enter_b {
+        trans.push(("free", e, "b"));
+    }
+    for e in leave_b {
+        trans.push(("b", e, "free"));
+    }
+    build(events, &alphabet, &["free", "a", "b"], &["free", "a", "b"], &trans)
+}
+
+/// Wonham's five automated guided vehicles serving a work cell (course notes, "AGVs"; the same
+/// model is the AGV benchmark of Eclipse ESCET). Event `ij`: vehicle i, odd j controllable
+/// (unpark / re-enter a zone), even j uncontrollable. Specifications: four shared zones
+/// (Z1–Z4), the cyclic use of workstation 1 (two deliveries, then one pick-up), alternation at
+/// workstations 2 and 3, and exclusion at the input parts stations (IPS).
+/// The published supervisor has 4406 states and 11338 transitions.
+pub fn agv() -> (Automaton, Automaton, Events) {
+    let mut ev = Events::new();
+    declare(
+        &mut ev,
+        &["11", "13", "21", "23", "31", "33", "41", "43", "51", "53"],
+        &["10", "12", "18", "20", "22", "24", "26", "28", "32", "34", "40", "42", "44", "46", "50", "52"],
+    );
+    let n = ev.len();
+    let vehicles = [
+        route(&ev, &["11", "10", "13", "12"]),
+        route(&ev, &["21", "18", "20", "22", "23", "24", "26", "28"]),
+        route(&ev, &["33", "34", "31", "32"]),
+        route(&ev, &["41", "40", "42", "43", "44", "46"]),
+        route(&ev, &["51", "50", "53", "52"]),
+    ];
+    let plant = vehicles[1..].iter().fold(vehicles[0].clone(), |p, v| product(&p, v, n).automaton);
+    let all = ["0", "1", "2", "3"];
+    let specs = [
+        zone(&ev, ["11", "13"], ["10", "12"], ["20", "23"], ["22", "24"]),
+        zone(&ev, ["18", "24"], ["20", "26"], ["31", "33"], ["32", "34"]),
+        zone(&ev, ["21", "26"], ["18", "28"], ["41", "44"], ["40", "46"]),
+        zone(&ev, ["40", "43"], ["42", "44"], ["51", "53"], ["50", "52"]),
+        // Workstation 1 assembles a part from AGV3 (32) and AGV4 (46), in either order, before
+        // AGV5 takes it away (50).
+        build(&ev, &["32", "46", "50"], &all, &all, &[("0", "32", "1"), ("0", "46", "2"), ("1", "46", "3"), ("2", "32", "3"), ("3", "50", "0")]),
+        build(&ev, &["12", "34"], &all[..2], &all[..2], &[("0", "12", "1"), ("1", "34", "0")]),
+        build(&ev, &["28", "42"], &all[..2], &all[..2], &[("0", "28", "1"), ("1", "42", "0")]),
+        build(&ev, &["10", "13", "22", "23"], &all[..3], &all[..3], &[("0", "10", "1"), ("1", "13", "0"), ("0", "22", "2"), ("2", "23", "0")]),
+    ];
+    let spec = specs[1..].iter().fold(specs[0].clone(), |s, z| product(&s, z, n).automaton);
+    (plant, spec, ev)
+}
