@@ -4,7 +4,7 @@
 //! - [`classic`]: automata with marked states in compact sorted tables, synchronous product,
 //!   trim, SupCon/SupConClosed and minimisation — the textbook theory, used for teaching and
 //!   for cross-checking against libFAUDES; [`gen`] reads and writes libFAUDES `.gen` files;
-//!   [`textbook`] rebuilds the small factory and the transfer line.
+//!   [`textbook`] rebuilds the small factory, the transfer line and the five AGVs.
 //! - [`model`]: the SynTACS formal model of chapter 5.8 — specifications with prohibitions,
 //!   plant models with alphabets, conditions, synthesis automata; the specification product,
 //!   plant composition, application product, synthesis steps (`sys`, `sysp`), monolithic and

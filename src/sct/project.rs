@@ -190,6 +190,29 @@ pub fn load(src: &str) -> (Option<Loaded>, Vec<Diagnostic>) {
     (Some(Loaded { project, events: cx.metas, timers, origins: cx.origins, spec_spans }), items)
 }
 
+impl Loaded {
+    /// The project with all its specifications composed into one (definition 6), named
+    /// `name`: the single-supervisor setting that the formal model of preemption assumes
+    /// (5.8.5), where no supervisor can enforce an event that another prohibits (6.4.2).
+    /// A project with fewer than two specifications is returned unchanged.
+    pub fn composed(&self, name: &str) -> Loaded {
+        let mut out = self.clone();
+        let specs = std::mem::take(&mut out.project.specs);
+        if specs.len() < 2 {
+            out.project.specs = specs;
+            return out;
+        }
+        let mut acc = specs[0].clone();
+        for s in &specs[1..] {
+            acc = model::spec_product(name, &acc, s);
+        }
+        acc.name = name.to_string();
+        out.project.specs = vec![acc];
+        out.spec_spans = vec![self.spec_spans[0]];
+        out
+    }
+}
+
 fn qualify(prefix: &str, name: &str) -> String {
     if prefix.is_empty() {
         name.to_string()

@@ -1,5 +1,6 @@
 //! Classic textbook problems rebuilt from their published definitions (Wonham's course notes,
-//! "Supervisory Control of Discrete-Event Systems"): the small factory and the transfer line.
+//! "Supervisory Control of Discrete-Event Systems"): the small factory, the transfer line and the
+//! five automated guided vehicles.
 //! Each function returns the plant, the specification and the shared event table.
 
 use super::classic::{product, Automaton, AutomatonBuilder, EventId, Events};
