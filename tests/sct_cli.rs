@@ -107,3 +107,17 @@ fn supervise_compose_resolves_the_enforcement_conflict() {
     }
     assert_eq!(a[0]["enforced_events"], serde_json::json!(["closeInlNow"]));
 }
+
+#[test]
+fn supervise_reports_an_exhausted_state_budget() {
+    let (code, out, err) = plcsynth(&["supervise", "examples/sct/transfer_line_2x2.sct", "--method", "monolithic", "--max-states", "100"]);
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(err.contains("error: synthesis stopped at `B1_1`: more than 100 product states built"), "{err}");
+    assert!(err.contains("not synthesised either: B1_2, TB1, B2_1, B2_2"), "{err}");
+    // Incremental synthesis of the same file fits easily.
+    let (code, _, err) = plcsynth(&["supervise", "examples/sct/transfer_line_2x2.sct", "--max-states", "100"]);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = plcsynth(&["supervise", "examples/sct/three_tanks.sct", "--compose", "--max-states", "10"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("the product of all specifications has more than 10 states"), "{err}");
+}

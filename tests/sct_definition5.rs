@@ -148,7 +148,7 @@ fn monolithic_prohibition_synthesis_equals_classic_supconclosed() {
         let h = dual(&p);
         let k = classic::supcon(&g, &h, &ev, false).unwrap();
         for method in [Method::Monolithic, Method::Incremental] {
-            let sup = model::synthesize(&p, 0, &Config { method, preempt: false, minimize: case % 2 == 0 }).unwrap();
+            let sup = model::synthesize(&p, 0, &Config { method, preempt: false, minimize: case % 2 == 0, ..Config::default() }).unwrap();
             // Admissibility: the supervisor never disables an uncontrollable event.
             for st in &sup.states {
                 assert!(st.prohibited.iter().all(|e| p.kind(*e) == EventKind::Controllable), "case {case}");
@@ -186,7 +186,7 @@ fn applying_composed_plants_equals_applying_them_in_turn() {
         p.plants.push(extra);
         let composed = model::plant_compose(&p, 0, 1);
         let q = Project { events: p.events.clone(), plants: vec![composed], specs: p.specs.clone() };
-        let cfg = Config { method: Method::Monolithic, preempt: false, minimize: true };
+        let cfg = Config { method: Method::Monolithic, preempt: false, minimize: true, ..Config::default() };
         let s1 = model::synthesize(&p, 0, &cfg).unwrap();
         let s2 = model::synthesize(&q, 0, &cfg).unwrap();
         assert_eq!(s1.realizable(), s2.realizable(), "case {case}");

@@ -103,9 +103,9 @@ fn preemptive_supervisors_are_safe_modulo_preemption() {
     for case in 0..400 {
         let p = random_project(&mut rng);
         for method in [Method::Monolithic, Method::Incremental] {
-            let sup = model::synthesize(&p, 0, &Config { method, preempt: true, minimize: case % 2 == 0 }).unwrap();
+            let sup = model::synthesize(&p, 0, &Config { method, preempt: true, minimize: case % 2 == 0, ..Config::default() }).unwrap();
             check(&p, &sup, case);
-            let plain = model::synthesize(&p, 0, &Config { method, preempt: false, minimize: true }).unwrap();
+            let plain = model::synthesize(&p, 0, &Config { method, preempt: false, minimize: true, ..Config::default() }).unwrap();
             check(&p, &plain, case);
             assert!(plain.enforced_events().is_empty());
             // Preemption never makes a realizable problem unrealizable.

@@ -110,3 +110,30 @@ fn extended_line_ignores_the_shared_sensor() {
     }
     assert!(dep_all, "the shared sensor should pull every extended plant into some Dep closure");
 }
+
+/// Monolithic synthesis on many plants grows exponentially: it stops at the state budget
+/// instead of exhausting memory, and the progress callback can cancel it.
+#[test]
+fn state_budget_and_cancellation_stop_monolithic_synthesis() {
+    use plcsynth::sct::model::{synthesize_within, Budget, SynthError};
+    let (l, _) = load(&transfer_lines(4, 3, 2));
+    let p = l.unwrap().project;
+    let mono = Config { method: Method::Monolithic, max_states: 20_000, ..Config::default() };
+    match synthesize(&p, 0, &mono) {
+        Err(SynthError::BudgetExceeded { max_states }) => assert_eq!(max_states, 20_000),
+        other => panic!("expected the budget to stop synthesis, got {other:?}"),
+    }
+    // The same specification is cheap incrementally.
+    let inc = Config { method: Method::Incremental, max_states: 20_000, ..Config::default() };
+    assert!(synthesize(&p, 0, &inc).unwrap().realizable());
+
+    let mut calls = 0;
+    let mut cancel_at_second = |built: usize| {
+        calls += 1;
+        assert!(built > 0);
+        calls < 2
+    };
+    let mut budget = Budget::new(usize::MAX, &mut cancel_at_second);
+    assert!(matches!(synthesize_within(&p, 0, &Config { method: Method::Monolithic, ..Config::default() }, &mut budget), Err(SynthError::Cancelled)));
+    assert!(budget.built() > 4096, "cancelled after {} states", budget.built());
+}

@@ -4,7 +4,7 @@ use clap::{Args, ValueEnum};
 use plcsynth::diag::{render_plain, Diagnostics, Span};
 use plcsynth::sct::classic::{minimize, supcon as classic_supcon, Events, SupConError};
 use plcsynth::sct::gen::{read_gen, write_gen};
-use plcsynth::sct::model::{Config, Method};
+use plcsynth::sct::model::{Config, Method, DEFAULT_MAX_STATES};
 use plcsynth::sct::project::load;
 use plcsynth::sct::report::synthesize_all;
 use plcsynth::sct::textbook::{agv, small_factory, transfer_line, transfer_lines_classic};
@@ -39,6 +39,10 @@ pub struct SuperviseArgs {
     /// (the setting of 5.8.5; avoids enforcing an event another requirement prohibits, 6.4.2).
     #[arg(long)]
     pub compose: bool,
+    /// State budget per synthesis automaton (and for `--compose`); synthesis of a
+    /// specification that needs more stops with an error.
+    #[arg(long, default_value_t = DEFAULT_MAX_STATES)]
+    pub max_states: usize,
 }
 
 #[derive(Args)]
@@ -86,13 +90,19 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
     }
     let Some(mut loaded) = loaded else { return ExitCode::from(2) };
     if a.compose {
-        loaded = loaded.composed("Composed");
+        match loaded.composed("Composed", a.max_states) {
+            Some(l) => loaded = l,
+            None => {
+                eprintln!("error: the product of all specifications has more than {} states (--max-states)", a.max_states);
+                return ExitCode::from(2);
+            }
+        }
     }
     let method = match a.method {
         MethodArg::Incremental => Method::Incremental,
         MethodArg::Monolithic => Method::Monolithic,
     };
-    let cfg = Config { method, preempt: !a.no_preemption, minimize: !a.no_minimize };
+    let cfg = Config { method, preempt: !a.no_preemption, minimize: !a.no_minimize, max_states: a.max_states };
     let start = Instant::now();
     let clock = move || start.elapsed().as_secs_f64() * 1000.0;
     let (reports, sdiags) = synthesize_all(&src, &loaded, &cfg, Some(&clock));

@@ -458,7 +458,8 @@ fn push_moves(
 /// either operand prohibits; an event moves the operands that have a transition for it, and
 /// an operand without one stays unless it prohibits the event. Only the accessible part is
 /// built. Conditions of competing transitions are combined as in the application product.
-pub fn spec_product(name: &str, a: &Spec, b: &Spec) -> Spec {
+/// Returns `None` if the product would exceed `max_states` states.
+pub fn spec_product(name: &str, a: &Spec, b: &Spec, max_states: usize) -> Option<Spec> {
     fn by_state(h: &Spec) -> (Vec<Vec<&Transition>>, Vec<Vec<&Prohibition>>) {
         let mut t: Vec<Vec<&Transition>> = vec![Vec::new(); h.states.len()];
         let mut p: Vec<Vec<&Prohibition>> = vec![Vec::new(); h.states.len()];
@@ -471,7 +472,7 @@ pub fn spec_product(name: &str, a: &Spec, b: &Spec) -> Spec {
         (t, p)
     }
     if a.states.is_empty() || b.states.is_empty() {
-        return Spec { name: name.to_string(), states: Vec::new(), init: 0, trans: Vec::new(), prohib: Vec::new() };
+        return Some(Spec { name: name.to_string(), states: Vec::new(), init: 0, trans: Vec::new(), prohib: Vec::new() });
     }
     let (ta, pa) = by_state(a);
     let (tb, pb) = by_state(b);
@@ -515,9 +516,12 @@ pub fn spec_product(name: &str, a: &Spec, b: &Spec) -> Spec {
             }
         }
         push_moves(&mut out.trans, &mut index, &mut pairs, k as u32, moves);
+        if pairs.len() > max_states {
+            return None;
+        }
         k += 1;
     }
-    out
+    Some(out)
 }
 
 /// A transition under construction: event, condition, target pair, origins.
@@ -526,7 +530,7 @@ type NewTrans = (EventId, Cond, (u32, u32), [u32; 2]);
 /// Application product `C @ G` (definitions 20, 27 and 32): applies the knowledge of plant
 /// `g` to the synthesis automaton `c`. Conflicting transitions that both become unconditional
 /// are reported.
-pub fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32) -> Result<SynthAut, Conflict> {
+fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut Budget) -> Result<SynthAut, SynthError> {
     let g = &project.plants[g_id as usize];
     let n_events = project.events.len();
     let mut in_g = vec![false; n_events];
@@ -657,17 +661,20 @@ pub fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32) -> Result<
                     prohib: vec![Vec::new()],
                     enforced: vec![None],
                 };
-                return Err(Conflict { event: w[0].0, origins, state: state_label(project, spec, &tmp, 0) });
+                return Err(SynthError::Conflict(Conflict { event: w[0].0, origins, state: state_label(project, spec, &tmp, 0) }));
             }
         }
         new_prohib.sort_by_key(|p| p.event);
         let mut row = Vec::with_capacity(new_trans.len());
         for (e, cond, pair, origin) in new_trans.drain(..) {
-            let next = pairs.len() as u32;
-            let id = *index.entry(pair).or_insert_with(|| {
-                pairs.push(pair);
-                next
-            });
+            let id = match index.entry(pair) {
+                hashbrown::hash_map::Entry::Occupied(o) => *o.get(),
+                hashbrown::hash_map::Entry::Vacant(v) => {
+                    budget.take_one()?;
+                    pairs.push(pair);
+                    *v.insert(pairs.len() as u32 - 1)
+                }
+            };
             row.push(STrans { event: e, cond, dst: id, origin });
         }
         out.tuples.extend_from_slice(ctuple);
@@ -795,11 +802,21 @@ pub struct Config {
     pub preempt: bool,
     /// Minimise the result (5.4.4).
     pub minimize: bool,
+    /// Stop with [`SynthError::BudgetExceeded`] once this many product states have been built
+    /// (monolithic synthesis on many plants grows exponentially). [`synthesize`] gives each
+    /// specification this budget; a report over a whole project shares one among all.
+    pub max_states: usize,
 }
+
+/// The default state budget of [`Config`] and of specification products.
+pub const DEFAULT_MAX_STATES: usize = 1_000_000;
+
+/// How many new states a product builds between two calls of the progress callback.
+const PROGRESS_INTERVAL: usize = 4096;
 
 impl Default for Config {
     fn default() -> Config {
-        Config { method: Method::Incremental, preempt: true, minimize: true }
+        Config { method: Method::Incremental, preempt: true, minimize: true, max_states: DEFAULT_MAX_STATES }
     }
 }
 
@@ -909,10 +926,53 @@ impl Supervisor {
 #[derive(Clone, Debug)]
 pub enum SynthError {
     Conflict(Conflict),
+    /// The run built more product states than its budget allows.
+    BudgetExceeded { max_states: usize },
+    /// The progress callback asked to stop.
+    Cancelled,
 }
 
-/// Synthesises the supervisor for specification `spec_id`.
+/// What bounds a synthesis run: a number of product states that may still be built (every
+/// state of every application product counts, also of products later shrunk by synthesis
+/// steps) and the caller's progress callback. The callback sees the number of states built so
+/// far and returns `false` to cancel. One budget can serve several specifications.
+pub struct Budget<'a> {
+    max_states: usize,
+    built: usize,
+    progress: &'a mut dyn FnMut(usize) -> bool,
+}
+
+impl<'a> Budget<'a> {
+    pub fn new(max_states: usize, progress: &'a mut dyn FnMut(usize) -> bool) -> Budget<'a> {
+        Budget { max_states, built: 0, progress }
+    }
+
+    /// Product states built so far.
+    pub fn built(&self) -> usize {
+        self.built
+    }
+
+    /// Accounts for one new product state.
+    fn take_one(&mut self) -> Result<(), SynthError> {
+        self.built += 1;
+        if self.built > self.max_states {
+            return Err(SynthError::BudgetExceeded { max_states: self.max_states });
+        }
+        if self.built % PROGRESS_INTERVAL == 0 && !(self.progress)(self.built) {
+            return Err(SynthError::Cancelled);
+        }
+        Ok(())
+    }
+}
+
+/// Synthesises the supervisor for specification `spec_id` within `cfg.max_states`.
 pub fn synthesize(project: &Project, spec_id: usize, cfg: &Config) -> Result<Supervisor, SynthError> {
+    synthesize_within(project, spec_id, cfg, &mut Budget::new(cfg.max_states, &mut |_| true))
+}
+
+/// [`synthesize`] drawing on a caller's budget (which may be shared by several
+/// specifications and carries the progress callback); `cfg.max_states` is not consulted.
+pub fn synthesize_within(project: &Project, spec_id: usize, cfg: &Config, budget: &mut Budget) -> Result<Supervisor, SynthError> {
     let spec = &project.specs[spec_id];
     let n_events = project.events.len();
     let mut c = SynthAut::from_spec(spec, n_events);
@@ -927,7 +987,7 @@ pub fn synthesize(project: &Project, spec_id: usize, cfg: &Config) -> Result<Sup
     match cfg.method {
         Method::Monolithic => {
             for g in 0..project.plants.len() as u32 {
-                c = apply(project, spec, &c, g).map_err(SynthError::Conflict)?;
+                c = apply(project, spec, &c, g, budget)?;
             }
             loop {
                 let (next, changed) = step(project, &c, cfg.preempt);
@@ -968,7 +1028,7 @@ pub fn synthesize(project: &Project, spec_id: usize, cfg: &Config) -> Result<Sup
                 }
                 for g in gather {
                     remaining[g as usize] = false;
-                    c = apply(project, spec, &c, g).map_err(SynthError::Conflict)?;
+                    c = apply(project, spec, &c, g, budget)?;
                 }
             }
             let (next, changed) = step(project, &c, cfg.preempt);
@@ -1201,7 +1261,7 @@ mod tests {
             trans: vec![t(0, 2, 1)],
             prohib: vec![Prohibition { state: 1, event: EventId(0), cond: Cond::True, origin: NO_ORIGIN }],
         };
-        let h = spec_product("H", &t1, &t2);
+        let h = spec_product("H", &t1, &t2, DEFAULT_MAX_STATES).unwrap();
         // From (s,u): a -> (t,u), c -> (s,v); (s,v) forbids a; (t,u) forbids b, c -> (t,v).
         assert_eq!(h.states.len(), 4);
         let p = h.prohib.iter().map(|p| (h.states[p.state as usize].as_str(), p.event.0)).collect::<Vec<_>>();

@@ -163,12 +163,15 @@ pub fn load(src: &str) -> (Option<Loaded>, Vec<Diagnostic>) {
         }
         if parts.len() == operands.len() && !cx.diags.has_errors() {
             let full = qualify(&cx.modules[module].path, &name);
-            let mut acc = built[parts[0]].clone();
-            for &i in &parts[1..] {
-                acc = model::spec_product(&full, &acc, &built[i]);
+            let specs: Vec<&model::Spec> = parts.iter().map(|&i| &built[i]).collect();
+            match product_of(&full, &specs, model::DEFAULT_MAX_STATES) {
+                Some(acc) => product_specs.push((acc, span)),
+                None => {
+                    cx.diags
+                        .error(span, format!("the product `{full}` has more than {} states", model::DEFAULT_MAX_STATES))
+                        .with_note("synthesise the specifications separately, or compose fewer of them");
+                }
             }
-            acc.name = full;
-            product_specs.push((acc, span));
         }
     }
     for (i, s) in built.into_iter().enumerate() {
@@ -195,22 +198,27 @@ impl Loaded {
     /// `name`: the single-supervisor setting that the formal model of preemption assumes
     /// (5.8.5), where no supervisor can enforce an event that another prohibits (6.4.2).
     /// A project with fewer than two specifications is returned unchanged.
-    pub fn composed(&self, name: &str) -> Loaded {
+    /// Returns `None` if the product would exceed `max_states` states.
+    pub fn composed(&self, name: &str, max_states: usize) -> Option<Loaded> {
         let mut out = self.clone();
-        let specs = std::mem::take(&mut out.project.specs);
-        if specs.len() < 2 {
-            out.project.specs = specs;
-            return out;
+        if self.project.specs.len() >= 2 {
+            let specs: Vec<&model::Spec> = self.project.specs.iter().collect();
+            out.project.specs = vec![product_of(name, &specs, max_states)?];
+            out.spec_spans = vec![self.spec_spans[0]];
         }
-        let mut acc = specs[0].clone();
-        for s in &specs[1..] {
-            acc = model::spec_product(name, &acc, s);
-        }
-        acc.name = name.to_string();
-        out.project.specs = vec![acc];
-        out.spec_spans = vec![self.spec_spans[0]];
-        out
+        Some(out)
     }
+}
+
+/// The specification product of `specs` (at least one), named `name`; `None` if any
+/// intermediate product exceeds `max_states` states.
+fn product_of(name: &str, specs: &[&model::Spec], max_states: usize) -> Option<model::Spec> {
+    let mut acc = specs[0].clone();
+    for s in &specs[1..] {
+        acc = model::spec_product(name, &acc, s, max_states)?;
+    }
+    acc.name = name.to_string();
+    Some(acc)
 }
 
 fn qualify(prefix: &str, name: &str) -> String {

@@ -5,7 +5,7 @@
 //! transitions (6.4.4) with both locations, cycles of enforced transitions (5.5.5), and a warning
 //! when one supervisor enforces an event another one prohibits (6.4.2).
 
-use super::model::{self, Config, EventId, SynthError};
+use super::model::{self, Budget, Config, EventId, SynthError};
 use super::project::Loaded;
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use serde::Serialize;
@@ -47,15 +47,53 @@ pub struct SupervisorReport {
 
 /// Synthesises one supervisor per specification. Timing uses `now` (milliseconds) so that
 /// the engine stays free of clocks on targets without one; pass `None` to skip timing.
+/// All specifications share one budget of `cfg.max_states` product states; once it is spent,
+/// the remaining specifications get an error diagnostic instead of a report.
 pub fn synthesize_all(src: &str, loaded: &Loaded, cfg: &Config, now: Option<&dyn Fn() -> f64>) -> (Vec<SupervisorReport>, Vec<Diagnostic>) {
+    synthesize_all_with_progress(src, loaded, cfg, now, &mut |_| true)
+}
+
+/// [`synthesize_all`] with a progress callback, called every few thousand product states
+/// with the number built so far; returning `false` cancels the run (the reports finished so
+/// far are returned, with an error diagnostic).
+pub fn synthesize_all_with_progress(
+    src: &str,
+    loaded: &Loaded,
+    cfg: &Config,
+    now: Option<&dyn Fn() -> f64>,
+    progress: &mut dyn FnMut(usize) -> bool,
+) -> (Vec<SupervisorReport>, Vec<Diagnostic>) {
+    let mut budget = Budget::new(cfg.max_states, progress);
     let mut diags = Diagnostics::new(src);
     let p = &loaded.project;
     let name = |e: EventId| p.event_name(e).to_string();
     let mut out = Vec::new();
     for (i, spec) in p.specs.iter().enumerate() {
         let t0 = now.map(|f| f());
-        let sup = match model::synthesize(p, i, cfg) {
+        let sup = match model::synthesize_within(p, i, cfg, &mut budget) {
             Ok(s) => s,
+            Err(SynthError::BudgetExceeded { max_states }) => {
+                let rest: Vec<&str> = p.specs[i + 1..].iter().map(|s| s.name.as_str()).collect();
+                let d = diags.error(
+                    loaded.spec_spans[i],
+                    format!("synthesis stopped at `{}`: more than {max_states} product states built", spec.name),
+                );
+                match rest.len() {
+                    0 => {}
+                    1..=5 => {
+                        d.with_note(format!("not synthesised either: {}", rest.join(", ")));
+                    }
+                    n => {
+                        d.with_note(format!("not synthesised either: {} and {} more", rest[..4].join(", "), n - 4));
+                    }
+                }
+                d.with_note("incremental synthesis applies fewer plants; or raise the budget with --max-states");
+                break;
+            }
+            Err(SynthError::Cancelled) => {
+                diags.error(loaded.spec_spans[i], format!("synthesis cancelled while synthesising `{}`", spec.name));
+                break;
+            }
             Err(SynthError::Conflict(c)) => {
                 let spans: Vec<Span> = c.origins.iter().filter_map(|&o| loaded.origins.get(o as usize).copied()).collect();
                 let at = spans.first().copied().unwrap_or(loaded.spec_spans[i]);
