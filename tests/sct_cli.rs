@@ -106,6 +106,7 @@ fn supervise_compose_resolves_the_enforcement_conflict() {
         assert_eq!(a[0][key], b[0][key], "{key}");
     }
     assert_eq!(a[0]["enforced_events"], serde_json::json!(["closeInlNow"]));
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

@@ -137,3 +137,35 @@ fn state_budget_and_cancellation_stop_monolithic_synthesis() {
     assert!(matches!(synthesize_within(&p, 0, &Config { method: Method::Monolithic, ..Config::default() }, &mut budget), Err(SynthError::Cancelled)));
     assert!(budget.built() > 4096, "cancelled after {} states", budget.built());
 }
+
+/// The budget counts every product state, the initial ones included: a product of exactly
+/// the budget's size fits, one state less does not.
+#[test]
+fn state_budget_admits_exactly_its_size() {
+    use plcsynth::sct::model::SynthError;
+    let src = "event go : controllable;\nevent done : uncontrollable;\nevent more : controllable;\n\
+               plant P { alphabet go, done, more; state A initial { go -> B; } state B { done -> C; } state C { more -> A; } }\n\
+               spec H { state S { forbid more; } }";
+    let (l, d) = load(src);
+    assert!(d.is_empty(), "{d:?}");
+    let p = l.unwrap().project;
+    // Monolithic synthesis applies the plant: one spec state times three plant states.
+    let cfg = |max_states| Config { method: Method::Monolithic, max_states, ..Config::default() };
+    assert!(synthesize(&p, 0, &cfg(3)).is_ok());
+    assert!(matches!(synthesize(&p, 0, &cfg(2)), Err(SynthError::BudgetExceeded { max_states: 2 })));
+}
+
+/// Cancelling a whole report keeps the supervisors finished so far and says where it stopped.
+#[test]
+fn cancelling_a_report_stops_with_a_located_error() {
+    use plcsynth::sct::report::synthesize_all_with_progress;
+    let src = transfer_lines(4, 3, 2);
+    let (l, _) = load(&src);
+    let l = l.unwrap();
+    let cfg = Config { method: Method::Monolithic, ..Config::default() };
+    let (reports, diags) = synthesize_all_with_progress(&src, &l, &cfg, None, &mut |built| built < 10_000);
+    assert!(reports.len() < l.project.specs.len());
+    let errors: Vec<_> = diags.iter().filter(|d| d.is_error()).collect();
+    assert_eq!(errors.len(), 1, "{diags:?}");
+    assert!(errors[0].message.starts_with("synthesis cancelled while synthesising `"), "{}", errors[0].message);
+}

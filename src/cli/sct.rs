@@ -39,8 +39,9 @@ pub struct SuperviseArgs {
     /// (the setting of 5.8.5; avoids enforcing an event another requirement prohibits, 6.4.2).
     #[arg(long)]
     pub compose: bool,
-    /// State budget per synthesis automaton (and for `--compose`); synthesis of a
-    /// specification that needs more stops with an error.
+    /// State budget: the product states one run may build, shared by all specifications
+    /// (`--compose` bounds its product by the same number); when it is spent, synthesis stops
+    /// with an error.
     #[arg(long, default_value_t = DEFAULT_MAX_STATES)]
     pub max_states: usize,
 }
@@ -89,9 +90,13 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
         eprint!("{}", render_plain(&a.file, &src, &diags));
     }
     let Some(mut loaded) = loaded else { return ExitCode::from(2) };
+    let mut composed_from = 0;
     if a.compose {
         match loaded.composed("Composed", a.max_states) {
-            Some(l) => loaded = l,
+            Some(l) => {
+                composed_from = loaded.project.specs.len();
+                loaded = l
+            }
             None => {
                 eprintln!("error: the product of all specifications has more than {} states (--max-states)", a.max_states);
                 return ExitCode::from(2);
@@ -108,6 +113,9 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
     let (reports, sdiags) = synthesize_all(&src, &loaded, &cfg, Some(&clock));
     if !sdiags.is_empty() {
         eprint!("{}", render_plain(&a.file, &src, &sdiags));
+        if composed_from > 1 {
+            eprintln!("note: `Composed` is the product of all {composed_from} specifications; its diagnostics point at the first");
+        }
     }
     let failed = sdiags.iter().any(|d| d.is_error());
     if a.json {

@@ -558,6 +558,7 @@ fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut B
         enforced: Vec::new(),
     };
     let Some(ci) = c.init else { return Ok(out) };
+    budget.take_one()?;
     let mut index: hashbrown::HashMap<(u32, u32), u32> = hashbrown::HashMap::new();
     let mut pairs: Vec<(u32, u32)> = vec![(ci, g.init)];
     index.insert((ci, g.init), 0);
@@ -802,13 +803,14 @@ pub struct Config {
     pub preempt: bool,
     /// Minimise the result (5.4.4).
     pub minimize: bool,
-    /// Stop with [`SynthError::BudgetExceeded`] once this many product states have been built
-    /// (monolithic synthesis on many plants grows exponentially). [`synthesize`] gives each
-    /// specification this budget; a report over a whole project shares one among all.
+    /// Stop with [`SynthError::BudgetExceeded`] once more than this many product states have
+    /// been built (monolithic synthesis on many plants grows exponentially). [`synthesize`]
+    /// gives each specification this budget; a report over a whole project shares one among all.
     pub max_states: usize,
 }
 
-/// The default state budget of [`Config`] and of specification products.
+/// The default state budget of [`Config`], and the fixed bound of the specification products
+/// written in a project file.
 pub const DEFAULT_MAX_STATES: usize = 1_000_000;
 
 /// How many new states a product builds between two calls of the progress callback.
@@ -1262,6 +1264,9 @@ mod tests {
             prohib: vec![Prohibition { state: 1, event: EventId(0), cond: Cond::True, origin: NO_ORIGIN }],
         };
         let h = spec_product("H", &t1, &t2, DEFAULT_MAX_STATES).unwrap();
+        // The bound admits a product of exactly its size and no more.
+        assert!(spec_product("H", &t1, &t2, 4).is_some());
+        assert!(spec_product("H", &t1, &t2, 3).is_none());
         // From (s,u): a -> (t,u), c -> (s,v); (s,v) forbids a; (t,u) forbids b, c -> (t,v).
         assert_eq!(h.states.len(), 4);
         let p = h.prohib.iter().map(|p| (h.states[p.state as usize].as_str(), p.event.0)).collect::<Vec<_>>();

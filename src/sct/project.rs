@@ -197,11 +197,11 @@ impl Loaded {
     /// The project with all its specifications composed into one (definition 6), named
     /// `name`: the single-supervisor setting that the formal model of preemption assumes
     /// (5.8.5), where no supervisor can enforce an event that another prohibits (6.4.2).
-    /// A project with fewer than two specifications is returned unchanged.
-    /// Returns `None` if the product would exceed `max_states` states.
+    /// Diagnostics about the composed specification point at the first one. Returns `None` if
+    /// the product would exceed `max_states` states.
     pub fn composed(&self, name: &str, max_states: usize) -> Option<Loaded> {
         let mut out = self.clone();
-        if self.project.specs.len() >= 2 {
+        if !self.project.specs.is_empty() {
             let specs: Vec<&model::Spec> = self.project.specs.iter().collect();
             out.project.specs = vec![product_of(name, &specs, max_states)?];
             out.spec_spans = vec![self.spec_spans[0]];

@@ -5,7 +5,7 @@
 //! transitions (6.4.4) with both locations, cycles of enforced transitions (5.5.5), and a warning
 //! when one supervisor enforces an event another one prohibits (6.4.2).
 
-use super::model::{self, Budget, Config, EventId, SynthError};
+use super::model::{self, Budget, Config, EventId, Method, SynthError};
 use super::project::Loaded;
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use serde::Serialize;
@@ -68,6 +68,8 @@ pub fn synthesize_all_with_progress(
     let p = &loaded.project;
     let name = |e: EventId| p.event_name(e).to_string();
     let mut out = Vec::new();
+    // The specification of each report (a specification with an error has none).
+    let mut spec_of: Vec<usize> = Vec::new();
     for (i, spec) in p.specs.iter().enumerate() {
         let t0 = now.map(|f| f());
         let sup = match model::synthesize_within(p, i, cfg, &mut budget) {
@@ -87,7 +89,11 @@ pub fn synthesize_all_with_progress(
                         d.with_note(format!("not synthesised either: {} and {} more", rest[..4].join(", "), n - 4));
                     }
                 }
-                d.with_note("incremental synthesis applies fewer plants; or raise the budget with --max-states");
+                d.with_note(if cfg.method == Method::Monolithic {
+                    "incremental synthesis applies only the plants it needs; or raise the state budget"
+                } else {
+                    "raise the state budget to synthesise it"
+                });
                 break;
             }
             Err(SynthError::Cancelled) => {
@@ -143,6 +149,7 @@ pub fn synthesize_all_with_progress(
                 enforced: s.enforced.map(name),
             })
             .collect();
+        spec_of.push(i);
         out.push(SupervisorReport {
             name: spec.name.clone(),
             realizable: sup.realizable(),
@@ -163,7 +170,7 @@ pub fn synthesize_all_with_progress(
         for e in &a.enforced_events {
             for (j, b) in out.iter().enumerate() {
                 if i != j && b.prohibited_events.contains(e) {
-                    let at = loaded.spec_spans[j];
+                    let at = loaded.spec_spans[spec_of[j]];
                     diags
                         .warning(at, format!("`{}` prohibits `{e}`, which supervisor `{}` enforces", b.name, a.name))
                         .with_note("compose the two specifications into one to resolve the conflict (6.4.2)");
@@ -171,9 +178,8 @@ pub fn synthesize_all_with_progress(
             }
         }
     }
-    for r in &out {
+    for (r, &k) in out.iter().zip(&spec_of) {
         if !r.realizable {
-            let k = p.specs.iter().position(|s| s.name == r.name).unwrap_or(0);
             diags.warning(loaded.spec_spans[k], format!("specification `{}` is unrealizable: no safe supervisor exists with the given plant models", r.name));
         }
     }
