@@ -1,7 +1,7 @@
 // Bundles the playground with esbuild: www/src/main.js (page) and www/src/worker.js (engine)
 // into www/dist, with every examples/timed/*.tga embedded as the virtual module `examples`.
 import * as esbuild from 'esbuild';
-import { readdirSync, readFileSync, rmSync } from 'node:fs';
+import { readdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { basename, dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 
@@ -59,6 +59,11 @@ const result = await esbuild.build({
   metafile: true,
   logLevel: 'warning',
 });
+// The bundles a first start needs, for the service worker (www/sw.js) to fetch on install.
+const bundles = Object.keys(result.metafile.outputs)
+  .filter((f) => f.endsWith('.js'))
+  .map((f) => basename(f));
+writeFileSync(join(www, 'dist', 'assets.json'), JSON.stringify(bundles));
 const sizes = Object.entries(result.metafile.outputs)
   .filter(([f]) => f.endsWith('.js'))
   .map(([f, o]) => `${basename(f)} ${(o.bytes / 1024).toFixed(0)} KiB`);

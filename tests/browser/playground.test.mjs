@@ -312,3 +312,27 @@ test('measurements: time to interactive, RT 4/8 and 8/8 solve time (reported, no
   await shot(page, '14-rt4-explorer');
   await page.context().close();
 });
+
+test('after one visit the page starts and solves with the server gone (service worker)', async () => {
+  // An own server (and so an own origin), because this test stops it.
+  const own = await startServer();
+  const page = await newPage(browser, `${own.url}#example/lamp`);
+  await page.waitForFunction(() => navigator.serviceWorker?.controller != null, null, { timeout: 20000 });
+  own.stop();
+  for (let i = 0; ; i++) {
+    const gone = await fetch(own.url).then(() => false, () => true);
+    if (gone) break;
+    assert.ok(i < 50, 'the static server did not stop');
+    await new Promise((r) => setTimeout(r, 100));
+  }
+  await page.reload();
+  await page.waitForSelector('body[data-engine=ready]', { timeout: 20000 });
+  assert.equal(await editorText(page), readExample('lamp'));
+  assert.equal(await runAndWait(page), 'realizable');
+  // Graphviz is a lazily loaded bundle: it was fetched on install, so it draws offline too.
+  await page.click('[data-tab=automata]');
+  await page.waitForSelector('#automata section[data-name=button] svg');
+  await shot(page, '12-offline-after-reload');
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});

@@ -380,6 +380,8 @@ window.addEventListener('unhandledrejection', (e) => {
     document.body.dataset.engine = 'ready';
     app.interactiveMs = performance.now();
     setTimeout(preload, 500);
+    // Offline start on later visits (www/sw.js); not on file:// or where the browser refuses.
+    navigator.serviceWorker?.register('sw.js').catch(() => {});
   } catch (error) {
     setStatus(`The engine could not start: ${error}`, 'error');
   }
