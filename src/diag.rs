@@ -81,6 +81,11 @@ impl<'a> LineIndex<'a> {
         (line as u32 + 1, column as u32)
     }
 
+    /// The byte offset where a 1-based line starts.
+    pub fn line_start(&self, line: u32) -> usize {
+        self.line_starts[(line as usize).saturating_sub(1).min(self.line_starts.len() - 1)]
+    }
+
     /// The text of a 1-based line without its line break.
     pub fn line_text(&self, line: u32) -> &'a str {
         let i = (line as usize).saturating_sub(1).min(self.line_starts.len() - 1);
@@ -136,6 +141,21 @@ impl Diagnostic {
     }
 }
 
+/// A source line as a terminal can show it: control characters (a lone `\r`, which would return
+/// the cursor, a tab, whose width varies) become one visible character each, so that the caret
+/// line, which counts characters, stays under the right column.
+fn visible(text: &str) -> String {
+    text.chars()
+        .map(|c| match c {
+            '\t' => ' ',
+            // The Unicode "control pictures" block: U+2400 + code for C0 controls, U+2421 for DEL.
+            c if (c as u32) < 0x20 => char::from_u32(0x2400 + c as u32).unwrap_or('?'),
+            '\u{7f}' => '\u{2421}',
+            c => c,
+        })
+        .collect()
+}
+
 /// Renders diagnostics as plain text: `file:line:col: error: message`, the source line and a
 /// caret under the span. Used by the CLI and by tests; the page renders its own squiggles.
 pub fn render_plain(file: &str, source: &str, diagnostics: &[Diagnostic]) -> String {
@@ -149,15 +169,18 @@ pub fn render_plain(file: &str, source: &str, diagnostics: &[Diagnostic]) -> Str
         out.push_str(&format!("{file}:{}:{}: {kind}: {}\n", d.line, d.column, d.message));
         let text = index.line_text(d.line);
         let gutter = d.line.to_string();
-        out.push_str(&format!("{gutter} | {text}\n"));
-        let line_start = source[..d.span.start as usize].rfind('\n').map_or(0, |i| i + 1);
-        let line_end = line_start + text.len();
-        let end = (d.span.end as usize).clamp(d.span.start as usize, line_end);
-        let width = source.get(d.span.start as usize..end).map_or(1, |s| s.chars().count()).max(1);
+        out.push_str(&format!("{gutter} | {}\n", visible(text)));
+        // The caret covers the span's part on its first line, at least one column; a span past
+        // the end of the displayed text (after a trailing `\r`, say) gets one caret after it.
+        let start = (d.span.start as usize).min(source.len());
+        let line_start = index.line_start(d.line);
+        let line_end = (line_start + text.len()).max(start);
+        let end = (d.span.end as usize).clamp(start, line_end);
+        let width = source.get(start..end).map_or(1, |s| s.chars().count()).max(1);
         out.push_str(&format!(
             "{} | {}{}\n",
             " ".repeat(gutter.len()),
-            " ".repeat(d.column as usize - 1),
+            " ".repeat((d.column as usize).saturating_sub(1)),
             "^".repeat(width)
         ));
         for note in &d.notes {
@@ -192,5 +215,27 @@ mod tests {
         assert!(text.starts_with("x.tga:2:33: error: unknown node `q9`\n"), "{text}");
         assert!(text.contains("2 |   automaton A { nodes q0; q0 -> q9 ?a; }\n"));
         assert!(text.contains("  |                                 ^^\n"), "{text}");
+    }
+
+    #[test]
+    fn render_survives_a_trailing_carriage_return() {
+        let src = "dependencies\r";
+        let mut diags = Diagnostics::new(src);
+        diags.error(Span::new(src.len(), src.len()), "expected `{`, found end of file");
+        let text = render_plain("a.tga", src, &diags.items);
+        assert_eq!(text, "a.tga:1:14: error: expected `{`, found end of file\n1 | dependencies\n  |              ^\n");
+    }
+
+    #[test]
+    fn caret_stays_under_its_column_after_a_lone_carriage_return() {
+        let src = "ab\rcd x\n";
+        let start = src.find('x').unwrap();
+        let mut diags = Diagnostics::new(src);
+        diags.error(Span::new(start, start + 1), "here");
+        let text = render_plain("a", src, &diags.items);
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[1], "1 | ab\u{240d}cd x");
+        let caret = lines[2].find('^').unwrap();
+        assert_eq!(lines[1].chars().count() - 1, lines[2][..caret].chars().count(), "{text}");
     }
 }

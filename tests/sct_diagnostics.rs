@@ -222,3 +222,34 @@ fn timers_need_a_duration_and_a_start_event() {
     expect_at(&e, 2, 7, "timer `T` has no `start` event");
     expect_at(&e, 3, 34, "unknown event `nothing`");
 }
+
+fn on_small_stack<T: Send + 'static>(f: impl FnOnce() -> T + Send + 'static) -> T {
+    std::thread::Builder::new().stack_size(1 << 20).spawn(f).unwrap().join().expect("no stack overflow, no panic")
+}
+
+#[test]
+fn deeply_nested_modules_get_a_located_error() {
+    let src = format!("{}event e;{}", "module M {\n".repeat(5_000), "}".repeat(5_000));
+    let errs = on_small_stack(move || errors(&src).iter().map(|d| (d.line, d.message.clone())).collect::<Vec<_>>());
+    assert_eq!(errs.first().map(|e| e.0), Some(65), "{errs:?}");
+    assert!(errs[0].1.contains("nested too deeply"), "{errs:?}");
+}
+
+#[test]
+fn long_condition_chains_resolve_on_a_small_stack() {
+    let chain = vec!["P.a"; 50_000].join(" or ");
+    let src = format!(
+        "event go : controllable; event stop : controllable;\nplant P {{ alphabet go, stop; state a initial {{ go -> b; }} state b {{ stop -> a; }} }}\n\
+         spec S {{ state s {{ go -> s if [{chain}]; stop -> s; }} }}\n"
+    );
+    let errs = on_small_stack(move || errors(&src).iter().map(|d| d.message.clone()).collect::<Vec<_>>());
+    assert_eq!(errs, Vec::<String>::new());
+}
+
+#[test]
+fn an_error_at_the_end_of_a_file_ending_in_cr_renders() {
+    let src = "module\r";
+    let (_, diags) = load(src);
+    let text = plcsynth::diag::render_plain("a.sct", src, &diags);
+    assert!(text.starts_with("a.sct:1:"), "{text}");
+}

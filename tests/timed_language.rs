@@ -260,3 +260,51 @@ fn every_example_in_the_language_reference_parses() {
         assert_eq!(syntax_errors(&src), Vec::<String>::new(), "{block}");
     }
 }
+
+/// Runs `f` on a thread with a 1 MiB stack, the size a wasm worker gets, so that recursion
+/// which only native stacks survive fails here.
+fn on_small_stack<T: Send + 'static>(f: impl FnOnce() -> T + Send + 'static) -> T {
+    std::thread::Builder::new().stack_size(1 << 20).spawn(f).unwrap().join().expect("no stack overflow, no panic")
+}
+
+const LAMP_PLANT: &str = "plant { automaton lamp { nodes off, on; off -> on ?turn_on; on -> off ?turn_off; } }\n";
+
+#[test]
+fn deeply_nested_conditions_get_a_located_error() {
+    for (what, cond) in [
+        ("parentheses", format!("{}lamp.on{}", "(".repeat(100_000), ")".repeat(100_000))),
+        ("not", format!("{}lamp.on", "not ".repeat(100_000))),
+    ] {
+        let src = format!("{LAMP_PLANT}assertions {{ never {cond}; }}\n");
+        let errs = on_small_stack(move || errors(&src));
+        assert!(!errs.is_empty() && errs[0].starts_with("2:") && errs[0].contains("nested too deeply"), "{what}: {errs:?}");
+    }
+    // 64 levels are fine.
+    let src = format!("{LAMP_PLANT}assertions {{ never {}lamp.on{}; }}\n", "(not ".repeat(32), ")".repeat(32));
+    assert_eq!(on_small_stack(move || errors(&src)), Vec::<String>::new());
+}
+
+#[test]
+fn long_and_or_chains_are_flat() {
+    // A chain of 100 000 operands is one wide node: it checks, solves and drops on a small stack,
+    // and means what the short form means.
+    let chain = vec!["lamp.on"; 100_000].join(" and ");
+    let long = format!("{LAMP_PLANT}assertions {{ never {chain} or lamp.off and lamp.on; }}\n");
+    let short = format!("{LAMP_PLANT}assertions {{ never lamp.on; }}\n");
+    let solve = |src: String| {
+        on_small_stack(move || {
+            let (game, _) = compile(&src).map_err(|d| format!("{d:?}")).unwrap();
+            let result = plcsynth::timed::synthesize(&game, &Default::default(), &mut |_| true);
+            (result.solution.verdict, result.solution.space.states.len())
+        })
+    };
+    assert_eq!(solve(long), solve(short));
+}
+
+#[test]
+fn render_of_an_error_at_the_end_of_a_file_ending_in_cr() {
+    let src = "dependencies\r";
+    let d = compile(src).err().expect("an error");
+    let text = render_plain("a.tga", src, &d);
+    assert!(text.contains("a.tga:1:"), "{text}");
+}

@@ -221,6 +221,16 @@ fn product_of(name: &str, specs: &[&model::Spec], max_states: usize) -> Option<m
     Some(acc)
 }
 
+/// Joins two or more operands into a balanced binary tree, so that a chain of `n` operands nests
+/// `log2 n` deep rather than `n` (the model's conditions are evaluated recursively).
+fn balanced(mut operands: Vec<Cond>, join: &impl Fn(Box<Cond>, Box<Cond>) -> Cond) -> Cond {
+    if operands.len() == 1 {
+        return operands.pop().expect("one operand");
+    }
+    let right = operands.split_off(operands.len() / 2);
+    join(Box::new(balanced(operands, join)), Box::new(balanced(right, join)))
+}
+
 fn qualify(prefix: &str, name: &str) -> String {
     if prefix.is_empty() {
         name.to_string()
@@ -598,13 +608,12 @@ impl<'s, 'a> Ctx<'s, 'a> {
             CondExpr::True => Cond::True,
             CondExpr::False => Cond::False,
             CondExpr::Not(x) => Cond::Not(Box::new(self.cond(module, x, plants_states)?)),
-            CondExpr::And(a, b) => {
-                let (x, y) = (self.cond(module, a, plants_states), self.cond(module, b, plants_states));
-                Cond::And(Box::new(x?), Box::new(y?))
-            }
-            CondExpr::Or(a, b) => {
-                let (x, y) = (self.cond(module, a, plants_states), self.cond(module, b, plants_states));
-                Cond::Or(Box::new(x?), Box::new(y?))
+            CondExpr::And(operands) | CondExpr::Or(operands) => {
+                // Every operand is resolved so that all unknown names are reported at once.
+                let resolved: Vec<Option<Cond>> = operands.iter().map(|x| self.cond(module, x, plants_states)).collect();
+                let resolved: Vec<Cond> = resolved.into_iter().collect::<Option<_>>()?;
+                let join = if matches!(c, CondExpr::And(_)) { Cond::And } else { Cond::Or };
+                balanced(resolved, &join)
             }
             CondExpr::State(p) => {
                 if p.parts.len() < 2 {

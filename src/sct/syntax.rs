@@ -107,8 +107,10 @@ pub enum CondExpr {
     False,
     State(Path),
     Not(Box<CondExpr>),
-    And(Box<CondExpr>, Box<CondExpr>),
-    Or(Box<CondExpr>, Box<CondExpr>),
+    /// Two or more operands; chains are flat so that their length adds no nesting.
+    And(Vec<CondExpr>),
+    /// Two or more operands, flat like `And`.
+    Or(Vec<CondExpr>),
 }
 
 #[derive(Clone, Debug)]
@@ -185,9 +187,15 @@ struct Parser<'s, 'd> {
     toks: Vec<(Tok, Span)>,
     pos: usize,
     diags: &'d mut Diagnostics<'s>,
+    /// Modules currently open around the parse position.
+    module_depth: usize,
 }
 
 type PResult<T> = Result<T, ()>;
+
+/// How deeply modules may nest. Projects nest a few levels; the bound keeps the recursive
+/// parser and project builder far from the stack limit of a wasm worker.
+const MAX_MODULE_NESTING: usize = 64;
 
 /// Parses a `.sct` file. Returns the items that could be parsed; errors go to `diags`.
 pub fn parse<'s>(src: &'s str, diags: &mut Diagnostics<'s>) -> Vec<Item> {
@@ -204,7 +212,7 @@ pub fn parse<'s>(src: &'s str, diags: &mut Diagnostics<'s>) -> Vec<Item> {
         }
     }
     toks.push((Tok::Eof, Span::new(src.len(), src.len())));
-    let mut p = Parser { src, toks, pos: 0, diags };
+    let mut p = Parser { src, toks, pos: 0, diags, module_depth: 0 };
     let mut items = Vec::new();
     while p.peek() != Tok::Eof {
         let before = p.pos;
@@ -383,15 +391,23 @@ impl<'s> Parser<'s, '_> {
         }
         match self.text() {
             "module" => {
+                if self.module_depth >= MAX_MODULE_NESTING {
+                    let span = self.span();
+                    self.diags.error(span, format!("module nested too deeply: at most {MAX_MODULE_NESTING} levels"));
+                    return Err(());
+                }
                 self.bump();
                 let (name, name_span) = self.ident("a module name")?;
                 let mut items = Vec::new();
-                self.block(|p| {
+                self.module_depth += 1;
+                let body = self.block(|p| {
                     if let Some(i) = p.item()? {
                         items.push(i);
                     }
                     Ok(())
-                })?;
+                });
+                self.module_depth -= 1;
+                body?;
                 Ok(Some(Item::Module { name, name_span, items }))
             }
             "event" => self.event().map(|e| Some(Item::Event(e))),
@@ -669,23 +685,21 @@ impl<'s> Parser<'s, '_> {
     }
 
     fn cond_or(&mut self, depth: usize) -> PResult<CondExpr> {
-        let mut l = self.cond_and(depth)?;
+        let mut operands = vec![self.cond_and(depth)?];
         while self.is_kw("or") {
             self.bump();
-            let r = self.cond_and(depth)?;
-            l = CondExpr::Or(Box::new(l), Box::new(r));
+            operands.push(self.cond_and(depth)?);
         }
-        Ok(l)
+        Ok(if operands.len() == 1 { operands.pop().expect("one operand") } else { CondExpr::Or(operands) })
     }
 
     fn cond_and(&mut self, depth: usize) -> PResult<CondExpr> {
-        let mut l = self.cond_unary(depth)?;
+        let mut operands = vec![self.cond_unary(depth)?];
         while self.is_kw("and") {
             self.bump();
-            let r = self.cond_unary(depth)?;
-            l = CondExpr::And(Box::new(l), Box::new(r));
+            operands.push(self.cond_unary(depth)?);
         }
-        Ok(l)
+        Ok(if operands.len() == 1 { operands.pop().expect("one operand") } else { CondExpr::And(operands) })
     }
 
     fn cond_unary(&mut self, depth: usize) -> PResult<CondExpr> {

@@ -223,15 +223,21 @@ pub enum Cond {
     /// `unit.node`, or `unit.prefix*` when `prefix` is set.
     State { unit: Ident, node: Ident, prefix: bool, span: Span },
     Not { operand: Box<Cond>, span: Span },
-    And { left: Box<Cond>, right: Box<Cond> },
-    Or { left: Box<Cond>, right: Box<Cond> },
+    /// Two or more operands joined by `and`. Chains are flat, so that a long chain is a wide
+    /// node rather than a deep tree (no recursion depth grows with its length).
+    And { operands: Vec<Cond>, span: Span },
+    /// Two or more operands joined by `or`; flat like `And`.
+    Or { operands: Vec<Cond>, span: Span },
 }
 
 impl Cond {
     pub fn span(&self) -> Span {
         match self {
-            Cond::Const { span, .. } | Cond::State { span, .. } | Cond::Not { span, .. } => *span,
-            Cond::And { left, right } | Cond::Or { left, right } => left.span().to(right.span()),
+            Cond::Const { span, .. }
+            | Cond::State { span, .. }
+            | Cond::Not { span, .. }
+            | Cond::And { span, .. }
+            | Cond::Or { span, .. } => *span,
         }
     }
 }

@@ -388,13 +388,14 @@ impl Checker<'_, '_> {
         Some(match c {
             Cond::Const { value, .. } => Pred::Const { value: *value },
             Cond::Not { operand, .. } => Pred::Not { operand: Box::new(self.cond(operand)?) },
-            Cond::And { left, right } => {
-                let (l, r) = (self.cond(left), self.cond(right));
-                Pred::And { left: Box::new(l?), right: Box::new(r?) }
+            // Every operand is checked, so that all unknown names are reported at once.
+            Cond::And { operands, .. } => {
+                let checked: Vec<Option<Pred>> = operands.iter().map(|c| self.cond(c)).collect();
+                Pred::And { operands: checked.into_iter().collect::<Option<_>>()? }
             }
-            Cond::Or { left, right } => {
-                let (l, r) = (self.cond(left), self.cond(right));
-                Pred::Or { left: Box::new(l?), right: Box::new(r?) }
+            Cond::Or { operands, .. } => {
+                let checked: Vec<Option<Pred>> = operands.iter().map(|c| self.cond(c)).collect();
+                Pred::Or { operands: checked.into_iter().collect::<Option<_>>()? }
             }
             Cond::State { unit, node, prefix, .. } => {
                 let Some(&comp) = self.comp_index.get(&unit.name) else {
@@ -444,7 +445,7 @@ impl Checker<'_, '_> {
                 ast::Assertion::OnlyIf { cond, requires, .. } => {
                     let (c, r) = (self.cond(cond), self.cond(requires));
                     match (c, r) {
-                        (Some(c), Some(r)) => Some(Pred::Or { left: Box::new(Pred::Not { operand: Box::new(c) }), right: Box::new(r) }),
+                        (Some(c), Some(r)) => Some(Pred::Or { operands: vec![Pred::Not { operand: Box::new(c) }, r] }),
                         _ => None,
                     }
                 }

@@ -152,8 +152,8 @@ pub enum Pred {
     /// Component `comp` is in one of `locations`.
     At { comp: CompId, locations: Vec<LocId> },
     Not { operand: Box<Pred> },
-    And { left: Box<Pred>, right: Box<Pred> },
-    Or { left: Box<Pred>, right: Box<Pred> },
+    And { operands: Vec<Pred> },
+    Or { operands: Vec<Pred> },
 }
 
 impl Pred {
@@ -163,8 +163,8 @@ impl Pred {
             Pred::Const { value } => *value,
             Pred::At { comp, locations: set } => set.contains(&locations[*comp as usize]),
             Pred::Not { operand } => !operand.eval(locations),
-            Pred::And { left, right } => left.eval(locations) && right.eval(locations),
-            Pred::Or { left, right } => left.eval(locations) || right.eval(locations),
+            Pred::And { operands } => operands.iter().all(|p| p.eval(locations)),
+            Pred::Or { operands } => operands.iter().any(|p| p.eval(locations)),
         }
     }
 }

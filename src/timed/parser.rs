@@ -25,6 +25,11 @@ struct Parser<'s, 'd, 'a> {
     spec: Spec,
 }
 
+/// How deeply parentheses and `not` may nest in a condition. Real assertions nest a few levels;
+/// the bound keeps recursion (here, in the checker and in dropping the tree) far from the stack
+/// limit of a wasm worker.
+const MAX_COND_NESTING: usize = 64;
+
 /// Marks a syntax error already reported; the caller recovers.
 struct Reported;
 
@@ -519,16 +524,16 @@ impl Parser<'_, '_, '_> {
         let not_unit = self.peek_at(1).tok != Tok::Dot;
         let assertion = if self.at_word("never") && not_unit {
             self.bump();
-            let cond = self.cond()?;
+            let cond = self.cond(0)?;
             Assertion::Never { cond, span: self.span_from(start) }
         } else if self.at_word("always") && not_unit {
             self.bump();
-            let cond = self.cond()?;
+            let cond = self.cond(0)?;
             Assertion::Always { cond, span: self.span_from(start) }
         } else {
-            let cond = self.cond()?;
+            let cond = self.cond(0)?;
             if self.eat_word("onlyif") {
-                let requires = self.cond()?;
+                let requires = self.cond(0)?;
                 Assertion::OnlyIf { cond, requires, span: self.span_from(start) }
             } else if self.at(Tok::Semi) {
                 // A bare condition describes undesired states: the thesis (4.1.4) calls
@@ -543,29 +548,48 @@ impl Parser<'_, '_, '_> {
         Ok(())
     }
 
-    fn cond(&mut self) -> PResult<Cond> {
-        let mut left = self.cond_and()?;
+    /// A condition; `depth` counts the enclosing parentheses and `not`s, which are the only
+    /// ways to nest (chains of `and`/`or` are flat), and is bounded so that no input can
+    /// overflow the parser's stack (a worker in the page has far less than a native thread).
+    fn cond(&mut self, depth: usize) -> PResult<Cond> {
+        let first = self.cond_and(depth)?;
+        if !self.at_word("or") {
+            return Ok(first);
+        }
+        let mut operands = vec![first];
         while self.eat_word("or") {
-            let right = self.cond_and()?;
-            left = Cond::Or { left: Box::new(left), right: Box::new(right) };
+            operands.push(self.cond_and(depth)?);
         }
-        Ok(left)
+        let span = operands[0].span().to(operands[operands.len() - 1].span());
+        Ok(Cond::Or { operands, span })
     }
 
-    fn cond_and(&mut self) -> PResult<Cond> {
-        let mut left = self.cond_unary()?;
+    fn cond_and(&mut self, depth: usize) -> PResult<Cond> {
+        let first = self.cond_unary(depth)?;
+        if !self.at_word("and") {
+            return Ok(first);
+        }
+        let mut operands = vec![first];
         while self.eat_word("and") {
-            let right = self.cond_unary()?;
-            left = Cond::And { left: Box::new(left), right: Box::new(right) };
+            operands.push(self.cond_unary(depth)?);
         }
-        Ok(left)
+        let span = operands[0].span().to(operands[operands.len() - 1].span());
+        Ok(Cond::And { operands, span })
     }
 
-    fn cond_unary(&mut self) -> PResult<Cond> {
+    fn cond_unary(&mut self, depth: usize) -> PResult<Cond> {
         let t = self.peek();
+        let nests = t.tok == Tok::LParen || (t.tok == Tok::Ident && self.text(t) == "not" && self.peek_at(1).tok != Tok::Dot);
+        if nests && depth >= MAX_COND_NESTING {
+            self.diags.error(
+                t.span,
+                format!("condition nested too deeply: at most {MAX_COND_NESTING} levels of parentheses and `not`"),
+            );
+            return Err(Reported);
+        }
         if t.tok == Tok::LParen {
             self.bump();
-            let inner = self.cond()?;
+            let inner = self.cond(depth + 1)?;
             self.expect(Tok::RParen, "`)` to close the parenthesis")?;
             return Ok(inner);
         }
@@ -573,7 +597,7 @@ impl Parser<'_, '_, '_> {
             match self.text(t) {
                 "not" => {
                     self.bump();
-                    let operand = self.cond_unary()?;
+                    let operand = self.cond_unary(depth + 1)?;
                     let span = self.span_from(t.span);
                     return Ok(Cond::Not { operand: Box::new(operand), span });
                 }
@@ -623,7 +647,7 @@ impl Parser<'_, '_, '_> {
 
     fn guard(&mut self) -> PResult<()> {
         let start = self.peek().span;
-        let cond = self.cond()?;
+        let cond = self.cond(0)?;
         self.expect_word("guardedby")?;
         let message = self.ident("the guarding message")?;
         self.expect(Tok::Semi, "`;` after the guard")?;
