@@ -27,9 +27,13 @@ fn incremental(c: &mut Criterion) {
 
 fn classic(c: &mut Criterion) {
     let (plant, spec, ev) = transfer_line(3, 1);
-    c.bench_function("sct supcon transfer line 3/1", |b| b.iter(|| black_box(supcon(&plant, &spec, &ev, true).unwrap())));
+    c.bench_function("sct supcon transfer line 3/1", |b| {
+        b.iter(|| black_box(supcon(&plant, &spec, &ev, true).unwrap()))
+    });
     let (plant, spec, ev) = transfer_lines_classic(2, 2, 2);
-    c.bench_function("sct supcon transfer lines 2x2", |b| b.iter(|| black_box(supcon(&plant, &spec, &ev, true).unwrap())));
+    c.bench_function("sct supcon transfer lines 2x2", |b| {
+        b.iter(|| black_box(supcon(&plant, &spec, &ev, true).unwrap()))
+    });
 }
 
 criterion_group!(benches, incremental, classic);

@@ -31,48 +31,24 @@ fn bench_dim(c: &mut Criterion, dim: usize) {
             BatchSize::SmallInput,
         )
     });
-    g.bench_function("up", |b| {
-        b.iter_batched_ref(|| z.clone(), |z| z.up(), BatchSize::SmallInput)
-    });
-    g.bench_function("reset", |b| {
-        b.iter_batched_ref(
-            || z.clone(),
-            |z| z.reset(black_box(2)),
-            BatchSize::SmallInput,
-        )
-    });
-    g.bench_function("close", |b| {
-        b.iter_batched_ref(
-            || z.clone(),
-            |z| black_box(z.close()),
-            BatchSize::SmallInput,
-        )
-    });
+    g.bench_function("up", |b| b.iter_batched_ref(|| z.clone(), |z| z.up(), BatchSize::SmallInput));
+    g.bench_function("reset", |b| b.iter_batched_ref(|| z.clone(), |z| z.reset(black_box(2)), BatchSize::SmallInput));
+    g.bench_function("close", |b| b.iter_batched_ref(|| z.clone(), |z| black_box(z.close()), BatchSize::SmallInput));
     let max: Vec<i32> = (0..dim as i32).map(|c| c + 1).collect();
     g.bench_function("extrapolate_max", |b| {
-        b.iter_batched_ref(
-            || z.clone(),
-            |z| z.extrapolate_max(black_box(&max)),
-            BatchSize::SmallInput,
-        )
+        b.iter_batched_ref(|| z.clone(), |z| z.extrapolate_max(black_box(&max)), BatchSize::SmallInput)
     });
     let mut guard = Dbm::unconstrained(dim);
     guard.constrain_interval(1, Bound::le(-1), Bound::le(3 * dim as i32));
     g.bench_function("intersect_guard", |b| {
-        b.iter_batched_ref(
-            || z.clone(),
-            |z| black_box(z.intersect(black_box(&guard))),
-            BatchSize::SmallInput,
-        )
+        b.iter_batched_ref(|| z.clone(), |z| black_box(z.intersect(black_box(&guard))), BatchSize::SmallInput)
     });
     let bigger = {
         let mut y = z.clone();
         y.up();
         y
     };
-    g.bench_function("includes", |b| {
-        b.iter(|| black_box(black_box(&bigger).includes(black_box(&z))))
-    });
+    g.bench_function("includes", |b| b.iter(|| black_box(black_box(&bigger).includes(black_box(&z)))));
     g.finish();
 }
 

@@ -94,7 +94,8 @@ const TARGET_LABELS: [(Target, &str); 6] = [
 /// The code targets: the intermediate program first, then every PLC back end.
 #[wasm_bindgen]
 pub fn targets() -> Result<JsValue, JsValue> {
-    let mut list = vec![TargetInfo { id: "program", label: "Intermediate program (thesis notation)", extension: "txt" }];
+    let mut list =
+        vec![TargetInfo { id: "program", label: "Intermediate program (thesis notation)", extension: "txt" }];
     for target in Target::ALL {
         let label = TARGET_LABELS.iter().find(|(t, _)| *t == target).map_or(target.name(), |(_, l)| l);
         list.push(TargetInfo { id: target.name(), label, extension: target.extension() });
@@ -184,7 +185,8 @@ impl Session {
         let opts: JsSolveOptions = if options.is_undefined() || options.is_null() {
             JsSolveOptions::default()
         } else {
-            serde_wasm_bindgen::from_value(options).map_err(|e| JsValue::from_str(&format!("bad solve options: {e}")))?
+            serde_wasm_bindgen::from_value(options)
+                .map_err(|e| JsValue::from_str(&format!("bad solve options: {e}")))?
         };
         let defaults = SolveOptions::default();
         let options = SolveOptions {
@@ -368,8 +370,15 @@ impl Session {
         let generated = if target == "program" {
             GeneratedCode { target: target.to_string(), extension: "txt", code: program.render(&self.game) }
         } else {
-            let t = Target::ALL.into_iter().find(|t| t.name() == target).ok_or_else(|| JsValue::from_str(&format!("unknown target {target}")))?;
-            GeneratedCode { target: target.to_string(), extension: t.extension(), code: plc::generate(&self.game, program, t, name, &self.source) }
+            let t = Target::ALL
+                .into_iter()
+                .find(|t| t.name() == target)
+                .ok_or_else(|| JsValue::from_str(&format!("unknown target {target}")))?;
+            GeneratedCode {
+                target: target.to_string(),
+                extension: t.extension(),
+                code: plc::generate(&self.game, program, t, name, &self.source),
+            }
         };
         to_js(&generated)
     }
@@ -390,7 +399,12 @@ impl Session {
             .map(|&st| match strategy.choice[st as usize] {
                 program::select::Choice::Request(e) => {
                     let edge = &space.edges[e as usize];
-                    StrategyChoice { state: st, choice: "request", to: Some(edge.to), label: Some(describe_edge(&self.game, &s.split, edge)) }
+                    StrategyChoice {
+                        state: st,
+                        choice: "request",
+                        to: Some(edge.to),
+                        label: Some(describe_edge(&self.game, &s.split, edge)),
+                    }
                 }
                 program::select::Choice::Wait => StrategyChoice { state: st, choice: "wait", to: None, label: None },
             })

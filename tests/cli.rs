@@ -3,8 +3,16 @@
 use std::process::Command;
 
 fn plcsynth(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_plcsynth")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap();
-    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
+    let out = Command::new(env!("CARGO_BIN_EXE_plcsynth"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
 }
 
 #[test]
@@ -12,7 +20,10 @@ fn solve_exit_status_follows_the_verdict() {
     assert_eq!(plcsynth(&["solve", "examples/timed/lamp.tga"]).0, 0);
     let (code, out, _) = plcsynth(&["solve", "examples/timed/lamp_naive.tga"]);
     assert_eq!(code, 1);
-    assert!(out.contains("unrealizable") && out.contains("why the initial state is lost") && out.contains("!press"), "{out}");
+    assert!(
+        out.contains("unrealizable") && out.contains("why the initial state is lost") && out.contains("!press"),
+        "{out}"
+    );
     let (code, out, _) = plcsynth(&["solve", "examples/timed/round_table_8.tga", "--max-states", "500"]);
     assert_eq!(code, 3);
     assert!(out.contains("budget exceeded after"), "{out}");
@@ -59,16 +70,28 @@ fn compile_writes_every_target_and_refuses_unrealizable_specs() {
     std::fs::create_dir_all(&dir).unwrap();
     let (code, out, _) = plcsynth(&["compile", "examples/timed/lamp.tga"]);
     assert_eq!(code, 0);
-    assert_eq!(out, "0 : WAITUNTIL (press);\n1 : DO (turn_on);\n2 : WAITUNTIL (release);\n3 : DO (turn_off);\n4 : GOTO 0;\n");
-    for (target, marker) in [("st", "FUNCTION_BLOCK lamp"), ("scl", "VERSION : 0.1"), ("codesys", "AT %IX124.0"), ("il", "JMPCN END_SCAN"), ("stl", "JL\tud"), ("plcopen", "tc6_0201")] {
+    assert_eq!(
+        out,
+        "0 : WAITUNTIL (press);\n1 : DO (turn_on);\n2 : WAITUNTIL (release);\n3 : DO (turn_off);\n4 : GOTO 0;\n"
+    );
+    for (target, marker) in [
+        ("st", "FUNCTION_BLOCK lamp"),
+        ("scl", "VERSION : 0.1"),
+        ("codesys", "AT %IX124.0"),
+        ("il", "JMPCN END_SCAN"),
+        ("stl", "JL\tud"),
+        ("plcopen", "tc6_0201"),
+    ] {
         let file = dir.join(format!("lamp.{target}"));
-        let (code, _, err) = plcsynth(&["compile", "examples/timed/lamp.tga", "--target", target, "-o", file.to_str().unwrap()]);
+        let (code, _, err) =
+            plcsynth(&["compile", "examples/timed/lamp.tga", "--target", target, "-o", file.to_str().unwrap()]);
         assert_eq!(code, 0, "{target}: {err}");
         let text = std::fs::read_to_string(&file).unwrap();
         assert!(text.contains(marker), "{target}:\n{text}");
     }
     let file = dir.join("naive.st");
-    let (code, _, err) = plcsynth(&["compile", "examples/timed/lamp_naive.tga", "--target", "st", "-o", file.to_str().unwrap()]);
+    let (code, _, err) =
+        plcsynth(&["compile", "examples/timed/lamp_naive.tga", "--target", "st", "-o", file.to_str().unwrap()]);
     assert_eq!(code, 1);
     assert!(err.contains("unrealizable; nothing written") && err.contains("!press"), "{err}");
     assert!(!file.exists());

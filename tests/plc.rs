@@ -40,11 +40,18 @@ fn run(cmd: &mut Command) -> (bool, String) {
     (out.status.success(), format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr)))
 }
 
-const EXAMPLES: &[&str] = &["lamp", "gear_checking", "round_table_2", "two_robots_14", "robot_arm", "gripper_guard", "hardware_xyz"];
+const EXAMPLES: &[&str] =
+    &["lamp", "gear_checking", "round_table_2", "two_robots_14", "robot_arm", "gripper_guard", "hardware_xyz"];
 
 fn blark(path: &Path) {
     let (ok, out) = run(Command::new(venv_tool("blark")).arg("parse").arg(path));
-    assert!(ok, "blark rejects {}:\n{}\n{}", path.display(), out.lines().rev().take(12).collect::<Vec<_>>().join("\n"), std::fs::read_to_string(path).unwrap());
+    assert!(
+        ok,
+        "blark rejects {}:\n{}\n{}",
+        path.display(),
+        out.lines().rev().take(12).collect::<Vec<_>>().join("\n"),
+        std::fs::read_to_string(path).unwrap()
+    );
 }
 
 #[test]
@@ -98,7 +105,8 @@ fn the_lamp_follows_the_button_cycle_by_cycle_in_awlsim() {
     let path = scratch("lamp_run.awl", &generate("lamp", Target::Stl));
     // Bit 0 of IB 124 is the button, bit 6 of QB 125 the lamp (the thesis's lookup table).
     let script = "I124=0 ?Q125; I124=1 ?Q125; I124=1 ?Q125; I124=0 ?Q125; I124=0 ?Q125; I124=1 ?Q125; I124=0 ?Q125";
-    let (ok, out) = run(Command::new(venv_tool("python")).arg(root().join("tests/checkers/awl_run.py")).arg(&path).arg(script));
+    let (ok, out) =
+        run(Command::new(venv_tool("python")).arg(root().join("tests/checkers/awl_run.py")).arg(&path).arg(script));
     assert!(ok, "{out}");
     let lamp: Vec<bool> = out.lines().map(|l| l.trim() == "Q125=64").collect();
     assert_eq!(lamp, [false, true, true, false, false, true, false], "{out}");
@@ -116,7 +124,15 @@ fn the_lamp_in_stl_is_the_thesis_listing_with_a_cycle_end_after_each_request() {
     // Peter 2005, 6.7.2, with `L 1; T MB 0; JU end` after `S Q 125.6` (the cycle ends after a
     // request) and the out-of-range entry of the jump list restarting the program.
     let expected = [
-        "BEGIN", "L MB 0", "JL ud", "JU aaaa", "JU aaac", "ud: L 0", "T MB 0", "JU aaaa", "aaaa: NOP 0 // WAITUNTIL (press)",
+        "BEGIN",
+        "L MB 0",
+        "JL ud",
+        "JU aaaa",
+        "JU aaac",
+        "ud: L 0",
+        "T MB 0",
+        "JU aaaa",
+        "aaaa: NOP 0 // WAITUNTIL (press)",
     ];
     assert_eq!(body[..8], expected[..8], "{text}");
     let joined = body.join("\n");
@@ -135,7 +151,10 @@ fn every_file_names_plcsynth_its_version_and_the_spec_hash() {
     let hash = plc::source_hash(&source);
     for target in Target::ALL {
         let text = generate("lamp", target);
-        assert!(text.lines().take(4).any(|l| l.contains(&format!("plcsynth {}", env!("CARGO_PKG_VERSION")))), "{target:?}");
+        assert!(
+            text.lines().take(4).any(|l| l.contains(&format!("plcsynth {}", env!("CARGO_PKG_VERSION")))),
+            "{target:?}"
+        );
         assert!(text.contains(&hash), "{target:?}");
     }
 }

@@ -23,14 +23,19 @@ fn controller(path: &str) -> (Game, Program) {
 
 /// Parses a listing, renaming the thesis's message names with `rename`.
 fn listing(game: &Game, text: &str, rename: &dyn Fn(&str) -> String) -> Program {
-    parse_listing(text, &|m| game.message_id(&rename(m)), &|c| game.clocks.iter().position(|k| k.name == c).map(|i| i as u32))
-        .unwrap_or_else(|e| panic!("{e}"))
+    parse_listing(text, &|m| game.message_id(&rename(m)), &|c| {
+        game.clocks.iter().position(|k| k.name == c).map(|i| i as u32)
+    })
+    .unwrap_or_else(|e| panic!("{e}"))
 }
 
 #[test]
 fn lamp_is_the_five_line_program_of_7_2_1() {
     let (game, program) = controller("examples/timed/lamp.tga");
-    assert_eq!(program.render(&game), "0 : WAITUNTIL (press);\n1 : DO (turn_on);\n2 : WAITUNTIL (release);\n3 : DO (turn_off);\n4 : GOTO 0;\n");
+    assert_eq!(
+        program.render(&game),
+        "0 : WAITUNTIL (press);\n1 : DO (turn_on);\n2 : WAITUNTIL (release);\n3 : DO (turn_off);\n4 : GOTO 0;\n"
+    );
     let thesis = listing(&game, &read("tests/fixtures/thesis/lamp_program.txt"), &|m| m.to_string());
     assert!(optimize::equivalent(&thesis, &program));
 }
@@ -47,7 +52,13 @@ fn gear_checking_machine_is_the_thirty_line_program_of_7_2_2() {
 fn round_table_with_one_bin_has_the_structure_of_appendix_a() {
     let (game, program) = controller("examples/timed/round_table_1.tga");
     // The generated example numbers the bin's messages (`classify_0`); the thesis does not.
-    let rename = |m: &str| if m.starts_with("c0_is_") || m == "cycle" || m == "cycle_end" { m.to_string() } else { format!("{m}_0") };
+    let rename = |m: &str| {
+        if m.starts_with("c0_is_") || m == "cycle" || m == "cycle_end" {
+            m.to_string()
+        } else {
+            format!("{m}_0")
+        }
+    };
     let thesis = listing(&game, &read("tests/fixtures/thesis/rt1_program.txt"), &rename);
     assert_eq!(thesis.len(), 41);
     assert_eq!(program.len(), 41, "{}", program.render(&game));
@@ -99,7 +110,10 @@ fn rule_6_6_2_inlining() {
     let mut program = p(&g, "1: GOTO 10; 2: DO (B); 3: GOTO 1; 10: DO (A); 11: GOTO 20; 20: DO (C); 21: GOTO 2;");
     assert!(optimize::inlining(&mut program));
     // `1: GOTO 10` becomes `1: DO (A); 1.5: GOTO 20`; the original block stays until removed.
-    assert_eq!(show(&g, &program), "0 : DO (A); 1 : GOTO 6; 2 : DO (B); 3 : GOTO 0; 4 : DO (A); 5 : GOTO 6; 6 : DO (C); 7 : GOTO 2; ");
+    assert_eq!(
+        show(&g, &program),
+        "0 : DO (A); 1 : GOTO 6; 2 : DO (B); 3 : GOTO 0; 4 : DO (A); 5 : GOTO 6; 6 : DO (C); 7 : GOTO 2; "
+    );
 }
 
 #[test]
@@ -149,7 +163,10 @@ fn rule_6_6_6_redundant_if_removal_uses_the_dependencies() {
     let cx = context_with(&g, "D dependson A;");
     let mut program = p(&g, "0: DO (B); 1: IF (D) THEN 5; 2: IF (D) THEN 8; 3: DO (C); 4: GOTO 0; 5: IF (D) THEN 7; 6: GOTO 0; 7: DO (A); 8: GOTO 0;");
     assert!(optimize::redundant_if_removal(&mut program, &cx));
-    assert_eq!(show(&g, &program), "0 : DO (B); 1 : IF (D) THEN GOTO 4; 2 : DO (C); 3 : GOTO 0; 4 : GOTO 6; 5 : GOTO 0; 6 : DO (A); 7 : GOTO 0; ");
+    assert_eq!(
+        show(&g, &program),
+        "0 : DO (B); 1 : IF (D) THEN GOTO 4; 2 : DO (C); 3 : GOTO 0; 4 : GOTO 6; 5 : GOTO 0; 6 : DO (A); 7 : GOTO 0; "
+    );
 }
 
 #[test]
@@ -161,7 +178,8 @@ fn rule_6_6_6_keeps_tests_whose_outcome_may_have_changed() {
     assert!(!optimize::redundant_if_removal(&mut program, &cx));
     // Without any declaration a message may change with any request: nothing is removed either.
     let cx = context_with(&g, "E dependson time;");
-    let mut program = p(&g, "0: DO (B); 1: IF (D) THEN 5; 2: DO (C); 3: IF (D) THEN 5; 4: GOTO 0; 5: DO (A); 6: GOTO 0;");
+    let mut program =
+        p(&g, "0: DO (B); 1: IF (D) THEN 5; 2: DO (C); 3: IF (D) THEN 5; 4: GOTO 0; 5: DO (A); 6: GOTO 0;");
     assert!(!optimize::redundant_if_removal(&mut program, &cx));
     // Within one scan nothing changes: a repeated test is redundant even then.
     let mut program = p(&g, "0: DO (B); 1: IF (D) THEN 4; 2: IF (D) THEN 4; 3: GOTO 0; 4: DO (A); 5: GOTO 0;");
@@ -197,7 +215,16 @@ fn merging_folds_an_unrolled_loop() {
 #[test]
 fn optimisation_preserves_behaviour_on_every_example() {
     use plcsynth::program::{generate, select};
-    for name in ["lamp", "gear_checking", "round_table_1", "round_table_2", "two_robots_14", "robot_arm", "gripper_guard", "hardware_xyz"] {
+    for name in [
+        "lamp",
+        "gear_checking",
+        "round_table_1",
+        "round_table_2",
+        "two_robots_14",
+        "robot_arm",
+        "gripper_guard",
+        "hardware_xyz",
+    ] {
         let game = game_of(&read(&format!("examples/timed/{name}.tga")));
         let s = synthesize(&game, &SolveOptions::default(), &mut |_| true);
         let strategy = select::select(&game, &s.solution.space);
@@ -224,13 +251,30 @@ fn optimisation_preserves_behaviour_on_every_example() {
 #[test]
 fn generated_programs_keep_the_plant_safe_and_progressing_in_1000_random_runs() {
     use plcsynth::program::simulate;
-    for name in ["lamp", "gear_checking", "round_table_1", "round_table_2", "round_table_3", "two_robots_14", "two_robots_22", "robot_arm", "gripper_guard", "hardware_xyz"] {
+    for name in [
+        "lamp",
+        "gear_checking",
+        "round_table_1",
+        "round_table_2",
+        "round_table_3",
+        "two_robots_14",
+        "two_robots_22",
+        "robot_arm",
+        "gripper_guard",
+        "hardware_xyz",
+    ] {
         let (game, program) = controller(&format!("examples/timed/{name}.tga"));
         let observable = Context::from_game(&game).observable;
         let mut progress = 0;
         for seed in 0..1000u64 {
             let report = simulate::run(&game, &program, &observable, seed, 300);
-            assert!(report.failure.is_none(), "{name}, seed {seed}: {:?}\n{}\nprogram:\n{}", report.failure, report.trace.join("\n"), program.render(&game));
+            assert!(
+                report.failure.is_none(),
+                "{name}, seed {seed}: {:?}\n{}\nprogram:\n{}",
+                report.failure,
+                report.trace.join("\n"),
+                program.render(&game)
+            );
             progress += report.progress;
         }
         assert!(progress > 1000, "{name}: the plans progressed only {progress} times in 1000 runs");
@@ -253,7 +297,8 @@ fn the_checker_catches_a_wrong_program() {
     let report = simulate::run(&game, &wrong, &Context::from_game(&game).observable, 1, 100);
     assert!(matches!(report.failure, Some(Failure::Assertion { .. })), "{report:?}");
     // Waiting for an event that already happened stalls the machine until the plan times out.
-    let text = read("tests/fixtures/thesis/gcm_program.txt").replace("3 :   WAITUNTIL (reached_up);", "3 :   WAITUNTIL (loaded);");
+    let text = read("tests/fixtures/thesis/gcm_program.txt")
+        .replace("3 :   WAITUNTIL (reached_up);", "3 :   WAITUNTIL (loaded);");
     let wrong = listing(&game, &text, &|m| m.to_string());
     let report = simulate::run(&game, &wrong, &Context::from_game(&game).observable, 1, 100);
     assert!(matches!(report.failure, Some(Failure::PlanFailed { .. })), "{report:?}");

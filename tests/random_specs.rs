@@ -52,7 +52,13 @@ fn spec(seed: u64) -> String {
             }
             let decl: Vec<String> = nodes
                 .iter()
-                .map(|q| if clocked && g.below(3) == 0 { format!("{q} {{c in [0,{}]}}", 2 + g.below(3)) } else { q.clone() })
+                .map(|q| {
+                    if clocked && g.below(3) == 0 {
+                        format!("{q} {{c in [0,{}]}}", 2 + g.below(3))
+                    } else {
+                        q.clone()
+                    }
+                })
                 .collect();
             out.push_str(&format!("    nodes {};\n", decl.join(", ")));
             for k in 0..n + g.below(3) {

@@ -3,8 +3,16 @@
 use std::process::Command;
 
 fn plcsynth(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_plcsynth")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap();
-    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
+    let out = Command::new(env!("CARGO_BIN_EXE_plcsynth"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
 }
 
 #[test]
@@ -17,7 +25,8 @@ fn supervise_prints_one_line_per_supervisor() {
 
 #[test]
 fn supervise_json_serialises_supervisors() {
-    let (code, out, err) = plcsynth(&["supervise", "examples/sct/transfer_line_2x2.sct", "--method", "monolithic", "--json"]);
+    let (code, out, err) =
+        plcsynth(&["supervise", "examples/sct/transfer_line_2x2.sct", "--method", "monolithic", "--json"]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["method"], "monolithic");
@@ -53,14 +62,25 @@ fn supcon_reads_and_writes_gen_files() {
     std::fs::write(dir.join("p.gen"), write_gen(&plant, &ev, "TL")).unwrap();
     std::fs::write(dir.join("s.gen"), write_gen(&spec, &ev, "BUF")).unwrap();
     let out = dir.join("sup.gen");
-    let (code, stdout, err) = plcsynth(&["supcon", dir.join("p.gen").to_str().unwrap(), dir.join("s.gen").to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let (code, stdout, err) = plcsynth(&[
+        "supcon",
+        dir.join("p.gen").to_str().unwrap(),
+        dir.join("s.gen").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
     assert_eq!(code, 0, "{err}");
     assert!(stdout.starts_with("SupCon: 28 states, 65 transitions"), "{stdout}");
     let mut ev2 = plcsynth::sct::classic::Events::new();
     let sup = plcsynth::sct::gen::read_gen(&std::fs::read_to_string(&out).unwrap(), &mut ev2).unwrap();
     assert_eq!((sup.num_states(), sup.num_transitions()), (28, 65));
-    std::fs::write(dir.join("bad.gen"), "<Generator> <Alphabet> a </Alphabet> <States> 1 </States>\n<TransRel> 1 zz 1 </TransRel> </Generator>").unwrap();
-    let (code, _, err) = plcsynth(&["supcon", dir.join("bad.gen").to_str().unwrap(), dir.join("s.gen").to_str().unwrap()]);
+    std::fs::write(
+        dir.join("bad.gen"),
+        "<Generator> <Alphabet> a </Alphabet> <States> 1 </States>\n<TransRel> 1 zz 1 </TransRel> </Generator>",
+    )
+    .unwrap();
+    let (code, _, err) =
+        plcsynth(&["supcon", dir.join("bad.gen").to_str().unwrap(), dir.join("s.gen").to_str().unwrap()]);
     assert_eq!(code, 2);
     assert!(err.contains("bad.gen:2:14: error: event `zz` is not in the alphabet"), "{err}");
 }
@@ -81,7 +101,8 @@ fn bench_sct_prints_thesis_figures_beside_ours() {
 fn supervise_compose_resolves_the_enforcement_conflict() {
     let dir = std::env::temp_dir().join(format!("plcsynth-cli-compose-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let src = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/sct/enforcement_conflict.sct")).unwrap();
+    let src =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/sct/enforcement_conflict.sct")).unwrap();
     let product_line = "spec Safety = NoOverflow | PumpProtection;";
     assert!(src.contains(product_line));
     let f = dir.join("separate.sct");
@@ -98,7 +119,8 @@ fn supervise_compose_resolves_the_enforcement_conflict() {
     assert!(!err.contains("warning"), "{err}");
     let (code, explicit, err) = plcsynth(&["supervise", "examples/sct/enforcement_conflict.sct", "--json"]);
     assert_eq!(code, 0, "{err}");
-    let (a, b): (serde_json::Value, serde_json::Value) = (serde_json::from_str(&composed).unwrap(), serde_json::from_str(&explicit).unwrap());
+    let (a, b): (serde_json::Value, serde_json::Value) =
+        (serde_json::from_str(&composed).unwrap(), serde_json::from_str(&explicit).unwrap());
     let (a, b) = (&a["supervisors"], &b["supervisors"]);
     assert_eq!(a.as_array().unwrap().len(), 1);
     assert_eq!(a[0]["name"], "Composed");
@@ -111,7 +133,8 @@ fn supervise_compose_resolves_the_enforcement_conflict() {
 
 #[test]
 fn supervise_reports_an_exhausted_state_budget() {
-    let (code, out, err) = plcsynth(&["supervise", "examples/sct/transfer_line_2x2.sct", "--method", "monolithic", "--max-states", "100"]);
+    let (code, out, err) =
+        plcsynth(&["supervise", "examples/sct/transfer_line_2x2.sct", "--method", "monolithic", "--max-states", "100"]);
     assert_eq!(code, 2, "{out}{err}");
     assert!(err.contains("error: synthesis stopped at `B1_1`: more than 100 product states built"), "{err}");
     assert!(err.contains("not synthesised either: B1_2, TB1, B2_1, B2_2"), "{err}");

@@ -8,7 +8,9 @@
 //! must generate exactly `SupConClosed(G, H')`.
 
 use plcsynth::sct::classic::{self, language_equal, minimize, AutomatonBuilder, Events};
-use plcsynth::sct::model::{self, Cond, Config, EventId, EventInfo, EventKind, Method, Plant, Prohibition, Project, Spec, Transition, NO_ORIGIN};
+use plcsynth::sct::model::{
+    self, Cond, Config, EventId, EventInfo, EventKind, Method, Plant, Prohibition, Project, Spec, Transition, NO_ORIGIN,
+};
 
 use plcsynth::rng::Rng;
 
@@ -16,14 +18,23 @@ fn random_project(rng: &mut Rng) -> Project {
     let n_events = 2 + rng.below(5) as usize;
     let ratio = rng.below(101);
     let events: Vec<EventInfo> = (0..n_events)
-        .map(|i| EventInfo { name: format!("e{i}"), kind: if rng.chance(ratio) { EventKind::Controllable } else { EventKind::Uncontrollable } })
+        .map(|i| EventInfo {
+            name: format!("e{i}"),
+            kind: if rng.chance(ratio) { EventKind::Controllable } else { EventKind::Uncontrollable },
+        })
         .collect();
     let gn = 1 + rng.below(12) as u32;
     let mut gt = Vec::new();
     for s in 0..gn {
         for e in 0..n_events as u32 {
             if rng.chance(55) {
-                gt.push(Transition { src: s, event: EventId(e), cond: Cond::True, dst: rng.below(gn as u64) as u32, origin: NO_ORIGIN });
+                gt.push(Transition {
+                    src: s,
+                    event: EventId(e),
+                    cond: Cond::True,
+                    dst: rng.below(gn as u64) as u32,
+                    origin: NO_ORIGIN,
+                });
             }
         }
     }
@@ -39,13 +50,20 @@ fn random_project(rng: &mut Rng) -> Project {
     for s in 0..hn {
         for e in 0..n_events as u32 {
             match rng.below(10) {
-                0..=3 => ht.push(Transition { src: s, event: EventId(e), cond: Cond::True, dst: rng.below(hn as u64) as u32, origin: NO_ORIGIN }),
+                0..=3 => ht.push(Transition {
+                    src: s,
+                    event: EventId(e),
+                    cond: Cond::True,
+                    dst: rng.below(hn as u64) as u32,
+                    origin: NO_ORIGIN,
+                }),
                 4 => hp.push(Prohibition { state: s, event: EventId(e), cond: Cond::True, origin: NO_ORIGIN }),
                 _ => {}
             }
         }
     }
-    let spec = Spec { name: "H".into(), states: (0..hn).map(|i| format!("h{i}")).collect(), init: 0, trans: ht, prohib: hp };
+    let spec =
+        Spec { name: "H".into(), states: (0..hn).map(|i| format!("h{i}")).collect(), init: 0, trans: ht, prohib: hp };
     Project { events, plants: vec![plant], specs: vec![spec] }
 }
 
@@ -107,7 +125,9 @@ fn closed_loop(p: &Project, sup: &model::Supervisor) -> classic::Automaton {
     for e in &g.alphabet {
         b.add_event(classic::EventId(e.0));
     }
-    let Some(si) = sup.init else { return classic::Automaton::empty(g.alphabet.iter().map(|e| classic::EventId(e.0)).collect()) };
+    let Some(si) = sup.init else {
+        return classic::Automaton::empty(g.alphabet.iter().map(|e| classic::EventId(e.0)).collect());
+    };
     let mut index = std::collections::HashMap::new();
     let mut queue = vec![(si, g.init)];
     index.insert((si, g.init), 0u32);
@@ -148,7 +168,12 @@ fn monolithic_prohibition_synthesis_equals_classic_supconclosed() {
         let h = dual(&p);
         let k = classic::supcon(&g, &h, &ev, false).unwrap();
         for method in [Method::Monolithic, Method::Incremental] {
-            let sup = model::synthesize(&p, 0, &Config { method, preempt: false, minimize: case % 2 == 0, ..Config::default() }).unwrap();
+            let sup = model::synthesize(
+                &p,
+                0,
+                &Config { method, preempt: false, minimize: case % 2 == 0, ..Config::default() },
+            )
+            .unwrap();
             // Admissibility: the supervisor never disables an uncontrollable event.
             for st in &sup.states {
                 assert!(st.prohibited.iter().all(|e| p.kind(*e) == EventKind::Controllable), "case {case}");
@@ -170,7 +195,10 @@ fn monolithic_prohibition_synthesis_equals_classic_supconclosed() {
             restricted += 1;
         }
     }
-    assert!(restricted >= 30 && (10..=200).contains(&empty), "uninformative cases: {restricted} restricted, {empty} empty");
+    assert!(
+        restricted >= 30 && (10..=200).contains(&empty),
+        "uninformative cases: {restricted} restricted, {empty} empty"
+    );
 }
 
 /// Lemma 9: applying the composition of two plants equals applying them one after the other.

@@ -43,7 +43,11 @@ fn ambiguous_relative_names_are_reported_with_candidates() {
     let e = errors(src);
     expect_at(&e, 5, 42, "ambiguous name `x`");
     let d = e.iter().find(|d| d.message.contains("ambiguous")).unwrap();
-    assert!(d.notes.iter().any(|n| n.contains("A.B.x")) && d.notes.iter().any(|n| n.contains("`A.x`")), "{:?}", d.notes);
+    assert!(
+        d.notes.iter().any(|n| n.contains("A.B.x")) && d.notes.iter().any(|n| n.contains("`A.x`")),
+        "{:?}",
+        d.notes
+    );
 }
 
 #[test]
@@ -75,7 +79,8 @@ fn conditions_over_unknown_states() {
 fn overlapping_conditional_transitions_report_both_locations() {
     let src = "event a : controllable;\nevent u : uncontrollable;\nplant G { alphabet a; state g0 { a -> g1; } state g1 { a -> g0; } }\nspec H {\n  state s {\n    u -> t if [G.g0];\n    u -> s if [G.g0 or G.g1];\n  }\n  state t { forbid u; }\n}\n";
     let e = errors(src);
-    let d = e.iter().find(|d| d.message.contains("two transitions on `u` can both be taken")).expect("conflict reported");
+    let d =
+        e.iter().find(|d| d.message.contains("two transitions on `u` can both be taken")).expect("conflict reported");
     assert_eq!((d.line, d.column), (6, 5));
     assert!(d.notes.iter().any(|n| n.contains("7:5")), "{:?}", d.notes);
 }
@@ -128,10 +133,57 @@ fn plants_need_alphabets_and_specs_must_not_have_one() {
 }
 
 const TOKENS: &[&str] = &[
-    "module", "event", "plant", "spec", "template", "instance", "state", "initial", "forbid", "alphabet", "selfloops",
-    "impossible", "bind", "namespace", "timer", "duration", "start", "stop", "if", "and", "or", "not", "a", "b", "X",
-    "X.a", "{", "}", "[", "]", "(", ")", ";", ":", ",", ".", "->", "=", "controllable", "uncontrollable", "enforceable",
-    "\"s\"", "15s", "detect", "rising", "on", "accept", "denial", "reset", "executed", "\n",
+    "module",
+    "event",
+    "plant",
+    "spec",
+    "template",
+    "instance",
+    "state",
+    "initial",
+    "forbid",
+    "alphabet",
+    "selfloops",
+    "impossible",
+    "bind",
+    "namespace",
+    "timer",
+    "duration",
+    "start",
+    "stop",
+    "if",
+    "and",
+    "or",
+    "not",
+    "a",
+    "b",
+    "X",
+    "X.a",
+    "{",
+    "}",
+    "[",
+    "]",
+    "(",
+    ")",
+    ";",
+    ":",
+    ",",
+    ".",
+    "->",
+    "=",
+    "controllable",
+    "uncontrollable",
+    "enforceable",
+    "\"s\"",
+    "15s",
+    "detect",
+    "rising",
+    "on",
+    "accept",
+    "denial",
+    "reset",
+    "executed",
+    "\n",
 ];
 
 proptest! {

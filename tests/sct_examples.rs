@@ -37,7 +37,13 @@ fn sup<'a>(reps: &'a [SupervisorReport], name: &str) -> &'a Supervisor {
 fn no_uncontrollable_prohibitions(l: &Loaded, reps: &[SupervisorReport]) {
     for r in reps {
         for e in r.supervisor.prohibited_events() {
-            assert_ne!(l.project.kind(e), EventKind::Uncontrollable, "{} prohibits uncontrollable {}", r.name, l.project.event_name(e));
+            assert_ne!(
+                l.project.kind(e),
+                EventKind::Uncontrollable,
+                "{} prohibits uncontrollable {}",
+                r.name,
+                l.project.event_name(e)
+            );
         }
     }
 }
@@ -166,7 +172,9 @@ fn enforcement_conflict_is_resolved_by_the_specification_product() {
     let (loaded, _) = load(&src);
     let (reps, diags) = synthesize_all(&src, &loaded.unwrap(), &Config::default(), None);
     assert_eq!(reps.len(), 2);
-    let w = diags.iter().find(|d| !d.is_error() && d.message.contains("prohibits `closeInlNow`, which supervisor `NoOverflow` enforces"));
+    let w = diags.iter().find(|d| {
+        !d.is_error() && d.message.contains("prohibits `closeInlNow`, which supervisor `NoOverflow` enforces")
+    });
     assert!(w.is_some(), "{diags:?}");
 }
 

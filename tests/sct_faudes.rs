@@ -7,10 +7,10 @@
 //! Needs the virtualenv created by `scripts/python-checkers.sh` (run by `make test`). Without
 //! it the test fails and says so: a silently skipped comparison proves nothing.
 
+use plcsynth::rng::Rng;
 use plcsynth::sct::classic::{
     is_controllable, language_equal, minimize, product, supcon, Automaton, AutomatonBuilder, EventId, Events,
 };
-use plcsynth::rng::Rng;
 use plcsynth::sct::gen::write_gen;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -72,8 +72,9 @@ fn pruned_copy(rng: &mut Rng, plant: &Automaton, ev: &Events, keep: u64, marked:
     for s in 0..plant.num_states() {
         b.add_state(format!("h{s}"), rng.chance(marked));
     }
-    let edges: Vec<(u32, EventId, u32)> =
-        (0..plant.num_states() as u32).flat_map(|s| plant.edges(s).iter().map(move |e| (s, e.event, e.target))).collect();
+    let edges: Vec<(u32, EventId, u32)> = (0..plant.num_states() as u32)
+        .flat_map(|s| plant.edges(s).iter().map(move |e| (s, e.event, e.target)))
+        .collect();
     // States the plant reaches from its initial state by uncontrollable events alone: a cut
     // there would leave nothing to synthesise, so the cut is chosen elsewhere if possible.
     let mut forced = vec![false; plant.num_states()];
@@ -88,7 +89,11 @@ fn pruned_copy(rng: &mut Rng, plant: &Automaton, ev: &Events, keep: u64, marked:
     if uncontrollable.is_empty() {
         uncontrollable = (0..edges.len()).filter(|&i| !ev.is_controllable(edges[i].1)).collect();
     }
-    let cut = if uncontrollable.is_empty() { None } else { Some(uncontrollable[rng.below(uncontrollable.len() as u64) as usize]) };
+    let cut = if uncontrollable.is_empty() {
+        None
+    } else {
+        Some(uncontrollable[rng.below(uncontrollable.len() as u64) as usize])
+    };
     for (i, &(s, e, t)) in edges.iter().enumerate() {
         let kept = if ev.is_controllable(e) { rng.chance(keep) } else { Some(i) != cut };
         if kept {
@@ -134,7 +139,14 @@ fn supcon_agrees_with_libfaudes_on_random_problems() {
         let plant_states = 2 + rng.below([4, 12, 40][case % 3]) as usize;
         let spec_states = 1 + rng.below(6) as usize;
         let density = [30, 50, 80][(case / 3) % 3];
-        let plant = random_automaton(&mut rng, &ev, &alphabet, plant_states, (density, density * if case % 2 == 0 { 6 } else { 3 } / 10), 75);
+        let plant = random_automaton(
+            &mut rng,
+            &ev,
+            &alphabet,
+            plant_states,
+            (density, density * if case % 2 == 0 { 6 } else { 3 } / 10),
+            75,
+        );
         // Specifications are more permissive on uncontrollable events, so that synthesis has
         // something to keep in most cases. Every other case cuts a few transitions out of the
         // plant itself instead, which makes synthesis restrict without emptying.
@@ -162,10 +174,16 @@ fn supcon_agrees_with_libfaudes_on_random_problems() {
             empty += 1;
         }
         ours_min.push(if sup.init().is_some() { min.num_states() } else { 0 });
-        manifest.push_str(&format!("{}\n", write_case(&dir.join(format!("case{case:03}")), &plant, &spec, &sup, &supc, &ev).display()));
+        manifest.push_str(&format!(
+            "{}\n",
+            write_case(&dir.join(format!("case{case:03}")), &plant, &spec, &sup, &supc, &ev).display()
+        ));
     }
     eprintln!("{cases} cases: {nontrivial} restricted by synthesis, {empty} empty supervisors");
-    assert!(nontrivial >= cases / 6 && empty <= cases / 2, "too few informative cases: {nontrivial} restricted, {empty} empty");
+    assert!(
+        nontrivial >= cases / 6 && empty <= cases / 2,
+        "too few informative cases: {nontrivial} restricted, {empty} empty"
+    );
     let lines = run_checker(&py, &dir, &manifest);
     assert_eq!(lines.len(), cases, "checker answered {} of {cases} cases", lines.len());
     for (case, v) in lines.iter().enumerate() {
@@ -194,7 +212,10 @@ fn textbook_supervisors_agree_with_libfaudes() {
         let sup = supcon(plant, &spec, ev, true).unwrap();
         let supc = supcon(plant, &spec, ev, false).unwrap();
         sizes.push(sup.num_states());
-        manifest.push_str(&format!("{}\n", write_case(&dir.join(name.replace([' ', '/'], "_")), plant, &spec, &sup, &supc, ev).display()));
+        manifest.push_str(&format!(
+            "{}\n",
+            write_case(&dir.join(name.replace([' ', '/'], "_")), plant, &spec, &sup, &supc, ev).display()
+        ));
     }
     let lines = run_checker(&py, &dir, &manifest);
     assert_eq!(lines.len(), problems.len());
@@ -206,7 +227,14 @@ fn textbook_supervisors_agree_with_libfaudes() {
 }
 
 /// Writes one case directory in the layout `faudes_check.py` reads.
-fn write_case(d: &Path, plant: &Automaton, spec: &Automaton, sup: &Automaton, supc: &Automaton, ev: &Events) -> PathBuf {
+fn write_case(
+    d: &Path,
+    plant: &Automaton,
+    spec: &Automaton,
+    sup: &Automaton,
+    supc: &Automaton,
+    ev: &Events,
+) -> PathBuf {
     std::fs::create_dir_all(d).unwrap();
     std::fs::write(d.join("plant.gen"), write_gen(plant, ev, "plant")).unwrap();
     std::fs::write(d.join("spec.gen"), write_gen(spec, ev, "spec")).unwrap();

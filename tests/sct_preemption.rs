@@ -4,7 +4,9 @@
 //! enforcing state only controllable events and the enforced one can still happen (definitions
 //! 30 and 33; controllable events are never preempted).
 
-use plcsynth::sct::model::{self, Cond, Config, EventId, EventInfo, EventKind, Method, Plant, Prohibition, Project, Spec, Transition, NO_ORIGIN};
+use plcsynth::sct::model::{
+    self, Cond, Config, EventId, EventInfo, EventKind, Method, Plant, Prohibition, Project, Spec, Transition, NO_ORIGIN,
+};
 use std::collections::{HashSet, VecDeque};
 
 use plcsynth::rng::Rng;
@@ -12,27 +14,48 @@ use plcsynth::rng::Rng;
 fn random_project(rng: &mut Rng) -> Project {
     let kinds = [EventKind::Controllable, EventKind::Uncontrollable, EventKind::Enforceable];
     let n_events = 3 + rng.below(4) as usize;
-    let events: Vec<EventInfo> = (0..n_events).map(|i| EventInfo { name: format!("e{i}"), kind: kinds[(i + rng.below(3) as usize) % 3] }).collect();
+    let events: Vec<EventInfo> = (0..n_events)
+        .map(|i| EventInfo { name: format!("e{i}"), kind: kinds[(i + rng.below(3) as usize) % 3] })
+        .collect();
     let mut plants = Vec::new();
     for g in 0..1 + rng.below(2) {
         let n = 1 + rng.below(6) as u32;
-        let alphabet: Vec<EventId> = (0..n_events as u32).filter(|_| g == 0 || rng.below(2) == 0).map(EventId).collect();
+        let alphabet: Vec<EventId> =
+            (0..n_events as u32).filter(|_| g == 0 || rng.below(2) == 0).map(EventId).collect();
         let mut trans = Vec::new();
         for s in 0..n {
             for &e in &alphabet {
                 if rng.below(100) < 50 {
-                    trans.push(Transition { src: s, event: e, cond: Cond::True, dst: rng.below(n as u64) as u32, origin: NO_ORIGIN });
+                    trans.push(Transition {
+                        src: s,
+                        event: e,
+                        cond: Cond::True,
+                        dst: rng.below(n as u64) as u32,
+                        origin: NO_ORIGIN,
+                    });
                 }
             }
         }
-        plants.push(Plant { name: format!("G{g}"), alphabet, states: (0..n).map(|i| format!("q{i}")).collect(), init: 0, trans });
+        plants.push(Plant {
+            name: format!("G{g}"),
+            alphabet,
+            states: (0..n).map(|i| format!("q{i}")).collect(),
+            init: 0,
+            trans,
+        });
     }
     let hn = 1 + rng.below(4) as u32;
     let (mut ht, mut hp) = (Vec::new(), Vec::new());
     for s in 0..hn {
         for e in 0..n_events as u32 {
             match rng.below(10) {
-                0..=2 => ht.push(Transition { src: s, event: EventId(e), cond: Cond::True, dst: rng.below(hn as u64) as u32, origin: NO_ORIGIN }),
+                0..=2 => ht.push(Transition {
+                    src: s,
+                    event: EventId(e),
+                    cond: Cond::True,
+                    dst: rng.below(hn as u64) as u32,
+                    origin: NO_ORIGIN,
+                }),
                 3 if events[e as usize].kind == EventKind::Uncontrollable => {
                     hp.push(Prohibition { state: s, event: EventId(e), cond: Cond::True, origin: NO_ORIGIN })
                 }
@@ -40,7 +63,17 @@ fn random_project(rng: &mut Rng) -> Project {
             }
         }
     }
-    Project { events, plants, specs: vec![Spec { name: "H".into(), states: (0..hn).map(|i| format!("h{i}")).collect(), init: 0, trans: ht, prohib: hp }] }
+    Project {
+        events,
+        plants,
+        specs: vec![Spec {
+            name: "H".into(),
+            states: (0..hn).map(|i| format!("h{i}")).collect(),
+            init: 0,
+            trans: ht,
+            prohib: hp,
+        }],
+    }
 }
 
 /// Can every plant do `e` from its state (plants not knowing `e` do not care)? Returns the
@@ -57,7 +90,10 @@ fn plant_step(p: &Project, qs: &[u32], e: EventId) -> Option<Vec<u32>> {
 
 fn check(p: &Project, sup: &model::Supervisor, case: usize) {
     for st in &sup.states {
-        assert!(st.prohibited.iter().all(|e| p.kind(*e) != EventKind::Uncontrollable), "case {case}: uncontrollable prohibition");
+        assert!(
+            st.prohibited.iter().all(|e| p.kind(*e) != EventKind::Uncontrollable),
+            "case {case}: uncontrollable prohibition"
+        );
     }
     let Some(s0) = sup.init else { return };
     let h = &p.specs[0];
@@ -103,9 +139,16 @@ fn preemptive_supervisors_are_safe_modulo_preemption() {
     for case in 0..400 {
         let p = random_project(&mut rng);
         for method in [Method::Monolithic, Method::Incremental] {
-            let sup = model::synthesize(&p, 0, &Config { method, preempt: true, minimize: case % 2 == 0, ..Config::default() }).unwrap();
+            let sup = model::synthesize(
+                &p,
+                0,
+                &Config { method, preempt: true, minimize: case % 2 == 0, ..Config::default() },
+            )
+            .unwrap();
             check(&p, &sup, case);
-            let plain = model::synthesize(&p, 0, &Config { method, preempt: false, minimize: true, ..Config::default() }).unwrap();
+            let plain =
+                model::synthesize(&p, 0, &Config { method, preempt: false, minimize: true, ..Config::default() })
+                    .unwrap();
             check(&p, &plain, case);
             assert!(plain.enforced_events().is_empty());
             // Preemption never makes a realizable problem unrealizable.

@@ -8,8 +8,10 @@ use plcsynth::sct::transfer::transfer_lines;
 
 #[test]
 fn example_file_is_the_generated_2x2_line() {
-    let text = std::fs::read_to_string(format!("{}/examples/sct/transfer_line_2x2.sct", env!("CARGO_MANIFEST_DIR"))).unwrap();
-    let body: String = text.lines().skip_while(|l| l.starts_with("//") && !l.contains("(generated)")).collect::<Vec<_>>().join("\n");
+    let text =
+        std::fs::read_to_string(format!("{}/examples/sct/transfer_line_2x2.sct", env!("CARGO_MANIFEST_DIR"))).unwrap();
+    let body: String =
+        text.lines().skip_while(|l| l.starts_with("//") && !l.contains("(generated)")).collect::<Vec<_>>().join("\n");
     assert_eq!(body.trim(), transfer_lines(2, 2, 2).trim());
 }
 
@@ -62,7 +64,13 @@ fn incremental_equals_monolithic_on_small_lines() {
                         continue;
                     }
                     let (a, b) = (inc.run(&w2).is_some(), mono.run(&w2).is_some());
-                    assert_eq!(a, b, "spec {} word {:?}", p.specs[i].name, w2.iter().map(|e| p.event_name(*e)).collect::<Vec<_>>());
+                    assert_eq!(
+                        a,
+                        b,
+                        "spec {} word {:?}",
+                        p.specs[i].name,
+                        w2.iter().map(|e| p.event_name(*e)).collect::<Vec<_>>()
+                    );
                     if a && next.len() < 3000 {
                         next.push(w2);
                     }
@@ -134,7 +142,10 @@ fn state_budget_and_cancellation_stop_monolithic_synthesis() {
         calls < 2
     };
     let mut budget = Budget::new(usize::MAX, &mut cancel_at_second);
-    assert!(matches!(synthesize_within(&p, 0, &Config { method: Method::Monolithic, ..Config::default() }, &mut budget), Err(SynthError::Cancelled)));
+    assert!(matches!(
+        synthesize_within(&p, 0, &Config { method: Method::Monolithic, ..Config::default() }, &mut budget),
+        Err(SynthError::Cancelled)
+    ));
     assert!(budget.built() > 4096, "cancelled after {} states", budget.built());
 }
 

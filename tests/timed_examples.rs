@@ -20,7 +20,10 @@ fn examples() -> Vec<(String, String)> {
 }
 
 fn expected(source: &str) -> Verdict {
-    let line = source.lines().find(|l| l.trim_start().starts_with("// Expected:")).expect("every example states its expected verdict");
+    let line = source
+        .lines()
+        .find(|l| l.trim_start().starts_with("// Expected:"))
+        .expect("every example states its expected verdict");
     if line.contains("unrealizable") {
         Verdict::Unrealizable
     } else if line.contains("realizable") {
@@ -44,7 +47,10 @@ fn checked_examples() -> Vec<(String, String)> {
 
 /// The examples small enough for the quadratic backward-fixpoint comparison.
 fn fixpoint_examples() -> Vec<(String, String)> {
-    examples().into_iter().filter(|(name, _)| !matches!(name.as_str(), "round_table_6" | "round_table_7" | "round_table_8")).collect()
+    examples()
+        .into_iter()
+        .filter(|(name, _)| !matches!(name.as_str(), "round_table_6" | "round_table_7" | "round_table_8"))
+        .collect()
 }
 
 #[test]
@@ -52,7 +58,11 @@ fn every_example_has_its_expected_verdict() {
     for (name, source) in checked_examples() {
         let (_, s) = solve(&source, 2_000_000);
         assert_eq!(s.solution.verdict, expected(&source), "{name}");
-        assert_eq!(s.solution.space.is_winning(s.solution.space.initial), s.solution.verdict == Verdict::Realizable, "{name}");
+        assert_eq!(
+            s.solution.space.is_winning(s.solution.space.initial),
+            s.solution.verdict == Verdict::Realizable,
+            "{name}"
+        );
     }
 }
 
@@ -72,7 +82,10 @@ fn no_winning_state_violates_an_assertion_or_has_a_failed_plan() {
                 assert!(a.holds.eval(&locs), "{name}: winning state {st} violates `{}`", a.text);
             }
             for (p, &sub) in space.plan(st).iter().enumerate() {
-                assert!(!s.split.units[s.split.plant_count + p].sublocs[sub as usize].failed, "{name}: winning state {st} has a failed plan");
+                assert!(
+                    !s.split.units[s.split.plant_count + p].sublocs[sub as usize].failed,
+                    "{name}: winning state {st} has a failed plan"
+                );
             }
         }
     }
@@ -86,7 +99,10 @@ fn no_winning_state_has_a_forced_edge_into_a_removed_state() {
         for st in space.winning_states() {
             for (_, e) in space.out_edges(st) {
                 if e.kind == EdgeKind::Reaction {
-                    assert!(e.to != NONE && space.is_winning(e.to), "{name}: winning state {st} has a reaction into a removed state or a zeno loop");
+                    assert!(
+                        e.to != NONE && space.is_winning(e.to),
+                        "{name}: winning state {st} has a reaction into a removed state or a zeno loop"
+                    );
                 }
                 if e.kind == EdgeKind::Timeout {
                     assert_eq!(e.to, NONE, "{name}: a timeout leads to the global timeout, never to a state");
@@ -106,7 +122,9 @@ fn every_winning_state_has_a_winning_move_or_may_wait() {
         let space = &s.solution.space;
         for st in space.winning_states() {
             let edges: Vec<_> = space.out_edges(st).map(|(_, e)| *e).collect();
-            let option = edges.iter().any(|e| matches!(e.kind, EdgeKind::Request | EdgeKind::Guard) && e.to != NONE && space.is_winning(e.to));
+            let option = edges.iter().any(|e| {
+                matches!(e.kind, EdgeKind::Request | EdgeKind::Guard) && e.to != NONE && space.is_winning(e.to)
+            });
             let delays: Vec<_> = edges.iter().filter(|e| e.kind == EdgeKind::Delay).collect();
             let reactions = edges.iter().any(|e| e.kind == EdgeKind::Reaction);
             let may_wait = if delays.is_empty() { reactions } else { delays.iter().all(|e| space.is_winning(e.to)) };
@@ -232,7 +250,8 @@ fn unrealizable_examples_are_explained_down_to_violations() {
 
 #[test]
 fn naive_lamp_explanation_names_the_press_and_the_assertion() {
-    let source = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/timed/lamp_naive.tga")).unwrap();
+    let source =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/timed/lamp_naive.tga")).unwrap();
     let (_, s) = solve(&source, 1000);
     let text = s.explanation.unwrap().render();
     assert!(text.contains("!press"), "{text}");
@@ -241,7 +260,9 @@ fn naive_lamp_explanation_names_the_press_and_the_assertion() {
 
 #[test]
 fn the_two_robots_need_at_least_fourteen_seconds() {
-    for (bound, verdict) in [(22, Verdict::Realizable), (14, Verdict::Realizable), (13, Verdict::Unrealizable), (10, Verdict::Unrealizable)] {
+    for (bound, verdict) in
+        [(22, Verdict::Realizable), (14, Verdict::Realizable), (13, Verdict::Unrealizable), (10, Verdict::Unrealizable)]
+    {
         let source = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/timed/two_robots_14.tga"))
             .unwrap()
             .replace("clocks cycle 14;", &format!("clocks cycle {bound};"));
@@ -252,7 +273,8 @@ fn the_two_robots_need_at_least_fourteen_seconds() {
 
 #[test]
 fn the_budget_stops_a_large_search_with_statistics() {
-    let source = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/timed/round_table_8.tga")).unwrap();
+    let source =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/timed/round_table_8.tga")).unwrap();
     let (_, s) = solve(&source, 1000);
     assert_eq!(s.solution.verdict, Verdict::BudgetExceeded);
     assert!(s.solution.stats.visited > 1000 && s.solution.stats.visited < 1200, "{:?}", s.solution.stats);
@@ -260,7 +282,8 @@ fn the_budget_stops_a_large_search_with_statistics() {
 
 #[test]
 fn the_progress_callback_can_cancel() {
-    let source = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/timed/round_table_8.tga")).unwrap();
+    let source =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/timed/round_table_8.tga")).unwrap();
     let (game, _) = compile(&source).unwrap();
     let mut calls = 0;
     let options = SolveOptions { max_states: 10_000_000, progress_interval: 100 };

@@ -8,12 +8,23 @@ fn fixture(name: &str) -> String {
 }
 
 fn syntax_errors(src: &str) -> Vec<String> {
-    parse(src).diagnostics.iter().filter(|d| d.is_error()).map(|d| format!("{}:{}: {}", d.line, d.column, d.message)).collect()
+    parse(src)
+        .diagnostics
+        .iter()
+        .filter(|d| d.is_error())
+        .map(|d| format!("{}:{}: {}", d.line, d.column, d.message))
+        .collect()
 }
 
 #[test]
 fn thesis_listings_parse_verbatim() {
-    for name in ["round_table_appendix_a.tga", "robot_arm_4_1_4.tga", "robot_arm_4_1_4_bare.tga", "gripper_4_2_1.tga", "plan_4_2_2.tga"] {
+    for name in [
+        "round_table_appendix_a.tga",
+        "robot_arm_4_1_4.tga",
+        "robot_arm_4_1_4_bare.tga",
+        "gripper_4_2_1.tga",
+        "plan_4_2_2.tga",
+    ] {
         let src = fixture(name);
         assert_eq!(syntax_errors(&src), Vec::<String>::new(), "{name}");
     }
@@ -33,7 +44,9 @@ fn thesis_listings_with_a_plant_check() {
 fn errors(src: &str) -> Vec<String> {
     match compile(src) {
         Ok(_) => Vec::new(),
-        Err(d) => d.iter().filter(|d| d.is_error()).map(|d| format!("{}:{}: {}", d.line, d.column, d.message)).collect(),
+        Err(d) => {
+            d.iter().filter(|d| d.is_error()).map(|d| format!("{}:{}: {}", d.line, d.column, d.message)).collect()
+        }
     }
 }
 
@@ -67,7 +80,11 @@ fn syntax_errors_are_located_and_all_reported() {
     let src = "plant {\n  automaton A {\n    nodes q0, q1;\n    q0 -> q1 a;\n    q1 -> q0 ?b {c in [1,2}\n  }\n}\n";
     assert_error(src, "a;", "expected a message type");
     assert_error(src, "}\n  }", "`]` or `)`");
-    assert_error("plant { automaton A { nodes q; } }\nassertions { never A.q and ; }\n", "; }\n", "expected a condition");
+    assert_error(
+        "plant { automaton A { nodes q; } }\nassertions { never A.q and ; }\n",
+        "; }\n",
+        "expected a condition",
+    );
     assert_error("timeunit 5 parsecs;\n", "parsecs", "unknown time unit `parsecs`");
     assert_error("plant { automaton A { clocks c; nodes q{c in [0,inf]}; } }\n", "]}", "must end with `)`");
 }
@@ -82,25 +99,51 @@ fn semantic_errors_are_located() {
     // Unknown node in a transition, unknown clock, clock of another component.
     assert_error("plant { automaton A { nodes q0; q0 -> q7 ?a; } }\n", "q7", "unknown node `q7` in `A`");
     assert_error("plant { automaton A { nodes q0{d in [0,1]}; } }\n", "d in", "unknown clock `d` in `A`");
-    let other = "plant {\n automaton A { clocks c; nodes q0; }\n automaton B { nodes r0; r0 -> r0 ?m {c in [1,2]}; }\n}\n";
+    let other =
+        "plant {\n automaton A { clocks c; nodes q0; }\n automaton B { nodes r0; r0 -> r0 ?m {c in [1,2]}; }\n}\n";
     assert_error(other, "c in", "unknown clock `c` in `B`");
     let d = compile(other).unwrap_err();
     assert!(d.iter().any(|d| d.notes.iter().any(|n| n.contains("`A.c` belongs to another unit"))), "{d:#?}");
     // Duplicate names.
-    assert_error("plant { automaton A { nodes q; } automaton A { nodes r; } }\n", "A { nodes r", "a unit named `A` is already declared");
+    assert_error(
+        "plant { automaton A { nodes q; } automaton A { nodes r; } }\n",
+        "A { nodes r",
+        "a unit named `A` is already declared",
+    );
     assert_error("plant { automaton A { nodes q, q; } }\n", "q;", "node `q` is declared twice");
     assert_error("plant { automaton A { clocks c, c; nodes q; } }\n", "c;", "clock `c` is declared twice");
     // Empty interval.
-    assert_error("plant { automaton A { clocks c; nodes q{c in [5,2]}; } }\n", "[5,2]", "lower bound 5 exceeds its upper bound 2");
+    assert_error(
+        "plant { automaton A { clocks c; nodes q{c in [5,2]}; } }\n",
+        "[5,2]",
+        "lower bound 5 exceeds its upper bound 2",
+    );
     assert_error("plant { hardware H { states a, b; a -> b takes [3,3); } }\n", "[3,3)", "is empty");
     // Synchronised message nobody sends.
-    assert_error("plant { automaton A { nodes q; q -> q $ghost; } }\n", "ghost", "synchronised message `ghost` is never sent");
+    assert_error(
+        "plant { automaton A { nodes q; q -> q $ghost; } }\n",
+        "ghost",
+        "synchronised message `ghost` is never sent",
+    );
     // The same ?/! message in two components (3.3).
-    assert_error_at("plant { automaton A { nodes q; q -> q ?m; } automaton B { nodes r; r -> r ?m; } }\n", "m;", 2, "message `m` is already sent by unit `A`");
+    assert_error_at(
+        "plant { automaton A { nodes q; q -> q ?m; } automaton B { nodes r; r -> r ?m; } }\n",
+        "m;",
+        2,
+        "message `m` is already sent by unit `A`",
+    );
     // Plans: undefined label, unknown message, reserved label, plan without waitfor, unknown clock.
-    assert_error(&format!("{unit}plans {{ plan {{ waitfor a -> nowhere; }} }}\n"), "nowhere", "undefined label `nowhere`");
+    assert_error(
+        &format!("{unit}plans {{ plan {{ waitfor a -> nowhere; }} }}\n"),
+        "nowhere",
+        "undefined label `nowhere`",
+    );
     assert_error(&format!("{unit}plans {{ plan {{ waitfor zz; }} }}\n"), "zz", "no unit sends the message `zz`");
-    assert_error(&format!("{unit}plans {{ plan {{ failed: waitfor a; }} }}\n"), "failed:", "`failed` is the plan's fail location");
+    assert_error(
+        &format!("{unit}plans {{ plan {{ failed: waitfor a; }} }}\n"),
+        "failed:",
+        "`failed` is the plan's fail location",
+    );
     assert_error(&format!("{unit}plans {{ plan {{ clocks t 5; reset t; }} }}\n"), "plan {", "no `waitfor` command");
     assert_error(&format!("{unit}plans {{ plan {{ reset u; waitfor a; }} }}\n"), "u;", "unknown timeout clock `u`");
     // io entry for an unknown message, and a double mapping.
@@ -109,7 +152,11 @@ fn semantic_errors_are_located() {
     // Hardware: unknown state, missing duration; operator with a duration.
     assert_error("plant { hardware H { states a, b; a -> c takes [1,2]; } }\n", "c takes", "unknown state `c` in `H`");
     assert_error("plant { hardware H { states a, b; a -> b; } }\n", "a -> b;", "a hardware move needs its duration");
-    assert_error("plant { operator O { states a, b; a <-> b takes [1,2]; } }\n", "[1,2]", "operator moves take no duration");
+    assert_error(
+        "plant { operator O { states a, b; a <-> b takes [1,2]; } }\n",
+        "[1,2]",
+        "operator moves take no duration",
+    );
 }
 
 #[test]
@@ -141,7 +188,9 @@ fn rendered_diagnostics_show_the_line_and_a_caret() {
 
 #[test]
 fn hardware_expands_as_in_4_3_2() {
-    let (game, _) = compile("plant { hardware H { states X, Y; X -> Y takes [2,4]; } }\nplans { plan { waitfor reached_Y; } }\n").unwrap();
+    let (game, _) =
+        compile("plant { hardware H { states X, Y; X -> Y takes [2,4]; } }\nplans { plan { waitfor reached_Y; } }\n")
+            .unwrap();
     let h = &game.components[0];
     let names: Vec<&str> = h.locations.iter().map(|l| l.name.as_str()).collect();
     assert_eq!(names, ["X", "Y", "moving_X_Y"]);
@@ -193,10 +242,68 @@ mod robustness {
     use proptest::prelude::*;
 
     const WORDS: &[&str] = &[
-        "plant", "automaton", "hardware", "operator", "clocks", "nodes", "states", "takes", "reset", "instant", "in", "inf", "and",
-        "or", "not", "never", "always", "onlyif", "assertions", "dependencies", "dependson", "time", "guards", "guardedby",
-        "plans", "plan", "waitfor", "failed", "timeunit", "io", "ms", "{", "}", "(", ")", "[", "]", ",", ";", ":", ".", "*", "?",
-        "!", "$", "=", "->", "<-", "<->", "A", "q", "c", "x", "0", "1", "5", "%I0.0", "\"s\"", "/*", "*/", "//", "\n",
+        "plant",
+        "automaton",
+        "hardware",
+        "operator",
+        "clocks",
+        "nodes",
+        "states",
+        "takes",
+        "reset",
+        "instant",
+        "in",
+        "inf",
+        "and",
+        "or",
+        "not",
+        "never",
+        "always",
+        "onlyif",
+        "assertions",
+        "dependencies",
+        "dependson",
+        "time",
+        "guards",
+        "guardedby",
+        "plans",
+        "plan",
+        "waitfor",
+        "failed",
+        "timeunit",
+        "io",
+        "ms",
+        "{",
+        "}",
+        "(",
+        ")",
+        "[",
+        "]",
+        ",",
+        ";",
+        ":",
+        ".",
+        "*",
+        "?",
+        "!",
+        "$",
+        "=",
+        "->",
+        "<-",
+        "<->",
+        "A",
+        "q",
+        "c",
+        "x",
+        "0",
+        "1",
+        "5",
+        "%I0.0",
+        "\"s\"",
+        "/*",
+        "*/",
+        "//",
+        "\n",
     ];
 
     proptest! {
@@ -277,7 +384,10 @@ fn deeply_nested_conditions_get_a_located_error() {
     ] {
         let src = format!("{LAMP_PLANT}assertions {{ never {cond}; }}\n");
         let errs = on_small_stack(move || errors(&src));
-        assert!(!errs.is_empty() && errs[0].starts_with("2:") && errs[0].contains("nested too deeply"), "{what}: {errs:?}");
+        assert!(
+            !errs.is_empty() && errs[0].starts_with("2:") && errs[0].contains("nested too deeply"),
+            "{what}: {errs:?}"
+        );
     }
     // 64 levels are fine.
     let src = format!("{LAMP_PLANT}assertions {{ never {}lamp.on{}; }}\n", "(not ".repeat(32), ")".repeat(32));

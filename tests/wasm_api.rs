@@ -77,7 +77,10 @@ fn automata_have_locations_and_typed_edges() {
     let locations = array(&get(&button, "locations"));
     assert_eq!(locations.length(), 4);
     assert!(locations.iter().any(|l| string(&l, "invariant").contains("c in")));
-    let sigils: Vec<String> = automata.iter().flat_map(|a| array(&get(&a, "edges")).iter().map(|e| string(&e, "sigil")).collect::<Vec<_>>()).collect();
+    let sigils: Vec<String> = automata
+        .iter()
+        .flat_map(|a| array(&get(&a, "edges")).iter().map(|e| string(&e, "sigil")).collect::<Vec<_>>())
+        .collect();
     for sigil in ["?", "!", "$"] {
         assert!(sigils.iter().any(|x| x == sigil), "no {sigil} edge in {sigils:?}");
     }
@@ -209,7 +212,15 @@ fn code_for_every_target_of_a_realizable_spec() {
     let (s, _) = solved(LAMP);
     let program = s.program().unwrap().expect("a controller");
     assert!(program.contains("DO (turn_on)"), "{program}");
-    for (target, marker) in [("program", "DO (turn_on)"), ("st", "FUNCTION_BLOCK"), ("scl", "FUNCTION_BLOCK"), ("codesys", "FUNCTION_BLOCK"), ("il", "turn_on"), ("stl", "turn_on"), ("plcopen", "<project")] {
+    for (target, marker) in [
+        ("program", "DO (turn_on)"),
+        ("st", "FUNCTION_BLOCK"),
+        ("scl", "FUNCTION_BLOCK"),
+        ("codesys", "FUNCTION_BLOCK"),
+        ("il", "turn_on"),
+        ("stl", "turn_on"),
+        ("plcopen", "<project"),
+    ] {
         let code = s.code(target, "lamp").unwrap();
         assert_eq!(string(&code, "target"), target);
         let text = string(&code, "code");
@@ -236,7 +247,9 @@ fn strategy_requests_stay_among_winning_states() {
     let space = s.space(10_000).unwrap();
     assert_eq!(num(&first, "state"), num(&space, "initial"));
     let states = array(&get(&space, "states"));
-    let winning = |id: f64| states.iter().find(|x| num(x, "id") == id).map(|x| get(&x, "winning").as_bool() == Some(true)).unwrap();
+    let winning = |id: f64| {
+        states.iter().find(|x| num(x, "id") == id).map(|x| get(&x, "winning").as_bool() == Some(true)).unwrap()
+    };
     let mut requests = 0;
     for c in choices.iter() {
         assert!(winning(num(&c, "state")));

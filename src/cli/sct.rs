@@ -4,11 +4,11 @@ use clap::{Args, ValueEnum};
 use plcsynth::diag::{render_plain, Diagnostics, Span};
 use plcsynth::sct::classic::{minimize, supcon as classic_supcon, Events, SupConError};
 use plcsynth::sct::gen::{read_gen, write_gen};
+use plcsynth::sct::model::dep_closure;
 use plcsynth::sct::model::{Config, Method, DEFAULT_MAX_STATES};
 use plcsynth::sct::project::load;
 use plcsynth::sct::report::synthesize_all;
 use plcsynth::sct::textbook::{agv, small_factory, transfer_line, transfer_lines_classic};
-use plcsynth::sct::model::dep_closure;
 use plcsynth::sct::transfer::{extended_line, transfer_lines};
 use std::process::{Command, ExitCode};
 use std::time::Instant;
@@ -98,7 +98,10 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
                 loaded = l
             }
             None => {
-                eprintln!("error: the product of all specifications has more than {} states (--max-states)", a.max_states);
+                eprintln!(
+                    "error: the product of all specifications has more than {} states (--max-states)",
+                    a.max_states
+                );
                 return ExitCode::from(2);
             }
         }
@@ -130,7 +133,15 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
         });
         outln!("{}", serde_json::to_string_pretty(&out).unwrap_or_default());
     } else {
-        outln!("{:<28} {:>10} {:>7} {:>6} {:>7}  {:>9}  enforced", "supervisor", "realizable", "states", "trans", "prohib", "millis");
+        outln!(
+            "{:<28} {:>10} {:>7} {:>6} {:>7}  {:>9}  enforced",
+            "supervisor",
+            "realizable",
+            "states",
+            "trans",
+            "prohib",
+            "millis"
+        );
         let mut total = 0;
         for r in &reports {
             total += r.states;
@@ -229,7 +240,18 @@ pub fn bench(a: &BenchArgs) -> ExitCode {
     outln!("Incremental synthesis on transfer lines (Göbe 2019, table 7.1; buffers of capacity 2)");
     outln!("ours: median of {} runs on this machine; thesis: Intel Core i5 750, 2.67 GHz", a.runs);
     outln!();
-    outln!("{:<22} {:>7} {:>6} | {:>12} {:>8} | {:>12} {:>8} | {:>12} {:>8}", "TLs x machines", "plants", "specs", "IncSyn ms", "states", "thesis ms", "states", "ModSyn ms", "states");
+    outln!(
+        "{:<22} {:>7} {:>6} | {:>12} {:>8} | {:>12} {:>8} | {:>12} {:>8}",
+        "TLs x machines",
+        "plants",
+        "specs",
+        "IncSyn ms",
+        "states",
+        "thesis ms",
+        "states",
+        "ModSyn ms",
+        "states"
+    );
     // (k, m, thesis label, thesis IncSyn ms, thesis states, thesis ModSyn)
     let rows: &[(usize, usize, &str, &str, &str, &str)] = &[
         (2, 2, "2 x 2", "164", "38", "985 ms / 5994"),
@@ -324,7 +346,10 @@ fn bench_faudes(runs: usize) -> ExitCode {
         let out = Command::new(py).arg(script).arg(&pf).arg(&sf).arg(runs.max(1).to_string()).output();
         if let Ok(o) = &out {
             if !o.status.success() {
-                eprintln!("libFAUDES failed on {name}: {}", String::from_utf8_lossy(&o.stderr).lines().last().unwrap_or(""));
+                eprintln!(
+                    "libFAUDES failed on {name}: {}",
+                    String::from_utf8_lossy(&o.stderr).lines().last().unwrap_or("")
+                );
             }
         }
         let faudes = out.ok().and_then(|o| String::from_utf8(o.stdout).ok()).and_then(|s| {
@@ -333,7 +358,11 @@ fn bench_faudes(runs: usize) -> ExitCode {
         });
         match faudes {
             Some((fms, fst, ftr)) => {
-                let agree = if fst as usize == sup.num_states() && ftr as usize == sup.num_transitions() { "" } else { "  (sizes differ!)" };
+                let agree = if fst as usize == sup.num_states() && ftr as usize == sup.num_transitions() {
+                    ""
+                } else {
+                    "  (sizes differ!)"
+                };
                 outln!(
                     "{name:<24} {:>8} {:>8} | {ours:>10.3} {fms:>10.3} {:>7.2}{agree}",
                     sup.num_states(),
@@ -341,7 +370,13 @@ fn bench_faudes(runs: usize) -> ExitCode {
                     ours / fms.max(1e-6)
                 );
             }
-            None => outln!("{name:<24} {:>8} {:>8} | {ours:>10.3} {:>10} {:>7}", sup.num_states(), sup.num_transitions(), "error", "-"),
+            None => outln!(
+                "{name:<24} {:>8} {:>8} | {ours:>10.3} {:>10} {:>7}",
+                sup.num_states(),
+                sup.num_transitions(),
+                "error",
+                "-"
+            ),
         }
     }
     outln!("ratio = ours / libFAUDES (below 1 means plcsynth is faster); libFAUDES time excludes file reading.");

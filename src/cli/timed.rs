@@ -67,7 +67,11 @@ pub fn solve(file: &str, json: bool, max_states: Option<usize>, dump_states: boo
         outln!("{file}: {verdict}");
         outln!(
             "visited {} · winning {} · removed {} · edges {} · {:.1} ms",
-            stats.visited, stats.winning, stats.removed, stats.edges, millis
+            stats.visited,
+            stats.winning,
+            stats.removed,
+            stats.edges,
+            millis
         );
         if let Some(text) = explanation {
             outln!("\nwhy the initial state is lost:\n{text}");

@@ -6,9 +6,16 @@ use super::{preset_literal, Code, Effect, Step, Test};
 
 fn load(code: &Code, test: &Test) -> String {
     match *test {
-        Test::Input { input, negated } => format!("        {} {}\n", if negated { "LDN" } else { "LD" }, code.inputs[input].ident),
+        Test::Input { input, negated } => {
+            format!("        {} {}\n", if negated { "LDN" } else { "LD" }, code.inputs[input].ident)
+        }
         Test::Elapsed { timer, ms, strict } => {
-            format!("        LD {}.ET\n        {} {}\n", code.timers[timer].ident, if strict { "GT" } else { "GE" }, super::time_literal(ms))
+            format!(
+                "        LD {}.ET\n        {} {}\n",
+                code.timers[timer].ident,
+                if strict { "GT" } else { "GE" },
+                super::time_literal(ms)
+            )
         }
     }
 }

@@ -172,10 +172,69 @@ pub fn source_hash(source: &str) -> String {
 
 /// Reserved words of IEC 61131-3 and common dialects that may not name a variable.
 const KEYWORDS: &[&str] = &[
-    "ABS", "ACTION", "AND", "ARRAY", "AT", "BOOL", "BY", "BYTE", "CASE", "CONFIGURATION", "CONSTANT", "DATE", "DINT", "DO", "DT",
-    "DWORD", "ELSE", "ELSIF", "END", "EN", "ENO", "EXIT", "FALSE", "FOR", "FUNCTION", "IF", "IN", "INT", "MOD", "NOT", "OF", "ON",
-    "OR", "PROGRAM", "PT", "Q", "ET", "R", "S", "REAL", "REPEAT", "RETURN", "STEP", "STRING", "STRUCT", "THEN", "TIME", "TO", "TON",
-    "TRUE", "TYPE", "UNTIL", "VAR", "WHILE", "WORD", "XOR", "BEGIN", "REGION", "METHOD", "INTERFACE", "CLASS", "TASK", "RESOURCE",
+    "ABS",
+    "ACTION",
+    "AND",
+    "ARRAY",
+    "AT",
+    "BOOL",
+    "BY",
+    "BYTE",
+    "CASE",
+    "CONFIGURATION",
+    "CONSTANT",
+    "DATE",
+    "DINT",
+    "DO",
+    "DT",
+    "DWORD",
+    "ELSE",
+    "ELSIF",
+    "END",
+    "EN",
+    "ENO",
+    "EXIT",
+    "FALSE",
+    "FOR",
+    "FUNCTION",
+    "IF",
+    "IN",
+    "INT",
+    "MOD",
+    "NOT",
+    "OF",
+    "ON",
+    "OR",
+    "PROGRAM",
+    "PT",
+    "Q",
+    "ET",
+    "R",
+    "S",
+    "REAL",
+    "REPEAT",
+    "RETURN",
+    "STEP",
+    "STRING",
+    "STRUCT",
+    "THEN",
+    "TIME",
+    "TO",
+    "TON",
+    "TRUE",
+    "TYPE",
+    "UNTIL",
+    "VAR",
+    "WHILE",
+    "WORD",
+    "XOR",
+    "BEGIN",
+    "REGION",
+    "METHOD",
+    "INTERFACE",
+    "CLASS",
+    "TASK",
+    "RESOURCE",
 ];
 
 /// A valid, non-reserved IEC identifier derived from `name` (no double or trailing underscores).
@@ -295,11 +354,18 @@ pub fn build(game: &Game, program: &Program, name: &str, source: &str) -> Code {
                 Step::Act { output, effect }
             }
             Instruction::WaitUntil { condition } => Step::Wait { test: test(&condition) },
-            Instruction::If { condition, target } => Step::Branch { test: test(&condition), target: pos[target as usize] as usize },
+            Instruction::If { condition, target } => {
+                Step::Branch { test: test(&condition), target: pos[target as usize] as usize }
+            }
             Instruction::Goto { target } => Step::Jump { target: pos[target as usize] as usize },
         };
         steps.push(step);
-        comments.push(lines.get(i).map(|l| l.split_once(" : ").map_or(*l, |(_, r)| r).trim_end_matches(';').to_string()).unwrap_or_default());
+        comments.push(
+            lines
+                .get(i)
+                .map(|l| l.split_once(" : ").map_or(*l, |(_, r)| r).trim_end_matches(';').to_string())
+                .unwrap_or_default(),
+        );
         restarts_by_clock.push(c.resets);
     }
     // Timers are known only now; map each step's clock resets to timer indices.

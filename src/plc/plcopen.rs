@@ -30,15 +30,23 @@ pub fn print(code: &Code) -> String {
     for line in &code.header {
         o.push_str(&format!("<!-- {} -->\n", escape(line)));
     }
-    o.push_str("<project xmlns=\"http://www.plcopen.org/xml/tc6_0201\" xmlns:xhtml=\"http://www.w3.org/1999/xhtml\">\n");
+    o.push_str(
+        "<project xmlns=\"http://www.plcopen.org/xml/tc6_0201\" xmlns:xhtml=\"http://www.w3.org/1999/xhtml\">\n",
+    );
     o.push_str(&format!(
         "  <fileHeader companyName=\"plcsynth\" productName=\"plcsynth\" productVersion=\"{}\" creationDateTime=\"1970-01-01T00:00:00\"/>\n",
         env!("CARGO_PKG_VERSION")
     ));
-    o.push_str(&format!("  <contentHeader name=\"{}\" modificationDateTime=\"1970-01-01T00:00:00\">\n", escape(&code.name)));
+    o.push_str(&format!(
+        "  <contentHeader name=\"{}\" modificationDateTime=\"1970-01-01T00:00:00\">\n",
+        escape(&code.name)
+    ));
     o.push_str("    <coordinateInfo>\n      <fbd><scaling x=\"1\" y=\"1\"/></fbd>\n      <ld><scaling x=\"1\" y=\"1\"/></ld>\n      <sfc><scaling x=\"1\" y=\"1\"/></sfc>\n    </coordinateInfo>\n  </contentHeader>\n");
     o.push_str("  <types>\n    <dataTypes/>\n    <pous>\n");
-    o.push_str(&format!("      <pou name=\"{}\" pouType=\"functionBlock\">\n        <interface>\n", escape(&code.name)));
+    o.push_str(&format!(
+        "      <pou name=\"{}\" pouType=\"functionBlock\">\n        <interface>\n",
+        escape(&code.name)
+    ));
     o.push_str("          <inputVars>\n");
     for i in &code.inputs {
         variable(&mut o, &i.ident, "<BOOL/>", None, &i.notes.join(", "));

@@ -31,7 +31,6 @@ fn test_text(code: &Code, test: &Test) -> String {
     }
 }
 
-
 fn bound_text(target: &IoTarget, dialect: Dialect) -> String {
     match target {
         IoTarget::Address { text, .. } if dialect == Dialect::Scl => format!("%{}", siemens_address(text)),
@@ -95,8 +94,10 @@ fn body(code: &Code, o: &mut String) {
     o.push_str("scan_done := FALSE;\nWHILE NOT scan_done DO\n    CASE step OF\n");
     for (i, step) in code.steps.iter().enumerate() {
         o.push_str(&format!("    {i}: (* {} *)\n", code.comments[i]));
-        let restarts: String =
-            code.restarts[i].iter().map(|&t| format!("{}(IN := FALSE, PT := {}); ", code.timers[t].ident, super::preset_literal(code, t))).collect();
+        let restarts: String = code.restarts[i]
+            .iter()
+            .map(|&t| format!("{}(IN := FALSE, PT := {}); ", code.timers[t].ident, super::preset_literal(code, t)))
+            .collect();
         let go = |target: usize| -> String {
             if target <= i {
                 format!("step := {target}; scan_done := TRUE;")
@@ -122,7 +123,11 @@ fn body(code: &Code, o: &mut String) {
             }
             Step::Act { output, effect } => {
                 let value = if *effect == Effect::Reset { "FALSE" } else { "TRUE" };
-                o.push_str(&format!("        {} := {value};\n        {restarts}step := {};\n        scan_done := TRUE;\n", code.outputs[*output].ident, i + 1));
+                o.push_str(&format!(
+                    "        {} := {value};\n        {restarts}step := {};\n        scan_done := TRUE;\n",
+                    code.outputs[*output].ident,
+                    i + 1
+                ));
             }
             Step::Jump { target } => {
                 o.push_str(&format!("        {restarts}{}\n", go(*target)));
@@ -147,7 +152,12 @@ fn wiring(code: &Code, dialect: Dialect, o: &mut String) {
     o.push_str(&format!("    ctrl : {};\n", code.name));
     if !scl {
         // IEC and CODESYS declare located variables; SCL reads addresses directly.
-        for (ident, binding) in code.inputs.iter().map(|i| (&i.ident, &i.binding)).chain(code.outputs.iter().map(|x| (&x.ident, &x.binding))) {
+        for (ident, binding) in code
+            .inputs
+            .iter()
+            .map(|i| (&i.ident, &i.binding))
+            .chain(code.outputs.iter().map(|x| (&x.ident, &x.binding)))
+        {
             if let Some(b @ IoTarget::Address { .. }) = binding {
                 o.push_str(&format!("    {ident}_io AT {} : BOOL;\n", bound_text(b, dialect)));
             }
@@ -165,7 +175,8 @@ fn wiring(code: &Code, dialect: Dialect, o: &mut String) {
             None => "FALSE".to_string(),
         }
     };
-    let args: Vec<String> = code.inputs.iter().map(|i| format!("{} := {}", i.ident, signal(&i.ident, &i.binding))).collect();
+    let args: Vec<String> =
+        code.inputs.iter().map(|i| format!("{} := {}", i.ident, signal(&i.ident, &i.binding))).collect();
     o.push_str(&format!("ctrl({});\n", args.join(", ")));
     for out in &code.outputs {
         if out.binding.is_some() {

@@ -84,13 +84,16 @@ pub fn print(code: &Code) -> String {
             _ => {}
         }
     }
-    let index: Vec<usize> = resume.iter().scan(0, |k, &r| {
-        let v = *k;
-        if r {
-            *k += 1;
-        }
-        Some(v)
-    }).collect();
+    let index: Vec<usize> = resume
+        .iter()
+        .scan(0, |k, &r| {
+            let v = *k;
+            if r {
+                *k += 1;
+            }
+            Some(v)
+        })
+        .collect();
     let points: Vec<usize> = (0..resume.len()).filter(|&i| resume[i]).collect();
     let wide = points.len() > 255;
     // Memory bits for unbound signals.
@@ -105,7 +108,9 @@ pub fn print(code: &Code) -> String {
     // One S7 timer per (timer, threshold).
     let mut s7_timers: Vec<(usize, u64)> = Vec::new();
     for s in &code.steps {
-        if let Step::Wait { test: Test::Elapsed { timer, ms, .. } } | Step::Branch { test: Test::Elapsed { timer, ms, .. }, .. } = *s {
+        if let Step::Wait { test: Test::Elapsed { timer, ms, .. } }
+        | Step::Branch { test: Test::Elapsed { timer, ms, .. }, .. } = *s
+        {
             if !s7_timers.contains(&(timer, ms)) {
                 s7_timers.push((timer, ms));
             }
@@ -126,7 +131,12 @@ pub fn print(code: &Code) -> String {
     }
     o.push_str(&format!("//   {:<10} program position\n", if wide { "MW 0" } else { "MB 0" }));
     for (k, &(timer, ms)) in s7_timers.iter().enumerate() {
-        o.push_str(&format!("//   T {:<8} clock {} reached {} ms\n", k + 1, code.timers[timer].ident.trim_start_matches("t_"), ms));
+        o.push_str(&format!(
+            "//   T {:<8} clock {} reached {} ms\n",
+            k + 1,
+            code.timers[timer].ident.trim_start_matches("t_"),
+            ms
+        ));
     }
     o.push_str("ORGANIZATION_BLOCK OB 1\nBEGIN\n");
     for (k, out) in code.outputs.iter().enumerate() {
@@ -137,7 +147,8 @@ pub fn print(code: &Code) -> String {
     for &(timer, ms) in &s7_timers {
         o.push_str(&format!("\tSET\n\tL\t{}\n\tSD\tT {}\n", s5time(ms), t_number(timer, ms)));
     }
-    let store = |o: &mut String, k: usize| o.push_str(&format!("\tL\t{k}\n\tT\t{}\n", if wide { "MW 0" } else { "MB 0" }));
+    let store =
+        |o: &mut String, k: usize| o.push_str(&format!("\tL\t{k}\n\tT\t{}\n", if wide { "MW 0" } else { "MB 0" }));
     if wide {
         for &p in &points {
             o.push_str(&format!("\tL\tMW 0\n\tL\t{}\n\t==I\n\tJC\t{}\n", index[p], label(p)));
@@ -151,11 +162,11 @@ pub fn print(code: &Code) -> String {
     }
     o.push_str("ud:\tL\t0\n");
     o.push_str(&format!("\tT\t{}\n\tJU\t{}\n", if wide { "MW 0" } else { "MB 0" }, label(0)));
-    let test = |o: &mut String, t: &Test| {
-        match *t {
-            Test::Input { input, negated } => o.push_str(&format!("\t{}\t{}\n", if negated { "AN" } else { "A" }, inputs[input])),
-            Test::Elapsed { timer, ms, .. } => o.push_str(&format!("\tA\tT {}\n", t_number(timer, ms))),
+    let test = |o: &mut String, t: &Test| match *t {
+        Test::Input { input, negated } => {
+            o.push_str(&format!("\t{}\t{}\n", if negated { "AN" } else { "A" }, inputs[input]))
         }
+        Test::Elapsed { timer, ms, .. } => o.push_str(&format!("\tA\tT {}\n", t_number(timer, ms))),
     };
     let restart = |o: &mut String, i: usize| {
         for &timer in &code.restarts[i] {

@@ -57,7 +57,11 @@ pub fn generate(game: &Game, split: &SplitGame, space: &StateSpace, strategy: &S
                 continue;
             }
             if let (EdgeKind::Reaction | EdgeKind::Guard, Label::Message { message }) = (e.kind, e.label) {
-                block.push((None, Instruction::If { condition: Condition::Message { message }, target: entry[e.to as usize] }, e.resets));
+                block.push((
+                    None,
+                    Instruction::If { condition: Condition::Message { message }, target: entry[e.to as usize] },
+                    e.resets,
+                ));
             }
         }
         match choice {
@@ -77,7 +81,9 @@ pub fn generate(game: &Game, split: &SplitGame, space: &StateSpace, strategy: &S
                     }
                     match e.label {
                         Label::Wait => continued = Some(e.to),
-                        Label::Piece { clocks, .. } => delays.push((delay_conditions(game, split, space, e.to, clocks), e.to)),
+                        Label::Piece { clocks, .. } => {
+                            delays.push((delay_conditions(game, split, space, e.to, clocks), e.to))
+                        }
                         _ => {}
                     }
                 }

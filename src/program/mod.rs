@@ -173,7 +173,8 @@ pub fn parse_listing(
         lines.push((label.trim().to_string(), rest.trim().to_string()));
     }
     let mut program = Program::new();
-    let ids: std::collections::HashMap<String, CmdId> = lines.iter().map(|(l, _)| (l.clone(), program.fresh_id())).collect();
+    let ids: std::collections::HashMap<String, CmdId> =
+        lines.iter().map(|(l, _)| (l.clone(), program.fresh_id())).collect();
     let target = |l: &str| ids.get(l.trim()).copied().ok_or_else(|| format!("unknown label `{}`", l.trim()));
     let condition = |c: &str| -> Result<Condition, String> {
         let c = c.trim();
@@ -186,7 +187,13 @@ pub fn parse_listing(
             };
             let value: u32 = value.trim().parse().map_err(|_| format!("bad delay `{wait}`"))?;
             let clock = clock(name.trim()).ok_or_else(|| format!("unknown clock `{name}`"))?;
-            let interval = Interval { lower: value, lower_closed: !open, upper: None, upper_closed: false, span: Default::default() };
+            let interval = Interval {
+                lower: value,
+                lower_closed: !open,
+                upper: None,
+                upper_closed: false,
+                span: Default::default(),
+            };
             return Ok(Condition::Delay { clock, interval });
         }
         message(c).map(|m| Condition::Message { message: m }).ok_or_else(|| format!("unknown message `{c}`"))

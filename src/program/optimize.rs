@@ -87,7 +87,8 @@ impl Context {
                     return true; // undeclared: assume it may change at any time
                 }
                 self.dependencies.iter().any(|&(m, on)| {
-                    (m == *message && on == event) || matches!(event, DependsOn::Message(e) if on == DependsOn::Message(*message) && m == e)
+                    (m == *message && on == event)
+                        || matches!(event, DependsOn::Message(e) if on == DependsOn::Message(*message) && m == e)
                 })
             }
         }
@@ -135,7 +136,9 @@ fn jump_target(c: &Command) -> Option<CmdId> {
 pub fn reference_counts(program: &Program) -> Vec<u32> {
     let pos = program.positions();
     let cmds = &program.commands;
-    let mut r: Vec<u32> = (0..cmds.len()).map(|i| u32::from(i == 0 || !matches!(cmds[i - 1].instruction, Instruction::Goto { .. }))).collect();
+    let mut r: Vec<u32> = (0..cmds.len())
+        .map(|i| u32::from(i == 0 || !matches!(cmds[i - 1].instruction, Instruction::Goto { .. })))
+        .collect();
     for c in cmds {
         if let Some(t) = jump_target(c) {
             let p = pos[t as usize];
@@ -152,7 +155,9 @@ pub fn waituntil_replacement(program: &mut Program) -> bool {
     let mut changed = false;
     let cmds = &mut program.commands;
     for i in 0..cmds.len().saturating_sub(1) {
-        if let (Instruction::If { condition, target }, Instruction::Goto { target: back }) = (cmds[i].instruction, cmds[i + 1].instruction) {
+        if let (Instruction::If { condition, target }, Instruction::Goto { target: back }) =
+            (cmds[i].instruction, cmds[i + 1].instruction)
+        {
             if back == cmds[i].id && cmds[i + 1].resets == 0 && target != cmds[i].id {
                 cmds[i].instruction = Instruction::WaitUntil { condition };
                 cmds[i + 1].instruction = Instruction::Goto { target };
@@ -204,7 +209,8 @@ pub fn inlining(program: &mut Program) -> bool {
         }
         let (s, next) = (program.commands[j as usize], program.commands[j as usize + 1]);
         let Instruction::Goto { target: dest } = next.instruction else { continue };
-        if next.resets != 0 || dest == l2 || matches!(s.instruction, Instruction::If { .. } | Instruction::Goto { .. }) {
+        if next.resets != 0 || dest == l2 || matches!(s.instruction, Instruction::If { .. } | Instruction::Goto { .. })
+        {
             continue;
         }
         program.commands[i].instruction = s.instruction;
@@ -364,7 +370,10 @@ struct Edits {
 
 /// The commands of the block entered at position `p`: up to and including the first GOTO.
 fn block(program: &Program, p: usize) -> std::ops::Range<usize> {
-    let end = program.commands[p..].iter().position(|c| matches!(c.instruction, Instruction::Goto { .. })).map_or(program.len(), |k| p + k + 1);
+    let end = program.commands[p..]
+        .iter()
+        .position(|c| matches!(c.instruction, Instruction::Goto { .. }))
+        .map_or(program.len(), |k| p + k + 1);
     p..end
 }
 
@@ -373,7 +382,8 @@ fn is_wait_block(program: &Program, range: &std::ops::Range<usize>) -> bool {
     let cmds = &program.commands[range.clone()];
     match cmds.last().map(|c| c.instruction) {
         Some(Instruction::Goto { target }) => {
-            target == cmds[0].id && cmds[..cmds.len() - 1].iter().all(|c| matches!(c.instruction, Instruction::If { .. }))
+            target == cmds[0].id
+                && cmds[..cmds.len() - 1].iter().all(|c| matches!(c.instruction, Instruction::If { .. }))
         }
         _ => false,
     }
@@ -511,7 +521,9 @@ pub fn bisimulation(program: &Program) -> Classes {
         let c = &cmds[i];
         match c.instruction {
             Instruction::Do { request } => (0, None, Some(request), c.resets),
-            Instruction::If { condition, .. } | Instruction::WaitUntil { condition } => (1, Some(condition), None, c.resets),
+            Instruction::If { condition, .. } | Instruction::WaitUntil { condition } => {
+                (1, Some(condition), None, c.resets)
+            }
             Instruction::Goto { .. } => (2, None, None, c.resets),
         }
     };
@@ -563,7 +575,8 @@ pub fn equivalent(a: &Program, b: &Program) -> bool {
     }
     // Execution of `a` must not run into `b`: end `a` explicitly with a jump nowhere.
     let stop = both.fresh_id();
-    both.commands.insert(a.len(), Command { id: stop, instruction: Instruction::Goto { target: u32::MAX - 1 }, resets: 0 });
+    both.commands
+        .insert(a.len(), Command { id: stop, instruction: Instruction::Goto { target: u32::MAX - 1 }, resets: 0 });
     let classes = bisimulation(&both);
     let (sa, sb) = (classes.resolve(0), classes.resolve(a.len() + 1));
     let virtual_end = |i: usize| i >= both.len();
@@ -642,8 +655,15 @@ pub fn layout(program: &mut Program) -> bool {
     let cmds = &program.commands;
     // Segments: maximal runs that end with a GOTO (or at the end of the program).
     let mut starts = vec![0usize];
-    starts.extend(cmds[..n - 1].iter().enumerate().filter(|(_, c)| matches!(c.instruction, Instruction::Goto { .. })).map(|(i, _)| i + 1));
-    let segment_of_start: std::collections::HashMap<usize, usize> = starts.iter().enumerate().map(|(k, &s)| (s, k)).collect();
+    starts.extend(
+        cmds[..n - 1]
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| matches!(c.instruction, Instruction::Goto { .. }))
+            .map(|(i, _)| i + 1),
+    );
+    let segment_of_start: std::collections::HashMap<usize, usize> =
+        starts.iter().enumerate().map(|(k, &s)| (s, k)).collect();
     let seg_end = |k: usize| starts.get(k + 1).copied().unwrap_or(n);
     let mut placed = vec![false; starts.len()];
     let mut order = Vec::with_capacity(starts.len());
@@ -679,8 +699,8 @@ pub fn layout(program: &mut Program) -> bool {
 pub fn drop_unread_resets(program: &mut Program) {
     let mut read = 0u64;
     for c in &program.commands {
-        if let Instruction::If { condition: Condition::Delay { clock, .. }, .. } | Instruction::WaitUntil { condition: Condition::Delay { clock, .. } } =
-            c.instruction
+        if let Instruction::If { condition: Condition::Delay { clock, .. }, .. }
+        | Instruction::WaitUntil { condition: Condition::Delay { clock, .. } } = c.instruction
         {
             read |= 1 << clock;
         }

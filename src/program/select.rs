@@ -12,7 +12,6 @@ use crate::timed::solve::{EdgeId, EdgeKind, StateId, StateKind, StateSpace};
 use serde::Serialize;
 use std::collections::VecDeque;
 
-
 /// The controller's decision in one state.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(tag = "kind", content = "edge", rename_all = "lowercase")]
@@ -31,7 +30,6 @@ pub struct Strategy {
     /// Decision per state id (meaningful for the states in `states`).
     pub choice: Vec<Choice>,
 }
-
 
 /// Moves from each winning state to the nearest plan progress, along winning states.
 pub fn goal_distances(space: &StateSpace) -> Vec<u32> {

@@ -110,10 +110,18 @@ impl World<'_> {
                         .edges
                         .iter()
                         .enumerate()
-                        .filter(|(oi, oe)| oe.kind == MessageKind::Synchronised && oe.message == e.message && oe.from == self.locs[o] && self.guard_ok(o, *oi))
+                        .filter(|(oi, oe)| {
+                            oe.kind == MessageKind::Synchronised
+                                && oe.message == e.message
+                                && oe.from == self.locs[o]
+                                && self.guard_ok(o, *oi)
+                        })
                         .map(|(oi, _)| oi)
                         .collect();
-                    combos = combos.into_iter().flat_map(|c| options.iter().map(move |&oi| [c.clone(), vec![(o, oi)]].concat())).collect();
+                    combos = combos
+                        .into_iter()
+                        .flat_map(|c| options.iter().map(move |&oi| [c.clone(), vec![(o, oi)]].concat()))
+                        .collect();
                 }
                 for parts in combos {
                     let instant = parts.iter().any(|&(pu, pe)| self.game.components[pu].edges[pe].instant);
@@ -135,7 +143,10 @@ impl World<'_> {
         }
         parts.iter().all(|&(u, ei)| {
             let to = self.game.components[u].edges[ei].to;
-            self.game.components[u].locations[to as usize].invariant.iter().all(|ci| holds(&ci.interval, clocks[ci.clock as usize]))
+            self.game.components[u].locations[to as usize]
+                .invariant
+                .iter()
+                .all(|ci| holds(&ci.interval, clocks[ci.clock as usize]))
         })
     }
 
@@ -222,15 +233,37 @@ impl Run<'_, '_> {
             .iter()
             .enumerate()
             .map(|(p, plan)| {
-                let clocks: Vec<String> =
-                    plan.clocks.iter().map(|&(c, _)| format!("{}={:.3}", self.w.game.clocks[c as usize].name, self.w.clocks[c as usize] as f64 / TICKS as f64)).collect();
+                let clocks: Vec<String> = plan
+                    .clocks
+                    .iter()
+                    .map(|&(c, _)| {
+                        format!(
+                            "{}={:.3}",
+                            self.w.game.clocks[c as usize].name,
+                            self.w.clocks[c as usize] as f64 / TICKS as f64
+                        )
+                    })
+                    .collect();
                 format!("{}.{} {}", plan.name, plan.locations[self.w.plan_locs[p] as usize].name, clocks.join(" "))
             })
             .collect();
         let clocks: Vec<String> = (1..self.w.clocks.len())
-            .map(|c| format!("{}={:.3}/{:.3}", self.w.game.clocks[c].name, self.w.clocks[c] as f64 / TICKS as f64, self.w.timers[c] as f64 / TICKS as f64))
+            .map(|c| {
+                format!(
+                    "{}={:.3}/{:.3}",
+                    self.w.game.clocks[c].name,
+                    self.w.clocks[c] as f64 / TICKS as f64,
+                    self.w.timers[c] as f64 / TICKS as f64
+                )
+            })
             .collect();
-        let line = format!("{line}   [pc {}; clock/timer {}{}{}]", self.pc, clocks.join(" "), if plans.is_empty() { "" } else { "; " }, plans.join("; "));
+        let line = format!(
+            "{line}   [pc {}; clock/timer {}{}{}]",
+            self.pc,
+            clocks.join(" "),
+            if plans.is_empty() { "" } else { "; " },
+            plans.join("; ")
+        );
         self.report.trace.push(line);
         if self.report.trace.len() > 40 {
             self.report.trace.remove(0);
@@ -281,8 +314,12 @@ impl Run<'_, '_> {
                     return acted; // an instant reaction has priority: the controller acts after it
                 }
                 Instruction::Do { request } => {
-                    let candidates: Vec<PlantMove> =
-                        self.w.moves(&[MessageKind::Controllable]).into_iter().filter(|m| m.message == request).collect();
+                    let candidates: Vec<PlantMove> = self
+                        .w
+                        .moves(&[MessageKind::Controllable])
+                        .into_iter()
+                        .filter(|m| m.message == request)
+                        .collect();
                     if candidates.is_empty() {
                         self.report.failure = Some(Failure::RequestRefused { request: self.name(request) });
                         return acted;
@@ -315,7 +352,8 @@ impl Run<'_, '_> {
                     }
                 }
                 Instruction::WaitUntil { condition } => {
-                    let awaited_guard = matches!(condition, Condition::Message { message } if self.guards.contains(&message));
+                    let awaited_guard =
+                        matches!(condition, Condition::Message { message } if self.guards.contains(&message));
                     if awaited_guard || truth(self, &condition) {
                         self.reset(c.resets);
                         self.consume(&condition);
@@ -412,7 +450,8 @@ impl Run<'_, '_> {
 
 /// Runs `program` against the plant of `game` for at most `steps` plant steps.
 pub fn run(game: &Game, program: &Program, observable: &[bool], seed: u64, steps: usize) -> RunReport {
-    let guards: Vec<MsgId> = (0..game.messages.len() as MsgId).filter(|&m| game.messages[m as usize].role == MessageRole::Guard).collect();
+    let guards: Vec<MsgId> =
+        (0..game.messages.len() as MsgId).filter(|&m| game.messages[m as usize].role == MessageRole::Guard).collect();
     // Guard messages are sensor conditions (4.2.1): the environment sets them at random, anew
     // before every plant step, for the controller's IF tests. The game treats a guard check as
     // the controller's option (5.3.4), i.e. it assumes the guard holds when the controller

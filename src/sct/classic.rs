@@ -495,7 +495,12 @@ pub enum SupConError {
 /// closed-loop behaviour of the maximally permissive supervisor, with (`nonblocking = true`,
 /// SupCon) or without (SupConClosed) the requirement that every reachable state can still reach
 /// a state marked in both plant and specification.
-pub fn supcon(plant: &Automaton, spec: &Automaton, events: &Events, nonblocking: bool) -> Result<Automaton, SupConError> {
+pub fn supcon(
+    plant: &Automaton,
+    spec: &Automaton,
+    events: &Events,
+    nonblocking: bool,
+) -> Result<Automaton, SupConError> {
     let outside: Vec<EventId> = spec.alphabet.iter().copied().filter(|e| !plant.has_event(*e)).collect();
     if !outside.is_empty() {
         return Err(SupConError::SpecEventsOutsidePlant(outside));

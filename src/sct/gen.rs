@@ -248,7 +248,9 @@ pub fn read_gen(src: &str, events: &mut Events) -> Result<Automaton, GenError> {
     }
     let lookup = |o: usize, t: &Tok| -> Result<StateId, GenError> {
         match state_ref(t) {
-            Some(StateRef::Index(k)) => by_index.get(&k).copied().ok_or_else(|| err(o, &format!("unknown state index {k}"))),
+            Some(StateRef::Index(k)) => {
+                by_index.get(&k).copied().ok_or_else(|| err(o, &format!("unknown state index {k}")))
+            }
             Some(StateRef::Name(n)) => by_name.get(&n).copied().ok_or_else(|| err(o, &format!("unknown state `{n}`"))),
             None => Err(err(o, "expected a state")),
         }

@@ -40,7 +40,10 @@ pub enum Cond {
     True,
     False,
     /// Plant `plant` is in state `state`.
-    State { plant: u32, state: u32 },
+    State {
+        plant: u32,
+        state: u32,
+    },
     Not(Box<Cond>),
     And(Box<Cond>, Box<Cond>),
     Or(Box<Cond>, Box<Cond>),
@@ -262,7 +265,12 @@ impl SynthAut {
         let mut trans = vec![Vec::new(); n];
         let mut prohib = vec![Vec::new(); n];
         for t in &spec.trans {
-            trans[t.src as usize].push(STrans { event: t.event, cond: t.cond.clone(), dst: t.dst, origin: [t.origin, NO_ORIGIN] });
+            trans[t.src as usize].push(STrans {
+                event: t.event,
+                cond: t.cond.clone(),
+                dst: t.dst,
+                origin: [t.origin, NO_ORIGIN],
+            });
         }
         for p in &spec.prohib {
             prohib[p.state as usize].push(SProhib { event: p.event, cond: p.cond.clone(), origin: p.origin });
@@ -394,7 +402,8 @@ pub fn plant_compose(project: &Project, g1: u32, g2: u32) -> Plant {
     let mut alphabet: Vec<EventId> = a.alphabet.iter().chain(&b.alphabet).copied().collect();
     alphabet.sort_unstable();
     alphabet.dedup();
-    let mut out = Plant { name: format!("{}||{}", a.name, b.name), alphabet, states: Vec::new(), init: 0, trans: Vec::new() };
+    let mut out =
+        Plant { name: format!("{}||{}", a.name, b.name), alphabet, states: Vec::new(), init: 0, trans: Vec::new() };
     let mut index: hashbrown::HashMap<(u32, u32), u32> = hashbrown::HashMap::new();
     let mut pairs = vec![(a.init, b.init)];
     index.insert((a.init, b.init), 0);
@@ -472,7 +481,13 @@ pub fn spec_product(name: &str, a: &Spec, b: &Spec, max_states: usize) -> Option
         (t, p)
     }
     if a.states.is_empty() || b.states.is_empty() {
-        return Some(Spec { name: name.to_string(), states: Vec::new(), init: 0, trans: Vec::new(), prohib: Vec::new() });
+        return Some(Spec {
+            name: name.to_string(),
+            states: Vec::new(),
+            init: 0,
+            trans: Vec::new(),
+            prohib: Vec::new(),
+        });
     }
     let (ta, pa) = by_state(a);
     let (tb, pb) = by_state(b);
@@ -506,10 +521,20 @@ pub fn spec_product(name: &str, a: &Spec, b: &Spec, max_states: usize) -> Option
                 for y in &t2 {
                     moves.push((e, x.cond.clone().and(y.cond.clone()), (x.dst, y.dst), x.origin));
                 }
-                moves.push((e, x.cond.clone().and(c2.clone().negate()).and(p2.clone().negate()), (x.dst, q2), x.origin));
+                moves.push((
+                    e,
+                    x.cond.clone().and(c2.clone().negate()).and(p2.clone().negate()),
+                    (x.dst, q2),
+                    x.origin,
+                ));
             }
             for y in &t2 {
-                moves.push((e, y.cond.clone().and(c1.clone().negate()).and(p1.clone().negate()), (q1, y.dst), y.origin));
+                moves.push((
+                    e,
+                    y.cond.clone().and(c1.clone().negate()).and(p1.clone().negate()),
+                    (q1, y.dst),
+                    y.origin,
+                ));
             }
             for p in pa[q1 as usize].iter().chain(pb[q2 as usize].iter()).filter(|p| p.event == e) {
                 out.prohib.push(Prohibition { state: k as u32, ..(*p).clone() });
@@ -648,7 +673,8 @@ fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut B
         // Determinism: two unconditional transitions on one event.
         for w in new_trans.windows(2) {
             if w[0].0 == w[1].0 && w[0].1.is_true() && w[1].1.is_true() && w[0].2 != w[1].2 {
-                let mut origins: Vec<u32> = w[0].3.iter().chain(w[1].3.iter()).copied().filter(|&o| o != NO_ORIGIN).collect();
+                let mut origins: Vec<u32> =
+                    w[0].3.iter().chain(w[1].3.iter()).copied().filter(|&o| o != NO_ORIGIN).collect();
                 origins.sort_unstable();
                 origins.dedup();
                 let mut tup: Vec<u32> = ctuple.to_vec();
@@ -662,7 +688,11 @@ fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut B
                     prohib: vec![Vec::new()],
                     enforced: vec![None],
                 };
-                return Err(SynthError::Conflict(Conflict { event: w[0].0, origins, state: state_label(project, spec, &tmp, 0) }));
+                return Err(SynthError::Conflict(Conflict {
+                    event: w[0].0,
+                    origins,
+                    state: state_label(project, spec, &tmp, 0),
+                }));
             }
         }
         new_prohib.sort_by_key(|p| p.event);
@@ -715,8 +745,11 @@ pub fn step(project: &Project, a: &SynthAut, preempt: bool) -> (SynthAut, bool) 
                 }
             }
         }
-        let exits = |s: usize, alive: &[bool]| a.trans[s].iter().any(|t| is_enf(t.event) && t.cond.is_true() && alive[t.dst as usize]);
-        let mut work: Vec<u32> = (0..n as u32).filter(|&s| critical[s as usize] && !exits(s as usize, &alive)).collect();
+        let exits = |s: usize, alive: &[bool]| {
+            a.trans[s].iter().any(|t| is_enf(t.event) && t.cond.is_true() && alive[t.dst as usize])
+        };
+        let mut work: Vec<u32> =
+            (0..n as u32).filter(|&s| critical[s as usize] && !exits(s as usize, &alive)).collect();
         for &s in &work {
             alive[s as usize] = false;
         }
@@ -743,9 +776,13 @@ pub fn step(project: &Project, a: &SynthAut, preempt: bool) -> (SynthAut, bool) 
         }
         // γ' (definition 36): keep a still valid choice, else choose the smallest event.
         if preempt && critical[s] {
-            let valid = a.enforced[s].filter(|f| a.trans[s].iter().any(|t| t.event == *f && t.cond.is_true() && alive[t.dst as usize]));
+            let valid = a.enforced[s]
+                .filter(|f| a.trans[s].iter().any(|t| t.event == *f && t.cond.is_true() && alive[t.dst as usize]));
             let g = valid.or_else(|| {
-                a.trans[s].iter().find(|t| is_enf(t.event) && t.cond.is_true() && alive[t.dst as usize]).map(|t| t.event)
+                a.trans[s]
+                    .iter()
+                    .find(|t| is_enf(t.event) && t.cond.is_true() && alive[t.dst as usize])
+                    .map(|t| t.event)
             });
             if g != a.enforced[s] {
                 changed = true;
@@ -929,7 +966,9 @@ impl Supervisor {
 pub enum SynthError {
     Conflict(Conflict),
     /// The run built more product states than its budget allows.
-    BudgetExceeded { max_states: usize },
+    BudgetExceeded {
+        max_states: usize,
+    },
     /// The progress callback asked to stop.
     Cancelled,
 }
@@ -974,7 +1013,12 @@ pub fn synthesize(project: &Project, spec_id: usize, cfg: &Config) -> Result<Sup
 
 /// [`synthesize`] drawing on a caller's budget (which may be shared by several
 /// specifications and carries the progress callback); `cfg.max_states` is not consulted.
-pub fn synthesize_within(project: &Project, spec_id: usize, cfg: &Config, budget: &mut Budget) -> Result<Supervisor, SynthError> {
+pub fn synthesize_within(
+    project: &Project,
+    spec_id: usize,
+    cfg: &Config,
+    budget: &mut Budget,
+) -> Result<Supervisor, SynthError> {
     let spec = &project.specs[spec_id];
     let n_events = project.events.len();
     let mut c = SynthAut::from_spec(spec, n_events);
@@ -1005,7 +1049,8 @@ pub fn synthesize_within(project: &Project, spec_id: usize, cfg: &Config, budget
             // be needed (so that preemption rests on full knowledge, 5.8.5), and those that
             // conditions still refer to (5.7.3).
             loop {
-                let mut gather: Vec<u32> = c.unresolved_plants().into_iter().filter(|&p| remaining[p as usize]).collect();
+                let mut gather: Vec<u32> =
+                    c.unresolved_plants().into_iter().filter(|&p| remaining[p as usize]).collect();
                 for s in 0..c.num_states() {
                     if !has_uncontrollable_prohibition(project, &c, s) {
                         continue;
@@ -1107,7 +1152,13 @@ fn to_supervisor(project: &Project, spec: &Spec, c: &SynthAut, cfg: &Config) -> 
             .and_then(|f| c.trans[s].iter().find(|t| t.event == f))
             .map(|t| t.origin.iter().copied().filter(|&o| o != NO_ORIGIN).collect())
             .unwrap_or_default();
-        sup.states.push(SupState { label: state_label(project, spec, c, s as u32), transitions, prohibited, enforced: gamma, enforced_origin });
+        sup.states.push(SupState {
+            label: state_label(project, spec, c, s as u32),
+            transitions,
+            prohibited,
+            enforced: gamma,
+            enforced_origin,
+        });
     }
     if cfg.minimize {
         sup = minimize_supervisor(&sup);
@@ -1201,15 +1252,28 @@ mod tests {
     /// 2 levelAlarm (u), 3 overflow (u), 4 closeInlNow (f).
     fn tank(with_enforceable: bool) -> Project {
         use EventKind::*;
-        let mut trans = vec![t(0, 0, 1), t(0, 1, 0), t(1, 1, 0), t(1, 0, 1), t(1, 2, 2), t(2, 3, 2), t(2, 1, 0), t(2, 0, 2)];
+        let mut trans =
+            vec![t(0, 0, 1), t(0, 1, 0), t(1, 1, 0), t(1, 0, 1), t(1, 2, 2), t(2, 3, 2), t(2, 1, 0), t(2, 0, 2)];
         let mut alphabet = vec![EventId(0), EventId(1), EventId(2), EventId(3)];
         if with_enforceable {
             trans.push(t(2, 4, 0));
             alphabet.push(EventId(4));
         }
         Project {
-            events: vec![ev("openInlet", Controllable), ev("closeInlet", Controllable), ev("levelAlarm", Uncontrollable), ev("overflow", Uncontrollable), ev("closeInlNow", Enforceable)],
-            plants: vec![Plant { name: "Tank".into(), alphabet, states: vec!["A".into(), "B".into(), "C".into()], init: 0, trans }],
+            events: vec![
+                ev("openInlet", Controllable),
+                ev("closeInlet", Controllable),
+                ev("levelAlarm", Uncontrollable),
+                ev("overflow", Uncontrollable),
+                ev("closeInlNow", Enforceable),
+            ],
+            plants: vec![Plant {
+                name: "Tank".into(),
+                alphabet,
+                states: vec!["A".into(), "B".into(), "C".into()],
+                init: 0,
+                trans,
+            }],
             specs: vec![Spec {
                 name: "NoOverflow".into(),
                 states: vec!["S".into()],
@@ -1270,8 +1334,13 @@ mod tests {
         // From (s,u): a -> (t,u), c -> (s,v); (s,v) forbids a; (t,u) forbids b, c -> (t,v).
         assert_eq!(h.states.len(), 4);
         let p = h.prohib.iter().map(|p| (h.states[p.state as usize].as_str(), p.event.0)).collect::<Vec<_>>();
-        assert!(p.contains(&("s|v", 0)) && p.contains(&("t|u", 1)) && p.contains(&("t|v", 1)) && p.contains(&("t|v", 0)));
-        assert!(!h.trans.iter().any(|x| h.states[x.src as usize] == "s|v" && x.event == EventId(0)), "prohibition dominates");
+        assert!(
+            p.contains(&("s|v", 0)) && p.contains(&("t|u", 1)) && p.contains(&("t|v", 1)) && p.contains(&("t|v", 0))
+        );
+        assert!(
+            !h.trans.iter().any(|x| h.states[x.src as usize] == "s|v" && x.event == EventId(0)),
+            "prohibition dominates"
+        );
     }
 
     #[test]
@@ -1282,8 +1351,20 @@ mod tests {
         let p = Project {
             events: vec![ev("a", Controllable), ev("c", Uncontrollable)],
             plants: vec![
-                Plant { name: "A".into(), alphabet: vec![EventId(0)], states: vec!["x".into()], init: 0, trans: vec![Transition { src: 0, event: EventId(0), cond, dst: 0, origin: NO_ORIGIN }] },
-                Plant { name: "B".into(), alphabet: vec![EventId(1)], states: vec!["v".into(), "w".into()], init: 0, trans: vec![t(0, 1, 1)] },
+                Plant {
+                    name: "A".into(),
+                    alphabet: vec![EventId(0)],
+                    states: vec!["x".into()],
+                    init: 0,
+                    trans: vec![Transition { src: 0, event: EventId(0), cond, dst: 0, origin: NO_ORIGIN }],
+                },
+                Plant {
+                    name: "B".into(),
+                    alphabet: vec![EventId(1)],
+                    states: vec!["v".into(), "w".into()],
+                    init: 0,
+                    trans: vec![t(0, 1, 1)],
+                },
                 Plant { name: "C".into(), alphabet: vec![], states: vec!["0".into()], init: 0, trans: vec![] },
             ],
             specs: vec![],

@@ -27,10 +27,15 @@ pub struct EventMeta {
 pub enum Trigger {
     /// No trigger: the event is virtual (only tracked, never detected).
     Virtual,
-    Detected { edge: EdgeKind, expr: String },
+    Detected {
+        edge: EdgeKind,
+        expr: String,
+    },
     Executed,
     /// Timeouts of timers.
-    Timer { timer: String },
+    Timer {
+        timer: String,
+    },
 }
 
 /// A PLC timer (6.1.3).
@@ -248,7 +253,11 @@ impl<'s, 'a> Ctx<'s, 'a> {
     fn add(&mut self, module: usize, name: &str, entry: Entry, span: Span) {
         if let Some((prev, prev_span)) = self.modules[module].entries.get(name).copied() {
             let at = self.loc(prev_span);
-            let scope = if self.modules[module].path.is_empty() { "the top level".to_string() } else { format!("module `{}`", self.modules[module].path) };
+            let scope = if self.modules[module].path.is_empty() {
+                "the top level".to_string()
+            } else {
+                format!("module `{}`", self.modules[module].path)
+            };
             self.diags
                 .error(span, format!("`{name}` is declared twice in {scope}"))
                 .with_note(format!("first declared at {at} as {}", prev.what()));
@@ -263,7 +272,15 @@ impl<'s, 'a> Ctx<'s, 'a> {
         self.modules.len() - 1
     }
 
-    fn new_event(&mut self, module: usize, name: &str, kind: EventKind, meta: EventMeta, decl: Option<&'a syntax::EventDecl>, span: Span) -> u32 {
+    fn new_event(
+        &mut self,
+        module: usize,
+        name: &str,
+        kind: EventKind,
+        meta: EventMeta,
+        decl: Option<&'a syntax::EventDecl>,
+        span: Span,
+    ) -> u32 {
         let id = self.events.len() as u32;
         self.events.push(model::EventInfo { name: qualify(&self.modules[module].path, name), kind });
         self.metas.push(meta);
@@ -281,8 +298,20 @@ impl<'s, 'a> Ctx<'s, 'a> {
                     self.declare(items, m);
                 }
                 Item::Event(e) => {
-                    let meta = EventMeta { trigger: Trigger::Virtual, reset_on_denial: Vec::new(), code_on_accept: None, code_on_denial: None };
-                    self.new_event(module, &e.name, e.kind.unwrap_or(EventKind::Controllable), meta, Some(e), e.name_span);
+                    let meta = EventMeta {
+                        trigger: Trigger::Virtual,
+                        reset_on_denial: Vec::new(),
+                        code_on_accept: None,
+                        code_on_denial: None,
+                    };
+                    self.new_event(
+                        module,
+                        &e.name,
+                        e.kind.unwrap_or(EventKind::Controllable),
+                        meta,
+                        Some(e),
+                        e.name_span,
+                    );
                 }
                 Item::Timer(t) => {
                     let m = self.new_module(module, &t.name);
@@ -297,7 +326,8 @@ impl<'s, 'a> Ctx<'s, 'a> {
                     self.timers.push((t, module, id));
                 }
                 Item::Automaton(a) => {
-                    let r = AutRef { decl: a, module, binding: None, name: qualify(&self.modules[module].path, &a.name) };
+                    let r =
+                        AutRef { decl: a, module, binding: None, name: qualify(&self.modules[module].path, &a.name) };
                     match a.kind {
                         AutKind::Plant => {
                             self.plants.push(r);
@@ -366,7 +396,12 @@ impl<'s, 'a> Ctx<'s, 'a> {
         match found.len() {
             0 => (Lookup::Missing, wrong),
             1 => (Lookup::Found(found[0].1), None),
-            _ => (Lookup::Ambiguous(found.iter().map(|(x, _)| qualify(&self.modules[*x].path, &parts.join("."))).collect()), None),
+            _ => (
+                Lookup::Ambiguous(
+                    found.iter().map(|(x, _)| qualify(&self.modules[*x].path, &parts.join("."))).collect(),
+                ),
+                None,
+            ),
         }
     }
 
@@ -404,37 +439,64 @@ impl<'s, 'a> Ctx<'s, 'a> {
         for id in 0..self.event_decls.len() {
             let Some(d) = self.event_decls[id] else { continue };
             let kind = self.events[id].kind;
-            let mut meta = EventMeta { trigger: Trigger::Virtual, reset_on_denial: Vec::new(), code_on_accept: None, code_on_denial: None };
+            let mut meta = EventMeta {
+                trigger: Trigger::Virtual,
+                reset_on_denial: Vec::new(),
+                code_on_accept: None,
+                code_on_denial: None,
+            };
             let mut trigger_span: Option<Span> = None;
             for it in &d.items {
                 match it {
                     EventItem::Detect { span, .. } | EventItem::Executed { span } if trigger_span.is_some() => {
                         let at = self.loc(trigger_span.unwrap_or(*span));
-                        self.diags.error(*span, format!("event `{}` has a second trigger", d.name)).with_note(format!("first trigger at {at}"));
+                        self.diags
+                            .error(*span, format!("event `{}` has a second trigger", d.name))
+                            .with_note(format!("first trigger at {at}"));
                     }
                     EventItem::Detect { edge, expr, span } => {
                         trigger_span = Some(*span);
                         if kind == EventKind::Enforceable {
-                            self.diags.error(*span, format!("enforceable event `{}` cannot be detected", d.name)).with_note("the supervisor executes enforceable events; give it `on accept` code instead");
+                            self.diags
+                                .error(*span, format!("enforceable event `{}` cannot be detected", d.name))
+                                .with_note(
+                                    "the supervisor executes enforceable events; give it `on accept` code instead",
+                                );
                         }
                         if *edge == EdgeKind::Cyclic && kind == EventKind::Uncontrollable {
-                            self.diags.warning(*span, format!("cyclic uncontrollable event `{}`", d.name)).with_note("cyclic triggers are meant for controllable events (5.6)");
+                            self.diags
+                                .warning(*span, format!("cyclic uncontrollable event `{}`", d.name))
+                                .with_note("cyclic triggers are meant for controllable events (5.6)");
                         }
                         meta.trigger = Trigger::Detected { edge: *edge, expr: expr.clone() };
                     }
                     EventItem::Executed { span } => {
                         trigger_span = Some(*span);
                         if kind == EventKind::Uncontrollable {
-                            self.diags.error(*span, format!("uncontrollable event `{}` cannot be executed by the controller", d.name)).with_note("uncontrollable events are always detected");
+                            self.diags
+                                .error(
+                                    *span,
+                                    format!("uncontrollable event `{}` cannot be executed by the controller", d.name),
+                                )
+                                .with_note("uncontrollable events are always detected");
                         }
                         if kind == EventKind::Enforceable {
-                            self.diags.error(*span, format!("enforceable event `{}` is executed by the supervisor, not the controller", d.name));
+                            self.diags.error(
+                                *span,
+                                format!(
+                                    "enforceable event `{}` is executed by the supervisor, not the controller",
+                                    d.name
+                                ),
+                            );
                         }
                         meta.trigger = Trigger::Executed;
                     }
                     EventItem::ResetOnDenial { addrs, span } => {
                         if kind != EventKind::Controllable {
-                            self.diags.error(*span, format!("only controllable events can be reset on denial (`{}` is not)", d.name));
+                            self.diags.error(
+                                *span,
+                                format!("only controllable events can be reset on denial (`{}` is not)", d.name),
+                            );
                         }
                         meta.reset_on_denial.extend(addrs.iter().cloned());
                     }
@@ -464,7 +526,9 @@ impl<'s, 'a> Ctx<'s, 'a> {
     fn resolve_instances(&mut self) {
         for i in 0..self.instances.len() {
             let (inst, module) = self.instances[i];
-            let Some(Entry::Template(t)) = self.resolve(module, &inst.template, "a template", &|e| matches!(e, Entry::Template(_))) else {
+            let Some(Entry::Template(t)) =
+                self.resolve(module, &inst.template, "a template", &|e| matches!(e, Entry::Template(_)))
+            else {
                 self.modules[module].entries.remove(&inst.name);
                 continue;
             };
@@ -474,10 +538,14 @@ impl<'s, 'a> Ctx<'s, 'a> {
             // Check that every binding names a bind or namespace of the template.
             for b in &inst.bindings {
                 let l = &b.lhs.parts;
-                let known = (l.len() == 1 && (tpl.binds.iter().any(|x| x.0 == l[0]) || tpl.namespaces.iter().any(|n| n.0 == l[0])))
+                let known = (l.len() == 1
+                    && (tpl.binds.iter().any(|x| x.0 == l[0]) || tpl.namespaces.iter().any(|n| n.0 == l[0])))
                     || (l.len() == 2 && tpl.namespaces.iter().any(|n| n.0 == l[0] && n.2.iter().any(|e| e.0 == l[1])));
                 if !known {
-                    self.diags.error(b.lhs.span, format!("template `{}` has no binding event or namespace `{}`", tpl.name, b.lhs.text()));
+                    self.diags.error(
+                        b.lhs.span,
+                        format!("template `{}` has no binding event or namespace `{}`", tpl.name, b.lhs.text()),
+                    );
                     ok = false;
                 }
             }
@@ -492,8 +560,13 @@ impl<'s, 'a> Ctx<'s, 'a> {
                     let at = self.loc(*bspan);
                     let mpath = self.modules[module].path.clone();
                     self.diags
-                        .error(inst.name_span, format!("binding event `{bname}` of template `{}` is not bound", tpl.name))
-                        .with_note(format!("declared at {at}; add `{bname} = <event>;` or declare event `{bname}` in module `{mpath}`"));
+                        .error(
+                            inst.name_span,
+                            format!("binding event `{bname}` of template `{}` is not bound", tpl.name),
+                        )
+                        .with_note(format!(
+                            "declared at {at}; add `{bname} = <event>;` or declare event `{bname}` in module `{mpath}`"
+                        ));
                     None
                 };
                 match ev {
@@ -610,14 +683,17 @@ impl<'s, 'a> Ctx<'s, 'a> {
             CondExpr::Not(x) => Cond::Not(Box::new(self.cond(module, x, plants_states)?)),
             CondExpr::And(operands) | CondExpr::Or(operands) => {
                 // Every operand is resolved so that all unknown names are reported at once.
-                let resolved: Vec<Option<Cond>> = operands.iter().map(|x| self.cond(module, x, plants_states)).collect();
+                let resolved: Vec<Option<Cond>> =
+                    operands.iter().map(|x| self.cond(module, x, plants_states)).collect();
                 let resolved: Vec<Cond> = resolved.into_iter().collect::<Option<_>>()?;
                 let join = if matches!(c, CondExpr::And(_)) { Cond::And } else { Cond::Or };
                 balanced(resolved, &join)
             }
             CondExpr::State(p) => {
                 if p.parts.len() < 2 {
-                    self.diags.error(p.span, format!("`{}` is not a state reference", p.text())).with_note("write `Automaton.state`, e.g. `Heater.on`");
+                    self.diags
+                        .error(p.span, format!("`{}` is not a state reference", p.text()))
+                        .with_note("write `Automaton.state`, e.g. `Heater.on`");
                     return None;
                 }
                 let aut = Path { parts: p.parts[..p.parts.len() - 1].to_vec(), span: p.span };
@@ -629,7 +705,9 @@ impl<'s, 'a> Ctx<'s, 'a> {
                             Some(k) => Cond::State { plant: i as u32, state: k as u32 },
                             None => {
                                 let pname = self.plants[i].name.clone();
-                                self.diags.error(p.span, format!("plant `{pname}` has no state `{state}`")).with_note(format!("its states are: {}", names.join(", ")));
+                                self.diags
+                                    .error(p.span, format!("plant `{pname}` has no state `{state}`"))
+                                    .with_note(format!("its states are: {}", names.join(", ")));
                                 return None;
                             }
                         }
@@ -652,14 +730,18 @@ impl<'s, 'a> Ctx<'s, 'a> {
         for st in &decl.states {
             if let Some(&prev) = index.get(&st.name) {
                 let at = self.loc(decl.states[prev as usize].span);
-                self.diags.error(st.span, format!("state `{}` is declared twice in `{name}`", st.name)).with_note(format!("first declared at {at}"));
+                self.diags
+                    .error(st.span, format!("state `{}` is declared twice in `{name}`", st.name))
+                    .with_note(format!("first declared at {at}"));
                 continue;
             }
             index.insert(st.name.clone(), names.len() as u32);
             if st.initial {
                 if let Some((_, ps)) = init {
                     let at = self.loc(ps);
-                    self.diags.error(st.span, format!("`{name}` has a second initial state `{}`", st.name)).with_note(format!("first initial state at {at}"));
+                    self.diags
+                        .error(st.span, format!("`{name}` has a second initial state `{}`", st.name))
+                        .with_note(format!("first initial state at {at}"));
                 } else {
                     init = Some((names.len() as u32, st.span));
                 }
@@ -681,7 +763,9 @@ impl<'s, 'a> Ctx<'s, 'a> {
         let mut alphabet = Vec::new();
         match &decl.alphabet {
             None => {
-                self.diags.error(span, format!("plant `{name}` needs an `alphabet`")).with_note("the alphabet lists every event the plant model makes statements about");
+                self.diags
+                    .error(span, format!("plant `{name}` needs an `alphabet`"))
+                    .with_note("the alphabet lists every event the plant model makes statements about");
             }
             Some((list, _)) => {
                 for p in list {
@@ -714,7 +798,10 @@ impl<'s, 'a> Ctx<'s, 'a> {
                         if let (Some(e), Some(dst), Some(c)) = (e, dst, c) {
                             if alphabet.binary_search(&e).is_err() && decl.alphabet.is_some() {
                                 self.diags
-                                    .error(event.span, format!("event `{}` is not in the alphabet of plant `{name}`", event.text()))
+                                    .error(
+                                        event.span,
+                                        format!("event `{}` is not in the alphabet of plant `{name}`", event.text()),
+                                    )
                                     .with_note("add it to the `alphabet` line");
                             }
                             let origin = self.origins.len() as u32;
@@ -724,7 +811,9 @@ impl<'s, 'a> Ctx<'s, 'a> {
                         }
                     }
                     StateItem::Forbid { span, .. } => {
-                        self.diags.error(*span, format!("plant `{name}` cannot forbid events")).with_note("prohibitions belong in a `spec`; a plant says what is possible");
+                        self.diags
+                            .error(*span, format!("plant `{name}` cannot forbid events"))
+                            .with_note("prohibitions belong in a `spec`; a plant says what is possible");
                     }
                     StateItem::Impossible { events, span } => {
                         if decl.selfloops.is_none() {
@@ -767,9 +856,17 @@ impl<'s, 'a> Ctx<'s, 'a> {
             if let Some(&prev) = seen.get(&(t.src, t.event)) {
                 let at = self.loc(spans[prev]);
                 self.diags
-                    .error(spans[k], format!("two unconditional transitions on `{}` leave the same state of `{name}`", self.events[t.event.0 as usize].name))
+                    .error(
+                        spans[k],
+                        format!(
+                            "two unconditional transitions on `{}` leave the same state of `{name}`",
+                            self.events[t.event.0 as usize].name
+                        ),
+                    )
                     .with_note(format!("the other transition is at {at}"))
-                    .with_note("automata are deterministic: give the transitions mutually exclusive conditions `if [...]`");
+                    .with_note(
+                        "automata are deterministic: give the transitions mutually exclusive conditions `if [...]`",
+                    );
             } else {
                 seen.insert((t.src, t.event), k);
             }
@@ -778,7 +875,10 @@ impl<'s, 'a> Ctx<'s, 'a> {
 
     fn check_enforceable_cycle(&mut self, trans: &[Transition], name: &str) {
         // A cycle made only of enforceable transitions could be enforced forever (5.5.5).
-        let enf: Vec<&Transition> = trans.iter().filter(|t| self.events[t.event.0 as usize].kind == EventKind::Enforceable && t.src != t.dst).collect();
+        let enf: Vec<&Transition> = trans
+            .iter()
+            .filter(|t| self.events[t.event.0 as usize].kind == EventKind::Enforceable && t.src != t.dst)
+            .collect();
         if enf.is_empty() {
             return;
         }
@@ -789,7 +889,13 @@ impl<'s, 'a> Ctx<'s, 'a> {
         }
         let mut color = vec![0u8; n];
         let mut stack_edges: Vec<usize> = Vec::new();
-        fn dfs(s: usize, adj: &[Vec<usize>], enf: &[&Transition], color: &mut [u8], path: &mut Vec<usize>) -> Option<Vec<usize>> {
+        fn dfs(
+            s: usize,
+            adj: &[Vec<usize>],
+            enf: &[&Transition],
+            color: &mut [u8],
+            path: &mut Vec<usize>,
+        ) -> Option<Vec<usize>> {
             color[s] = 1;
             for &k in &adj[s] {
                 let t = enf[k].dst as usize;
@@ -835,7 +941,9 @@ impl<'s, 'a> Ctx<'s, 'a> {
         let span = self.specs[i].binding.as_ref().map_or(decl.name_span, |b| b.1);
         let (states, init, index) = self.states_of(decl, &name, span);
         if let Some((_, sp)) = &decl.alphabet {
-            self.diags.error(*sp, format!("specification `{name}` cannot have an alphabet")).with_note("specifications prohibit events explicitly with `forbid`; every other event is allowed");
+            self.diags
+                .error(*sp, format!("specification `{name}` cannot have an alphabet"))
+                .with_note("specifications prohibit events explicitly with `forbid`; every other event is allowed");
         }
         if let Some(sp) = decl.selfloops {
             self.diags.error(sp, "`selfloops` is a helper for plant models only");
@@ -854,7 +962,8 @@ impl<'s, 'a> Ctx<'s, 'a> {
                         let e = self.body_event(i, false, event);
                         let dst = index.get(target).copied();
                         if dst.is_none() {
-                            self.diags.error(*target_span, format!("unknown state `{target}` in specification `{name}`"));
+                            self.diags
+                                .error(*target_span, format!("unknown state `{target}` in specification `{name}`"));
                         }
                         let c = match cond {
                             Some(c) => self.cond(module, c, &|p| all_states[p].clone()),
@@ -897,7 +1006,13 @@ impl<'s, 'a> Ctx<'s, 'a> {
             if let Some(j) = trans.iter().position(|t| t.src == p.state && t.event == p.event && t.cond.is_true()) {
                 let at = self.loc(spans[j]);
                 self.diags
-                    .error(pspans[k], format!("`{}` is both forbidden and taken in state `{}` of `{name}`", self.events[p.event.0 as usize].name, states[p.state as usize]))
+                    .error(
+                        pspans[k],
+                        format!(
+                            "`{}` is both forbidden and taken in state `{}` of `{name}`",
+                            self.events[p.event.0 as usize].name, states[p.state as usize]
+                        ),
+                    )
                     .with_note(format!("the transition is at {at}"));
             }
         }

@@ -49,7 +49,12 @@ pub struct SupervisorReport {
 /// the engine stays free of clocks on targets without one; pass `None` to skip timing.
 /// All specifications share one budget of `cfg.max_states` product states; once it is spent,
 /// the remaining specifications get an error diagnostic instead of a report.
-pub fn synthesize_all(src: &str, loaded: &Loaded, cfg: &Config, now: Option<&dyn Fn() -> f64>) -> (Vec<SupervisorReport>, Vec<Diagnostic>) {
+pub fn synthesize_all(
+    src: &str,
+    loaded: &Loaded,
+    cfg: &Config,
+    now: Option<&dyn Fn() -> f64>,
+) -> (Vec<SupervisorReport>, Vec<Diagnostic>) {
     synthesize_all_with_progress(src, loaded, cfg, now, &mut |_| true)
 }
 
@@ -101,7 +106,8 @@ pub fn synthesize_all_with_progress(
                 break;
             }
             Err(SynthError::Conflict(c)) => {
-                let spans: Vec<Span> = c.origins.iter().filter_map(|&o| loaded.origins.get(o as usize).copied()).collect();
+                let spans: Vec<Span> =
+                    c.origins.iter().filter_map(|&o| loaded.origins.get(o as usize).copied()).collect();
                 let at = spans.first().copied().unwrap_or(loaded.spec_spans[i]);
                 let locs: Vec<String> = spans
                     .iter()
@@ -113,7 +119,12 @@ pub fn synthesize_all_with_progress(
                     .collect();
                 let d = diags.error(
                     at,
-                    format!("two transitions on `{}` can both be taken in state {} (while synthesising `{}`)", name(c.event), c.state, spec.name),
+                    format!(
+                        "two transitions on `{}` can both be taken in state {} (while synthesising `{}`)",
+                        name(c.event),
+                        c.state,
+                        spec.name
+                    ),
                 );
                 for l in locs {
                     d.with_note(l);
@@ -136,8 +147,17 @@ pub fn synthesize_all_with_progress(
             spans.dedup();
             let at = spans.first().copied().unwrap_or(loaded.spec_spans[i]);
             let evs: Vec<String> = cycle.iter().filter_map(|&s| sup.states[s as usize].enforced).map(name).collect();
-            let d = diags.error(at, format!("supervisor `{}` enforces a cycle of events ({}) that would never end", spec.name, evs.join(" -> ")));
-            d.with_note("enforced events are executed in the same PLC cycle; break the cycle in the plant models (5.5.5)");
+            let d = diags.error(
+                at,
+                format!(
+                    "supervisor `{}` enforces a cycle of events ({}) that would never end",
+                    spec.name,
+                    evs.join(" -> ")
+                ),
+            );
+            d.with_note(
+                "enforced events are executed in the same PLC cycle; break the cycle in the plant models (5.5.5)",
+            );
         }
         let automaton = sup
             .states
@@ -180,7 +200,13 @@ pub fn synthesize_all_with_progress(
     }
     for (r, &k) in out.iter().zip(&spec_of) {
         if !r.realizable {
-            diags.warning(loaded.spec_spans[k], format!("specification `{}` is unrealizable: no safe supervisor exists with the given plant models", r.name));
+            diags.warning(
+                loaded.spec_spans[k],
+                format!(
+                    "specification `{}` is unrealizable: no safe supervisor exists with the given plant models",
+                    r.name
+                ),
+            );
         }
     }
     (out, diags.items)

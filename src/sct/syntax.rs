@@ -168,19 +168,39 @@ pub struct InstanceDecl {
 
 #[derive(Clone, Debug)]
 pub enum Item {
-    Module { name: String, name_span: Span, items: Vec<Item> },
+    Module {
+        name: String,
+        name_span: Span,
+        items: Vec<Item>,
+    },
     Event(EventDecl),
     Timer(TimerDecl),
     Automaton(AutDecl),
     Template(AutDecl),
     Instance(InstanceDecl),
     /// `spec NAME = A | B | ...;` — the specification product (definition 6).
-    SpecProduct { name: String, name_span: Span, operands: Vec<Path> },
+    SpecProduct {
+        name: String,
+        name_span: Span,
+        operands: Vec<Path>,
+    },
 }
 
 /// Words that start an item; error recovery stops in front of them.
-const ITEM_KEYWORDS: &[&str] =
-    &["module", "event", "timer", "plant", "spec", "template", "instance", "state", "alphabet", "selfloops", "bind", "namespace"];
+const ITEM_KEYWORDS: &[&str] = &[
+    "module",
+    "event",
+    "timer",
+    "plant",
+    "spec",
+    "template",
+    "instance",
+    "state",
+    "alphabet",
+    "selfloops",
+    "bind",
+    "namespace",
+];
 
 struct Parser<'s, 'd> {
     src: &'s str,
@@ -482,7 +502,9 @@ impl<'s> Parser<'s, '_> {
                             "edge" => EdgeKind::Either,
                             "cyclic" => EdgeKind::Cyclic,
                             _ => {
-                                p.diags.error(es, format!("unknown trigger `{e}`")).with_note("expected `rising`, `falling`, `edge` or `cyclic`");
+                                p.diags
+                                    .error(es, format!("unknown trigger `{e}`"))
+                                    .with_note("expected `rising`, `falling`, `edge` or `cyclic`");
                                 return Err(());
                             }
                         };
@@ -513,9 +535,9 @@ impl<'s> Parser<'s, '_> {
                         }
                     }
                     _ => {
-                        p.diags.error(start, format!("unknown event property `{kw}`")).with_note(
-                            "expected `detect`, `executed`, `reset on denial`, `on accept` or `on denial`",
-                        );
+                        p.diags
+                            .error(start, format!("unknown event property `{kw}`"))
+                            .with_note("expected `detect`, `executed`, `reset on denial`, `on accept` or `on denial`");
                         return Err(());
                     }
                 };
@@ -559,7 +581,9 @@ impl<'s> Parser<'s, '_> {
                 "start" => t.start = Some(p.path("the start event")?),
                 "stop" => t.stops.extend(p.path_list("a stop event")?),
                 _ => {
-                    p.diags.error(ks, format!("unknown timer property `{kw}`")).with_note("expected `duration`, `start` or `stop`");
+                    p.diags
+                        .error(ks, format!("unknown timer property `{kw}`"))
+                        .with_note("expected `duration`, `start` or `stop`");
                     return Err(());
                 }
             }
@@ -589,7 +613,9 @@ impl<'s> Parser<'s, '_> {
                     p.expect(Tok::Semi, "`;`")?;
                     if let Some((_, prev)) = &a.alphabet {
                         let prev = *prev;
-                        p.diags.error(ks, "second `alphabet` declaration").with_note(format!("first declared at byte {}", prev.start));
+                        p.diags
+                            .error(ks, "second `alphabet` declaration")
+                            .with_note(format!("first declared at byte {}", prev.start));
                     }
                     a.alphabet = Some((list, ks));
                 }
@@ -626,7 +652,9 @@ impl<'s> Parser<'s, '_> {
                 }
                 _ => {
                     let extra = if template { ", `bind`, `namespace`" } else { "" };
-                    p.diags.error(ks, format!("unknown automaton item `{kw}`")).with_note(format!("expected `alphabet`, `selfloops`{extra} or `state`"));
+                    p.diags
+                        .error(ks, format!("unknown automaton item `{kw}`"))
+                        .with_note(format!("expected `alphabet`, `selfloops`{extra} or `state`"));
                     return Err(());
                 }
             }

@@ -7,7 +7,13 @@ use super::classic::{product, Automaton, AutomatonBuilder, EventId, Events};
 
 /// Builds an automaton from `(from, event, to)` triples over named states; the first state
 /// listed in `states` is initial, `marked` lists the marked ones.
-pub fn build(events: &Events, alphabet: &[&str], states: &[&str], marked: &[&str], trans: &[(&str, &str, &str)]) -> Automaton {
+pub fn build(
+    events: &Events,
+    alphabet: &[&str],
+    states: &[&str],
+    marked: &[&str],
+    trans: &[(&str, &str, &str)],
+) -> Automaton {
     let mut b = AutomatonBuilder::new();
     for a in alphabet {
         b.add_event(events.get(a).expect("event declared"));
@@ -57,7 +63,8 @@ pub fn small_factory() -> (Automaton, Automaton, Events) {
     let m2 = machine(&ev, "a2", "b2", Some(("l2", "m2")));
     let plant = product(&m1, &m2, ev.len()).automaton;
     let buf = build(&ev, &["b1", "a2"], &["0", "1"], &["0"], &[("0", "b1", "1"), ("1", "a2", "0")]);
-    let br = build(&ev, &["l2", "m2", "m1"], &["0", "1"], &["0"], &[("0", "l2", "1"), ("1", "m2", "0"), ("0", "m1", "0")]);
+    let br =
+        build(&ev, &["l2", "m2", "m1"], &["0", "1"], &["0"], &[("0", "l2", "1"), ("1", "m2", "0"), ("0", "m1", "0")]);
     let spec = product(&buf, &br, ev.len()).automaton;
     (plant, spec, ev)
 }
@@ -99,7 +106,8 @@ pub fn transfer_line(c1: usize, c2: usize) -> (Automaton, Automaton, Events) {
     declare(&mut ev, &["1", "3", "5"], &["2", "4", "60", "80"]);
     let m1 = machine(&ev, "1", "2", None);
     let m2 = machine(&ev, "3", "4", None);
-    let tu = build(&ev, &["5", "60", "80"], &["I", "W"], &["I"], &[("I", "5", "W"), ("W", "60", "I"), ("W", "80", "I")]);
+    let tu =
+        build(&ev, &["5", "60", "80"], &["I", "W"], &["I"], &[("I", "5", "W"), ("W", "60", "I"), ("W", "80", "I")]);
     let plant = product(&product(&m1, &m2, ev.len()).automaton, &tu, ev.len()).automaton;
     let b1 = buffer(&ev, &["2", "60"], &["3"], c1);
     let b2 = buffer(&ev, &["4"], &["5"], c2);
@@ -128,9 +136,16 @@ pub fn transfer_lines_classic(k: usize, m: usize, cap: usize) -> (Automaton, Aut
     for i in 1..=k {
         for j in 1..=m + 1 {
             let d = dev(i, j);
-            let (s, names) = (format!("{d}.start"), [format!("{d}.finish"), format!("{d}.reject"), format!("{d}.accept")]);
+            let (s, names) =
+                (format!("{d}.start"), [format!("{d}.finish"), format!("{d}.reject"), format!("{d}.accept")]);
             let a = if j == m + 1 {
-                build(&ev, &[&s, &names[1], &names[2]], &["I", "W"], &["I"], &[("I", &s, "W"), ("W", &names[1], "I"), ("W", &names[2], "I")])
+                build(
+                    &ev,
+                    &[&s, &names[1], &names[2]],
+                    &["I", "W"],
+                    &["I"],
+                    &[("I", &s, "W"), ("W", &names[1], "I"), ("W", &names[2], "I")],
+                )
             } else {
                 build(&ev, &[&s, &names[0]], &["I", "W"], &["I"], &[("I", &s, "W"), ("W", &names[0], "I")])
             };
@@ -170,7 +185,8 @@ pub fn transfer_lines_classic(k: usize, m: usize, cap: usize) -> (Automaton, Aut
 fn route(events: &Events, cycle: &[&str]) -> Automaton {
     let names: Vec<String> = (0..cycle.len()).map(|i| i.to_string()).collect();
     let states: Vec<&str> = names.iter().map(String::as_str).collect();
-    let trans: Vec<(&str, &str, &str)> = cycle.iter().enumerate().map(|(i, e)| (states[i], *e, states[(i + 1) % cycle.len()])).collect();
+    let trans: Vec<(&str, &str, &str)> =
+        cycle.iter().enumerate().map(|(i, e)| (states[i], *e, states[(i + 1) % cycle.len()])).collect();
     build(events, cycle, &states, &["0"], &trans)
 }
 
@@ -224,10 +240,22 @@ pub fn agv() -> (Automaton, Automaton, Events) {
         zone(&ev, ["40", "43"], ["42", "44"], ["51", "53"], ["50", "52"]),
         // Workstation 1 assembles a part from AGV3 (32) and AGV4 (46), in either order, before
         // AGV5 takes it away (50).
-        build(&ev, &["32", "46", "50"], &all, &all, &[("0", "32", "1"), ("0", "46", "2"), ("1", "46", "3"), ("2", "32", "3"), ("3", "50", "0")]),
+        build(
+            &ev,
+            &["32", "46", "50"],
+            &all,
+            &all,
+            &[("0", "32", "1"), ("0", "46", "2"), ("1", "46", "3"), ("2", "32", "3"), ("3", "50", "0")],
+        ),
         build(&ev, &["12", "34"], &all[..2], &all[..2], &[("0", "12", "1"), ("1", "34", "0")]),
         build(&ev, &["28", "42"], &all[..2], &all[..2], &[("0", "28", "1"), ("1", "42", "0")]),
-        build(&ev, &["10", "13", "22", "23"], &all[..3], &all[..3], &[("0", "10", "1"), ("1", "13", "0"), ("0", "22", "2"), ("2", "23", "0")]),
+        build(
+            &ev,
+            &["10", "13", "22", "23"],
+            &all[..3],
+            &all[..3],
+            &[("0", "10", "1"), ("1", "13", "0"), ("0", "22", "2"), ("2", "23", "0")],
+        ),
     ];
     let spec = specs[1..].iter().fold(specs[0].clone(), |s, z| product(&s, z, n).automaton);
     (plant, spec, ev)

@@ -52,7 +52,10 @@ pub fn transfer_lines(k: usize, m: usize, cap: usize) -> String {
             let _ = writeln!(s, "  }}");
         }
         let _ = writeln!(s, "  module TU {{");
-        let _ = writeln!(s, "    event start : controllable;\n    event reject : uncontrollable;\n    event accept : uncontrollable;");
+        let _ = writeln!(
+            s,
+            "    event start : controllable;\n    event reject : uncontrollable;\n    event accept : uncontrollable;"
+        );
         let _ = writeln!(
             s,
             "    plant P {{ alphabet start, reject, accept; state I initial {{ start -> W; }} state W {{ reject -> I; accept -> I; }} }}"
@@ -91,12 +94,23 @@ pub fn extended_line(extended: usize) -> String {
     let _ = writeln!(s, "plant Sensor {{ alphabet pulse, sensorReset; state s0 initial {{ pulse -> s1; }} state s1 {{ pulse -> s2; }} state s2 {{ sensorReset -> s0; }} }}");
     let _ = writeln!(s, "module TL1 {{");
     let _ = writeln!(s, "  module M1 {{\n    event start : controllable;\n    event finish : uncontrollable;");
-    let _ = writeln!(s, "    plant P {{ alphabet start, finish; state I initial {{ start -> W; }} state W {{ finish -> I; }} }}\n  }}");
+    let _ = writeln!(
+        s,
+        "    plant P {{ alphabet start, finish; state I initial {{ start -> W; }} state W {{ finish -> I; }} }}\n  }}"
+    );
     for j in 2..=m {
         let _ = writeln!(s, "  module M{j} {{");
-        for (e, k) in [("start", "controllable"), ("finish", "uncontrollable"), ("drillOn", "controllable"), ("drillOff", "controllable"),
-            ("coolOn", "controllable"), ("cooled", "uncontrollable"), ("lower", "uncontrollable"), ("raise", "uncontrollable"), ("stopped", "uncontrollable")]
-        {
+        for (e, k) in [
+            ("start", "controllable"),
+            ("finish", "uncontrollable"),
+            ("drillOn", "controllable"),
+            ("drillOff", "controllable"),
+            ("coolOn", "controllable"),
+            ("cooled", "uncontrollable"),
+            ("lower", "uncontrollable"),
+            ("raise", "uncontrollable"),
+            ("stopped", "uncontrollable"),
+        ] {
             let _ = writeln!(s, "    event {e} : {k};");
         }
         let _ = writeln!(

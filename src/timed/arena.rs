@@ -41,7 +41,9 @@ impl<T: Copy + Eq + Hash> SliceArena<T> {
         let id = self.table.len() as u32;
         self.data.extend_from_slice(slice);
         let data = &self.data;
-        self.table.insert_unique(hash, id, |&other| hasher.hash_one(&data[other as usize * width..other as usize * width + width]));
+        self.table.insert_unique(hash, id, |&other| {
+            hasher.hash_one(&data[other as usize * width..other as usize * width + width])
+        });
         (id, true)
     }
 

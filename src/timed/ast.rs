@@ -219,15 +219,32 @@ impl MoveDecl {
 #[derive(Clone, Debug, Serialize)]
 #[serde(tag = "kind", rename_all = "lowercase")]
 pub enum Cond {
-    Const { value: bool, span: Span },
+    Const {
+        value: bool,
+        span: Span,
+    },
     /// `unit.node`, or `unit.prefix*` when `prefix` is set.
-    State { unit: Ident, node: Ident, prefix: bool, span: Span },
-    Not { operand: Box<Cond>, span: Span },
+    State {
+        unit: Ident,
+        node: Ident,
+        prefix: bool,
+        span: Span,
+    },
+    Not {
+        operand: Box<Cond>,
+        span: Span,
+    },
     /// Two or more operands joined by `and`. Chains are flat, so that a long chain is a wide
     /// node rather than a deep tree (no recursion depth grows with its length).
-    And { operands: Vec<Cond>, span: Span },
+    And {
+        operands: Vec<Cond>,
+        span: Span,
+    },
     /// Two or more operands joined by `or`; flat like `And`.
-    Or { operands: Vec<Cond>, span: Span },
+    Or {
+        operands: Vec<Cond>,
+        span: Span,
+    },
 }
 
 impl Cond {
@@ -254,9 +271,7 @@ pub enum Assertion {
 impl Assertion {
     pub fn span(&self) -> Span {
         match self {
-            Assertion::Never { span, .. } | Assertion::Always { span, .. } | Assertion::OnlyIf { span, .. } => {
-                *span
-            }
+            Assertion::Never { span, .. } | Assertion::Always { span, .. } | Assertion::OnlyIf { span, .. } => *span,
         }
     }
 }

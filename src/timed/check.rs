@@ -26,7 +26,9 @@ pub fn check(spec: &ast::Spec, diags: &mut Diagnostics) -> Option<Game> {
             .with_note("every hardware and operator unit has one clock, plans have their timeout clocks");
     }
     if spec.components.is_empty() {
-        cx.diags.error(Span::default(), "the specification has no plant components").with_note("add a `plant { … }` section");
+        cx.diags
+            .error(Span::default(), "the specification has no plant components")
+            .with_note("add a `plant { … }` section");
     }
     if spec.plans.is_empty() && !spec.components.is_empty() {
         cx.diags
@@ -83,7 +85,9 @@ impl Checker<'_, '_> {
         }
         for extra in spec.timeunit.iter().skip(1) {
             let first = self.where_(spec.timeunit[0].span);
-            self.diags.error(extra.span, "the time unit is declared twice").with_note(format!("first declared at {first}"));
+            self.diags
+                .error(extra.span, "the time unit is declared twice")
+                .with_note(format!("first declared at {first}"));
         }
     }
 
@@ -154,7 +158,9 @@ impl Checker<'_, '_> {
             locations.push(Location { name: n.name.name.clone(), invariant });
         }
         if decl.nodes.is_empty() {
-            self.diags.error(decl.name.span, format!("automaton `{unit}` declares no nodes")).with_note("add `nodes a, b;`");
+            self.diags
+                .error(decl.name.span, format!("automaton `{unit}` declares no nodes"))
+                .with_note("add `nodes a, b;`");
         }
         let mut edges = Vec::new();
         for t in &decl.transitions {
@@ -174,7 +180,15 @@ impl Checker<'_, '_> {
                 edges.push(Edge { from, to, kind: t.kind, message, guard, resets, instant: t.instant, span: t.span });
             }
         }
-        Automaton { name: unit.clone(), origin: ComponentOrigin::Automaton, locations, initial: 0, clocks, edges, span: decl.span }
+        Automaton {
+            name: unit.clone(),
+            origin: ComponentOrigin::Automaton,
+            locations,
+            initial: 0,
+            clocks,
+            edges,
+            span: decl.span,
+        }
     }
 
     fn node_ref(&mut self, unit: &str, node: &ast::Ident, loc_ids: &HashMap<&str, LocId>) -> Option<LocId> {
@@ -195,7 +209,12 @@ impl Checker<'_, '_> {
         };
     }
 
-    fn constraints(&mut self, unit: &str, list: &[ast::ClockConstraint], clocks: &HashMap<&str, ClockId>) -> Vec<ClockInterval> {
+    fn constraints(
+        &mut self,
+        unit: &str,
+        list: &[ast::ClockConstraint],
+        clocks: &HashMap<&str, ClockId>,
+    ) -> Vec<ClockInterval> {
         let mut out = Vec::new();
         for c in list {
             self.check_interval(&c.interval);
@@ -210,7 +229,9 @@ impl Checker<'_, '_> {
     fn check_interval(&mut self, i: &Interval) {
         if i.is_empty() {
             let msg = match i.upper {
-                Some(u) if u < i.lower => format!("the interval {i} is empty: its lower bound {} exceeds its upper bound {u}", i.lower),
+                Some(u) if u < i.lower => {
+                    format!("the interval {i} is empty: its lower bound {} exceeds its upper bound {u}", i.lower)
+                }
                 _ => format!("the interval {i} is empty"),
             };
             self.diags.error(i.span, msg);
@@ -242,7 +263,9 @@ impl Checker<'_, '_> {
             locations.push(Location { name: s.name.clone(), invariant: Vec::new() });
         }
         if states.is_empty() {
-            self.diags.error(name.span, format!("{kind_word} `{unit}` declares no states")).with_note("add `states a, b;`");
+            self.diags
+                .error(name.span, format!("{kind_word} `{unit}` declares no states"))
+                .with_note("add `states a, b;`");
         }
         let clock = self.new_clock(format!("{unit}.moving"), ClockOwner::Component(comp));
         let mut edges = Vec::new();
@@ -270,7 +293,9 @@ impl Checker<'_, '_> {
                     continue;
                 }
                 // 4.3.3: the reaction follows within (0, 1).
-                (false, None) => Interval { lower: 0, lower_closed: false, upper: Some(1), upper_closed: false, span: m.span },
+                (false, None) => {
+                    Interval { lower: 0, lower_closed: false, upper: Some(1), upper_closed: false, span: m.span }
+                }
             };
             for (a, b) in m.pairs() {
                 let (Some(&from), Some(&to)) = (loc_ids.get(&a.name), loc_ids.get(&b.name)) else {
@@ -294,9 +319,22 @@ impl Checker<'_, '_> {
                 }
                 seen.insert((from, to), m.span);
                 let moving = locations.len() as LocId;
-                let upper = Interval { lower: 0, lower_closed: true, upper: timing.upper, upper_closed: timing.upper_closed, span: timing.span };
-                let lower = Interval { lower: timing.lower, lower_closed: timing.lower_closed, upper: None, upper_closed: false, span: timing.span };
-                let invariant = if timing.upper.is_some() { vec![ClockInterval { clock, interval: upper }] } else { Vec::new() };
+                let upper = Interval {
+                    lower: 0,
+                    lower_closed: true,
+                    upper: timing.upper,
+                    upper_closed: timing.upper_closed,
+                    span: timing.span,
+                };
+                let lower = Interval {
+                    lower: timing.lower,
+                    lower_closed: timing.lower_closed,
+                    upper: None,
+                    upper_closed: false,
+                    span: timing.span,
+                };
+                let invariant =
+                    if timing.upper.is_some() { vec![ClockInterval { clock, interval: upper }] } else { Vec::new() };
                 locations.push(Location { name: format!("moving_{}_{}", a.name, b.name), invariant });
                 let (start_name, start_kind) = if hardware {
                     (format!("moveto_{}", b.name), MessageKind::Controllable)
@@ -307,9 +345,31 @@ impl Checker<'_, '_> {
                 uses.push((start, MessageUse { comp, kind: start_kind, span: m.span }));
                 let reached = self.intern_message(&format!("reached_{}", b.name), MessageRole::Reaction);
                 uses.push((reached, MessageUse { comp, kind: MessageKind::Uncontrollable, span: m.span }));
-                edges.push(Edge { from, to: moving, kind: start_kind, message: start, guard: Vec::new(), resets: vec![clock], instant: false, span: m.span });
-                let guard = if timing.lower > 0 || !timing.lower_closed { vec![ClockInterval { clock, interval: lower }] } else { Vec::new() };
-                edges.push(Edge { from: moving, to, kind: MessageKind::Uncontrollable, message: reached, guard, resets: Vec::new(), instant: false, span: m.span });
+                edges.push(Edge {
+                    from,
+                    to: moving,
+                    kind: start_kind,
+                    message: start,
+                    guard: Vec::new(),
+                    resets: vec![clock],
+                    instant: false,
+                    span: m.span,
+                });
+                let guard = if timing.lower > 0 || !timing.lower_closed {
+                    vec![ClockInterval { clock, interval: lower }]
+                } else {
+                    Vec::new()
+                };
+                edges.push(Edge {
+                    from: moving,
+                    to,
+                    kind: MessageKind::Uncontrollable,
+                    message: reached,
+                    guard,
+                    resets: Vec::new(),
+                    instant: false,
+                    span: m.span,
+                });
             }
         }
         let origin = if hardware { ComponentOrigin::Hardware } else { ComponentOrigin::Operator };
@@ -331,15 +391,21 @@ impl Checker<'_, '_> {
                     let name = self.game.messages[*msg as usize].name.clone();
                     let other = self.game.components.get(comp as usize).map(|c| c.name.clone()).unwrap_or_default();
                     let at = self.where_(span);
-                    self.diags
-                        .error(u.span, format!("message `{name}` is already sent by unit `{other}`"))
-                        .with_note(format!("{}{name} at {at}; a `?`/`!` message may belong to one unit only (3.3); use `$` to synchronise", kind.sigil()));
+                    self.diags.error(u.span, format!("message `{name}` is already sent by unit `{other}`")).with_note(
+                        format!(
+                        "{}{name} at {at}; a `?`/`!` message may belong to one unit only (3.3); use `$` to synchronise",
+                        kind.sigil()
+                    ),
+                    );
                 }
                 Some(&(_, kind, span)) if kind != u.kind => {
                     let name = self.game.messages[*msg as usize].name.clone();
                     let at = self.where_(span);
                     self.diags
-                        .error(u.span, format!("message `{name}` is used both as `{}` and `{}`", kind.sigil(), u.kind.sigil()))
+                        .error(
+                            u.span,
+                            format!("message `{name}` is used both as `{}` and `{}`", kind.sigil(), u.kind.sigil()),
+                        )
                         .with_note(format!("first use at {at}"));
                 }
                 Some(_) => {}
@@ -521,12 +587,15 @@ impl Checker<'_, '_> {
         for (i, cmd) in commands.iter().enumerate() {
             if let PlanAction::Waitfor { .. } = cmd.action {
                 loc_of_cmd[i] = Some(locations.len() as LocId);
-                let lname = cmd.label.as_ref().map_or_else(|| format!("waitfor{}", locations.len() + 1), |l| l.name.clone());
+                let lname =
+                    cmd.label.as_ref().map_or_else(|| format!("waitfor{}", locations.len() + 1), |l| l.name.clone());
                 locations.push(PlanLocation { name: lname, span: cmd.span });
             }
         }
         if locations.is_empty() {
-            self.diags.error(plan.span, "this plan has no `waitfor` command").with_note("a plan needs at least one goal to wait for");
+            self.diags
+                .error(plan.span, "this plan has no `waitfor` command")
+                .with_note("a plan needs at least one goal to wait for");
             return None;
         }
         for cmd in commands {
@@ -571,19 +640,26 @@ impl Checker<'_, '_> {
             let mut seen: HashMap<&str, Span> = HashMap::new();
             for item in items {
                 if seen.insert(&item.message.name, item.message.span).is_some() {
-                    self.diags.error(item.message.span, format!("`{}` is listed twice in this waitfor", item.message.name));
+                    self.diags
+                        .error(item.message.span, format!("`{}` is listed twice in this waitfor", item.message.name));
                     continue;
                 }
                 let message = match self.message_index.get(&item.message.name) {
                     Some(&id) if self.game.messages[id as usize].role == MessageRole::Guard => {
-                        self.diags
-                            .error(item.message.span, format!("`{}` is a guard condition, not a message a plan can wait for", item.message.name));
+                        self.diags.error(
+                            item.message.span,
+                            format!("`{}` is a guard condition, not a message a plan can wait for", item.message.name),
+                        );
                         continue;
                     }
                     Some(&id) => id,
                     None => {
-                        let d = self.diags.error(item.message.span, format!("no unit sends the message `{}`", item.message.name));
-                        if let Some(best) = closest(&item.message.name, self.game.messages.iter().map(|m| m.name.as_str())) {
+                        let d = self
+                            .diags
+                            .error(item.message.span, format!("no unit sends the message `{}`", item.message.name));
+                        if let Some(best) =
+                            closest(&item.message.name, self.game.messages.iter().map(|m| m.name.as_str()))
+                        {
                             d.with_note(format!("did you mean `{best}`?"));
                         }
                         continue;
@@ -595,7 +671,9 @@ impl Checker<'_, '_> {
                     Some(l) => match labels.get(l.name.as_str()) {
                         Some(&target) => resolve(target),
                         None => {
-                            self.diags.error(l.span, format!("undefined label `{}`", l.name)).with_note("labels are written `name:` before a plan command");
+                            self.diags
+                                .error(l.span, format!("undefined label `{}`", l.name))
+                                .with_note("labels are written `name:` before a plan command");
                             continue;
                         }
                     },
@@ -604,7 +682,15 @@ impl Checker<'_, '_> {
             }
         }
         let errors_after = self.diags.items.iter().filter(|d| d.is_error()).count();
-        (errors_after == errors_before).then_some(PlanAutomaton { name, locations, initial, failed, clocks, edges, span: plan.span })
+        (errors_after == errors_before).then_some(PlanAutomaton {
+            name,
+            locations,
+            initial,
+            failed,
+            clocks,
+            edges,
+            span: plan.span,
+        })
     }
 
     // ----- dependencies and io ----------------------------------------------------------------
@@ -612,8 +698,10 @@ impl Checker<'_, '_> {
     fn dependencies(&mut self, spec: &ast::Spec) {
         for d in &spec.dependencies {
             let Some(&message) = self.message_index.get(&d.message.name) else {
-                self.diags
-                    .warning(d.message.span, format!("dependency on unknown message `{}` has no effect", d.message.name));
+                self.diags.warning(
+                    d.message.span,
+                    format!("dependency on unknown message `{}` has no effect", d.message.name),
+                );
                 continue;
             };
             let mut on = Vec::new();
@@ -623,7 +711,10 @@ impl Checker<'_, '_> {
                     ast::DependencyTarget::Message { name } => match self.message_index.get(&name.name) {
                         Some(&id) => on.push(DependsOn::Message(id)),
                         None => {
-                            self.diags.warning(name.span, format!("unknown message `{}` in a dependency is ignored", name.name));
+                            self.diags.warning(
+                                name.span,
+                                format!("unknown message `{}` in a dependency is ignored", name.name),
+                            );
                         }
                     },
                 }
@@ -644,14 +735,17 @@ impl Checker<'_, '_> {
             };
             if let Some(prev) = seen.insert(&e.message.name, e.span) {
                 let at = self.where_(prev);
-                self.diags.error(e.span, format!("`{}` is mapped twice", e.message.name)).with_note(format!("first mapped at {at}"));
+                self.diags
+                    .error(e.span, format!("`{}` is mapped twice", e.message.name))
+                    .with_note(format!("first mapped at {at}"));
                 continue;
             }
             let request = self.game.messages[message as usize].role == MessageRole::Request;
             let mode = match (e.mode, request) {
                 (ast::IoMode::Default, true) => ast::IoMode::Pulse,
                 (ast::IoMode::Default, false) => ast::IoMode::Level,
-                (m @ (ast::IoMode::Pulse | ast::IoMode::Set | ast::IoMode::Reset), true) | (m @ (ast::IoMode::Level | ast::IoMode::Negated), false) => m,
+                (m @ (ast::IoMode::Pulse | ast::IoMode::Set | ast::IoMode::Reset), true)
+                | (m @ (ast::IoMode::Level | ast::IoMode::Negated), false) => m,
                 (m, _) => {
                     let (word, what) = match m {
                         ast::IoMode::Negated => ("not", "inputs (reactions and guards)"),

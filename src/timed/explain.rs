@@ -191,8 +191,14 @@ pub fn describe_edge(game: &Game, split: &SplitGame, e: &Edge) -> String {
         Label::Message { message } => format!("{}{}", e.kind.sigil(), game.messages[message as usize].name),
         Label::Wait => "wait".to_string(),
         Label::Piece { clock, piece, clocks } => {
-            let mut text = format!("time passes until {} ∈ {}", game.clocks[clock as usize].name, split.pieces[clock as usize][piece as usize]);
-            let others: Vec<&str> = (1..64).filter(|&c| c != clock && clocks >> c & 1 == 1).map(|c| game.clocks[c as usize].name.as_str()).collect();
+            let mut text = format!(
+                "time passes until {} ∈ {}",
+                game.clocks[clock as usize].name, split.pieces[clock as usize][piece as usize]
+            );
+            let others: Vec<&str> = (1..64)
+                .filter(|&c| c != clock && clocks >> c & 1 == 1)
+                .map(|c| game.clocks[c as usize].name.as_str())
+                .collect();
             if !others.is_empty() {
                 text.push_str(&format!(" (and, at the same instant, {} into their next pieces)", others.join(", ")));
             }
@@ -221,7 +227,16 @@ fn violation(game: &Game, split: &SplitGame, space: &StateSpace, s: StateId) -> 
 }
 
 #[allow(clippy::too_many_arguments)]
-fn step(game: &Game, split: &SplitGame, space: &StateSpace, ranks: &Ranks, s: StateId, event: Option<String>, depth: u32, budget: &mut usize) -> Step {
+fn step(
+    game: &Game,
+    split: &SplitGame,
+    space: &StateSpace,
+    ranks: &Ranks,
+    s: StateId,
+    event: Option<String>,
+    depth: u32,
+    budget: &mut usize,
+) -> Step {
     let locations = describe_state(game, split, space, s);
     if *budget == 0 || depth > 60 {
         return Step { state: s, event, locations, outcome: Outcome::Truncated };
@@ -249,7 +264,12 @@ fn step(game: &Game, split: &SplitGame, space: &StateSpace, ranks: &Ranks, s: St
                 if is_option(e) && e.to != NONE {
                     let label = describe_edge(game, split, e);
                     if e.zeno {
-                        branches.push(Step { state: s, event: Some(label), locations: String::new(), outcome: Outcome::Violation { reason: "zeno loop".into() } });
+                        branches.push(Step {
+                            state: s,
+                            event: Some(label),
+                            locations: String::new(),
+                            outcome: Outcome::Violation { reason: "zeno loop".into() },
+                        });
                     } else {
                         branches.push(step(game, split, space, ranks, e.to, Some(label), depth + 1, budget));
                     }
@@ -258,16 +278,32 @@ fn step(game: &Game, split: &SplitGame, space: &StateSpace, ranks: &Ranks, s: St
                         state: s,
                         event: Some(describe_edge(game, split, e)),
                         locations: String::new(),
-                        outcome: Outcome::Violation { reason: "returns to a plant state visited since the last plan progress (zeno loop)".into() },
+                        outcome: Outcome::Violation {
+                            reason: "returns to a plant state visited since the last plan progress (zeno loop)".into(),
+                        },
                     });
                 }
             }
             let w = ranks.witness[s as usize];
             if w != NONE {
                 let e = &space.edges[w as usize];
-                branches.push(step(game, split, space, ranks, e.to, Some(format!("wait; then {}", describe_edge(game, split, e))), depth + 1, budget));
+                branches.push(step(
+                    game,
+                    split,
+                    space,
+                    ranks,
+                    e.to,
+                    Some(format!("wait; then {}", describe_edge(game, split, e))),
+                    depth + 1,
+                    budget,
+                ));
             } else if !space.out_edges(s).any(|(_, e)| is_wait(e)) {
-                branches.push(Step { state: s, event: Some("wait".into()), locations: String::new(), outcome: Outcome::Violation { reason: "nothing would ever happen".into() } });
+                branches.push(Step {
+                    state: s,
+                    event: Some("wait".into()),
+                    locations: String::new(),
+                    outcome: Outcome::Violation { reason: "nothing would ever happen".into() },
+                });
             }
             Outcome::Choices { branches }
         }
@@ -350,7 +386,9 @@ pub fn dump(game: &Game, split: &SplitGame, space: &StateSpace) -> String {
 /// A removal reason in words.
 pub fn removal_text(game: &Game, split: &SplitGame, space: &StateSpace, s: StateId, r: Removal) -> String {
     match r {
-        Removal::Forced { edge } => format!("forced: {} leads to a removed state", describe_edge(game, split, &space.edges[edge as usize])),
+        Removal::Forced { edge } => {
+            format!("forced: {} leads to a removed state", describe_edge(game, split, &space.edges[edge as usize]))
+        }
         Removal::ZenoLoop { edge } => format!("zeno loop: {}", describe_edge(game, split, &space.edges[edge as usize])),
         Removal::NoMove => "every controller move fails and waiting is not possible".to_string(),
         _ => violation(game, split, space, s).unwrap_or_default(),

@@ -68,7 +68,15 @@ pub fn automata(game: &Game) -> Vec<AutomatonView> {
                 super::model::ComponentOrigin::Operator => "operator",
             },
             initial: a.initial,
-            locations: a.locations.iter().map(|l| LocationView { name: l.name.clone(), invariant: constraints_text(game, &l.invariant), failed: false }).collect(),
+            locations: a
+                .locations
+                .iter()
+                .map(|l| LocationView {
+                    name: l.name.clone(),
+                    invariant: constraints_text(game, &l.invariant),
+                    failed: false,
+                })
+                .collect(),
             edges: a
                 .edges
                 .iter()

@@ -97,9 +97,10 @@ pub fn tokenize(source: &str) -> Vec<Token> {
         match result {
             Ok(Tok::BlockComment) => {}
             Ok(tok) => out.push(Token { tok, span }),
-            Err(()) if source[lex.span()].starts_with("/*") => {
-                out.push(Token { tok: Tok::UnterminatedComment, span: Span::new(span.start as usize, span.start as usize + 2) })
-            }
+            Err(()) if source[lex.span()].starts_with("/*") => out.push(Token {
+                tok: Tok::UnterminatedComment,
+                span: Span::new(span.start as usize, span.start as usize + 2),
+            }),
             Err(()) => out.push(Token { tok: Tok::Error, span }),
         }
     }

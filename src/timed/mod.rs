@@ -69,7 +69,11 @@ pub struct Synthesis {
 }
 
 /// Precomputes and solves a checked game.
-pub fn synthesize(game: &model::Game, options: &solve::SolveOptions, progress: &mut dyn FnMut(&solve::Stats) -> bool) -> Synthesis {
+pub fn synthesize(
+    game: &model::Game,
+    options: &solve::SolveOptions,
+    progress: &mut dyn FnMut(&solve::Stats) -> bool,
+) -> Synthesis {
     let split = precompute::split(game);
     let solution = solve::solve(game, &split, options, progress);
     let explanation = if solution.verdict == solve::Verdict::Unrealizable {

@@ -148,12 +148,23 @@ pub struct PlanEdge {
 #[derive(Clone, Debug, Serialize)]
 #[serde(tag = "kind", rename_all = "lowercase")]
 pub enum Pred {
-    Const { value: bool },
+    Const {
+        value: bool,
+    },
     /// Component `comp` is in one of `locations`.
-    At { comp: CompId, locations: Vec<LocId> },
-    Not { operand: Box<Pred> },
-    And { operands: Vec<Pred> },
-    Or { operands: Vec<Pred> },
+    At {
+        comp: CompId,
+        locations: Vec<LocId>,
+    },
+    Not {
+        operand: Box<Pred>,
+    },
+    And {
+        operands: Vec<Pred>,
+    },
+    Or {
+        operands: Vec<Pred>,
+    },
 }
 
 impl Pred {

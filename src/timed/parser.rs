@@ -260,7 +260,9 @@ impl Parser<'_, '_, '_> {
             return Ok(());
         }
         if t.tok != Tok::Ident {
-            return Err(self.error_expected("a section (`plant`, `assertions`, `dependencies`, `guards`, `plans`, `timeunit` or `io`)"));
+            return Err(self.error_expected(
+                "a section (`plant`, `assertions`, `dependencies`, `guards`, `plans`, `timeunit` or `io`)",
+            ));
         }
         match self.text(t) {
             "plant" => {
@@ -288,7 +290,9 @@ impl Parser<'_, '_, '_> {
                 self.block("io section", |p| p.io_entry())
             }
             "timeunit" => self.timeunit(),
-            _ => Err(self.error_expected("a section (`plant`, `assertions`, `dependencies`, `guards`, `plans`, `timeunit` or `io`)")),
+            _ => Err(self.error_expected(
+                "a section (`plant`, `assertions`, `dependencies`, `guards`, `plans`, `timeunit` or `io`)",
+            )),
         }
     }
 
@@ -330,7 +334,8 @@ impl Parser<'_, '_, '_> {
             "automaton" => {
                 self.bump();
                 let name = self.ident("the automaton's name")?;
-                let mut decl = AutomatonDecl { name, clocks: Vec::new(), nodes: Vec::new(), transitions: Vec::new(), span: start };
+                let mut decl =
+                    AutomatonDecl { name, clocks: Vec::new(), nodes: Vec::new(), transitions: Vec::new(), span: start };
                 let res = self.block("automaton", |p| p.automaton_item(&mut decl));
                 decl.span = self.span_from(start);
                 self.spec.components.push(Component::Automaton(decl));
@@ -415,7 +420,16 @@ impl Parser<'_, '_, '_> {
             }
         }
         self.expect(Tok::Semi, "`;`, a guard `{…}`, `reset{…}` or `instant` after the transition")?;
-        decl.transitions.push(TransitionDecl { from, to, kind, message, guard, resets, instant, span: self.span_from(start) });
+        decl.transitions.push(TransitionDecl {
+            from,
+            to,
+            kind,
+            message,
+            guard,
+            resets,
+            instant,
+            span: self.span_from(start),
+        });
         Ok(())
     }
 
@@ -579,7 +593,8 @@ impl Parser<'_, '_, '_> {
 
     fn cond_unary(&mut self, depth: usize) -> PResult<Cond> {
         let t = self.peek();
-        let nests = t.tok == Tok::LParen || (t.tok == Tok::Ident && self.text(t) == "not" && self.peek_at(1).tok != Tok::Dot);
+        let nests =
+            t.tok == Tok::LParen || (t.tok == Tok::Ident && self.text(t) == "not" && self.peek_at(1).tok != Tok::Dot);
         if nests && depth >= MAX_COND_NESTING {
             self.diags.error(
                 t.span,

@@ -176,8 +176,11 @@ pub fn split(game: &Game) -> SplitGame {
             constraints[clock as usize].push(Interval::closed(0, bound));
         }
     }
-    let pieces: Vec<Vec<Interval>> =
-        constraints.iter().enumerate().map(|(c, cs)| if c == 0 { Vec::new() } else { unique_choice_pieces(cs) }).collect();
+    let pieces: Vec<Vec<Interval>> = constraints
+        .iter()
+        .enumerate()
+        .map(|(c, cs)| if c == 0 { Vec::new() } else { unique_choice_pieces(cs) })
+        .collect();
     let max_constant: Vec<i32> = constraints
         .iter()
         .map(|cs| cs.iter().flat_map(|i| [Some(i.lower), i.upper]).flatten().map(|v| v as i32).max().unwrap_or(-1))
@@ -197,7 +200,16 @@ pub fn split(game: &Game) -> SplitGame {
         plan_resets.push(resets);
     }
     let sync_units = game.messages.iter().map(|m| m.synchronised.clone()).collect();
-    SplitGame { units, plant_count: game.components.len(), pieces, max_constant, sync_units, plan_next, plan_resets, message_count }
+    SplitGame {
+        units,
+        plant_count: game.components.len(),
+        pieces,
+        max_constant,
+        sync_units,
+        plan_next,
+        plan_resets,
+        message_count,
+    }
 }
 
 /// Which pieces of `clock` the conjunction `invariant` allows, as a range of piece indices.
@@ -297,7 +309,8 @@ fn split_plant_unit(a: &Automaton, pieces: &[Vec<Interval>]) -> SplitUnit {
             }
         }
     }
-    let idx = SubLocIndex::build(active, |l, c| allowed_pieces(&pieces[c as usize], c, &a.locations[l as usize].invariant));
+    let idx =
+        SubLocIndex::build(active, |l, c| allowed_pieces(&pieces[c as usize], c, &a.locations[l as usize].invariant));
     let mut sublocs = idx.sublocs.clone();
     for (s, sub) in sublocs.iter_mut().enumerate() {
         let s = s as SubLocId;
@@ -337,11 +350,16 @@ fn split_plant_unit(a: &Automaton, pieces: &[Vec<Interval>]) -> SplitUnit {
     SplitUnit { name: a.name.clone(), sublocs, initial, clocks: a.clocks.clone() }
 }
 
-fn split_plan(p: &PlanAutomaton, pieces: &[Vec<Interval>], message_count: usize) -> (SplitUnit, Vec<SubLocId>, Vec<u64>) {
+fn split_plan(
+    p: &PlanAutomaton,
+    pieces: &[Vec<Interval>],
+    message_count: usize,
+) -> (SplitUnit, Vec<SubLocId>, Vec<u64>) {
     let n = p.locations.len();
     let clocks: Vec<ClockId> = p.clocks.iter().map(|&(c, _)| c).collect();
     // A timeout clock is compared in every waiting location, so it is used everywhere but in `failed`.
-    let active: Vec<Vec<ClockId>> = (0..n).map(|l| if l as LocId == p.failed { Vec::new() } else { clocks.clone() }).collect();
+    let active: Vec<Vec<ClockId>> =
+        (0..n).map(|l| if l as LocId == p.failed { Vec::new() } else { clocks.clone() }).collect();
     let idx = SubLocIndex::build(active, |_, c| 0..pieces[c as usize].len() as u16);
     let mut sublocs = idx.sublocs.clone();
     let mut next = vec![STAY; sublocs.len() * message_count];
@@ -366,7 +384,8 @@ fn split_plan(p: &PlanAutomaton, pieces: &[Vec<Interval>], message_count: usize)
         for e in p.edges.iter().filter(|e| e.from == sub.location) {
             if let Some(target) = idx.target(s, e.to, &e.resets) {
                 next[s as usize * message_count + e.message as usize] = target;
-                resets[s as usize * message_count + e.message as usize] = e.resets.iter().fold(0, |bits, &c| bits | 1 << c);
+                resets[s as usize * message_count + e.message as usize] =
+                    e.resets.iter().fold(0, |bits, &c| bits | 1 << c);
             }
         }
     }
@@ -392,7 +411,8 @@ mod tests {
 
     #[test]
     fn pieces_partition_the_time_line() {
-        let p = unique_choice_pieces(&[iv(1, false, Some(3), false), iv(3, true, Some(3), true), iv(5, true, None, false)]);
+        let p =
+            unique_choice_pieces(&[iv(1, false, Some(3), false), iv(3, true, Some(3), true), iv(5, true, None, false)]);
         let shown: Vec<String> = p.iter().map(|i| i.to_string()).collect();
         assert_eq!(shown, ["[0,1]", "(1,3)", "[3,3]", "(3,5)", "[5,inf)"]);
         for w in p.windows(2) {

@@ -118,14 +118,22 @@ enum Class {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(tag = "kind", rename_all = "lowercase")]
 pub enum Label {
-    Message { message: MsgId },
+    Message {
+        message: MsgId,
+    },
     /// Waiting in the current locations.
     Wait,
     /// Time passes until `clock` enters piece `piece`; `clocks` (a bit set) holds every clock
     /// that enters its next piece at the same instant, `clock` included.
-    Piece { clock: ClockId, piece: u16, clocks: u64 },
+    Piece {
+        clock: ClockId,
+        piece: u16,
+        clocks: u64,
+    },
     /// Time passes beyond the invariant on `clock`.
-    Overrun { clock: ClockId },
+    Overrun {
+        clock: ClockId,
+    },
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -288,7 +296,12 @@ pub struct Solution {
 
 /// Solves the game. `progress` is called every `options.progress_interval` expansions with the
 /// statistics so far; returning `false` cancels the run.
-pub fn solve(game: &Game, split: &SplitGame, options: &SolveOptions, progress: &mut dyn FnMut(&Stats) -> bool) -> Solution {
+pub fn solve(
+    game: &Game,
+    split: &SplitGame,
+    options: &SolveOptions,
+    progress: &mut dyn FnMut(&Stats) -> bool,
+) -> Solution {
     let mut solver = Solver::new(game, split);
     let verdict = solver.run(options, progress);
     let mut stats = solver.stats();
@@ -421,7 +434,8 @@ impl<'g> Solver<'g> {
                 return Verdict::BudgetExceeded;
             }
             expansions += 1;
-            if options.progress_interval > 0 && expansions % options.progress_interval == 0 && !progress(&self.stats()) {
+            if options.progress_interval > 0 && expansions % options.progress_interval == 0 && !progress(&self.stats())
+            {
                 return Verdict::Cancelled;
             }
             self.expand(s);
@@ -446,7 +460,9 @@ impl<'g> Solver<'g> {
             let controller_edges = |space: &StateSpace, s: StateId| -> Vec<(EdgeId, StateId)> {
                 space
                     .out_edges(s)
-                    .filter(|(_, e)| e.class == Class::Option && !e.zeno && !e.progress && e.to != NONE && space.is_winning(e.to))
+                    .filter(|(_, e)| {
+                        e.class == Class::Option && !e.zeno && !e.progress && e.to != NONE && space.is_winning(e.to)
+                    })
                     .map(|(id, e)| (id, e.to))
                     .collect()
             };
@@ -493,7 +509,8 @@ impl<'g> Solver<'g> {
         let units = &self.split.units;
         let (env_id, new_env) = self.space.envs.intern(env);
         if new_env {
-            let locs: Vec<LocId> = env.iter().enumerate().map(|(u, &s)| units[u].sublocs[s as usize].location).collect();
+            let locs: Vec<LocId> =
+                env.iter().enumerate().map(|(u, &s)| units[u].sublocs[s as usize].location).collect();
             self.env_locations.extend_from_slice(&locs);
             let violated = self.game.assertions.iter().position(|a| !a.holds.eval(&locs)).map_or(0, |i| i as u32 + 1);
             self.env_violation.push(violated);
@@ -508,7 +525,11 @@ impl<'g> Solver<'g> {
         let (plan_id, new_plan) = self.space.plans.intern(plan);
         if new_plan {
             let base = self.split.plant_count;
-            let failed = plan.iter().enumerate().position(|(p, &s)| units[base + p].sublocs[s as usize].failed).map_or(0, |i| i as u32 + 1);
+            let failed = plan
+                .iter()
+                .enumerate()
+                .position(|(p, &s)| units[base + p].sublocs[s as usize].failed)
+                .map_or(0, |i| i as u32 + 1);
             self.plan_failure.push(failed);
             let mut clocks = 0u64;
             for (p, &s) in plan.iter().enumerate() {
@@ -625,7 +646,13 @@ impl<'g> Solver<'g> {
                 if e.kind == MessageKind::Synchronised || (e.kind == MessageKind::Controllable && !requests_allowed) {
                     continue;
                 }
-                let mut partial = vec![Move { kind: e.kind, message: e.message, instant: e.instant, env: env.to_vec(), resets: clock_bits(&e.resets) }];
+                let mut partial = vec![Move {
+                    kind: e.kind,
+                    message: e.message,
+                    instant: e.instant,
+                    env: env.to_vec(),
+                    resets: clock_bits(&e.resets),
+                }];
                 partial[0].env[u] = e.target;
                 for &other in &self.split.sync_units[e.message as usize] {
                     let other = other as usize;
@@ -639,7 +666,13 @@ impl<'g> Solver<'g> {
                         for o in &options {
                             let mut env2 = m.env.clone();
                             env2[other] = o.target;
-                            next.push(Move { kind: m.kind, message: m.message, instant: m.instant || o.instant, env: env2, resets: m.resets | clock_bits(&o.resets) });
+                            next.push(Move {
+                                kind: m.kind,
+                                message: m.message,
+                                instant: m.instant || o.instant,
+                                env: env2,
+                                resets: m.resets | clock_bits(&o.resets),
+                            });
                         }
                     }
                     partial = next;
@@ -691,21 +724,34 @@ impl<'g> Solver<'g> {
             let class = if m.kind == MessageKind::Controllable { Class::Option } else { Class::Forced };
             let label = Label::Message { message: m.message };
             let zeno = !progress && self.visited(st.vis, env_id);
-            let to = if zeno
-                && self.env_violation[env_id as usize] == 0
-                && self.plan_failure[plan_id as usize] == 0
-            {
+            let to = if zeno && self.env_violation[env_id as usize] == 0 && self.plan_failure[plan_id as usize] == 0 {
                 NONE
             } else {
                 let vis = if progress { Vis::Fresh } else { Vis::Extend(st.vis) };
                 self.find_or_add(env_id, plan_id, &z, kind, vis).0
             };
-            let edge = Edge { from: s, to, kind: edge_kind, label, resets, instant: m.instant, zeno: to == NONE, progress, class, next_in: NONE };
+            let edge = Edge {
+                from: s,
+                to,
+                kind: edge_kind,
+                label,
+                resets,
+                instant: m.instant,
+                zeno: to == NONE,
+                progress,
+                class,
+                next_in: NONE,
+            };
             if m.kind == MessageKind::Controllable && to != NONE {
                 let before = self.locations_of(st.env).to_vec();
                 let after = self.locations_of(env_id).to_vec();
-                let guards: Vec<MsgId> =
-                    self.game.guards.iter().filter(|g| g.cond.eval(&after) && !g.cond.eval(&before)).map(|g| g.message).collect();
+                let guards: Vec<MsgId> = self
+                    .game
+                    .guards
+                    .iter()
+                    .filter(|g| g.cond.eval(&after) && !g.cond.eval(&before))
+                    .map(|g| g.message)
+                    .collect();
                 if !guards.is_empty() {
                     guard_chains.push((self.pending_edges.len(), guards));
                 }
@@ -719,7 +765,18 @@ impl<'g> Solver<'g> {
                     let mut closed = closed;
                     self.normalise(st.env, st.plan, &mut closed);
                     let to = self.find_or_add(st.env, st.plan, &closed, StateKind::Waiting, Vis::Same(st.vis)).0;
-                    self.pending_edges.push(Edge { from: s, to, kind: EdgeKind::Delay, label: Label::Wait, resets: 0, instant: false, zeno: false, progress: false, class: Class::Wait, next_in: NONE });
+                    self.pending_edges.push(Edge {
+                        from: s,
+                        to,
+                        kind: EdgeKind::Delay,
+                        label: Label::Wait,
+                        resets: 0,
+                        instant: false,
+                        zeno: false,
+                        progress: false,
+                        class: Class::Wait,
+                        next_in: NONE,
+                    });
                 }
             } else {
                 self.delay_edges(s, &st, &env, &plan, &zone);
@@ -771,7 +828,14 @@ impl<'g> Solver<'g> {
                 let iv = self.split.pieces[clock as usize][piece as usize];
                 let Some(upper) = iv.upper else { continue };
                 let target = sl.delays.iter().find(|d| d.clock == clock).map(|d| d.target);
-                exits.push(Exit { unit: u, clock, upper: upper as i32, closed: iv.upper_closed, target, next_piece: piece + 1 });
+                exits.push(Exit {
+                    unit: u,
+                    clock,
+                    upper: upper as i32,
+                    closed: iv.upper_closed,
+                    target,
+                    next_piece: piece + 1,
+                });
             }
         }
         for r in 0..exits.len() {
@@ -786,7 +850,18 @@ impl<'g> Solver<'g> {
 
     /// Enumerates the exit sets with smallest member `r`, deciding clocks `k..` one by one.
     #[allow(clippy::too_many_arguments)]
-    fn exit_sets(&mut self, s: StateId, st: &State, env: &[SubLocId], plan: &[SubLocId], exits: &[Exit], r: usize, k: usize, zone: Dbm, set: Vec<usize>) {
+    fn exit_sets(
+        &mut self,
+        s: StateId,
+        st: &State,
+        env: &[SubLocId],
+        plan: &[SubLocId],
+        exits: &[Exit],
+        r: usize,
+        k: usize,
+        zone: Dbm,
+        set: Vec<usize>,
+    ) {
         if zone.is_empty() {
             return;
         }
@@ -813,13 +888,33 @@ impl<'g> Solver<'g> {
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn delay_into(&mut self, s: StateId, st: &State, env: &[SubLocId], plan: &[SubLocId], exits: &[Exit], set: &[usize], mut zone: Dbm) {
+    fn delay_into(
+        &mut self,
+        s: StateId,
+        st: &State,
+        env: &[SubLocId],
+        plan: &[SubLocId],
+        exits: &[Exit],
+        set: &[usize],
+        mut zone: Dbm,
+    ) {
         let plant_count = self.split.plant_count;
         if let Some(&k) = set.iter().find(|&&k| exits[k].target.is_none()) {
             // A clock runs past its invariant (plant) or past the last piece it may have.
             if exits[k].unit < plant_count {
                 let clock = exits[k].clock;
-                self.pending_edges.push(Edge { from: s, to: NONE, kind: EdgeKind::Timeout, label: Label::Overrun { clock }, resets: 0, instant: false, zeno: false, progress: false, class: Class::Inert, next_in: NONE });
+                self.pending_edges.push(Edge {
+                    from: s,
+                    to: NONE,
+                    kind: EdgeKind::Timeout,
+                    label: Label::Overrun { clock },
+                    resets: 0,
+                    instant: false,
+                    zeno: false,
+                    progress: false,
+                    class: Class::Inert,
+                    next_in: NONE,
+                });
             }
             return;
         }
@@ -1001,7 +1096,18 @@ fn later(zone: &mut Dbm, c: &Exit, r: &Exit) -> bool {
 }
 
 fn guard_edge(from: StateId, to: StateId, message: MsgId, instant: bool) -> Edge {
-    Edge { from, to, kind: EdgeKind::Guard, label: Label::Message { message }, resets: 0, instant, zeno: false, progress: false, class: Class::Option, next_in: NONE }
+    Edge {
+        from,
+        to,
+        kind: EdgeKind::Guard,
+        label: Label::Message { message },
+        resets: 0,
+        instant,
+        zeno: false,
+        progress: false,
+        class: Class::Option,
+        next_in: NONE,
+    }
 }
 
 fn clock_bits(clocks: &[ClockId]) -> u64 {

@@ -62,10 +62,7 @@ impl Dbm {
     /// The zone where every clock equals 0.
     pub fn zero(dim: usize) -> Dbm {
         assert!(dim >= 1, "a DBM needs the reference clock");
-        Dbm {
-            dim,
-            m: vec![LE0; dim * dim].into_boxed_slice(),
-        }
+        Dbm { dim, m: vec![LE0; dim * dim].into_boxed_slice() }
     }
 
     /// The zone where every clock is `≥ 0` and nothing else is known.
@@ -82,10 +79,7 @@ impl Dbm {
     /// The empty zone in its normal form.
     pub fn empty(dim: usize) -> Dbm {
         assert!(dim >= 1, "a DBM needs the reference clock");
-        Dbm {
-            dim,
-            m: vec![Bound::LT_ZERO; dim * dim].into_boxed_slice(),
-        }
+        Dbm { dim, m: vec![Bound::LT_ZERO; dim * dim].into_boxed_slice() }
     }
 
     /// Number of indices, reference clock included.
@@ -300,12 +294,7 @@ impl Dbm {
             return false;
         }
         let n = self.dim;
-        let tighter = self
-            .m
-            .iter()
-            .zip(other.m.iter())
-            .filter(|(a, b)| b < a)
-            .count();
+        let tighter = self.m.iter().zip(other.m.iter()).filter(|(a, b)| b < a).count();
         if tighter == 0 {
             return true;
         }
@@ -442,11 +431,7 @@ impl Dbm {
         }
         for j in 1..n {
             if above_upper(&self.m, j) {
-                let nb = if upper[j] < 0 {
-                    LE0
-                } else {
-                    Bound::lt(-upper[j])
-                };
+                let nb = if upper[j] < 0 { LE0 } else { Bound::lt(-upper[j]) };
                 if self.m[j] != nb {
                     self.m[j] = nb;
                     changed = true;
@@ -500,9 +485,7 @@ impl Dbm {
         let mut w: Vec<Option<i64>> = self
             .m
             .iter()
-            .map(|&b| {
-                (!b.is_infinity()).then(|| b.constant() as i64 * den - i64::from(b.is_strict()))
-            })
+            .map(|&b| (!b.is_infinity()).then(|| b.constant() as i64 * den - i64::from(b.is_strict())))
             .collect();
         // The tightening breaks canonical form, so close again (in i64).
         for k in 0..n {

@@ -38,11 +38,7 @@ impl Dbm {
     pub fn constraints(&self) -> Vec<Constraint> {
         let n = self.dim();
         if self.is_empty() {
-            return vec![Constraint {
-                i: 0,
-                j: 0,
-                bound: Bound::LT_ZERO,
-            }];
+            return vec![Constraint { i: 0, j: 0, bound: Bound::LT_ZERO }];
         }
         // What every zone knows without being told: x ≥ 0 and x - x ≤ 0.
         let base = Dbm::unconstrained(n);
@@ -76,13 +72,7 @@ impl Dbm {
             }
         }
         kept.sort_by_key(|&(i, j)| (i != 0 && j != 0, i.max(j), i.min(j), i));
-        kept.into_iter()
-            .map(|(i, j)| Constraint {
-                i,
-                j,
-                bound: self.get(i, j),
-            })
-            .collect()
+        kept.into_iter().map(|(i, j)| Constraint { i, j, bound: self.get(i, j) }).collect()
     }
 
     /// Displays the zone with `names[c]` for clock `c` (index 0 unused;
@@ -150,9 +140,7 @@ impl fmt::Display for DisplayZone<'_> {
                 self.name(f, b)?;
             }
             match (lower, upper) {
-                (Some(l), Some(u))
-                    if !l.is_strict() && !u.is_strict() && l.constant() == -u.constant() =>
-                {
+                (Some(l), Some(u)) if !l.is_strict() && !u.is_strict() && l.constant() == -u.constant() => {
                     write!(f, " = {}", u.constant())?
                 }
                 (Some(l), Some(u)) => write!(
@@ -163,18 +151,8 @@ impl fmt::Display for DisplayZone<'_> {
                     u.constant(),
                     if u.is_strict() { ')' } else { ']' }
                 )?,
-                (Some(l), None) => write!(
-                    f,
-                    " {} {}",
-                    if l.is_strict() { ">" } else { "≥" },
-                    -l.constant()
-                )?,
-                (None, Some(u)) => write!(
-                    f,
-                    " {} {}",
-                    if u.is_strict() { "<" } else { "≤" },
-                    u.constant()
-                )?,
+                (Some(l), None) => write!(f, " {} {}", if l.is_strict() { ">" } else { "≥" }, -l.constant())?,
+                (None, Some(u)) => write!(f, " {} {}", if u.is_strict() { "<" } else { "≤" }, u.constant())?,
                 (None, None) => unreachable!("a listed constraint has a bound"),
             }
         }
@@ -194,11 +172,7 @@ impl Serialize for Dbm {
         let mut st = s.serialize_struct("Dbm", 4)?;
         st.serialize_field("dim", &self.dim())?;
         st.serialize_field("empty", &self.is_empty())?;
-        let cs = if self.is_empty() {
-            Vec::new()
-        } else {
-            self.constraints()
-        };
+        let cs = if self.is_empty() { Vec::new() } else { self.constraints() };
         st.serialize_field("constraints", &cs)?;
         st.serialize_field("text", &self.to_string())?;
         st.end()

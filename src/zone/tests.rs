@@ -23,8 +23,7 @@ fn is_canonical(z: &Dbm) -> bool {
     }
     let n = z.dim();
     (0..n).all(|i| z.get(i, i) == Bound::LE_ZERO)
-        && (0..n)
-            .all(|i| (0..n).all(|j| (0..n).all(|k| z.get(i, j) <= z.get(i, k).add(z.get(k, j)))))
+        && (0..n).all(|i| (0..n).all(|j| (0..n).all(|k| z.get(i, j) <= z.get(i, k).add(z.get(k, j)))))
 }
 
 fn hash_of(z: &Dbm) -> u64 {
@@ -205,10 +204,7 @@ fn display_and_serialise() {
     z.constrain_interval(1, le(-2), le(4));
     z.constrain(2, 1, lt(3));
     assert_eq!(z.to_string(), "x1 ∈ [2,4] ∧ x2 - x1 < 3");
-    assert_eq!(
-        z.display_with(&["", "timer", "t2"]).to_string(),
-        "timer ∈ [2,4] ∧ t2 - timer < 3"
-    );
+    assert_eq!(z.display_with(&["", "timer", "t2"]).to_string(), "timer ∈ [2,4] ∧ t2 - timer < 3");
     let json = serde_json::to_value(&z).unwrap();
     assert_eq!(json["dim"], 3);
     assert_eq!(json["empty"], false);
@@ -259,8 +255,7 @@ fn op() -> impl Strategy<Value = Op> {
                 Op::Constrain(0, x, -c, s)
             }
         }),
-        (1..4usize, 1..4usize, -8..=8i32, any::<bool>())
-            .prop_map(|(i, j, c, s)| Op::Constrain(i, j, c, s)),
+        (1..4usize, 1..4usize, -8..=8i32, any::<bool>()).prop_map(|(i, j, c, s)| Op::Constrain(i, j, c, s)),
         Just(Op::Up),
         Just(Op::Up),
         (1..4usize).prop_map(Op::Reset),
@@ -269,11 +264,7 @@ fn op() -> impl Strategy<Value = Op> {
 }
 
 fn build(dim: usize, from_zero: bool, ops: &[Op]) -> Dbm {
-    let mut z = if from_zero {
-        Dbm::zero(dim)
-    } else {
-        Dbm::unconstrained(dim)
-    };
+    let mut z = if from_zero { Dbm::zero(dim) } else { Dbm::unconstrained(dim) };
     if dim == 1 {
         return z;
     }
@@ -281,10 +272,7 @@ fn build(dim: usize, from_zero: bool, ops: &[Op]) -> Dbm {
     for o in ops {
         match *o {
             Op::Constrain(i, j, c, s) => {
-                let (i, j) = (
-                    if i == 0 { 0 } else { clock(i) },
-                    if j == 0 { 0 } else { clock(j) },
-                );
+                let (i, j) = (if i == 0 { 0 } else { clock(i) }, if j == 0 { 0 } else { clock(j) });
                 if i != j {
                     z.constrain(i, j, Bound::new(c, s));
                 }
@@ -371,11 +359,7 @@ fn exists_value_for(z: &Dbm, v: &[i64], x: usize) -> bool {
             }
         }
     }
-    let all: Vec<i64> = cands
-        .iter()
-        .flat_map(|&e| [e - 1, e, e + 1])
-        .filter(|&s| s >= 0)
-        .collect();
+    let all: Vec<i64> = cands.iter().flat_map(|&e| [e - 1, e, e + 1]).filter(|&s| s >= 0).collect();
     all.into_iter().any(|s| {
         w[x] = s;
         z.contains_point(&w, 2 * DEN)
@@ -397,16 +381,12 @@ fn exists_delay_back(z: &Dbm, v: &[i64]) -> bool {
     }
     let min_v = w[1..].iter().copied().min().unwrap_or(0);
     let mut u = w.clone();
-    cands
-        .iter()
-        .flat_map(|&e| [e - 1, e, e + 1])
-        .filter(|&t| t >= 0 && t <= min_v)
-        .any(|t| {
-            for k in 1..n {
-                u[k] = w[k] - t;
-            }
-            z.contains_point(&u, 2 * DEN)
-        })
+    cands.iter().flat_map(|&e| [e - 1, e, e + 1]).filter(|&t| t >= 0 && t <= min_v).any(|t| {
+        for k in 1..n {
+            u[k] = w[k] - t;
+        }
+        z.contains_point(&u, 2 * DEN)
+    })
 }
 
 /// Some delay t ≥ 0 with `v + t` in `z`; endpoints `c_i0 - v_i` and
@@ -423,27 +403,17 @@ fn exists_delay_forward(z: &Dbm, v: &[i64]) -> bool {
         }
     }
     let mut u = w.clone();
-    cands
-        .iter()
-        .flat_map(|&e| [e - 1, e, e + 1])
-        .filter(|&t| t >= 0)
-        .any(|t| {
-            for k in 1..n {
-                u[k] = w[k] + t;
-            }
-            z.contains_point(&u, 2 * DEN)
-        })
+    cands.iter().flat_map(|&e| [e - 1, e, e + 1]).filter(|&t| t >= 0).any(|t| {
+        for k in 1..n {
+            u[k] = w[k] + t;
+        }
+        z.contains_point(&u, 2 * DEN)
+    })
 }
 
 fn random_matrix() -> impl Strategy<Value = (usize, Vec<Option<(i32, bool)>>)> {
     (1..=4usize).prop_flat_map(|d| {
-        (
-            Just(d),
-            prop::collection::vec(
-                prop::option::weighted(0.6, (-8..=8i32, any::<bool>())),
-                d * d,
-            ),
-        )
+        (Just(d), prop::collection::vec(prop::option::weighted(0.6, (-8..=8i32, any::<bool>())), d * d))
     })
 }
 
@@ -657,12 +627,7 @@ fn explore(extrapolate: impl Fn(&mut Dbm), cap: usize) -> Option<usize> {
     let edges: Vec<Edge> = vec![
         (0, 1, vec![(1, le(-1), Bound::INFINITY)], 1),
         (1, 1, vec![(1, le(-1), Bound::INFINITY)], 1),
-        (
-            1,
-            0,
-            vec![(2, le(-2), Bound::INFINITY), (1, Bound::LE_ZERO, le(3))],
-            2,
-        ),
+        (1, 0, vec![(2, le(-2), Bound::INFINITY), (1, Bound::LE_ZERO, le(3))], 2),
     ];
     let invariant = |loc: usize, z: &mut Dbm| loc != 1 || z.constrain(1, 0, le(5));
     let mut seen: HashSet<(usize, Dbm)> = HashSet::new();
@@ -681,10 +646,7 @@ fn explore(extrapolate: impl Fn(&mut Dbm), cap: usize) -> Option<usize> {
                 continue;
             }
             let mut s = z.clone();
-            if !guard
-                .iter()
-                .all(|&(x, lo, hi)| s.constrain_interval(x, lo, hi))
-            {
+            if !guard.iter().all(|&(x, lo, hi)| s.constrain_interval(x, lo, hi)) {
                 continue;
             }
             s.reset(*reset);
@@ -705,7 +667,6 @@ fn zone_graph_is_finite_with_extrapolation() {
     assert_eq!(explore(|_| {}, 500), None);
     let m = explore(|z| z.extrapolate_max(&[0, 5, 2]), 500).expect("finite with Extra_M");
     assert!(m <= 20, "{m} zones");
-    let lu =
-        explore(|z| z.extrapolate_lu(&[0, 1, 2], &[0, 5, -1]), 500).expect("finite with Extra_LU+");
+    let lu = explore(|z| z.extrapolate_lu(&[0, 1, 2], &[0, 5, -1]), 500).expect("finite with Extra_LU+");
     assert!(lu <= m, "LU+ {lu} vs M {m}");
 }
