@@ -414,7 +414,7 @@ fn long_and_or_chains_are_flat() {
 #[test]
 fn render_of_an_error_at_the_end_of_a_file_ending_in_cr() {
     let src = "dependencies\r";
-    let d = compile(src).err().expect("an error");
+    let d = compile(src).expect_err("an error");
     let text = render_plain("a.tga", src, &d);
     assert!(text.contains("a.tga:1:"), "{text}");
 }
