@@ -4,19 +4,32 @@
 CARGO ?= cargo
 PORT ?= 8080
 
-.PHONY: test test-native test-wasm test-browser serve web web-setup browser-setup checkers
+.PHONY: test test-long lint test-native test-wasm test-browser serve web web-setup browser-setup checkers
 
-## Run every test: native (against the independent checkers), wasm-bindgen-test (in Node) and
-## the browser tests (in Chromium).
-test: test-native test-wasm test-browser
+# The tests build with the `test-opt` profile (Cargo.toml): optimised, no fat LTO, overflow
+# checks on. Release builds (LTO) are for `make serve`, benchmarks and users.
+TEST_PROFILE ?= test-opt
+
+## Run every test: formatting and lints, native (against the independent checkers),
+## wasm-bindgen-test (in Node) and the browser tests (in Chromium).
+test: lint test-native test-wasm test-browser
+
+## The same with the random and property runs ten times bigger (minutes more).
+test-long:
+	PLCSYNTH_RANDOM_SPECS=4000 PROPTEST_CASES=4096 $(MAKE) test
+
+## rustfmt and clippy, warnings as errors (the wasm boundary is linted in test-wasm).
+lint:
+	$(CARGO) fmt --check
+	$(CARGO) clippy --all-targets --profile $(TEST_PROFILE) -- -D warnings
 
 ## Independent checkers (libFAUDES, blark, awlsim in .venv; xmllint from Debian).
 checkers:
 	bash scripts/python-checkers.sh
 
 test-native: checkers
-	$(CARGO) test --all-targets --release
-	$(CARGO) test --doc --release
+	$(CARGO) test --all-targets --profile $(TEST_PROFILE)
+	$(CARGO) test --doc --profile $(TEST_PROFILE)
 
 ## Install what the playground needs (wasm32 target, wasm-bindgen-cli, npm packages).
 web-setup:
@@ -36,6 +49,7 @@ serve: web
 
 ## The wasm boundary, tested with wasm-bindgen-test in Node.
 test-wasm: web-setup
+	$(CARGO) clippy --lib --target wasm32-unknown-unknown --no-default-features -- -D warnings
 	$(CARGO) test --target wasm32-unknown-unknown --no-default-features --test wasm_api
 
 ## The page in headless Chromium (playwright-core); screenshots go to target/screenshots.

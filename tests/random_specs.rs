@@ -104,32 +104,56 @@ fn spec(seed: u64) -> String {
     out
 }
 
+/// How many random specifications to check: 400 in `make test`, more in `make test-long`
+/// (`PLCSYNTH_RANDOM_SPECS=4000`).
+fn spec_count() -> u64 {
+    std::env::var("PLCSYNTH_RANDOM_SPECS").ok().and_then(|v| v.parse().ok()).unwrap_or(400)
+}
+
+/// Checks one seed; returns (compiled, realizable).
+fn check_seed(seed: u64) -> (bool, bool) {
+    let source = spec(seed);
+    let Ok((game, _)) = compile(&source) else { return (false, false) };
+    let s = synthesize(&game, &SolveOptions { max_states: 50_000, ..SolveOptions::default() }, &mut |_| true);
+    if s.solution.verdict != Verdict::Realizable {
+        return (true, false);
+    }
+    let p = program::controller(&game, &s).expect("a realizable game has a program");
+    let observable = Context::from_game(&game).observable;
+    for run in 0..20u64 {
+        let report = simulate::run(&game, &p, &observable, seed * 1000 + run, 150);
+        assert!(
+            report.failure.is_none(),
+            "seed {seed}, run {run}: {:?}\nspec:\n{source}\nprogram:\n{}\ntrace:\n{}",
+            report.failure,
+            p.render(&game),
+            report.trace.join("\n")
+        );
+    }
+    (true, true)
+}
+
 #[test]
 fn realizable_random_specs_yield_programs_that_keep_the_plant_safe() {
-    let mut realizable = 0;
-    let mut checked = 0;
-    for seed in 0..400u64 {
-        let source = spec(seed);
-        let Ok((game, _)) = compile(&source) else { continue };
-        checked += 1;
-        let s = synthesize(&game, &SolveOptions { max_states: 50_000, ..SolveOptions::default() }, &mut |_| true);
-        if s.solution.verdict != Verdict::Realizable {
-            continue;
-        }
-        realizable += 1;
-        let p = program::controller(&game, &s).expect("a realizable game has a program");
-        let observable = Context::from_game(&game).observable;
-        for run in 0..20u64 {
-            let report = simulate::run(&game, &p, &observable, seed * 1000 + run, 150);
-            assert!(
-                report.failure.is_none(),
-                "seed {seed}, run {run}: {:?}\nspec:\n{source}\nprogram:\n{}\ntrace:\n{}",
-                report.failure,
-                p.render(&game),
-                report.trace.join("\n")
-            );
-        }
-    }
-    assert!(checked > 300, "only {checked} random specs compiled");
-    assert!(realizable > 40, "only {realizable} of {checked} random specs were realizable");
+    let count = spec_count();
+    // Seeds are independent: one thread per core, each taking every `threads`-th seed.
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()) as u64;
+    let (checked, realizable) = std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads)
+            .map(|t| {
+                scope.spawn(move || {
+                    (t..count)
+                        .step_by(threads as usize)
+                        .map(check_seed)
+                        .fold((0, 0), |(c, r), (cc, rr)| (c + cc as u64, r + rr as u64))
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .map(|w| w.join().expect("a failed seed panics with its report"))
+            .fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+    });
+    assert!(checked * 4 > count * 3, "only {checked} of {count} random specs compiled");
+    assert!(realizable * 10 > checked, "only {realizable} of {checked} random specs were realizable");
 }
