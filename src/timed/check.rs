@@ -759,10 +759,73 @@ impl Checker<'_, '_> {
                     continue;
                 }
             };
-            self.game.io.push(IoBinding { message, mode, target: e.target.clone() });
+            let target = match &e.target {
+                ast::IoTarget::Address { text, span } => match self.bit_address(text, *span) {
+                    Some(text) => ast::IoTarget::Address { text, span: *span },
+                    None => continue,
+                },
+                symbol => symbol.clone(),
+            };
+            self.game.io.push(IoBinding { message, mode, target });
         }
     }
+
+    /// Validates a direct address (the lexer guarantees `[IQM][XBWDL]?digits[.digits]`, without
+    /// the `%`) and returns it without leading zeros. Every io signal is one BOOL, so it must be
+    /// a bit address: byte 0 to [`MAX_ADDRESS_BYTE`], bit 0 to 7. Errors point at the offending part.
+    fn bit_address(&mut self, text: &str, span: Span) -> Option<String> {
+        let (area, rest) = text.split_at(1);
+        let size = rest.chars().next().filter(|c| c.is_ascii_alphabetic());
+        let numbers = &rest[size.map_or(0, |c| c.len_utf8())..];
+        let (byte, bit) = match numbers.split_once('.') {
+            Some((byte, bit)) => (byte, Some(bit)),
+            None => (numbers, None),
+        };
+        // Offsets of the parts in the source: `%`, area, optional size letter, then the numbers.
+        let byte_start = span.start as usize + 2 + size.map_or(0, |_| 1);
+        let byte_span = Span::new(byte_start, byte_start + byte.len());
+        if let Some(size @ ('B' | 'W' | 'D' | 'L')) = size {
+            let width = match size {
+                'B' => "a byte",
+                'W' => "a word",
+                'D' => "a double word",
+                _ => "a long word",
+            };
+            self.diags
+                .error(span, format!("`%{text}` is {width} address, but an io signal is one bit (BOOL)"))
+                .with_note(format!("use a bit address such as `%{area}X{byte}.0`"));
+            return None;
+        }
+        let Some(bit) = bit else {
+            self.diags
+                .error(span, format!("`%{text}` has no bit number"))
+                .with_note(format!("an io signal is one bit: write `%{text}.0` … `%{text}.7`"));
+            return None;
+        };
+        let byte_value = byte.parse::<u32>().ok().filter(|&b| b <= MAX_ADDRESS_BYTE);
+        if byte_value.is_none() {
+            self.diags
+                .error(byte_span, format!("byte number {byte} is out of range in `%{text}`"))
+                .with_note(format!("byte numbers of io addresses go from 0 to {MAX_ADDRESS_BYTE}"));
+        }
+        let bit_value = bit.parse::<u32>().ok().filter(|&b| b <= 7);
+        if bit_value.is_none() {
+            let bit_start = byte_span.end as usize + 1;
+            self.diags
+                .error(
+                    Span::new(bit_start, bit_start + bit.len()),
+                    format!("bit number {bit} is out of range in `%{text}`"),
+                )
+                .with_note("a byte has bits 0 to 7");
+        }
+        let (Some(byte), Some(bit)) = (byte_value, bit_value) else { return None };
+        Some(format!("{area}{}{byte}.{bit}", size.map_or(String::new(), String::from)))
+    }
 }
+
+/// Largest byte number of an io address: a 16-bit byte offset, the widest I/O and marker area
+/// of the supported PLC families (a given PLC's configuration may allow fewer).
+pub const MAX_ADDRESS_BYTE: u32 = 65_535;
 
 /// The candidate closest to `name` by edit distance, if it is close enough to be a typo.
 fn closest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Option<&'a str> {
