@@ -48,7 +48,8 @@ pub const MAX_CLOCKS: usize = 63;
 fn empty_game() -> Game {
     Game {
         timeunit_ms: 1000,
-        clocks: vec![Clock { name: "0".into(), owner: ClockOwner::Reference }],
+        timeunit_span: None,
+        clocks: vec![Clock { name: "0".into(), owner: ClockOwner::Reference, span: Span::default() }],
         messages: Vec::new(),
         components: Vec::new(),
         plans: Vec::new(),
@@ -82,6 +83,7 @@ impl Checker<'_, '_> {
     fn timeunit(&mut self, spec: &ast::Spec) {
         if let Some(first) = spec.timeunit.first() {
             self.game.timeunit_ms = first.millis.max(1);
+            self.game.timeunit_span = Some(first.span);
         }
         for extra in spec.timeunit.iter().skip(1) {
             let first = self.where_(spec.timeunit[0].span);
@@ -128,8 +130,8 @@ impl Checker<'_, '_> {
         self.record_message_uses(uses);
     }
 
-    fn new_clock(&mut self, name: String, owner: ClockOwner) -> ClockId {
-        self.game.clocks.push(Clock { name, owner });
+    fn new_clock(&mut self, name: String, owner: ClockOwner, span: Span) -> ClockId {
+        self.game.clocks.push(Clock { name, owner, span });
         (self.game.clocks.len() - 1) as ClockId
     }
 
@@ -142,7 +144,7 @@ impl Checker<'_, '_> {
                 self.diags.error(c.span, format!("clock `{}` is declared twice in `{unit}`", c.name));
                 continue;
             }
-            let id = self.new_clock(format!("{unit}.{}", c.name), ClockOwner::Component(comp));
+            let id = self.new_clock(format!("{unit}.{}", c.name), ClockOwner::Component(comp), c.span);
             clock_ids.insert(&c.name, id);
             clocks.push(id);
         }
@@ -267,7 +269,7 @@ impl Checker<'_, '_> {
                 .error(name.span, format!("{kind_word} `{unit}` declares no states"))
                 .with_note("add `states a, b;`");
         }
-        let clock = self.new_clock(format!("{unit}.moving"), ClockOwner::Component(comp));
+        let clock = self.new_clock(format!("{unit}.moving"), ClockOwner::Component(comp), name.span);
         let mut edges = Vec::new();
         let mut seen: HashMap<(LocId, LocId), Span> = HashMap::new();
         for m in moves {
@@ -566,7 +568,7 @@ impl Checker<'_, '_> {
                 self.diags.error(c.name.span, format!("timeout clock `{}` is declared twice", c.name.name));
                 continue;
             }
-            let id = self.new_clock(format!("{name}.{}", c.name.name), ClockOwner::Plan(index as u32));
+            let id = self.new_clock(format!("{name}.{}", c.name.name), ClockOwner::Plan(index as u32), c.span);
             clock_ids.insert(&c.name.name, id);
             clocks.push((id, c.bound));
         }
