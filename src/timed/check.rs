@@ -825,8 +825,8 @@ impl Checker<'_, '_> {
     }
 }
 
-/// Largest byte number of an io address: a 16-bit byte offset, the widest I/O and marker area
-/// of the supported PLC families (a given PLC's configuration may allow fewer).
+/// Largest byte number of an io address: a 16-bit byte offset. IEC 61131-3 leaves the range to
+/// the PLC; a given PLC's configuration may allow fewer (an S7-1500 has 32 KB of inputs).
 pub const MAX_ADDRESS_BYTE: u32 = 65_535;
 
 /// The candidate closest to `name` by edit distance, if it is close enough to be a typo.
