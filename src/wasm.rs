@@ -365,6 +365,7 @@ impl Session {
 
     /// The controller as code for `target` (an id from `targets()`), the function block named
     /// after `name`: `{ target, extension, code }`, or `null` when the game is not realizable.
+    /// Throws `{ ok: false, diagnostics }` when a time constant does not fit the target.
     pub fn code(&self, target: &str, name: &str) -> Result<JsValue, JsValue> {
         let Some(program) = self.controller()? else { return Ok(JsValue::NULL) };
         let generated = if target == "program" {
@@ -374,11 +375,11 @@ impl Session {
                 .into_iter()
                 .find(|t| t.name() == target)
                 .ok_or_else(|| JsValue::from_str(&format!("unknown target {target}")))?;
-            GeneratedCode {
-                target: target.to_string(),
-                extension: t.extension(),
-                code: plc::generate(&self.game, program, t, name, &self.source),
-            }
+            let code = match plc::generate(&self.game, program, t, name, &self.source) {
+                Ok(code) => code,
+                Err(errors) => return Err(to_js(&CheckResult { ok: false, diagnostics: &errors })?),
+            };
+            GeneratedCode { target: target.to_string(), extension: t.extension(), code }
         };
         to_js(&generated)
     }

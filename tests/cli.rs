@@ -96,3 +96,64 @@ fn compile_writes_every_target_and_refuses_unrealizable_specs() {
     assert!(err.contains("unrealizable; nothing written") && err.contains("!press"), "{err}");
     assert!(!file.exists());
 }
+
+#[test]
+fn compile_refuses_time_constants_and_addresses_the_target_cannot_hold() {
+    let dir = std::env::temp_dir().join(format!("plcsynth-limits-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let spec = |timeunit: &str, bound: u32, io: &str| {
+        format!(
+            "timeunit {timeunit};\nplant {{\n  automaton A {{ clocks x; nodes a, b;\n    \
+             a -> b ?go {{ x in [{bound},inf) }} reset {{ x }}; b -> a ?back; }}\n}}\n\
+             plans {{ plan {{ waitfor go; waitfor back; }} }}\n{io}"
+        )
+    };
+    let write = |name: &str, text: &str| {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        path.to_str().unwrap().to_string()
+    };
+    // Issue 9, section 2: a product beyond 2^64 used to print its remainder.
+    let wrap = write("wrap.tga", &spec("16777216 h", 16_777_215, ""));
+    for target in ["st", "il", "scl"] {
+        let out_file = dir.join(format!("wrap.{target}"));
+        let (code, out, err) = plcsynth(&["compile", &wrap, "--target", target, "-o", out_file.to_str().unwrap()]);
+        assert_eq!(code, 2, "{target}: {err}");
+        assert!(out.is_empty() && !out_file.exists(), "{target}: nothing is written");
+        assert!(
+            err.contains(&format!(
+                "wrap.tga:4:24: error: time constant 16777215 (1013309855760384000000 ms) exceeds {} TIME (at most \
+                 2147483647 ms = 24d20h31m23s647ms) for target {target}",
+                if target == "scl" { "S7" } else { "IEC" }
+            )),
+            "{err}"
+        );
+        assert!(
+            err.contains("4 |     a -> b ?go { x in [16777215,inf) }") && err.contains("(`timeunit` at 1:1)"),
+            "{err}"
+        );
+        assert!(!err.contains("T#17185675780068212736MS"), "{err}");
+    }
+    // 16777215 s does not fit a 32-bit TIME; 10000 s does, but not S5TIME.
+    let (code, _, err) = plcsynth(&["compile", &write("time.tga", &spec("1s", 16_777_215, "")), "--target", "st"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("time.tga:4:24: error: time constant 16777215 (16777215000 ms) exceeds IEC TIME"), "{err}");
+    let s5 = write("s5.tga", &spec("1s", 10_000, ""));
+    let (code, _, err) = plcsynth(&["compile", &s5, "--target", "stl"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("s5.tga:4:24: error: time constant 10000 (10000000 ms) exceeds S5TIME (at most 9990000 ms = 2h46m30s) for target stl"),
+        "{err}"
+    );
+    let (code, out, _) = plcsynth(&["compile", &s5, "--target", "st"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("ET >= T#10000000MS"), "{out}");
+    // io addresses are range-checked by every command.
+    let io = write("io.tga", &spec("1s", 1, "io { go = %QX99999999999999999999.9; }\n"));
+    for command in ["solve", "compile"] {
+        let (code, _, err) = plcsynth(&[command, &io]);
+        assert_eq!(code, 2, "{command}");
+        assert!(err.contains("io.tga:7:14: error: byte number 99999999999999999999 is out of range"), "{err}");
+        assert!(err.contains("io.tga:7:35: error: bit number 9 is out of range"), "{err}");
+    }
+}

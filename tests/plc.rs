@@ -24,7 +24,21 @@ fn generate(example: &str, target: Target) -> String {
     let (game, _) = compile(&source).unwrap();
     let s = synthesize(&game, &SolveOptions::default(), &mut |_| true);
     let p = program::controller(&game, &s).expect("realizable");
-    plc::generate(&game, &p, target, example, &source)
+    plc::generate(&game, &p, target, example, &source).expect("the examples' constants fit every target")
+}
+
+/// A controller that waits `bound` units of `timeunit` before its request on `output`, compiled
+/// for `target`.
+fn generate_waiting(timeunit: &str, bound: u32, output: &str, target: Target) -> String {
+    let source = format!(
+        "timeunit {timeunit};\nplant {{ automaton A {{ clocks x; nodes a, b;\n  \
+         a -> b ?go {{ x in [{bound},inf) }} reset {{ x }}; b -> a ?back; }} }}\n\
+         plans {{ plan {{ waitfor go; waitfor back; }} }}\nio {{ go = {output}; }}\n"
+    );
+    let (game, _) = compile(&source).unwrap();
+    let s = synthesize(&game, &SolveOptions::default(), &mut |_| true);
+    let p = program::controller(&game, &s).expect("realizable");
+    plc::generate(&game, &p, target, "waiting", &source).expect("the constant fits")
 }
 
 fn scratch(name: &str, text: &str) -> PathBuf {
@@ -177,4 +191,26 @@ fn timers_restart_where_the_program_resets_a_clock() {
     assert!(st.contains(": TON;"), "{st}");
     assert!(st.contains("(IN := FALSE"), "{st}");
     assert!(st.contains(".ET >="), "{st}");
+}
+
+#[test]
+fn the_largest_constants_of_each_target_pass_the_checkers() {
+    // IEC TIME: threshold 2147483392 ms, preset 2^31 − 128 ms; CODESYS TIME: preset 2^32 − 1 ms.
+    let st = generate_waiting("128ms", 16_777_214, "%Q65535.7", Target::St);
+    assert!(st.contains("PT := T#2147483520MS") && st.contains("%QX65535.7"), "{st}");
+    blark(&scratch("limit_st.st", &st));
+    let codesys = generate_waiting("257ms", 16_711_934, "%Q65535.7", Target::Codesys);
+    assert!(codesys.contains("PT := T#4294967295MS"), "{codesys}");
+    blark(&scratch("limit_codesys.st", &codesys));
+    let schema = root().join("../shared/schemas/tc6_xml_v201.xsd");
+    let xml = scratch("limit.xml", &generate_waiting("128ms", 16_777_214, "%Q65535.7", Target::Plcopen));
+    let (ok, out) = run(Command::new("xmllint").arg("--noout").arg("--schema").arg(&schema).arg(&xml));
+    assert!(ok, "{out}");
+    // S5TIME: 999 × 10 s; awlsim loads the literal and runs the block (its process image is
+    // smaller than 64 KB, hence a low output byte).
+    let stl = generate_waiting("10s", 999, "%Q12.7", Target::Stl);
+    assert!(stl.contains("L\tS5T#2H46M30S") && stl.contains("Q 12.7"), "{stl}");
+    let path = scratch("limit.awl", &stl);
+    let (ok, out) = run(Command::new(venv_tool("python")).arg(root().join("tests/checkers/awl_run.py")).arg(&path));
+    assert!(ok, "awlsim fails:\n{out}\n{stl}");
 }

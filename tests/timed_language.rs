@@ -149,6 +149,26 @@ fn semantic_errors_are_located() {
     // io entry for an unknown message, and a double mapping.
     assert_error(&format!("{unit}{PLAN}io {{ aa = %I0.0; }}\n"), "aa =", "io entry for unknown message `aa`");
     assert_error(&format!("{unit}{PLAN}io {{ a = %Q0.0; a = %Q0.1; }}\n"), "a = %Q0.1", "`a` is mapped twice");
+    // io addresses: one bit, byte 0 to 65535, bit 0 to 7; errors point at the offending part.
+    let io = |entries: &str| format!("{unit}{PLAN}io {{ {entries} }}\n");
+    assert_error(
+        &io("a = %QX99999999999999999999.9;"),
+        "99999999999999999999",
+        "byte number 99999999999999999999 is out of range",
+    );
+    assert_error(&io("a = %QX99999999999999999999.9;"), "9;", "bit number 9 is out of range");
+    assert_error(&io("a = %Q65536.0;"), "65536", "byte number 65536 is out of range");
+    assert_error(&io("b = %IX3.8;"), "8;", "bit number 8 is out of range");
+    assert_error(&io("b = %I3.99999999999;"), "99999999999", "bit number 99999999999 is out of range");
+    assert_error(&io("a = %QW4;"), "%QW4", "`%QW4` is a word address, but an io signal is one bit");
+    assert_error(&io("b = %IB2;"), "%IB2", "`%IB2` is a byte address");
+    assert_error(&io("b = %MD8;"), "%MD8", "`%MD8` is a double word address");
+    assert_error(&io("b = %IL8;"), "%IL8", "`%IL8` is a long word address");
+    assert_error(&io("b = %IX7;"), "%IX7", "`%IX7` has no bit number");
+    assert_error(&io("b = %I7;"), "%I7", "`%I7` has no bit number");
+    for fine in ["a = %Q65535.7; b = %I0.0;", "a = %QX0.0; b = %MX65535.7;", "a = set %M1.2; b = not %IX0.0;"] {
+        assert_eq!(errors(&io(fine)), Vec::<String>::new(), "{fine}");
+    }
     // Hardware: unknown state, missing duration; operator with a duration.
     assert_error("plant { hardware H { states a, b; a -> c takes [1,2]; } }\n", "c takes", "unknown state `c` in `H`");
     assert_error("plant { hardware H { states a, b; a -> b; } }\n", "a -> b;", "a hardware move needs its duration");

@@ -230,6 +230,21 @@ fn code_for_every_target_of_a_realizable_spec() {
 }
 
 #[wasm_bindgen_test]
+fn a_constant_beyond_the_target_throws_located_diagnostics() {
+    // 10 000 s is beyond S5TIME (2h46m30s) but within IEC TIME.
+    let src = "timeunit 10s;\nplant { automaton A { clocks x; nodes a, b;\n  a -> b ?go { x in [1000,inf) } reset { x }; b -> a ?back; } }\nplans { plan { waitfor go; waitfor back; } }\n";
+    let (s, _) = solved(src);
+    assert!(string(&s.code("st", "a").unwrap(), "code").contains("T#10000000MS"));
+    let thrown = s.code("stl", "a").expect_err("S5TIME cannot hold 10 000 s");
+    assert_eq!(get(&thrown, "ok"), JsValue::FALSE);
+    let diagnostics = array(&get(&thrown, "diagnostics"));
+    assert_eq!(diagnostics.length(), 1);
+    let d = diagnostics.get(0);
+    assert_eq!((num(&d, "line"), num(&d, "column")), (3.0, 22.0));
+    assert!(string(&d, "message").contains("exceeds S5TIME"), "{:?}", string(&d, "message"));
+}
+
+#[wasm_bindgen_test]
 fn no_code_without_a_controller() {
     let (s, _) = solved(LAMP_NAIVE);
     assert!(s.program().unwrap().is_none());

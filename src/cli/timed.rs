@@ -88,7 +88,8 @@ pub fn solve(file: &str, json: bool, max_states: Option<usize>, dump_states: boo
 }
 
 /// `plcsynth compile FILE --target T`: the intermediate program (`target` = None) or PLC code.
-/// Unrealizable specifications exit 1 with the explanation and write nothing.
+/// Unrealizable specifications exit 1 with the explanation and write nothing; a time constant
+/// the target cannot hold exits 2 with a located diagnostic and writes nothing.
 pub fn compile(file: &str, target: Option<plcsynth::plc::Target>, out: Option<&str>) -> ExitCode {
     let (source, game) = match load(file) {
         Ok(ok) => ok,
@@ -113,7 +114,15 @@ pub fn compile(file: &str, target: Option<plcsynth::plc::Target>, out: Option<&s
     let name = std::path::Path::new(file).file_stem().and_then(|s| s.to_str()).unwrap_or("controller");
     let text = match target {
         None => program.render(&game),
-        Some(t) => plcsynth::plc::generate(&game, &program, t, name, &source),
+        Some(t) => match plcsynth::plc::generate(&game, &program, t, name, &source) {
+            Ok(text) => text,
+            // A constant the target cannot hold is an input error, located in the spec.
+            Err(diags) => {
+                eprint!("{}", render_plain(file, &source, &diags));
+                eprintln!("{file}: nothing written");
+                return ExitCode::from(2);
+            }
+        },
     };
     match out {
         Some(path) => {

@@ -16,8 +16,10 @@ pub mod plcopen;
 pub mod st;
 pub mod stl;
 
+use crate::diag::{Diagnostic, Diagnostics, Span};
 use crate::program::{Condition, Instruction, Program};
 use crate::timed::ast::{IoMode, IoTarget};
+use crate::timed::lexer::{tokenize, Tok};
 use crate::timed::model::{ClockId, Game, MsgId};
 use serde::Serialize;
 
@@ -63,6 +65,74 @@ impl Target {
             Target::Plcopen => "plcopen",
         }
     }
+
+    /// The type in which this target writes delay thresholds and timer presets, and so the
+    /// limits of its constants.
+    pub fn time_type(self) -> TimeType {
+        match self {
+            // IEC 61131-3 leaves TIME's range to the implementation; 32-bit signed milliseconds
+            // is the common one (and S7-1200/1500's TIME). PLCopen XML carries the IEC text.
+            Target::St | Target::Il | Target::Plcopen => TimeType::Millis { name: "IEC TIME", max_ms: i32::MAX as u64 },
+            Target::Scl => TimeType::Millis { name: "S7 TIME", max_ms: i32::MAX as u64 },
+            // CODESYS and TwinCAT document TIME as an unsigned 32-bit count of milliseconds.
+            Target::Codesys => TimeType::Millis { name: "CODESYS/TwinCAT TIME", max_ms: u32::MAX as u64 },
+            Target::Stl => TimeType::S5Time,
+        }
+    }
+}
+
+/// How a target writes durations: the one place that knows the limits of each target's timers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TimeType {
+    /// `T#…MS`, a millisecond count of at most `max_ms`. A clock is one `TON` whose preset lies
+    /// one time unit above its largest threshold, so that `ET > threshold` can become true.
+    Millis { name: &'static str, max_ms: u64 },
+    /// S7 `S5TIME` (`S5T#…`): three decimal digits times a base of 10 ms, 100 ms, 1 s or 10 s,
+    /// so at most 2h46m30s. One S7 timer per threshold, preset to the threshold itself.
+    S5Time,
+}
+
+/// The bases of S5TIME, in milliseconds, finest first.
+const S5TIME_BASES_MS: [u128; 4] = [10, 100, 1000, 10_000];
+/// The largest S5TIME: 999 × 10 s.
+pub const S5TIME_MAX_MS: u64 = 9_990_000;
+
+impl TimeType {
+    /// Why `ms` cannot be written exactly (`None` if it can): a clause after "time constant …"
+    /// and notes.
+    fn refusal(self, ms: u128) -> Option<(String, Vec<String>)> {
+        match self {
+            TimeType::Millis { name, max_ms } => (ms > u128::from(max_ms))
+                .then(|| (format!("exceeds {name} (at most {max_ms} ms = {})", human_duration(max_ms)), Vec::new())),
+            TimeType::S5Time if ms > u128::from(S5TIME_MAX_MS) => Some((
+                format!("exceeds S5TIME (at most {S5TIME_MAX_MS} ms = {})", human_duration(S5TIME_MAX_MS)),
+                Vec::new(),
+            )),
+            TimeType::S5Time => {
+                // The finest base that reaches `ms`: the one an assembler chooses (awlsim then
+                // truncates to it).
+                let base = S5TIME_BASES_MS.into_iter().find(|b| ms <= 999 * b).unwrap_or(10_000);
+                (ms % base != 0).then(|| {
+                    (
+                        "is not exactly representable in S5TIME".to_string(),
+                        vec![format!(
+                            "S5TIME holds 3 decimal digits in steps of 10 ms, 100 ms, 1 s or 10 s; in steps of {base} ms \
+                             it would become {} ms",
+                            ms / base * base
+                        )],
+                    )
+                })
+            }
+        }
+    }
+
+    /// The preset of the timer of a clock whose largest threshold is `largest_ms`.
+    fn preset_ms(self, largest_ms: u128, unit_ms: u128) -> u128 {
+        match self {
+            TimeType::Millis { .. } => largest_ms + unit_ms,
+            TimeType::S5Time => largest_ms,
+        }
+    }
 }
 
 /// An input signal: a physical input, a project symbol, or (without `io`) a BOOL input named
@@ -92,8 +162,8 @@ pub struct Output {
 pub struct Timer {
     pub clock: ClockId,
     pub ident: String,
-    /// Largest threshold compared, in milliseconds (the timer's preset is above it).
-    pub max_ms: u64,
+    /// The preset: above the largest threshold compared (see [`TimeType`]).
+    pub preset_ms: u64,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -140,8 +210,6 @@ pub struct Code {
     pub comments: Vec<String>,
     /// Timers restarted when each step takes effect.
     pub restarts: Vec<Vec<usize>>,
-    /// Milliseconds per clock unit.
-    pub timeunit_ms: u64,
 }
 
 impl Code {
@@ -267,8 +335,19 @@ fn binding_ident(target: &IoTarget) -> String {
     }
 }
 
-/// Builds the code model of `program`. `name` names the function block.
-pub fn build(game: &Game, program: &Program, name: &str, source: &str) -> Code {
+/// Builds the code model of `program` for `target`. `name` names the function block; `source`
+/// is the specification text of `game` (hashed into the header). A delay constant that the
+/// target's time type cannot hold exactly (see [`Target::time_type`]) is an error located at
+/// the constant in `source`; nothing is rounded or wrapped.
+pub fn build(
+    game: &Game,
+    program: &Program,
+    target: Target,
+    name: &str,
+    source: &str,
+) -> Result<Code, Vec<Diagnostic>> {
+    let mut diags = Diagnostics::new(source);
+    let time = target.time_type();
     let binding = |m: MsgId| game.io.iter().find(|b| b.message == m);
     let mut inputs: Vec<Input> = Vec::new();
     let mut outputs: Vec<Output> = Vec::new();
@@ -315,20 +394,26 @@ pub fn build(game: &Game, program: &Program, name: &str, source: &str) -> Code {
         }
         (index, effect)
     };
-    let unit = game.timeunit_ms;
-    let mut timer_of = |c: ClockId, ms: u64| -> usize {
-        let ident = format!("t_{}", identifier(&game.clocks[c as usize].name));
+    // Constants are at most 2^24 and a time unit at most 2^24 h (about 6·10^13 ms): their
+    // product is far within u128, so the check below sees the exact value.
+    let unit = u128::from(game.timeunit_ms);
+    // The largest threshold of each timer, in time units.
+    let mut largest: Vec<u32> = Vec::new();
+    let mut timer_of = |c: ClockId, units: u32| -> usize {
         match timers.iter().position(|t| t.clock == c) {
             Some(i) => {
-                timers[i].max_ms = timers[i].max_ms.max(ms);
+                largest[i] = largest[i].max(units);
                 i
             }
             None => {
-                timers.push(Timer { clock: c, ident, max_ms: ms });
+                let ident = format!("t_{}", identifier(&game.clocks[c as usize].name));
+                timers.push(Timer { clock: c, ident, preset_ms: 0 });
+                largest.push(units);
                 timers.len() - 1
             }
         }
     };
+    let mut refused: Vec<(ClockId, u32)> = Vec::new();
     let pos = program.positions();
     let mut test = |cond: &Condition| -> Test {
         match *cond {
@@ -337,8 +422,18 @@ pub fn build(game: &Game, program: &Program, name: &str, source: &str) -> Code {
                 Test::Input { input, negated }
             }
             Condition::Delay { clock, interval } => {
-                let ms = interval.lower as u64 * unit;
-                Test::Elapsed { timer: timer_of(clock, ms), ms, strict: !interval.lower_closed }
+                let ms = u128::from(interval.lower) * unit;
+                if let Some((why, notes)) = time.refusal(ms) {
+                    if !refused.contains(&(clock, interval.lower)) {
+                        refused.push((clock, interval.lower));
+                        let message =
+                            format!("time constant {} ({ms} ms) {why} for target {}", interval.lower, target.name());
+                        report(&mut diags, game, clock, interval.lower, message, notes);
+                    }
+                }
+                // Every accepted threshold fits in 32 bits; a refused one is never printed.
+                let ms = u64::try_from(ms).unwrap_or(u64::MAX);
+                Test::Elapsed { timer: timer_of(clock, interval.lower), ms, strict: !interval.lower_closed }
             }
         }
     };
@@ -368,6 +463,24 @@ pub fn build(game: &Game, program: &Program, name: &str, source: &str) -> Code {
         );
         restarts_by_clock.push(c.resets);
     }
+    for (timer, &units) in timers.iter_mut().zip(&largest) {
+        let threshold = u128::from(units) * unit;
+        let preset = time.preset_ms(threshold, unit);
+        if time.refusal(threshold).is_none() {
+            if let Some((why, notes)) = time.refusal(preset) {
+                let message = format!(
+                    "time constant {units} ({threshold} ms) needs a timer preset one time unit above it, \
+                     {preset} ms, which {why} for target {}",
+                    target.name()
+                );
+                report(&mut diags, game, timer.clock, units, message, notes);
+            }
+        }
+        timer.preset_ms = u64::try_from(preset).unwrap_or(u64::MAX);
+    }
+    if diags.has_errors() {
+        return Err(diags.items);
+    }
     // Timers are known only now; map each step's clock resets to timer indices.
     let restarts = restarts_by_clock
         .iter()
@@ -378,20 +491,92 @@ pub fn build(game: &Game, program: &Program, name: &str, source: &str) -> Code {
         format!("Specification hash (FNV-1a 64): {}", source_hash(source)),
         "Do not edit: change the specification and generate again.".to_string(),
     ];
-    Code { name: identifier(name), header, inputs, outputs, timers, steps, comments, restarts, timeunit_ms: unit }
+    Ok(Code { name: identifier(name), header, inputs, outputs, timers, steps, comments, restarts })
+}
+
+/// Reports a delay constant the target cannot hold: at the constant, with the time unit that
+/// scaled it.
+fn report(diags: &mut Diagnostics, game: &Game, clock: ClockId, units: u32, message: String, notes: Vec<String>) {
+    let unit_note = match game.timeunit_span {
+        Some(span) => {
+            let (line, column) = diags.line_col(span.start as usize);
+            format!("one time unit is {} ms (`timeunit` at {line}:{column})", game.timeunit_ms)
+        }
+        None => format!("one time unit is {} ms (the default, `timeunit 1s;`)", game.timeunit_ms),
+    };
+    let span = constant_span(game, diags.source(), clock, units);
+    let d = diags.error(span, message);
+    for note in notes {
+        d.with_note(note);
+    }
+    d.with_note(format!("clock `{}` is compared with it", game.clocks[clock as usize].name)).with_note(unit_note);
+}
+
+/// Where constant `value` of `clock` is written: the number in the first guard or invariant of
+/// the clock that has it as a bound, or the bound of a plan's timeout clock. Falls back to the
+/// whole interval (an operator's implicit `(0,1)` is not written) or the clock's declaration.
+fn constant_span(game: &Game, source: &str, clock: ClockId, value: u32) -> Span {
+    // The numbers written in `span`, in order, with their spans.
+    let numbers = |span: Span| -> Vec<(u32, Span)> {
+        let Some(text) = source.get(span.range()) else { return Vec::new() };
+        tokenize(text)
+            .into_iter()
+            .filter(|t| t.tok == Tok::Int)
+            .filter_map(|t| {
+                let value = text[t.span.range()].parse().ok()?;
+                Some((value, Span::new((span.start + t.span.start) as usize, (span.start + t.span.end) as usize)))
+            })
+            .collect()
+    };
+    let intervals = game
+        .components
+        .iter()
+        .flat_map(|a| a.locations.iter().flat_map(|l| &l.invariant).chain(a.edges.iter().flat_map(|e| &e.guard)));
+    for ci in intervals.filter(|ci| ci.clock == clock) {
+        let interval = ci.interval;
+        if interval.lower == value || interval.upper == Some(value) {
+            return numbers(interval.span).into_iter().find(|&(v, _)| v == value).map_or(interval.span, |(_, s)| s);
+        }
+    }
+    let declared = game.clocks[clock as usize].span;
+    // A plan's timeout clock is declared as `name bound`.
+    numbers(declared).into_iter().rfind(|&(v, _)| v == value).map_or(declared, |(_, s)| s)
 }
 
 /// Generates the code of `program` for `target`. `name` names the function block, `source` is
-/// the specification text (hashed into the header).
-pub fn generate(game: &Game, program: &Program, target: Target, name: &str, source: &str) -> String {
-    let code = build(game, program, name, source);
-    match target {
+/// the specification text (hashed into the header, and the place diagnostics point into).
+pub fn generate(
+    game: &Game,
+    program: &Program,
+    target: Target,
+    name: &str,
+    source: &str,
+) -> Result<String, Vec<Diagnostic>> {
+    let code = build(game, program, target, name, source)?;
+    Ok(match target {
         Target::St => st::print(&code, st::Dialect::Iec),
         Target::Codesys => st::print(&code, st::Dialect::Codesys),
         Target::Scl => st::print(&code, st::Dialect::Scl),
         Target::Il => il::print(&code),
         Target::Stl => stl::print(&code),
         Target::Plcopen => plcopen::print(&code),
+    })
+}
+
+/// A duration for people: `24d20h31m23s647ms`, `2h46m30s`, `0ms`.
+fn human_duration(ms: u64) -> String {
+    let parts = [
+        (ms / 86_400_000, "d"),
+        (ms / 3_600_000 % 24, "h"),
+        (ms / 60_000 % 60, "m"),
+        (ms / 1000 % 60, "s"),
+        (ms % 1000, "ms"),
+    ];
+    let text: String = parts.iter().filter(|(v, _)| *v > 0).map(|(v, u)| format!("{v}{u}")).collect();
+    if text.is_empty() {
+        "0ms".to_string()
+    } else {
+        text
     }
 }
 
@@ -427,5 +612,55 @@ pub fn siemens_address(text: &str) -> String {
 
 /// The preset of a timer: above its largest threshold, so every comparison can still become true.
 pub fn preset_literal(code: &Code, timer: usize) -> String {
-    time_literal(code.timers[timer].max_ms + code.timeunit_ms)
+    time_literal(code.timers[timer].preset_ms)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn s5time_holds_three_digits_in_one_of_four_steps() {
+        let holds = |ms: u128| TimeType::S5Time.refusal(ms).is_none();
+        for ms in [0, 10, 9990, 10_000, 99_900, 100_000, 999_000, 1_000_000, 9_990_000] {
+            assert!(holds(ms), "{ms}");
+        }
+        for ms in [1, 5, 9995, 10_010, 99_950, 100_100, 999_100, 1_000_100, 9_990_010, 10_000_000] {
+            assert!(!holds(ms), "{ms}");
+        }
+    }
+
+    #[test]
+    fn millisecond_types_hold_up_to_their_maximum() {
+        let time = Target::St.time_type();
+        assert!(time.refusal(2_147_483_647).is_none());
+        assert!(time.refusal(2_147_483_648).is_some());
+        assert_eq!(human_duration(2_147_483_647), "24d20h31m23s647ms");
+        assert_eq!(human_duration(S5TIME_MAX_MS), "2h46m30s");
+        assert_eq!(human_duration(0), "0ms");
+    }
+
+    /// The text at each span [`constant_span`] finds for `(clock, value)`.
+    fn located(source: &str, clock: &str, value: u32) -> String {
+        let (game, _) = crate::timed::compile(source).expect("a valid specification");
+        let id = game.clocks.iter().position(|c| c.name == clock).expect("the clock") as ClockId;
+        let span = constant_span(&game, source, id, value);
+        let (line, column) = Diagnostics::new(source).line_col(span.start as usize);
+        format!("{line}:{column} {}", &source[span.range()])
+    }
+
+    #[test]
+    fn constants_are_found_where_they_are_written() {
+        let source = "plant {\n  hardware H { states a, b; a -> b takes [2, /* up to */ 4]; }\n  \
+                      operator O { states p, q; p -> q; }\n  \
+                      automaton A { clocks x; nodes u { x in [0,0030] }, v; u -> v ?go { x in (7,inf) }; v -> u ?back; }\n}\n\
+                      plans { plan { clocks t 4000; waitfor go; } }\n";
+        assert_eq!(located(source, "H.moving", 2), "2:43 2");
+        assert_eq!(located(source, "H.moving", 4), "2:58 4");
+        assert_eq!(located(source, "A.x", 30), "4:45 0030");
+        assert_eq!(located(source, "A.x", 7), "4:76 7");
+        assert_eq!(located(source, "plan1.t", 4000), "6:25 4000");
+        // An operator's reaction within (0,1) is not written: the move is.
+        assert_eq!(located(source, "O.moving", 1), "3:29 p -> q;");
+    }
 }

@@ -48,7 +48,8 @@ pub const MAX_CLOCKS: usize = 63;
 fn empty_game() -> Game {
     Game {
         timeunit_ms: 1000,
-        clocks: vec![Clock { name: "0".into(), owner: ClockOwner::Reference }],
+        timeunit_span: None,
+        clocks: vec![Clock { name: "0".into(), owner: ClockOwner::Reference, span: Span::default() }],
         messages: Vec::new(),
         components: Vec::new(),
         plans: Vec::new(),
@@ -82,6 +83,7 @@ impl Checker<'_, '_> {
     fn timeunit(&mut self, spec: &ast::Spec) {
         if let Some(first) = spec.timeunit.first() {
             self.game.timeunit_ms = first.millis.max(1);
+            self.game.timeunit_span = Some(first.span);
         }
         for extra in spec.timeunit.iter().skip(1) {
             let first = self.where_(spec.timeunit[0].span);
@@ -128,8 +130,8 @@ impl Checker<'_, '_> {
         self.record_message_uses(uses);
     }
 
-    fn new_clock(&mut self, name: String, owner: ClockOwner) -> ClockId {
-        self.game.clocks.push(Clock { name, owner });
+    fn new_clock(&mut self, name: String, owner: ClockOwner, span: Span) -> ClockId {
+        self.game.clocks.push(Clock { name, owner, span });
         (self.game.clocks.len() - 1) as ClockId
     }
 
@@ -142,7 +144,7 @@ impl Checker<'_, '_> {
                 self.diags.error(c.span, format!("clock `{}` is declared twice in `{unit}`", c.name));
                 continue;
             }
-            let id = self.new_clock(format!("{unit}.{}", c.name), ClockOwner::Component(comp));
+            let id = self.new_clock(format!("{unit}.{}", c.name), ClockOwner::Component(comp), c.span);
             clock_ids.insert(&c.name, id);
             clocks.push(id);
         }
@@ -267,7 +269,7 @@ impl Checker<'_, '_> {
                 .error(name.span, format!("{kind_word} `{unit}` declares no states"))
                 .with_note("add `states a, b;`");
         }
-        let clock = self.new_clock(format!("{unit}.moving"), ClockOwner::Component(comp));
+        let clock = self.new_clock(format!("{unit}.moving"), ClockOwner::Component(comp), name.span);
         let mut edges = Vec::new();
         let mut seen: HashMap<(LocId, LocId), Span> = HashMap::new();
         for m in moves {
@@ -566,7 +568,7 @@ impl Checker<'_, '_> {
                 self.diags.error(c.name.span, format!("timeout clock `{}` is declared twice", c.name.name));
                 continue;
             }
-            let id = self.new_clock(format!("{name}.{}", c.name.name), ClockOwner::Plan(index as u32));
+            let id = self.new_clock(format!("{name}.{}", c.name.name), ClockOwner::Plan(index as u32), c.span);
             clock_ids.insert(&c.name.name, id);
             clocks.push((id, c.bound));
         }
@@ -759,10 +761,73 @@ impl Checker<'_, '_> {
                     continue;
                 }
             };
-            self.game.io.push(IoBinding { message, mode, target: e.target.clone() });
+            let target = match &e.target {
+                ast::IoTarget::Address { text, span } => match self.bit_address(text, *span) {
+                    Some(text) => ast::IoTarget::Address { text, span: *span },
+                    None => continue,
+                },
+                symbol => symbol.clone(),
+            };
+            self.game.io.push(IoBinding { message, mode, target });
         }
     }
+
+    /// Validates a direct address (the lexer guarantees `[IQM][XBWDL]?digits[.digits]`, without
+    /// the `%`) and returns it without leading zeros. Every io signal is one BOOL, so it must be
+    /// a bit address: byte 0 to [`MAX_ADDRESS_BYTE`], bit 0 to 7. Errors point at the offending part.
+    fn bit_address(&mut self, text: &str, span: Span) -> Option<String> {
+        let (area, rest) = text.split_at(1);
+        let size = rest.chars().next().filter(|c| c.is_ascii_alphabetic());
+        let numbers = &rest[size.map_or(0, |c| c.len_utf8())..];
+        let (byte, bit) = match numbers.split_once('.') {
+            Some((byte, bit)) => (byte, Some(bit)),
+            None => (numbers, None),
+        };
+        // Offsets of the parts in the source: `%`, area, optional size letter, then the numbers.
+        let byte_start = span.start as usize + 2 + size.map_or(0, |_| 1);
+        let byte_span = Span::new(byte_start, byte_start + byte.len());
+        if let Some(size @ ('B' | 'W' | 'D' | 'L')) = size {
+            let width = match size {
+                'B' => "a byte",
+                'W' => "a word",
+                'D' => "a double word",
+                _ => "a long word",
+            };
+            self.diags
+                .error(span, format!("`%{text}` is {width} address, but an io signal is one bit (BOOL)"))
+                .with_note(format!("use a bit address such as `%{area}X{byte}.0`"));
+            return None;
+        }
+        let Some(bit) = bit else {
+            self.diags
+                .error(span, format!("`%{text}` has no bit number"))
+                .with_note(format!("an io signal is one bit: write `%{text}.0` … `%{text}.7`"));
+            return None;
+        };
+        let byte_value = byte.parse::<u32>().ok().filter(|&b| b <= MAX_ADDRESS_BYTE);
+        if byte_value.is_none() {
+            self.diags
+                .error(byte_span, format!("byte number {byte} is out of range in `%{text}`"))
+                .with_note(format!("byte numbers of io addresses go from 0 to {MAX_ADDRESS_BYTE}"));
+        }
+        let bit_value = bit.parse::<u32>().ok().filter(|&b| b <= 7);
+        if bit_value.is_none() {
+            let bit_start = byte_span.end as usize + 1;
+            self.diags
+                .error(
+                    Span::new(bit_start, bit_start + bit.len()),
+                    format!("bit number {bit} is out of range in `%{text}`"),
+                )
+                .with_note("a byte has bits 0 to 7");
+        }
+        let (Some(byte), Some(bit)) = (byte_value, bit_value) else { return None };
+        Some(format!("{area}{}{byte}.{bit}", size.map_or(String::new(), String::from)))
+    }
 }
+
+/// Largest byte number of an io address: a 16-bit byte offset. IEC 61131-3 leaves the range to
+/// the PLC; a given PLC's configuration may allow fewer (an S7-1500 has 32 KB of inputs).
+pub const MAX_ADDRESS_BYTE: u32 = 65_535;
 
 /// The candidate closest to `name` by edit distance, if it is close enough to be a typo.
 fn closest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Option<&'a str> {

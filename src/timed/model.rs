@@ -19,6 +19,8 @@ pub type LocId = u32;
 pub struct Game {
     /// Milliseconds per clock time unit (`timeunit`, default 1 s).
     pub timeunit_ms: u64,
+    /// Where `timeunit` is declared (`None`: the default), for diagnostics of the code generator.
+    pub timeunit_span: Option<Span>,
     /// Index 0 is the reference clock of the zones; real clocks start at 1.
     pub clocks: Vec<Clock>,
     pub messages: Vec<Message>,
@@ -36,6 +38,9 @@ pub struct Clock {
     /// Qualified name: `unit.clock` or `plan1.timeout`.
     pub name: String,
     pub owner: ClockOwner,
+    /// Its declaration: the clock name, the unit of a hardware or operator clock, or a plan's
+    /// `name bound` (diagnostics of the code generator find the bound there).
+    pub span: Span,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]

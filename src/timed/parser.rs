@@ -317,7 +317,8 @@ impl Parser<'_, '_, '_> {
             self.diags.error(value_tok.span, "the time unit must be longer than zero");
         }
         self.expect(Tok::Semi, "`;` after the time unit")?;
-        self.spec.timeunit.push(TimeUnitDecl { millis: value as u64 * factor, span: self.span_from(start) });
+        // At most 2^24 h, about 6·10^13 ms: no overflow. Each PLC target checks its own limits.
+        self.spec.timeunit.push(TimeUnitDecl { millis: u64::from(value) * factor, span: self.span_from(start) });
         Ok(())
     }
 
@@ -781,7 +782,9 @@ impl Parser<'_, '_, '_> {
     }
 }
 
-/// Constants are bounded so that zone arithmetic cannot overflow.
+/// Constants are bounded so that zone arithmetic cannot overflow: the zones take constants and
+/// differences of two constants, which must stay within the packed bounds' `±2^28`.
 pub const MAX_CONSTANT: u32 = 1 << 24;
+const _: () = assert!(2 * MAX_CONSTANT as i64 <= crate::zone::Bound::MAX_CONSTANT as i64);
 
 const SECTION_WORDS: &[&str] = &["plant", "assertions", "dependencies", "guards", "plans", "timeunit", "io"];

@@ -224,7 +224,17 @@ async function refreshCode() {
     app.suffix = '.states';
     note.textContent = 'Every explored state with its status, then its edges.';
   } else {
-    const generated = await query('code', [target, fileStem()]);
+    let generated;
+    try {
+      generated = await query('code', [target, fileStem()]);
+    } catch (error) {
+      if (!error?.diagnostics) throw error;
+      // A time constant this target cannot hold: located in the spec, like any input error.
+      showDiagnostics(error.diagnostics);
+      $('#code').textContent = '';
+      note.textContent = `No ${target} code: ${error.diagnostics[0]?.message ?? 'the spec does not fit this target'} (see the diagnostics).`;
+      return;
+    }
     if (generated) {
       app.code = generated.code;
       app.extension = generated.extension;
