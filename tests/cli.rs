@@ -96,3 +96,24 @@ fn compile_writes_every_target_and_refuses_unrealizable_specs() {
     assert!(err.contains("unrealizable; nothing written") && err.contains("!press"), "{err}");
     assert!(!file.exists());
 }
+
+/// A specification that stops time is solved, and the warning says where, on stderr.
+#[test]
+fn solve_warns_where_time_cannot_pass() {
+    let dir = std::env::temp_dir().join(format!("plcsynth-cli-timelock-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("zeno.tga");
+    std::fs::write(
+        &f,
+        "plant {\n  automaton m {\n    nodes a, b;\n    a -> b ?x instant;\n    b -> a ?y instant;\n  }\n}\nplans { plan { waitfor x; waitfor y; } }\n",
+    )
+    .unwrap();
+    let (code, out, err) = plcsynth(&["solve", f.to_str().unwrap()]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(out.contains("realizable"), "{out}");
+    assert!(
+        err.contains("zeno.tga:4:5: warning: time cannot pass in the cycle `a -> b ?x`, `b -> a ?y` of `m`"),
+        "{err}"
+    );
+    assert!(err.contains("4 |     a -> b ?x instant;"), "{err}");
+}
