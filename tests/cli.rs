@@ -157,3 +157,24 @@ fn compile_refuses_time_constants_and_addresses_the_target_cannot_hold() {
         assert!(err.contains("io.tga:7:35: error: bit number 9 is out of range"), "{err}");
     }
 }
+
+/// A specification that stops time is solved, and the warning says where, on stderr.
+#[test]
+fn solve_warns_where_time_cannot_pass() {
+    let dir = std::env::temp_dir().join(format!("plcsynth-cli-timelock-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("zeno.tga");
+    std::fs::write(
+        &f,
+        "plant {\n  automaton m {\n    nodes a, b;\n    a -> b ?x instant;\n    b -> a ?y instant;\n  }\n}\nplans { plan { waitfor x; waitfor y; } }\n",
+    )
+    .unwrap();
+    let (code, out, err) = plcsynth(&["solve", f.to_str().unwrap()]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(out.contains("realizable"), "{out}");
+    assert!(
+        err.contains("zeno.tga:4:5: warning: time cannot pass in the cycle `a -> b ?x`, `b -> a ?y` of `m`"),
+        "{err}"
+    );
+    assert!(err.contains("4 |     a -> b ?x instant;"), "{err}");
+}

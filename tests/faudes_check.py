@@ -3,7 +3,9 @@
 Usage: faudes_check.py MANIFEST
 MANIFEST lists one case directory per line; each holds plant.gen, spec.gen, sup.gen (our
 supremal controllable nonblocking supervisor) and supc.gen (our supremal controllable closed
-sublanguage). Prints one JSON object per case.
+sublanguage). Prints one JSON object per case, and writes libFAUDES's own files into each
+case directory: lf_plant.gen, lf_spec.gen, lf_sup.gen (libFAUDES's SupCon), lf_supc.gen
+(SupConClosed), with Write in even cases and XWrite in odd ones, for plcsynth to read back.
 """
 import json
 import os
@@ -21,7 +23,7 @@ def marked_all(g):
 def main():
     with open(sys.argv[1]) as f:
         dirs = [l.strip() for l in f if l.strip()]
-    for d in dirs:
+    for i, d in enumerate(dirs):
         plant = faudes.System(os.path.join(d, "plant.gen"))
         spec = faudes.Generator(os.path.join(d, "spec.gen"))
         ours = faudes.Generator(os.path.join(d, "sup.gen"))
@@ -41,6 +43,12 @@ def main():
             "closed_gen_eq": faudes.LanguageEquality(marked_all(ref_c), marked_all(ours_c)),
             "closed_marked_eq": faudes.LanguageEquality(ref_c, ours_c),
         }
+        for name, g in [("plant", plant), ("spec", spec), ("sup", ref), ("supc", ref_c)]:
+            path = os.path.join(d, "lf_%s.gen" % name)
+            if i % 2 == 0:
+                g.Write(path)
+            else:
+                g.XWrite(path)
         print(json.dumps(out), flush=True)
 
 

@@ -85,6 +85,59 @@ fn supcon_reads_and_writes_gen_files() {
     assert!(err.contains("bad.gen:2:14: error: event `zz` is not in the alphabet"), "{err}");
 }
 
+/// Files as libFAUDES writes them (empty sections self-closing) are read; a nondeterministic
+/// generator and a specification over unknown events get located, readable errors.
+#[test]
+fn supcon_reads_libfaudes_empty_sections_and_locates_errors() {
+    let dir = std::env::temp_dir().join(format!("plcsynth-cli-gen-forms-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let write = |name: &str, text: &str| {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_str().unwrap().to_string()
+    };
+    let plant = write(
+        "plant.gen",
+        "<Generator name=\"plant\" ftype=\"System\">\n<Alphabet>\nstart +C+ done\n</Alphabet>\n<States>\nidle busy\n</States>\n<TransRel>\nidle start busy\nbusy done idle\n</TransRel>\n<InitStates>\nidle\n</InitStates>\n<MarkedStates/>\n</Generator>\n",
+    );
+    let spec = write(
+        "spec.gen",
+        "<Generator name=\"spec\">\n<Alphabet>\nstart done\n</Alphabet>\n<States>\n1\n</States>\n<TransRel/>\n<InitStates>\n1\n</InitStates>\n<MarkedStates>\n1\n</MarkedStates>\n</Generator>\n",
+    );
+    let (code, out, err) = plcsynth(&["supcon", &plant, &spec]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.starts_with("SupCon: 0 states, 0 transitions"), "{out}");
+    let (code, out, err) = plcsynth(&["supcon", &plant, &spec, "--closed"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.starts_with("SupConClosed: 1 states, 0 transitions"), "{out}");
+
+    let nondeterministic = write(
+        "nondet.gen",
+        "<Generator>\n<Alphabet> a </Alphabet>\n<States> 3 4 7 </States>\n<TransRel>\n3 a 4\n3 a 7\n</TransRel>\n</Generator>\n",
+    );
+    let (code, _, err) = plcsynth(&["supcon", &nondeterministic, &spec]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("nondet.gen:6:1: error: state `3` has two transitions on event `a` (to `4` and `7`)"),
+        "{err}"
+    );
+    assert!(err.contains("= note: SupCon needs deterministic generators"), "{err}");
+    assert!(!err.contains("EventId") && !err.contains("Nondeterministic {"), "{err}");
+
+    let unknown = write(
+        "unknown.gen",
+        "<Generator>\n<Alphabet>\nstart\n  jam   reset\n</Alphabet>\n<States> 1 </States>\n<TransRel/>\n</Generator>\n",
+    );
+    let (code, _, err) = plcsynth(&["supcon", &plant, &unknown]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("unknown.gen:4:3: error: the specification uses events the plant does not know: `jam`, `reset`"),
+        "{err}"
+    );
+    assert!(err.contains("4 |   jam   reset"), "{err}");
+    assert!(err.contains("has the events `start`, `done`") || err.contains("has the events `done`, `start`"), "{err}");
+}
+
 #[test]
 fn bench_sct_prints_thesis_figures_beside_ours() {
     let (code, out, err) = plcsynth(&["bench", "sct", "--runs", "1", "--no-faudes"]);

@@ -53,6 +53,17 @@ fn fixpoint_examples() -> Vec<(String, String)> {
         .collect()
 }
 
+/// The examples compile without any warning: in particular, none stops time (a verdict there
+/// would rest on zero-time behaviour).
+#[test]
+fn examples_compile_without_warnings() {
+    for (name, source) in examples() {
+        let (_, warnings) = compile(&source).unwrap_or_else(|d| panic!("{name}: {d:?}"));
+        let messages: Vec<&str> = warnings.iter().map(|d| d.message.as_str()).collect();
+        assert!(messages.is_empty(), "{name}: {messages:?}");
+    }
+}
+
 #[test]
 fn every_example_has_its_expected_verdict() {
     for (name, source) in checked_examples() {

@@ -438,3 +438,95 @@ fn render_of_an_error_at_the_end_of_a_file_ending_in_cr() {
     let text = render_plain("a.tga", src, &d);
     assert!(text.contains("a.tga:1:"), "{text}");
 }
+
+/// The warnings of a valid specification as `line:col: message`.
+fn warnings(src: &str) -> Vec<String> {
+    let (_, w) = compile(src).unwrap_or_else(|d| panic!("{}", render_plain("spec.tga", src, &d)));
+    w.iter().map(|d| format!("{}:{}: {}", d.line, d.column, d.message)).collect()
+}
+
+fn verdict(src: &str) -> plcsynth::timed::solve::Verdict {
+    let (game, _) = compile(src).unwrap();
+    plcsynth::timed::synthesize(&game, &Default::default(), &mut |_| true).solution.verdict
+}
+
+/// `automaton m { … }` with a two-goal plan on `x` and `y`.
+fn unit_m(body: &str) -> String {
+    format!("plant {{\n  automaton m {{\n    clocks c;\n{body}  }}\n}}\nplans {{ plan {{ waitfor x; waitfor y; }} }}\n")
+}
+
+/// Where a unit stops time, the verdict rests on zero-time behaviour: warned, located, with
+/// the reason and a pointer to the language reference.
+#[test]
+fn warns_where_time_cannot_pass() {
+    use plcsynth::timed::solve::Verdict;
+    // The initial state violates its invariant; the controller "wins" by acting at time 0 forever.
+    let src = unit_m("    nodes a {c in [1,2]}, b {c in [1,2]};\n    a -> b ?x;\n    b -> a ?y;\n");
+    assert_eq!(
+        warnings(&src),
+        ["4:19: time cannot pass in the initial state: node `a` of `m` requires `c in [1,2]`, but clocks start at 0"]
+    );
+    assert_eq!(verdict(&src), Verdict::Realizable);
+    let (_, w) = compile(&src).unwrap();
+    assert!(w[0].notes.iter().any(|n| n.contains("\"Where time cannot pass\" in docs/timed-language.md")), "{w:?}");
+
+    // A cycle of instant requests, each round reaching a plan goal: realizable at one instant.
+    let src = unit_m("    nodes a, b;\n    a -> b ?x instant;\n    b -> a ?y instant;\n");
+    assert_eq!(warnings(&src), ["5:5: time cannot pass in the cycle `a -> b ?x`, `b -> a ?y` of `m`"]);
+    assert_eq!(verdict(&src), Verdict::Realizable);
+    let (_, w) = compile(&src).unwrap();
+    assert!(w[0].notes[0].starts_with("instant transitions are urgent"), "{w:?}");
+    // An instant reaction looping on itself.
+    let src = unit_m("    nodes a, b;\n    a -> b ?x;\n    b -> b !y instant;\n");
+    assert_eq!(warnings(&src), ["6:5: time cannot pass in the cycle `b -> b !y` of `m`"]);
+
+    // Nodes that let no time pass, on a cycle whose clock is never reset.
+    let src = unit_m("    nodes a {c in [0,0]}, b {c in [0,0]};\n    a -> b ?x;\n    b -> a ?y;\n");
+    let w = warnings(&src);
+    assert_eq!(w, ["5:5: time cannot pass in the cycle `a -> b ?x`, `b -> a ?y` of `m`"]);
+    assert_eq!(verdict(&src), Verdict::Realizable);
+
+    // A node that lets no time pass and cannot be left at that value.
+    let src = unit_m("    nodes a, b {c in [2,2]};\n    a -> b ?x;\n    b -> a ?y {c in [3,inf)};\n");
+    assert_eq!(
+        warnings(&src),
+        ["4:22: time cannot pass in node `b` of `m` (`c in [2,2]`), and no transition can leave it there"]
+    );
+    let src = unit_m("    nodes a, b {c in [0,0]};\n    a -> b ?x reset{c};\n    b -> b ?y {c in (0,inf)};\n");
+    assert_eq!(
+        warnings(&src),
+        ["4:22: time cannot pass in node `b` of `m` (`c in [0,0]`), and no transition can leave it there"]
+    );
+}
+
+/// No warning where time can pass: invariants that hold at 0, cycles whose guards need time
+/// (after a reset, or between bounds), nodes that let no time pass but can be left, and `$`
+/// transitions, which wait for a partner.
+#[test]
+fn no_time_warning_where_time_can_pass() {
+    for body in [
+        "    nodes a {c in [0,5]}, b;\n    a -> b ?x;\n    b -> a ?y reset{c};\n",
+        "    nodes a, b;\n    a -> b ?x {c in [1,1]} reset{c} instant;\n    b -> a ?y instant;\n",
+        "    nodes a, b;\n    a -> b ?x {c in [0,1]} instant;\n    b -> a ?y {c in [2,3]} instant;\n",
+        "    nodes a, b;\n    a -> b ?x instant;\n    b -> a ?y;\n",
+        "    nodes a, b {c in [0,0]};\n    a -> b ?x reset{c};\n    b -> a !y;\n",
+        "    nodes a {c in [0,0]}, b;\n    a -> b ?x;\n    b -> a ?y reset{c};\n",
+        "    nodes i, a {c in [3,3]}, b {c in [3,3]};\n    i -> a ?x;\n    a -> b ?x reset{c};\n    b -> a ?y;\n",
+    ] {
+        let src = unit_m(body);
+        assert_eq!(warnings(&src), Vec::<String>::new(), "{body}");
+    }
+    let sync = "plant {\n  automaton m { nodes a, b; a -> b $x instant; b -> a $y instant; }\n  automaton n { nodes p; p -> p ?x; p -> p ?y; }\n}\nplans { plan { waitfor x; waitfor y; } }\n";
+    assert_eq!(warnings(sync), Vec::<String>::new());
+    let hardware = "plant { hardware h { states open, closed; open <-> closed takes [0,0]; } }\nplans { plan { waitfor reached_open; } }\n";
+    assert_eq!(warnings(hardware), Vec::<String>::new());
+}
+
+/// The thesis's listings stop time nowhere.
+#[test]
+fn thesis_listings_have_no_time_warning() {
+    for name in ["round_table_appendix_a.tga", "robot_arm_4_1_4.tga", "robot_arm_4_1_4_bare.tga", "gripper_4_2_1.tga"] {
+        let w = warnings(&fixture(name));
+        assert!(w.iter().all(|m| !m.contains("time cannot pass")), "{name}: {w:?}");
+    }
+}

@@ -1,9 +1,9 @@
 //! `plcsynth supervise`, `plcsynth supcon` and `plcsynth bench sct`.
 
 use clap::{Args, ValueEnum};
-use plcsynth::diag::{render_plain, Diagnostics, Span};
-use plcsynth::sct::classic::{minimize, supcon as classic_supcon, Events, SupConError};
-use plcsynth::sct::gen::{read_gen, write_gen};
+use plcsynth::diag::{render_plain, Diagnostics};
+use plcsynth::sct::classic::{minimize, supcon as classic_supcon, EventId, Events, SupConError};
+use plcsynth::sct::gen::{read_gen_file, write_gen, GenFile};
 use plcsynth::sct::model::dep_closure;
 use plcsynth::sct::model::{Config, Method, DEFAULT_MAX_STATES};
 use plcsynth::sct::project::load;
@@ -165,33 +165,40 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
     }
 }
 
-fn read_gen_file(path: &str, events: &mut Events) -> Result<plcsynth::sct::classic::Automaton, ExitCode> {
+/// Reads a `.gen` file; returns its text too, for diagnostics that point into it later.
+fn read_gen_located(path: &str, events: &mut Events) -> Result<(String, GenFile), ExitCode> {
     let src = read(path)?;
-    read_gen(&src, events).map_err(|e| {
-        let mut d = Diagnostics::new(&src);
-        let end = (e.offset + 1).min(src.len());
-        d.error(Span::new(e.offset, end), e.message);
-        eprint!("{}", render_plain(path, &src, &d.items));
-        ExitCode::from(2)
-    })
+    match read_gen_file(&src, events) {
+        Ok(g) => Ok((src, g)),
+        Err(e) => {
+            eprint!("{}", render_plain(path, &src, &[e.diagnostic(&src)]));
+            Err(ExitCode::from(2))
+        }
+    }
 }
 
 pub fn supcon(a: &SupconArgs) -> ExitCode {
     let mut events = Events::new();
-    let plant = match read_gen_file(&a.plant, &mut events) {
+    let (_, plant) = match read_gen_located(&a.plant, &mut events) {
         Ok(p) => p,
         Err(c) => return c,
     };
-    let spec = match read_gen_file(&a.spec, &mut events) {
+    let (spec_src, spec) = match read_gen_located(&a.spec, &mut events) {
         Ok(p) => p,
         Err(c) => return c,
     };
     let start = Instant::now();
-    let sup = match classic_supcon(&plant, &spec, &events, !a.closed) {
+    let sup = match classic_supcon(&plant.automaton, &spec.automaton, &events, !a.closed) {
         Ok(s) => s,
-        Err(SupConError::SpecEventsOutsidePlant(v)) => {
-            let names: Vec<&str> = v.iter().map(|e| events.name(*e)).collect();
-            eprintln!("{}: error: the specification uses events the plant does not know: {}", a.spec, names.join(", "));
+        Err(SupConError::SpecEventsOutsidePlant(outside)) => {
+            let names =
+                |es: &[EventId]| es.iter().map(|e| format!("`{}`", events.name(*e))).collect::<Vec<_>>().join(", ");
+            let mut d = Diagnostics::new(&spec_src);
+            let span = spec.event_span(outside[0]).unwrap_or_default();
+            d.error(span, format!("the specification uses events the plant does not know: {}", names(&outside)))
+                .with_note(format!("the plant `{}` has the events {}", a.plant, names(plant.automaton.alphabet())))
+                .with_note("SupCon needs the specification's events among the plant's");
+            eprint!("{}", render_plain(&a.spec, &spec_src, &d.items));
             return ExitCode::from(2);
         }
     };

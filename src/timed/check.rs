@@ -38,6 +38,7 @@ pub fn check(spec: &ast::Spec, diags: &mut Diagnostics) -> Option<Game> {
     if cx.diags.has_errors() {
         None
     } else {
+        super::timelock::warn(&cx.game, cx.diags);
         Some(cx.game)
     }
 }

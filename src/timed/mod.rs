@@ -32,6 +32,7 @@ pub mod model;
 pub mod parser;
 pub mod precompute;
 pub mod solve;
+pub mod timelock;
 
 use crate::diag::{Diagnostic, Diagnostics};
 
