@@ -3,6 +3,7 @@
 mod cli;
 
 use clap::{Parser, Subcommand};
+use plcsynth::plc::Target;
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -32,8 +33,8 @@ enum Command {
     Compile {
         file: String,
         /// What to produce.
-        #[arg(long, value_enum, default_value_t = Target::Program)]
-        target: Target,
+        #[arg(long, value_parser = output_parser(), default_value = "program")]
+        target: Output,
         /// Write to this file instead of standard output.
         #[arg(short, long)]
         output: Option<String>,
@@ -49,37 +50,21 @@ enum Command {
     },
 }
 
-#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-enum Target {
-    /// The intermediate controller program (Peter 2005, chapter 6).
+/// What `compile` produces: the intermediate program or code for one of [`Target::ALL`].
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Output {
     Program,
-    /// IEC 61131-3 Structured Text function block.
-    St,
-    /// Siemens SCL source for TIA Portal (S7-1200/1500).
-    Scl,
-    /// CODESYS / TwinCAT Structured Text.
-    Codesys,
-    /// IEC 61131-3 Instruction List.
-    Il,
-    /// Siemens S7 Statement List (AWL) with marker byte and jump list.
-    Stl,
-    /// PLCopen TC6 XML v2.01 project.
-    Plcopen,
+    Plc(Target),
 }
 
-impl Target {
-    fn plc(self) -> Option<plcsynth::plc::Target> {
-        use plcsynth::plc::Target as T;
-        Some(match self {
-            Target::Program => return None,
-            Target::St => T::St,
-            Target::Scl => T::Scl,
-            Target::Codesys => T::Codesys,
-            Target::Il => T::Il,
-            Target::Stl => T::Stl,
-            Target::Plcopen => T::Plcopen,
-        })
-    }
+/// The `--target` values: `program`, then every PLC target with its label as help.
+fn output_parser() -> impl clap::builder::TypedValueParser<Value = Output> {
+    use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+    let program = PossibleValue::new("program").help("The intermediate controller program (Peter 2005, chapter 6)");
+    let targets = Target::ALL.into_iter().map(|t| PossibleValue::new(t.name()).help(t.label()));
+    PossibleValuesParser::new(std::iter::once(program).chain(targets))
+        // Every value but `program` is a target name.
+        .map(|name| name.parse().map_or(Output::Program, Output::Plc))
 }
 
 #[derive(Subcommand)]
@@ -100,7 +85,13 @@ enum BenchEngine {
 fn main() -> ExitCode {
     match Cli::parse().command {
         Command::Solve { file, json, max_states, states } => cli::timed::solve(&file, json, max_states, states),
-        Command::Compile { file, target, output } => cli::timed::compile(&file, target.plc(), output.as_deref()),
+        Command::Compile { file, target, output } => {
+            let target = match target {
+                Output::Program => None,
+                Output::Plc(t) => Some(t),
+            };
+            cli::timed::compile(&file, target, output.as_deref())
+        }
         Command::Supervise(a) => cli::sct::supervise(&a),
         Command::Supcon(a) => cli::sct::supcon(&a),
         Command::Bench { engine: BenchEngine::Timed { runs, examples } } => cli::bench::timed(&examples, runs),

@@ -82,23 +82,13 @@ struct TargetInfo {
     extension: &'static str,
 }
 
-const TARGET_LABELS: [(Target, &str); 6] = [
-    (Target::St, "Structured Text (IEC 61131-3)"),
-    (Target::Scl, "SCL (Siemens S7-1200/1500)"),
-    (Target::Codesys, "CODESYS / TwinCAT ST"),
-    (Target::Il, "Instruction List (IEC 61131-3)"),
-    (Target::Stl, "S7 STL / AWL"),
-    (Target::Plcopen, "PLCopen TC6 XML"),
-];
-
 /// The code targets: the intermediate program first, then every PLC back end.
 #[wasm_bindgen]
 pub fn targets() -> Result<JsValue, JsValue> {
     let mut list =
         vec![TargetInfo { id: "program", label: "Intermediate program (thesis notation)", extension: "txt" }];
     for target in Target::ALL {
-        let label = TARGET_LABELS.iter().find(|(t, _)| *t == target).map_or(target.name(), |(_, l)| l);
-        list.push(TargetInfo { id: target.name(), label, extension: target.extension() });
+        list.push(TargetInfo { id: target.name(), label: target.label(), extension: target.extension() });
     }
     to_js(&list)
 }
@@ -371,10 +361,7 @@ impl Session {
         let generated = if target == "program" {
             GeneratedCode { target: target.to_string(), extension: "txt", code: program.render(&self.game) }
         } else {
-            let t = Target::ALL
-                .into_iter()
-                .find(|t| t.name() == target)
-                .ok_or_else(|| JsValue::from_str(&format!("unknown target {target}")))?;
+            let t: Target = target.parse().map_err(|e: plc::UnknownTarget| JsValue::from_str(&e.to_string()))?;
             let code = match plc::generate(&self.game, program, t, name, &self.source) {
                 Ok(code) => code,
                 Err(errors) => return Err(to_js(&CheckResult { ok: false, diagnostics: &errors })?),

@@ -15,125 +15,15 @@ pub mod il;
 pub mod plcopen;
 pub mod st;
 pub mod stl;
+mod target;
+
+pub use target::{Target, TimeType, UnknownTarget, S5TIME_MAX_MS};
 
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use crate::program::{Condition, Instruction, Program};
 use crate::timed::ast::{IoMode, IoTarget};
 use crate::timed::lexer::{tokenize, Tok};
 use crate::timed::model::{ClockId, Game, MsgId};
-use serde::Serialize;
-
-/// The output formats.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Target {
-    /// IEC 61131-3 Structured Text.
-    St,
-    /// Siemens SCL for S7-1200/1500 (TIA Portal source file).
-    Scl,
-    /// CODESYS / TwinCAT Structured Text.
-    Codesys,
-    /// IEC 61131-3 Instruction List.
-    Il,
-    /// Siemens S7 Statement List (AWL), as in the thesis.
-    Stl,
-    /// PLCopen TC6 XML v2.01 project holding the ST function block.
-    Plcopen,
-}
-
-impl Target {
-    pub const ALL: [Target; 6] = [Target::St, Target::Scl, Target::Codesys, Target::Il, Target::Stl, Target::Plcopen];
-
-    /// File extension for downloads.
-    pub fn extension(self) -> &'static str {
-        match self {
-            Target::St | Target::Codesys => "st",
-            Target::Scl => "scl",
-            Target::Il => "il",
-            Target::Stl => "awl",
-            Target::Plcopen => "xml",
-        }
-    }
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Target::St => "st",
-            Target::Scl => "scl",
-            Target::Codesys => "codesys",
-            Target::Il => "il",
-            Target::Stl => "stl",
-            Target::Plcopen => "plcopen",
-        }
-    }
-
-    /// The type in which this target writes delay thresholds and timer presets, and so the
-    /// limits of its constants.
-    pub fn time_type(self) -> TimeType {
-        match self {
-            // IEC 61131-3 leaves TIME's range to the implementation; 32-bit signed milliseconds
-            // is the common one (and S7-1200/1500's TIME). PLCopen XML carries the IEC text.
-            Target::St | Target::Il | Target::Plcopen => TimeType::Millis { name: "IEC TIME", max_ms: i32::MAX as u64 },
-            Target::Scl => TimeType::Millis { name: "S7 TIME", max_ms: i32::MAX as u64 },
-            // CODESYS and TwinCAT document TIME as an unsigned 32-bit count of milliseconds.
-            Target::Codesys => TimeType::Millis { name: "CODESYS/TwinCAT TIME", max_ms: u32::MAX as u64 },
-            Target::Stl => TimeType::S5Time,
-        }
-    }
-}
-
-/// How a target writes durations: the one place that knows the limits of each target's timers.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TimeType {
-    /// `T#…MS`, a millisecond count of at most `max_ms`. A clock is one `TON` whose preset lies
-    /// one time unit above its largest threshold, so that `ET > threshold` can become true.
-    Millis { name: &'static str, max_ms: u64 },
-    /// S7 `S5TIME` (`S5T#…`): three decimal digits times a base of 10 ms, 100 ms, 1 s or 10 s,
-    /// so at most 2h46m30s. One S7 timer per threshold, preset to the threshold itself.
-    S5Time,
-}
-
-/// The bases of S5TIME, in milliseconds, finest first.
-const S5TIME_BASES_MS: [u128; 4] = [10, 100, 1000, 10_000];
-/// The largest S5TIME: 999 × 10 s.
-pub const S5TIME_MAX_MS: u64 = 9_990_000;
-
-impl TimeType {
-    /// Why `ms` cannot be written exactly (`None` if it can): a clause after "time constant …"
-    /// and notes.
-    fn refusal(self, ms: u128) -> Option<(String, Vec<String>)> {
-        match self {
-            TimeType::Millis { name, max_ms } => (ms > u128::from(max_ms))
-                .then(|| (format!("exceeds {name} (at most {max_ms} ms = {})", human_duration(max_ms)), Vec::new())),
-            TimeType::S5Time if ms > u128::from(S5TIME_MAX_MS) => Some((
-                format!("exceeds S5TIME (at most {S5TIME_MAX_MS} ms = {})", human_duration(S5TIME_MAX_MS)),
-                Vec::new(),
-            )),
-            TimeType::S5Time => {
-                // The finest base that reaches `ms`: the one an assembler chooses (awlsim then
-                // truncates to it).
-                let base = S5TIME_BASES_MS.into_iter().find(|b| ms <= 999 * b).unwrap_or(10_000);
-                (ms % base != 0).then(|| {
-                    (
-                        "is not exactly representable in S5TIME".to_string(),
-                        vec![format!(
-                            "S5TIME holds 3 decimal digits in steps of 10 ms, 100 ms, 1 s or 10 s; in steps of {base} ms \
-                             it would become {} ms",
-                            ms / base * base
-                        )],
-                    )
-                })
-            }
-        }
-    }
-
-    /// The preset of the timer of a clock whose largest threshold is `largest_ms`.
-    fn preset_ms(self, largest_ms: u128, unit_ms: u128) -> u128 {
-        match self {
-            TimeType::Millis { .. } => largest_ms + unit_ms,
-            TimeType::S5Time => largest_ms,
-        }
-    }
-}
 
 /// An input signal: a physical input, a project symbol, or (without `io`) a BOOL input named
 /// after the message.
@@ -563,23 +453,6 @@ pub fn generate(
     })
 }
 
-/// A duration for people: `24d20h31m23s647ms`, `2h46m30s`, `0ms`.
-fn human_duration(ms: u64) -> String {
-    let parts = [
-        (ms / 86_400_000, "d"),
-        (ms / 3_600_000 % 24, "h"),
-        (ms / 60_000 % 60, "m"),
-        (ms / 1000 % 60, "s"),
-        (ms % 1000, "ms"),
-    ];
-    let text: String = parts.iter().filter(|(v, _)| *v > 0).map(|(v, u)| format!("{v}{u}")).collect();
-    if text.is_empty() {
-        "0ms".to_string()
-    } else {
-        text
-    }
-}
-
 /// `T#…` literal for a duration.
 pub fn time_literal(ms: u64) -> String {
     format!("T#{ms}MS")
@@ -618,27 +491,6 @@ pub fn preset_literal(code: &Code, timer: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn s5time_holds_three_digits_in_one_of_four_steps() {
-        let holds = |ms: u128| TimeType::S5Time.refusal(ms).is_none();
-        for ms in [0, 10, 9990, 10_000, 99_900, 100_000, 999_000, 1_000_000, 9_990_000] {
-            assert!(holds(ms), "{ms}");
-        }
-        for ms in [1, 5, 9995, 10_010, 99_950, 100_100, 999_100, 1_000_100, 9_990_010, 10_000_000] {
-            assert!(!holds(ms), "{ms}");
-        }
-    }
-
-    #[test]
-    fn millisecond_types_hold_up_to_their_maximum() {
-        let time = Target::St.time_type();
-        assert!(time.refusal(2_147_483_647).is_none());
-        assert!(time.refusal(2_147_483_648).is_some());
-        assert_eq!(human_duration(2_147_483_647), "24d20h31m23s647ms");
-        assert_eq!(human_duration(S5TIME_MAX_MS), "2h46m30s");
-        assert_eq!(human_duration(0), "0ms");
-    }
 
     /// The text at each span [`constant_span`] finds for `(clock, value)`.
     fn located(source: &str, clock: &str, value: u32) -> String {
