@@ -21,9 +21,8 @@ pub use target::{Target, TimeType, UnknownTarget, S5TIME_MAX_MS};
 
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use crate::program::{Condition, Instruction, Program};
-use crate::timed::ast::{IoMode, IoTarget};
 use crate::timed::lexer::{tokenize, Tok};
-use crate::timed::model::{ClockId, Game, MsgId};
+use crate::timed::model::{ClockId, Game, IoMode, IoTarget, MsgId};
 
 /// An input signal: a physical input, a project symbol, or (without `io`) a BOOL input named
 /// after the message.

@@ -6,7 +6,7 @@
 //! and wires it to the addresses or symbols.
 
 use super::{iec_address, siemens_address, time_literal, Code, Effect, Step, Test};
-use crate::timed::ast::IoTarget;
+use crate::timed::model::IoTarget;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Dialect {

@@ -11,7 +11,7 @@
 //! and outputs without an io binding get memory bits from M 10.0 on.
 
 use super::{siemens_address, Code, Effect, Step, Test};
-use crate::timed::ast::IoTarget;
+use crate::timed::model::IoTarget;
 
 /// Four-letter label of command `i`: aaaa, aaab, …
 fn label(i: usize) -> String {

@@ -16,8 +16,7 @@ pub mod optimize;
 pub mod select;
 pub mod simulate;
 
-use crate::timed::ast::Interval;
-use crate::timed::model::{ClockId, Game, MsgId};
+use crate::timed::model::{ClockId, Game, Interval, MsgId};
 use serde::Serialize;
 
 /// Stable identity of a command.

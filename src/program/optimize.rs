@@ -55,9 +55,10 @@ impl Context {
         let mut sent = vec![false; n];
         for a in &game.components {
             for e in &a.edges {
-                if e.kind != crate::timed::ast::MessageKind::Synchronised {
+                if e.kind != crate::timed::model::MessageKind::Synchronised {
                     sent[e.message as usize] = true;
-                    urgent[e.message as usize] &= e.instant && e.kind == crate::timed::ast::MessageKind::Uncontrollable;
+                    urgent[e.message as usize] &=
+                        e.instant && e.kind == crate::timed::model::MessageKind::Uncontrollable;
                 }
             }
         }

@@ -11,8 +11,7 @@
 //! the controller stops waiting or stops making plan progress.
 
 use super::{Condition, Instruction, Program};
-use crate::timed::ast::{Interval, MessageKind};
-use crate::timed::model::{Game, LocId, MessageRole, MsgId};
+use crate::timed::model::{Game, Interval, LocId, MessageKind, MessageRole, MsgId};
 use serde::Serialize;
 
 /// Clock values are counted in `1 / TICKS` time units.

@@ -5,7 +5,6 @@
 //! reach them; conditions are resolved to sets of locations. Names are kept for display only:
 //! everything else refers to dense indices.
 
-use super::ast::{Interval, IoMode, IoTarget, MessageKind};
 use crate::diag::Span;
 use serde::Serialize;
 
@@ -238,4 +237,91 @@ impl Game {
     pub fn dim(&self) -> usize {
         self.clocks.len()
     }
+}
+
+/// An interval with integer bounds; `upper: None` is `inf`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+pub struct Interval {
+    pub lower: u32,
+    pub lower_closed: bool,
+    pub upper: Option<u32>,
+    pub upper_closed: bool,
+    pub span: Span,
+}
+
+impl Interval {
+    /// `[l, u]`.
+    pub fn closed(lower: u32, upper: u32) -> Interval {
+        Interval { lower, lower_closed: true, upper: Some(upper), upper_closed: true, span: Span::default() }
+    }
+
+    /// True if no real number lies in the interval.
+    pub fn is_empty(&self) -> bool {
+        match self.upper {
+            None => false,
+            Some(u) => u < self.lower || (u == self.lower && !(self.lower_closed && self.upper_closed)),
+        }
+    }
+}
+
+impl std::fmt::Display for Interval {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let open = if self.lower_closed { '[' } else { '(' };
+        match self.upper {
+            Some(u) => {
+                let close = if self.upper_closed { ']' } else { ')' };
+                write!(f, "{open}{},{u}{close}", self.lower)
+            }
+            None => write!(f, "{open}{},inf)", self.lower),
+        }
+    }
+}
+
+/// Message type of a transition.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MessageKind {
+    /// `?m`: a request the controller may send.
+    Controllable,
+    /// `!m`: a spontaneous reaction of the plant.
+    Uncontrollable,
+    /// `$m`: taken together with another component's `?m`/`!m`.
+    Synchronised,
+}
+
+impl MessageKind {
+    pub fn sigil(self) -> char {
+        match self {
+            MessageKind::Controllable => '?',
+            MessageKind::Uncontrollable => '!',
+            MessageKind::Synchronised => '$',
+        }
+    }
+}
+
+/// How a message maps to its signal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum IoMode {
+    /// Input: the message holds while the signal is TRUE (the default for inputs).
+    Level,
+    /// Input: the message holds while the signal is FALSE (`not %I0.0`).
+    Negated,
+    /// Output: the signal is TRUE for one scan (the default for requests).
+    Pulse,
+    /// Output: the request sets the signal (`set %Q0.0`).
+    Set,
+    /// Output: the request resets the signal (`reset %Q0.0`).
+    Reset,
+    /// Not written: chosen by the message's role.
+    Default,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum IoTarget {
+    /// A direct IEC address such as `%I0.0`, `%QX1.3`, `%MW10` (stored without the `%`).
+    Address { text: String, span: Span },
+    /// A symbolic name, possibly dotted (`GVL.lamp`) or quoted (`"Lamp On"`).
+    Symbol { text: String, span: Span },
 }

@@ -9,8 +9,7 @@
 //! - a cycle of transitions that are `instant` (urgent) or leave such nodes, whose guards and
 //!   invariants can all hold at once: it can repeat forever at one instant.
 
-use super::ast::{Interval, MessageKind};
-use super::model::{Automaton, ClockId, ClockInterval, Edge, Game};
+use super::model::{Automaton, ClockId, ClockInterval, Edge, Game, Interval, MessageKind};
 use crate::diag::Diagnostics;
 
 const DOCS: &str = "see \"Where time cannot pass\" in docs/timed-language.md";
