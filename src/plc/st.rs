@@ -2,11 +2,12 @@
 //!
 //! A `FUNCTION_BLOCK` with a BOOL input per input signal and a BOOL output per output signal;
 //! a step variable and a `CASE` inside a `WHILE` loop that runs one scan per call (see the
-//! module doc of `plc`). When the `io` section binds signals, a `PROGRAM` instantiates the block
+//! module doc of `plc`). When variables are bound to signals, a `PROGRAM` instantiates the block
 //! and wires it to the addresses or symbols.
 
-use super::{iec_address, siemens_address, time_literal, Code, Effect, Step, Test};
-use crate::timed::model::IoTarget;
+use super::model::{Binding, Code, Effect, Statement, Test};
+use super::{iec_address, preset_literal, siemens_address, time_literal};
+use std::fmt::{self, Write};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Dialect {
@@ -18,7 +19,7 @@ pub enum Dialect {
 fn test_text(code: &Code, test: &Test) -> String {
     match *test {
         Test::Input { input, negated } => {
-            let name = &code.inputs[input].ident;
+            let name = &code.inputs[input].symbol;
             if negated {
                 format!("NOT {name}")
             } else {
@@ -26,77 +27,77 @@ fn test_text(code: &Code, test: &Test) -> String {
             }
         }
         Test::Elapsed { timer, ms, strict } => {
-            format!("{}.ET {} {}", code.timers[timer].ident, if strict { ">" } else { ">=" }, time_literal(ms))
+            format!("{}.ET {} {}", code.timers[timer].symbol, if strict { ">" } else { ">=" }, time_literal(ms))
         }
     }
 }
 
-fn bound_text(target: &IoTarget, dialect: Dialect) -> String {
-    match target {
-        IoTarget::Address { text, .. } if dialect == Dialect::Scl => format!("%{}", siemens_address(text)),
-        IoTarget::Address { text, .. } => format!("%{}", iec_address(text)),
-        IoTarget::Symbol { text, .. } => text.clone(),
+fn bound_text(binding: &Binding, dialect: Dialect) -> String {
+    match binding {
+        Binding::Address(text) if dialect == Dialect::Scl => format!("%{}", siemens_address(text)),
+        Binding::Address(text) => format!("%{}", iec_address(text)),
+        Binding::Symbol(text) => text.clone(),
     }
 }
 
 /// Prints the function block (and, with bindings, a program that wires it).
-pub fn print(code: &Code, dialect: Dialect) -> String {
-    let mut o = String::new();
+pub fn print(code: &Code, dialect: Dialect, o: &mut impl Write) -> fmt::Result {
     let ton = if dialect == Dialect::Scl { "TON_TIME" } else { "TON" };
-    let (bool_t, int_t) = ("BOOL", "INT");
     for line in &code.header {
-        o.push_str(&format!("(* {line} *)\n"));
+        writeln!(o, "(* {line} *)")?;
     }
     match dialect {
         Dialect::Scl => {
-            o.push_str(&format!("FUNCTION_BLOCK {}\n{{ S7_Optimized_Access := 'TRUE' }}\nVERSION : 0.1\n", code.name));
+            write!(o, "FUNCTION_BLOCK {}\n{{ S7_Optimized_Access := 'TRUE' }}\nVERSION : 0.1\n", code.name)?
         }
-        _ => o.push_str(&format!("FUNCTION_BLOCK {}\n", code.name)),
+        _ => writeln!(o, "FUNCTION_BLOCK {}", code.name)?,
     }
-    o.push_str("VAR_INPUT\n");
+    o.write_str("VAR_INPUT\n")?;
     for i in &code.inputs {
-        o.push_str(&format!("    {} : {bool_t}; (* {} *)\n", i.ident, i.notes.join(", ")));
+        writeln!(o, "    {} : BOOL; (* {} *)", i.symbol, i.comment)?;
     }
-    o.push_str("END_VAR\nVAR_OUTPUT\n");
+    o.write_str("END_VAR\nVAR_OUTPUT\n")?;
     for out in &code.outputs {
-        o.push_str(&format!("    {} : {bool_t}; (* {} *)\n", out.ident, out.notes.join(", ")));
+        writeln!(o, "    {} : BOOL; (* {} *)", out.variable.symbol, out.variable.comment)?;
     }
-    o.push_str("END_VAR\nVAR\n");
-    o.push_str(&format!("    step : {int_t} := 0; (* program position *)\n"));
-    o.push_str(&format!("    scan_done : {bool_t};\n"));
+    o.write_str("END_VAR\nVAR\n")?;
+    o.write_str("    step : INT := 0; (* program position *)\n")?;
+    o.write_str("    scan_done : BOOL;\n")?;
     for t in &code.timers {
-        o.push_str(&format!("    {} : {ton}; (* clock {} *)\n", t.ident, t.ident.trim_start_matches("t_")));
+        writeln!(o, "    {} : {ton}; (* {} *)", t.symbol, t.comment)?;
     }
-    o.push_str("END_VAR\n");
+    o.write_str("END_VAR\n")?;
     if dialect == Dialect::Scl {
-        o.push_str("BEGIN\n");
+        o.write_str("BEGIN\n")?;
     }
-    body(code, &mut o);
-    o.push_str("END_FUNCTION_BLOCK\n");
-    if code.inputs.iter().any(|i| i.binding.is_some()) || code.outputs.iter().any(|out| out.binding.is_some()) {
-        wiring(code, dialect, &mut o);
+    body(code, o)?;
+    o.write_str("END_FUNCTION_BLOCK\n")?;
+    if code.has_bindings() {
+        wiring(code, dialect, o)?;
     }
-    o
+    Ok(())
 }
 
-fn body(code: &Code, o: &mut String) {
-    o.push_str("(* Pulsed outputs are TRUE for one scan. *)\n");
+/// The statements of the function block (between its declarations and `END_FUNCTION_BLOCK`).
+pub fn body(code: &Code, o: &mut impl Write) -> fmt::Result {
+    o.write_str("(* Pulsed outputs are TRUE for one scan. *)\n")?;
     for out in code.outputs.iter().filter(|out| out.pulsed) {
-        o.push_str(&format!("{} := FALSE;\n", out.ident));
+        writeln!(o, "{} := FALSE;", out.variable.symbol)?;
     }
     if !code.timers.is_empty() {
-        o.push_str("(* Clocks run as timers; a restart calls the timer with IN := FALSE. *)\n");
+        o.write_str("(* Clocks run as timers; a restart calls the timer with IN := FALSE. *)\n")?;
     }
     for (k, t) in code.timers.iter().enumerate() {
-        o.push_str(&format!("{}(IN := TRUE, PT := {});\n", t.ident, super::preset_literal(code, k)));
+        writeln!(o, "{}(IN := TRUE, PT := {});", t.symbol, preset_literal(code, k))?;
     }
-    o.push_str("(* One scan: run from the stored position until the program waits. *)\n");
-    o.push_str("scan_done := FALSE;\nWHILE NOT scan_done DO\n    CASE step OF\n");
+    o.write_str("(* One scan: run from the stored position until the program waits. *)\n")?;
+    o.write_str("scan_done := FALSE;\nWHILE NOT scan_done DO\n    CASE step OF\n")?;
     for (i, step) in code.steps.iter().enumerate() {
-        o.push_str(&format!("    {i}: (* {} *)\n", code.comments[i]));
-        let restarts: String = code.restarts[i]
+        writeln!(o, "    {i}: (* {} *)", step.comment)?;
+        let restarts: String = step
+            .restarts
             .iter()
-            .map(|&t| format!("{}(IN := FALSE, PT := {}); ", code.timers[t].ident, super::preset_literal(code, t)))
+            .map(|&t| format!("{}(IN := FALSE, PT := {}); ", code.timers[t].symbol, preset_literal(code, t)))
             .collect();
         let go = |target: usize| -> String {
             if target <= i {
@@ -105,83 +106,76 @@ fn body(code: &Code, o: &mut String) {
                 format!("step := {target};")
             }
         };
-        match step {
-            Step::Wait { test } => {
-                o.push_str(&format!(
-                    "        IF {} THEN\n            {restarts}step := {};\n        ELSE\n            scan_done := TRUE;\n        END_IF;\n",
-                    test_text(code, test),
-                    i + 1
-                ));
-            }
-            Step::Branch { test, target } => {
-                o.push_str(&format!(
-                    "        IF {} THEN\n            {restarts}{}\n        ELSE\n            step := {};\n        END_IF;\n",
-                    test_text(code, test),
-                    go(*target),
-                    i + 1
-                ));
-            }
-            Step::Act { output, effect } => {
-                let value = if *effect == Effect::Reset { "FALSE" } else { "TRUE" };
-                o.push_str(&format!(
+        match step.statement {
+            Statement::Wait { test } => write!(
+                o,
+                "        IF {} THEN\n            {restarts}step := {};\n        ELSE\n            scan_done := TRUE;\n        END_IF;\n",
+                test_text(code, &test),
+                i + 1
+            )?,
+            Statement::Branch { test, target } => write!(
+                o,
+                "        IF {} THEN\n            {restarts}{}\n        ELSE\n            step := {};\n        END_IF;\n",
+                test_text(code, &test),
+                go(target),
+                i + 1
+            )?,
+            Statement::Act { output, effect } => {
+                let value = if effect == Effect::Reset { "FALSE" } else { "TRUE" };
+                write!(
+                    o,
                     "        {} := {value};\n        {restarts}step := {};\n        scan_done := TRUE;\n",
-                    code.outputs[*output].ident,
+                    code.outputs[output].variable.symbol,
                     i + 1
-                ));
+                )?
             }
-            Step::Jump { target } => {
-                o.push_str(&format!("        {restarts}{}\n", go(*target)));
-            }
+            Statement::Jump { target } => writeln!(o, "        {restarts}{}", go(target))?,
         }
     }
-    o.push_str("    ELSE\n        step := 0;\n        scan_done := TRUE;\n    END_CASE;\nEND_WHILE;\n");
+    o.write_str("    ELSE\n        step := 0;\n        scan_done := TRUE;\n    END_CASE;\nEND_WHILE;\n")
 }
 
 /// A program that instantiates the block and wires it to addresses and symbols.
-fn wiring(code: &Code, dialect: Dialect, o: &mut String) {
+fn wiring(code: &Code, dialect: Dialect, o: &mut impl Write) -> fmt::Result {
     let scl = dialect == Dialect::Scl;
     let name = format!("{}_main", code.name);
     if scl {
         // TIA Portal: a cyclic organisation block would call the block; the wiring is given as
         // a function block of its own so it imports without a configuration.
-        o.push_str(&format!("\nFUNCTION_BLOCK {name}\n{{ S7_Optimized_Access := 'TRUE' }}\nVERSION : 0.1\n"));
+        write!(o, "\nFUNCTION_BLOCK {name}\n{{ S7_Optimized_Access := 'TRUE' }}\nVERSION : 0.1\n")?;
     } else {
-        o.push_str(&format!("\nPROGRAM {name}\n"));
+        write!(o, "\nPROGRAM {name}\n")?;
     }
-    o.push_str("VAR\n");
-    o.push_str(&format!("    ctrl : {};\n", code.name));
+    o.write_str("VAR\n")?;
+    writeln!(o, "    ctrl : {};", code.name)?;
     if !scl {
         // IEC and CODESYS declare located variables; SCL reads addresses directly.
-        for (ident, binding) in code
-            .inputs
-            .iter()
-            .map(|i| (&i.ident, &i.binding))
-            .chain(code.outputs.iter().map(|x| (&x.ident, &x.binding)))
-        {
-            if let Some(b @ IoTarget::Address { .. }) = binding {
-                o.push_str(&format!("    {ident}_io AT {} : BOOL;\n", bound_text(b, dialect)));
+        for v in code.inputs.iter().chain(code.outputs.iter().map(|x| &x.variable)) {
+            if let Some(b @ Binding::Address(_)) = &v.binding {
+                writeln!(o, "    {}_io AT {} : BOOL;", v.symbol, bound_text(b, dialect))?;
             }
         }
     }
-    o.push_str("END_VAR\n");
+    o.write_str("END_VAR\n")?;
     if scl {
-        o.push_str("BEGIN\n");
+        o.write_str("BEGIN\n")?;
     }
-    let signal = |ident: &str, binding: &Option<IoTarget>| -> String {
+    let signal = |symbol: &str, binding: &Option<Binding>| -> String {
         match binding {
-            Some(b @ IoTarget::Address { .. }) if scl => bound_text(b, dialect),
-            Some(IoTarget::Address { .. }) => format!("{ident}_io"),
-            Some(IoTarget::Symbol { text, .. }) => text.clone(),
+            Some(b @ Binding::Address(_)) if scl => bound_text(b, dialect),
+            Some(Binding::Address(_)) => format!("{symbol}_io"),
+            Some(Binding::Symbol(text)) => text.clone(),
             None => "FALSE".to_string(),
         }
     };
     let args: Vec<String> =
-        code.inputs.iter().map(|i| format!("{} := {}", i.ident, signal(&i.ident, &i.binding))).collect();
-    o.push_str(&format!("ctrl({});\n", args.join(", ")));
+        code.inputs.iter().map(|i| format!("{} := {}", i.symbol, signal(&i.symbol, &i.binding))).collect();
+    writeln!(o, "ctrl({});", args.join(", "))?;
     for out in &code.outputs {
-        if out.binding.is_some() {
-            o.push_str(&format!("{} := ctrl.{};\n", signal(&out.ident, &out.binding), out.ident));
+        let v = &out.variable;
+        if v.binding.is_some() {
+            writeln!(o, "{} := ctrl.{};", signal(&v.symbol, &v.binding), v.symbol)?;
         }
     }
-    o.push_str(if scl { "END_FUNCTION_BLOCK\n" } else { "END_PROGRAM\n" });
+    o.write_str(if scl { "END_FUNCTION_BLOCK\n" } else { "END_PROGRAM\n" })
 }

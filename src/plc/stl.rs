@@ -10,8 +10,9 @@
 //! one per compared threshold, restarted by calling `SD` with RLO 0 (resolution 10 ms). Inputs
 //! and outputs without an io binding get memory bits from M 10.0 on.
 
-use super::{siemens_address, Code, Effect, Step, Test};
-use crate::timed::model::IoTarget;
+use super::model::{Binding, Code, Effect, Statement, Test};
+use super::siemens_address;
+use std::fmt::{self, Write};
 
 /// Four-letter label of command `i`: aaaa, aaab, …
 fn label(i: usize) -> String {
@@ -39,27 +40,27 @@ fn s5time(ms: u64) -> String {
     out
 }
 
-fn operand(binding: &Option<IoTarget>, fallback: &str) -> String {
+fn operand(binding: &Option<Binding>, fallback: &str) -> String {
     match binding {
-        Some(IoTarget::Address { text, .. }) => {
+        Some(Binding::Address(text)) => {
             let a = siemens_address(text);
             let split = a.find(|c: char| c.is_ascii_digit()).unwrap_or(a.len());
             format!("{} {}", &a[..split], &a[split..])
         }
-        Some(IoTarget::Symbol { text, .. }) => format!("\"{text}\""),
+        Some(Binding::Symbol(text)) => format!("\"{text}\""),
         None => fallback.to_string(),
     }
 }
 
 /// Prints the organisation block.
-pub fn print(code: &Code) -> String {
+pub fn print(code: &Code, o: &mut impl Write) -> fmt::Result {
     let n = code.steps.len();
     // Where execution continues after step i when it falls through (through jumps).
     let resolve = |mut i: usize| -> usize {
         let mut hops = 0;
         while i < n && hops <= n {
-            match code.steps[i] {
-                Step::Jump { target } if code.restarts[i].is_empty() => {
+            match code.steps[i].statement {
+                Statement::Jump { target } if code.steps[i].restarts.is_empty() => {
                     i = target;
                     hops += 1;
                 }
@@ -77,10 +78,12 @@ pub fn print(code: &Code) -> String {
     let mut resume = vec![false; n.max(1)];
     resume[0] = true;
     for (i, s) in code.steps.iter().enumerate() {
-        match *s {
-            Step::Wait { .. } => resume[i] = true,
-            Step::Act { .. } => resume[resolve(i + 1)] = true,
-            Step::Branch { target, .. } | Step::Jump { target } if target <= i => resume[resolve(target)] = true,
+        match s.statement {
+            Statement::Wait { .. } => resume[i] = true,
+            Statement::Act { .. } => resume[resolve(i + 1)] = true,
+            Statement::Branch { target, .. } | Statement::Jump { target } if target <= i => {
+                resume[resolve(target)] = true
+            }
             _ => {}
         }
     }
@@ -104,12 +107,12 @@ pub fn print(code: &Code) -> String {
         format!("M {}.{}", b / 8, b % 8)
     };
     let inputs: Vec<String> = code.inputs.iter().map(|i| operand(&i.binding, &bit())).collect();
-    let outputs: Vec<String> = code.outputs.iter().map(|o| operand(&o.binding, &bit())).collect();
+    let outputs: Vec<String> = code.outputs.iter().map(|o| operand(&o.variable.binding, &bit())).collect();
     // One S7 timer per (timer, threshold).
     let mut s7_timers: Vec<(usize, u64)> = Vec::new();
     for s in &code.steps {
-        if let Step::Wait { test: Test::Elapsed { timer, ms, .. } }
-        | Step::Branch { test: Test::Elapsed { timer, ms, .. }, .. } = *s
+        if let Statement::Wait { test: Test::Elapsed { timer, ms, .. } }
+        | Statement::Branch { test: Test::Elapsed { timer, ms, .. }, .. } = s.statement
         {
             if !s7_timers.contains(&(timer, ms)) {
                 s7_timers.push((timer, ms));
@@ -117,63 +120,58 @@ pub fn print(code: &Code) -> String {
         }
     }
     let t_number = |timer: usize, ms: u64| s7_timers.iter().position(|&x| x == (timer, ms)).map_or(0, |k| k + 1);
+    let position = if wide { "MW 0" } else { "MB 0" };
 
-    let mut o = String::new();
     for line in &code.header {
-        o.push_str(&format!("// {line}\n"));
+        writeln!(o, "// {line}")?;
     }
-    o.push_str("// Signals:\n");
+    o.write_str("// Signals:\n")?;
     for (i, input) in code.inputs.iter().enumerate() {
-        o.push_str(&format!("//   {:<10} {}\n", inputs[i], input.notes.join(", ")));
+        writeln!(o, "//   {:<10} {}", inputs[i], input.comment)?;
     }
     for (k, out) in code.outputs.iter().enumerate() {
-        o.push_str(&format!("//   {:<10} {}\n", outputs[k], out.notes.join(", ")));
+        writeln!(o, "//   {:<10} {}", outputs[k], out.variable.comment)?;
     }
-    o.push_str(&format!("//   {:<10} program position\n", if wide { "MW 0" } else { "MB 0" }));
+    writeln!(o, "//   {position:<10} program position")?;
     for (k, &(timer, ms)) in s7_timers.iter().enumerate() {
-        o.push_str(&format!(
-            "//   T {:<8} clock {} reached {} ms\n",
-            k + 1,
-            code.timers[timer].ident.trim_start_matches("t_"),
-            ms
-        ));
+        writeln!(o, "//   T {:<8} {} reached {} ms", k + 1, code.timers[timer].comment, ms)?;
     }
-    o.push_str("ORGANIZATION_BLOCK OB 1\nBEGIN\n");
+    o.write_str("ORGANIZATION_BLOCK OB 1\nBEGIN\n")?;
     for (k, out) in code.outputs.iter().enumerate() {
         if out.pulsed {
-            o.push_str(&format!("\tCLR\n\t=\t{}\n", outputs[k]));
+            write!(o, "\tCLR\n\t=\t{}\n", outputs[k])?;
         }
     }
     for &(timer, ms) in &s7_timers {
-        o.push_str(&format!("\tSET\n\tL\t{}\n\tSD\tT {}\n", s5time(ms), t_number(timer, ms)));
+        write!(o, "\tSET\n\tL\t{}\n\tSD\tT {}\n", s5time(ms), t_number(timer, ms))?;
     }
-    let store =
-        |o: &mut String, k: usize| o.push_str(&format!("\tL\t{k}\n\tT\t{}\n", if wide { "MW 0" } else { "MB 0" }));
+    // Text, not output: the trampolines of branches are collected apart and printed last.
+    let store = |k: usize| format!("\tL\t{k}\n\tT\t{position}\n");
     if wide {
         for &p in &points {
-            o.push_str(&format!("\tL\tMW 0\n\tL\t{}\n\t==I\n\tJC\t{}\n", index[p], label(p)));
+            write!(o, "\tL\tMW 0\n\tL\t{}\n\t==I\n\tJC\t{}\n", index[p], label(p))?;
         }
-        o.push_str("\tJU\tud\n");
+        o.write_str("\tJU\tud\n")?;
     } else {
-        o.push_str("\tL\tMB 0\n\tJL\tud\n");
+        o.write_str("\tL\tMB 0\n\tJL\tud\n")?;
         for &p in &points {
-            o.push_str(&format!("\tJU\t{}\n", label(p)));
+            writeln!(o, "\tJU\t{}", label(p))?;
         }
     }
-    o.push_str("ud:\tL\t0\n");
-    o.push_str(&format!("\tT\t{}\n\tJU\t{}\n", if wide { "MW 0" } else { "MB 0" }, label(0)));
-    let test = |o: &mut String, t: &Test| match *t {
-        Test::Input { input, negated } => {
-            o.push_str(&format!("\t{}\t{}\n", if negated { "AN" } else { "A" }, inputs[input]))
-        }
-        Test::Elapsed { timer, ms, .. } => o.push_str(&format!("\tA\tT {}\n", t_number(timer, ms))),
+    o.write_str("ud:\tL\t0\n")?;
+    write!(o, "\tT\t{position}\n\tJU\t{}\n", label(0))?;
+    let test = |t: &Test| match *t {
+        Test::Input { input, negated } => format!("\t{}\t{}\n", if negated { "AN" } else { "A" }, inputs[input]),
+        Test::Elapsed { timer, ms, .. } => format!("\tA\tT {}\n", t_number(timer, ms)),
     };
-    let restart = |o: &mut String, i: usize| {
-        for &timer in &code.restarts[i] {
+    let restart = |i: usize| -> String {
+        let mut text = String::new();
+        for &timer in &code.steps[i].restarts {
             for &(t, ms) in s7_timers.iter().filter(|(t, _)| *t == timer) {
-                o.push_str(&format!("\tCLR\n\tL\t{}\n\tSD\tT {}\n", s5time(ms), t_number(t, ms)));
+                text.push_str(&format!("\tCLR\n\tL\t{}\n\tSD\tT {}\n", s5time(ms), t_number(t, ms)));
             }
         }
+        text
     };
     let jumped = code.jumped_to();
     let mut trampolines = String::new();
@@ -184,59 +182,48 @@ pub fn print(code: &Code) -> String {
         if !falls_in && !needs_label {
             continue;
         }
-        falls_in = !matches!(step, Step::Act { .. } | Step::Jump { .. });
+        falls_in = !matches!(step.statement, Statement::Act { .. } | Statement::Jump { .. });
         let lbl = if needs_label { format!("{}:", label(i)) } else { String::new() };
-        o.push_str(&format!("{lbl}\tNOP\t0\t// {}\n", code.comments[i]));
-        match step {
-            Step::Wait { test: t } => {
-                store(&mut o, index[i]);
-                test(&mut o, t);
-                o.push_str("\tJCN\tend\n");
-                restart(&mut o, i);
+        writeln!(o, "{lbl}\tNOP\t0\t// {}", step.comment)?;
+        match step.statement {
+            Statement::Wait { test: t } => {
+                write!(o, "{}{}\tJCN\tend\n{}", store(index[i]), test(&t), restart(i))?;
             }
-            Step::Branch { test: t, target } => {
-                test(&mut o, t);
+            Statement::Branch { test: t, target } => {
                 let taken = format!("b{}", &label(i)[1..]);
-                o.push_str(&format!("\tJC\t{taken}\n"));
-                trampolines.push_str(&format!("{taken}:\tNOP\t0\n"));
-                restart(&mut trampolines, i);
-                if *target > i {
-                    trampolines.push_str(&format!("\tJU\t{}\n", label(*target)));
+                writeln!(o, "{}\tJC\t{taken}", test(&t))?;
+                trampolines.push_str(&format!("{taken}:\tNOP\t0\n{}", restart(i)));
+                if target > i {
+                    trampolines.push_str(&format!("\tJU\t{}\n", label(target)));
                 } else {
-                    store(&mut trampolines, index[resolve(*target)]);
-                    trampolines.push_str("\tJU\tend\n");
+                    trampolines.push_str(&format!("{}\tJU\tend\n", store(index[resolve(target)])));
                 }
             }
-            Step::Act { output, effect } => {
+            Statement::Act { output, effect } => {
                 let verb = match effect {
                     Effect::Pulse => "=",
                     Effect::Set => "S",
                     Effect::Reset => "R",
                 };
-                o.push_str(&format!("\tSET\n\t{verb}\t{}\n", outputs[*output]));
-                restart(&mut o, i);
-                store(&mut o, index[resolve(i + 1)]);
-                o.push_str("\tJU\tend\n");
+                write!(o, "\tSET\n\t{verb}\t{}\n", outputs[output])?;
+                writeln!(o, "{}{}\tJU\tend", restart(i), store(index[resolve(i + 1)]))?;
             }
-            Step::Jump { target } => {
-                restart(&mut o, i);
-                if *target > i {
-                    o.push_str(&format!("\tJU\t{}\n", label(*target)));
+            Statement::Jump { target } => {
+                o.write_str(&restart(i))?;
+                if target > i {
+                    writeln!(o, "\tJU\t{}", label(target))?;
                 } else {
-                    store(&mut o, index[resolve(*target)]);
-                    o.push_str("\tJU\tend\n");
+                    writeln!(o, "{}\tJU\tend", store(index[resolve(target)]))?;
                 }
             }
         }
     }
     // Falling off the last command restarts the program.
     if falls_in {
-        store(&mut o, 0);
-        o.push_str("\tJU\tend\n");
+        writeln!(o, "{}\tJU\tend", store(0))?;
     }
-    o.push_str(&trampolines);
-    o.push_str("end:\tNOP\t0\nEND_ORGANIZATION_BLOCK\n");
-    o
+    o.write_str(&trampolines)?;
+    o.write_str("end:\tNOP\t0\nEND_ORGANIZATION_BLOCK\n")
 }
 
 #[cfg(test)]

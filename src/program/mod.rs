@@ -98,28 +98,40 @@ impl Program {
         pos
     }
 
-    /// The program in the thesis's notation, labels renumbered 0, 1, 2, ….
-    pub fn render(&self, game: &Game) -> String {
+    /// Each command in the thesis's notation without label and `;`, jump targets numbered by
+    /// position: `WAITUNTIL (press)`, `IF (c0_is_blue) THEN GOTO 26`,
+    /// `DO (x) AND RESET CLOCKS {c}`. Back ends print it beside the code of the command.
+    pub fn command_texts(&self, game: &Game) -> Vec<String> {
         let pos = self.positions();
-        let width = self.commands.len().saturating_sub(1).to_string().len();
-        let mut out = String::new();
-        for (i, c) in self.commands.iter().enumerate() {
-            let text = match c.instruction {
-                Instruction::Do { request } => format!("DO ({})", game.messages[request as usize].name),
-                Instruction::If { condition, target } => {
-                    format!("IF ({}) THEN GOTO {}", condition_text(game, &condition), pos[target as usize])
+        self.commands
+            .iter()
+            .map(|c| {
+                let text = match c.instruction {
+                    Instruction::Do { request } => format!("DO ({})", game.messages[request as usize].name),
+                    Instruction::If { condition, target } => {
+                        format!("IF ({}) THEN GOTO {}", condition_text(game, &condition), pos[target as usize])
+                    }
+                    Instruction::Goto { target } => format!("GOTO {}", pos[target as usize]),
+                    Instruction::WaitUntil { condition } => {
+                        format!("WAITUNTIL ({})", condition_text(game, &condition))
+                    }
+                };
+                if c.resets == 0 {
+                    return text;
                 }
-                Instruction::Goto { target } => format!("GOTO {}", pos[target as usize]),
-                Instruction::WaitUntil { condition } => format!("WAITUNTIL ({})", condition_text(game, &condition)),
-            };
-            let resets = if c.resets == 0 {
-                String::new()
-            } else {
                 let names: Vec<&str> =
                     (1..64).filter(|b| c.resets >> b & 1 == 1).map(|b| game.clocks[b as usize].name.as_str()).collect();
-                format!(" AND RESET CLOCKS {{{}}}", names.join(", "))
-            };
-            out.push_str(&format!("{i:>width$} : {text}{resets};\n"));
+                format!("{text} AND RESET CLOCKS {{{}}}", names.join(", "))
+            })
+            .collect()
+    }
+
+    /// The program in the thesis's notation, labels renumbered 0, 1, 2, ….
+    pub fn render(&self, game: &Game) -> String {
+        let width = self.commands.len().saturating_sub(1).to_string().len();
+        let mut out = String::new();
+        for (i, text) in self.command_texts(game).iter().enumerate() {
+            out.push_str(&format!("{i:>width$} : {text};\n"));
         }
         out
     }

@@ -34,7 +34,8 @@ pub mod precompute;
 pub mod solve;
 pub mod timelock;
 
-use crate::diag::{Diagnostic, Diagnostics};
+use crate::diag::{Diagnostic, Diagnostics, Span};
+use lexer::{tokenize, Tok};
 
 /// A parsed specification with every syntax diagnostic.
 pub struct Parsed {
@@ -83,4 +84,65 @@ pub fn synthesize(
         None
     };
     Synthesis { split, solution, explanation }
+}
+
+/// Where constant `value` of `clock` is written in `source`, the text `game` was compiled from:
+/// the number in the first guard or invariant of the clock that has it as a bound, or the bound
+/// of a plan's timeout clock. Falls back to the whole interval (an operator's implicit `(0,1)` is
+/// not written) or the clock's declaration. Back ends locate constants they cannot hold with it.
+pub fn constant_span(game: &model::Game, source: &str, clock: model::ClockId, value: u32) -> Span {
+    // The numbers written in `span`, in order, with their spans.
+    let numbers = |span: Span| -> Vec<(u32, Span)> {
+        let Some(text) = source.get(span.range()) else { return Vec::new() };
+        tokenize(text)
+            .into_iter()
+            .filter(|t| t.tok == Tok::Int)
+            .filter_map(|t| {
+                let value = text[t.span.range()].parse().ok()?;
+                Some((value, Span::new((span.start + t.span.start) as usize, (span.start + t.span.end) as usize)))
+            })
+            .collect()
+    };
+    let intervals = game
+        .components
+        .iter()
+        .flat_map(|a| a.locations.iter().flat_map(|l| &l.invariant).chain(a.edges.iter().flat_map(|e| &e.guard)));
+    for ci in intervals.filter(|ci| ci.clock == clock) {
+        let interval = ci.interval;
+        if interval.lower == value || interval.upper == Some(value) {
+            return numbers(interval.span).into_iter().find(|&(v, _)| v == value).map_or(interval.span, |(_, s)| s);
+        }
+    }
+    let declared = game.clocks[clock as usize].span;
+    // A plan's timeout clock is declared as `name bound`.
+    numbers(declared).into_iter().rfind(|&(v, _)| v == value).map_or(declared, |(_, s)| s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The text at each span [`constant_span`] finds for `(clock, value)`.
+    fn located(source: &str, clock: &str, value: u32) -> String {
+        let (game, _) = crate::timed::compile(source).expect("a valid specification");
+        let id = game.clocks.iter().position(|c| c.name == clock).expect("the clock") as model::ClockId;
+        let span = constant_span(&game, source, id, value);
+        let (line, column) = Diagnostics::new(source).line_col(span.start as usize);
+        format!("{line}:{column} {}", &source[span.range()])
+    }
+
+    #[test]
+    fn constants_are_found_where_they_are_written() {
+        let source = "plant {\n  hardware H { states a, b; a -> b takes [2, /* up to */ 4]; }\n  \
+                      operator O { states p, q; p -> q; }\n  \
+                      automaton A { clocks x; nodes u { x in [0,0030] }, v; u -> v ?go { x in (7,inf) }; v -> u ?back; }\n}\n\
+                      plans { plan { clocks t 4000; waitfor go; } }\n";
+        assert_eq!(located(source, "H.moving", 2), "2:43 2");
+        assert_eq!(located(source, "H.moving", 4), "2:58 4");
+        assert_eq!(located(source, "A.x", 30), "4:45 0030");
+        assert_eq!(located(source, "A.x", 7), "4:76 7");
+        assert_eq!(located(source, "plan1.t", 4000), "6:25 4000");
+        // An operator's reaction within (0,1) is not written: the move is.
+        assert_eq!(located(source, "O.moving", 1), "3:29 p -> q;");
+    }
 }
