@@ -180,3 +180,25 @@ pub fn siemens_address(text: &str) -> String {
 pub fn preset_literal(code: &Code, timer: usize) -> String {
     time_literal(code.timers[timer].preset_ms)
 }
+
+#[cfg(test)]
+mod tests {
+    /// The model and the printers name no engine, so that every engine's controllers can print
+    /// through them; only lowerings (`lower_*`) know one.
+    #[test]
+    fn printers_and_model_know_no_engine() {
+        let sources = [
+            ("model.rs", include_str!("model.rs")),
+            ("target.rs", include_str!("target.rs")),
+            ("st.rs", include_str!("st.rs")),
+            ("il.rs", include_str!("il.rs")),
+            ("stl.rs", include_str!("stl.rs")),
+            ("plcopen.rs", include_str!("plcopen.rs")),
+        ];
+        for (file, text) in sources {
+            for engine in ["crate::timed", "crate::program", "crate::sct", "lower_timed::"] {
+                assert!(!text.contains(engine), "src/plc/{file} mentions {engine}");
+            }
+        }
+    }
+}
