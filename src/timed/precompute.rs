@@ -13,7 +13,6 @@
 //! The pieces of a clock are the same in all locations of its component, so a transition that
 //! does not reset a clock keeps the clock's piece.
 
-use super::ast::{Interval, MessageKind};
 use super::model::*;
 use serde::Serialize;
 use std::collections::HashMap;

@@ -25,7 +25,6 @@
 //! delay is possible.
 
 use super::arena::SliceArena;
-use super::ast::MessageKind;
 use super::model::*;
 use super::precompute::{SplitGame, SubLocId, STAY};
 use crate::zone::{Bound, Dbm};
