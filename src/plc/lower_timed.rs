@@ -25,7 +25,7 @@ fn binding_ident(target: &IoTarget) -> String {
     }
 }
 
-/// A variable with `note` among the messages it stands for; the comment lists them.
+/// A variable being built and the messages it stands for, which become its comment.
 struct Signal {
     variable: Variable,
     notes: Vec<String>,
