@@ -21,16 +21,18 @@ enum Command {
         /// Print one JSON object instead of text.
         #[arg(long)]
         json: bool,
-        /// Give up after storing this many states.
-        #[arg(long, value_name = "N")]
-        max_states: Option<usize>,
+        #[command(flatten)]
+        budget: cli::timed::BudgetArgs,
         /// Also print every explored state with its status and edges.
         #[arg(long)]
         states: bool,
     },
-    /// Synthesise the controller program of a timed-game specification.
+    /// Synthesise the controller program of a timed-game specification. Exit status: 0 written,
+    /// 1 unrealizable, 2 input error, 3 budget exceeded.
     Compile {
         file: String,
+        #[command(flatten)]
+        budget: cli::timed::BudgetArgs,
         /// What to produce.
         #[arg(long, value_enum, default_value_t = Target::Program)]
         target: Target,
@@ -99,8 +101,10 @@ enum BenchEngine {
 
 fn main() -> ExitCode {
     match Cli::parse().command {
-        Command::Solve { file, json, max_states, states } => cli::timed::solve(&file, json, max_states, states),
-        Command::Compile { file, target, output } => cli::timed::compile(&file, target.plc(), output.as_deref()),
+        Command::Solve { file, json, budget, states } => cli::timed::solve(&file, json, &budget, states),
+        Command::Compile { file, budget, target, output } => {
+            cli::timed::compile(&file, &budget, target.plc(), output.as_deref())
+        }
         Command::Supervise(a) => cli::sct::supervise(&a),
         Command::Supcon(a) => cli::sct::supcon(&a),
         Command::Bench { engine: BenchEngine::Timed { runs, examples } } => cli::bench::timed(&examples, runs),
