@@ -40,7 +40,8 @@ enum Command {
         #[arg(short, long)]
         output: Option<String>,
     },
-    /// Synthesise one supervisor per specification of a `.sct` project (Göbe 2019).
+    /// Synthesise one supervisor per specification of a `.sct` project (Göbe 2019). Exit status:
+    /// 0 done, 2 input error, 3 state budget spent.
     Supervise(cli::sct::SuperviseArgs),
     /// Classic Ramadge–Wonham SupCon of a plant and a specification in libFAUDES `.gen` format.
     Supcon(cli::sct::SupconArgs),

@@ -467,8 +467,8 @@ fn push_moves(
 /// either operand prohibits; an event moves the operands that have a transition for it, and
 /// an operand without one stays unless it prohibits the event. Only the accessible part is
 /// built. Conditions of competing transitions are combined as in the application product.
-/// Returns `None` if the product would exceed `max_states` states.
-pub fn spec_product(name: &str, a: &Spec, b: &Spec, max_states: usize) -> Option<Spec> {
+/// Every product state is drawn from `budget`.
+pub fn spec_product(name: &str, a: &Spec, b: &Spec, budget: &mut Budget) -> Result<Spec, SynthError> {
     fn by_state(h: &Spec) -> (Vec<Vec<&Transition>>, Vec<Vec<&Prohibition>>) {
         let mut t: Vec<Vec<&Transition>> = vec![Vec::new(); h.states.len()];
         let mut p: Vec<Vec<&Prohibition>> = vec![Vec::new(); h.states.len()];
@@ -481,19 +481,14 @@ pub fn spec_product(name: &str, a: &Spec, b: &Spec, max_states: usize) -> Option
         (t, p)
     }
     if a.states.is_empty() || b.states.is_empty() {
-        return Some(Spec {
-            name: name.to_string(),
-            states: Vec::new(),
-            init: 0,
-            trans: Vec::new(),
-            prohib: Vec::new(),
-        });
+        return Ok(Spec { name: name.to_string(), states: Vec::new(), init: 0, trans: Vec::new(), prohib: Vec::new() });
     }
     let (ta, pa) = by_state(a);
     let (tb, pb) = by_state(b);
     let mut index: hashbrown::HashMap<(u32, u32), u32> = hashbrown::HashMap::new();
     let mut pairs = vec![(a.init, b.init)];
     index.insert((a.init, b.init), 0);
+    budget.take_one()?;
     let mut out = Spec { name: name.to_string(), states: Vec::new(), init: 0, trans: Vec::new(), prohib: Vec::new() };
     let any = |cs: &mut dyn Iterator<Item = &Cond>| cs.fold(Cond::False, |acc, c| acc.or(c.clone()));
     let mut k = 0;
@@ -540,13 +535,14 @@ pub fn spec_product(name: &str, a: &Spec, b: &Spec, max_states: usize) -> Option
                 out.prohib.push(Prohibition { state: k as u32, ..(*p).clone() });
             }
         }
+        let known = pairs.len();
         push_moves(&mut out.trans, &mut index, &mut pairs, k as u32, moves);
-        if pairs.len() > max_states {
-            return None;
+        for _ in known..pairs.len() {
+            budget.take_one()?;
         }
         k += 1;
     }
-    Some(out)
+    Ok(out)
 }
 
 /// A transition under construction: event, condition, target pair, origins.
@@ -846,9 +842,10 @@ pub struct Config {
     pub max_states: usize,
 }
 
-/// The default state budget of [`Config`], and the fixed bound of the specification products
-/// written in a project file.
-pub const DEFAULT_MAX_STATES: usize = 1_000_000;
+/// The default state budget of a run ([`Config`], [`super::project::load`], `supervise
+/// --max-states`): product states cost 0.5–1.5 KB and a few microseconds each, so a run stops
+/// within about a second and a few hundred MB.
+pub const DEFAULT_MAX_STATES: usize = 250_000;
 
 /// How many new states a product builds between two calls of the progress callback.
 const PROGRESS_INTERVAL: usize = 4096;
@@ -973,9 +970,29 @@ pub enum SynthError {
     Cancelled,
 }
 
-/// What bounds a synthesis run: a number of product states that may still be built (every
-/// state of every application product counts, also of products later shrunk by synthesis
-/// steps) and the caller's progress callback. The callback sees the number of states built so
+/// Why a run stopped before its end.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stop {
+    /// More product states than the budget allows.
+    BudgetExceeded { max_states: usize },
+    /// The progress callback asked to stop.
+    Cancelled,
+}
+
+impl Stop {
+    /// The stop behind a synthesis error, if it is one (a conflict is an input error).
+    pub fn of(error: &SynthError) -> Option<Stop> {
+        match error {
+            SynthError::BudgetExceeded { max_states } => Some(Stop::BudgetExceeded { max_states: *max_states }),
+            SynthError::Cancelled => Some(Stop::Cancelled),
+            SynthError::Conflict(_) => None,
+        }
+    }
+}
+
+/// What bounds a run: a number of product states that may still be built (every state of every
+/// specification product and application product counts, also of products later shrunk by
+/// synthesis steps) and the caller's progress callback. The callback sees the number of states built so
 /// far and returns `false` to cancel. One budget can serve several specifications.
 pub struct Budget<'a> {
     max_states: usize,
@@ -991,6 +1008,11 @@ impl<'a> Budget<'a> {
     /// Product states built so far.
     pub fn built(&self) -> usize {
         self.built
+    }
+
+    /// The number of states the budget allows.
+    pub fn max_states(&self) -> usize {
+        self.max_states
     }
 
     /// Accounts for one new product state.
@@ -1327,10 +1349,11 @@ mod tests {
             trans: vec![t(0, 2, 1)],
             prohib: vec![Prohibition { state: 1, event: EventId(0), cond: Cond::True, origin: NO_ORIGIN }],
         };
-        let h = spec_product("H", &t1, &t2, DEFAULT_MAX_STATES).unwrap();
-        // The bound admits a product of exactly its size and no more.
-        assert!(spec_product("H", &t1, &t2, 4).is_some());
-        assert!(spec_product("H", &t1, &t2, 3).is_none());
+        let product = |max_states| spec_product("H", &t1, &t2, &mut Budget::new(max_states, &mut |_| true));
+        let h = product(DEFAULT_MAX_STATES).unwrap();
+        // The budget admits a product of exactly its size and no more.
+        assert!(product(4).is_ok());
+        assert!(matches!(product(3), Err(SynthError::BudgetExceeded { max_states: 3 })));
         // From (s,u): a -> (t,u), c -> (s,v); (s,v) forbids a; (t,u) forbids b, c -> (t,v).
         assert_eq!(h.states.len(), 4);
         let p = h.prohib.iter().map(|p| (h.states[p.state as usize].as_str(), p.event.0)).collect::<Vec<_>>();

@@ -5,7 +5,7 @@
 //! transitions (6.4.4) with both locations, cycles of enforced transitions (5.5.5), and a warning
 //! when one supervisor enforces an event another one prohibits (6.4.2).
 
-use super::model::{self, Budget, Config, EventId, Method, SynthError};
+use super::model::{self, Budget, Config, EventId, Method, Stop, SynthError};
 use super::project::Loaded;
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use serde::Serialize;
@@ -68,7 +68,23 @@ pub fn synthesize_all_with_progress(
     now: Option<&dyn Fn() -> f64>,
     progress: &mut dyn FnMut(usize) -> bool,
 ) -> (Vec<SupervisorReport>, Vec<Diagnostic>) {
-    let mut budget = Budget::new(cfg.max_states, progress);
+    let (reports, diagnostics, _) =
+        synthesize_all_within(src, loaded, cfg, now, &mut Budget::new(cfg.max_states, progress));
+    (reports, diagnostics)
+}
+
+/// [`synthesize_all`] drawing on the run's `budget` (which the specification products of the
+/// run may have drawn on already; `cfg.max_states` is not consulted). The third value is set
+/// when the budget or a cancellation stopped the run: its error diagnostic is not an input
+/// error.
+pub fn synthesize_all_within(
+    src: &str,
+    loaded: &Loaded,
+    cfg: &Config,
+    now: Option<&dyn Fn() -> f64>,
+    budget: &mut Budget,
+) -> (Vec<SupervisorReport>, Vec<Diagnostic>, Option<Stop>) {
+    let mut stop = None;
     let mut diags = Diagnostics::new(src);
     let p = &loaded.project;
     let name = |e: EventId| p.event_name(e).to_string();
@@ -77,9 +93,10 @@ pub fn synthesize_all_with_progress(
     let mut spec_of: Vec<usize> = Vec::new();
     for (i, spec) in p.specs.iter().enumerate() {
         let t0 = now.map(|f| f());
-        let sup = match model::synthesize_within(p, i, cfg, &mut budget) {
+        let sup = match model::synthesize_within(p, i, cfg, budget) {
             Ok(s) => s,
             Err(SynthError::BudgetExceeded { max_states }) => {
+                stop = Some(Stop::BudgetExceeded { max_states });
                 let rest: Vec<&str> = p.specs[i + 1..].iter().map(|s| s.name.as_str()).collect();
                 let d = diags.error(
                     loaded.spec_spans[i],
@@ -102,6 +119,7 @@ pub fn synthesize_all_with_progress(
                 break;
             }
             Err(SynthError::Cancelled) => {
+                stop = Some(Stop::Cancelled);
                 diags.error(loaded.spec_spans[i], format!("synthesis cancelled while synthesising `{}`", spec.name));
                 break;
             }
@@ -209,5 +227,5 @@ pub fn synthesize_all_with_progress(
             );
         }
     }
-    (out, diags.items)
+    (out, diags.items, stop)
 }
