@@ -230,8 +230,9 @@ pub struct SynthAut {
     pub plants: Vec<u32>,
     /// `tuples[s * (1 + plants.len()) ..]`: the spec state, then one state per applied plant.
     pub tuples: Vec<u32>,
-    /// Membership mask of the plant alphabet over the project's events.
-    pub plant_alphabet: Vec<bool>,
+    /// The plant alphabet: the events of the applied plants, sorted (a set per automaton, not a
+    /// mask over all events, so that many small specifications stay linear).
+    pub plant_alphabet: Vec<EventId>,
     pub init: Option<u32>,
     /// Transitions per state (sorted by event).
     pub trans: Vec<Vec<STrans>>,
@@ -260,7 +261,7 @@ impl SynthAut {
     }
 
     /// A specification as a synthesis automaton with an empty plant alphabet (lemma 8).
-    pub fn from_spec(spec: &Spec, n_events: usize) -> SynthAut {
+    pub fn from_spec(spec: &Spec) -> SynthAut {
         let n = spec.states.len();
         let mut trans = vec![Vec::new(); n];
         let mut prohib = vec![Vec::new(); n];
@@ -284,7 +285,7 @@ impl SynthAut {
         let a = SynthAut {
             plants: Vec::new(),
             tuples: (0..n as u32).collect(),
-            plant_alphabet: vec![false; n_events],
+            plant_alphabet: Vec::new(),
             init: Some(spec.init),
             trans,
             prohib,
@@ -553,11 +554,14 @@ type NewTrans = (EventId, Cond, (u32, u32), [u32; 2]);
 /// are reported.
 fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut Budget) -> Result<SynthAut, SynthError> {
     let g = &project.plants[g_id as usize];
-    let n_events = project.events.len();
-    let mut in_g = vec![false; n_events];
-    for e in &g.alphabet {
-        in_g[e.0 as usize] = true;
-    }
+    let mut g_alphabet = g.alphabet.clone();
+    g_alphabet.sort_unstable();
+    g_alphabet.dedup();
+    let in_g = |e: EventId| g_alphabet.binary_search(&e).is_ok();
+    let in_c = |e: EventId| c.plant_alphabet.binary_search(&e).is_ok();
+    let mut plant_alphabet: Vec<EventId> = c.plant_alphabet.iter().chain(&g_alphabet).copied().collect();
+    plant_alphabet.sort_unstable();
+    plant_alphabet.dedup();
     // Plant transitions per state, sorted by event.
     let mut g_out: Vec<Vec<&Transition>> = vec![Vec::new(); g.states.len()];
     for t in &g.trans {
@@ -572,7 +576,7 @@ fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut B
     let mut out = SynthAut {
         plants,
         tuples: Vec::new(),
-        plant_alphabet: c.plant_alphabet.iter().zip(&in_g).map(|(a, b)| *a || *b).collect(),
+        plant_alphabet,
         init: None,
         trans: Vec::new(),
         prohib: Vec::new(),
@@ -605,7 +609,7 @@ fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut B
         let gamma = c.enforced[qc as usize];
         for tc in &c.trans[qc as usize] {
             let e = tc.event;
-            if !in_g[e.0 as usize] {
+            if !in_g(e) {
                 let cond = tc.cond.refine(&lookup);
                 if cond != Cond::False {
                     new_trans.push((e, cond, (tc.dst, qg), tc.origin));
@@ -622,7 +626,7 @@ fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut B
         }
         for p in &c.prohib[qc as usize] {
             let e = p.event;
-            if !in_g[e.0 as usize] {
+            if !in_g(e) {
                 let cond = p.cond.refine(&lookup);
                 if cond != Cond::False {
                     new_prohib.push(SProhib { event: e, cond, origin: p.origin });
@@ -642,7 +646,7 @@ fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut B
         // Plant moves while the synthesis automaton stays (it has no knowledge of the event).
         for tg in gts.iter() {
             let e = tg.event;
-            if c.plant_alphabet[e.0 as usize] {
+            if in_c(e) {
                 continue;
             }
             if let Some(f) = gamma {
@@ -709,7 +713,7 @@ fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut B
         out.trans.push(row);
         out.prohib.push(new_prohib);
         // γ survives if the plant can do the enforced event here (definition 32).
-        let keep_gamma = gamma.filter(|f| !in_g[f.0 as usize] || !g_for(*f).is_empty());
+        let keep_gamma = gamma.filter(|f| !in_g(*f) || !g_for(*f).is_empty());
         out.enforced.push(keep_gamma);
         k += 1;
     }
@@ -1041,17 +1045,41 @@ pub fn synthesize_within(
     cfg: &Config,
     budget: &mut Budget,
 ) -> Result<Supervisor, SynthError> {
-    let spec = &project.specs[spec_id];
-    let n_events = project.events.len();
-    let mut c = SynthAut::from_spec(spec, n_events);
-    let mut remaining: Vec<bool> = vec![true; project.plants.len()];
-    // Which plants know each event.
-    let mut knows: Vec<Vec<u32>> = vec![Vec::new(); n_events];
-    for (i, p) in project.plants.iter().enumerate() {
-        for e in &p.alphabet {
-            knows[e.0 as usize].push(i as u32);
+    synthesize_known(project, &Knowledge::new(project), spec_id, cfg, budget)
+}
+
+/// Which plants know each event (have it in their alphabet): what incremental synthesis looks
+/// up. Built once per run, as it is as large as the project.
+pub struct Knowledge {
+    knows: Vec<Vec<u32>>,
+}
+
+impl Knowledge {
+    pub fn new(project: &Project) -> Knowledge {
+        let mut knows: Vec<Vec<u32>> = vec![Vec::new(); project.events.len()];
+        for (i, p) in project.plants.iter().enumerate() {
+            for e in &p.alphabet {
+                knows[e.0 as usize].push(i as u32);
+            }
         }
+        Knowledge { knows }
     }
+}
+
+/// [`synthesize_within`] with the project's [`Knowledge`] built by the caller: the work for one
+/// specification then depends on its own size and the plants it needs, not on the project's.
+pub fn synthesize_known(
+    project: &Project,
+    knowledge: &Knowledge,
+    spec_id: usize,
+    cfg: &Config,
+    budget: &mut Budget,
+) -> Result<Supervisor, SynthError> {
+    let spec = &project.specs[spec_id];
+    let mut c = SynthAut::from_spec(spec);
+    let mut applied: hashbrown::HashSet<u32> = hashbrown::HashSet::new();
+    let remaining = |applied: &hashbrown::HashSet<u32>, g: u32| !applied.contains(&g);
+    let knows = &knowledge.knows;
     match cfg.method {
         Method::Monolithic => {
             for g in 0..project.plants.len() as u32 {
@@ -1072,20 +1100,20 @@ pub fn synthesize_within(
             // conditions still refer to (5.7.3).
             loop {
                 let mut gather: Vec<u32> =
-                    c.unresolved_plants().into_iter().filter(|&p| remaining[p as usize]).collect();
+                    c.unresolved_plants().into_iter().filter(|&p| remaining(&applied, p)).collect();
                 for s in 0..c.num_states() {
                     if !has_uncontrollable_prohibition(project, &c, s) {
                         continue;
                     }
                     for p in &c.prohib[s] {
                         if project.kind(p.event) == EventKind::Uncontrollable {
-                            gather.extend(knows[p.event.0 as usize].iter().filter(|&&g| remaining[g as usize]));
+                            gather.extend(knows[p.event.0 as usize].iter().filter(|&&g| remaining(&applied, g)));
                         }
                     }
                     if cfg.preempt {
                         for t in &c.trans[s] {
                             if project.kind(t.event) == EventKind::Enforceable {
-                                gather.extend(knows[t.event.0 as usize].iter().filter(|&&g| remaining[g as usize]));
+                                gather.extend(knows[t.event.0 as usize].iter().filter(|&&g| remaining(&applied, g)));
                             }
                         }
                     }
@@ -1096,7 +1124,7 @@ pub fn synthesize_within(
                     break;
                 }
                 for g in gather {
-                    remaining[g as usize] = false;
+                    applied.insert(g);
                     c = apply(project, spec, &c, g, budget)?;
                 }
             }

@@ -158,8 +158,11 @@ pub fn load_within(src: &str, budget: &mut Budget) -> (Option<Loaded>, Vec<Diagn
     cx.check_events();
     cx.resolve_instances();
     let timers = cx.build_timers();
-    let plants: Vec<model::Plant> = (0..cx.plants.len()).map(|i| cx.build_plant(i)).collect();
-    let built: Vec<model::Spec> = (0..cx.specs.len()).map(|i| cx.build_spec(i, &plants)).collect();
+    // State names for conditions, gathered once (per automaton they made loading quadratic).
+    let declared_states = cx.plant_state_names();
+    let plants: Vec<model::Plant> = (0..cx.plants.len()).map(|i| cx.build_plant(i, &declared_states)).collect();
+    let plant_states: Vec<Vec<String>> = plants.iter().map(|p| p.states.clone()).collect();
+    let built: Vec<model::Spec> = (0..cx.specs.len()).map(|i| cx.build_spec(i, &plant_states)).collect();
     let mut consumed = vec![false; built.len()];
     let mut specs = Vec::new();
     let mut spec_spans = Vec::new();
@@ -696,15 +699,15 @@ impl<'s, 'a> Ctx<'s, 'a> {
         self.resolve_event(module, path)
     }
 
-    fn cond(&mut self, module: usize, c: &CondExpr, plants_states: &dyn Fn(usize) -> Vec<String>) -> Option<Cond> {
+    /// Resolves a condition; `plant_states` holds the state names of every plant.
+    fn cond(&mut self, module: usize, c: &CondExpr, plant_states: &[Vec<String>]) -> Option<Cond> {
         Some(match c {
             CondExpr::True => Cond::True,
             CondExpr::False => Cond::False,
-            CondExpr::Not(x) => Cond::Not(Box::new(self.cond(module, x, plants_states)?)),
+            CondExpr::Not(x) => Cond::Not(Box::new(self.cond(module, x, plant_states)?)),
             CondExpr::And(operands) | CondExpr::Or(operands) => {
                 // Every operand is resolved so that all unknown names are reported at once.
-                let resolved: Vec<Option<Cond>> =
-                    operands.iter().map(|x| self.cond(module, x, plants_states)).collect();
+                let resolved: Vec<Option<Cond>> = operands.iter().map(|x| self.cond(module, x, plant_states)).collect();
                 let resolved: Vec<Cond> = resolved.into_iter().collect::<Option<_>>()?;
                 let join = if matches!(c, CondExpr::And(_)) { Cond::And } else { Cond::Or };
                 balanced(resolved, &join)
@@ -720,7 +723,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                 let state = &p.parts[p.parts.len() - 1];
                 match self.resolve(module, &aut, "a plant", &|e| matches!(e, Entry::Plant(_))) {
                     Some(Entry::Plant(i)) => {
-                        let names = plants_states(i);
+                        let names = &plant_states[i];
                         match names.iter().position(|s| s == state) {
                             Some(k) => Cond::State { plant: i as u32, state: k as u32 },
                             None => {
@@ -774,7 +777,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
         (names, init.map_or(0, |x| x.0), index)
     }
 
-    fn build_plant(&mut self, i: usize) -> model::Plant {
+    fn build_plant(&mut self, i: usize, all_states: &[Vec<String>]) -> model::Plant {
         let decl = self.plants[i].decl;
         let module = self.plants[i].module;
         let name = self.plants[i].name.clone();
@@ -797,7 +800,6 @@ impl<'s, 'a> Ctx<'s, 'a> {
         }
         alphabet.sort_unstable();
         alphabet.dedup();
-        let all_states = self.plant_state_names();
         let mut trans: Vec<Transition> = Vec::new();
         let mut spans: Vec<Span> = Vec::new();
         let mut impossible: Vec<(u32, EventId)> = Vec::new();
@@ -812,7 +814,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                             self.diags.error(*target_span, format!("unknown state `{target}` in plant `{name}`"));
                         }
                         let c = match cond {
-                            Some(c) => self.cond(module, c, &|p| all_states[p].clone()),
+                            Some(c) => self.cond(module, c, all_states),
                             None => Some(Cond::True),
                         };
                         if let (Some(e), Some(dst), Some(c)) = (e, dst, c) {
@@ -954,7 +956,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
         }
     }
 
-    fn build_spec(&mut self, i: usize, plants: &[model::Plant]) -> model::Spec {
+    fn build_spec(&mut self, i: usize, all_states: &[Vec<String>]) -> model::Spec {
         let decl = self.specs[i].decl;
         let module = self.specs[i].module;
         let name = self.specs[i].name.clone();
@@ -968,8 +970,6 @@ impl<'s, 'a> Ctx<'s, 'a> {
         if let Some(sp) = decl.selfloops {
             self.diags.error(sp, "`selfloops` is a helper for plant models only");
         }
-        let all_states: Vec<Vec<String>> = plants.iter().map(|p| p.states.clone()).collect();
-        let all_states = if all_states.len() == self.plants.len() { all_states } else { self.plant_state_names() };
         let mut trans = Vec::new();
         let mut spans = Vec::new();
         let mut prohib: Vec<Prohibition> = Vec::new();
@@ -986,7 +986,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                                 .error(*target_span, format!("unknown state `{target}` in specification `{name}`"));
                         }
                         let c = match cond {
-                            Some(c) => self.cond(module, c, &|p| all_states[p].clone()),
+                            Some(c) => self.cond(module, c, all_states),
                             None => Some(Cond::True),
                         };
                         if let (Some(e), Some(dst), Some(c)) = (e, dst, c) {
@@ -998,7 +998,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                     }
                     StateItem::Forbid { events, cond, span } => {
                         let c = match cond {
-                            Some(c) => self.cond(module, c, &|p| all_states[p].clone()),
+                            Some(c) => self.cond(module, c, all_states),
                             None => Some(Cond::True),
                         };
                         for p in events {

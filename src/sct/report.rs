@@ -5,7 +5,7 @@
 //! transitions (6.4.4) with both locations, cycles of enforced transitions (5.5.5), and a warning
 //! when one supervisor enforces an event another one prohibits (6.4.2).
 
-use super::model::{self, Budget, Config, EventId, Method, Stop, SynthError};
+use super::model::{self, Budget, Config, EventId, Knowledge, Method, Stop, SynthError};
 use super::project::Loaded;
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use serde::Serialize;
@@ -87,13 +87,14 @@ pub fn synthesize_all_within(
     let mut stop = None;
     let mut diags = Diagnostics::new(src);
     let p = &loaded.project;
+    let knowledge = Knowledge::new(p);
     let name = |e: EventId| p.event_name(e).to_string();
     let mut out = Vec::new();
     // The specification of each report (a specification with an error has none).
     let mut spec_of: Vec<usize> = Vec::new();
     for (i, spec) in p.specs.iter().enumerate() {
         let t0 = now.map(|f| f());
-        let sup = match model::synthesize_within(p, i, cfg, budget) {
+        let sup = match model::synthesize_known(p, &knowledge, i, cfg, budget) {
             Ok(s) => s,
             Err(SynthError::BudgetExceeded { max_states }) => {
                 stop = Some(Stop::BudgetExceeded { max_states });
@@ -203,11 +204,19 @@ pub fn synthesize_all_within(
             supervisor: sup,
         });
     }
-    // 6.4.2: supervisors do not synchronise on enforced events.
+    // 6.4.2: supervisors do not synchronise on enforced events. Indexed by event, so that many
+    // supervisors are not compared pairwise.
+    let mut prohibiting: hashbrown::HashMap<String, Vec<usize>> = hashbrown::HashMap::new();
+    for (j, b) in out.iter().enumerate() {
+        for e in &b.prohibited_events {
+            prohibiting.entry(e.clone()).or_default().push(j);
+        }
+    }
     for (i, a) in out.iter().enumerate() {
         for e in &a.enforced_events {
-            for (j, b) in out.iter().enumerate() {
-                if i != j && b.prohibited_events.contains(e) {
+            for &j in prohibiting.get(e).into_iter().flatten() {
+                let b = &out[j];
+                if i != j {
                     let at = loaded.spec_spans[spec_of[j]];
                     diags
                         .warning(at, format!("`{}` prohibits `{e}`, which supervisor `{}` enforces", b.name, a.name))
