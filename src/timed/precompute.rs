@@ -12,6 +12,10 @@
 //!
 //! The pieces of a clock are the same in all locations of its component, so a transition that
 //! does not reset a clock keeps the clock's piece.
+//!
+//! A location with `k` clocks in use splits into the product of their pieces, exponential in
+//! `k`; the split is therefore charged to the memory and work budgets of the run and refused,
+//! naming the location, when it would exceed them.
 
 use super::ast::{Interval, MessageKind};
 use super::model::*;
