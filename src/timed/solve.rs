@@ -55,9 +55,9 @@ pub struct SolveOptions {
 
 /// Default state budget: round table 8/8, the largest example, stores 824 640 states.
 pub const DEFAULT_MAX_STATES: usize = 1_000_000;
-/// Default memory budget, 512 MiB: round table 8/8 needs about 261 MiB.
+/// Default memory budget, 512 MiB: round table 8/8 needs about 311 MiB.
 pub const DEFAULT_MAX_BYTES: usize = 512 << 20;
-/// Default work budget: a few seconds of solving natively; round table 8/8 needs about 90 million.
+/// Default work budget: a few seconds of solving natively; round table 8/8 needs about 82 million.
 pub const DEFAULT_MAX_WORK: u64 = 250_000_000;
 
 /// Work between two progress calls during long work on one state (a few milliseconds).
@@ -120,10 +120,9 @@ impl BudgetStop {
             Budget::States => {
                 (options.max_states as u64, format!("the search stored more than {} states", options.max_states))
             }
-            Budget::Memory => (
-                options.max_bytes as u64,
-                format!("the state space needs more than {} of memory", mib(options.max_bytes)),
-            ),
+            Budget::Memory => {
+                (options.max_bytes as u64, format!("the search needs more than {} of memory", mib(options.max_bytes)))
+            }
             Budget::Work => (
                 options.max_work,
                 format!(
