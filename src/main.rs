@@ -22,16 +22,18 @@ enum Command {
         /// Print one JSON object instead of text.
         #[arg(long)]
         json: bool,
-        /// Give up after storing this many states.
-        #[arg(long, value_name = "N")]
-        max_states: Option<usize>,
+        #[command(flatten)]
+        budget: cli::timed::BudgetArgs,
         /// Also print every explored state with its status and edges.
         #[arg(long)]
         states: bool,
     },
-    /// Synthesise the controller program of a timed-game specification.
+    /// Synthesise the controller program of a timed-game specification. Exit status: 0 written,
+    /// 1 unrealizable, 2 input error, 3 budget exceeded.
     Compile {
         file: String,
+        #[command(flatten)]
+        budget: cli::timed::BudgetArgs,
         /// What to produce.
         #[arg(long, value_parser = output_parser(), default_value = "program")]
         target: Output,
@@ -39,7 +41,8 @@ enum Command {
         #[arg(short, long)]
         output: Option<String>,
     },
-    /// Synthesise one supervisor per specification of a `.sct` project (Göbe 2019).
+    /// Synthesise one supervisor per specification of a `.sct` project (Göbe 2019). Exit status:
+    /// 0 done, 2 input error, 3 state budget spent.
     Supervise(cli::sct::SuperviseArgs),
     /// Classic Ramadge–Wonham SupCon of a plant and a specification in libFAUDES `.gen` format.
     Supcon(cli::sct::SupconArgs),
@@ -84,13 +87,13 @@ enum BenchEngine {
 
 fn main() -> ExitCode {
     match Cli::parse().command {
-        Command::Solve { file, json, max_states, states } => cli::timed::solve(&file, json, max_states, states),
-        Command::Compile { file, target, output } => {
+        Command::Solve { file, json, budget, states } => cli::timed::solve(&file, json, &budget, states),
+        Command::Compile { file, budget, target, output } => {
             let target = match target {
                 Output::Program => None,
                 Output::Plc(t) => Some(t),
             };
-            cli::timed::compile(&file, target, output.as_deref())
+            cli::timed::compile(&file, &budget, target, output.as_deref())
         }
         Command::Supervise(a) => cli::sct::supervise(&a),
         Command::Supcon(a) => cli::sct::supcon(&a),

@@ -11,7 +11,7 @@ use crate::program::{self, Program};
 use crate::timed::explain::{describe_edge, describe_state, dump};
 use crate::timed::export::{self, SpaceView, StateView, TransitionView};
 use crate::timed::model::Game;
-use crate::timed::solve::{SolveOptions, StateId, Stats, Verdict};
+use crate::timed::solve::{BudgetStop, SolveOptions, StateId, Stats, Verdict};
 use crate::timed::{self, Synthesis};
 use serde::{Deserialize, Serialize};
 use std::cell::OnceCell;
@@ -62,6 +62,8 @@ pub fn check(source: &str) -> Result<JsValue, JsValue> {
 #[serde(rename_all = "camelCase", default)]
 struct JsSolveOptions {
     max_states: Option<usize>,
+    max_memory_mib: Option<usize>,
+    max_work: Option<u64>,
     progress_interval: Option<usize>,
 }
 
@@ -69,6 +71,8 @@ struct JsSolveOptions {
 struct SolveSummary {
     verdict: Verdict,
     stats: Stats,
+    /// Present when the verdict is `budget_exceeded`: which budget stopped the search.
+    budget: Option<BudgetStop>,
     /// Present when the verdict is `unrealizable`.
     explanation_depth: Option<u32>,
 }
@@ -168,9 +172,10 @@ impl Session {
         to_js(&export::automata(&self.game))
     }
 
-    /// Solves the game. `options`: `{ maxStates?, progressInterval? }`; `progress`, if given, is
-    /// called with `Stats` every `progressInterval` expansions, and a return value of `false`
-    /// cancels the run. Returns `{ verdict, stats, explanation_depth }`.
+    /// Solves the game. `options`: `{ maxStates?, maxMemoryMib?, maxWork?, progressInterval? }`;
+    /// `progress`, if given, is called with `Stats` every `progressInterval` expansions (and
+    /// during long work on one state), and a return value of `false` cancels the run. Returns
+    /// `{ verdict, stats, budget, explanation_depth }`.
     pub fn solve(&mut self, options: JsValue, progress: Option<js_sys::Function>) -> Result<JsValue, JsValue> {
         let opts: JsSolveOptions = if options.is_undefined() || options.is_null() {
             JsSolveOptions::default()
@@ -181,6 +186,8 @@ impl Session {
         let defaults = SolveOptions::default();
         let options = SolveOptions {
             max_states: opts.max_states.unwrap_or(defaults.max_states),
+            max_bytes: opts.max_memory_mib.map_or(defaults.max_bytes, |mib| mib.saturating_mul(1 << 20)),
+            max_work: opts.max_work.unwrap_or(defaults.max_work),
             progress_interval: opts.progress_interval.unwrap_or(defaults.progress_interval).max(1),
         };
         let mut callback_error = None;
@@ -208,6 +215,7 @@ impl Session {
         let summary = SolveSummary {
             verdict: synthesis.solution.verdict,
             stats: synthesis.solution.stats,
+            budget: synthesis.solution.stop.clone(),
             explanation_depth: synthesis.explanation.as_ref().map(|e| e.depth),
         };
         self.synthesis = Some(synthesis);

@@ -24,9 +24,42 @@ fn solve_exit_status_follows_the_verdict() {
         out.contains("unrealizable") && out.contains("why the initial state is lost") && out.contains("!press"),
         "{out}"
     );
-    let (code, out, _) = plcsynth(&["solve", "examples/timed/round_table_8.tga", "--max-states", "500"]);
+    let (code, out, err) = plcsynth(&["solve", "examples/timed/round_table_8.tga", "--max-states", "500"]);
     assert_eq!(code, 3);
     assert!(out.contains("budget exceeded after"), "{out}");
+    assert!(err.contains("budget exceeded: the search stored more than 500 states"), "{err}");
+    assert!(err.contains("this is the state budget; raise it with --max-states N"), "{err}");
+}
+
+#[test]
+fn every_budget_stop_exits_3_and_names_its_flag() {
+    let dir = std::env::temp_dir().join(format!("plcsynth-cli-budget-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // One node with 22 clocks in use splits into 2^22 sub-locations: refused at the node.
+    let clocks: Vec<String> = (0..22).map(|i| format!("c{i}")).collect();
+    let loops: String = (0..22).map(|i| format!("    q -> q !t{i} {{c{i} in [1,inf)}} reset{{c{i}}};\n")).collect();
+    let file = dir.join("clocks.tga");
+    std::fs::write(
+        &file,
+        format!("plant {{\n  automaton A {{\n    clocks {};\n    nodes q;\n{loops}  }}\n}}\n", clocks.join(", ")),
+    )
+    .unwrap();
+    let path = file.to_str().unwrap();
+    for command in ["solve", "compile"] {
+        let (code, _, err) = plcsynth(&[command, path]);
+        assert_eq!(code, 3, "{command}: {err}");
+        assert!(err.contains("clocks.tga:4:11: error: budget exceeded: node `q` of `A` splits into 4194304"), "{err}");
+        assert!(err.contains("4 |     nodes q;"), "{err}");
+        assert!(err.contains("raise it with --max-memory MIB"), "{err}");
+    }
+    let (code, out, err) = plcsynth(&["solve", path, "--max-memory", "4096", "--max-work", "1000000", "--json"]);
+    assert_eq!(code, 3, "{err}");
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(v["verdict"], "budget_exceeded");
+    assert_eq!(v["budget"]["budget"], "work");
+    assert_eq!(v["budget"]["limit"], 1_000_000);
+    assert!(err.contains("raise it with --max-work N"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

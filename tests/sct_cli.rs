@@ -185,16 +185,71 @@ fn supervise_compose_resolves_the_enforcement_conflict() {
 }
 
 #[test]
-fn supervise_reports_an_exhausted_state_budget() {
+fn supervise_reports_an_exhausted_state_budget_with_exit_status_3() {
     let (code, out, err) =
         plcsynth(&["supervise", "examples/sct/transfer_line_2x2.sct", "--method", "monolithic", "--max-states", "100"]);
-    assert_eq!(code, 2, "{out}{err}");
+    assert_eq!(code, 3, "{out}{err}");
     assert!(err.contains("error: synthesis stopped at `B1_1`: more than 100 product states built"), "{err}");
     assert!(err.contains("not synthesised either: B1_2, TB1, B2_1, B2_2"), "{err}");
+    assert!(err.contains("raise it with --max-states N"), "{err}");
     // Incremental synthesis of the same file fits easily.
     let (code, _, err) = plcsynth(&["supervise", "examples/sct/transfer_line_2x2.sct", "--max-states", "100"]);
     assert_eq!(code, 0, "{err}");
     let (code, _, err) = plcsynth(&["supervise", "examples/sct/three_tanks.sct", "--compose", "--max-states", "10"]);
-    assert_eq!(code, 2);
-    assert!(err.contains("the product of all specifications has more than 10 states"), "{err}");
+    assert_eq!(code, 3, "{err}");
+    assert!(err.contains("three_tanks.sct:"), "located: {err}");
+    assert!(err.contains("error: composing the 10 specifications spent the state budget at `"), "{err}");
+    assert!(err.contains("raise it with --max-states N"), "{err}");
+}
+
+/// `n` independent two-state specifications, each forbidding its event after it: 2^n states
+/// in their product.
+fn independent_specs(n: usize) -> String {
+    let mut s = String::new();
+    for i in 0..n {
+        s += &format!(
+            "event e{i} : controllable;\nspec S{i} {{ state a initial {{ e{i} -> b; }} state b {{ forbid e{i}; }} }}\n"
+        );
+    }
+    s
+}
+
+#[test]
+fn products_written_in_the_file_and_compose_obey_the_state_budget() {
+    let dir = std::env::temp_dir().join(format!("plcsynth-cli-products-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let names: Vec<String> = (0..12).map(|i| format!("S{i}")).collect();
+    let file = dir.join("product.sct");
+    std::fs::write(&file, format!("{}spec All = {};\n", independent_specs(12), names.join(" | "))).unwrap();
+    let path = file.to_str().unwrap();
+    // 2^12 = 4096 states in the product; its intermediate products count too.
+    let (code, _, err) = plcsynth(&["supervise", path, "--max-states", "5000"]);
+    assert_eq!(code, 3, "{err}");
+    assert!(err.contains("product.sct:25:6: error: building the product `All` spent the state budget"), "{err}");
+    assert!(err.contains("raise it with --max-states N"), "{err}");
+    let (code, out, err) = plcsynth(&["supervise", path, "--max-states", "20000"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("All ") && out.contains("1 supervisors"), "{out}");
+    // --compose draws on the same budget as the synthesis after it.
+    let file = dir.join("forty.sct");
+    std::fs::write(&file, independent_specs(40)).unwrap();
+    let (code, _, err) = plcsynth(&["supervise", file.to_str().unwrap(), "--compose"]);
+    assert_eq!(code, 3, "{err}");
+    assert!(err.contains("error: composing the 40 specifications spent the state budget at `S"), "{err}");
+    // An input error keeps exit status 2 even when the budget stops the run too.
+    let file = dir.join("conflict.sct");
+    std::fs::write(
+        &file,
+        "event a : controllable;\nevent b : uncontrollable;\nplant P { alphabet a, b; state p initial { a -> p; b -> q; } state q { b -> q; } }\n\
+         plant Q { alphabet b; state x initial { b -> y; } state y { b -> x; } }\n\
+         spec C { state s initial { a -> t if [P.p]; a -> u if [Q.x]; forbid b; } state t; state u; }\n\
+         spec D { state s initial { forbid b; } }\n",
+    )
+    .unwrap();
+    let (code, _, err) =
+        plcsynth(&["supervise", file.to_str().unwrap(), "--method", "monolithic", "--max-states", "6"]);
+    assert!(err.contains("two transitions on `a`"), "{err}");
+    assert!(err.contains("synthesis stopped at `D`"), "{err}");
+    assert_eq!(code, 2, "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -297,7 +297,7 @@ fn the_progress_callback_can_cancel() {
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/timed/round_table_8.tga")).unwrap();
     let (game, _) = compile(&source).unwrap();
     let mut calls = 0;
-    let options = SolveOptions { max_states: 10_000_000, progress_interval: 100 };
+    let options = SolveOptions { max_states: 10_000_000, progress_interval: 100, ..SolveOptions::default() };
     let s = synthesize(&game, &options, &mut |stats| {
         calls += 1;
         assert!(stats.visited > 0);

@@ -149,6 +149,26 @@ fn budget_exceeded_keeps_statistics() {
     let summary = s.solve(options, None).unwrap();
     assert_eq!(string(&summary, "verdict"), "budget_exceeded");
     assert!(num(&get(&summary, "stats"), "visited") >= 50.0);
+    let budget = get(&summary, "budget");
+    assert_eq!(string(&budget, "budget"), "states");
+    assert_eq!(num(&budget, "limit"), 50.0);
+    assert!(get(&budget, "span").is_null());
+}
+
+#[wasm_bindgen_test]
+fn memory_and_work_budgets_are_options() {
+    let mut s = Session::new(RT4).map_err(|_| "compile").unwrap();
+    let options = js_sys::JSON::parse(r#"{"maxWork": 10000}"#).unwrap();
+    let summary = s.solve(options, None).unwrap();
+    assert_eq!(string(&summary, "verdict"), "budget_exceeded");
+    assert_eq!(string(&get(&summary, "budget"), "budget"), "work");
+    assert!(num(&get(&summary, "stats"), "work") > 10000.0);
+    let options = js_sys::JSON::parse(r#"{"maxMemoryMib": 1}"#).unwrap();
+    let summary = s.solve(options, None).unwrap();
+    assert_eq!(string(&get(&summary, "budget"), "budget"), "memory");
+    let summary = s.solve(JsValue::UNDEFINED, None).unwrap();
+    assert_eq!(string(&summary, "verdict"), "realizable");
+    assert!(get(&summary, "budget").is_null());
 }
 
 #[wasm_bindgen_test]

@@ -5,9 +5,9 @@ use plcsynth::diag::{render_plain, Diagnostics};
 use plcsynth::sct::classic::{minimize, supcon as classic_supcon, EventId, Events, SupConError};
 use plcsynth::sct::gen::{read_gen_file, write_gen, GenFile};
 use plcsynth::sct::model::dep_closure;
-use plcsynth::sct::model::{Config, Method, DEFAULT_MAX_STATES};
-use plcsynth::sct::project::load;
-use plcsynth::sct::report::synthesize_all;
+use plcsynth::sct::model::{Budget, Config, Method, DEFAULT_MAX_STATES};
+use plcsynth::sct::project::{load, load_within};
+use plcsynth::sct::report::{synthesize_all, synthesize_all_within};
 use plcsynth::sct::textbook::{agv, small_factory, transfer_line, transfer_lines_classic};
 use plcsynth::sct::transfer::{extended_line, transfer_lines};
 use std::process::{Command, ExitCode};
@@ -39,10 +39,10 @@ pub struct SuperviseArgs {
     /// (the setting of 5.8.5; avoids enforcing an event another requirement prohibits, 6.4.2).
     #[arg(long)]
     pub compose: bool,
-    /// State budget: the product states one run may build, shared by all specifications
-    /// (`--compose` bounds its product by the same number); when it is spent, synthesis stops
-    /// with an error.
-    #[arg(long, default_value_t = DEFAULT_MAX_STATES)]
+    /// State budget: the product states one run may build, shared by the specification products
+    /// (written in the file or by `--compose`) and the synthesis of every specification; when it
+    /// is spent, the run stops with exit status 3.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_STATES)]
     pub max_states: usize,
 }
 
@@ -80,29 +80,48 @@ fn read(path: &str) -> Result<String, ExitCode> {
     })
 }
 
+/// Exit status: 0 supervisors synthesised, 2 input error (located diagnostics), 3 the state
+/// budget is spent (specification products and synthesis draw on one budget per run).
 pub fn supervise(a: &SuperviseArgs) -> ExitCode {
     let src = match read(&a.file) {
         Ok(s) => s,
         Err(c) => return c,
     };
-    let (loaded, diags) = load(&src);
+    let mut go_on = |_| true;
+    let mut budget = Budget::new(a.max_states, &mut go_on);
+    let (loaded, diags, stop) = load_within(&src, &mut budget);
     if !diags.is_empty() {
         eprint!("{}", render_plain(&a.file, &src, &diags));
+    }
+    if stop.is_some() {
+        budget_note(a.max_states);
+        return ExitCode::from(3);
     }
     let Some(mut loaded) = loaded else { return ExitCode::from(2) };
     let mut composed_from = 0;
     if a.compose {
-        match loaded.composed("Composed", a.max_states) {
-            Some(l) => {
+        match loaded.composed("Composed", &mut budget) {
+            Ok(l) => {
                 composed_from = loaded.project.specs.len();
                 loaded = l
             }
-            None => {
-                eprintln!(
-                    "error: the product of all specifications has more than {} states (--max-states)",
-                    a.max_states
-                );
-                return ExitCode::from(2);
+            Err((k, _)) => {
+                let specs = &loaded.project.specs;
+                let mut d = Diagnostics::new(&src);
+                d.error(
+                    loaded.spec_spans[k],
+                    format!(
+                        "composing the {} specifications spent the state budget at `{}`: more than {} product states",
+                        specs.len(),
+                        specs[k].name,
+                        a.max_states
+                    ),
+                )
+                .with_note(format!("this is the product of the first {} specifications", k + 1))
+                .with_note("compose fewer of them with a product `spec X = A | B;` in the file");
+                eprint!("{}", render_plain(&a.file, &src, &d.items));
+                budget_note(a.max_states);
+                return ExitCode::from(3);
             }
         }
     }
@@ -113,14 +132,18 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
     let cfg = Config { method, preempt: !a.no_preemption, minimize: !a.no_minimize, max_states: a.max_states };
     let start = Instant::now();
     let clock = move || start.elapsed().as_secs_f64() * 1000.0;
-    let (reports, sdiags) = synthesize_all(&src, &loaded, &cfg, Some(&clock));
+    let (reports, sdiags, stop) = synthesize_all_within(&src, &loaded, &cfg, Some(&clock), &mut budget);
     if !sdiags.is_empty() {
         eprint!("{}", render_plain(&a.file, &src, &sdiags));
         if composed_from > 1 {
             eprintln!("note: `Composed` is the product of all {composed_from} specifications; its diagnostics point at the first");
         }
     }
-    let failed = sdiags.iter().any(|d| d.is_error());
+    if stop.is_some() {
+        budget_note(a.max_states);
+    }
+    // The budget stop is one error diagnostic; any other error is an input error.
+    let input_errors = sdiags.iter().filter(|d| d.is_error()).count() > usize::from(stop.is_some());
     if a.json {
         let out = serde_json::json!({
             "file": a.file,
@@ -158,11 +181,20 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
         }
         outln!("{} supervisors, {} states in total", reports.len(), total);
     }
-    if failed {
+    if input_errors {
         ExitCode::from(2)
+    } else if stop.is_some() {
+        ExitCode::from(3)
     } else {
         ExitCode::SUCCESS
     }
+}
+
+/// How to go on after the state budget stopped a run.
+fn budget_note(max_states: usize) {
+    eprintln!(
+        "note: the state budget of {max_states} product states is spent (specification products and synthesis share it); raise it with --max-states N"
+    );
 }
 
 /// Reads a `.gen` file; returns its text too, for diagnostics that point into it later.

@@ -1,9 +1,59 @@
 //! `plcsynth solve`: solve a timed-game specification.
 
-use plcsynth::diag::render_plain;
-use plcsynth::timed::{self, solve::Verdict};
+use clap::Args;
+use plcsynth::diag::{render_plain, Diagnostics};
+use plcsynth::timed::solve::{self, Budget, BudgetStop, SolveOptions, Verdict};
+use plcsynth::timed::{self};
 use std::process::ExitCode;
 use std::time::Instant;
+
+/// The budgets of a search; a search that exceeds one stops with exit status 3.
+#[derive(Args)]
+pub struct BudgetArgs {
+    /// Give up after storing this many states.
+    #[arg(long, value_name = "N", default_value_t = solve::DEFAULT_MAX_STATES)]
+    pub max_states: usize,
+    /// Give up once the split automata and the state space take about this much memory.
+    #[arg(long, value_name = "MIB", default_value_t = solve::DEFAULT_MAX_BYTES >> 20)]
+    pub max_memory: usize,
+    /// Give up after this much work (zone bounds and state entries computed, about 10-20 ns
+    /// each): bounds the time of games whose states are few but expensive.
+    #[arg(long, value_name = "N", default_value_t = solve::DEFAULT_MAX_WORK)]
+    pub max_work: u64,
+}
+
+impl BudgetArgs {
+    fn options(&self) -> SolveOptions {
+        SolveOptions {
+            max_states: self.max_states,
+            max_bytes: self.max_memory.saturating_mul(1 << 20),
+            max_work: self.max_work,
+            ..SolveOptions::default()
+        }
+    }
+}
+
+/// The budget stop as a diagnostic with the flag that raises the budget, located at the
+/// declaration to blame when there is one.
+fn render_stop(file: &str, source: &str, stop: &BudgetStop) -> String {
+    let flag = match stop.budget {
+        Budget::States => "--max-states N",
+        Budget::Memory => "--max-memory MIB",
+        Budget::Work => "--max-work N",
+    };
+    let note = format!("this is the {} budget; raise it with {flag}", stop.budget.name());
+    match stop.span {
+        Some(span) => {
+            let mut d = Diagnostics::new(source);
+            d.error(span, format!("budget exceeded: {}", stop.message)).with_note(note).with_note(
+                "every clock in use at a node multiplies its sub-locations by the clock's pieces (5.2.2); \
+                 fewer clocks per automaton, or resets before clocks are read again, keep the split small",
+            );
+            render_plain(file, source, &d.items)
+        }
+        None => format!("{file}: budget exceeded: {}\n  = note: {note}\n", stop.message),
+    }
+}
 
 /// Reads and checks a specification, printing diagnostics (and warnings) to stderr; an input
 /// error is exit status 2.
@@ -27,15 +77,12 @@ fn load(file: &str) -> Result<(String, timed::model::Game), ExitCode> {
 }
 
 /// Exit status: 0 realizable, 1 unrealizable, 2 input error, 3 budget exceeded.
-pub fn solve(file: &str, json: bool, max_states: Option<usize>, dump_states: bool) -> ExitCode {
-    let (_, game) = match load(file) {
+pub fn solve(file: &str, json: bool, budget: &BudgetArgs, dump_states: bool) -> ExitCode {
+    let (source, game) = match load(file) {
         Ok(ok) => ok,
         Err(code) => return code,
     };
-    let mut options = timed::solve::SolveOptions::default();
-    if let Some(n) = max_states {
-        options.max_states = n;
-    }
+    let options = budget.options();
     let started = Instant::now();
     let result = timed::synthesize(&game, &options, &mut |_| true);
     let millis = started.elapsed().as_secs_f64() * 1000.0;
@@ -53,6 +100,8 @@ pub fn solve(file: &str, json: bool, max_states: Option<usize>, dump_states: boo
             "edges": stats.edges,
             "zones": stats.zones,
             "bytes": stats.bytes,
+            "work": stats.work,
+            "budget": result.solution.stop,
             "millis": millis,
             "explanation": explanation,
         });
@@ -80,6 +129,9 @@ pub fn solve(file: &str, json: bool, max_states: Option<usize>, dump_states: boo
             outln!("\n{}", timed::explain::dump(&game, &result.split, &result.solution.space));
         }
     }
+    if let Some(stop) = &result.solution.stop {
+        eprint!("{}", render_stop(file, &source, stop));
+    }
     match result.solution.verdict {
         Verdict::Realizable => ExitCode::SUCCESS,
         Verdict::Unrealizable => ExitCode::from(1),
@@ -90,15 +142,18 @@ pub fn solve(file: &str, json: bool, max_states: Option<usize>, dump_states: boo
 /// `plcsynth compile FILE --target T`: the intermediate program (`target` = None) or PLC code.
 /// Unrealizable specifications exit 1 with the explanation and write nothing; a time constant
 /// the target cannot hold exits 2 with a located diagnostic and writes nothing.
-pub fn compile(file: &str, target: Option<plcsynth::plc::Target>, out: Option<&str>) -> ExitCode {
+pub fn compile(file: &str, budget: &BudgetArgs, target: Option<plcsynth::plc::Target>, out: Option<&str>) -> ExitCode {
     let (source, game) = match load(file) {
         Ok(ok) => ok,
         Err(code) => return code,
     };
-    let result = timed::synthesize(&game, &timed::solve::SolveOptions::default(), &mut |_| true);
+    let result = timed::synthesize(&game, &budget.options(), &mut |_| true);
     let Some(program) = plcsynth::program::controller(&game, &result) else {
         match result.solution.verdict {
-            Verdict::BudgetExceeded => {
+            Verdict::BudgetExceeded | Verdict::Cancelled => {
+                if let Some(stop) = &result.solution.stop {
+                    eprint!("{}", render_stop(file, &source, stop));
+                }
                 eprintln!("{file}: budget exceeded after {} states; nothing written", result.solution.stats.visited);
                 return ExitCode::from(3);
             }

@@ -230,8 +230,9 @@ pub struct SynthAut {
     pub plants: Vec<u32>,
     /// `tuples[s * (1 + plants.len()) ..]`: the spec state, then one state per applied plant.
     pub tuples: Vec<u32>,
-    /// Membership mask of the plant alphabet over the project's events.
-    pub plant_alphabet: Vec<bool>,
+    /// The plant alphabet: the events of the applied plants, sorted (a set per automaton, not a
+    /// mask over all events, so that many small specifications stay linear).
+    pub plant_alphabet: Vec<EventId>,
     pub init: Option<u32>,
     /// Transitions per state (sorted by event).
     pub trans: Vec<Vec<STrans>>,
@@ -260,7 +261,7 @@ impl SynthAut {
     }
 
     /// A specification as a synthesis automaton with an empty plant alphabet (lemma 8).
-    pub fn from_spec(spec: &Spec, n_events: usize) -> SynthAut {
+    pub fn from_spec(spec: &Spec) -> SynthAut {
         let n = spec.states.len();
         let mut trans = vec![Vec::new(); n];
         let mut prohib = vec![Vec::new(); n];
@@ -284,7 +285,7 @@ impl SynthAut {
         let a = SynthAut {
             plants: Vec::new(),
             tuples: (0..n as u32).collect(),
-            plant_alphabet: vec![false; n_events],
+            plant_alphabet: Vec::new(),
             init: Some(spec.init),
             trans,
             prohib,
@@ -467,8 +468,8 @@ fn push_moves(
 /// either operand prohibits; an event moves the operands that have a transition for it, and
 /// an operand without one stays unless it prohibits the event. Only the accessible part is
 /// built. Conditions of competing transitions are combined as in the application product.
-/// Returns `None` if the product would exceed `max_states` states.
-pub fn spec_product(name: &str, a: &Spec, b: &Spec, max_states: usize) -> Option<Spec> {
+/// Every product state is drawn from `budget`.
+pub fn spec_product(name: &str, a: &Spec, b: &Spec, budget: &mut Budget) -> Result<Spec, SynthError> {
     fn by_state(h: &Spec) -> (Vec<Vec<&Transition>>, Vec<Vec<&Prohibition>>) {
         let mut t: Vec<Vec<&Transition>> = vec![Vec::new(); h.states.len()];
         let mut p: Vec<Vec<&Prohibition>> = vec![Vec::new(); h.states.len()];
@@ -481,19 +482,14 @@ pub fn spec_product(name: &str, a: &Spec, b: &Spec, max_states: usize) -> Option
         (t, p)
     }
     if a.states.is_empty() || b.states.is_empty() {
-        return Some(Spec {
-            name: name.to_string(),
-            states: Vec::new(),
-            init: 0,
-            trans: Vec::new(),
-            prohib: Vec::new(),
-        });
+        return Ok(Spec { name: name.to_string(), states: Vec::new(), init: 0, trans: Vec::new(), prohib: Vec::new() });
     }
     let (ta, pa) = by_state(a);
     let (tb, pb) = by_state(b);
     let mut index: hashbrown::HashMap<(u32, u32), u32> = hashbrown::HashMap::new();
     let mut pairs = vec![(a.init, b.init)];
     index.insert((a.init, b.init), 0);
+    budget.take_one()?;
     let mut out = Spec { name: name.to_string(), states: Vec::new(), init: 0, trans: Vec::new(), prohib: Vec::new() };
     let any = |cs: &mut dyn Iterator<Item = &Cond>| cs.fold(Cond::False, |acc, c| acc.or(c.clone()));
     let mut k = 0;
@@ -540,13 +536,14 @@ pub fn spec_product(name: &str, a: &Spec, b: &Spec, max_states: usize) -> Option
                 out.prohib.push(Prohibition { state: k as u32, ..(*p).clone() });
             }
         }
+        let known = pairs.len();
         push_moves(&mut out.trans, &mut index, &mut pairs, k as u32, moves);
-        if pairs.len() > max_states {
-            return None;
+        for _ in known..pairs.len() {
+            budget.take_one()?;
         }
         k += 1;
     }
-    Some(out)
+    Ok(out)
 }
 
 /// A transition under construction: event, condition, target pair, origins.
@@ -557,11 +554,14 @@ type NewTrans = (EventId, Cond, (u32, u32), [u32; 2]);
 /// are reported.
 fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut Budget) -> Result<SynthAut, SynthError> {
     let g = &project.plants[g_id as usize];
-    let n_events = project.events.len();
-    let mut in_g = vec![false; n_events];
-    for e in &g.alphabet {
-        in_g[e.0 as usize] = true;
-    }
+    let mut g_alphabet = g.alphabet.clone();
+    g_alphabet.sort_unstable();
+    g_alphabet.dedup();
+    let in_g = |e: EventId| g_alphabet.binary_search(&e).is_ok();
+    let in_c = |e: EventId| c.plant_alphabet.binary_search(&e).is_ok();
+    let mut plant_alphabet: Vec<EventId> = c.plant_alphabet.iter().chain(&g_alphabet).copied().collect();
+    plant_alphabet.sort_unstable();
+    plant_alphabet.dedup();
     // Plant transitions per state, sorted by event.
     let mut g_out: Vec<Vec<&Transition>> = vec![Vec::new(); g.states.len()];
     for t in &g.trans {
@@ -576,7 +576,7 @@ fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut B
     let mut out = SynthAut {
         plants,
         tuples: Vec::new(),
-        plant_alphabet: c.plant_alphabet.iter().zip(&in_g).map(|(a, b)| *a || *b).collect(),
+        plant_alphabet,
         init: None,
         trans: Vec::new(),
         prohib: Vec::new(),
@@ -609,7 +609,7 @@ fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut B
         let gamma = c.enforced[qc as usize];
         for tc in &c.trans[qc as usize] {
             let e = tc.event;
-            if !in_g[e.0 as usize] {
+            if !in_g(e) {
                 let cond = tc.cond.refine(&lookup);
                 if cond != Cond::False {
                     new_trans.push((e, cond, (tc.dst, qg), tc.origin));
@@ -626,7 +626,7 @@ fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut B
         }
         for p in &c.prohib[qc as usize] {
             let e = p.event;
-            if !in_g[e.0 as usize] {
+            if !in_g(e) {
                 let cond = p.cond.refine(&lookup);
                 if cond != Cond::False {
                     new_prohib.push(SProhib { event: e, cond, origin: p.origin });
@@ -646,7 +646,7 @@ fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut B
         // Plant moves while the synthesis automaton stays (it has no knowledge of the event).
         for tg in gts.iter() {
             let e = tg.event;
-            if c.plant_alphabet[e.0 as usize] {
+            if in_c(e) {
                 continue;
             }
             if let Some(f) = gamma {
@@ -713,7 +713,7 @@ fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut B
         out.trans.push(row);
         out.prohib.push(new_prohib);
         // γ survives if the plant can do the enforced event here (definition 32).
-        let keep_gamma = gamma.filter(|f| !in_g[f.0 as usize] || !g_for(*f).is_empty());
+        let keep_gamma = gamma.filter(|f| !in_g(*f) || !g_for(*f).is_empty());
         out.enforced.push(keep_gamma);
         k += 1;
     }
@@ -846,9 +846,10 @@ pub struct Config {
     pub max_states: usize,
 }
 
-/// The default state budget of [`Config`], and the fixed bound of the specification products
-/// written in a project file.
-pub const DEFAULT_MAX_STATES: usize = 1_000_000;
+/// The default state budget of a run ([`Config`], [`super::project::load`], `supervise
+/// --max-states`): product states cost 0.5–1.5 KB and a few microseconds each, so a run stops
+/// within about a second and a few hundred MB.
+pub const DEFAULT_MAX_STATES: usize = 250_000;
 
 /// How many new states a product builds between two calls of the progress callback.
 const PROGRESS_INTERVAL: usize = 4096;
@@ -973,9 +974,29 @@ pub enum SynthError {
     Cancelled,
 }
 
-/// What bounds a synthesis run: a number of product states that may still be built (every
-/// state of every application product counts, also of products later shrunk by synthesis
-/// steps) and the caller's progress callback. The callback sees the number of states built so
+/// Why a run stopped before its end.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stop {
+    /// More product states than the budget allows.
+    BudgetExceeded { max_states: usize },
+    /// The progress callback asked to stop.
+    Cancelled,
+}
+
+impl Stop {
+    /// The stop behind a synthesis error, if it is one (a conflict is an input error).
+    pub fn of(error: &SynthError) -> Option<Stop> {
+        match error {
+            SynthError::BudgetExceeded { max_states } => Some(Stop::BudgetExceeded { max_states: *max_states }),
+            SynthError::Cancelled => Some(Stop::Cancelled),
+            SynthError::Conflict(_) => None,
+        }
+    }
+}
+
+/// What bounds a run: a number of product states that may still be built (every state of every
+/// specification product and application product counts, also of products later shrunk by
+/// synthesis steps) and the caller's progress callback. The callback sees the number of states built so
 /// far and returns `false` to cancel. One budget can serve several specifications.
 pub struct Budget<'a> {
     max_states: usize,
@@ -991,6 +1012,11 @@ impl<'a> Budget<'a> {
     /// Product states built so far.
     pub fn built(&self) -> usize {
         self.built
+    }
+
+    /// The number of states the budget allows.
+    pub fn max_states(&self) -> usize {
+        self.max_states
     }
 
     /// Accounts for one new product state.
@@ -1019,17 +1045,41 @@ pub fn synthesize_within(
     cfg: &Config,
     budget: &mut Budget,
 ) -> Result<Supervisor, SynthError> {
-    let spec = &project.specs[spec_id];
-    let n_events = project.events.len();
-    let mut c = SynthAut::from_spec(spec, n_events);
-    let mut remaining: Vec<bool> = vec![true; project.plants.len()];
-    // Which plants know each event.
-    let mut knows: Vec<Vec<u32>> = vec![Vec::new(); n_events];
-    for (i, p) in project.plants.iter().enumerate() {
-        for e in &p.alphabet {
-            knows[e.0 as usize].push(i as u32);
+    synthesize_known(project, &Knowledge::new(project), spec_id, cfg, budget)
+}
+
+/// Which plants know each event (have it in their alphabet): what incremental synthesis looks
+/// up. Built once per run, as it is as large as the project.
+pub struct Knowledge {
+    knows: Vec<Vec<u32>>,
+}
+
+impl Knowledge {
+    pub fn new(project: &Project) -> Knowledge {
+        let mut knows: Vec<Vec<u32>> = vec![Vec::new(); project.events.len()];
+        for (i, p) in project.plants.iter().enumerate() {
+            for e in &p.alphabet {
+                knows[e.0 as usize].push(i as u32);
+            }
         }
+        Knowledge { knows }
     }
+}
+
+/// [`synthesize_within`] with the project's [`Knowledge`] built by the caller: the work for one
+/// specification then depends on its own size and the plants it needs, not on the project's.
+pub fn synthesize_known(
+    project: &Project,
+    knowledge: &Knowledge,
+    spec_id: usize,
+    cfg: &Config,
+    budget: &mut Budget,
+) -> Result<Supervisor, SynthError> {
+    let spec = &project.specs[spec_id];
+    let mut c = SynthAut::from_spec(spec);
+    let mut applied: hashbrown::HashSet<u32> = hashbrown::HashSet::new();
+    let remaining = |applied: &hashbrown::HashSet<u32>, g: u32| !applied.contains(&g);
+    let knows = &knowledge.knows;
     match cfg.method {
         Method::Monolithic => {
             for g in 0..project.plants.len() as u32 {
@@ -1050,20 +1100,20 @@ pub fn synthesize_within(
             // conditions still refer to (5.7.3).
             loop {
                 let mut gather: Vec<u32> =
-                    c.unresolved_plants().into_iter().filter(|&p| remaining[p as usize]).collect();
+                    c.unresolved_plants().into_iter().filter(|&p| remaining(&applied, p)).collect();
                 for s in 0..c.num_states() {
                     if !has_uncontrollable_prohibition(project, &c, s) {
                         continue;
                     }
                     for p in &c.prohib[s] {
                         if project.kind(p.event) == EventKind::Uncontrollable {
-                            gather.extend(knows[p.event.0 as usize].iter().filter(|&&g| remaining[g as usize]));
+                            gather.extend(knows[p.event.0 as usize].iter().filter(|&&g| remaining(&applied, g)));
                         }
                     }
                     if cfg.preempt {
                         for t in &c.trans[s] {
                             if project.kind(t.event) == EventKind::Enforceable {
-                                gather.extend(knows[t.event.0 as usize].iter().filter(|&&g| remaining[g as usize]));
+                                gather.extend(knows[t.event.0 as usize].iter().filter(|&&g| remaining(&applied, g)));
                             }
                         }
                     }
@@ -1074,7 +1124,7 @@ pub fn synthesize_within(
                     break;
                 }
                 for g in gather {
-                    remaining[g as usize] = false;
+                    applied.insert(g);
                     c = apply(project, spec, &c, g, budget)?;
                 }
             }
@@ -1327,10 +1377,11 @@ mod tests {
             trans: vec![t(0, 2, 1)],
             prohib: vec![Prohibition { state: 1, event: EventId(0), cond: Cond::True, origin: NO_ORIGIN }],
         };
-        let h = spec_product("H", &t1, &t2, DEFAULT_MAX_STATES).unwrap();
-        // The bound admits a product of exactly its size and no more.
-        assert!(spec_product("H", &t1, &t2, 4).is_some());
-        assert!(spec_product("H", &t1, &t2, 3).is_none());
+        let product = |max_states| spec_product("H", &t1, &t2, &mut Budget::new(max_states, &mut |_| true));
+        let h = product(DEFAULT_MAX_STATES).unwrap();
+        // The budget admits a product of exactly its size and no more.
+        assert!(product(4).is_ok());
+        assert!(matches!(product(3), Err(SynthError::BudgetExceeded { max_states: 3 })));
         // From (s,u): a -> (t,u), c -> (s,v); (s,v) forbids a; (t,u) forbids b, c -> (t,v).
         assert_eq!(h.states.len(), 4);
         let p = h.prohib.iter().map(|p| (h.states[p.state as usize].as_str(), p.event.0)).collect::<Vec<_>>();

@@ -7,7 +7,7 @@
 //! Timers declare a scope holding their `timeout` event. Template instances (6.1.4) become
 //! ordinary plants or specifications once their binding events are bound.
 
-use super::model::{self, Cond, EventId, EventKind, Prohibition, Transition};
+use super::model::{self, Budget, Cond, EventId, EventKind, Prohibition, Stop, SynthError, Transition};
 use super::syntax::{self, AutDecl, AutKind, CondExpr, EdgeKind, EventItem, Item, Path, StateItem};
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use hashbrown::HashMap;
@@ -126,8 +126,18 @@ enum Lookup {
 }
 
 /// Parses and resolves a `.sct` source. Returns the project (if there were no errors) and
-/// every diagnostic (errors and warnings), in source order.
+/// every diagnostic (errors and warnings), in source order. Specification products written in
+/// the file may build up to [`model::DEFAULT_MAX_STATES`] states.
 pub fn load(src: &str) -> (Option<Loaded>, Vec<Diagnostic>) {
+    let (loaded, diagnostics, _) = load_within(src, &mut Budget::new(model::DEFAULT_MAX_STATES, &mut |_| true));
+    (loaded, diagnostics)
+}
+
+/// [`load`] drawing the states of the specification products written in the file from
+/// `budget`, the budget of the whole run (synthesis draws on the rest). The third value is set
+/// when a product stopped the load (budget spent or cancelled): its error diagnostic is not an
+/// input error.
+pub fn load_within(src: &str, budget: &mut Budget) -> (Option<Loaded>, Vec<Diagnostic>, Option<Stop>) {
     let mut diags = Diagnostics::new(src);
     let items = syntax::parse(src, &mut diags);
     let mut cx = Ctx {
@@ -148,12 +158,16 @@ pub fn load(src: &str) -> (Option<Loaded>, Vec<Diagnostic>) {
     cx.check_events();
     cx.resolve_instances();
     let timers = cx.build_timers();
-    let plants: Vec<model::Plant> = (0..cx.plants.len()).map(|i| cx.build_plant(i)).collect();
-    let built: Vec<model::Spec> = (0..cx.specs.len()).map(|i| cx.build_spec(i, &plants)).collect();
+    // State names for conditions, gathered once (per automaton they made loading quadratic).
+    let declared_states = cx.plant_state_names();
+    let plants: Vec<model::Plant> = (0..cx.plants.len()).map(|i| cx.build_plant(i, &declared_states)).collect();
+    let plant_states: Vec<Vec<String>> = plants.iter().map(|p| p.states.clone()).collect();
+    let built: Vec<model::Spec> = (0..cx.specs.len()).map(|i| cx.build_spec(i, &plant_states)).collect();
     let mut consumed = vec![false; built.len()];
     let mut specs = Vec::new();
     let mut spec_spans = Vec::new();
     let mut product_specs = Vec::new();
+    let mut stop = None;
     for k in 0..cx.products.len() {
         let (name, span, operands, module) = cx.products[k].clone();
         let mut parts: Vec<usize> = Vec::new();
@@ -169,12 +183,20 @@ pub fn load(src: &str) -> (Option<Loaded>, Vec<Diagnostic>) {
         if parts.len() == operands.len() && !cx.diags.has_errors() {
             let full = qualify(&cx.modules[module].path, &name);
             let specs: Vec<&model::Spec> = parts.iter().map(|&i| &built[i]).collect();
-            match product_of(&full, &specs, model::DEFAULT_MAX_STATES) {
-                Some(acc) => product_specs.push((acc, span)),
-                None => {
-                    cx.diags
-                        .error(span, format!("the product `{full}` has more than {} states", model::DEFAULT_MAX_STATES))
-                        .with_note("synthesise the specifications separately, or compose fewer of them");
+            match product_of(&full, &specs, budget) {
+                Ok(acc) => product_specs.push((acc, span)),
+                Err((_, error)) => {
+                    stop = Stop::of(&error);
+                    let message = match error {
+                        SynthError::Cancelled => format!("cancelled while building the product `{full}`"),
+                        _ => format!(
+                            "building the product `{full}` spent the state budget: more than {} product states",
+                            budget.max_states()
+                        ),
+                    };
+                    cx.diags.error(span, message).with_note(
+                        "synthesise the specifications separately, compose fewer of them, or raise the state budget",
+                    );
                 }
             }
         }
@@ -192,38 +214,39 @@ pub fn load(src: &str) -> (Option<Loaded>, Vec<Diagnostic>) {
     let mut items = std::mem::take(&mut cx.diags.items);
     items.sort_by_key(|d| (d.span.start, d.span.end));
     if items.iter().any(Diagnostic::is_error) {
-        return (None, items);
+        return (None, items, stop);
     }
     let project = model::Project { events: cx.events, plants, specs };
-    (Some(Loaded { project, events: cx.metas, timers, origins: cx.origins, spec_spans }), items)
+    (Some(Loaded { project, events: cx.metas, timers, origins: cx.origins, spec_spans }), items, stop)
 }
 
 impl Loaded {
     /// The project with all its specifications composed into one (definition 6), named
     /// `name`: the single-supervisor setting that the formal model of preemption assumes
     /// (5.8.5), where no supervisor can enforce an event that another prohibits (6.4.2).
-    /// Diagnostics about the composed specification point at the first one. Returns `None` if
-    /// the product would exceed `max_states` states.
-    pub fn composed(&self, name: &str, max_states: usize) -> Option<Loaded> {
+    /// Diagnostics about the composed specification point at the first one. The product's states
+    /// are drawn from `budget`; when it stops, the error comes with the index of the
+    /// specification whose product with the ones before it stopped.
+    pub fn composed(&self, name: &str, budget: &mut Budget) -> Result<Loaded, (usize, SynthError)> {
         let mut out = self.clone();
         if !self.project.specs.is_empty() {
             let specs: Vec<&model::Spec> = self.project.specs.iter().collect();
-            out.project.specs = vec![product_of(name, &specs, max_states)?];
+            out.project.specs = vec![product_of(name, &specs, budget)?];
             out.spec_spans = vec![self.spec_spans[0]];
         }
-        Some(out)
+        Ok(out)
     }
 }
 
-/// The specification product of `specs` (at least one), named `name`; `None` if any
-/// intermediate product exceeds `max_states` states.
-fn product_of(name: &str, specs: &[&model::Spec], max_states: usize) -> Option<model::Spec> {
+/// The specification product of `specs` (at least one), named `name`, drawing its states from
+/// `budget`; when it stops, the error comes with the index of the operand being multiplied in.
+fn product_of(name: &str, specs: &[&model::Spec], budget: &mut Budget) -> Result<model::Spec, (usize, SynthError)> {
     let mut acc = specs[0].clone();
-    for s in &specs[1..] {
-        acc = model::spec_product(name, &acc, s, max_states)?;
+    for (k, s) in specs.iter().enumerate().skip(1) {
+        acc = model::spec_product(name, &acc, s, budget).map_err(|e| (k, e))?;
     }
     acc.name = name.to_string();
-    Some(acc)
+    Ok(acc)
 }
 
 /// Joins two or more operands into a balanced binary tree, so that a chain of `n` operands nests
@@ -676,15 +699,15 @@ impl<'s, 'a> Ctx<'s, 'a> {
         self.resolve_event(module, path)
     }
 
-    fn cond(&mut self, module: usize, c: &CondExpr, plants_states: &dyn Fn(usize) -> Vec<String>) -> Option<Cond> {
+    /// Resolves a condition; `plant_states` holds the state names of every plant.
+    fn cond(&mut self, module: usize, c: &CondExpr, plant_states: &[Vec<String>]) -> Option<Cond> {
         Some(match c {
             CondExpr::True => Cond::True,
             CondExpr::False => Cond::False,
-            CondExpr::Not(x) => Cond::Not(Box::new(self.cond(module, x, plants_states)?)),
+            CondExpr::Not(x) => Cond::Not(Box::new(self.cond(module, x, plant_states)?)),
             CondExpr::And(operands) | CondExpr::Or(operands) => {
                 // Every operand is resolved so that all unknown names are reported at once.
-                let resolved: Vec<Option<Cond>> =
-                    operands.iter().map(|x| self.cond(module, x, plants_states)).collect();
+                let resolved: Vec<Option<Cond>> = operands.iter().map(|x| self.cond(module, x, plant_states)).collect();
                 let resolved: Vec<Cond> = resolved.into_iter().collect::<Option<_>>()?;
                 let join = if matches!(c, CondExpr::And(_)) { Cond::And } else { Cond::Or };
                 balanced(resolved, &join)
@@ -700,7 +723,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                 let state = &p.parts[p.parts.len() - 1];
                 match self.resolve(module, &aut, "a plant", &|e| matches!(e, Entry::Plant(_))) {
                     Some(Entry::Plant(i)) => {
-                        let names = plants_states(i);
+                        let names = &plant_states[i];
                         match names.iter().position(|s| s == state) {
                             Some(k) => Cond::State { plant: i as u32, state: k as u32 },
                             None => {
@@ -754,7 +777,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
         (names, init.map_or(0, |x| x.0), index)
     }
 
-    fn build_plant(&mut self, i: usize) -> model::Plant {
+    fn build_plant(&mut self, i: usize, all_states: &[Vec<String>]) -> model::Plant {
         let decl = self.plants[i].decl;
         let module = self.plants[i].module;
         let name = self.plants[i].name.clone();
@@ -777,7 +800,6 @@ impl<'s, 'a> Ctx<'s, 'a> {
         }
         alphabet.sort_unstable();
         alphabet.dedup();
-        let all_states = self.plant_state_names();
         let mut trans: Vec<Transition> = Vec::new();
         let mut spans: Vec<Span> = Vec::new();
         let mut impossible: Vec<(u32, EventId)> = Vec::new();
@@ -792,7 +814,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                             self.diags.error(*target_span, format!("unknown state `{target}` in plant `{name}`"));
                         }
                         let c = match cond {
-                            Some(c) => self.cond(module, c, &|p| all_states[p].clone()),
+                            Some(c) => self.cond(module, c, all_states),
                             None => Some(Cond::True),
                         };
                         if let (Some(e), Some(dst), Some(c)) = (e, dst, c) {
@@ -934,7 +956,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
         }
     }
 
-    fn build_spec(&mut self, i: usize, plants: &[model::Plant]) -> model::Spec {
+    fn build_spec(&mut self, i: usize, all_states: &[Vec<String>]) -> model::Spec {
         let decl = self.specs[i].decl;
         let module = self.specs[i].module;
         let name = self.specs[i].name.clone();
@@ -948,8 +970,6 @@ impl<'s, 'a> Ctx<'s, 'a> {
         if let Some(sp) = decl.selfloops {
             self.diags.error(sp, "`selfloops` is a helper for plant models only");
         }
-        let all_states: Vec<Vec<String>> = plants.iter().map(|p| p.states.clone()).collect();
-        let all_states = if all_states.len() == self.plants.len() { all_states } else { self.plant_state_names() };
         let mut trans = Vec::new();
         let mut spans = Vec::new();
         let mut prohib: Vec<Prohibition> = Vec::new();
@@ -966,7 +986,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                                 .error(*target_span, format!("unknown state `{target}` in specification `{name}`"));
                         }
                         let c = match cond {
-                            Some(c) => self.cond(module, c, &|p| all_states[p].clone()),
+                            Some(c) => self.cond(module, c, all_states),
                             None => Some(Cond::True),
                         };
                         if let (Some(e), Some(dst), Some(c)) = (e, dst, c) {
@@ -978,7 +998,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                     }
                     StateItem::Forbid { events, cond, span } => {
                         let c = match cond {
-                            Some(c) => self.cond(module, c, &|p| all_states[p].clone()),
+                            Some(c) => self.cond(module, c, all_states),
                             None => Some(Cond::True),
                         };
                         for p in events {

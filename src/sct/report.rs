@@ -5,7 +5,7 @@
 //! transitions (6.4.4) with both locations, cycles of enforced transitions (5.5.5), and a warning
 //! when one supervisor enforces an event another one prohibits (6.4.2).
 
-use super::model::{self, Budget, Config, EventId, Method, SynthError};
+use super::model::{self, Budget, Config, EventId, Knowledge, Method, Stop, SynthError};
 use super::project::Loaded;
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use serde::Serialize;
@@ -68,18 +68,36 @@ pub fn synthesize_all_with_progress(
     now: Option<&dyn Fn() -> f64>,
     progress: &mut dyn FnMut(usize) -> bool,
 ) -> (Vec<SupervisorReport>, Vec<Diagnostic>) {
-    let mut budget = Budget::new(cfg.max_states, progress);
+    let (reports, diagnostics, _) =
+        synthesize_all_within(src, loaded, cfg, now, &mut Budget::new(cfg.max_states, progress));
+    (reports, diagnostics)
+}
+
+/// [`synthesize_all`] drawing on the run's `budget` (which the specification products of the
+/// run may have drawn on already; `cfg.max_states` is not consulted). The third value is set
+/// when the budget or a cancellation stopped the run: its error diagnostic is not an input
+/// error.
+pub fn synthesize_all_within(
+    src: &str,
+    loaded: &Loaded,
+    cfg: &Config,
+    now: Option<&dyn Fn() -> f64>,
+    budget: &mut Budget,
+) -> (Vec<SupervisorReport>, Vec<Diagnostic>, Option<Stop>) {
+    let mut stop = None;
     let mut diags = Diagnostics::new(src);
     let p = &loaded.project;
+    let knowledge = Knowledge::new(p);
     let name = |e: EventId| p.event_name(e).to_string();
     let mut out = Vec::new();
     // The specification of each report (a specification with an error has none).
     let mut spec_of: Vec<usize> = Vec::new();
     for (i, spec) in p.specs.iter().enumerate() {
         let t0 = now.map(|f| f());
-        let sup = match model::synthesize_within(p, i, cfg, &mut budget) {
+        let sup = match model::synthesize_known(p, &knowledge, i, cfg, budget) {
             Ok(s) => s,
             Err(SynthError::BudgetExceeded { max_states }) => {
+                stop = Some(Stop::BudgetExceeded { max_states });
                 let rest: Vec<&str> = p.specs[i + 1..].iter().map(|s| s.name.as_str()).collect();
                 let d = diags.error(
                     loaded.spec_spans[i],
@@ -102,6 +120,7 @@ pub fn synthesize_all_with_progress(
                 break;
             }
             Err(SynthError::Cancelled) => {
+                stop = Some(Stop::Cancelled);
                 diags.error(loaded.spec_spans[i], format!("synthesis cancelled while synthesising `{}`", spec.name));
                 break;
             }
@@ -185,11 +204,19 @@ pub fn synthesize_all_with_progress(
             supervisor: sup,
         });
     }
-    // 6.4.2: supervisors do not synchronise on enforced events.
+    // 6.4.2: supervisors do not synchronise on enforced events. Indexed by event, so that many
+    // supervisors are not compared pairwise.
+    let mut prohibiting: hashbrown::HashMap<String, Vec<usize>> = hashbrown::HashMap::new();
+    for (j, b) in out.iter().enumerate() {
+        for e in &b.prohibited_events {
+            prohibiting.entry(e.clone()).or_default().push(j);
+        }
+    }
     for (i, a) in out.iter().enumerate() {
         for e in &a.enforced_events {
-            for (j, b) in out.iter().enumerate() {
-                if i != j && b.prohibited_events.contains(e) {
+            for &j in prohibiting.get(e).into_iter().flatten() {
+                let b = &out[j];
+                if i != j {
                     let at = loaded.spec_spans[spec_of[j]];
                     diags
                         .warning(at, format!("`{}` prohibits `{e}`, which supervisor `{}` enforces", b.name, a.name))
@@ -209,5 +236,5 @@ pub fn synthesize_all_with_progress(
             );
         }
     }
-    (out, diags.items)
+    (out, diags.items, stop)
 }

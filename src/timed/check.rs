@@ -158,7 +158,7 @@ impl Checker<'_, '_> {
             }
             let invariant = self.constraints(unit, &n.invariant, &clock_ids);
             loc_ids.insert(&n.name.name, locations.len() as LocId);
-            locations.push(Location { name: n.name.name.clone(), invariant });
+            locations.push(Location { name: n.name.name.clone(), invariant, span: n.name.span });
         }
         if decl.nodes.is_empty() {
             self.diags
@@ -263,7 +263,7 @@ impl Checker<'_, '_> {
                 continue;
             }
             loc_ids.insert(s.name.clone(), locations.len() as LocId);
-            locations.push(Location { name: s.name.clone(), invariant: Vec::new() });
+            locations.push(Location { name: s.name.clone(), invariant: Vec::new(), span: s.span });
         }
         if states.is_empty() {
             self.diags
@@ -338,7 +338,7 @@ impl Checker<'_, '_> {
                 };
                 let invariant =
                     if timing.upper.is_some() { vec![ClockInterval { clock, interval: upper }] } else { Vec::new() };
-                locations.push(Location { name: format!("moving_{}_{}", a.name, b.name), invariant });
+                locations.push(Location { name: format!("moving_{}_{}", a.name, b.name), invariant, span: m.span });
                 let (start_name, start_kind) = if hardware {
                     (format!("moveto_{}", b.name), MessageKind::Controllable)
                 } else {

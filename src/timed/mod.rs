@@ -70,13 +70,29 @@ pub struct Synthesis {
     pub explanation: Option<explain::Explanation>,
 }
 
-/// Precomputes and solves a checked game.
+/// Precomputes and solves a checked game within the budgets of `options`. A split that alone
+/// exceeds them is refused: the verdict is [`solve::Verdict::BudgetExceeded`], the state space
+/// is empty and the stop names the location to blame. `progress` is called during both.
 pub fn synthesize(
     game: &model::Game,
     options: &solve::SolveOptions,
     progress: &mut dyn FnMut(&solve::Stats) -> bool,
 ) -> Synthesis {
-    let split = precompute::split(game);
+    let split = match precompute::split(game, options, progress) {
+        Ok(split) => split,
+        Err(error) => {
+            let (verdict, stats, stop) = match error {
+                precompute::SplitError::TooLarge(t) => {
+                    let stats = solve::Stats { bytes: t.bytes, work: t.work, ..solve::Stats::default() };
+                    (solve::Verdict::BudgetExceeded, stats, Some(solve::BudgetStop::split(&t, options)))
+                }
+                precompute::SplitError::Cancelled => (solve::Verdict::Cancelled, solve::Stats::default(), None),
+            };
+            let space = solve::StateSpace::empty(game.dim(), game.components.len(), game.plans.len());
+            let solution = solve::Solution { verdict, stats, space, stop };
+            return Synthesis { split: precompute::unsplit(game), solution, explanation: None };
+        }
+    };
     let solution = solve::solve(game, &split, options, progress);
     let explanation = if solution.verdict == solve::Verdict::Unrealizable {
         explain::explain(game, &split, &solution.space, solution.space.initial)

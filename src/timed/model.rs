@@ -97,6 +97,8 @@ pub struct Automaton {
 pub struct Location {
     pub name: String,
     pub invariant: Vec<ClockInterval>,
+    /// Where the node (or the hardware state or move it was expanded from) is declared.
+    pub span: Span,
 }
 
 /// `clock ∈ interval`; guards and invariants are conjunctions of these.

@@ -12,10 +12,17 @@
 //!
 //! The pieces of a clock are the same in all locations of its component, so a transition that
 //! does not reset a clock keeps the clock's piece.
+//!
+//! A location with `k` clocks in use splits into the product of their pieces, exponential in
+//! `k`; the split is therefore charged to the memory and work budgets of the run and refused,
+//! naming the location, when it would exceed them.
 
 use super::model::*;
+use super::solve::{Budget, Halt, SolveOptions, Stats, PROGRESS_WORK, STEP_COST};
+use crate::diag::Span;
 use serde::Serialize;
-use std::collections::HashMap;
+use std::mem::size_of;
+use std::ops::Range;
 
 pub type SubLocId = u32;
 
@@ -39,6 +46,10 @@ pub struct SplitGame {
     /// Clocks reset by the same plan transitions, as bit sets over clock ids.
     pub plan_resets: Vec<Vec<u64>>,
     pub message_count: usize,
+    /// Approximate heap bytes of the sub-locations and plan tables (part of the memory budget).
+    pub bytes: usize,
+    /// Work spent splitting, in the units of [`SolveOptions::max_work`].
+    pub work: u64,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -154,8 +165,72 @@ pub fn clock_usage(location_count: usize, local: &[bool], edges: &[(LocId, LocId
     used
 }
 
-/// Builds the split game. Infallible for a checked game.
-pub fn split(game: &Game) -> SplitGame {
+/// Why the split was refused: building the sub-locations needed more memory or work than the
+/// budget of the run allows. Names the location with the most sub-locations of the unit being
+/// split, the usual culprit (every clock in use there multiplies them).
+#[derive(Clone, Debug)]
+pub struct SplitTooLarge {
+    pub budget: Budget,
+    /// The location in words, e.g. "node `q` of `A`".
+    pub place: String,
+    /// Where the location is declared.
+    pub span: Span,
+    /// Clocks in use at the location, and how many sub-locations they make of it.
+    pub clocks: usize,
+    pub sublocations: u64,
+    /// Memory and work of the split when it was refused.
+    pub bytes: usize,
+    pub work: u64,
+}
+
+/// Why [`split`] gave up.
+#[derive(Clone, Debug)]
+pub enum SplitError {
+    TooLarge(SplitTooLarge),
+    /// The progress callback cancelled the run.
+    Cancelled,
+}
+
+/// Accounts the memory and work of the split against the budgets of the run, and keeps the
+/// caller's progress callback informed during a long split.
+struct SplitMeter<'p> {
+    bytes: usize,
+    max_bytes: usize,
+    work: u64,
+    max_work: u64,
+    next_progress: u64,
+    progress: &'p mut dyn FnMut(&Stats) -> bool,
+}
+
+impl SplitMeter<'_> {
+    /// Adds `bytes` and `work`; stops when a budget is exceeded or the caller cancels.
+    fn charge(&mut self, bytes: usize, work: u64) -> Result<(), Halt> {
+        self.bytes += bytes;
+        self.work += work;
+        if self.bytes > self.max_bytes {
+            return Err(Halt::Budget(Budget::Memory));
+        }
+        if self.work > self.max_work {
+            return Err(Halt::Budget(Budget::Work));
+        }
+        if self.work >= self.next_progress {
+            self.next_progress = self.work + PROGRESS_WORK;
+            let stats = Stats { bytes: self.bytes, work: self.work, ..Stats::default() };
+            if !(self.progress)(&stats) {
+                return Err(Halt::Cancelled);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Builds the split game within the memory and work budgets of `options` (the search gets
+/// what is left of them). `progress` is called during a long split, as during the search.
+pub fn split(
+    game: &Game,
+    options: &SolveOptions,
+    progress: &mut dyn FnMut(&Stats) -> bool,
+) -> Result<SplitGame, SplitError> {
     let dim = game.dim();
     let mut constraints: Vec<Vec<Interval>> = vec![Vec::new(); dim];
     for a in &game.components {
@@ -185,21 +260,54 @@ pub fn split(game: &Game) -> SplitGame {
         .map(|cs| cs.iter().flat_map(|i| [Some(i.lower), i.upper]).flatten().map(|v| v as i32).max().unwrap_or(-1))
         .collect();
 
+    let mut meter = SplitMeter {
+        bytes: 0,
+        max_bytes: options.max_bytes,
+        work: 0,
+        max_work: options.max_work,
+        next_progress: PROGRESS_WORK,
+        progress,
+    };
     let mut units = Vec::new();
     for a in &game.components {
-        units.push(split_plant_unit(a, &pieces));
+        let unit = split_plant_unit(a, &pieces, &mut meter).map_err(|(halt, idx)| {
+            let Halt::Budget(budget) = halt else { return SplitError::Cancelled };
+            let (l, count) = idx.largest();
+            SplitError::TooLarge(SplitTooLarge {
+                budget,
+                place: format!("node `{}` of `{}`", a.locations[l].name, a.name),
+                span: a.locations[l].span,
+                clocks: idx.boxes[l].clocks.len(),
+                sublocations: count,
+                bytes: meter.bytes,
+                work: meter.work,
+            })
+        })?;
+        units.push(unit);
     }
     let message_count = game.messages.len();
     let mut plan_next = Vec::new();
     let mut plan_resets = Vec::new();
-    for p in &game.plans {
-        let (unit, next, resets) = split_plan(p, &pieces, message_count);
+    for (k, p) in game.plans.iter().enumerate() {
+        let (unit, next, resets) = split_plan(p, &pieces, message_count, &mut meter).map_err(|(halt, idx)| {
+            let Halt::Budget(budget) = halt else { return SplitError::Cancelled };
+            let (l, count) = idx.largest();
+            SplitError::TooLarge(SplitTooLarge {
+                budget,
+                place: format!("step `{}` of plan {}", p.locations[l].name, k + 1),
+                span: p.locations[l].span,
+                clocks: idx.boxes[l].clocks.len(),
+                sublocations: count,
+                bytes: meter.bytes,
+                work: meter.work,
+            })
+        })?;
         units.push(unit);
         plan_next.push(next);
         plan_resets.push(resets);
     }
     let sync_units = game.messages.iter().map(|m| m.synchronised.clone()).collect();
-    SplitGame {
+    Ok(SplitGame {
         units,
         plant_count: game.components.len(),
         pieces,
@@ -208,40 +316,131 @@ pub fn split(game: &Game) -> SplitGame {
         plan_next,
         plan_resets,
         message_count,
+        bytes: meter.bytes,
+        work: meter.work,
+    })
+}
+
+/// The units of `game` without sub-locations: what a refused split leaves for display.
+pub fn unsplit(game: &Game) -> SplitGame {
+    let unit = |name: &str, clocks: Vec<ClockId>| SplitUnit {
+        name: name.to_string(),
+        sublocs: Vec::new(),
+        initial: 0,
+        clocks,
+    };
+    let mut units: Vec<SplitUnit> = game.components.iter().map(|a| unit(&a.name, a.clocks.clone())).collect();
+    units.extend(game.plans.iter().map(|p| unit(&p.name, p.clocks.iter().map(|&(c, _)| c).collect())));
+    SplitGame {
+        units,
+        plant_count: game.components.len(),
+        pieces: vec![Vec::new(); game.dim()],
+        max_constant: vec![-1; game.dim()],
+        sync_units: game.messages.iter().map(|m| m.synchronised.clone()).collect(),
+        plan_next: vec![Vec::new(); game.plans.len()],
+        plan_resets: vec![Vec::new(); game.plans.len()],
+        message_count: game.messages.len(),
+        bytes: 0,
+        work: 0,
     }
 }
 
 /// Which pieces of `clock` the conjunction `invariant` allows, as a range of piece indices.
-fn allowed_pieces(pieces: &[Interval], clock: ClockId, invariant: &[ClockInterval]) -> std::ops::Range<u16> {
+fn allowed_pieces(pieces: &[Interval], clock: ClockId, invariant: &[ClockInterval]) -> Range<u16> {
     let ok = |p: &Interval| invariant.iter().filter(|ci| ci.clock == clock).all(|ci| within(p, &ci.interval));
     let first = pieces.iter().position(ok).unwrap_or(pieces.len());
     let last = pieces.iter().rposition(ok).map_or(first, |l| l + 1);
     first as u16..last as u16
 }
 
-/// Enumerates the sub-locations of every location and indexes them.
+/// The sub-locations of one location: every combination of the allowed pieces of the clocks in
+/// use, numbered like an odometer (the first clock turns fastest), so that the id of a
+/// combination is computed rather than looked up.
+struct LocationBox {
+    base: u64,
+    clocks: Vec<ClockId>,
+    ranges: Vec<Range<u16>>,
+    /// Id distance between neighbouring pieces of each clock.
+    strides: Vec<u64>,
+    /// Number of sub-locations (saturating); 0 where the invariant can never hold.
+    count: u64,
+}
+
+impl LocationBox {
+    /// The id of the combination `piece(c)` for the clocks in use, if every piece is allowed.
+    fn id(&self, piece: impl Fn(ClockId) -> Option<u16>) -> Option<SubLocId> {
+        if self.count == 0 {
+            return None;
+        }
+        let mut id = self.base;
+        for ((&c, r), &stride) in self.clocks.iter().zip(&self.ranges).zip(&self.strides) {
+            let p = piece(c)?;
+            if !r.contains(&p) {
+                return None;
+            }
+            id += u64::from(p - r.start) * stride;
+        }
+        Some(id as SubLocId)
+    }
+}
+
+/// Indexes the sub-locations of one unit; `sublocs` is filled by [`SubLocIndex::build`].
 struct SubLocIndex {
-    index: HashMap<(LocId, Vec<u16>), SubLocId>,
+    boxes: Vec<LocationBox>,
     sublocs: Vec<SubLoc>,
-    /// Clocks used at each location.
-    active: Vec<Vec<ClockId>>,
 }
 
 impl SubLocIndex {
-    fn build(active: Vec<Vec<ClockId>>, ranges: impl Fn(LocId, ClockId) -> std::ops::Range<u16>) -> SubLocIndex {
-        let mut index = HashMap::new();
-        let mut sublocs = Vec::new();
-        for (l, clocks) in active.iter().enumerate() {
-            let per_clock: Vec<std::ops::Range<u16>> = clocks.iter().map(|&c| ranges(l as LocId, c)).collect();
-            if per_clock.iter().any(|r| r.is_empty()) {
-                continue; // the invariant can never hold
+    /// Sizes every location's box from the clocks in use there and their allowed pieces.
+    fn new(active: Vec<Vec<ClockId>>, ranges: impl Fn(LocId, ClockId) -> Range<u16>) -> SubLocIndex {
+        let mut base = 0u64;
+        let mut boxes = Vec::with_capacity(active.len());
+        for (l, clocks) in active.into_iter().enumerate() {
+            let ranges: Vec<Range<u16>> = clocks.iter().map(|&c| ranges(l as LocId, c)).collect();
+            let mut strides = Vec::with_capacity(ranges.len());
+            let mut count = 1u64;
+            for r in &ranges {
+                strides.push(count);
+                count = count.saturating_mul(r.len() as u64);
             }
-            let mut combo: Vec<u16> = per_clock.iter().map(|r| r.start).collect();
+            boxes.push(LocationBox { base, clocks, ranges, strides, count });
+            base = base.saturating_add(count);
+        }
+        SubLocIndex { boxes, sublocs: Vec::new() }
+    }
+
+    /// The location with the most sub-locations, and their number.
+    fn largest(&self) -> (usize, u64) {
+        self.boxes.iter().enumerate().map(|(l, b)| (l, b.count)).max_by_key(|&(_, c)| c).unwrap_or((0, 0))
+    }
+
+    /// Creates the sub-locations in id order, charging each to `meter` (a refused split stops
+    /// before the first sub-location when even their fixed part exceeds the memory budget).
+    fn build(&mut self, meter: &mut SplitMeter) -> Result<(), Halt> {
+        let fixed: u64 = self
+            .boxes
+            .iter()
+            .map(|b| {
+                b.count.saturating_mul((size_of::<SubLoc>() + b.clocks.len() * size_of::<(ClockId, u16)>()) as u64)
+            })
+            .fold(0, u64::saturating_add);
+        if fixed > meter.max_bytes.saturating_sub(meter.bytes) as u64 {
+            return Err(Halt::Budget(Budget::Memory));
+        }
+        let total = self.boxes.iter().map(|b| b.count).fold(0, u64::saturating_add);
+        self.sublocs.reserve_exact(total as usize);
+        meter.charge(self.sublocs.capacity() * size_of::<SubLoc>(), 0)?;
+        for (l, b) in self.boxes.iter().enumerate() {
+            if b.count == 0 {
+                continue;
+            }
+            let mut combo: Vec<u16> = b.ranges.iter().map(|r| r.start).collect();
             loop {
-                index.insert((l as LocId, combo.clone()), sublocs.len() as SubLocId);
-                sublocs.push(SubLoc {
+                let pieces: Vec<(ClockId, u16)> = b.clocks.iter().copied().zip(combo.iter().copied()).collect();
+                meter.charge(heap_bytes(&pieces), STEP_COST + combo.len() as u64)?;
+                self.sublocs.push(SubLoc {
                     location: l as LocId,
-                    pieces: clocks.iter().copied().zip(combo.iter().copied()).collect(),
+                    pieces,
                     delays: Vec::new(),
                     timeout: None,
                     failed: false,
@@ -249,15 +448,12 @@ impl SubLocIndex {
                 });
                 // Odometer increment over the per-clock ranges.
                 let mut k = 0;
-                loop {
-                    if k == combo.len() {
-                        break;
-                    }
+                while k < combo.len() {
                     combo[k] += 1;
-                    if combo[k] < per_clock[k].end {
+                    if combo[k] < b.ranges[k].end {
                         break;
                     }
-                    combo[k] = per_clock[k].start;
+                    combo[k] = b.ranges[k].start;
                     k += 1;
                 }
                 if k == combo.len() {
@@ -265,30 +461,41 @@ impl SubLocIndex {
                 }
             }
         }
-        SubLocIndex { index, sublocs, active }
+        Ok(())
     }
 
-    fn piece_of(&self, s: SubLocId, clock: ClockId) -> Option<u16> {
-        self.sublocs[s as usize].pieces.iter().find(|(c, _)| *c == clock).map(|&(_, p)| p)
-    }
-
-    /// The sub-location of `to` reached from `from` when `resets` are reset, if it exists.
-    fn target(&self, from: SubLocId, to: LocId, resets: &[ClockId]) -> Option<SubLocId> {
-        let combo: Option<Vec<u16>> = self.active[to as usize]
-            .iter()
-            .map(|&c| if resets.contains(&c) { Some(0) } else { self.piece_of(from, c) })
-            .collect();
-        self.index.get(&(to, combo?)).copied()
-    }
-
-    fn with_piece(&self, s: SubLocId, clock: ClockId, piece: u16) -> Option<SubLocId> {
-        let sub = &self.sublocs[s as usize];
-        let combo: Vec<u16> = sub.pieces.iter().map(|&(c, p)| if c == clock { piece } else { p }).collect();
-        self.index.get(&(sub.location, combo)).copied()
+    /// The sub-location of `l` with every clock in its first piece (0 if there is none).
+    fn initial(&self, l: LocId) -> SubLocId {
+        self.boxes[l as usize].id(|_| Some(0)).unwrap_or(0)
     }
 }
 
-fn split_plant_unit(a: &Automaton, pieces: &[Vec<Interval>]) -> SplitUnit {
+/// Heap bytes of a vector, with the allocator's overhead of about 16 bytes per allocation.
+fn heap_bytes<T>(v: &Vec<T>) -> usize {
+    if v.capacity() == 0 {
+        0
+    } else {
+        v.capacity() * size_of::<T>() + 16
+    }
+}
+
+/// The piece of `clock` in a sub-location's sorted piece list.
+fn piece_in(pieces: &[(ClockId, u16)], clock: ClockId) -> Option<u16> {
+    pieces.iter().find(|(c, _)| *c == clock).map(|&(_, p)| p)
+}
+
+/// Indices of every edge, grouped by their source location.
+fn edges_by_source(location_count: usize, from: impl Iterator<Item = LocId>) -> Vec<Vec<u32>> {
+    let mut out = vec![Vec::new(); location_count];
+    for (e, l) in from.enumerate() {
+        out[l as usize].push(e as u32);
+    }
+    out
+}
+
+type SplitResult<T> = Result<T, (Halt, SubLocIndex)>;
+
+fn split_plant_unit(a: &Automaton, pieces: &[Vec<Interval>], meter: &mut SplitMeter) -> SplitResult<SplitUnit> {
     let n = a.locations.len();
     let mut active: Vec<Vec<ClockId>> = vec![Vec::new(); n];
     for &c in &a.clocks {
@@ -308,34 +515,43 @@ fn split_plant_unit(a: &Automaton, pieces: &[Vec<Interval>]) -> SplitUnit {
             }
         }
     }
-    let idx =
-        SubLocIndex::build(active, |l, c| allowed_pieces(&pieces[c as usize], c, &a.locations[l as usize].invariant));
-    let mut sublocs = idx.sublocs.clone();
-    for (s, sub) in sublocs.iter_mut().enumerate() {
-        let s = s as SubLocId;
+    let mut idx =
+        SubLocIndex::new(active, |l, c| allowed_pieces(&pieces[c as usize], c, &a.locations[l as usize].invariant));
+    if let Err(budget) = idx.build(meter) {
+        return Err((budget, idx));
+    }
+    let outgoing = edges_by_source(n, a.edges.iter().map(|e| e.from));
+    let mut sublocs = std::mem::take(&mut idx.sublocs);
+    let mut result = Ok(());
+    for sub in sublocs.iter_mut() {
+        let piece_here = |c: ClockId| piece_in(&sub.pieces, c);
+        let mut delays = Vec::new();
+        let mut timeout = None;
         for &(clock, piece) in &sub.pieces {
             let next = piece + 1;
             if (next as usize) < pieces[clock as usize].len() {
-                match idx.with_piece(s, clock, next) {
-                    Some(target) => sub.delays.push(Delay { clock, target }),
-                    None => sub.timeout = Some(clock),
+                let target =
+                    idx.boxes[sub.location as usize].id(|c| if c == clock { Some(next) } else { piece_here(c) });
+                match target {
+                    Some(target) => delays.push(Delay { clock, target }),
+                    None => timeout = Some(clock),
                 }
             }
         }
-        for (ei, e) in a.edges.iter().enumerate() {
-            if e.from != sub.location {
-                continue;
-            }
-            let enabled = e.guard.iter().all(|ci| match idx.piece_of(s, ci.clock) {
+        let mut edges = Vec::new();
+        for &ei in &outgoing[sub.location as usize] {
+            let e = &a.edges[ei as usize];
+            let enabled = e.guard.iter().all(|ci| match piece_here(ci.clock) {
                 Some(p) => within(&pieces[ci.clock as usize][p as usize], &ci.interval),
                 None => is_trivial(&ci.interval),
             });
             if !enabled {
                 continue;
             }
-            if let Some(target) = idx.target(s, e.to, &e.resets) {
-                sub.edges.push(SplitEdge {
-                    edge: ei as u32,
+            let target = idx.boxes[e.to as usize].id(|c| if e.resets.contains(&c) { Some(0) } else { piece_here(c) });
+            if let Some(target) = target {
+                edges.push(SplitEdge {
+                    edge: ei,
                     target,
                     kind: e.kind,
                     message: e.message,
@@ -344,27 +560,50 @@ fn split_plant_unit(a: &Automaton, pieces: &[Vec<Interval>]) -> SplitUnit {
                 });
             }
         }
+        let bytes =
+            heap_bytes(&delays) + heap_bytes(&edges) + edges.iter().map(|e| heap_bytes(&e.resets)).sum::<usize>();
+        let work = (outgoing[sub.location as usize].len() + sub.pieces.len()) as u64;
+        sub.delays = delays;
+        sub.timeout = timeout;
+        sub.edges = edges;
+        if let Err(budget) = meter.charge(bytes, work) {
+            result = Err(budget);
+            break;
+        }
     }
-    let initial = idx.index.get(&(a.initial, vec![0; idx.active[a.initial as usize].len()])).copied().unwrap_or(0);
-    SplitUnit { name: a.name.clone(), sublocs, initial, clocks: a.clocks.clone() }
+    if let Err(budget) = result {
+        return Err((budget, idx));
+    }
+    let initial = idx.initial(a.initial);
+    Ok(SplitUnit { name: a.name.clone(), sublocs, initial, clocks: a.clocks.clone() })
 }
 
 fn split_plan(
     p: &PlanAutomaton,
     pieces: &[Vec<Interval>],
     message_count: usize,
-) -> (SplitUnit, Vec<SubLocId>, Vec<u64>) {
+    meter: &mut SplitMeter,
+) -> SplitResult<(SplitUnit, Vec<SubLocId>, Vec<u64>)> {
     let n = p.locations.len();
     let clocks: Vec<ClockId> = p.clocks.iter().map(|&(c, _)| c).collect();
     // A timeout clock is compared in every waiting location, so it is used everywhere but in `failed`.
     let active: Vec<Vec<ClockId>> =
         (0..n).map(|l| if l as LocId == p.failed { Vec::new() } else { clocks.clone() }).collect();
-    let idx = SubLocIndex::build(active, |_, c| 0..pieces[c as usize].len() as u16);
-    let mut sublocs = idx.sublocs.clone();
+    let mut idx = SubLocIndex::new(active, |_, c| 0..pieces[c as usize].len() as u16);
+    let table = idx.boxes.iter().map(|b| b.count).fold(0u64, u64::saturating_add).saturating_mul(message_count as u64);
+    let table_bytes = table.saturating_mul((size_of::<SubLocId>() + size_of::<u64>()) as u64);
+    if let Err(budget) = meter.charge(usize::try_from(table_bytes).unwrap_or(usize::MAX), 0) {
+        return Err((budget, idx));
+    }
+    if let Err(budget) = idx.build(meter) {
+        return Err((budget, idx));
+    }
+    let outgoing = edges_by_source(n, p.edges.iter().map(|e| e.from));
+    let mut sublocs = std::mem::take(&mut idx.sublocs);
     let mut next = vec![STAY; sublocs.len() * message_count];
     let mut resets = vec![0u64; sublocs.len() * message_count];
+    let mut result = Ok(());
     for (s, sub) in sublocs.iter_mut().enumerate() {
-        let s = s as SubLocId;
         sub.failed = sub.location == p.failed
             || sub.pieces.iter().any(|&(c, piece)| {
                 let bound = p.clocks.iter().find(|(pc, _)| *pc == c).map(|&(_, b)| b).unwrap_or(u32::MAX);
@@ -373,25 +612,39 @@ fn split_plan(
         if sub.failed {
             continue;
         }
+        let piece_here = |c: ClockId| piece_in(&sub.pieces, c);
+        let mut delays = Vec::new();
         for &(clock, piece) in &sub.pieces {
             if ((piece + 1) as usize) < pieces[clock as usize].len() {
-                if let Some(target) = idx.with_piece(s, clock, piece + 1) {
-                    sub.delays.push(Delay { clock, target });
+                let target =
+                    idx.boxes[sub.location as usize].id(|c| if c == clock { Some(piece + 1) } else { piece_here(c) });
+                if let Some(target) = target {
+                    delays.push(Delay { clock, target });
                 }
             }
         }
-        for e in p.edges.iter().filter(|e| e.from == sub.location) {
-            if let Some(target) = idx.target(s, e.to, &e.resets) {
-                next[s as usize * message_count + e.message as usize] = target;
-                resets[s as usize * message_count + e.message as usize] =
-                    e.resets.iter().fold(0, |bits, &c| bits | 1 << c);
+        for &ei in &outgoing[sub.location as usize] {
+            let e = &p.edges[ei as usize];
+            let target = idx.boxes[e.to as usize].id(|c| if e.resets.contains(&c) { Some(0) } else { piece_here(c) });
+            if let Some(target) = target {
+                next[s * message_count + e.message as usize] = target;
+                resets[s * message_count + e.message as usize] = e.resets.iter().fold(0, |bits, &c| bits | 1 << c);
             }
         }
+        let work = (outgoing[sub.location as usize].len() + sub.pieces.len()) as u64;
+        let bytes = heap_bytes(&delays);
+        sub.delays = delays;
+        if let Err(budget) = meter.charge(bytes, work) {
+            result = Err(budget);
+            break;
+        }
     }
-    let initial = idx.index.get(&(p.initial, vec![0; idx.active[p.initial as usize].len()])).copied().unwrap_or(0);
-    (SplitUnit { name: p.name.clone(), sublocs, initial, clocks }, next, resets)
+    if let Err(budget) = result {
+        return Err((budget, idx));
+    }
+    let initial = idx.initial(p.initial);
+    Ok((SplitUnit { name: p.name.clone(), sublocs, initial, clocks }, next, resets))
 }
-
 #[cfg(test)]
 mod tests {
     use super::*;

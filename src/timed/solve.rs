@@ -26,7 +26,8 @@
 
 use super::arena::SliceArena;
 use super::model::*;
-use super::precompute::{SplitGame, SubLocId, STAY};
+use super::precompute::{SplitGame, SplitTooLarge, SubLocId, STAY};
+use crate::diag::Span;
 use crate::zone::{Bound, Dbm};
 use serde::Serialize;
 use std::collections::VecDeque;
@@ -41,14 +42,116 @@ const NONE: u32 = u32::MAX;
 pub struct SolveOptions {
     /// Stop with [`Verdict::BudgetExceeded`] once this many states are stored.
     pub max_states: usize,
-    /// How many expansions between two calls of the progress callback.
+    /// Stop once the split game and the state space take about this many heap bytes.
+    pub max_bytes: usize,
+    /// Stop once this much work is done (see [`Stats::work`]), the split included: bounds the
+    /// time of a search whose states are few but expensive (many clocks, many exit orders).
+    pub max_work: u64,
+    /// How many expansions between two calls of the progress callback (it is also called
+    /// during long work on one state).
     pub progress_interval: usize,
 }
 
+/// Default state budget: round table 8/8, the largest example, stores 824 640 states.
+pub const DEFAULT_MAX_STATES: usize = 1_000_000;
+/// Default memory budget, 512 MiB: round table 8/8 needs about 311 MiB.
+pub const DEFAULT_MAX_BYTES: usize = 512 << 20;
+/// Default work budget: a few seconds of solving natively; round table 8/8 needs about 82 million.
+pub const DEFAULT_MAX_WORK: u64 = 250_000_000;
+
+/// Work between two progress calls during long work on one state (a few milliseconds).
+pub(crate) const PROGRESS_WORK: u64 = 1 << 20;
+
+/// The fixed part of the work of one candidate successor (hashing, allocation, bookkeeping), in
+/// units of one zone bound: measured, this makes a unit cost 10–20 ns whatever the game's shape.
+pub(crate) const STEP_COST: u64 = 64;
+
 impl Default for SolveOptions {
     fn default() -> Self {
-        SolveOptions { max_states: 2_000_000, progress_interval: 4096 }
+        SolveOptions {
+            max_states: DEFAULT_MAX_STATES,
+            max_bytes: DEFAULT_MAX_BYTES,
+            max_work: DEFAULT_MAX_WORK,
+            progress_interval: 4096,
+        }
     }
+}
+
+/// The budgets of a search ([`SolveOptions`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Budget {
+    /// States stored.
+    States,
+    /// Approximate heap bytes of the split game and the state space.
+    Memory,
+    /// Work done (see [`Stats::work`]).
+    Work,
+}
+
+impl Budget {
+    /// The budget's name in messages: `state`, `memory` or `work`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Budget::States => "state",
+            Budget::Memory => "memory",
+            Budget::Work => "work",
+        }
+    }
+}
+
+/// Which budget stopped a search, and why, in words that do not depend on the caller (the CLI
+/// and the page add how to raise it).
+#[derive(Clone, Debug, Serialize)]
+pub struct BudgetStop {
+    pub budget: Budget,
+    /// The limit of that budget: states, bytes or work units.
+    pub limit: u64,
+    pub message: String,
+    /// The declaration to blame, when there is one (a node split into too many sub-locations).
+    pub span: Option<Span>,
+}
+
+impl BudgetStop {
+    /// The stop of a search that exceeded `budget` of `options`.
+    pub fn search(budget: Budget, options: &SolveOptions) -> BudgetStop {
+        let (limit, message) = match budget {
+            Budget::States => {
+                (options.max_states as u64, format!("the search stored more than {} states", options.max_states))
+            }
+            Budget::Memory => {
+                (options.max_bytes as u64, format!("the search needs more than {} of memory", mib(options.max_bytes)))
+            }
+            Budget::Work => (
+                options.max_work,
+                format!(
+                    "the search did more than {} units of work (zone bounds and state entries computed)",
+                    options.max_work
+                ),
+            ),
+        };
+        BudgetStop { budget, limit, message, span: None }
+    }
+
+    /// The stop of a split that needed more memory or work than `options` allow.
+    pub fn split(too_large: &SplitTooLarge, options: &SolveOptions) -> BudgetStop {
+        let what = format!(
+            "{} splits into {} sub-locations ({} clocks in use there)",
+            too_large.place, too_large.sublocations, too_large.clocks
+        );
+        let (limit, message) = match too_large.budget {
+            Budget::Memory | Budget::States => {
+                (options.max_bytes as u64, format!("{what}: more than {} of memory", mib(options.max_bytes)))
+            }
+            Budget::Work => (options.max_work, format!("{what}: more than {} units of work", options.max_work)),
+        };
+        BudgetStop { budget: too_large.budget, limit, message, span: Some(too_large.span) }
+    }
+}
+
+/// Bytes as MiB for messages.
+fn mib(bytes: usize) -> String {
+    format!("{} MiB", bytes.div_ceil(1 << 20))
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -73,8 +176,11 @@ pub struct Stats {
     pub edges: usize,
     /// Distinct zones stored.
     pub zones: usize,
-    /// Approximate heap bytes of the state space.
+    /// Approximate heap bytes of the split game and the state space.
     pub bytes: usize,
+    /// Work done, the split included: per candidate successor, one unit per zone bound and per
+    /// state-vector entry computed plus a fixed 64 for the rest, so roughly proportional to time.
+    pub work: u64,
 }
 
 /// What kind of move an edge is.
@@ -232,8 +338,23 @@ pub struct StateSpace {
 }
 
 impl StateSpace {
+    /// A space without states: what a search refused before it started leaves.
+    pub fn empty(dim: usize, plant_count: usize, plan_count: usize) -> StateSpace {
+        StateSpace {
+            dim,
+            states: Vec::new(),
+            edges: Vec::new(),
+            initial: 0,
+            envs: SliceArena::new(plant_count),
+            plans: SliceArena::new(plan_count),
+            zones: SliceArena::new(dim * dim),
+            plant_count,
+        }
+    }
+
+    /// True if state `s` exists and was not removed.
     pub fn is_winning(&self, s: StateId) -> bool {
-        self.states[s as usize].removal.is_none()
+        self.states.get(s as usize).is_some_and(|st| st.removal.is_none())
     }
 
     /// True if the edge leads to a winning state and was not cut as a zeno loop.
@@ -291,24 +412,123 @@ pub struct Solution {
     pub verdict: Verdict,
     pub stats: Stats,
     pub space: StateSpace,
+    /// With [`Verdict::BudgetExceeded`]: which budget stopped the search.
+    pub stop: Option<BudgetStop>,
 }
 
-/// Solves the game. `progress` is called every `options.progress_interval` expansions with the
-/// statistics so far; returning `false` cancels the run.
+/// Solves the game within the budgets of `options` (the split's memory and work count). Calls
+/// `progress` every `options.progress_interval` expansions, and during long work on one state,
+/// with the statistics so far; returning `false` cancels the run.
 pub fn solve(
     game: &Game,
     split: &SplitGame,
     options: &SolveOptions,
     progress: &mut dyn FnMut(&Stats) -> bool,
 ) -> Solution {
-    let mut solver = Solver::new(game, split);
-    let verdict = solver.run(options, progress);
+    let mut solver = Solver::new(game, split, options, progress);
+    let verdict = solver.run();
     let mut stats = solver.stats();
+    let stop = match solver.halt {
+        Some(Halt::Budget(budget)) => Some(BudgetStop::search(budget, options)),
+        _ => None,
+    };
     let space = solver.space;
     if verdict == Verdict::Realizable || verdict == Verdict::Unrealizable {
         stats.winning = space.winning_states().len();
     }
-    Solution { verdict, stats, space }
+    Solution { verdict, stats, space, stop }
+}
+
+/// Why a search ended before deciding.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Halt {
+    Budget(Budget),
+    Cancelled,
+}
+
+/// The zeno memory (5.1): for every search item, the set of plant states (env ids) visited since
+/// the last plan progress. The sets are persistent treaps sharing structure, so that adding a
+/// state and testing membership cost O(log n) however long a path without progress grows (a
+/// linked list made a 40 000-node chain quadratic).
+struct ZenoSets {
+    /// (env id, left, right); a set is the id of its root node.
+    nodes: Vec<(u32, u32, u32)>,
+}
+
+impl ZenoSets {
+    /// A fixed pseudo-random priority per key (a bijective integer mix), so that the treap's
+    /// shape does not depend on the order of insertions.
+    fn priority(env: u32) -> u32 {
+        let mut x = env ^ 0x9e37_79b9;
+        x ^= x >> 16;
+        x = x.wrapping_mul(0x85eb_ca6b);
+        x ^= x >> 13;
+        x = x.wrapping_mul(0xc2b2_ae35);
+        x ^ (x >> 16)
+    }
+
+    fn node(&mut self, env: u32, left: u32, right: u32) -> u32 {
+        self.nodes.push((env, left, right));
+        (self.nodes.len() - 1) as u32
+    }
+
+    fn singleton(&mut self, env: u32) -> u32 {
+        self.node(env, NONE, NONE)
+    }
+
+    fn contains(&self, mut set: u32, env: u32) -> bool {
+        while set != NONE {
+            let (key, left, right) = self.nodes[set as usize];
+            if env == key {
+                return true;
+            }
+            set = if env < key { left } else { right };
+        }
+        false
+    }
+
+    /// `set` with `env` added; `set` itself if it already holds `env`.
+    fn insert(&mut self, set: u32, env: u32) -> u32 {
+        if self.contains(set, env) {
+            set
+        } else {
+            self.insert_new(set, env)
+        }
+    }
+
+    /// Path-copying insertion of a key that is not in `set`.
+    fn insert_new(&mut self, set: u32, env: u32) -> u32 {
+        if set == NONE {
+            return self.singleton(env);
+        }
+        let (key, left, right) = self.nodes[set as usize];
+        if Self::priority(env) > Self::priority(key) {
+            let (l, r) = self.split(set, env);
+            return self.node(env, l, r);
+        }
+        if env < key {
+            let l = self.insert_new(left, env);
+            self.node(key, l, right)
+        } else {
+            let r = self.insert_new(right, env);
+            self.node(key, left, r)
+        }
+    }
+
+    /// The keys of `set` below and above `env` (which it does not hold), as two new sets.
+    fn split(&mut self, set: u32, env: u32) -> (u32, u32) {
+        if set == NONE {
+            return (NONE, NONE);
+        }
+        let (key, left, right) = self.nodes[set as usize];
+        if key < env {
+            let (l, r) = self.split(right, env);
+            (self.node(key, left, l), r)
+        } else {
+            let (l, r) = self.split(left, env);
+            (l, self.node(key, r, right))
+        }
+    }
 }
 
 /// One discrete move under construction.
@@ -331,14 +551,15 @@ enum Vis {
     Same(u32),
 }
 
-struct Solver<'g> {
+struct Solver<'g, 'p> {
     game: &'g Game,
     split: &'g SplitGame,
+    options: &'g SolveOptions,
+    progress: &'p mut dyn FnMut(&Stats) -> bool,
     space: StateSpace,
     state_index: hashbrown::HashMap<(u32, u32, u32, StateKind), StateId>,
     queue: VecDeque<StateId>,
-    /// Zeno memory: (env id, parent node) pairs forming one list per search item.
-    vis_nodes: Vec<(u32, u32)>,
+    zeno: ZenoSets,
     /// Per env id: 1 + index of the first violated assertion, or 0.
     env_violation: Vec<u32>,
     /// Per plan vector id: 1 + index of the first failed plan, or 0.
@@ -352,31 +573,37 @@ struct Solver<'g> {
     dim: usize,
     max_constants: Vec<i32>,
     removed: usize,
+    expanded: usize,
     moves: Vec<Move>,
     pending_edges: Vec<Edge>,
+    /// Work done so far (the split's included), and when the next progress call is due.
+    work: u64,
+    next_progress: u64,
+    /// The work of one candidate successor (a zone and a state vector), and of one candidate
+    /// state vector alone.
+    successor_cost: u64,
+    vector_cost: u64,
+    halt: Option<Halt>,
 }
 
-impl<'g> Solver<'g> {
-    fn new(game: &'g Game, split: &'g SplitGame) -> Solver<'g> {
+impl<'g, 'p> Solver<'g, 'p> {
+    fn new(
+        game: &'g Game,
+        split: &'g SplitGame,
+        options: &'g SolveOptions,
+        progress: &'p mut dyn FnMut(&Stats) -> bool,
+    ) -> Solver<'g, 'p> {
         let dim = game.dim();
         let plant_count = split.plant_count;
-        let space = StateSpace {
-            dim,
-            states: Vec::new(),
-            edges: Vec::new(),
-            initial: 0,
-            envs: SliceArena::new(plant_count),
-            plans: SliceArena::new(split.units.len() - plant_count),
-            zones: SliceArena::new(dim * dim),
-            plant_count,
-        };
         Solver {
             game,
             split,
-            space,
+            options,
+            progress,
+            space: StateSpace::empty(dim, plant_count, split.units.len() - plant_count),
             state_index: hashbrown::HashMap::new(),
             queue: VecDeque::new(),
-            vis_nodes: Vec::new(),
+            zeno: ZenoSets { nodes: Vec::new() },
             env_violation: Vec::new(),
             plan_failure: Vec::new(),
             env_locations: Vec::new(),
@@ -386,32 +613,87 @@ impl<'g> Solver<'g> {
             dim,
             max_constants: vec![-1; dim],
             removed: 0,
+            expanded: 0,
             moves: Vec::new(),
             pending_edges: Vec::new(),
+            work: split.work,
+            next_progress: split.work + PROGRESS_WORK,
+            successor_cost: STEP_COST + (dim * dim + split.units.len()) as u64,
+            vector_cost: STEP_COST + split.units.len() as u64,
+            halt: None,
         }
+    }
+
+    /// Approximate heap bytes of the split game and the state space (capacities, so the figure
+    /// grows in steps as vectors double).
+    fn bytes(&self) -> usize {
+        let s = &self.space;
+        self.split.bytes
+            + s.states.capacity() * std::mem::size_of::<State>()
+            + s.edges.capacity() * std::mem::size_of::<Edge>()
+            + s.envs.heap_bytes()
+            + s.plans.heap_bytes()
+            + s.zones.heap_bytes()
+            + self.state_index.capacity() * (std::mem::size_of::<((u32, u32, u32, StateKind), StateId)>() + 1)
+            + self.queue.capacity() * std::mem::size_of::<StateId>()
+            + self.zeno.nodes.capacity() * std::mem::size_of::<(u32, u32, u32)>()
+            + self.env_locations.capacity() * std::mem::size_of::<LocId>()
+            + (self.env_violation.capacity() + self.plan_failure.capacity()) * std::mem::size_of::<u32>()
+            + (self.env_clocks.capacity() + self.plan_clocks.capacity()) * std::mem::size_of::<u64>()
     }
 
     fn stats(&self) -> Stats {
         let s = &self.space;
         Stats {
             visited: s.states.len(),
-            expanded: s.states.iter().filter(|st| st.expanded).count(),
+            expanded: self.expanded,
             winning: 0,
             removed: self.removed,
             edges: s.edges.len(),
             zones: s.zones.len(),
-            bytes: s.states.capacity() * std::mem::size_of::<State>()
-                + s.edges.capacity() * std::mem::size_of::<Edge>()
-                + s.envs.heap_bytes()
-                + s.plans.heap_bytes()
-                + s.zones.heap_bytes()
-                + self.state_index.capacity() * 24
-                + self.vis_nodes.capacity() * 8
-                + self.env_locations.capacity() * 4,
+            bytes: self.bytes(),
+            work: self.work,
         }
     }
 
-    fn run(&mut self, options: &SolveOptions, progress: &mut dyn FnMut(&Stats) -> bool) -> Verdict {
+    /// The budget the search has exceeded, if any.
+    fn exceeded(&self) -> Option<Budget> {
+        if self.space.states.len() > self.options.max_states {
+            Some(Budget::States)
+        } else if self.bytes() > self.options.max_bytes {
+            Some(Budget::Memory)
+        } else if self.work > self.options.max_work {
+            Some(Budget::Work)
+        } else {
+            None
+        }
+    }
+
+    /// Calls the progress callback; `false` if it cancels the run.
+    fn report(&mut self) -> bool {
+        self.next_progress = self.work + PROGRESS_WORK;
+        let stats = self.stats();
+        (self.progress)(&stats)
+    }
+
+    /// Accounts `units` of work. Returns `false`, with the reason in `halt`, when the search must
+    /// stop: a budget is exceeded or, at a progress call during long work, the caller cancels.
+    fn charge(&mut self, units: u64) -> bool {
+        self.work += units;
+        if self.halt.is_none() && self.work > self.options.max_work {
+            self.halt = Some(Halt::Budget(Budget::Work));
+        }
+        if self.halt.is_none() && self.work >= self.next_progress {
+            if let Some(budget) = self.exceeded() {
+                self.halt = Some(Halt::Budget(budget));
+            } else if !self.report() {
+                self.halt = Some(Halt::Cancelled);
+            }
+        }
+        self.halt.is_none()
+    }
+
+    fn run(&mut self) -> Verdict {
         let plant_count = self.split.plant_count;
         let env: Vec<SubLocId> = self.split.units[..plant_count].iter().map(|u| u.initial).collect();
         let plan: Vec<SubLocId> = self.split.units[plant_count..].iter().map(|u| u.initial).collect();
@@ -429,15 +711,22 @@ impl<'g> Solver<'g> {
             if st.removal.is_some() || st.expanded {
                 continue;
             }
-            if self.space.states.len() > options.max_states {
+            if let Some(budget) = self.exceeded() {
+                self.halt = Some(Halt::Budget(budget));
                 return Verdict::BudgetExceeded;
             }
             expansions += 1;
-            if options.progress_interval > 0 && expansions % options.progress_interval == 0 && !progress(&self.stats())
+            if self.options.progress_interval > 0 && expansions % self.options.progress_interval == 0 && !self.report()
             {
+                self.halt = Some(Halt::Cancelled);
                 return Verdict::Cancelled;
             }
             self.expand(s);
+            match self.halt {
+                Some(Halt::Budget(_)) => return Verdict::BudgetExceeded,
+                Some(Halt::Cancelled) => return Verdict::Cancelled,
+                None => {}
+            }
         }
         self.remove_zeno_cycles();
         if self.space.is_winning(self.space.initial) {
@@ -595,14 +884,8 @@ impl<'g> Solver<'g> {
         }
         let id = self.space.states.len() as StateId;
         let vis = match vis {
-            Vis::Fresh => {
-                self.vis_nodes.push((env_id, NONE));
-                (self.vis_nodes.len() - 1) as u32
-            }
-            Vis::Extend(parent) => {
-                self.vis_nodes.push((env_id, parent));
-                (self.vis_nodes.len() - 1) as u32
-            }
+            Vis::Fresh => self.zeno.singleton(env_id),
+            Vis::Extend(parent) => self.zeno.insert(parent, env_id),
             Vis::Same(v) => v,
         };
         let removal = match (self.env_violation[env_id as usize], self.plan_failure[plan_id as usize]) {
@@ -621,15 +904,8 @@ impl<'g> Solver<'g> {
     }
 
     /// True if the plant state `env_id` is in the zeno memory `vis`.
-    fn visited(&self, mut vis: u32, env_id: u32) -> bool {
-        while vis != NONE {
-            let (e, parent) = self.vis_nodes[vis as usize];
-            if e == env_id {
-                return true;
-            }
-            vis = parent;
-        }
-        false
+    fn visited(&self, vis: u32, env_id: u32) -> bool {
+        self.zeno.contains(vis, env_id)
     }
 
     // ----- expansion -----------------------------------------------------------------------
@@ -639,7 +915,8 @@ impl<'g> Solver<'g> {
     /// message; each combination is a move.
     fn collect_moves(&mut self, env: &[SubLocId], requests_allowed: bool) {
         self.moves.clear();
-        let units = &self.split.units;
+        let split = self.split;
+        let units = &split.units;
         for (u, &s) in env.iter().enumerate() {
             for e in &units[u].sublocs[s as usize].edges {
                 if e.kind == MessageKind::Synchronised || (e.kind == MessageKind::Controllable && !requests_allowed) {
@@ -653,7 +930,7 @@ impl<'g> Solver<'g> {
                     resets: clock_bits(&e.resets),
                 }];
                 partial[0].env[u] = e.target;
-                for &other in &self.split.sync_units[e.message as usize] {
+                for &other in &split.sync_units[e.message as usize] {
                     let other = other as usize;
                     let options: Vec<_> = units[other].sublocs[env[other] as usize]
                         .edges
@@ -675,6 +952,10 @@ impl<'g> Solver<'g> {
                         }
                     }
                     partial = next;
+                    // Synchronisation multiplies the moves: count them as work.
+                    if !self.charge(self.vector_cost * partial.len() as u64) {
+                        return;
+                    }
                 }
                 self.moves.extend(partial);
             }
@@ -691,11 +972,17 @@ impl<'g> Solver<'g> {
         let zone = Dbm::from_slice(self.dim, self.space.zones.get(st.zone));
         let requests_allowed = st.kind != StateKind::Waiting;
         self.collect_moves(&env, requests_allowed);
+        if self.halt.is_some() {
+            return;
+        }
         let urgent = self.moves.iter().any(|m| m.instant);
         let moves = std::mem::take(&mut self.moves);
         self.pending_edges.clear();
         let mut guard_chains: Vec<(usize, Vec<MsgId>)> = Vec::new();
         for m in &moves {
+            if !self.charge(self.successor_cost) {
+                break;
+            }
             // Plans observe the message (they never block it).
             let mut plan2 = plan.clone();
             let mut resets = m.resets;
@@ -758,8 +1045,14 @@ impl<'g> Solver<'g> {
             self.pending_edges.push(edge);
         }
         self.moves = moves;
+        if self.halt.is_some() {
+            return;
+        }
         if !urgent {
             if st.kind == StateKind::Entry {
+                if !self.charge(self.successor_cost) {
+                    return;
+                }
                 if let Some(closed) = self.time_closure(&env, &plan, &zone) {
                     let mut closed = closed;
                     self.normalise(st.env, st.plan, &mut closed);
@@ -780,6 +1073,10 @@ impl<'g> Solver<'g> {
             } else {
                 self.delay_edges(s, &st, &env, &plan, &zone);
             }
+        }
+        // A budget or a cancellation stopped the work on `s` half-way: leave it unexpanded.
+        if self.halt.is_some() {
+            return;
         }
 
         // A guarded request becomes `s -%g1-> G1 -%g2-> … -?m-> target` (5.3.4). Guard states
@@ -838,6 +1135,9 @@ impl<'g> Solver<'g> {
             }
         }
         for r in 0..exits.len() {
+            if !self.charge(self.successor_cost) {
+                return;
+            }
             let mut base = zone.clone();
             // Clocks before `r` are not in S: they leave strictly later than `r`.
             let feasible = (0..r).all(|c| later(&mut base, &exits[c], &exits[r]));
@@ -861,7 +1161,8 @@ impl<'g> Solver<'g> {
         zone: Dbm,
         set: Vec<usize>,
     ) {
-        if zone.is_empty() {
+        // Up to two branches per clock: exponential in the clocks that may leave together.
+        if zone.is_empty() || !self.charge(self.successor_cost) {
             return;
         }
         if k == exits.len() {
@@ -976,6 +1277,7 @@ impl<'g> Solver<'g> {
         st.out_start = start;
         st.out_end = self.space.edges.len() as EdgeId;
         st.expanded = true;
+        self.expanded += 1;
     }
 
     /// Decides a freshly expanded state from its edges (the local rule of the module doc).
@@ -1168,4 +1470,34 @@ fn strongly_connected(n: usize, successors: impl Fn(StateId) -> Vec<StateId>) ->
         }
     }
     component
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashSet;
+
+    #[test]
+    fn zeno_sets_are_persistent_sets() {
+        // A random tree of insertions: every version keeps exactly its own keys, whatever was
+        // added to other versions later.
+        let mut rng = crate::rng::Rng::new(9);
+        let mut sets = ZenoSets { nodes: Vec::new() };
+        let first = sets.singleton(5);
+        let mut versions: Vec<(u32, HashSet<u32>)> = vec![(first, HashSet::from([5]))];
+        for _ in 0..3000 {
+            let (set, keys) = versions[rng.below(versions.len() as u64) as usize].clone();
+            let key = rng.below(400) as u32;
+            let grown = sets.insert(set, key);
+            let mut grown_keys = keys.clone();
+            assert_eq!(grown == set, !grown_keys.insert(key), "inserting a present key keeps the set");
+            versions.push((grown, grown_keys));
+        }
+        for (set, keys) in &versions {
+            for key in 0..400 {
+                assert_eq!(sets.contains(*set, key), keys.contains(&key));
+            }
+        }
+        assert!(!sets.contains(NONE, 5));
+    }
 }

@@ -298,7 +298,7 @@ async function run() {
   setRunning(true);
   const started = performance.now();
   const source = editor.text;
-  const maxStates = Math.max(10, Number($('#max-states').value) || 2000000);
+  const maxStates = Math.max(10, Number($('#max-states').value) || 1000000);
   app.result = null;
   app.automata = null;
   app.automataDrawn = false;

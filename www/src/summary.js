@@ -23,6 +23,15 @@ function stepTree(step, onState) {
   ];
 }
 
+// Which budget stopped the search; only the state budget has a field on the page.
+function budgetText(budget, maxStates) {
+  if (!budget || budget.budget === 'states') {
+    return `The search stored more than ${fmtInt(maxStates)} states (the "max states" setting). The statistics so far:`;
+  }
+  const what = budget.budget === 'memory' ? 'memory' : 'work';
+  return `Budget exceeded: ${budget.message} (the ${what} budget of the page). The statistics so far:`;
+}
+
 export function renderSummary(root, { summary, ms, expected, maxStates, onState }) {
   const s = summary.stats;
   const row = (label, value, id) => h('tr', {}, h('th', {}, label), h('td', { id }, value));
@@ -31,9 +40,7 @@ export function renderSummary(root, { summary, ms, expected, maxStates, onState 
     expected && summary.verdict !== 'budget_exceeded'
       ? h('p', { class: 'muted' }, expected === summary.verdict ? `As the example expects (${expected}).` : `The example says it should be ${expected}.`)
       : null,
-    summary.verdict === 'budget_exceeded'
-      ? h('p', {}, `The search stored more than ${fmtInt(maxStates)} states (the "max states" setting). The statistics so far:`)
-      : null,
+    summary.verdict === 'budget_exceeded' ? h('p', {}, budgetText(summary.budget, maxStates)) : null,
     h(
       'table',
       { class: 'stats' },
@@ -44,6 +51,7 @@ export function renderSummary(root, { summary, ms, expected, maxStates, onState 
       row('edges', fmtInt(s.edges), 'stat-edges'),
       row('distinct zones', fmtInt(s.zones), 'stat-zones'),
       row('memory (approx.)', `${(s.bytes / 1048576).toFixed(2)} MiB`, 'stat-bytes'),
+      row('work (units)', fmtInt(s.work ?? 0), 'stat-work'),
       row('solve time', fmtMs(summary.ms), 'stat-solve-ms'),
       row('round trip', fmtMs(ms), 'stat-total-ms'),
     ),
