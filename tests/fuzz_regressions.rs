@@ -1,0 +1,72 @@
+//! Inputs found by the fuzzers (`fuzz/`, `docs/fuzzing.md`), replayed through the same checks
+//! that found them: `fuzz/src/lib.rs` is included here as a module. Each file in
+//! `tests/fixtures/fuzz/<target>/` is one minimised input; `verdict/` holds the generated
+//! specification as `.tga` text rather than the fuzzer's bytes, so that it can be read.
+
+#[path = "../fuzz/src/lib.rs"]
+mod harness;
+
+use plcsynth::rng::Rng;
+use plcsynth::timed::solve::Verdict;
+use std::path::PathBuf;
+
+/// The saved inputs of one target, sorted by name, as (file name, text read lossily).
+fn inputs(target: &str) -> Vec<(String, String)> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/fuzz").join(target);
+    let mut out: Vec<(String, String)> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.is_file())
+        .map(|p| {
+            let name = p.file_name().unwrap().to_string_lossy().into_owned();
+            (name, String::from_utf8_lossy(&std::fs::read(&p).unwrap()).into_owned())
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+#[test]
+fn saved_verdict_specs_pass_the_whole_pipeline() {
+    for (name, source) in inputs("verdict") {
+        eprintln!("{name}");
+        for seed in 0..20 {
+            assert!(harness::check_verdict(&source, seed, true).is_some(), "{name} no longer compiles");
+        }
+    }
+}
+
+/// Finding V1 (docs/fuzzing.md, handed over): the game accepts a strategy that makes plan
+/// progress forever at one instant. Here `go` is possible only at time 0 (its clock is never
+/// reset), and the program `DO (go); DO (back); GOTO 0` relies on sending it forever without
+/// time passing; in PLC scans time passes and the plant refuses `go`.
+#[test]
+#[ignore = "V1: zero-time progress cycles count as winning; handed over, see docs/fuzzing.md"]
+fn zero_time_progress_cycles_are_not_winning() {
+    for (name, source) in inputs("zeno") {
+        for seed in 0..20 {
+            harness::check_verdict(&source, seed, false).unwrap_or_else(|| panic!("{name} does not compile"));
+        }
+    }
+}
+
+/// The verdict target is only as good as its generator: the specifications must compile, and
+/// both verdicts must occur.
+#[test]
+fn generated_timed_specs_are_well_formed_and_both_verdicts_occur() {
+    let mut rng = Rng::new(9);
+    let (mut realizable, mut unrealizable) = (0, 0);
+    for _ in 0..300 {
+        let bytes: Vec<u8> = (0..rng.below(120)).map(|_| rng.below(256) as u8).collect();
+        let source = harness::timed_spec(&bytes);
+        if let Err(d) = plcsynth::timed::compile(&source) {
+            panic!("{}\n{source}", plcsynth::diag::render_plain("generated.tga", &source, &d));
+        }
+        match harness::check_verdict(&source, 1, true) {
+            Some(Verdict::Realizable) => realizable += 1,
+            Some(Verdict::Unrealizable) => unrealizable += 1,
+            _ => {}
+        }
+    }
+    assert!(realizable >= 30 && unrealizable >= 30, "{realizable} realizable, {unrealizable} unrealizable");
+}
