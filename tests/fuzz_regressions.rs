@@ -12,7 +12,12 @@ use std::path::PathBuf;
 
 /// The saved inputs of one target, sorted by name, as (file name, text read lossily).
 fn inputs(target: &str) -> Vec<(String, String)> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/fuzz").join(target);
+    files(&format!("tests/fixtures/fuzz/{target}"))
+}
+
+/// The files of a directory of the repository, sorted by name, as (file name, text).
+fn files(relative: &str) -> Vec<(String, String)> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(relative);
     let mut out: Vec<(String, String)> = std::fs::read_dir(&dir)
         .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
         .map(|e| e.unwrap().path())
@@ -24,6 +29,25 @@ fn inputs(target: &str) -> Vec<(String, String)> {
         .collect();
     out.sort();
     out
+}
+
+/// `make fuzz` starts from these inputs, so they must pass the checks themselves.
+#[test]
+fn the_seed_inputs_pass_the_fuzz_checks() {
+    type Check = fn(&str);
+    let checks: [(&str, Check); 3] = [
+        ("examples/timed", harness::check_tga),
+        ("examples/sct", harness::check_sct),
+        ("fuzz/seeds/gen", harness::check_gen),
+    ];
+    for (dir, check) in checks {
+        let seeds = files(dir);
+        assert!(!seeds.is_empty(), "no seeds in {dir}");
+        for (name, text) in seeds {
+            eprintln!("{dir}/{name}");
+            check(&text);
+        }
+    }
 }
 
 #[test]
