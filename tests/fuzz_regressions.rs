@@ -50,6 +50,20 @@ fn the_seed_inputs_pass_the_fuzz_checks() {
     }
 }
 
+/// Finding T1: every token of a long line of garbage was a diagnostic, each costing a scan of
+/// the line and a copy of it when rendered; 200 KB on one line took two minutes, 6 GB of
+/// memory and printed 6 GB. Now at most `MAX_DIAGNOSTICS` (and one more error) are kept and a
+/// long line is shown cut around the caret.
+#[test]
+fn a_long_line_of_errors_gives_a_short_report() {
+    let source = format!("plant {{ automaton a {{ nodes q; {}}} }}", "q -> q ?; ".repeat(20_000));
+    let Err(diagnostics) = plcsynth::timed::compile(&source) else { panic!("every transition lacks its message") };
+    assert!(diagnostics.len() <= plcsynth::diag::MAX_DIAGNOSTICS + 1, "{} diagnostics", diagnostics.len());
+    let text = plcsynth::diag::render_plain("long.tga", &source, &diagnostics);
+    assert!(text.len() < 100_000, "{} bytes of diagnostics", text.len());
+    harness::check_tga(&source);
+}
+
 #[test]
 fn saved_verdict_specs_pass_the_whole_pipeline() {
     for (name, source) in inputs("verdict") {
