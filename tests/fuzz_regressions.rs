@@ -88,6 +88,18 @@ fn zero_time_progress_cycles_are_not_winning() {
     }
 }
 
+/// Finding G1 (handed over: `src/sct/gen.rs` is being changed elsewhere): a 100-byte `.gen`
+/// file declares ten million states with one `<Consecutive>` range, which the reader accepts
+/// by design; `plcsynth supcon` on it takes 19 s and 880 MB. The fuzz check skips such inputs.
+#[test]
+#[ignore = "G1: a tiny .gen file may declare 10^7 states; handed over, see docs/fuzzing.md"]
+fn a_tiny_gen_file_cannot_declare_millions_of_states() {
+    let text = "<Generator>\n<Alphabet> a </Alphabet>\n<States>\n<Consecutive> 1 10000000 </Consecutive>\n\
+                </States>\n<InitStates> 1 </InitStates>\n</Generator>\n";
+    let read = plcsynth::sct::gen::read_gen(text, &mut plcsynth::sct::classic::Events::new());
+    assert!(read.is_err(), "read {} states", read.map_or(0, |a| a.num_states()));
+}
+
 /// The verdict target is only as good as its generator: the specifications must compile, and
 /// both verdicts must occur.
 #[test]
