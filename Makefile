@@ -4,7 +4,7 @@
 CARGO ?= cargo
 PORT ?= 8080
 
-.PHONY: test test-long lint test-native test-wasm test-browser serve web web-setup browser-setup checkers
+.PHONY: test test-long lint test-native test-wasm test-browser serve web web-setup browser-setup checkers fuzz
 
 # The tests build with the `test-opt` profile (Cargo.toml): optimised, no fat LTO, overflow
 # checks on. Release builds (LTO) are for `make serve`, benchmarks and users.
@@ -55,3 +55,13 @@ test-wasm: web-setup
 ## The page in headless Chromium (playwright-core); screenshots go to target/screenshots.
 test-browser: browser-setup web
 	node --test --test-concurrency=1 tests/browser/
+
+## Coverage-guided fuzzing (docs/fuzzing.md; not part of `make test`): runs the targets
+## FUZZ_TARGETS (tga sct gen verdict share) one after the other, FUZZ_SECONDS each (default 60),
+## with corpora seeded from examples/; installs nightly Rust and cargo-fuzz if missing.
+## Crashes land in fuzz/artifacts/<target>/.
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS ?= tga sct gen verdict share
+
+fuzz:
+	FUZZ_SECONDS=$(FUZZ_SECONDS) bash scripts/fuzz.sh $(FUZZ_TARGETS)

@@ -95,15 +95,34 @@ impl<'a> LineIndex<'a> {
     }
 }
 
+/// At most this many diagnostics are kept per source. A long line of garbage yields one per
+/// token, and each costs a scan of its line (the column) and a copy of it when rendered: without
+/// a bound, 200 KB on one line took minutes and printed gigabytes.
+pub const MAX_DIAGNOSTICS: usize = 100;
+
 /// Collects diagnostics for one source, computing line and column as they are added.
 pub struct Diagnostics<'a> {
     index: LineIndex<'a>,
     pub items: Vec<Diagnostic>,
+    /// Errors reported, kept or not.
+    errors: usize,
+    /// Whether an error past the bound was reported (and the bound said so).
+    truncated: bool,
+    /// Where a diagnostic past [`MAX_DIAGNOSTICS`] goes, so that callers may still add notes.
+    discarded: Diagnostic,
 }
 
 impl<'a> Diagnostics<'a> {
     pub fn new(source: &'a str) -> Diagnostics<'a> {
-        Diagnostics { index: LineIndex::new(source), items: Vec::new() }
+        let discarded = Diagnostic {
+            severity: Severity::Error,
+            span: Span::default(),
+            line: 1,
+            column: 1,
+            message: String::new(),
+            notes: Vec::new(),
+        };
+        Diagnostics { index: LineIndex::new(source), items: Vec::new(), errors: 0, truncated: false, discarded }
     }
 
     pub fn error(&mut self, span: Span, message: impl Into<String>) -> &mut Diagnostic {
@@ -115,13 +134,31 @@ impl<'a> Diagnostics<'a> {
     }
 
     fn push(&mut self, severity: Severity, span: Span, message: String) -> &mut Diagnostic {
-        let (line, column) = self.index.line_col(span.start as usize);
-        self.items.push(Diagnostic { severity, span, line, column, message, notes: Vec::new() });
-        self.items.last_mut().expect("just pushed")
+        let error = severity == Severity::Error;
+        self.errors += usize::from(error);
+        if self.items.len() < MAX_DIAGNOSTICS {
+            let (line, column) = self.index.line_col(span.start as usize);
+            self.items.push(Diagnostic { severity, span, line, column, message, notes: Vec::new() });
+            return self.items.last_mut().expect("just pushed");
+        }
+        if error && !self.truncated {
+            // Said once, as an error, so that the kept diagnostics always contain one.
+            self.truncated = true;
+            let (line, column) = self.index.line_col(span.start as usize);
+            let message = format!("too many diagnostics: only the first {MAX_DIAGNOSTICS} are shown");
+            self.items.push(Diagnostic { severity, span, line, column, message, notes: Vec::new() });
+        }
+        self.discarded.notes.clear();
+        &mut self.discarded
     }
 
     pub fn has_errors(&self) -> bool {
-        self.items.iter().any(Diagnostic::is_error)
+        self.errors > 0
+    }
+
+    /// Errors reported so far, including those past [`MAX_DIAGNOSTICS`] that were not kept.
+    pub fn error_count(&self) -> usize {
+        self.errors
     }
 
     pub fn line_col(&self, offset: usize) -> (u32, u32) {
@@ -156,6 +193,25 @@ fn visible(text: &str) -> String {
         .collect()
 }
 
+/// Longest source line shown whole; a longer one is cut to this many characters around the
+/// caret, so that the rendering of a long line stays short.
+const SHOWN_CHARACTERS: usize = 120;
+
+/// The visible part of a source line for a caret at character `column` (0-based): the text,
+/// the caret's position in it, and how many caret characters fit from there.
+fn window(text: &str, column: usize) -> (String, usize, usize) {
+    let count = text.chars().count();
+    if count <= SHOWN_CHARACTERS {
+        return (visible(text), column, usize::MAX);
+    }
+    let from = column.saturating_sub(SHOWN_CHARACTERS / 3).min(count - SHOWN_CHARACTERS);
+    let part: String = text.chars().skip(from).take(SHOWN_CHARACTERS).collect();
+    let before = if from > 0 { "…" } else { "" };
+    let after = if from + SHOWN_CHARACTERS < count { "…" } else { "" };
+    let caret_at = column - from + before.chars().count();
+    (format!("{before}{}{after}", visible(&part)), caret_at, (from + SHOWN_CHARACTERS).saturating_sub(column).max(1))
+}
+
 /// Renders diagnostics as plain text: `file:line:col: error: message`, the source line and a
 /// caret under the span. Used by the CLI and by tests; the page renders its own squiggles.
 pub fn render_plain(file: &str, source: &str, diagnostics: &[Diagnostic]) -> String {
@@ -169,20 +225,17 @@ pub fn render_plain(file: &str, source: &str, diagnostics: &[Diagnostic]) -> Str
         out.push_str(&format!("{file}:{}:{}: {kind}: {}\n", d.line, d.column, d.message));
         let text = index.line_text(d.line);
         let gutter = d.line.to_string();
-        out.push_str(&format!("{gutter} | {}\n", visible(text)));
+        let column = (d.column as usize).saturating_sub(1);
+        let (shown, caret_at, room) = window(text, column);
+        out.push_str(&format!("{gutter} | {shown}\n"));
         // The caret covers the span's part on its first line, at least one column; a span past
         // the end of the displayed text (after a trailing `\r`, say) gets one caret after it.
         let start = (d.span.start as usize).min(source.len());
         let line_start = index.line_start(d.line);
         let line_end = (line_start + text.len()).max(start);
         let end = (d.span.end as usize).clamp(start, line_end);
-        let width = source.get(start..end).map_or(1, |s| s.chars().count()).max(1);
-        out.push_str(&format!(
-            "{} | {}{}\n",
-            " ".repeat(gutter.len()),
-            " ".repeat((d.column as usize).saturating_sub(1)),
-            "^".repeat(width)
-        ));
+        let width = source.get(start..end).map_or(1, |s| s.chars().count()).clamp(1, room);
+        out.push_str(&format!("{} | {}{}\n", " ".repeat(gutter.len()), " ".repeat(caret_at), "^".repeat(width)));
         for note in &d.notes {
             out.push_str(&format!("{} = note: {note}\n", " ".repeat(gutter.len())));
         }
@@ -215,6 +268,38 @@ mod tests {
         assert!(text.starts_with("x.tga:2:33: error: unknown node `q9`\n"), "{text}");
         assert!(text.contains("2 |   automaton A { nodes q0; q0 -> q9 ?a; }\n"));
         assert!(text.contains("  |                                 ^^\n"), "{text}");
+    }
+
+    #[test]
+    fn diagnostics_are_bounded_and_keep_an_error() {
+        let src = "x".repeat(1000);
+        let mut diags = Diagnostics::new(&src);
+        for i in 0..MAX_DIAGNOSTICS + 50 {
+            diags.warning(Span::new(i, i + 1), "w").with_note("kept or not");
+        }
+        assert!(!diags.has_errors());
+        diags.error(Span::new(900, 901), "e").with_note("dropped");
+        diags.error(Span::new(901, 902), "e");
+        assert_eq!(diags.items.len(), MAX_DIAGNOSTICS + 1);
+        assert_eq!(diags.error_count(), 2);
+        let last = diags.items.last().unwrap();
+        assert!(last.is_error() && last.message.starts_with("too many diagnostics"), "{last:?}");
+        assert!(last.notes.is_empty());
+    }
+
+    #[test]
+    fn a_long_line_is_cut_around_the_caret() {
+        let src = format!("{}@{}", "a".repeat(5000), "b".repeat(5000));
+        let mut diags = Diagnostics::new(&src);
+        diags.error(Span::new(5000, 5001), "here");
+        diags.error(Span::new(0, 10_001), "all of it");
+        let text = render_plain("a", &src, &diags.items);
+        let lines: Vec<&str> = text.lines().collect();
+        assert!(lines[1].starts_with("1 | …a") && lines[1].ends_with("b…"), "{text}");
+        assert_eq!(lines[1].chars().count(), "1 | ".len() + SHOWN_CHARACTERS + 2);
+        let caret = lines[2].find('^').unwrap();
+        assert_eq!(lines[1].chars().nth(caret), Some('@'), "{text}");
+        assert!(lines[5].starts_with("  | ^") && lines[5].chars().count() == "  | ".len() + SHOWN_CHARACTERS, "{text}");
     }
 
     #[test]

@@ -5,13 +5,13 @@
 //! unreachable block removal, redundant GOTO removal and redundant IF removal (algorithms 12
 //! and 13) — plus one of plcsynth's own, *silent wait removal*: a `WAITUNTIL` on something the
 //! PLC cannot observe or need not time (a reaction without an io binding, or a delay) is dropped
-//! when what follows only waits for observable messages. Such a wait is the state's only exit,
+//! when what follows only waits for observable plant messages. Such a wait is the state's only exit,
 //! so nothing the next block tests can happen before it; the thesis's lamp and gear-checking
 //! programs discard these waits the same way ("all clock, delay, and intermediate events are
 //! discarded"). Finally, resets of clocks no condition reads are dropped.
 
 use super::{CmdId, Command, Condition, Instruction, Program};
-use crate::timed::model::{DependsOn, Game, MsgId};
+use crate::timed::model::{DependsOn, Game, MessageRole, MsgId};
 use std::collections::HashSet;
 
 /// What the optimiser needs to know about the messages.
@@ -28,6 +28,9 @@ pub struct Context {
     pub urgent: Vec<bool>,
     /// Whether waits on delays may be dropped (before observable waits).
     pub silent_delays: bool,
+    /// State-guard messages (4.2.1): sensor levels that may hold at any time, unlike plant
+    /// messages, which only the plant's current state can send.
+    pub guards: Vec<bool>,
 }
 
 impl Context {
@@ -65,7 +68,8 @@ impl Context {
         for (u, s) in urgent.iter_mut().zip(&sent) {
             *u &= *s;
         }
-        Context { observable, dependencies, declared, urgent, silent_delays: true }
+        let guards = game.messages.iter().map(|m| m.role == MessageRole::Guard).collect();
+        Context { observable, dependencies, declared, urgent, silent_delays: true, guards }
     }
 
     fn urgent(&self, c: &Condition) -> bool {
@@ -261,8 +265,9 @@ fn retarget(program: &mut Program, from: CmdId, to: CmdId) {
 }
 
 /// plcsynth: `WAITUNTIL (silent)` is dropped when the commands it falls through to (following
-/// GOTOs) start with a wait on observable messages only: a `WAITUNTIL (m)` or a wait block of
-/// `IF (m)` commands that loops back.
+/// GOTOs) start with a wait on observable plant messages only: a `WAITUNTIL (m)` or a wait
+/// block of `IF (m)` commands that loops back. Not before a state-guard message: a sensor may
+/// report at any time, so the wait before it is needed.
 pub fn silent_wait_removal(program: &mut Program, cx: &Context) -> bool {
     let pos = program.positions();
     let cmds = &program.commands;
@@ -307,7 +312,11 @@ pub fn silent_wait_removal(program: &mut Program, cx: &Context) -> bool {
 
 fn waits_for_observable(program: &Program, j: usize, cx: &Context) -> bool {
     let cmds = &program.commands;
-    let observable = |c: &Condition| matches!(c, Condition::Message { .. }) && !cx.silent(c);
+    // A guard may already hold before the silent wait ends: waiting for it proves nothing.
+    let observable = |c: &Condition| {
+        matches!(c, Condition::Message { message } if !cx.guards.get(*message as usize).copied().unwrap_or(false))
+            && !cx.silent(c)
+    };
     match cmds[j].instruction {
         Instruction::WaitUntil { condition } => observable(&condition),
         Instruction::If { .. } => {

@@ -561,7 +561,7 @@ impl Checker<'_, '_> {
     /// and continues at the next `waitfor`.
     fn plan(&mut self, index: usize, plan: &ast::Plan) -> Option<PlanAutomaton> {
         let name = format!("plan{}", index + 1);
-        let errors_before = self.diags.items.iter().filter(|d| d.is_error()).count();
+        let errors_before = self.diags.error_count();
         let mut clock_ids: HashMap<&str, ClockId> = HashMap::new();
         let mut clocks = Vec::new();
         for c in &plan.clocks {
@@ -684,7 +684,7 @@ impl Checker<'_, '_> {
                 edges.push(PlanEdge { from, message, to, resets });
             }
         }
-        let errors_after = self.diags.items.iter().filter(|d| d.is_error()).count();
+        let errors_after = self.diags.error_count();
         (errors_after == errors_before).then_some(PlanAutomaton {
             name,
             locations,

@@ -99,7 +99,12 @@ $('#examples-button').addEventListener('click', () => $('#gallery').showModal())
 // ---- routing: #example/<id>, #share/v1/<target>/<data> ------------------------------------
 
 async function route() {
-  const hash = decodeURIComponent(location.hash.slice(1));
+  let hash = location.hash.slice(1);
+  try {
+    hash = decodeURIComponent(hash);
+  } catch {
+    // A bad percent escape: route the text as it is (decodeShare reports a broken share link).
+  }
   if (hash.startsWith('example/')) {
     const ex = byId.get(hash.slice(8));
     if (ex) return openSpec(ex.source, ex.id), true;
@@ -267,7 +272,12 @@ $('#download-code').addEventListener('click', () => {
 // ---- share ------------------------------------------------------------------------------
 
 $('#share').addEventListener('click', async () => {
-  const hash = await encodeShare(editor.text, $('#target').value);
+  let hash;
+  try {
+    hash = await encodeShare(editor.text, $('#target').value);
+  } catch (error) {
+    return toast(`This specification cannot be shared: ${error.message ?? error}`);
+  }
   history.replaceState(null, '', `#${hash}`);
   try {
     await navigator.clipboard.writeText(location.href);

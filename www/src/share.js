@@ -1,11 +1,56 @@
 // Share links: `#share/v1/<target>/<spec>` where <spec> is the text deflate-compressed with
 // the browser's CompressionStream ('deflate-raw') and base64url-encoded (no padding).
+//
+// A link comes from anywhere, so decoding is defensive (fuzzed by fuzz/share/fuzz.mjs, see
+// docs/fuzzing.md): the inflated text is bounded by MAX_SPEC_BYTES, read chunk by chunk and
+// cancelled past it, so that a deflate bomb cannot freeze the tab; every malformed link is
+// rejected with an Error that says what is wrong.
 
 const VERSION = 'v1';
 
-async function pipe(bytes, stream) {
-  const out = new Blob([bytes]).stream().pipeThrough(stream);
+/** Largest specification a link may carry, in UTF-8 bytes (the largest example has 16 KB). */
+export const MAX_SPEC_BYTES = 1 << 20;
+
+/** The error of an unreadable share link; its message completes "This share link cannot be read: …". */
+export class ShareError extends Error {
+  constructor(message) {
+    super(message);
+    this.name = 'ShareError';
+  }
+}
+
+async function compress(bytes) {
+  const out = new Blob([bytes]).stream().pipeThrough(new CompressionStream('deflate-raw'));
   return new Uint8Array(await new Response(out).arrayBuffer());
+}
+
+/** Inflates `bytes`, stopping with an error once more than `limit` bytes come out. */
+async function inflateBounded(bytes, limit) {
+  const reader = new Blob([bytes]).stream().pipeThrough(new DecompressionStream('deflate-raw')).getReader();
+  const chunks = [];
+  let size = 0;
+  try {
+    for (;;) {
+      const { done, value } = await reader.read();
+      if (done) break;
+      size += value.length;
+      if (size > limit) {
+        reader.cancel().catch(() => {});
+        throw new ShareError(`the specification is larger than ${limit} bytes`);
+      }
+      chunks.push(value);
+    }
+  } catch (error) {
+    if (error instanceof ShareError) throw error;
+    throw new ShareError('the data is damaged (not deflate-compressed text)');
+  }
+  const out = new Uint8Array(size);
+  let at = 0;
+  for (const c of chunks) {
+    out.set(c, at);
+    at += c.length;
+  }
+  return out;
 }
 
 function toBase64Url(bytes) {
@@ -15,21 +60,43 @@ function toBase64Url(bytes) {
 }
 
 function fromBase64Url(text) {
+  // Unpadded base64 never leaves one character in the last group of four.
+  if (text.length % 4 === 1) throw new ShareError('the data is cut off (not base64url)');
   const b64 = text.replace(/-/g, '+').replace(/_/g, '/');
   const s = atob(b64 + '='.repeat((4 - (b64.length % 4)) % 4));
   return Uint8Array.from(s, (c) => c.charCodeAt(0));
 }
 
 export async function encodeShare(spec, target) {
-  const packed = await pipe(new TextEncoder().encode(spec), new CompressionStream('deflate-raw'));
-  return `share/${VERSION}/${encodeURIComponent(target)}/${toBase64Url(packed)}`;
+  const text = new TextEncoder().encode(spec);
+  if (text.length > MAX_SPEC_BYTES) {
+    throw new ShareError(`the specification is larger than ${MAX_SPEC_BYTES} bytes`);
+  }
+  return `share/${VERSION}/${encodeURIComponent(target)}/${toBase64Url(await compress(text))}`;
 }
 
-/** Decodes a hash (without `#`); returns `{ spec, target }`, or null if it is not a share link. */
+/**
+ * Decodes a hash (without `#`); returns `{ spec, target }`, or null if it is not a share link.
+ * Throws a ShareError for a share link that cannot be read.
+ */
 export async function decodeShare(hash) {
   const m = hash.match(/^share\/(v\d+)\/([^/]*)\/([A-Za-z0-9_-]*)$/);
   if (!m) return null;
-  if (m[1] !== VERSION) throw new Error(`share link version ${m[1]} is not supported (this page reads ${VERSION})`);
-  const bytes = await pipe(fromBase64Url(m[3]), new DecompressionStream('deflate-raw'));
-  return { spec: new TextDecoder().decode(bytes), target: decodeURIComponent(m[2]) };
+  if (m[1] !== VERSION) throw new ShareError(`version ${m[1]} is not supported (this page reads ${VERSION})`);
+  let target;
+  try {
+    target = decodeURIComponent(m[2]);
+  } catch {
+    throw new ShareError('the target is not a valid URI component');
+  }
+  // The packed text is at most as long as the text it inflates to, plus a little.
+  if (m[3].length > (MAX_SPEC_BYTES / 3) * 4 + 1024) throw new ShareError('the link is too long');
+  const bytes = await inflateBounded(fromBase64Url(m[3]), MAX_SPEC_BYTES);
+  let spec;
+  try {
+    spec = new TextDecoder('utf-8', { fatal: true }).decode(bytes);
+  } catch {
+    throw new ShareError('the specification is not UTF-8 text');
+  }
+  return { spec, target };
 }

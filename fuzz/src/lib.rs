@@ -1,0 +1,567 @@
+//! The checks behind the fuzz targets, shared with the regression tests: `tests/fuzz_regressions.rs`
+//! includes this file as a module, so a saved fuzz input is replayed through exactly the code
+//! that found it. Each check panics on a property violation; a parser error is not one.
+
+use plcsynth::diag::{render_plain, Diagnostic};
+use plcsynth::program::{self, optimize::Context, simulate};
+use plcsynth::sct::classic::{self, Automaton, Events};
+use plcsynth::sct::{gen, model::Config, project, report};
+use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpace, Verdict};
+use plcsynth::timed::{compile, Synthesis};
+
+/// Product states a fuzzed `.sct` project may build: small, so that one input takes
+/// milliseconds and the fuzzer explores inputs rather than large products.
+pub const SCT_MAX_STATES: usize = 2_000;
+
+/// States the verdict target lets the timed solver store; larger games are skipped.
+pub const VERDICT_MAX_STATES: usize = 5_000;
+
+/// Spans must lie inside the source on character boundaries: the CLI slices the source with
+/// them and the page turns them into editor positions.
+fn assert_located(source: &str, diagnostics: &[Diagnostic]) {
+    for d in diagnostics {
+        let (start, end) = (d.span.start as usize, d.span.end as usize);
+        assert!(start <= end && end <= source.len(), "span {start}..{end} outside the source: {}", d.message);
+        assert!(
+            source.is_char_boundary(start) && source.is_char_boundary(end),
+            "span {start}..{end} splits a character: {}",
+            d.message
+        );
+        assert!(d.line >= 1 && d.column >= 1, "line/column start at 1: {}", d.message);
+    }
+}
+
+/// `.tga`: parse, check and render every diagnostic; a rejected source has an error.
+pub fn check_tga(source: &str) {
+    match compile(source) {
+        Ok((_game, warnings)) => {
+            assert!(!warnings.iter().any(Diagnostic::is_error), "a compiled game with an error diagnostic");
+            assert_located(source, &warnings);
+            render_plain("fuzz.tga", source, &warnings);
+        }
+        Err(diagnostics) => {
+            assert!(diagnostics.iter().any(Diagnostic::is_error), "rejected without an error diagnostic");
+            assert_located(source, &diagnostics);
+            render_plain("fuzz.tga", source, &diagnostics);
+        }
+    }
+}
+
+/// `.sct`: load, render, and synthesise every specification within [`SCT_MAX_STATES`].
+pub fn check_sct(source: &str) {
+    let (loaded, diagnostics) = project::load(source);
+    assert_located(source, &diagnostics);
+    render_plain("fuzz.sct", source, &diagnostics);
+    let Some(loaded) = loaded else {
+        assert!(diagnostics.iter().any(Diagnostic::is_error), "rejected without an error diagnostic");
+        return;
+    };
+    let config = Config { max_states: SCT_MAX_STATES, ..Config::default() };
+    let (reports, diagnostics) = report::synthesize_all(source, &loaded, &config, None);
+    assert_located(source, &diagnostics);
+    render_plain("fuzz.sct", source, &diagnostics);
+    assert!(reports.len() <= loaded.project.specs.len(), "more reports than specifications");
+}
+
+/// Largest product of two fuzzed generators that the `.gen` check synthesises on.
+const GEN_MAX_PRODUCT: usize = 20_000;
+
+/// `.gen`: the input holds one or two generators one after the other (a plant, then a
+/// specification). Each one read is written and read back unchanged; when both read and the
+/// product is small, SupCon's result must be controllable and, for SupCon, nonblocking.
+pub fn check_gen(text: &str) {
+    if declares_many_states(text) {
+        return;
+    }
+    let mut events = Events::new();
+    let Ok(plant) = gen::read_gen(text, &mut events) else { return };
+    assert_round_trip(&plant, &events);
+    let rest = text.find("</Generator>").map_or("", |end| &text[end + "</Generator>".len()..]);
+    let Ok(spec) = gen::read_gen(rest, &mut events) else { return };
+    assert_round_trip(&spec, &events);
+    if plant.num_states().saturating_mul(spec.num_states()) > GEN_MAX_PRODUCT {
+        return;
+    }
+    for nonblocking in [false, true] {
+        let Ok(sup) = classic::supcon(&plant, &spec, &events, nonblocking) else { return };
+        assert!(classic::is_controllable(&plant, &sup, &events), "SupCon result is not controllable");
+        if nonblocking {
+            assert!(sup.num_states() == 0 || sup.is_nonblocking(), "SupCon result is blocking");
+        }
+        let minimal = classic::minimize(&sup);
+        assert!(classic::language_equal(&sup, &minimal), "minimisation changed the language");
+    }
+}
+
+/// States a fuzzed generator may declare with `<Consecutive>` ranges.
+const GEN_MAX_RANGE: u64 = 100_000;
+
+/// True if the `<Consecutive> a z </Consecutive>` ranges of the text declare more than
+/// [`GEN_MAX_RANGE`] states together. The reader accepts up to 10^7 per range by design
+/// (finding G1 of docs/fuzzing.md, handed over): seconds and a gigabyte per input, which would
+/// stall the fuzzer.
+fn declares_many_states(text: &str) -> bool {
+    let mut total: u64 = 0;
+    for rest in text.split("Consecutive").skip(1) {
+        let rest = rest.trim_start_matches(|c: char| c.is_ascii_whitespace() || c == '>');
+        let mut bounds = rest.split_whitespace().map(|w| w.split('<').next().unwrap_or("").parse::<u64>());
+        if let (Some(Ok(a)), Some(Ok(z))) = (bounds.next(), bounds.next()) {
+            total = total.saturating_add(z.saturating_sub(a));
+        }
+    }
+    total > GEN_MAX_RANGE
+}
+
+fn assert_round_trip(a: &Automaton, events: &Events) {
+    let written = gen::write_gen(a, events, "fuzz");
+    let mut again = events.clone();
+    let b = gen::read_gen(&written, &mut again).unwrap_or_else(|e| panic!("written generator unreadable: {e:?}"));
+    assert_eq!(a.num_states(), b.num_states(), "state count changed");
+    assert_eq!(a.num_transitions(), b.num_transitions(), "transition count changed");
+    assert_eq!(a.init(), b.init(), "initial state changed");
+    assert_eq!(a.alphabet(), b.alphabet(), "alphabet changed");
+    for s in 0..a.num_states() as classic::StateId {
+        assert_eq!(a.is_marked(s), b.is_marked(s), "marking of state {s} changed");
+        assert_eq!(a.edges(s), b.edges(s), "transitions of state {s} changed");
+    }
+}
+
+/// Draws choices from the fuzzer's bytes; once they are spent every choice is the first one,
+/// so every input, however short, describes a complete specification.
+struct Choices<'a> {
+    bytes: &'a [u8],
+}
+
+impl Choices<'_> {
+    /// A number in `0..n` (`n >= 1`).
+    fn below(&mut self, n: u32) -> u32 {
+        let Some((&first, rest)) = self.bytes.split_first() else { return 0 };
+        self.bytes = rest;
+        u32::from(first) % n
+    }
+
+    fn flip(&mut self) -> bool {
+        self.below(2) == 1
+    }
+
+    fn pick<'n>(&mut self, items: &'n [String]) -> &'n String {
+        &items[self.below(items.len() as u32) as usize]
+    }
+
+    /// A nonempty interval over small constants, in any of the language's six forms.
+    fn interval(&mut self) -> String {
+        let lo = self.below(4);
+        match self.below(6) {
+            0 => format!("[{lo},{}]", lo + self.below(4)),
+            1 => format!("({lo},{}]", lo + 1 + self.below(3)),
+            2 => format!("[{lo},{})", lo + 1 + self.below(3)),
+            3 => format!("({lo},{})", lo + 1 + self.below(3)),
+            4 => format!("[{lo},inf)"),
+            _ => format!("({lo},inf)"),
+        }
+    }
+}
+
+/// A small well-formed timed specification built from the fuzzer's bytes: up to three plant
+/// units (automata with clocks, invariants, guards, resets, urgent transitions and
+/// synchronisation; hardware units; operators), assertions over their nodes, an occasional
+/// state guard, and one or two plans with timeouts, alternatives and jumps.
+pub fn timed_spec(bytes: &[u8]) -> String {
+    let mut c = Choices { bytes };
+    let mut out = String::from("plant {\n");
+    // (unit name, node names) for assertions and guards.
+    let mut units: Vec<(String, Vec<String>)> = Vec::new();
+    // Messages that plans may wait for, and requests/reactions others may synchronise on.
+    let mut messages: Vec<String> = Vec::new();
+    let mut sync_candidates: Vec<String> = Vec::new();
+    let unit_count = 1 + c.below(3);
+    for u in 0..unit_count {
+        match c.below(4) {
+            0 | 1 => {
+                let name = format!("a{u}");
+                let n = 2 + c.below(3);
+                let nodes: Vec<String> = (0..n).map(|k| format!("q{k}")).collect();
+                let clocks: Vec<String> = (0..c.below(3)).map(|k| format!("c{k}")).collect();
+                out.push_str(&format!("  automaton {name} {{\n"));
+                if !clocks.is_empty() {
+                    out.push_str(&format!("    clocks {};\n", clocks.join(", ")));
+                }
+                let declared: Vec<String> = nodes
+                    .iter()
+                    .map(|q| {
+                        if !clocks.is_empty() && c.below(3) == 0 {
+                            format!("{q} {{{} in [0,{}]}}", c.pick(&clocks), 1 + c.below(4))
+                        } else {
+                            q.clone()
+                        }
+                    })
+                    .collect();
+                out.push_str(&format!("    nodes {};\n", declared.join(", ")));
+                // A `$m` needs a sender in another unit: this unit's messages join afterwards.
+                let mut own_messages = Vec::new();
+                for k in 0..n + c.below(4) {
+                    let from = &nodes[(k % n) as usize];
+                    let to = c.pick(&nodes);
+                    let own = format!("{name}m{k}");
+                    let (sigil, message) = match c.below(5) {
+                        0 | 1 => ("?", own),
+                        2 | 3 => ("!", own),
+                        // Synchronise on a message of an earlier unit, if there is one.
+                        _ if !sync_candidates.is_empty() => ("$", c.pick(&sync_candidates).clone()),
+                        _ => ("?", own),
+                    };
+                    let mut line = format!("    {from} -> {to} {sigil}{message}");
+                    if !clocks.is_empty() && c.flip() {
+                        line.push_str(&format!(" {{{} in {}}}", c.pick(&clocks), c.interval()));
+                    }
+                    if !clocks.is_empty() && c.flip() {
+                        line.push_str(&format!(" reset{{{}}}", c.pick(&clocks)));
+                    }
+                    if c.below(6) == 0 {
+                        line.push_str(" instant");
+                    }
+                    out.push_str(&line);
+                    out.push_str(";\n");
+                    if sigil != "$" {
+                        own_messages.push(message);
+                    }
+                }
+                sync_candidates.extend(own_messages.iter().cloned());
+                messages.extend(own_messages);
+                out.push_str("  }\n");
+                units.push((name, nodes));
+            }
+            2 => {
+                let name = format!("h{u}");
+                let states: Vec<String> = (0..2 + c.below(2)).map(|k| format!("{name}s{k}")).collect();
+                out.push_str(&format!("  hardware {name} {{\n    states {};\n", states.join(", ")));
+                let mut nodes = states.clone();
+                let mut moves: Vec<(usize, usize)> = Vec::new();
+                for k in 1..states.len() {
+                    let (arrow, pairs) = match c.below(3) {
+                        0 => ("->", vec![(k - 1, k)]),
+                        1 => ("<-", vec![(k, k - 1)]),
+                        _ => ("<->", vec![(k - 1, k), (k, k - 1)]),
+                    };
+                    let lo = c.below(3);
+                    let hi = lo + c.below(3);
+                    out.push_str(&format!("    {} {arrow} {} takes [{lo},{hi}];\n", states[k - 1], states[k]));
+                    moves.extend(pairs);
+                }
+                for (from, to) in moves {
+                    nodes.push(format!("moving_{}_{}", states[from], states[to]));
+                    messages.push(format!("moveto_{}", states[to]));
+                    messages.push(format!("reached_{}", states[to]));
+                }
+                out.push_str("  }\n");
+                units.push((name, nodes));
+            }
+            _ => {
+                let name = format!("o{u}");
+                let states: Vec<String> = (0..2 + c.below(2)).map(|k| format!("{name}s{k}")).collect();
+                out.push_str(&format!("  operator {name} {{\n    states {};\n", states.join(", ")));
+                out.push_str(&format!("    {};\n  }}\n", states.join(", ")));
+                let mut nodes = states.clone();
+                for from in &states {
+                    for to in &states {
+                        if from != to {
+                            nodes.push(format!("moving_{from}_{to}"));
+                        }
+                    }
+                }
+                for s in &states {
+                    messages.push(format!("occurred_{s}"));
+                    messages.push(format!("reached_{s}"));
+                }
+                units.push((name, nodes));
+            }
+        }
+    }
+    out.push_str("}\n");
+    messages.sort();
+    messages.dedup();
+
+    let literal = |c: &mut Choices| {
+        let (unit, nodes) = &units[c.below(units.len() as u32) as usize];
+        let node = c.pick(nodes);
+        let lit = if c.below(4) == 0 { format!("{unit}.{}*", &node[..1]) } else { format!("{unit}.{node}") };
+        if c.below(4) == 0 {
+            format!("not {lit}")
+        } else {
+            lit
+        }
+    };
+    let assertion_count = c.below(3);
+    if assertion_count > 0 {
+        out.push_str("assertions {\n");
+        for _ in 0..assertion_count {
+            let (a, b) = (literal(&mut c), literal(&mut c));
+            let line = match c.below(4) {
+                0 => format!("never {a} and {b}"),
+                1 => format!("always {a} or {b}"),
+                2 => format!("{a} onlyif {b}"),
+                _ => format!("never ({a} or {b}) and {}", literal(&mut c)),
+            };
+            out.push_str(&format!("  {line};\n"));
+        }
+        out.push_str("}\n");
+    }
+    if c.below(4) == 0 {
+        out.push_str(&format!("guards {{\n  {} guardedby sensor;\n}}\n", literal(&mut c)));
+    }
+
+    out.push_str("plans {\n");
+    for p in 0..1 + c.below(2) {
+        out.push_str("  plan {\n");
+        let timed = c.flip();
+        if timed {
+            out.push_str(&format!("    clocks t{p} {};\n    reset t{p};\n", 2 + c.below(10)));
+        }
+        let steps = 1 + c.below(3);
+        for step in 0..steps {
+            let mut items = vec![c.pick(&messages).clone()];
+            for _ in 0..c.below(3) {
+                let other = c.pick(&messages).clone();
+                if items.iter().any(|i| i.split(' ').next() == Some(other.as_str())) {
+                    continue;
+                }
+                match c.below(3) {
+                    0 => items.push(format!("{other} -> failed")),
+                    1 => items.push(format!("{other} -> L{p}_{}", c.below(steps))),
+                    _ => items.push(other),
+                }
+            }
+            out.push_str(&format!("    L{p}_{step}: waitfor {};\n", items.join(", ")));
+            if timed && c.below(3) == 0 {
+                out.push_str(&format!("    reset t{p};\n"));
+            }
+        }
+        out.push_str("  }\n");
+    }
+    out.push_str("}\n");
+    out
+}
+
+/// Closed-loop runs per realizable fuzzed specification, and plant steps per run.
+const RUNS: u64 = 8;
+const STEPS: usize = 120;
+
+/// The verdict pipeline on one specification: compile, solve within [`VERDICT_MAX_STATES`],
+/// check the solver's invariants on the explored graph, and for a realizable game build the
+/// program, print it for every PLC target and run it in closed loop against the plant with
+/// seeds derived from `seed`. Any failure is a soundness bug. With `skip_zeno_programs`,
+/// programs that can cycle without waiting are not run (finding V1 of docs/fuzzing.md, handed
+/// over: such a strategy makes progress forever at one instant, and in scans time passes).
+/// Returns the verdict, or `None` if the source does not compile.
+pub fn check_verdict(source: &str, seed: u64, skip_zeno_programs: bool) -> Option<Verdict> {
+    let (game, _) = compile(source).ok()?;
+    let options = SolveOptions { max_states: VERDICT_MAX_STATES, ..SolveOptions::default() };
+    let s = plcsynth::timed::synthesize(&game, &options, &mut |_| true);
+    let verdict = s.solution.verdict;
+    if verdict == Verdict::BudgetExceeded {
+        return Some(verdict);
+    }
+    let space = &s.solution.space;
+    assert_eq!(
+        space.is_winning(space.initial),
+        verdict == Verdict::Realizable,
+        "verdict disagrees with the initial state"
+    );
+    assert_winning_states_are_safe(source, &game, &s);
+    assert_on_the_fly_equals_fixpoint(source, space, verdict);
+    if verdict == Verdict::Unrealizable {
+        assert!(s.explanation.is_some(), "unrealizable without an explanation");
+        assert!(program::controller(&game, &s).is_none(), "a program for an unrealizable game");
+        return Some(verdict);
+    }
+    let p = program::controller(&game, &s).expect("a realizable game has a program");
+    for target in plcsynth::plc::Target::ALL {
+        plcsynth::plc::generate(&game, &p, target, "Fuzz", source);
+    }
+    let observable = Context::from_game(&game).observable;
+    if skip_zeno_programs && has_wait_free_cycle(&p) {
+        // Such a run either fails as V1 or costs a second in the simulator's loop guard.
+        return Some(verdict);
+    }
+    for run in 0..RUNS {
+        let report = simulate::run(&game, &p, &observable, seed.wrapping_add(run), STEPS);
+        assert!(
+            report.failure.is_none(),
+            "closed-loop run {run} (seed {}): {:?}\nspec:\n{source}\nprogram:\n{}\ntrace (end):\n{}",
+            seed.wrapping_add(run),
+            report.failure,
+            p.render(&game),
+            report.trace[report.trace.len().saturating_sub(20)..].join("\n")
+        );
+    }
+    Some(verdict)
+}
+
+/// True if control can cycle through the program without passing a `WAITUNTIL`: the
+/// controller then acts forever without waiting for anything, relying on zero time.
+fn has_wait_free_cycle(p: &program::Program) -> bool {
+    use program::Instruction;
+    let position = p.positions();
+    let successors = |i: usize| -> Vec<usize> {
+        let next = (i + 1 < p.len()).then_some(i + 1);
+        match p.commands[i].instruction {
+            Instruction::Do { .. } => next.into_iter().collect(),
+            Instruction::If { target, .. } => next.into_iter().chain([position[target as usize] as usize]).collect(),
+            Instruction::Goto { target } => vec![position[target as usize] as usize],
+            Instruction::WaitUntil { .. } => Vec::new(),
+        }
+    };
+    // Depth-first search for a back edge; 0 unvisited, 1 on the stack, 2 done.
+    let mut colour = vec![0u8; p.len()];
+    for root in 0..p.len() {
+        if colour[root] != 0 {
+            continue;
+        }
+        let mut stack = vec![(root, successors(root), 0usize)];
+        colour[root] = 1;
+        while let Some((node, succ, k)) = stack.last_mut() {
+            if let Some(&next) = succ.get(*k) {
+                *k += 1;
+                match colour[next] {
+                    0 => {
+                        colour[next] = 1;
+                        stack.push((next, successors(next), 0));
+                    }
+                    1 => return true,
+                    _ => {}
+                }
+            } else {
+                colour[*node] = 2;
+                stack.pop();
+            }
+        }
+    }
+    false
+}
+
+const NONE: StateId = StateId::MAX;
+
+/// The per-state properties of `tests/timed_examples.rs`: no winning state violates an
+/// assertion or has failed a plan, no reaction leaves the winning set, every winning state has
+/// a live controller move or may wait, and a plan goal (or a tolerated timeout) is reachable
+/// within the winning set.
+fn assert_winning_states_are_safe(source: &str, game: &plcsynth::timed::model::Game, s: &Synthesis) {
+    let space = &s.solution.space;
+    let winning = space.winning_states();
+    for &st in &winning {
+        let locations: Vec<u32> =
+            space.env(st).iter().enumerate().map(|(u, &sub)| s.split.units[u].sublocs[sub as usize].location).collect();
+        for a in &game.assertions {
+            assert!(a.holds.eval(&locations), "winning state {st} violates `{}`\nspec:\n{source}", a.text);
+        }
+        for (p, &sub) in space.plan(st).iter().enumerate() {
+            assert!(
+                !s.split.units[s.split.plant_count + p].sublocs[sub as usize].failed,
+                "winning state {st}: plan failed\nspec:\n{source}"
+            );
+        }
+        let edges: Vec<_> = space.out_edges(st).map(|(_, e)| *e).collect();
+        for e in &edges {
+            if e.kind == EdgeKind::Reaction {
+                assert!(
+                    e.to != NONE && space.is_winning(e.to),
+                    "winning state {st}: a reaction leaves the winning set\nspec:\n{source}"
+                );
+            }
+        }
+        let option = edges.iter().any(|e| matches!(e.kind, EdgeKind::Request | EdgeKind::Guard) && space.is_live(e));
+        let delays: Vec<_> = edges.iter().filter(|e| e.kind == EdgeKind::Delay).collect();
+        let reactions = edges.iter().any(|e| e.kind == EdgeKind::Reaction);
+        let may_wait = if delays.is_empty() { reactions } else { delays.iter().all(|e| space.is_winning(e.to)) };
+        assert!(option || may_wait, "winning state {st} has no live move and cannot wait\nspec:\n{source}");
+    }
+    if game.plans.is_empty() || s.solution.verdict != Verdict::Realizable {
+        return;
+    }
+    let mut reaches = vec![false; space.states.len()];
+    let mut preds: Vec<Vec<StateId>> = vec![Vec::new(); space.states.len()];
+    let mut stack = Vec::new();
+    for &st in &winning {
+        for (_, e) in space.out_edges(st) {
+            // A tolerated timeout (the plant exceeds its invariant, 5.2.2) ends the plant's
+            // obligations and so the controller's: it counts like a reached goal.
+            if e.kind == EdgeKind::Timeout && !reaches[st as usize] {
+                reaches[st as usize] = true;
+                stack.push(st);
+            }
+            if !space.is_live(e) {
+                continue;
+            }
+            preds[e.to as usize].push(st);
+            if e.progress && !reaches[st as usize] {
+                reaches[st as usize] = true;
+                stack.push(st);
+            }
+        }
+    }
+    while let Some(y) = stack.pop() {
+        for &x in &preds[y as usize] {
+            if !reaches[x as usize] {
+                reaches[x as usize] = true;
+                stack.push(x);
+            }
+        }
+    }
+    for &st in &winning {
+        assert!(reaches[st as usize], "no plan goal is reachable from winning state {st}\nspec:\n{source}");
+    }
+}
+
+/// Recomputes the losing states of the explored graph as a plain backward fixpoint of the
+/// losing rule (the waiting rule included, zeno-cut edges dead), independently of the solver's
+/// counters, and compares with its on-the-fly removal.
+fn assert_on_the_fly_equals_fixpoint(source: &str, space: &StateSpace, verdict: Verdict) {
+    let n = space.states.len();
+    let mut lost: Vec<bool> = space
+        .states
+        .iter()
+        .map(|st| matches!(st.removal, Some(Removal::Assertion { .. }) | Some(Removal::PlanFailed { .. })))
+        .collect();
+    // The losing rule of one state, given the current `lost` set.
+    let loses = |s: usize, lost: &[bool]| {
+        let dead = |e: &plcsynth::timed::solve::Edge| e.to == NONE || e.zeno || lost[e.to as usize];
+        let edges: Vec<_> = space.out_edges(s as StateId).map(|(_, e)| *e).collect();
+        let forced_dead = edges.iter().any(|e| e.kind == EdgeKind::Reaction && dead(e));
+        let option = edges.iter().any(|e| matches!(e.kind, EdgeKind::Request | EdgeKind::Guard) && !dead(e));
+        let delays: Vec<_> = edges.iter().filter(|e| e.kind == EdgeKind::Delay).collect();
+        let reactions = edges.iter().any(|e| e.kind == EdgeKind::Reaction);
+        let may_wait = if delays.is_empty() { reactions } else { delays.iter().all(|e| !dead(e)) };
+        forced_dead || !(option || may_wait)
+    };
+    // Chaotic iteration: every expanded state is evaluated once, and again whenever one of its
+    // successors is lost; the result is the least fixpoint whatever the order.
+    let mut predecessors: Vec<Vec<StateId>> = vec![Vec::new(); n];
+    for e in &space.edges {
+        if e.to != NONE {
+            predecessors[e.to as usize].push(e.from);
+        }
+    }
+    let mut work: Vec<usize> = (0..n).collect();
+    while let Some(s) = work.pop() {
+        if lost[s] || !space.states[s].expanded || !loses(s, &lost) {
+            continue;
+        }
+        lost[s] = true;
+        work.extend(predecessors[s].iter().map(|&p| p as usize));
+    }
+    if verdict == Verdict::Unrealizable {
+        // Exploration stops once the initial state is lost: compare on the initial state only.
+        assert!(lost[space.initial as usize], "the fixpoint keeps the initial state the solver lost\nspec:\n{source}");
+        return;
+    }
+    for (st, state) in space.states.iter().enumerate() {
+        if state.expanded || state.removal.is_some() {
+            assert_eq!(
+                lost[st],
+                state.removal.is_some(),
+                "state {st} differs from the fixpoint ({:?})\nspec:\n{source}",
+                state.removal
+            );
+        }
+    }
+}
