@@ -376,7 +376,14 @@ pub fn check_verdict(source: &str, seed: u64, skip_zeno_programs: bool) -> Optio
     }
     let p = program::controller(&game, &s).expect("a realizable game has a program");
     for target in plcsynth::plc::Target::ALL {
-        plcsynth::plc::generate(&game, &p, target, "Fuzz", source);
+        // Code for every target, or located refusals of time constants the target cannot hold.
+        if let Err(diagnostics) = plcsynth::plc::generate(&game, &p, target, "Fuzz", source) {
+            assert!(
+                !diagnostics.is_empty()
+                    && diagnostics.iter().all(|d| d.is_error() && d.message.contains("time constant")),
+                "{target}: unexpected code generation errors {diagnostics:?}"
+            );
+        }
     }
     let observable = Context::from_game(&game).observable;
     if skip_zeno_programs && has_wait_free_cycle(&p) {
