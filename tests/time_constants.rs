@@ -213,3 +213,16 @@ proptest! {
         }
     }
 }
+
+/// A strict lower bound (`x in (2,inf)`) must not be met at exactly 2 s: ST and IL compare
+/// `ET > T#2000MS`; an S5TIME timer, which counts in steps, is preset to the next value, 2.01 s.
+#[test]
+fn strict_bounds_are_strict_on_every_target() {
+    let source = spec("1s", 2).replace("[2,inf)", "(2,inf)");
+    let code = |t: Target| generate(&source, t).expect("fits");
+    assert!(code(Target::St).contains("ET > T#2000MS"), "{}", code(Target::St));
+    let stl = code(Target::Stl);
+    assert!(stl.contains("S5T#2S10MS") && !stl.contains("S5T#2S\n"), "{stl}");
+    let closed = generate(&spec("1s", 2), Target::Stl).expect("fits");
+    assert!(closed.contains("S5T#2S\n") && !closed.contains("S5T#2S10MS"), "{closed}");
+}

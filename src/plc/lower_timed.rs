@@ -126,7 +126,9 @@ pub fn build(
             }
             Condition::Delay { clock, interval } => {
                 let ms = u128::from(interval.lower) * unit;
-                if let Some((why, notes)) = time.refusal(ms) {
+                let strict = !interval.lower_closed;
+                // A strict bound on S5TIME becomes the next value above it, which must fit too.
+                if let Some((why, notes)) = time.refusal(ms).or_else(|| time.refusal(time.preset_for(ms, strict))) {
                     if !refused.contains(&(clock, interval.lower)) {
                         refused.push((clock, interval.lower));
                         let message =
@@ -136,7 +138,7 @@ pub fn build(
                 }
                 // Every accepted threshold fits in 32 bits; a refused one is never printed.
                 let ms = u64::try_from(ms).unwrap_or(u64::MAX);
-                Test::Elapsed { timer: timer_of(clock, interval.lower), ms, strict: !interval.lower_closed }
+                Test::Elapsed { timer: timer_of(clock, interval.lower), ms, strict }
             }
         }
     };

@@ -12,6 +12,7 @@
 
 use super::model::{Binding, Code, Effect, Statement, Test};
 use super::siemens_address;
+use super::target::TimeType;
 use std::fmt::{self, Write};
 
 /// Four-letter label of command `i`: aaaa, aaab, …
@@ -108,14 +109,17 @@ pub fn print(code: &Code, o: &mut impl Write) -> fmt::Result {
     };
     let inputs: Vec<String> = code.inputs.iter().map(|i| operand(&i.binding, &bit())).collect();
     let outputs: Vec<String> = code.outputs.iter().map(|o| operand(&o.variable.binding, &bit())).collect();
-    // One S7 timer per (timer, threshold).
+    // One S7 timer per (timer, preset); a strict threshold waits for the next S5TIME value.
+    let preset =
+        |ms: u64, strict: bool| u64::try_from(TimeType::S5Time.preset_for(u128::from(ms), strict)).unwrap_or(u64::MAX);
     let mut s7_timers: Vec<(usize, u64)> = Vec::new();
     for s in &code.steps {
-        if let Statement::Wait { test: Test::Elapsed { timer, ms, .. } }
-        | Statement::Branch { test: Test::Elapsed { timer, ms, .. }, .. } = s.statement
+        if let Statement::Wait { test: Test::Elapsed { timer, ms, strict } }
+        | Statement::Branch { test: Test::Elapsed { timer, ms, strict }, .. } = s.statement
         {
-            if !s7_timers.contains(&(timer, ms)) {
-                s7_timers.push((timer, ms));
+            let key = (timer, preset(ms, strict));
+            if !s7_timers.contains(&key) {
+                s7_timers.push(key);
             }
         }
     }
@@ -162,7 +166,7 @@ pub fn print(code: &Code, o: &mut impl Write) -> fmt::Result {
     write!(o, "\tT\t{position}\n\tJU\t{}\n", label(0))?;
     let test = |t: &Test| match *t {
         Test::Input { input, negated } => format!("\t{}\t{}\n", if negated { "AN" } else { "A" }, inputs[input]),
-        Test::Elapsed { timer, ms, .. } => format!("\tA\tT {}\n", t_number(timer, ms)),
+        Test::Elapsed { timer, ms, strict } => format!("\tA\tT {}\n", t_number(timer, preset(ms, strict))),
     };
     let restart = |i: usize| -> String {
         let mut text = String::new();

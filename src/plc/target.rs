@@ -120,6 +120,22 @@ const S5TIME_BASES_MS: [u128; 4] = [10, 100, 1000, 10_000];
 pub const S5TIME_MAX_MS: u64 = 9_990_000;
 
 impl TimeType {
+    /// The value a timer that signals "elapsed" (S5TIME's done bit) must be preset to for a test
+    /// `ET ≥ ms`, or `ET > ms` when `strict`. Millisecond types compare `ET` directly and keep
+    /// `ms`; an S5TIME timer counts in steps of its base, so "more than `ms`" is the smallest
+    /// S5TIME value above `ms` (at most one base step later; never at `ms` itself, which a strict
+    /// bound excludes). Above the S5TIME range it returns a value `refusal` refuses.
+    pub fn preset_for(self, ms: u128, strict: bool) -> u128 {
+        match self {
+            TimeType::S5Time if strict => S5TIME_BASES_MS
+                .into_iter()
+                .map(|base| (ms / base + 1) * base)
+                .find(|&above| above <= u128::from(S5TIME_MAX_MS) && self.refusal(above).is_none())
+                .unwrap_or(u128::from(S5TIME_MAX_MS) + 1),
+            _ => ms,
+        }
+    }
+
     /// Why `ms` cannot be written exactly (`None` if it can): a clause after "time constant …"
     /// and notes.
     pub(crate) fn refusal(self, ms: u128) -> Option<(String, Vec<String>)> {
@@ -185,6 +201,19 @@ mod tests {
             assert_eq!(target.to_string(), target.name());
         }
         assert_eq!("ST".parse::<Target>(), Err(UnknownTarget("ST".to_string())));
+    }
+
+    #[test]
+    fn a_strict_s5time_threshold_waits_for_the_next_value() {
+        let s5 = TimeType::S5Time;
+        assert_eq!(s5.preset_for(2000, false), 2000);
+        assert_eq!(s5.preset_for(2000, true), 2010);
+        assert_eq!(s5.preset_for(0, true), 10);
+        // 9 990 ms is 999 steps of 10 ms; the next value needs the 100 ms base.
+        assert_eq!(s5.preset_for(9990, true), 10_000);
+        assert_eq!(s5.preset_for(1_000_000, true), 1_010_000);
+        assert!(s5.refusal(s5.preset_for(u128::from(S5TIME_MAX_MS), true)).is_some());
+        assert_eq!(TimeType::Millis { name: "IEC TIME", max_ms: 10 }.preset_for(5, true), 5);
     }
 
     #[test]
