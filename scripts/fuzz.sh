@@ -13,7 +13,7 @@ targets=("$@")
 rust_targets=()
 for t in "${targets[@]}"; do [ "$t" = share ] || rust_targets+=("$t"); done
 if [ ${#rust_targets[@]} -gt 0 ]; then
-  rustup toolchain list | grep -q '^nightly' || rustup toolchain install nightly --profile minimal
+  rustup run nightly rustc --version >/dev/null 2>&1 || rustup toolchain install nightly --profile minimal
   command -v cargo-fuzz >/dev/null || cargo install cargo-fuzz
 fi
 

@@ -8,7 +8,7 @@
 // deflate bomb, junk after the data, text that is not UTF-8, a bad percent escape), mutated as
 // link text and, after base64url decoding, as compressed bytes, so that mutations reach the
 // inflater as well as the link syntax. An input that produces an outcome not seen before (kind,
-// message, size class) joins the corpus. The oracle, for every input:
+// message up to numbers, size class) joins the corpus. The oracle, for every input:
 //   - decodeShare settles within 5 s (no hang, whatever the data inflates to);
 //   - it returns null exactly when the hash is not a share link;
 //   - a result holds two strings, the text at most MAX_SPEC_BYTES of UTF-8, and encoding it
@@ -91,7 +91,9 @@ function mutate(link, corpus) {
       out = `share/${m[1]}/${m[2]}/${toBase64Url(Uint8Array.from(bytes))}`;
     } else {
       const chars = 'ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_/%.vé=+ ';
-      const at = below(out.length + 1);
+      // Mostly after `share/v1/`: a damaged prefix only makes a link that is no share link.
+      const keep = m && below(8) > 0 ? 'share/v1/'.length : 0;
+      const at = keep + below(out.length - keep + 1);
       switch (op) {
         case 5: out = out.slice(0, at) + pick(chars) + out.slice(at + 1); break;
         case 6: out = out.slice(0, at) + pick(chars) + out.slice(at); break;
@@ -187,8 +189,10 @@ for (let i = 0; !failure && performance.now() < deadline; i++) {
     executions += 1;
     const kind = outcome.replace(/\d+/g, 'N');
     outcomes.set(kind, (outcomes.get(kind) ?? 0) + 1);
-    if (!seen.has(outcome)) {
-      seen.add(outcome);
+    // New: an error kind or a size class of result not seen before (not every version number).
+    const signature = outcome.startsWith('ok:') ? outcome : kind;
+    if (!seen.has(signature)) {
+      seen.add(signature);
       if (i >= corpus.length) corpus.push(link);
     }
   } catch (error) {
