@@ -74,12 +74,13 @@ fn saved_verdict_specs_pass_the_whole_pipeline() {
     }
 }
 
-/// Findings V1, V3 and V4 (docs/fuzzing.md, handed over: fixes belong in the solver or in the
-/// semantics of `instant`). V1: a strategy that makes plan progress forever at one instant
+/// Findings V1, V3, V4 and V6 (docs/fuzzing.md, handed over: fixes belong in the solver, the
+/// program generation or the semantics of `instant`). V1: a strategy that makes plan progress forever at one instant
 /// counts as winning; in PLC scans time passes and the plant refuses the request. V3: a cycle
 /// without progress through a plant reaction survives, because the zeno memory of a state
 /// depends on the path that found it first. V4: the solver lets an instant request win the race
-/// against an instant reaction; the closed-loop checker gives it to the plant.
+/// against an instant reaction; the closed-loop checker gives it to the plant. V6: a generated
+/// program reuses the first round's timing in a second round where the clocks differ.
 fn assert_handed_over_finding_fixed(file: &str) {
     let (_, source) = inputs("handed_over").into_iter().find(|(name, _)| name == file).expect("the saved input");
     for seed in 0..20 {
@@ -103,6 +104,12 @@ fn a_progress_free_cycle_through_a_reaction_is_not_winning() {
 #[ignore = "V4: solver and checker order an instant request and reaction differently; see docs/fuzzing.md"]
 fn an_instant_request_and_reaction_race_the_same_way_in_solver_and_checker() {
     assert_handed_over_finding_fixed("v4_instant_request_races_instant_reaction.tga");
+}
+
+#[test]
+#[ignore = "V6: a program repeats a timing that no longer fits in the second round; see docs/fuzzing.md"]
+fn a_program_waits_for_the_zone_of_each_round() {
+    assert_handed_over_finding_fixed("v6_second_round_reuses_first_round_timing.tga");
 }
 
 /// Finding G1 (handed over: `src/sct/gen.rs` is being changed elsewhere): a 100-byte `.gen`

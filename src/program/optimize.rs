@@ -23,8 +23,8 @@ pub struct Context {
     pub dependencies: Vec<(MsgId, DependsOn)>,
     /// Messages with at least one declaration; the others may change at any time.
     pub declared: Vec<bool>,
-    /// Reactions sent only by `instant` transitions: the plant takes them before the controller
-    /// can act.
+    /// Reactions sent only by unguarded `instant` transitions: the plant takes them before the
+    /// controller can act.
     pub urgent: Vec<bool>,
     /// Whether waits on delays may be dropped (before observable waits).
     pub silent_delays: bool,
@@ -60,8 +60,10 @@ impl Context {
             for e in &a.edges {
                 if e.kind != crate::timed::model::MessageKind::Synchronised {
                     sent[e.message as usize] = true;
+                    // Urgent from the moment its location is entered: instant and unguarded (a
+                    // guarded one may be enabled only later, and the controller acts before).
                     urgent[e.message as usize] &=
-                        e.instant && e.kind == crate::timed::model::MessageKind::Uncontrollable;
+                        e.instant && e.guard.is_empty() && e.kind == crate::timed::model::MessageKind::Uncontrollable;
                 }
             }
         }
