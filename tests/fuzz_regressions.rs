@@ -112,16 +112,27 @@ fn a_program_waits_for_the_zone_of_each_round() {
     assert_handed_over_finding_fixed("v6_second_round_reuses_first_round_timing.tga");
 }
 
-/// Finding G1 (handed over: `src/sct/gen.rs` is being changed elsewhere): a 100-byte `.gen`
-/// file declares ten million states with one `<Consecutive>` range, which the reader accepts
-/// by design; `plcsynth supcon` on it takes 19 s and 880 MB. The fuzz check skips such inputs.
+/// Finding G1: a 100-byte `.gen` file declares ten million states with one `<Consecutive>`
+/// range (it took `plcsynth supcon` 19 s and 880 MB). The reader's state budget refuses it,
+/// located at the range, before building any state, and says it is a budget stop.
 #[test]
-#[ignore = "G1: a tiny .gen file may declare 10^7 states; handed over, see docs/fuzzing.md"]
 fn a_tiny_gen_file_cannot_declare_millions_of_states() {
     let text = "<Generator>\n<Alphabet> a </Alphabet>\n<States>\n<Consecutive> 1 10000000 </Consecutive>\n\
                 </States>\n<InitStates> 1 </InitStates>\n</Generator>\n";
-    let read = plcsynth::sct::gen::read_gen(text, &mut plcsynth::sct::classic::Events::new());
-    assert!(read.is_err(), "read {} states", read.map_or(0, |a| a.num_states()));
+    let mut events = plcsynth::sct::classic::Events::new();
+    let err = match plcsynth::sct::gen::read_gen_file(text, &mut events) {
+        Ok(g) => panic!("read {} states", g.automaton.num_states()),
+        Err(e) => e,
+    };
+    assert!(err.over_budget, "{err:?}");
+    let d = err.diagnostic(text);
+    assert_eq!((d.line, d.column), (4, 1), "{d:?}");
+    assert!(d.message.contains("more than 250000 states"), "{}", d.message);
+    // The budget is exact: 1000 states are read within 1000, refused within 999.
+    let small = text.replace("10000000", "1000");
+    let g = plcsynth::sct::gen::read_gen_file_within(&small, &mut events, 1000).unwrap();
+    assert_eq!(g.automaton.num_states(), 1000);
+    assert!(plcsynth::sct::gen::read_gen_file_within(&small, &mut events, 999).is_err_and(|e| e.over_budget));
 }
 
 /// The verdict target is only as good as its generator: the specifications must compile, and

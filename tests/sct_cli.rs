@@ -138,6 +138,56 @@ fn supcon_reads_libfaudes_empty_sections_and_locates_errors() {
     assert!(err.contains("has the events `start`, `done`") || err.contains("has the events `done`, `start`"), "{err}");
 }
 
+/// `supcon` has a state budget: a file declaring more states than `--max-states` (a short
+/// `<Consecutive>` range, finding G1 of docs/fuzzing.md) and a product past it both stop with
+/// exit status 3 and say how to go on.
+#[test]
+fn supcon_stops_at_its_state_budget() {
+    let dir = std::env::temp_dir().join(format!("plcsynth-cli-gen-budget-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let write = |name: &str, text: &str| {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_str().unwrap().to_string()
+    };
+    let bomb = write(
+        "bomb.gen",
+        "<Generator>\n<Alphabet> a </Alphabet>\n<States>\n<Consecutive> 1 10000000 </Consecutive>\n</States>\n<InitStates> 1 </InitStates>\n</Generator>\n",
+    );
+    // A cycle of `n` states over `event`, with self-loops on `others` in every state.
+    let cycle = |name: &str, event: &str, others: &[&str], n: usize| {
+        let mut trans = String::new();
+        for k in 1..=n {
+            trans += &format!("{k} {event} {}\n", k % n + 1);
+            for o in others {
+                trans += &format!("{k} {o} {k}\n");
+            }
+        }
+        let alphabet: String =
+            std::iter::once(event).chain(others.iter().copied()).map(|e| format!("{e} +C+ ")).collect();
+        write(
+            name,
+            &format!("<Generator>\n<Alphabet> {alphabet}</Alphabet>\n<States> <Consecutive> 1 {n} </Consecutive> </States>\n<TransRel>\n{trans}</TransRel>\n<InitStates> 1 </InitStates>\n<MarkedStates> 1 </MarkedStates>\n</Generator>\n"),
+        )
+    };
+    let (code, _, err) = plcsynth(&["supcon", &bomb, &bomb]);
+    assert_eq!(code, 3, "{err}");
+    assert!(
+        err.contains("bomb.gen:4:1: error: the generator declares more than 250000 states, the state budget"),
+        "{err}"
+    );
+    assert!(err.contains("--max-states"), "{err}");
+    // A plant cycling on `a` that allows `b` anywhere, and a specification cycling on `b`:
+    // a product of 100 x 100 states.
+    let (plant, b) = (cycle("a.gen", "a", &["b"], 100), cycle("b.gen", "b", &[], 100));
+    let (code, out, err) = plcsynth(&["supcon", &plant, &b, "--max-states", "9999"]);
+    assert_eq!(code, 3, "{out}{err}");
+    assert!(err.contains("has more than 9999 states") && err.contains("--max-states"), "{err}");
+    let (code, out, err) = plcsynth(&["supcon", &plant, &b, "--max-states", "10000"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.starts_with("SupCon: 10000 states"), "{out}");
+}
+
 #[test]
 fn bench_sct_prints_thesis_figures_beside_ours() {
     let (code, out, err) = plcsynth(&["bench", "sct", "--runs", "1", "--no-faudes"]);

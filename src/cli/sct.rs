@@ -2,8 +2,8 @@
 
 use clap::{Args, ValueEnum};
 use plcsynth::diag::{render_plain, Diagnostics};
-use plcsynth::sct::classic::{minimize, supcon as classic_supcon, EventId, Events, SupConError};
-use plcsynth::sct::gen::{read_gen_file, write_gen, GenFile};
+use plcsynth::sct::classic::{minimize, supcon as classic_supcon, supcon_within, EventId, Events, SupConError};
+use plcsynth::sct::gen::{read_gen_file_within, write_gen, GenFile};
 use plcsynth::sct::model::dep_closure;
 use plcsynth::sct::model::{Budget, Config, Method, DEFAULT_MAX_STATES};
 use plcsynth::sct::project::{load, load_within};
@@ -61,6 +61,10 @@ pub struct SupconArgs {
     /// Minimise the supervisor before writing it.
     #[arg(long)]
     pub minimize: bool,
+    /// State budget: the states each generator file may declare and the states of
+    /// `plant || spec`; past it, the run stops with exit status 3.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_STATES)]
+    pub max_states: usize,
 }
 
 #[derive(Args)]
@@ -198,30 +202,35 @@ fn budget_note(max_states: usize) {
 }
 
 /// Reads a `.gen` file; returns its text too, for diagnostics that point into it later.
-fn read_gen_located(path: &str, events: &mut Events) -> Result<(String, GenFile), ExitCode> {
+fn read_gen_located(path: &str, events: &mut Events, max_states: usize) -> Result<(String, GenFile), ExitCode> {
     let src = read(path)?;
-    match read_gen_file(&src, events) {
+    match read_gen_file_within(&src, events, max_states) {
         Ok(g) => Ok((src, g)),
         Err(e) => {
             eprint!("{}", render_plain(path, &src, &[e.diagnostic(&src)]));
-            Err(ExitCode::from(2))
+            Err(ExitCode::from(if e.over_budget { 3 } else { 2 }))
         }
     }
 }
 
 pub fn supcon(a: &SupconArgs) -> ExitCode {
     let mut events = Events::new();
-    let (_, plant) = match read_gen_located(&a.plant, &mut events) {
+    let (_, plant) = match read_gen_located(&a.plant, &mut events, a.max_states) {
         Ok(p) => p,
         Err(c) => return c,
     };
-    let (spec_src, spec) = match read_gen_located(&a.spec, &mut events) {
+    let (spec_src, spec) = match read_gen_located(&a.spec, &mut events, a.max_states) {
         Ok(p) => p,
         Err(c) => return c,
     };
     let start = Instant::now();
-    let sup = match classic_supcon(&plant.automaton, &spec.automaton, &events, !a.closed) {
+    let sup = match supcon_within(&plant.automaton, &spec.automaton, &events, !a.closed, a.max_states) {
         Ok(s) => s,
+        Err(SupConError::BudgetExceeded { max_states }) => {
+            eprintln!("error: `{}` || `{}` has more than {max_states} states", a.plant, a.spec);
+            eprintln!("note: the state budget is {max_states} states; raise it with --max-states N");
+            return ExitCode::from(3);
+        }
         Err(SupConError::SpecEventsOutsidePlant(outside)) => {
             let names =
                 |es: &[EventId]| es.iter().map(|e| format!("`{}`", events.name(*e))).collect::<Vec<_>>().join(", ");

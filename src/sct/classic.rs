@@ -424,13 +424,21 @@ pub struct Product {
 /// Synchronous (parallel) product `a || b`: shared events synchronise, the others interleave.
 /// Only the accessible part is built. `n_events` is the size of the event universe.
 pub fn product(a: &Automaton, b: &Automaton, n_events: usize) -> Product {
+    match product_within(a, b, n_events, usize::MAX) {
+        Ok(p) => p,
+        Err(_) => unreachable!("an unbounded product cannot exceed its budget"),
+    }
+}
+
+/// [`product`] building at most `max_states` states; past that, `Err(max_states)`.
+pub fn product_within(a: &Automaton, b: &Automaton, n_events: usize, max_states: usize) -> Result<Product, usize> {
     let in_a = a.alphabet_mask(n_events);
     let in_b = b.alphabet_mask(n_events);
     let mut alphabet: Vec<EventId> = a.alphabet.iter().chain(&b.alphabet).copied().collect();
     alphabet.sort_unstable();
     alphabet.dedup();
     let (Some(ia), Some(ib)) = (a.init, b.init) else {
-        return Product { automaton: Automaton::empty(alphabet), pairs: Vec::new() };
+        return Ok(Product { automaton: Automaton::empty(alphabet), pairs: Vec::new() });
     };
     let mut index: HashMap<(StateId, StateId), StateId> = HashMap::new();
     let mut pairs = vec![(ia, ib)];
@@ -476,12 +484,15 @@ pub fn product(a: &Automaton, b: &Automaton, n_events: usize) -> Product {
             });
             edges.push(Edge { event: e, target: t });
         }
+        if pairs.len() > max_states {
+            return Err(max_states);
+        }
         offsets.push(edges.len() as u32);
         k += 1;
     }
     let marked = pairs.iter().map(|&(x, y)| a.marked[x as usize] && b.marked[y as usize]).collect();
     let names = pairs.iter().map(|&(x, y)| format!("{}|{}", a.names[x as usize], b.names[y as usize])).collect();
-    Product { automaton: Automaton { alphabet, init: Some(0), marked, offsets, edges, names }, pairs }
+    Ok(Product { automaton: Automaton { alphabet, init: Some(0), marked, offsets, edges, names }, pairs })
 }
 
 /// Error of the supervisor computations.
@@ -489,6 +500,8 @@ pub fn product(a: &Automaton, b: &Automaton, n_events: usize) -> Product {
 pub enum SupConError {
     /// The specification uses events the plant does not know.
     SpecEventsOutsidePlant(Vec<EventId>),
+    /// `plant || spec` has more than `max_states` states.
+    BudgetExceeded { max_states: usize },
 }
 
 /// Supremal controllable sublanguage of `L(plant || spec)` with respect to `L(plant)`, the
@@ -501,12 +514,24 @@ pub fn supcon(
     events: &Events,
     nonblocking: bool,
 ) -> Result<Automaton, SupConError> {
+    supcon_within(plant, spec, events, nonblocking, usize::MAX)
+}
+
+/// [`supcon`] with a state budget: `plant || spec` may have at most `max_states` states.
+pub fn supcon_within(
+    plant: &Automaton,
+    spec: &Automaton,
+    events: &Events,
+    nonblocking: bool,
+    max_states: usize,
+) -> Result<Automaton, SupConError> {
     let outside: Vec<EventId> = spec.alphabet.iter().copied().filter(|e| !plant.has_event(*e)).collect();
     if !outside.is_empty() {
         return Err(SupConError::SpecEventsOutsidePlant(outside));
     }
     let n_events = events.len().max(plant.alphabet.last().map_or(0, |e| e.0 as usize + 1));
-    let prod = product(plant, spec, n_events);
+    let prod = product_within(plant, spec, n_events, max_states)
+        .map_err(|max_states| SupConError::BudgetExceeded { max_states })?;
     let p = &prod.automaton;
     let n = p.num_states();
     let in_spec = spec.alphabet_mask(n_events);

@@ -38,11 +38,22 @@ pub struct GenError {
     pub span: Span,
     pub message: String,
     pub notes: Vec<String>,
+    /// The file declares more states than the caller's budget allows: not a malformed file,
+    /// but one too large for this run (the CLI's exit status 3, as for every budget stop).
+    pub over_budget: bool,
 }
 
 impl GenError {
     fn at(span: Span, message: impl Into<String>) -> GenError {
-        GenError { span, message: message.into(), notes: Vec::new() }
+        GenError { span, message: message.into(), notes: Vec::new(), over_budget: false }
+    }
+
+    fn budget(span: Span, max_states: usize) -> GenError {
+        GenError {
+            over_budget: true,
+            ..GenError::at(span, format!("the generator declares more than {max_states} states, the state budget"))
+        }
+        .note("a short `<Consecutive>` range can declare millions of states; raise the budget (`--max-states N`) if the file is meant to be this large")
     }
 
     fn note(mut self, note: impl Into<String>) -> GenError {
@@ -548,14 +559,14 @@ fn tag_name(t: &Tok) -> &str {
 /// libFAUDES's controllability flag (`AttributeCFlags`, bit 0x01).
 const CONTROLLABLE_FLAG: i64 = 0x01;
 
-/// libFAUDES caps nothing; we cap the states a file may declare so that a typo in a
-/// `<Consecutive>` range cannot exhaust memory.
-const MAX_STATES: usize = 10_000_000;
-
 /// Reading state: the automaton under construction and libFAUDES's index bookkeeping.
 struct Reader<'s, 'e> {
     s: &'s Sections,
     events: &'e mut Events,
+    /// libFAUDES caps nothing; the caller's budget caps the states a file may declare, so that
+    /// a 100-byte `<Consecutive>` range cannot take seconds and gigabytes (a decompression bomb
+    /// for automata).
+    max_states: usize,
     builder: AutomatonBuilder,
     by_index: HashMap<u64, StateId>,
     by_name: HashMap<String, StateId>,
@@ -591,8 +602,8 @@ impl<'s> Reader<'s, '_> {
         if self.by_index.contains_key(&index) || name.is_some_and(|n| self.by_name.contains_key(n)) {
             return Err(GenError::at(span, format!("state `{label}` (index {index}) appears twice")));
         }
-        if self.labels.len() >= MAX_STATES {
-            return Err(GenError::at(span, format!("more than {MAX_STATES} states")));
+        if self.labels.len() >= self.max_states {
+            return Err(GenError::budget(span, self.max_states));
         }
         let s = self.builder.add_state(label.clone(), false);
         self.labels.push(label);
@@ -611,8 +622,8 @@ impl<'s> Reader<'s, '_> {
             return Ok(0);
         }
         let count = (last as i128 - first as i128 + 1) as u128;
-        if count + self.labels.len() as u128 > MAX_STATES as u128 {
-            return Err(GenError::at(span, format!("more than {MAX_STATES} states")));
+        if count + self.labels.len() as u128 > self.max_states as u128 {
+            return Err(GenError::budget(span, self.max_states));
         }
         for k in first..=last {
             self.add_state(k, None, span)?;
@@ -952,8 +963,15 @@ pub fn read_gen(src: &str, events: &mut Events) -> Result<Automaton, GenError> {
     read_gen_file(src, events).map(|f| f.automaton)
 }
 
-/// [`read_gen`], also telling where each event is named.
+/// [`read_gen`], also telling where each event is named. At most
+/// [`DEFAULT_MAX_STATES`](super::model::DEFAULT_MAX_STATES) states are read.
 pub fn read_gen_file(src: &str, events: &mut Events) -> Result<GenFile, GenError> {
+    read_gen_file_within(src, events, super::model::DEFAULT_MAX_STATES)
+}
+
+/// [`read_gen_file`] with a state budget: a file declaring more than `max_states` states is
+/// refused (a [`GenError`] with `over_budget`) before they are built.
+pub fn read_gen_file_within(src: &str, events: &mut Events, max_states: usize) -> Result<GenFile, GenError> {
     let s = Sections::parse(src)?;
     let top: Vec<usize> = std::iter::successors(Some(0).filter(|&i| i < s.toks.len()), |&i| {
         Some(s.next(i)).filter(|&n| n < s.toks.len())
@@ -999,6 +1017,7 @@ pub fn read_gen_file(src: &str, events: &mut Events) -> Result<GenFile, GenError
     let mut r = Reader {
         s: &s,
         events,
+        max_states,
         builder: AutomatonBuilder::new(),
         by_index: HashMap::new(),
         by_name: HashMap::new(),
@@ -1281,7 +1300,7 @@ x              c              +C+
             ("<Generator> <States> 0 </States> </Generator>", (1, 22), "state index 0 is out of range"),
             ("<Generator> <Alphabet> +C+ a </Alphabet> </Generator>", (1, 24), "attribute `+C+` before any event"),
             ("<Generator> <States> <Consecutive> 1 </Consecutive> </States> </Generator>", (1, 22), "malformed <Consecutive> range: expected two indices"),
-            ("<Generator> <States> <Consecutive> 1 99999999999 </Consecutive> </States> </Generator>", (1, 22), "more than 10000000 states"),
+            ("<Generator> <States> <Consecutive> 1 99999999999 </Consecutive> </States> </Generator>", (1, 22), "the generator declares more than 250000 states, the state budget"),
             ("<Generator> x <Alphabet/> y </Generator>", (1, 27), "unexpected `y` in <Generator>"),
             ("<Generator> <Alphabet/> <Alphabet/> </Generator>", (1, 25), "a second <Alphabet> section"),
             ("% only a comment\n", (1, 1), "no <Generator> section"),
