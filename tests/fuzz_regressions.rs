@@ -50,6 +50,30 @@ fn the_seed_inputs_pass_the_fuzz_checks() {
     }
 }
 
+/// Inputs that made a parser target fail (a crash or a timeout), replayed through its check.
+/// `gen/consecutive_range_with_fraction_timeout.gen`: `<Consecutive> 2 6310354.555` declared six
+/// million states past the fuzz check's old textual skip (a fraction); the reader's state budget
+/// now refuses it at once.
+#[test]
+fn saved_parser_inputs_pass_their_checks() {
+    type Check = fn(&str);
+    let checks: [(&str, Check); 3] =
+        [("tga", harness::check_tga), ("sct", harness::check_sct), ("gen", harness::check_gen)];
+    let mut replayed = 0;
+    for (target, check) in checks {
+        let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/fuzz").join(target);
+        if !dir.exists() {
+            continue;
+        }
+        for (name, text) in inputs(target) {
+            eprintln!("{target}/{name}");
+            check(&text);
+            replayed += 1;
+        }
+    }
+    assert!(replayed > 0, "no saved parser inputs");
+}
+
 /// Finding T1: every token of a long line of garbage was a diagnostic, each costing a scan of
 /// the line and a copy of it when rendered; 200 KB on one line took two minutes, 6 GB of
 /// memory and printed 6 GB. Now at most `MAX_DIAGNOSTICS` (and one more error) are kept and a
@@ -72,44 +96,6 @@ fn saved_verdict_specs_pass_the_whole_pipeline() {
             assert!(harness::check_verdict(&source, seed, true).is_some(), "{name} no longer compiles");
         }
     }
-}
-
-/// Findings V1, V3, V4 and V6 (docs/fuzzing.md, handed over: fixes belong in the solver, the
-/// program generation or the semantics of `instant`). V1: a strategy that makes plan progress forever at one instant
-/// counts as winning; in PLC scans time passes and the plant refuses the request. V3: a cycle
-/// without progress through a plant reaction survives, because the zeno memory of a state
-/// depends on the path that found it first. V4: the solver lets an instant request win the race
-/// against an instant reaction; the closed-loop checker gives it to the plant. V6: a generated
-/// program reuses the first round's timing in a second round where the clocks differ.
-fn assert_handed_over_finding_fixed(file: &str) {
-    let (_, source) = inputs("handed_over").into_iter().find(|(name, _)| name == file).expect("the saved input");
-    for seed in 0..20 {
-        harness::check_verdict(&source, seed, false).unwrap_or_else(|| panic!("{file} does not compile"));
-    }
-}
-
-#[test]
-#[ignore = "V1: progress at one instant counts as winning; handed over, see docs/fuzzing.md"]
-fn progress_at_one_instant_is_not_winning() {
-    assert_handed_over_finding_fixed("v1_progress_at_one_instant.tga");
-}
-
-#[test]
-#[ignore = "V3: a progress-free cycle through a reaction survives; handed over, see docs/fuzzing.md"]
-fn a_progress_free_cycle_through_a_reaction_is_not_winning() {
-    assert_handed_over_finding_fixed("v3_progress_free_cycle_through_a_reaction.tga");
-}
-
-#[test]
-#[ignore = "V4: solver and checker order an instant request and reaction differently; see docs/fuzzing.md"]
-fn an_instant_request_and_reaction_race_the_same_way_in_solver_and_checker() {
-    assert_handed_over_finding_fixed("v4_instant_request_races_instant_reaction.tga");
-}
-
-#[test]
-#[ignore = "V6: a program repeats a timing that no longer fits in the second round; see docs/fuzzing.md"]
-fn a_program_waits_for_the_zone_of_each_round() {
-    assert_handed_over_finding_fixed("v6_second_round_reuses_first_round_timing.tga");
 }
 
 /// Finding G1: a 100-byte `.gen` file declares ten million states with one `<Consecutive>`
@@ -154,4 +140,20 @@ fn generated_timed_specs_are_well_formed_and_both_verdicts_occur() {
         }
     }
     assert!(realizable >= 30 && unrealizable >= 30, "{realizable} realizable, {unrealizable} unrealizable");
+}
+
+/// Finding V1 (docs/fuzzing.md): a strategy that makes plan progress forever at one instant
+/// counts as winning. The thesis accepts such controller zenoness (5.1) under its zero-time
+/// semantics, where the verdict is right; on a PLC, whose scans take time, the clock leaves
+/// `[0,0]` and the plant refuses the request. Decided by the scan-time semantics (issue 14).
+#[test]
+#[ignore = "V1: zero-time semantics (thesis 5.1); decided by the scan-time semantics of issue 14, see docs/fuzzing.md"]
+fn progress_at_one_instant_is_not_winning() {
+    let (_, source) = inputs("handed_over")
+        .into_iter()
+        .find(|(name, _)| name == "v1_progress_at_one_instant.tga")
+        .expect("the saved input");
+    for seed in 0..20 {
+        harness::check_verdict(&source, seed, false).expect("compiles");
+    }
 }

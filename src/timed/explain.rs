@@ -250,7 +250,7 @@ fn step(
         Some(Removal::ZenoLoop { edge }) => {
             let e = &space.edges[edge as usize];
             Outcome::Violation {
-                reason: format!("the plant can send {} and return to a plant state it visited since the last plan progress (zeno loop)", describe_edge(game, split, e)),
+                reason: format!("the plant can send {} and return to a plant state it visited since the last plan progress, or cycle back without progress (zeno loop)", describe_edge(game, split, e)),
             }
         }
         Some(Removal::Forced { .. }) | Some(Removal::NoMove) if is_forced_state(space, ranks, s) => {

@@ -20,9 +20,11 @@
 //! remain tolerated exceptions (5.2.2).
 //!
 //! Zeno avoidance (5.1): every search item remembers the plant states visited since the last
-//! plan progress; a message that returns to one of them without progress leads nowhere.
+//! plan progress; a message that returns to one of them without progress leads nowhere. That
+//! memory depends on the path that found a state first, so after the search every remaining
+//! cycle of the winning graph without plan progress is cut as well (`remove_zeno_cycles`).
 //! Transitions marked `instant` are urgent: while one is enabled, no other transition and no
-//! delay is possible.
+//! delay is possible; an instant reaction goes before an instant request.
 
 use super::arena::SliceArena;
 use super::model::*;
@@ -736,55 +738,77 @@ impl<'g, 'p> Solver<'g, 'p> {
         }
     }
 
-    /// Controller zenoness (5.1 leaves it open): the zeno memory of the search is path-dependent,
-    /// so a cycle of requests that never lets time pass and makes no plan progress can survive,
-    /// and a controller could "win" by acting forever at one instant. Such cycles are strongly
-    /// connected components of the winning states under requests and guard checks without
-    /// progress; their edges are removed as zeno loops, the removal propagated, until none is
-    /// left. Conservative: a zero-time cycle of requests is never relied upon.
+    /// Zeno loops the search memory missed (5.1). The zeno memory of a search item is
+    /// path-dependent: a state is stored once, with the memory of the first path that found it,
+    /// so a cycle without plan progress can close through a state first reached along another
+    /// path (a request loop at one instant, or a reaction returning to where a request led).
+    /// After the search, every cycle of the winning graph that makes no plan progress is cut:
+    /// the cycles are the strongly connected components of the winning states under live edges
+    /// without progress (requests, guard checks, reactions and waiting alike), and every edge
+    /// inside one is treated as the thesis treats a return to a visited plant state: a request,
+    /// guard check or wait is dropped; a reaction removes its source (the plant can loop).
+    /// Removals are propagated and the search for cycles repeated until none is left, so that
+    /// on every play of a winning strategy the plans progress infinitely often.
     fn remove_zeno_cycles(&mut self) {
+        let cuttable = |space: &StateSpace, e: &Edge| {
+            matches!(e.class, Class::Option | Class::Forced | Class::Wait)
+                && !e.zeno
+                && !e.progress
+                && e.to != NONE
+                && space.is_winning(e.to)
+        };
         loop {
             let n = self.space.states.len();
-            let controller_edges = |space: &StateSpace, s: StateId| -> Vec<(EdgeId, StateId)> {
-                space
-                    .out_edges(s)
-                    .filter(|(_, e)| {
-                        e.class == Class::Option && !e.zeno && !e.progress && e.to != NONE && space.is_winning(e.to)
-                    })
-                    .map(|(id, e)| (id, e.to))
-                    .collect()
+            let live_state = |space: &StateSpace, s: StateId| {
+                let st = &space.states[s as usize];
+                st.removal.is_none() && st.expanded
             };
             let component = strongly_connected(n, |s| {
-                if self.space.states[s as usize].removal.is_none() && self.space.states[s as usize].expanded {
-                    controller_edges(&self.space, s).into_iter().map(|(_, t)| t).collect()
+                if live_state(&self.space, s) {
+                    self.space.out_edges(s).filter(|(_, e)| cuttable(&self.space, e)).map(|(_, e)| e.to).collect()
                 } else {
                     Vec::new()
                 }
             });
-            let mut cut = Vec::new();
+            let mut cut: Vec<EdgeId> = Vec::new();
             for s in 0..n as StateId {
-                if self.space.states[s as usize].removal.is_some() {
+                if !live_state(&self.space, s) {
                     continue;
                 }
-                for (id, t) in controller_edges(&self.space, s) {
-                    if component[s as usize] == component[t as usize] {
-                        cut.push((s, id));
+                for (id, e) in self.space.out_edges(s) {
+                    if cuttable(&self.space, e) && component[s as usize] == component[e.to as usize] {
+                        cut.push(id);
                     }
                 }
             }
             if cut.is_empty() {
                 return;
             }
-            for (s, id) in cut {
+            for id in cut {
                 let e = &mut self.space.edges[id as usize];
-                if e.zeno {
+                let (s, class) = (e.from, e.class);
+                if e.zeno || self.space.states[s as usize].removal.is_some() {
                     continue;
                 }
                 e.zeno = true;
                 let st = &mut self.space.states[s as usize];
-                st.options_alive -= 1;
-                if st.options_alive == 0 && !st.wait_viable {
-                    self.remove(s, Removal::NoMove);
+                match class {
+                    Class::Forced => self.remove(s, Removal::ZenoLoop { edge: id }),
+                    Class::Option => {
+                        st.options_alive -= 1;
+                        if st.options_alive == 0 && !st.wait_viable {
+                            self.remove(s, Removal::NoMove);
+                        }
+                    }
+                    Class::Wait => {
+                        if st.wait_viable {
+                            st.wait_viable = false;
+                            if st.options_alive == 0 {
+                                self.remove(s, Removal::NoMove);
+                            }
+                        }
+                    }
+                    Class::Inert => {}
                 }
             }
             self.propagate();
@@ -960,8 +984,12 @@ impl<'g, 'p> Solver<'g, 'p> {
                 self.moves.extend(partial);
             }
         }
+        // Urgency: while an instant move is enabled, only instant moves are taken, and an instant
+        // reaction goes before an instant request (the plant's urgent move happens first; the
+        // controller decides after observing it), as the closed-loop checker runs them.
         if self.moves.iter().any(|m| m.instant) {
-            self.moves.retain(|m| m.instant);
+            let reaction_first = self.moves.iter().any(|m| m.instant && m.kind == MessageKind::Uncontrollable);
+            self.moves.retain(|m| m.instant && !(reaction_first && m.kind == MessageKind::Controllable));
         }
     }
 
@@ -1218,15 +1246,18 @@ impl<'g, 'p> Solver<'g, 'p> {
             }
             return;
         }
+        // Several clocks of one unit may move on together: follow the unit's delay edges one
+        // clock after the other, each from the sub-location the previous one led to (taking
+        // each from the original sub-location would keep only the last clock's move).
         let mut env2 = env.to_vec();
         let mut plan2 = plan.to_vec();
         for &k in set {
             let e = &exits[k];
-            let target = e.target.expect("checked above");
-            if e.unit < plant_count {
-                env2[e.unit] = target;
-            } else {
-                plan2[e.unit - plant_count] = target;
+            let sub = if e.unit < plant_count { &mut env2[e.unit] } else { &mut plan2[e.unit - plant_count] };
+            let from = &self.split.units[e.unit].sublocs[*sub as usize];
+            match from.delays.iter().find(|d| d.clock == e.clock) {
+                Some(d) => *sub = d.target,
+                None => return, // the pieces of one clock do not depend on another's
             }
         }
         zone.up();
