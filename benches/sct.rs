@@ -3,16 +3,16 @@
 //! `plcsynth bench sct` prints the same figures beside the thesis's and libFAUDES's.
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use plcsynth::benchmarks::textbook::{transfer_line, transfer_lines_classic};
+use plcsynth::benchmarks::transfer::transfer_lines;
 use plcsynth::sct::classic::supcon;
+use plcsynth::sct::compile;
 use plcsynth::sct::model::{synthesize, Config, Method};
-use plcsynth::sct::project::load;
-use plcsynth::sct::textbook::{transfer_line, transfer_lines_classic};
-use plcsynth::sct::transfer::transfer_lines;
 use std::hint::black_box;
 
 fn incremental(c: &mut Criterion) {
     for (k, m) in [(2, 2), (5, 2), (50, 4)] {
-        let (l, _) = load(&transfer_lines(k, m, 2));
+        let (l, _) = compile(&transfer_lines(k, m, 2));
         let p = l.expect("generated lines are valid").project;
         let cfg = Config { method: Method::Incremental, ..Config::default() };
         c.bench_function(&format!("sct incremental transfer lines {k}x{m}"), |b| {

@@ -3,10 +3,15 @@
 //! The engines do no I/O and know nothing of the browser:
 //! - [`zone`]: difference bound matrices (clock zones);
 //! - [`timed`]: the timed-game engine of Peter (2005): specification language, timed game
-//!   automata, precomputation and the on-the-fly safety-game solver.
+//!   automata, precomputation and the on-the-fly safety-game solver;
+//! - [`sct`]: the supervisory-control engine of Göbe (2019) and classic Ramadge–Wonham
+//!   synthesis.
+//!
+//! [`benchmarks`] rebuilds published models for benchmarks and tests.
 //!
 //! [`diag`] holds the located diagnostics every front end reports.
 
+pub mod benchmarks;
 pub mod diag;
 pub mod plc;
 pub mod program;

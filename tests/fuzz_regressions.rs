@@ -106,7 +106,7 @@ fn a_tiny_gen_file_cannot_declare_millions_of_states() {
     let text = "<Generator>\n<Alphabet> a </Alphabet>\n<States>\n<Consecutive> 1 10000000 </Consecutive>\n\
                 </States>\n<InitStates> 1 </InitStates>\n</Generator>\n";
     let mut events = plcsynth::sct::classic::Events::new();
-    let err = match plcsynth::sct::gen::read_gen_file(text, &mut events) {
+    let err = match plcsynth::sct::classic::gen::read_gen_file(text, &mut events) {
         Ok(g) => panic!("read {} states", g.automaton.num_states()),
         Err(e) => e,
     };
@@ -116,9 +116,9 @@ fn a_tiny_gen_file_cannot_declare_millions_of_states() {
     assert!(d.message.contains("more than 250000 states"), "{}", d.message);
     // The budget is exact: 1000 states are read within 1000, refused within 999.
     let small = text.replace("10000000", "1000");
-    let g = plcsynth::sct::gen::read_gen_file_within(&small, &mut events, 1000).unwrap();
+    let g = plcsynth::sct::classic::gen::read_gen_file_within(&small, &mut events, 1000).unwrap();
     assert_eq!(g.automaton.num_states(), 1000);
-    assert!(plcsynth::sct::gen::read_gen_file_within(&small, &mut events, 999).is_err_and(|e| e.over_budget));
+    assert!(plcsynth::sct::classic::gen::read_gen_file_within(&small, &mut events, 999).is_err_and(|e| e.over_budget));
 }
 
 /// The verdict target is only as good as its generator: the specifications must compile, and

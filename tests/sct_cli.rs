@@ -57,8 +57,8 @@ fn supervise_bad_input_exits_2_with_located_diagnostics() {
 fn supcon_reads_and_writes_gen_files() {
     let dir = std::env::temp_dir().join(format!("plcsynth-cli-gen-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let (plant, spec, ev) = plcsynth::sct::textbook::transfer_line(3, 1);
-    use plcsynth::sct::gen::write_gen;
+    let (plant, spec, ev) = plcsynth::benchmarks::textbook::transfer_line(3, 1);
+    use plcsynth::sct::classic::gen::write_gen;
     std::fs::write(dir.join("p.gen"), write_gen(&plant, &ev, "TL")).unwrap();
     std::fs::write(dir.join("s.gen"), write_gen(&spec, &ev, "BUF")).unwrap();
     let out = dir.join("sup.gen");
@@ -72,7 +72,7 @@ fn supcon_reads_and_writes_gen_files() {
     assert_eq!(code, 0, "{err}");
     assert!(stdout.starts_with("SupCon: 28 states, 65 transitions"), "{stdout}");
     let mut ev2 = plcsynth::sct::classic::Events::new();
-    let sup = plcsynth::sct::gen::read_gen(&std::fs::read_to_string(&out).unwrap(), &mut ev2).unwrap();
+    let sup = plcsynth::sct::classic::gen::read_gen(&std::fs::read_to_string(&out).unwrap(), &mut ev2).unwrap();
     assert_eq!((sup.num_states(), sup.num_transitions()), (28, 65));
     std::fs::write(
         dir.join("bad.gen"),

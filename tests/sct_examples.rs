@@ -3,13 +3,13 @@
 
 use plcsynth::diag::render_plain;
 use plcsynth::sct::model::{Config, EventKind, Method, Supervisor};
-use plcsynth::sct::project::{load, Loaded};
-use plcsynth::sct::report::{synthesize_all, SupervisorReport};
+use plcsynth::sct::{compile, Loaded};
+use plcsynth::sct::{synthesize_all, SupervisorReport};
 
 fn example(name: &str) -> (String, Loaded) {
     let path = format!("{}/examples/sct/{name}", env!("CARGO_MANIFEST_DIR"));
     let src = std::fs::read_to_string(&path).unwrap();
-    let (loaded, diags) = load(&src);
+    let (loaded, diags) = compile(&src);
     let errors: Vec<_> = diags.iter().filter(|d| d.is_error()).cloned().collect();
     assert!(errors.is_empty(), "{}", render_plain(name, &src, &errors));
     (src.clone(), loaded.unwrap())
@@ -169,7 +169,7 @@ fn enforcement_conflict_is_resolved_by_the_specification_product() {
     // Without the product: two supervisors and the 6.4.2 warning.
     let (src, _) = example("enforcement_conflict.sct");
     let src = src.replace("spec Safety = NoOverflow | PumpProtection;", "");
-    let (loaded, _) = load(&src);
+    let (loaded, _) = compile(&src);
     let (reps, diags) = synthesize_all(&src, &loaded.unwrap(), &Config::default(), None);
     assert_eq!(reps.len(), 2);
     let w = diags.iter().find(|d| {
@@ -181,7 +181,7 @@ fn enforcement_conflict_is_resolved_by_the_specification_product() {
 #[test]
 fn unrealizable_specifications_are_reported() {
     let src = "event u : uncontrollable;\nspec H { state s { forbid u; } }\n";
-    let (loaded, _) = load(src);
+    let (loaded, _) = compile(src);
     let (reps, diags) = synthesize_all(src, &loaded.unwrap(), &Config::default(), None);
     assert!(!reps[0].realizable);
     assert!(diags.iter().any(|d| d.line == 2 && d.message.contains("`H` is unrealizable")), "{diags:?}");
@@ -190,7 +190,7 @@ fn unrealizable_specifications_are_reported() {
 #[test]
 fn selfloops_helper_adds_missing_loops_except_impossible_ones() {
     let src = "event a : controllable;\nevent b : uncontrollable;\nplant P {\n  alphabet a, b;\n  selfloops;\n  state s { a -> t; impossible b; }\n  state t;\n}\n";
-    let (loaded, d) = load(src);
+    let (loaded, d) = compile(src);
     assert!(d.is_empty(), "{d:?}");
     let p = &loaded.unwrap().project.plants[0];
     let mut t: Vec<(u32, u32, u32)> = p.trans.iter().map(|t| (t.src, t.event.0, t.dst)).collect();

@@ -8,10 +8,10 @@
 //! it the test fails and says so: a silently skipped comparison proves nothing.
 
 use plcsynth::rng::Rng;
+use plcsynth::sct::classic::gen::{read_gen, write_gen};
 use plcsynth::sct::classic::{
     is_controllable, language_equal, minimize, product, supcon, Automaton, AutomatonBuilder, EventId, Events,
 };
-use plcsynth::sct::gen::{read_gen, write_gen};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -319,7 +319,7 @@ fn same_language(a: &Automaton, b: &Automaton) -> bool {
 /// five AGVs): libFAUDES computes the same languages and the same (unminimised) state counts.
 #[test]
 fn textbook_supervisors_agree_with_libfaudes() {
-    use plcsynth::sct::textbook::{agv, small_factory, transfer_line};
+    use plcsynth::benchmarks::textbook::{agv, small_factory, transfer_line};
     let py = venv_python();
     let dir = std::env::temp_dir().join(format!("plcsynth-sct-textbook-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -456,7 +456,7 @@ fn describe(a: &Automaton, ev: &Events) -> serde_json::Value {
 /// and nondeterministic generators are refused with a located message.
 #[test]
 fn reader_reads_every_form_libfaudes_writes() {
-    use plcsynth::sct::gen::read_gen_file;
+    use plcsynth::sct::classic::gen::read_gen_file;
     let py = venv_python();
     let dir = std::env::temp_dir().join(format!("plcsynth-gen-forms-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);

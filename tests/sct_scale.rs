@@ -4,9 +4,9 @@
 //! 5 500 modules took over a minute. At the size below a quadratic front end would take many
 //! minutes; linear, it takes well under a second.
 
+use plcsynth::sct::compile;
 use plcsynth::sct::model::Config;
-use plcsynth::sct::project::load;
-use plcsynth::sct::report::synthesize_all;
+use plcsynth::sct::synthesize_all;
 
 /// `n` modules, each a tank whose overflow is preempted by an enforceable event, with a
 /// specification that also refers to its plant's state in a condition.
@@ -33,7 +33,7 @@ fn tanks(n: usize) -> String {
 fn twenty_thousand_independent_modules_are_synthesised() {
     let n = 20_000;
     let src = tanks(n);
-    let (loaded, diags) = load(&src);
+    let (loaded, diags) = compile(&src);
     assert!(diags.is_empty(), "{:?}", diags.first());
     let loaded = loaded.expect("a valid project");
     assert_eq!((loaded.project.plants.len(), loaded.project.specs.len()), (n, n));

@@ -1,7 +1,7 @@
 //! Classic textbook examples whose supervisor sizes are published.
 
+use plcsynth::benchmarks::textbook::{small_factory, transfer_line};
 use plcsynth::sct::classic::{is_controllable, minimize, supcon};
-use plcsynth::sct::textbook::{small_factory, transfer_line};
 
 #[test]
 fn small_factory_supervisor_is_12_states_24_transitions() {
@@ -25,8 +25,8 @@ fn transfer_line_3_1_supervisor_is_28_states_65_transitions() {
 }
 
 mod gen_robustness {
+    use plcsynth::sct::classic::gen::{read_gen, write_gen};
     use plcsynth::sct::classic::{supcon, Events};
-    use plcsynth::sct::gen::{read_gen, write_gen};
     use proptest::prelude::*;
 
     proptest! {
@@ -35,7 +35,7 @@ mod gen_robustness {
         /// Mutated `.gen` files never make the reader (or SupCon on what it reads) panic.
         #[test]
         fn gen_reader_never_panics(ops in proptest::collection::vec((0u8..3, 0usize..4000, 0usize..30, 0usize..8), 1..4)) {
-            let (plant, spec, ev) = plcsynth::sct::textbook::small_factory();
+            let (plant, spec, ev) = plcsynth::benchmarks::textbook::small_factory();
             let mut text = write_gen(&plant, &ev, "p");
             let pieces = ["<States>", "</TransRel>", "\"", "+C+", "<Consecutive> 1 9 </Consecutive>", "7", "#", "%"];
             for (op, at, len, p) in ops {
@@ -58,7 +58,7 @@ mod gen_robustness {
 
 #[test]
 fn agv_supervisor_is_4406_states_11338_transitions() {
-    let (plant, spec, ev) = plcsynth::sct::textbook::agv();
+    let (plant, spec, ev) = plcsynth::benchmarks::textbook::agv();
     // Five vehicle routes of 4, 8, 4, 6 and 4 states.
     assert_eq!(plant.num_states(), 4 * 8 * 4 * 6 * 4);
     let sup = supcon(&plant, &spec, &ev, true).unwrap();

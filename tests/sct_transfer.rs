@@ -2,9 +2,9 @@
 //! monolithic synthesis agree on every supervisor's behaviour, and the example file matches
 //! the generator.
 
+use plcsynth::benchmarks::transfer::transfer_lines;
+use plcsynth::sct::compile;
 use plcsynth::sct::model::{synthesize, Config, Method};
-use plcsynth::sct::project::load;
-use plcsynth::sct::transfer::transfer_lines;
 
 #[test]
 fn example_file_is_the_generated_2x2_line() {
@@ -18,7 +18,7 @@ fn example_file_is_the_generated_2x2_line() {
 #[test]
 fn sizes_and_counts_follow_the_thesis_structure() {
     for (k, m) in [(2, 2), (3, 2), (2, 4)] {
-        let (l, d) = load(&transfer_lines(k, m, 2));
+        let (l, d) = compile(&transfer_lines(k, m, 2));
         assert!(d.iter().all(|d| !d.is_error()), "{d:?}");
         let p = l.unwrap().project;
         assert_eq!(p.plants.len(), k * (m + 1));
@@ -43,7 +43,7 @@ fn possible(p: &plcsynth::sct::model::Project, w: &[plcsynth::sct::model::EventI
 
 #[test]
 fn incremental_equals_monolithic_on_small_lines() {
-    let (l, _) = load(&transfer_lines(2, 2, 2));
+    let (l, _) = compile(&transfer_lines(2, 2, 2));
     let p = l.unwrap().project;
     for i in 0..p.specs.len() {
         let inc = synthesize(&p, i, &Config { method: Method::Incremental, ..Config::default() }).unwrap();
@@ -85,7 +85,7 @@ fn incremental_equals_monolithic_on_small_lines() {
 
 #[test]
 fn incremental_synthesis_only_applies_the_plants_it_needs() {
-    let (l, _) = load(&transfer_lines(2, 2, 2));
+    let (l, _) = compile(&transfer_lines(2, 2, 2));
     let p = l.unwrap().project;
     let cfg = Config { method: Method::Incremental, ..Config::default() };
     let used = |name: &str| {
@@ -102,7 +102,7 @@ fn incremental_synthesis_only_applies_the_plants_it_needs() {
 
 #[test]
 fn extended_line_ignores_the_shared_sensor() {
-    let (l, d) = load(&plcsynth::sct::transfer::extended_line(3));
+    let (l, d) = compile(&plcsynth::benchmarks::transfer::extended_line(3));
     assert!(d.iter().all(|d| !d.is_error()), "{d:?}");
     let p = l.unwrap().project;
     assert_eq!((p.plants.len(), p.specs.len()), (12, 4));
@@ -124,7 +124,7 @@ fn extended_line_ignores_the_shared_sensor() {
 #[test]
 fn state_budget_and_cancellation_stop_monolithic_synthesis() {
     use plcsynth::sct::model::{synthesize_within, Budget, SynthError};
-    let (l, _) = load(&transfer_lines(4, 3, 2));
+    let (l, _) = compile(&transfer_lines(4, 3, 2));
     let p = l.unwrap().project;
     let mono = Config { method: Method::Monolithic, max_states: 20_000, ..Config::default() };
     match synthesize(&p, 0, &mono) {
@@ -157,7 +157,7 @@ fn state_budget_admits_exactly_its_size() {
     let src = "event go : controllable;\nevent done : uncontrollable;\nevent more : controllable;\n\
                plant P { alphabet go, done, more; state A initial { go -> B; } state B { done -> C; } state C { more -> A; } }\n\
                spec H { state S { forbid more; } }";
-    let (l, d) = load(src);
+    let (l, d) = compile(src);
     assert!(d.is_empty(), "{d:?}");
     let p = l.unwrap().project;
     // Monolithic synthesis applies the plant: one spec state times three plant states.
@@ -169,9 +169,9 @@ fn state_budget_admits_exactly_its_size() {
 /// Cancelling a whole report keeps the supervisors finished so far and says where it stopped.
 #[test]
 fn cancelling_a_report_stops_with_a_located_error() {
-    use plcsynth::sct::report::synthesize_all_with_progress;
+    use plcsynth::sct::synthesize_all_with_progress;
     let src = transfer_lines(4, 3, 2);
-    let (l, _) = load(&src);
+    let (l, _) = compile(&src);
     let l = l.unwrap();
     let cfg = Config { method: Method::Monolithic, ..Config::default() };
     let (reports, diags) = synthesize_all_with_progress(&src, &l, &cfg, None, &mut |built| built < 10_000);

@@ -5,7 +5,7 @@
 use plcsynth::diag::{render_plain, Diagnostic};
 use plcsynth::program::{self, optimize::Context, simulate};
 use plcsynth::sct::classic::{self, Automaton, Events};
-use plcsynth::sct::{gen, model::Config, project, report};
+use plcsynth::sct::{self, classic::gen, model::Config};
 use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpace, Verdict};
 use plcsynth::timed::{compile, Synthesis};
 
@@ -49,7 +49,7 @@ pub fn check_tga(source: &str) {
 
 /// `.sct`: load, render, and synthesise every specification within [`SCT_MAX_STATES`].
 pub fn check_sct(source: &str) {
-    let (loaded, diagnostics) = project::load(source);
+    let (loaded, diagnostics) = sct::compile(source);
     assert_located(source, &diagnostics);
     render_plain("fuzz.sct", source, &diagnostics);
     let Some(loaded) = loaded else {
@@ -57,7 +57,7 @@ pub fn check_sct(source: &str) {
         return;
     };
     let config = Config { max_states: SCT_MAX_STATES, ..Config::default() };
-    let (reports, diagnostics) = report::synthesize_all(source, &loaded, &config, None);
+    let (reports, diagnostics) = sct::synthesize_all(source, &loaded, &config, None);
     assert_located(source, &diagnostics);
     render_plain("fuzz.sct", source, &diagnostics);
     assert!(reports.len() <= loaded.project.specs.len(), "more reports than specifications");

@@ -1,15 +1,15 @@
 //! `plcsynth supervise`, `plcsynth supcon` and `plcsynth bench sct`.
 
 use clap::{Args, ValueEnum};
+use plcsynth::benchmarks::textbook::{agv, small_factory, transfer_line, transfer_lines_classic};
+use plcsynth::benchmarks::transfer::{extended_line, transfer_lines};
 use plcsynth::diag::{render_plain, Diagnostics};
+use plcsynth::sct::classic::gen::{read_gen_file_within, write_gen, GenFile};
 use plcsynth::sct::classic::{minimize, supcon as classic_supcon, supcon_within, EventId, Events, SupConError};
-use plcsynth::sct::gen::{read_gen_file_within, write_gen, GenFile};
 use plcsynth::sct::model::dep_closure;
 use plcsynth::sct::model::{Budget, Config, Method, DEFAULT_MAX_STATES};
-use plcsynth::sct::project::{load, load_within};
-use plcsynth::sct::report::{synthesize_all, synthesize_all_within};
-use plcsynth::sct::textbook::{agv, small_factory, transfer_line, transfer_lines_classic};
-use plcsynth::sct::transfer::{extended_line, transfer_lines};
+use plcsynth::sct::{compile, compile_within};
+use plcsynth::sct::{synthesize_all, synthesize_all_within};
 use std::process::{Command, ExitCode};
 use std::time::Instant;
 
@@ -93,7 +93,7 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
     };
     let mut go_on = |_| true;
     let mut budget = Budget::new(a.max_states, &mut go_on);
-    let (loaded, diags, stop) = load_within(&src, &mut budget);
+    let (loaded, diags, stop) = compile_within(&src, &mut budget);
     if !diags.is_empty() {
         eprint!("{}", render_plain(&a.file, &src, &diags));
     }
@@ -270,7 +270,7 @@ fn median(mut v: Vec<f64>) -> f64 {
 /// Median milliseconds and Σ supervisor states for all specifications of a generated line.
 fn run_lines(k: usize, m: usize, method: Method, runs: usize) -> (f64, usize, usize, usize) {
     let src = transfer_lines(k, m, 2);
-    let (loaded, _) = load(&src);
+    let (loaded, _) = compile(&src);
     let l = loaded.expect("generated transfer lines are valid");
     let cfg = Config { method, ..Config::default() };
     let mut times = Vec::new();
@@ -324,7 +324,7 @@ pub fn bench(a: &BenchArgs) -> ExitCode {
     outln!("IncSyn 156 ms / 48 states; iModSyn out of memory). Reconstructed: the thesis publishes only sizes.");
     {
         let src = extended_line(3);
-        let (loaded, _) = load(&src);
+        let (loaded, _) = compile(&src);
         let l = loaded.expect("generated line is valid");
         let p = &l.project;
         let cfg = Config::default();

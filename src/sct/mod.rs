@@ -1,40 +1,49 @@
 //! The supervisory-control engine (Göbe 2019, SynTACS) and classic Ramadge–Wonham synthesis.
 //!
-//! Layers, from the bottom:
+//! The front door is three calls: [`compile`] a `.sct` text into a checked project (with every
+//! diagnostic located), [`synthesize_all`] its specifications into supervisors, and read the
+//! [`SupervisorReport`]s (or their JSON form). Inside, from the bottom:
 //! - [`classic`]: automata with marked states in compact sorted tables, synchronous product,
 //!   trim, SupCon/SupConClosed and minimisation — the textbook theory, used for teaching and
-//!   for cross-checking against libFAUDES; [`gen`] reads and writes libFAUDES `.gen` files;
-//!   [`textbook`] rebuilds the small factory, the transfer line and the five AGVs.
+//!   for cross-checking against libFAUDES; [`classic::gen`] reads and writes libFAUDES `.gen`
+//!   files.
 //! - [`model`]: the SynTACS formal model of chapter 5.8 — specifications with prohibitions,
 //!   plant models with alphabets, conditions, synthesis automata; the specification product,
 //!   plant composition, application product, synthesis steps (`sys`, `sysp`), monolithic and
-//!   incremental synthesis with preemption, and supervisor minimisation.
-//! - [`syntax`] and [`project`]: the `.sct` text format (see `docs/sct-language.md`): lexer,
-//!   recovering parser, name resolution over modules, templates, timers, and every check that
-//!   yields a located diagnostic.
-//! - [`report`]: synthesis of all specifications of a project with per-supervisor reports and
-//!   their JSON form; [`transfer`] generates the transfer-line benchmark family of 7.5.
+//!   incremental synthesis with preemption, and supervisor minimisation. Public, because the
+//!   model is what the thesis defines and what the tests check against its definitions.
+//! - `lexer`, `ast`, `parser` and `check` (private): the `.sct` text format (see
+//!   `docs/sct-language.md`): logos lexer, recovering parser, name resolution over modules,
+//!   templates, timers, and every check that yields a located diagnostic.
+//! - `report` (private, re-exported here): synthesis of all specifications of a project with
+//!   per-supervisor reports.
 //!
+//! The benchmark and teaching models built from published definitions (the textbook problems,
+//! the transfer-line family of 7.5) are not part of the engine: see [`crate::benchmarks`].
 //! The engine does no I/O: callers pass text in and get automata, reports and diagnostics out.
 //!
 //! ```
-//! use plcsynth::sct::{model::Config, project::load, report::synthesize_all};
+//! use plcsynth::sct::{compile, model::Config, synthesize_all};
 //! let src = "event open : controllable;\nevent alarm : uncontrollable;\nevent spill : uncontrollable;\n\
 //!            plant Tank { alphabet open, alarm, spill;\n\
 //!              state A { open -> B; } state B { alarm -> C; } state C { spill -> C; } }\n\
 //!            spec NoSpill { state S { forbid spill; } }";
-//! let (loaded, diagnostics) = load(src);
+//! let (loaded, diagnostics) = compile(src);
 //! assert!(diagnostics.is_empty());
 //! let (reports, _) = synthesize_all(src, &loaded.unwrap(), &Config::default(), None);
 //! assert_eq!(reports[0].prohibited_events, vec!["open".to_string()]);
 //! ```
 
+mod ast;
+mod check;
 pub mod classic;
-pub mod gen;
+mod lexer;
 pub mod model;
-pub mod partition;
-pub mod project;
-pub mod report;
-pub mod syntax;
-pub mod textbook;
-pub mod transfer;
+mod parser;
+mod partition;
+mod report;
+
+pub use check::{compile, compile_within, EventMeta, Loaded, TimerInfo, Trigger};
+pub use report::{
+    synthesize_all, synthesize_all_with_progress, synthesize_all_within, JsonState, JsonTransition, SupervisorReport,
+};

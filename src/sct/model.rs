@@ -846,7 +846,7 @@ pub struct Config {
     pub max_states: usize,
 }
 
-/// The default state budget of a run ([`Config`], [`super::project::load`], `supervise
+/// The default state budget of a run ([`Config`], [`super::compile`], `supervise
 /// --max-states`): product states cost 0.5–1.5 KB and a few microseconds each, so a run stops
 /// within about a second and a few hundred MB.
 pub const DEFAULT_MAX_STATES: usize = 250_000;

@@ -5,8 +5,8 @@
 //! transitions (6.4.4) with both locations, cycles of enforced transitions (5.5.5), and a warning
 //! when one supervisor enforces an event another one prohibits (6.4.2).
 
+use super::check::Loaded;
 use super::model::{self, Budget, Config, EventId, Knowledge, Method, Stop, SynthError};
-use super::project::Loaded;
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use serde::Serialize;
 

@@ -7,8 +7,9 @@
 //! Timers declare a scope holding their `timeout` event. Template instances (6.1.4) become
 //! ordinary plants or specifications once their binding events are bound.
 
+use super::ast::{self, AutDecl, AutKind, CondExpr, EdgeKind, EventItem, Item, Path, StateItem};
 use super::model::{self, Budget, Cond, EventId, EventKind, Prohibition, Stop, SynthError, Transition};
-use super::syntax::{self, AutDecl, AutKind, CondExpr, EdgeKind, EventItem, Item, Path, StateItem};
+use super::parser;
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use hashbrown::HashMap;
 use serde::Serialize;
@@ -109,10 +110,10 @@ struct Ctx<'s, 'a> {
     modules: Vec<Module>,
     events: Vec<model::EventInfo>,
     metas: Vec<EventMeta>,
-    event_decls: Vec<Option<&'a syntax::EventDecl>>,
-    timers: Vec<(&'a syntax::TimerDecl, usize, u32)>,
+    event_decls: Vec<Option<&'a ast::EventDecl>>,
+    timers: Vec<(&'a ast::TimerDecl, usize, u32)>,
     templates: Vec<(&'a AutDecl, usize)>,
-    instances: Vec<(&'a syntax::InstanceDecl, usize)>,
+    instances: Vec<(&'a ast::InstanceDecl, usize)>,
     plants: Vec<AutRef<'a>>,
     specs: Vec<AutRef<'a>>,
     products: Vec<(String, Span, &'a [Path], usize)>,
@@ -128,18 +129,18 @@ enum Lookup {
 /// Parses and resolves a `.sct` source. Returns the project (if there were no errors) and
 /// every diagnostic (errors and warnings), in source order. Specification products written in
 /// the file may build up to [`model::DEFAULT_MAX_STATES`] states.
-pub fn load(src: &str) -> (Option<Loaded>, Vec<Diagnostic>) {
-    let (loaded, diagnostics, _) = load_within(src, &mut Budget::new(model::DEFAULT_MAX_STATES, &mut |_| true));
+pub fn compile(src: &str) -> (Option<Loaded>, Vec<Diagnostic>) {
+    let (loaded, diagnostics, _) = compile_within(src, &mut Budget::new(model::DEFAULT_MAX_STATES, &mut |_| true));
     (loaded, diagnostics)
 }
 
-/// [`load`] drawing the states of the specification products written in the file from
+/// [`compile`] drawing the states of the specification products written in the file from
 /// `budget`, the budget of the whole run (synthesis draws on the rest). The third value is set
 /// when a product stopped the load (budget spent or cancelled): its error diagnostic is not an
 /// input error.
-pub fn load_within(src: &str, budget: &mut Budget) -> (Option<Loaded>, Vec<Diagnostic>, Option<Stop>) {
+pub fn compile_within(src: &str, budget: &mut Budget) -> (Option<Loaded>, Vec<Diagnostic>, Option<Stop>) {
     let mut diags = Diagnostics::new(src);
-    let items = syntax::parse(src, &mut diags);
+    let items = parser::parse(src, &mut diags);
     let mut cx = Ctx {
         diags,
         modules: vec![Module { path: String::new(), parent: None, entries: HashMap::new() }],
@@ -301,7 +302,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
         name: &str,
         kind: EventKind,
         meta: EventMeta,
-        decl: Option<&'a syntax::EventDecl>,
+        decl: Option<&'a ast::EventDecl>,
         span: Span,
     ) -> u32 {
         let id = self.events.len() as u32;

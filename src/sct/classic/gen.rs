@@ -26,7 +26,7 @@
 //! written under another label). Every error is located; the generator must be deterministic.
 //! The writer emits the native format with names quoted where libFAUDES would misread them.
 
-use super::classic::{Automaton, AutomatonBuilder, BuildError, EventId, Events, StateId};
+use super::{Automaton, AutomatonBuilder, BuildError, EventId, Events, StateId};
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use hashbrown::{HashMap, HashSet};
 use std::fmt::Write as _;
@@ -964,9 +964,9 @@ pub fn read_gen(src: &str, events: &mut Events) -> Result<Automaton, GenError> {
 }
 
 /// [`read_gen`], also telling where each event is named. At most
-/// [`DEFAULT_MAX_STATES`](super::model::DEFAULT_MAX_STATES) states are read.
+/// [`DEFAULT_MAX_STATES`](crate::sct::model::DEFAULT_MAX_STATES) states are read.
 pub fn read_gen_file(src: &str, events: &mut Events) -> Result<GenFile, GenError> {
-    read_gen_file_within(src, events, super::model::DEFAULT_MAX_STATES)
+    read_gen_file_within(src, events, crate::sct::model::DEFAULT_MAX_STATES)
 }
 
 /// [`read_gen_file`] with a state budget: a file declaring more than `max_states` states is

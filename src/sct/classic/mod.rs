@@ -7,6 +7,8 @@
 //! sparse-row table sorted by (source, event), so that the transitions leaving a state are one
 //! contiguous slice and a product can merge two such slices in one pass.
 
+pub mod gen;
+
 use hashbrown::HashMap;
 
 /// A compact event id: an index into [`Events`].
@@ -632,7 +634,7 @@ pub fn minimize_with_key(a: &Automaton, key: &[u64]) -> (Automaton, Vec<StateId>
         keys.push(*dense.entry(kk).or_insert(next));
     }
     keys.push(u64::MAX);
-    let blocks = super::partition::coarsest_partition(m + 1, k, &delta, &keys);
+    let blocks = crate::sct::partition::coarsest_partition(m + 1, k, &delta, &keys);
     let count = blocks.iter().copied().max().map_or(0, |b| b as usize + 1);
     let mut class = vec![u32::MAX; n];
     for (i, &s) in states.iter().enumerate() {

@@ -1,190 +1,9 @@
-//! The `.sct` text format: lexer (logos), abstract syntax tree and a recursive-descent parser
-//! that recovers at `;` and `}` so that every syntax error of a file is reported at once.
-//!
-//! Keywords are contextual: every word is lexed as an identifier and the parser compares its
-//! text where a keyword may stand, so that users may name states `on`, `start` or `state`.
-//! The grammar is documented in `docs/sct-language.md`.
+//! The `.sct` parser: recursive descent that recovers at `;` and `}`, so that every syntax error
+//! of a file is reported at once. The grammar is documented in `docs/sct-language.md`.
 
+use super::ast::*;
+use super::lexer::{lex, Tok};
 use crate::diag::{Diagnostics, Span};
-use logos::Logos;
-
-#[derive(Logos, Clone, Copy, Debug, PartialEq, Eq)]
-#[logos(skip r"[ \t\r\n\f]+")]
-#[logos(skip(r"//[^\n]*", allow_greedy = true))]
-#[logos(skip r"/\*([^*]|\*+[^*/])*\*+/")]
-pub enum Tok {
-    #[regex(r"[A-Za-z_][A-Za-z0-9_]*")]
-    Ident,
-    #[regex(r"[0-9]+")]
-    Number,
-    #[regex(r"[0-9]+(ms|s|m|h)")]
-    Duration,
-    #[regex(r#""([^"\\\n]|\\.)*""#)]
-    Str,
-    #[token("{")]
-    LBrace,
-    #[token("}")]
-    RBrace,
-    #[token("[")]
-    LBracket,
-    #[token("]")]
-    RBracket,
-    #[token("(")]
-    LParen,
-    #[token(")")]
-    RParen,
-    #[token(";")]
-    Semi,
-    #[token(":")]
-    Colon,
-    #[token(",")]
-    Comma,
-    #[token(".")]
-    Dot,
-    #[token("->")]
-    Arrow,
-    #[token("=")]
-    Eq,
-    #[token("|")]
-    Bar,
-    /// Any character no other token accepts.
-    Error,
-    Eof,
-}
-
-/// A dotted name such as `Machine1.React.S2`.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Path {
-    pub parts: Vec<String>,
-    pub span: Span,
-}
-
-impl Path {
-    pub fn text(&self) -> String {
-        self.parts.join(".")
-    }
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum EdgeKind {
-    Rising,
-    Falling,
-    Either,
-    Cyclic,
-}
-
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum EventItem {
-    Detect { edge: EdgeKind, expr: String, span: Span },
-    Executed { span: Span },
-    ResetOnDenial { addrs: Vec<String>, span: Span },
-    OnAccept { code: String, span: Span },
-    OnDenial { code: String, span: Span },
-}
-
-#[derive(Clone, Debug)]
-pub struct EventDecl {
-    pub name: String,
-    pub name_span: Span,
-    pub kind: Option<crate::sct::model::EventKind>,
-    pub kind_span: Span,
-    pub items: Vec<EventItem>,
-}
-
-#[derive(Clone, Debug)]
-pub struct TimerDecl {
-    pub name: String,
-    pub name_span: Span,
-    pub duration_ms: Option<u64>,
-    pub start: Option<Path>,
-    pub stops: Vec<Path>,
-}
-
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum CondExpr {
-    True,
-    False,
-    State(Path),
-    Not(Box<CondExpr>),
-    /// Two or more operands; chains are flat so that their length adds no nesting.
-    And(Vec<CondExpr>),
-    /// Two or more operands, flat like `And`.
-    Or(Vec<CondExpr>),
-}
-
-#[derive(Clone, Debug)]
-pub enum StateItem {
-    Trans { event: Path, target: String, target_span: Span, cond: Option<CondExpr>, span: Span },
-    Forbid { events: Vec<Path>, cond: Option<CondExpr>, span: Span },
-    Impossible { events: Vec<Path>, span: Span },
-}
-
-#[derive(Clone, Debug)]
-pub struct StateDecl {
-    pub name: String,
-    pub span: Span,
-    pub initial: bool,
-    pub items: Vec<StateItem>,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum AutKind {
-    Plant,
-    Spec,
-}
-
-/// A template namespace (role): its name, location and binding events.
-pub type Namespace = (String, Span, Vec<(String, Span)>);
-
-#[derive(Clone, Debug)]
-pub struct AutDecl {
-    pub kind: AutKind,
-    pub name: String,
-    pub name_span: Span,
-    pub alphabet: Option<(Vec<Path>, Span)>,
-    pub selfloops: Option<Span>,
-    pub states: Vec<StateDecl>,
-    /// Template only: binding events without a namespace.
-    pub binds: Vec<(String, Span)>,
-    /// Template only: namespaces (roles) and their binding events.
-    pub namespaces: Vec<Namespace>,
-}
-
-#[derive(Clone, Debug)]
-pub struct Binding {
-    /// `ns`, `ns.event` or `event`.
-    pub lhs: Path,
-    pub rhs: Path,
-}
-
-#[derive(Clone, Debug)]
-pub struct InstanceDecl {
-    pub name: String,
-    pub name_span: Span,
-    pub template: Path,
-    pub bindings: Vec<Binding>,
-}
-
-#[derive(Clone, Debug)]
-pub enum Item {
-    Module {
-        name: String,
-        name_span: Span,
-        items: Vec<Item>,
-    },
-    Event(EventDecl),
-    Timer(TimerDecl),
-    Automaton(AutDecl),
-    Template(AutDecl),
-    Instance(InstanceDecl),
-    /// `spec NAME = A | B | ...;` — the specification product (definition 6).
-    SpecProduct {
-        name: String,
-        name_span: Span,
-        operands: Vec<Path>,
-    },
-}
 
 /// Words that start an item; error recovery stops in front of them.
 const ITEM_KEYWORDS: &[&str] = &[
@@ -219,19 +38,7 @@ const MAX_MODULE_NESTING: usize = 64;
 
 /// Parses a `.sct` file. Returns the items that could be parsed; errors go to `diags`.
 pub fn parse<'s>(src: &'s str, diags: &mut Diagnostics<'s>) -> Vec<Item> {
-    let mut toks = Vec::new();
-    let mut lex = Tok::lexer(src);
-    while let Some(t) = lex.next() {
-        let r = lex.span();
-        let span = Span::new(r.start, r.end);
-        match t {
-            Ok(t) => toks.push((t, span)),
-            Err(()) => {
-                diags.error(span, format!("unexpected character `{}`", &src[r.clone()].chars().next().unwrap_or('?')));
-            }
-        }
-    }
-    toks.push((Tok::Eof, Span::new(src.len(), src.len())));
+    let toks = lex(src, diags);
     let mut p = Parser { src, toks, pos: 0, diags, module_depth: 0 };
     let mut items = Vec::new();
     while p.peek() != Tok::Eof {
@@ -546,7 +353,7 @@ impl<'s> Parser<'s, '_> {
                 Ok(())
             })?;
         }
-        Ok(EventDecl { name, name_span, kind, kind_span, items })
+        Ok(EventDecl { name, name_span, kind, items })
     }
 
     fn timer(&mut self) -> PResult<TimerDecl> {

@@ -3,7 +3,7 @@
 //! five automated guided vehicles.
 //! Each function returns the plant, the specification and the shared event table.
 
-use super::classic::{product, Automaton, AutomatonBuilder, EventId, Events};
+use crate::sct::classic::{product, Automaton, AutomatonBuilder, EventId, Events};
 
 /// Builds an automaton from `(from, event, to)` triples over named states; the first state
 /// listed in `states` is initial, `marked` lists the marked ones.
