@@ -17,6 +17,9 @@
 //!   templates, timers, and every check that yields a located diagnostic.
 //! - `report` (private, re-exported here): synthesis of all specifications of a project with
 //!   per-supervisor reports.
+//! - `runtime` (private, re-exported here): the reference executor of the runtime framework —
+//!   supervisors stepped cycle by cycle ([`Runtime`]): accepted, denied, unexpected and
+//!   enforced events, timers.
 //!
 //! The benchmark and teaching models built from published definitions (the textbook problems,
 //! the transfer-line family of 7.5) are not part of the engine: see [`crate::benchmarks`].
@@ -42,8 +45,10 @@ pub mod model;
 mod parser;
 mod partition;
 mod report;
+mod runtime;
 
 pub use check::{compile, compile_within, EventMeta, Loaded, TimerInfo, Trigger};
 pub use report::{
     synthesize_all, synthesize_all_with_progress, synthesize_all_within, JsonState, JsonTransition, SupervisorReport,
 };
+pub use runtime::{CycleInput, CycleReport, Outcome, Runtime, RuntimeError, Step};
