@@ -13,6 +13,7 @@
 //! Clocks read by delay conditions are IEC `TON` timers (S7 timers in STL), restarted where the
 //! program resets the clock.
 
+pub mod fragment;
 pub mod il;
 pub mod lower_timed;
 pub mod model;
