@@ -84,15 +84,26 @@ struct TargetInfo {
     id: &'static str,
     label: &'static str,
     extension: &'static str,
+    /// Whether the target writes several files (TwinCAT).
+    multi_file: bool,
 }
 
 /// The code targets: the intermediate program first, then every PLC back end.
 #[wasm_bindgen]
 pub fn targets() -> Result<JsValue, JsValue> {
-    let mut list =
-        vec![TargetInfo { id: "program", label: "Intermediate program (thesis notation)", extension: "txt" }];
+    let mut list = vec![TargetInfo {
+        id: "program",
+        label: "Intermediate program (thesis notation)",
+        extension: "txt",
+        multi_file: false,
+    }];
     for target in Target::ALL {
-        list.push(TargetInfo { id: target.name(), label: target.label(), extension: target.extension() });
+        list.push(TargetInfo {
+            id: target.name(),
+            label: target.label(),
+            extension: target.extension(),
+            multi_file: target.multi_file(),
+        });
     }
     to_js(&list)
 }
@@ -101,9 +112,8 @@ pub fn targets() -> Result<JsValue, JsValue> {
 struct GeneratedCode {
     target: String,
     extension: &'static str,
-    /// Every file as one text (multi-file targets: each after a line `==> NAME <==`).
-    code: String,
-    /// The files to download, each `{ name, text }`.
+    /// The files, each `{ name, text }` (TwinCAT: three; the others one). The page shows them
+    /// as one text, each after a line `==> NAME <==` when there are several.
     files: Vec<FileView>,
     /// The I/O table, `{ address, type, symbol, direction, meaning }[]` (empty for `program`).
     io: Vec<IoRowView>,
@@ -387,18 +397,16 @@ impl Session {
 
     /// The controller as code for `target` (an id from `targets()`), the function block named
     /// after `name`, PLCopen's creation time `created_unix` (seconds since 1970, from the page's
-    /// clock): `{ target, extension, code, files, io, io_csv, io_sdf }`, or `null` when the game
+    /// clock): `{ target, extension, files, io, io_csv, io_sdf }`, or `null` when the game
     /// is not realizable. Throws `{ ok: false, diagnostics }` when a time constant does not fit
     /// the target.
     pub fn code(&self, target: &str, name: &str, created_unix: Option<f64>) -> Result<JsValue, JsValue> {
         let Some(program) = self.controller()? else { return Ok(JsValue::NULL) };
         let generated = if target == "program" {
-            let code = program.render(&self.game);
-            let files = vec![FileView { name: format!("{name}.txt"), text: code.clone() }];
+            let files = vec![FileView { name: format!("{name}.txt"), text: program.render(&self.game) }];
             GeneratedCode {
                 target: target.to_string(),
                 extension: "txt",
-                code,
                 files,
                 io: Vec::new(),
                 io_csv: String::new(),
@@ -416,6 +424,7 @@ impl Session {
                 .into_iter()
                 .map(|f| FileView { name: f.name, text: f.text })
                 .collect();
+
             let io = plc::io_table(&code)
                 .into_iter()
                 .map(|r| IoRowView {
@@ -429,7 +438,6 @@ impl Session {
             GeneratedCode {
                 target: target.to_string(),
                 extension: t.extension(),
-                code: plc::render(&code, t, &options),
                 files,
                 io,
                 io_csv: plc::io_table_csv(&code),

@@ -245,15 +245,17 @@ fn code_for_every_target_of_a_realizable_spec() {
     ] {
         let code = s.code(target, "lamp", Some(1_700_000_000.0)).unwrap();
         assert_eq!(string(&code, "target"), target);
-        let text = string(&code, "code");
-        assert!(text.contains(marker), "{target}: no {marker} in\n{text}");
         let files = array(&get(&code, "files"));
+        let text = string(&files.get(0), "text");
+        assert!(text.contains(marker), "{target}: no {marker} in\n{text}");
         assert_eq!(files.length(), if target == "twincat" { 3 } else { 1 }, "{target}");
         let io = array(&get(&code, "io"));
         assert_eq!(io.length(), if target == "program" { 0 } else { 2 }, "{target}");
     }
     let code = s.code("plcopen", "lamp", Some(1_700_000_000.0)).unwrap();
-    assert!(string(&code, "code").contains("creationDateTime=\"2023-11-14T22:13:20\""));
+    let files = array(&get(&code, "files"));
+    assert_eq!(string(&files.get(0), "name"), "lamp.xml");
+    assert!(string(&files.get(0), "text").contains("creationDateTime=\"2023-11-14T22:13:20\""));
     let row = array(&get(&code, "io")).get(0);
     assert_eq!(
         (string(&row, "address"), string(&row, "symbol"), string(&row, "direction")),
@@ -269,7 +271,8 @@ fn a_constant_beyond_the_target_throws_located_diagnostics() {
     // 10 000 s is beyond S5TIME (2h46m30s) but within IEC TIME.
     let src = "timeunit 10s;\nplant { automaton A { clocks x; nodes a, b;\n  a -> b ?go { x in [1000,inf) } reset { x }; b -> a ?back; } }\nplans { plan { waitfor go; waitfor back; } }\n";
     let (s, _) = solved(src);
-    assert!(string(&s.code("st", "a", None).unwrap(), "code").contains("T#10000000MS"));
+    let files = array(&get(&s.code("st", "a", None).unwrap(), "files"));
+    assert!(string(&files.get(0), "text").contains("T#10000000MS"));
     let thrown = s.code("stl", "a", None).expect_err("S5TIME cannot hold 10 000 s");
     assert_eq!(get(&thrown, "ok"), JsValue::FALSE);
     let diagnostics = array(&get(&thrown, "diagnostics"));

@@ -44,7 +44,7 @@ impl Target {
     const fn describe(self) -> TargetInfo {
         let (name, label, extension) = match self {
             Target::St => ("st", "Structured Text (IEC 61131-3)", "st"),
-            Target::Twincat => ("twincat", "TwinCAT 3 (TcPOU, TcGVL)", "TcPOU"),
+            Target::Twincat => ("twincat", "TwinCAT 3 (.TcPOU, .TcGVL files)", "TcPOU"),
             Target::Codesys => ("codesys", "CODESYS V3 ST (GVL, block, program)", "st"),
             Target::Scl => ("scl", "SCL (Siemens S7-300/400)", "scl"),
             Target::Scl1500 => ("scl-1500", "SCL (Siemens S7-1200/1500, optimised)", "scl"),
