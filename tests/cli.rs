@@ -259,6 +259,8 @@ fn compile_writes_the_io_table_and_takes_the_stl_and_plcopen_options() {
     let (code, out, err) = plcsynth(&["compile", "examples/timed/lamp.tga", "--target", "st", "--marker-byte", "3"]);
     assert_eq!((code, out.as_str()), (2, ""), "{err}");
     assert!(err.contains("--marker-byte applies to --target stl only"), "{err}");
+    let (code, _, err) = plcsynth(&["compile", "examples/timed/lamp.tga", "--target", "stl", "--fb", "0"]);
+    assert_eq!(code, 2, "there is no FB 0: {err}");
     // A clash with a user marker is located in the specification.
     let spec = dir.join("marker.tga");
     let source = std::fs::read_to_string("examples/timed/lamp.tga").unwrap().replace("set %Q125.6", "set %M30.1");

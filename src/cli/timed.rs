@@ -31,17 +31,17 @@ pub struct PlcArgs {
     #[arg(long, value_name = "FILE")]
     pub io_table: Option<String>,
     /// STL: the organisation block that runs the controller.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
     pub ob: Option<u16>,
     /// STL: put the controller in FB N with instance DB N, called from the OB.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
     pub fb: Option<u16>,
     /// STL: the marker byte holding the program position (signals without io use bits from
     /// byte N+10 on).
     #[arg(long, value_name = "N")]
     pub marker_byte: Option<u16>,
     /// STL: the number of S7 timers of the CPU.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
     pub cpu_timers: Option<u16>,
 }
 
