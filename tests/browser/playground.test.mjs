@@ -114,8 +114,11 @@ test('the lamp example runs: verdict, counts, automata, state space and zone', a
     await page.selectOption('#target', target);
     await page.waitForSelector(`#code[data-target="${target}"][data-complete=true]`);
     assert.match(await page.textContent('#code'), marker);
-    console.log(`# download ${target}`); // names the step if a download times out
-    const [d] = await Promise.all([page.waitForEvent('download'), page.click('#download-code')]);
+    const [d] = await Promise.all([page.waitForEvent('download'), page.click('#download-code')]).catch(async (error) => {
+      // Say what the page showed when no download came (seen once on a loaded machine).
+      const state = await page.evaluate(() => ({ toast: document.querySelector('#toast').textContent, code: window.plcsynth.code.length, files: window.plcsynth.files.map((f) => f.name), shown: document.querySelector('#code').dataset.target }));
+      throw new Error(`no download for ${target}: ${JSON.stringify(state)}: ${error.message}`);
+    });
     assert.equal(d.suggestedFilename(), file);
   }
   // TwinCAT: three files, one button (and one download) each.
