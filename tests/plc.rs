@@ -336,6 +336,11 @@ fn a_quoted_tag_keeps_its_quotes_in_siemens_code_and_is_refused_located_elsewher
         assert_eq!(diags[0].line, line, "{target}: {diags:#?}");
         assert!(diags[0].message.contains("\"Lamp On\"` is not an IEC identifier"), "{}", diags[0].message);
     }
+    // `%I0.1` and `%IX0.1` are one signal.
+    let source = clash_spec("io { lamp = %I0.1; step = not %IX0.1; }\n");
+    let code = build(&source, "x", Target::St, &Options::default()).unwrap();
+    assert_eq!(code.inputs.len(), 1, "{:?}", code.inputs);
+    assert_eq!(code.inputs[0].comment, "lamp, NOT step");
     // A quoted name that is an identifier is taken as it is.
     let source = clash_spec("io { lamp = \"lamp_ok\"; }\n");
     let st =

@@ -4,15 +4,17 @@
 //! command becomes one step.
 
 use super::model::{Binding, Code, Effect, Output, Statement, Step, Test, Timer, Variable};
-use super::{is_identifier_path, render, source_hash, stl, Namespace, Options, Target, TimeType};
+use super::{iec_address, is_identifier_path, render, source_hash, stl, Namespace, Options, Target, TimeType};
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use crate::program::{Condition, Instruction, Program};
 use crate::timed::model::{ClockId, Game, IoBinding, IoMode, IoTarget, MsgId};
 
-/// The signal an io binding names, as a key: the address or the symbol text, and the direction.
+/// The signal an io binding names, as a key: the address (`%I0.0` and `%IX0.0` alike) or the
+/// symbol text, and the direction.
 fn signal_key(b: &IoBinding) -> (String, bool) {
     let text = match &b.target {
-        IoTarget::Address { text, .. } | IoTarget::Symbol { text, .. } => text.clone(),
+        IoTarget::Address { text, .. } => format!("%{}", iec_address(text)),
+        IoTarget::Symbol { text, .. } => text.clone(),
     };
     (text, matches!(b.mode, IoMode::Pulse | IoMode::Set | IoMode::Reset))
 }
