@@ -352,12 +352,13 @@ test('measurements: time to interactive, RT 4/8 and 8/8 solve time (reported, no
     await page.waitForFunction((t) => window.plcsynth.codeTimings?.target === t && window.plcsynth.codeTimings.doneMs != null, target, { timeout: 60000 });
     codeTimes.push(await page.evaluate(() => window.plcsynth.codeTimings));
   }
+  const queries = await page.evaluate(() => window.plcsynth.queries);
   const rt8Lines = await page.evaluate(() => document.querySelector('#code').textContent.split('\n').length);
   assert.ok(rt8Lines > 10000, `${rt8Lines} lines shown`);
   await shot(page, '15-rt8-code');
   const median = (xs) => [...xs].sort((a, b) => a - b)[Math.floor(xs.length / 2)];
   const wasmBytes = await page.evaluate(async () => (await (await fetch('pkg/plcsynth_bg.wasm')).arrayBuffer()).byteLength);
-  const result = { tti_ms_median: median(ttis), tti_ms: ttis, rt4_solve_ms_median: median(solves), rt4_solve_ms: solves, rt8_solve_ms: rt8.ms, rt8_visited: rt8.visited, rt8_long_tasks_ms: rt8.longTasks, rt8_code: codeTimes, rt8_code_lines: rt8Lines, wasm_bytes: wasmBytes };
+  const result = { tti_ms_median: median(ttis), tti_ms: ttis, rt4_solve_ms_median: median(solves), rt4_solve_ms: solves, rt8_solve_ms: rt8.ms, rt8_visited: rt8.visited, rt8_long_tasks_ms: rt8.longTasks, rt8_code: codeTimes, rt8_code_lines: rt8Lines, rt8_queries: queries, wasm_bytes: wasmBytes };
   record('page', result);
   console.log(`# measurements: ${JSON.stringify(result)}`);
   await shot(page, '13-rt4-summary');

@@ -167,7 +167,16 @@ async function drawAutomata() {
 
 // ---- state space and zone ----------------------------------------------------------------
 
-const query = (method, args) => solver.call('query', { method, args });
+/** A query to the worker; the last 20 with their round-trip times are kept in `app.queries`
+ * (for the console and the browser tests' measurements). */
+const query = async (method, args) => {
+  const started = performance.now();
+  try {
+    return await solver.call('query', { method, args });
+  } finally {
+    app.queries = [...(app.queries ?? []).slice(-19), { method, ms: Math.round(performance.now() - started) }];
+  }
+};
 const zoneView = new ZoneView($('#zone'));
 const spaceView = new SpaceView({
   query,
