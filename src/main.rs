@@ -37,9 +37,12 @@ enum Command {
         /// What to produce.
         #[arg(long, value_parser = output_parser(), default_value = "program")]
         target: Output,
-        /// Write to this file instead of standard output.
+        /// Write to this file instead of standard output; for a target of several files
+        /// (twincat) a directory, created if missing.
         #[arg(short, long)]
         output: Option<String>,
+        #[command(flatten)]
+        plc: cli::timed::PlcArgs,
     },
     /// Synthesise one supervisor per specification of a `.sct` project (Göbe 2019). Exit status:
     /// 0 done, 2 input error, 3 state budget spent.
@@ -88,12 +91,12 @@ enum BenchEngine {
 fn main() -> ExitCode {
     match Cli::parse().command {
         Command::Solve { file, json, budget, states } => cli::timed::solve(&file, json, &budget, states),
-        Command::Compile { file, budget, target, output } => {
+        Command::Compile { file, budget, target, output, plc } => {
             let target = match target {
                 Output::Program => None,
                 Output::Plc(t) => Some(t),
             };
-            cli::timed::compile(&file, &budget, target, output.as_deref())
+            cli::timed::compile(&file, &budget, target, output.as_deref(), &plc)
         }
         Command::Supervise(a) => cli::sct::supervise(&a),
         Command::Supcon(a) => cli::sct::supcon(&a),

@@ -84,15 +84,26 @@ struct TargetInfo {
     id: &'static str,
     label: &'static str,
     extension: &'static str,
+    /// Whether the target writes several files (TwinCAT).
+    multi_file: bool,
 }
 
 /// The code targets: the intermediate program first, then every PLC back end.
 #[wasm_bindgen]
 pub fn targets() -> Result<JsValue, JsValue> {
-    let mut list =
-        vec![TargetInfo { id: "program", label: "Intermediate program (thesis notation)", extension: "txt" }];
+    let mut list = vec![TargetInfo {
+        id: "program",
+        label: "Intermediate program (thesis notation)",
+        extension: "txt",
+        multi_file: false,
+    }];
     for target in Target::ALL {
-        list.push(TargetInfo { id: target.name(), label: target.label(), extension: target.extension() });
+        list.push(TargetInfo {
+            id: target.name(),
+            label: target.label(),
+            extension: target.extension(),
+            multi_file: target.multi_file(),
+        });
     }
     to_js(&list)
 }
@@ -101,7 +112,30 @@ pub fn targets() -> Result<JsValue, JsValue> {
 struct GeneratedCode {
     target: String,
     extension: &'static str,
-    code: String,
+    /// The files, each `{ name, text }` (TwinCAT: three; the others one). The page shows them
+    /// as one text, each after a line `==> NAME <==` when there are several.
+    files: Vec<FileView>,
+    /// The I/O table, `{ address, type, symbol, direction, meaning }[]` (empty for `program`).
+    io: Vec<IoRowView>,
+    /// The I/O table as CSV and as a Siemens SDF symbol table (empty for `program`).
+    io_csv: String,
+    io_sdf: String,
+}
+
+#[derive(Serialize)]
+struct FileView {
+    name: String,
+    text: String,
+}
+
+#[derive(Serialize)]
+struct IoRowView {
+    address: String,
+    #[serde(rename = "type")]
+    data_type: &'static str,
+    symbol: String,
+    direction: &'static str,
+    meaning: String,
 }
 
 /// What the winning strategy does in one of its states.
@@ -362,19 +396,53 @@ impl Session {
     }
 
     /// The controller as code for `target` (an id from `targets()`), the function block named
-    /// after `name`: `{ target, extension, code }`, or `null` when the game is not realizable.
-    /// Throws `{ ok: false, diagnostics }` when a time constant does not fit the target.
-    pub fn code(&self, target: &str, name: &str) -> Result<JsValue, JsValue> {
+    /// after `name`, PLCopen's creation time `created_unix` (seconds since 1970, from the page's
+    /// clock): `{ target, extension, files, io, io_csv, io_sdf }`, or `null` when the game
+    /// is not realizable. Throws `{ ok: false, diagnostics }` when a time constant does not fit
+    /// the target.
+    pub fn code(&self, target: &str, name: &str, created_unix: Option<f64>) -> Result<JsValue, JsValue> {
         let Some(program) = self.controller()? else { return Ok(JsValue::NULL) };
         let generated = if target == "program" {
-            GeneratedCode { target: target.to_string(), extension: "txt", code: program.render(&self.game) }
+            let files = vec![FileView { name: format!("{name}.txt"), text: program.render(&self.game) }];
+            GeneratedCode {
+                target: target.to_string(),
+                extension: "txt",
+                files,
+                io: Vec::new(),
+                io_csv: String::new(),
+                io_sdf: String::new(),
+            }
         } else {
             let t: Target = target.parse().map_err(|e: plc::UnknownTarget| JsValue::from_str(&e.to_string()))?;
-            let code = match plc::generate(&self.game, program, t, name, &self.source) {
+            let options =
+                plc::Options { created_unix: created_unix.unwrap_or(0.0).max(0.0) as u64, ..Default::default() };
+            let code = match plc::build(&self.game, program, t, name, &self.source, &options) {
                 Ok(code) => code,
                 Err(errors) => return Err(to_js(&CheckResult { ok: false, diagnostics: &errors })?),
             };
-            GeneratedCode { target: target.to_string(), extension: t.extension(), code }
+            let files: Vec<FileView> = plc::render_files(&code, t, &options)
+                .into_iter()
+                .map(|f| FileView { name: f.name, text: f.text })
+                .collect();
+
+            let io = plc::io_table(&code)
+                .into_iter()
+                .map(|r| IoRowView {
+                    address: r.address,
+                    data_type: r.data_type,
+                    symbol: r.symbol,
+                    direction: r.direction.name(),
+                    meaning: r.meaning,
+                })
+                .collect();
+            GeneratedCode {
+                target: target.to_string(),
+                extension: t.extension(),
+                files,
+                io,
+                io_csv: plc::io_table_csv(&code),
+                io_sdf: plc::tag_table_sdf(&code),
+            }
         };
         to_js(&generated)
     }

@@ -110,6 +110,7 @@ fn compile_writes_every_target_and_refuses_unrealizable_specs() {
     for (target, marker) in [
         ("st", "FUNCTION_BLOCK lamp"),
         ("scl", "VERSION : 0.1"),
+        ("scl-1500", "S7_Optimized_Access := 'TRUE'"),
         ("codesys", "AT %IX124.0"),
         ("il", "JMPCN END_SCAN"),
         ("stl", "JL\tud"),
@@ -122,6 +123,17 @@ fn compile_writes_every_target_and_refuses_unrealizable_specs() {
         let text = std::fs::read_to_string(&file).unwrap();
         assert!(text.contains(marker), "{target}:\n{text}");
     }
+    // TwinCAT writes a directory of files; to standard output each file follows a `==>` line.
+    let tc = dir.join("twincat");
+    let (code, _, err) =
+        plcsynth(&["compile", "examples/timed/lamp.tga", "--target", "twincat", "-o", tc.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let mut names: Vec<String> =
+        std::fs::read_dir(&tc).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    names.sort();
+    assert_eq!(names, ["GVL_IO.TcGVL", "lamp.TcPOU", "lamp_main.TcPOU"]);
+    let (_, out, _) = plcsynth(&["compile", "examples/timed/lamp.tga", "--target", "twincat"]);
+    assert!(out.starts_with("==> lamp.TcPOU <==\n<?xml") && out.contains("\n==> GVL_IO.TcGVL <==\n"), "{out}");
     let file = dir.join("naive.st");
     let (code, _, err) =
         plcsynth(&["compile", "examples/timed/lamp_naive.tga", "--target", "st", "-o", file.to_str().unwrap()]);
@@ -210,4 +222,73 @@ fn solve_warns_where_time_cannot_pass() {
         "{err}"
     );
     assert!(err.contains("4 |     a -> b ?x instant;"), "{err}");
+}
+
+#[test]
+fn compile_writes_the_io_table_and_takes_the_stl_and_plcopen_options() {
+    let dir = std::env::temp_dir().join(format!("plcsynth-io-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("lamp_io.csv");
+    let sdf = dir.join("lamp_tags.sdf");
+    let (code, _, err) =
+        plcsynth(&["compile", "examples/timed/lamp.tga", "--target", "st", "--io-table", csv.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let table = std::fs::read_to_string(&csv).unwrap();
+    assert!(table.starts_with("address,type,symbol,direction,meaning\r\n%IX124.0,BOOL,press,input,"), "{table}");
+    let (code, _, err) =
+        plcsynth(&["compile", "examples/timed/lamp.tga", "--target", "scl-1500", "--io-table", sdf.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(std::fs::read_to_string(&sdf).unwrap().starts_with("\"press\",\"I 124.0\",\"BOOL\","));
+    // STL: block numbers and marker byte; refused for other targets.
+    let (code, out, err) = plcsynth(&[
+        "compile",
+        "examples/timed/lamp.tga",
+        "--target",
+        "stl",
+        "--ob",
+        "1",
+        "--fb",
+        "12",
+        "--marker-byte",
+        "30",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("FUNCTION_BLOCK FB 12") && out.contains("\tL\tMB 30\n") && out.contains("ORGANIZATION_BLOCK OB 1")
+    );
+    let (code, out, err) = plcsynth(&["compile", "examples/timed/lamp.tga", "--target", "st", "--marker-byte", "3"]);
+    assert_eq!((code, out.as_str()), (2, ""), "{err}");
+    assert!(err.contains("--marker-byte applies to --target stl only"), "{err}");
+    let (code, _, err) = plcsynth(&["compile", "examples/timed/lamp.tga", "--target", "stl", "--fb", "0"]);
+    assert_eq!(code, 2, "there is no FB 0: {err}");
+    // A clash with a user marker is located in the specification.
+    let spec = dir.join("marker.tga");
+    let source = std::fs::read_to_string("examples/timed/lamp.tga").unwrap().replace("set %Q125.6", "set %M30.1");
+    std::fs::write(&spec, &source).unwrap();
+    let (code, _, err) = plcsynth(&["compile", spec.to_str().unwrap(), "--target", "stl", "--marker-byte", "30"]);
+    assert_eq!(code, 2, "{err}");
+    let at = source.find("%M30.1").unwrap();
+    let line = source[..at].lines().count();
+    assert!(
+        err.contains(&format!("marker.tga:{line}:")) && err.contains("in MB 30, which holds the program position"),
+        "{err}"
+    );
+    // PLCopen: the creation time from SOURCE_DATE_EPOCH.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_plcsynth"))
+        .args(["compile", "examples/timed/lamp.tga", "--target", "plcopen"])
+        .env("SOURCE_DATE_EPOCH", "1700000000")
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    let xml = String::from_utf8_lossy(&out.stdout);
+    assert!(xml.contains("creationDateTime=\"2023-11-14T22:13:20\""), "{xml}");
+    // Without it, the current time (not the epoch).
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_plcsynth"))
+        .args(["compile", "examples/timed/lamp.tga", "--target", "plcopen"])
+        .env_remove("SOURCE_DATE_EPOCH")
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    let xml = String::from_utf8_lossy(&out.stdout);
+    assert!(xml.contains("creationDateTime=\"20") && !xml.contains("1970-01-01"), "{xml}");
 }

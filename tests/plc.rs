@@ -1,9 +1,11 @@
 //! PLC code checked by independent implementations: blark parses the Structured Text (plain,
-//! CODESYS and SCL), xmllint validates PLCopen XML against the TC6 v2.01 schema, and awlsim loads
-//! and runs the S7 STL. The checkers are installed by `scripts/python-checkers.sh` (`make test`
+//! CODESYS, both SCL dialects) and TwinCAT's `.TcPOU`/`.TcGVL` files (whose XML xmllint checks
+//! for well-formedness), xmllint validates PLCopen XML against the TC6 v2.01 schema, and awlsim
+//! loads and runs the S7 STL. The checkers are installed by `scripts/python-checkers.sh` (`make test`
 //! runs it); without them these tests fail and say so.
 
-use plcsynth::plc::{self, Target};
+use plcsynth::diag::Diagnostic;
+use plcsynth::plc::{self, Code, Options, OutputFile, Target};
 use plcsynth::program;
 use plcsynth::timed::{compile, solve::SolveOptions, synthesize};
 use std::path::{Path, PathBuf};
@@ -19,12 +21,27 @@ fn venv_tool(name: &str) -> PathBuf {
     path
 }
 
-fn generate(example: &str, target: Target) -> String {
-    let source = std::fs::read_to_string(root().join(format!("examples/timed/{example}.tga"))).unwrap();
-    let (game, _) = compile(&source).unwrap();
+fn example(name: &str) -> String {
+    std::fs::read_to_string(root().join(format!("examples/timed/{name}.tga"))).unwrap()
+}
+
+/// The code model of `source` for `target`, or the diagnostics.
+fn build(source: &str, name: &str, target: Target, options: &Options) -> Result<Code, Vec<Diagnostic>> {
+    let (game, _) = compile(source).unwrap();
     let s = synthesize(&game, &SolveOptions::default(), &mut |_| true);
     let p = program::controller(&game, &s).expect("realizable");
-    plc::generate(&game, &p, target, example, &source).expect("the examples' constants fit every target")
+    plc::build(&game, &p, target, name, source, options)
+}
+
+fn generate(example_name: &str, target: Target) -> String {
+    let code = build(&example(example_name), example_name, target, &Options::default())
+        .expect("the examples' constants fit every target");
+    plc::render(&code, target, &Options::default())
+}
+
+fn files(example_name: &str, target: Target) -> Vec<OutputFile> {
+    let code = build(&example(example_name), example_name, target, &Options::default()).expect("fits");
+    plc::render_files(&code, target, &Options::default())
 }
 
 /// A controller that waits `bound` units of `timeunit` before its request on `output`, compiled
@@ -68,22 +85,49 @@ fn blark(path: &Path) {
     );
 }
 
+/// SCL as blark reads it: the TIA Portal source lines (block attribute, VERSION and BEGIN) are
+/// Siemens-only and removed, and PLC tags (`"press"`, `"Lamp On"`) become identifiers, since IEC
+/// reads a double-quoted text as a string literal. Everything else is checked.
+fn scl_for_blark(text: &str) -> String {
+    assert!(text.contains("VERSION : 0.1\n") && text.contains("BEGIN\n"), "TIA source layout");
+    let mut out = String::new();
+    for line in text.lines() {
+        if line.starts_with("{ S7_Optimized_Access") || line.starts_with("VERSION :") || line == "BEGIN" {
+            continue;
+        }
+        // Tags outside comments: `"a b"` → `a_b`.
+        let (code, comment) = line.split_once("(*").map_or((line, None), |(c, rest)| (c, Some(rest)));
+        let mut in_tag = false;
+        for ch in code.chars() {
+            match ch {
+                '"' => in_tag = !in_tag,
+                ' ' if in_tag => out.push('_'),
+                _ => out.push(ch),
+            }
+        }
+        if let Some(rest) = comment {
+            out.push_str("(*");
+            out.push_str(rest);
+        }
+        out.push('\n');
+    }
+    out
+}
+
 /// Checks `text`, the code of `example` for `target`, with the target's independent checker.
 /// Every target needs an arm here, so a new target cannot go unchecked by accident.
 fn check(target: Target, example: &str, text: &str) {
     match target {
         Target::St | Target::Codesys => blark(&scratch(&format!("{example}_{target}.st"), text)),
-        Target::Scl => {
-            // blark reads TwinCAT-style IEC ST; the TIA Portal source lines (block attribute,
-            // VERSION and BEGIN) are Siemens-only and are removed before parsing. Everything
-            // else is checked.
-            assert!(text.contains("VERSION : 0.1\n") && text.contains("BEGIN\n"), "TIA source layout");
-            let stripped: String = text
-                .lines()
-                .filter(|l| !(l.starts_with("{ S7_Optimized_Access") || l.starts_with("VERSION :") || *l == "BEGIN"))
-                .map(|l| format!("{l}\n"))
-                .collect();
-            blark(&scratch(&format!("{example}_scl.st"), &stripped));
+        Target::Scl | Target::Scl1500 => blark(&scratch(&format!("{example}_{target}.st"), &scl_for_blark(text))),
+        Target::Twincat => {
+            for file in files(example, Target::Twincat) {
+                let path = scratch(&format!("{example}_{}", file.name), &file.text);
+                let (ok, out) = run(Command::new("xmllint").arg("--noout").arg(&path));
+                assert!(ok, "{}: not well-formed XML: {out}", file.name);
+                // blark reads TwinCAT's files itself and parses the ST in their CDATA.
+                blark(&path);
+            }
         }
         Target::Plcopen => {
             let schema = root().join("../shared/schemas/tc6_xml_v201.xsd");
@@ -217,4 +261,210 @@ fn the_largest_constants_of_each_target_pass_the_checkers() {
     let path = scratch("limit.awl", &stl);
     let (ok, out) = run(Command::new(venv_tool("python")).arg(root().join("tests/checkers/awl_run.py")).arg(&path));
     assert!(ok, "awlsim fails:\n{out}\n{stl}");
+}
+
+/// A spec whose messages are named like the block, the instance, internal variables, keywords
+/// and each other up to case, with the io section `io`.
+fn clash_spec(io: &str) -> String {
+    format!(
+        "plant {{ automaton A {{ nodes a, b, c, d;\n  a -> b ?Ctrl; b -> c !lamp; c -> d !step; d -> a ?TON; }} }}\n\
+         plans {{ plan {{ waitfor Ctrl; waitfor TON; }} }}\n{io}"
+    )
+}
+
+#[test]
+fn variables_are_named_after_the_messages_and_addresses_appear_only_in_the_mapping() {
+    let st = generate("lamp", Target::St);
+    let (block, program) = st.split_once("END_FUNCTION_BLOCK").unwrap();
+    assert!(block.contains("press : BOOL; (* press, NOT release *)"), "{st}");
+    assert!(block.contains("turn_on : BOOL; (* turn_on sets, turn_off resets *)"), "{st}");
+    assert!(block.contains("IF NOT press THEN"), "{st}");
+    assert!(!block.contains('%') && !st.contains("I124_0"), "no address in the block:\n{st}");
+    assert!(program.contains("press AT %IX124.0 : BOOL;") && program.contains("turn_on AT %QX125.6 : BOOL;"), "{st}");
+    assert!(program.contains("ctrl(press := press);\nturn_on := ctrl.turn_on;"), "{st}");
+    // CODESYS: the located variables in the global variable list, the program reads it.
+    let codesys = generate("lamp", Target::Codesys);
+    assert!(codesys.contains("{attribute 'qualified_only'}\nVAR_GLOBAL\n    press AT %IX124.0 : BOOL;"), "{codesys}");
+    assert!(codesys.contains("ctrl(press := GVL_IO.press);\nGVL_IO.turn_on := ctrl.turn_on;"), "{codesys}");
+    // SCL: PLC tags, never %I/%Q.
+    for target in [Target::Scl, Target::Scl1500] {
+        let scl = generate("lamp", target);
+        assert!(!scl.contains('%'), "{target}:\n{scl}");
+        assert!(scl.contains("ctrl(press := \"press\");\n\"turn_on\" := ctrl.turn_on;"), "{target}:\n{scl}");
+    }
+    let scl = generate("lamp", Target::Scl);
+    assert!(!scl.contains("S7_Optimized_Access") && scl.contains(": TON;") || !scl.contains("t_"), "{scl}");
+    let scl1500 = generate("gripper_guard", Target::Scl1500);
+    assert!(scl1500.contains("{ S7_Optimized_Access := 'TRUE' }"), "{scl1500}");
+}
+
+#[test]
+fn names_never_clash_with_keywords_the_block_its_instance_or_each_other() {
+    let source = clash_spec("");
+    let code = build(&source, "lamp", Target::St, &Options::default()).unwrap();
+    let names: Vec<&str> = code.variables().map(|(v, _)| v.symbol.as_str()).collect();
+    // `Ctrl` meets the instance `ctrl`, `step` the position variable, `TON` the timer type,
+    // `lamp` the block (named after the file).
+    for name in &names {
+        for taken in ["ctrl", "step", "scan_done", "ton", "lamp", "lamp_main", "gvl_io"] {
+            assert!(!name.eq_ignore_ascii_case(taken), "{name} in {names:?}");
+        }
+    }
+    for name in ["Ctrl_2", "step_sig", "TON_sig", "lamp_2"] {
+        assert!(names.contains(&name), "{name} in {names:?}");
+    }
+    let text = plc::render(&code, Target::St, &Options::default());
+    blark(&scratch("clash.st", &text));
+}
+
+#[test]
+fn a_quoted_tag_keeps_its_quotes_in_siemens_code_and_is_refused_located_elsewhere() {
+    let source = clash_spec("io { Ctrl = \"Lamp On\"; lamp = \"lamp_ok\"; step = %I0.1; TON = %Q0.1; }\n");
+    for target in [Target::Scl, Target::Scl1500] {
+        let text = plc::render(&build(&source, "x", target, &Options::default()).unwrap(), target, &Options::default());
+        assert!(text.contains("\"Lamp On\" := ctrl.Ctrl_2;"), "{target}:\n{text}");
+        blark(&scratch(&format!("quoted_{target}.st"), &scl_for_blark(&text)));
+    }
+    let stl =
+        plc::render(&build(&source, "x", Target::Stl, &Options::default()).unwrap(), Target::Stl, &Options::default());
+    assert!(stl.contains("\"Lamp On\""), "{stl}");
+    for target in [Target::St, Target::Codesys, Target::Twincat, Target::Il, Target::Plcopen] {
+        let diags = build(&source, "x", target, &Options::default()).expect_err("not an IEC identifier");
+        assert_eq!(diags.len(), 1, "{diags:#?}");
+        let at = source.find("\"Lamp On\"").unwrap();
+        let line = source[..at].lines().count() as u32;
+        assert_eq!(diags[0].line, line, "{target}: {diags:#?}");
+        assert!(diags[0].message.contains("\"Lamp On\"` is not an IEC identifier"), "{}", diags[0].message);
+    }
+    // `%I0.1` and `%IX0.1` are one signal.
+    let source = clash_spec("io { lamp = %I0.1; step = not %IX0.1; }\n");
+    let code = build(&source, "x", Target::St, &Options::default()).unwrap();
+    assert_eq!(code.inputs.len(), 1, "{:?}", code.inputs);
+    assert_eq!(code.inputs[0].comment, "lamp, NOT step");
+    // A quoted name that is an identifier is taken as it is.
+    let source = clash_spec("io { lamp = \"lamp_ok\"; }\n");
+    let st =
+        plc::render(&build(&source, "x", Target::St, &Options::default()).unwrap(), Target::St, &Options::default());
+    assert!(st.contains("ctrl(lamp := lamp_ok"), "{st}");
+}
+
+#[test]
+fn no_two_targets_print_the_same_bytes_and_every_file_has_the_provenance_header() {
+    for name in ["lamp", "gear_checking"] {
+        let texts: Vec<(Target, String)> = Target::ALL.into_iter().map(|t| (t, generate(name, t))).collect();
+        for (i, (a, x)) in texts.iter().enumerate() {
+            for (b, y) in &texts[i + 1..] {
+                assert_ne!(x, y, "{name}: {a} and {b} print the same bytes");
+            }
+        }
+        let hash = plc::source_hash(&example(name));
+        for target in Target::ALL {
+            for file in files(name, target) {
+                assert!(file.text.contains(&hash), "{target} {}", file.name);
+                assert!(file.name.starts_with(name) || file.name.starts_with("GVL_IO"), "{}", file.name);
+            }
+        }
+    }
+    let names: Vec<String> = files("lamp", Target::Twincat).into_iter().map(|f| f.name).collect();
+    assert_eq!(names, ["lamp.TcPOU", "lamp_main.TcPOU", "GVL_IO.TcGVL"]);
+    let names: Vec<String> = files("gear_checking", Target::Twincat).into_iter().map(|f| f.name).collect();
+    assert_eq!(names, ["gear_checking.TcPOU", "gear_checking_main.TcPOU", "GVL_IO.TcGVL"]);
+    let gvl = &files("gear_checking", Target::Twincat)[2].text;
+    assert!(gvl.contains("loaded AT %I* : BOOL;") && gvl.contains("load AT %Q* : BOOL;"), "{gvl}");
+}
+
+#[test]
+fn plcopen_holds_a_program_a_task_the_mapped_io_and_the_creation_time() {
+    let options = Options { created_unix: 1_700_000_000, ..Options::default() };
+    let code = build(&example("lamp"), "lamp", Target::Plcopen, &options).unwrap();
+    let xml = plc::render(&code, Target::Plcopen, &options);
+    for fragment in [
+        "creationDateTime=\"2023-11-14T22:13:20\"",
+        "<pou name=\"lamp_main\" pouType=\"program\">",
+        "<task name=\"task_main\" interval=\"T#10ms\" priority=\"1\">",
+        "<pouInstance name=\"lamp_main_instance\" typeName=\"lamp_main\"/>",
+        "<variable name=\"press\" address=\"%IX124.0\">",
+        "<variable name=\"turn_on\" address=\"%QX125.6\">",
+        "ctrl(press := press);\nturn_on := ctrl.turn_on;",
+    ] {
+        assert!(xml.contains(fragment), "{fragment} in\n{xml}");
+    }
+    check(Target::Plcopen, "lamp_created", &xml);
+}
+
+#[test]
+fn the_io_table_lists_every_signal_as_csv_and_as_a_siemens_symbol_table() {
+    let code = build(&example("lamp"), "lamp", Target::St, &Options::default()).unwrap();
+    assert_eq!(
+        plc::io_table_csv(&code),
+        "address,type,symbol,direction,meaning\r\n%IX124.0,BOOL,press,input,\"press, NOT release\"\r\n\
+         %QX125.6,BOOL,turn_on,output,\"turn_on sets, turn_off resets\"\r\n"
+    );
+    assert_eq!(
+        plc::tag_table_sdf(&code),
+        "\"press\",\"I 124.0\",\"BOOL\",\"press, NOT release\"\r\n\
+         \"turn_on\",\"Q 125.6\",\"BOOL\",\"turn_on sets, turn_off resets\"\r\n"
+    );
+    // Without io, the block's own inputs and outputs, unbound.
+    let code = build(&example("gear_checking"), "gear_checking", Target::St, &Options::default()).unwrap();
+    let csv = plc::io_table_csv(&code);
+    assert!(
+        csv.contains("\r\n,BOOL,loaded,input,loaded\r\n") && csv.contains(",BOOL,load,output,load pulses\r\n"),
+        "{csv}"
+    );
+    assert_eq!(plc::tag_table_sdf(&code), "");
+}
+
+#[test]
+fn stl_runs_in_awlsim_from_a_chosen_block_and_marker_byte() {
+    let options = Options { fb: Some(7), marker_byte: 40, ..Options::default() };
+    let code = build(&example("lamp"), "lamp", Target::Stl, &options).unwrap();
+    let text = plc::render(&code, Target::Stl, &options);
+    assert!(
+        text.contains("FUNCTION_BLOCK FB 7") && text.contains("CALL\tFB 7, DB 7") && text.contains("L\tMB 40\n\tJL"),
+        "{text}"
+    );
+    assert!(!text.contains("MB 0"), "{text}");
+    let path = scratch("lamp_fb.awl", &text);
+    let script = "I124=0 ?Q125; I124=1 ?Q125; I124=1 ?Q125; I124=0 ?Q125; I124=0 ?Q125; I124=1 ?Q125; I124=0 ?Q125";
+    let (ok, out) =
+        run(Command::new(venv_tool("python")).arg(root().join("tests/checkers/awl_run.py")).arg(&path).arg(script));
+    assert!(ok, "{out}\n{text}");
+    let lamp: Vec<bool> = out.lines().map(|l| l.trim() == "Q125=64").collect();
+    assert_eq!(lamp, [false, true, true, false, false, true, false], "{out}");
+    // The gear checking machine has no io: its signals are memory bits from byte 50 on.
+    let options = Options { ob: 1, marker_byte: 40, ..Options::default() };
+    let code = build(&example("gear_checking"), "gear_checking", Target::Stl, &options).unwrap();
+    let text = plc::render(&code, Target::Stl, &options);
+    assert!(text.contains("M 50.0") && !text.contains("M 10.0"), "{text}");
+    check(Target::Stl, "gear_mb40", &text);
+}
+
+#[test]
+fn stl_refuses_markers_on_user_bits_and_more_thresholds_than_timers_located() {
+    let source = example("lamp").replace("turn_on = set %Q125.6;", "turn_on = set %M0.3;");
+    let diags = build(&source, "lamp", Target::Stl, &Options::default()).expect_err("MB 0 holds the position");
+    assert_eq!(diags.len(), 1, "{diags:#?}");
+    let at = source.find("%M0.3").unwrap();
+    assert_eq!(diags[0].line as usize, source[..at].lines().count(), "{diags:#?}");
+    assert!(
+        diags[0].message.contains("`turn_on` is bound to %M0.3, in MB 0, which holds the program position"),
+        "{diags:#?}"
+    );
+    assert!(diags[0].notes.iter().any(|n| n.contains("--marker-byte")), "{diags:#?}");
+    // Another marker byte clears it; the other targets do not care.
+    assert!(build(&source, "lamp", Target::Stl, &Options { marker_byte: 1, ..Options::default() }).is_ok());
+    assert!(build(&source, "lamp", Target::St, &Options::default()).is_ok());
+    // Two robots compare several thresholds; a CPU with one timer cannot run them.
+    let source = example("two_robots_14");
+    let needed = plc::stl::s7_timers(&build(&source, "r", Target::Stl, &Options::default()).unwrap()).len();
+    assert!(needed >= 2, "{needed}");
+    let diags =
+        build(&source, "r", Target::Stl, &Options { cpu_timers: 1, ..Options::default() }).expect_err("one timer");
+    assert_eq!(diags.len(), 1, "{diags:#?}");
+    assert!(diags[0].message.contains("needs S7 timer T 2, but the CPU has 1 timers"), "{diags:#?}");
+    assert!(
+        diags[0].line > 1 && source.lines().nth(diags[0].line as usize - 1).unwrap().contains(" in "),
+        "{diags:#?}"
+    );
 }

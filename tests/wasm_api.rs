@@ -222,9 +222,9 @@ fn state_search_and_neighbourhood() {
 fn targets_list_the_program_and_every_plc_back_end() {
     let list = array(&targets().unwrap());
     let ids: Vec<String> = list.iter().map(|t| string(&t, "id")).collect();
-    assert_eq!(ids, ["program", "st", "scl", "codesys", "il", "stl", "plcopen"]);
+    assert_eq!(ids, ["program", "st", "twincat", "codesys", "scl", "scl-1500", "il", "stl", "plcopen"]);
     let exts: Vec<String> = list.iter().map(|t| string(&t, "extension")).collect();
-    assert_eq!(exts, ["txt", "st", "scl", "st", "il", "awl", "xml"]);
+    assert_eq!(exts, ["txt", "st", "TcPOU", "st", "scl", "scl", "il", "awl", "xml"]);
 }
 
 #[wasm_bindgen_test]
@@ -235,18 +235,35 @@ fn code_for_every_target_of_a_realizable_spec() {
     for (target, marker) in [
         ("program", "DO (turn_on)"),
         ("st", "FUNCTION_BLOCK"),
+        ("twincat", "<TcPlcObject"),
         ("scl", "FUNCTION_BLOCK"),
+        ("scl-1500", "S7_Optimized_Access"),
         ("codesys", "FUNCTION_BLOCK"),
         ("il", "turn_on"),
         ("stl", "turn_on"),
         ("plcopen", "<project"),
     ] {
-        let code = s.code(target, "lamp").unwrap();
+        let code = s.code(target, "lamp", Some(1_700_000_000.0)).unwrap();
         assert_eq!(string(&code, "target"), target);
-        let text = string(&code, "code");
+        let files = array(&get(&code, "files"));
+        let text = string(&files.get(0), "text");
         assert!(text.contains(marker), "{target}: no {marker} in\n{text}");
+        assert_eq!(files.length(), if target == "twincat" { 3 } else { 1 }, "{target}");
+        let io = array(&get(&code, "io"));
+        assert_eq!(io.length(), if target == "program" { 0 } else { 2 }, "{target}");
     }
-    assert!(s.code("cobol", "lamp").is_err());
+    let code = s.code("plcopen", "lamp", Some(1_700_000_000.0)).unwrap();
+    let files = array(&get(&code, "files"));
+    assert_eq!(string(&files.get(0), "name"), "lamp.xml");
+    assert!(string(&files.get(0), "text").contains("creationDateTime=\"2023-11-14T22:13:20\""));
+    let row = array(&get(&code, "io")).get(0);
+    assert_eq!(
+        (string(&row, "address"), string(&row, "symbol"), string(&row, "direction")),
+        ("%IX124.0".to_string(), "press".to_string(), "input".to_string())
+    );
+    assert!(string(&code, "io_csv").starts_with("address,type,symbol,direction,meaning"));
+    assert!(string(&code, "io_sdf").starts_with("\"press\",\"I 124.0\""));
+    assert!(s.code("cobol", "lamp", None).is_err());
 }
 
 #[wasm_bindgen_test]
@@ -254,8 +271,9 @@ fn a_constant_beyond_the_target_throws_located_diagnostics() {
     // 10 000 s is beyond S5TIME (2h46m30s) but within IEC TIME.
     let src = "timeunit 10s;\nplant { automaton A { clocks x; nodes a, b;\n  a -> b ?go { x in [1000,inf) } reset { x }; b -> a ?back; } }\nplans { plan { waitfor go; waitfor back; } }\n";
     let (s, _) = solved(src);
-    assert!(string(&s.code("st", "a").unwrap(), "code").contains("T#10000000MS"));
-    let thrown = s.code("stl", "a").expect_err("S5TIME cannot hold 10 000 s");
+    let files = array(&get(&s.code("st", "a", None).unwrap(), "files"));
+    assert!(string(&files.get(0), "text").contains("T#10000000MS"));
+    let thrown = s.code("stl", "a", None).expect_err("S5TIME cannot hold 10 000 s");
     assert_eq!(get(&thrown, "ok"), JsValue::FALSE);
     let diagnostics = array(&get(&thrown, "diagnostics"));
     assert_eq!(diagnostics.length(), 1);
@@ -268,9 +286,9 @@ fn a_constant_beyond_the_target_throws_located_diagnostics() {
 fn no_code_without_a_controller() {
     let (s, _) = solved(LAMP_NAIVE);
     assert!(s.program().unwrap().is_none());
-    assert!(s.code("st", "lamp_naive").unwrap().is_null());
+    assert!(s.code("st", "lamp_naive", None).unwrap().is_null());
     let unsolved = Session::new(LAMP).map_err(|_| "compile").unwrap();
-    assert!(unsolved.code("st", "lamp").is_err());
+    assert!(unsolved.code("st", "lamp", None).is_err());
 }
 
 #[wasm_bindgen_test]

@@ -2,6 +2,7 @@
 
 use clap::Args;
 use plcsynth::diag::{render_plain, Diagnostics};
+use plcsynth::plc;
 use plcsynth::timed::solve::{self, Budget, BudgetStop, SolveOptions, Verdict};
 use plcsynth::timed::{self};
 use std::process::ExitCode;
@@ -20,6 +21,61 @@ pub struct BudgetArgs {
     /// each): bounds the time of games whose states are few but expensive.
     #[arg(long, value_name = "N", default_value_t = solve::DEFAULT_MAX_WORK)]
     pub max_work: u64,
+}
+
+/// Options of the PLC targets.
+#[derive(Args)]
+pub struct PlcArgs {
+    /// Also write the I/O table: CSV (address, type, symbol, direction, meaning) for a `.csv`
+    /// file, a Siemens symbol table for STEP 7 / TIA Portal for a `.sdf` file.
+    #[arg(long, value_name = "FILE")]
+    pub io_table: Option<String>,
+    /// STL: the organisation block that runs the controller.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
+    pub ob: Option<u16>,
+    /// STL: put the controller in FB N with instance DB N, called from the OB.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
+    pub fb: Option<u16>,
+    /// STL: the marker byte holding the program position (signals without io use bits from
+    /// byte N+10 on).
+    #[arg(long, value_name = "N")]
+    pub marker_byte: Option<u16>,
+    /// STL: the number of S7 timers of the CPU.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
+    pub cpu_timers: Option<u16>,
+}
+
+impl PlcArgs {
+    /// The printers' options; the creation time is `SOURCE_DATE_EPOCH` if set, else now. The
+    /// STL options are refused for other targets.
+    fn options(&self, target: Option<plc::Target>) -> Result<plc::Options, String> {
+        let stl_flags = [
+            ("--ob", self.ob.is_some()),
+            ("--fb", self.fb.is_some()),
+            ("--marker-byte", self.marker_byte.is_some()),
+            ("--cpu-timers", self.cpu_timers.is_some()),
+        ];
+        if target != Some(plc::Target::Stl) {
+            if let Some((flag, _)) = stl_flags.iter().find(|(_, given)| *given) {
+                return Err(format!("{flag} applies to --target stl only"));
+            }
+        }
+        let created_unix = match std::env::var("SOURCE_DATE_EPOCH") {
+            Ok(text) => text
+                .trim()
+                .parse::<u64>()
+                .map_err(|_| format!("SOURCE_DATE_EPOCH is not a number of seconds: `{text}`"))?,
+            Err(_) => std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs()),
+        };
+        let defaults = plc::Options::default();
+        Ok(plc::Options {
+            ob: self.ob.unwrap_or(defaults.ob),
+            fb: self.fb,
+            marker_byte: self.marker_byte.unwrap_or(defaults.marker_byte),
+            cpu_timers: self.cpu_timers.unwrap_or(defaults.cpu_timers),
+            created_unix,
+        })
+    }
 }
 
 impl BudgetArgs {
@@ -141,8 +197,26 @@ pub fn solve(file: &str, json: bool, budget: &BudgetArgs, dump_states: bool) -> 
 
 /// `plcsynth compile FILE --target T`: the intermediate program (`target` = None) or PLC code.
 /// Unrealizable specifications exit 1 with the explanation and write nothing; a time constant
-/// the target cannot hold exits 2 with a located diagnostic and writes nothing.
-pub fn compile(file: &str, budget: &BudgetArgs, target: Option<plcsynth::plc::Target>, out: Option<&str>) -> ExitCode {
+/// the target cannot hold, or an STL option that clashes with the code, exits 2 with a located
+/// diagnostic and writes nothing.
+pub fn compile(
+    file: &str,
+    budget: &BudgetArgs,
+    target: Option<plc::Target>,
+    out: Option<&str>,
+    plc_args: &PlcArgs,
+) -> ExitCode {
+    let options = match plc_args.options(target) {
+        Ok(options) => options,
+        Err(message) => {
+            eprintln!("error: {message}");
+            return ExitCode::from(2);
+        }
+    };
+    if plc_args.io_table.is_some() && target.is_none() {
+        eprintln!("error: --io-table needs a PLC --target");
+        return ExitCode::from(2);
+    }
     let (source, game) = match load(file) {
         Ok(ok) => ok,
         Err(code) => return code,
@@ -167,29 +241,57 @@ pub fn compile(file: &str, budget: &BudgetArgs, target: Option<plcsynth::plc::Ta
         }
     };
     let name = std::path::Path::new(file).file_stem().and_then(|s| s.to_str()).unwrap_or("controller");
-    let text = match target {
-        None => program.render(&game),
-        Some(t) => match plcsynth::plc::generate(&game, &program, t, name, &source) {
-            Ok(text) => text,
-            // A constant the target cannot hold is an input error, located in the spec.
-            Err(diags) => {
-                eprint!("{}", render_plain(file, &source, &diags));
-                eprintln!("{file}: nothing written");
-                return ExitCode::from(2);
-            }
-        },
+    let Some(t) = target else {
+        return write_files(out, None, &[plc::OutputFile { name: String::new(), text: program.render(&game) }]);
     };
-    match out {
-        Some(path) => {
-            if let Err(e) = std::fs::write(path, text) {
-                eprintln!("error: cannot write {path}: {e}");
-                return ExitCode::from(2);
-            }
+    let code = match plc::build(&game, &program, t, name, &source, &options) {
+        Ok(code) => code,
+        // A constant the target cannot hold is an input error, located in the spec.
+        Err(diags) => {
+            eprint!("{}", render_plain(file, &source, &diags));
+            eprintln!("{file}: nothing written");
+            return ExitCode::from(2);
         }
+    };
+    if let Some(path) = &plc_args.io_table {
+        let text = if path.to_ascii_lowercase().ends_with(".sdf") {
+            plc::tag_table_sdf(&code)
+        } else {
+            plc::io_table_csv(&code)
+        };
+        if let Err(e) = std::fs::write(path, text) {
+            eprintln!("error: cannot write {path}: {e}");
+            return ExitCode::from(2);
+        }
+    }
+    write_files(out, Some(t), &plc::render_files(&code, t, &options))
+}
+
+/// Writes `files` to `out` (a file, or a directory for a multi-file target) or to standard
+/// output (several files each after a line `==> NAME <==`).
+fn write_files(out: Option<&str>, target: Option<plc::Target>, files: &[plc::OutputFile]) -> ExitCode {
+    let multi = target.is_some_and(plc::Target::multi_file);
+    let result = match out {
+        Some(dir) if multi => std::fs::create_dir_all(dir).and_then(|()| {
+            files.iter().try_for_each(|f| std::fs::write(std::path::Path::new(dir).join(&f.name), &f.text))
+        }),
+        Some(path) => std::fs::write(path, &files[0].text),
         None => {
             use std::io::Write as _;
-            let _ = write!(std::io::stdout(), "{text}");
+            let mut stdout = std::io::stdout();
+            let _ = files.iter().try_for_each(|f| {
+                if multi {
+                    write!(stdout, "==> {} <==\n{}", f.name, f.text)
+                } else {
+                    write!(stdout, "{}", f.text)
+                }
+            });
+            Ok(())
         }
+    };
+    if let Err(e) = result {
+        eprintln!("error: cannot write {}: {e}", out.unwrap_or("-"));
+        return ExitCode::from(2);
     }
     ExitCode::SUCCESS
 }

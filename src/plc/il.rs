@@ -2,8 +2,8 @@
 //! structure of 6.7.2 — a jump list on the step variable at the top, each wait storing its
 //! position and ending the scan while its condition is false.
 
-use super::model::{Code, Effect, Statement, Test};
-use super::{preset_literal, time_literal};
+use super::model::{Binding, Code, Effect, Statement, Test};
+use super::{preset_literal, st, time_literal};
 use std::fmt::{self, Write};
 
 fn load(code: &Code, test: &Test, o: &mut impl Write) -> fmt::Result {
@@ -108,5 +108,28 @@ pub fn print(code: &Code, o: &mut impl Write) -> fmt::Result {
     }
     write!(o, "S{}:\nRESTART:\n", code.steps.len())?;
     store(o, 0)?;
-    o.write_str("END_SCAN:\n        RET\nEND_FUNCTION_BLOCK\n")
+    o.write_str("END_SCAN:\n        RET\nEND_FUNCTION_BLOCK\n")?;
+    if code.has_bindings() {
+        program(code, o)?;
+    }
+    Ok(())
+}
+
+/// The program that wires the block, with the ST target's located declarations.
+fn program(code: &Code, o: &mut impl Write) -> fmt::Result {
+    o.write_str("\n")?;
+    st::program_declaration(code, st::Dialect::Iec, o)?;
+    let signal = |symbol: &str, binding: &Option<Binding>| match binding {
+        Some(Binding::Address(_)) => symbol.to_string(),
+        Some(b) => b.iec_text(),
+        None => "FALSE".to_string(),
+    };
+    let args: Vec<String> =
+        code.inputs.iter().map(|i| format!("{} := {}", i.symbol, signal(&i.symbol, &i.binding))).collect();
+    writeln!(o, "        CAL {}({})", code.instance, args.join(", "))?;
+    for out in code.outputs.iter().filter(|out| out.variable.binding.is_some()) {
+        let v = &out.variable;
+        write!(o, "        LD {}.{}\n        ST {}\n", code.instance, v.symbol, signal(&v.symbol, &v.binding))?;
+    }
+    o.write_str("END_PROGRAM\n")
 }

@@ -4,30 +4,62 @@
 //! command becomes one step.
 
 use super::model::{Binding, Code, Effect, Output, Statement, Step, Test, Timer, Variable};
-use super::{identifier, render, source_hash, Target};
-use crate::diag::{Diagnostic, Diagnostics};
+use super::{iec_address, is_identifier_path, render, source_hash, stl, Namespace, Options, Target, TimeType};
+use crate::diag::{Diagnostic, Diagnostics, Span};
 use crate::program::{Condition, Instruction, Program};
-use crate::timed::model::{ClockId, Game, IoMode, IoTarget, MsgId};
+use crate::timed::model::{ClockId, Game, IoBinding, IoMode, IoTarget, MsgId};
 
-/// The binding of an io target.
-fn binding(target: &IoTarget) -> Binding {
-    match target {
-        IoTarget::Address { text, .. } => Binding::Address(text.clone()),
-        IoTarget::Symbol { text, .. } => Binding::Symbol(text.clone()),
+/// The signal an io binding names, as a key: the address (`%I0.0` and `%IX0.0` alike) or the
+/// symbol text, and the direction.
+fn signal_key(b: &IoBinding) -> (String, bool) {
+    let text = match &b.target {
+        IoTarget::Address { text, .. } => format!("%{}", iec_address(text)),
+        IoTarget::Symbol { text, .. } => text.clone(),
+    };
+    (text, matches!(b.mode, IoMode::Pulse | IoMode::Set | IoMode::Reset))
+}
+
+/// The name of the variable of the signal that `binding` names: the first message bound to the
+/// same signal in the same direction that reads it as it is (an input read with `not` only gives
+/// `not_…`).
+fn signal_name(game: &Game, binding: &IoBinding) -> String {
+    let key = signal_key(binding);
+    let same: Vec<&IoBinding> = game.io.iter().filter(|b| signal_key(b) == key).collect();
+    let name = |b: &IoBinding| game.messages[b.message as usize].name.clone();
+    match same.iter().find(|b| b.mode != IoMode::Negated) {
+        Some(b) => name(b),
+        None => format!("not_{}", name(same.first().copied().unwrap_or(binding))),
     }
 }
 
-/// Identifier for a bound signal: the symbol itself, or the address spelled as a name.
-fn binding_ident(target: &IoTarget) -> String {
-    match target {
-        IoTarget::Address { text, .. } => identifier(&text.replace('.', "_")),
-        IoTarget::Symbol { text, .. } => identifier(text),
+/// The binding of an io target for `target`. A quoted name is a Siemens tag: targets that do not
+/// quote tags take it only when it is an identifier path as written.
+fn binding(io: &IoTarget, target: Target, diags: &mut Diagnostics) -> (Binding, Span) {
+    match io {
+        IoTarget::Address { text, span } => (Binding::Address(text.clone()), *span),
+        IoTarget::Symbol { text, span, quoted: true } if target.quotes_tags() => (Binding::Quoted(text.clone()), *span),
+        IoTarget::Symbol { text, span, quoted } => {
+            if *quoted && !is_identifier_path(text) {
+                diags
+                    .error(
+                        *span,
+                        format!("`\"{text}\"` is not an IEC identifier, which target {} needs", target.name()),
+                    )
+                    .with_note(
+                        "a quoted name is a Siemens tag: targets scl, scl-1500 and stl print it with its quotes; \
+                         for the other targets bind a variable of the project such as `GVL.lamp_on`",
+                    );
+            }
+            (Binding::Symbol(text.clone()), *span)
+        }
     }
 }
 
 /// A variable being built and the messages it stands for, which become its comment.
 struct Signal {
     variable: Variable,
+    /// The signal it stands for (bound) or the message (unbound).
+    key: (String, bool),
     notes: Vec<String>,
 }
 
@@ -45,50 +77,80 @@ impl Signal {
 }
 
 /// Builds the code model of `program` for `target`. `name` names the function block; `source`
-/// is the specification text of `game` (hashed into the header). A delay constant that the
-/// target's time type cannot hold exactly (see [`Target::time_type`]) is an error located at
-/// the constant in `source`; nothing is rounded or wrapped.
+/// is the specification text of `game` (hashed into the header). Variables are named after the
+/// messages (a signal bound to several messages after the first that reads it as it is), unique
+/// case-insensitively among themselves, the keywords and types, the block, its program, instance
+/// and global variable list. A delay constant that the target's time type cannot hold exactly
+/// (see [`Target::time_type`]) is an error located at the constant in `source`; nothing is
+/// rounded or wrapped. For STL, `options` choose the marker byte and the CPU's timer count,
+/// and clashes with them are errors located in `source` too.
 pub fn build(
     game: &Game,
     program: &Program,
     target: Target,
     name: &str,
     source: &str,
+    options: &Options,
 ) -> Result<Code, Vec<Diagnostic>> {
     let mut diags = Diagnostics::new(source);
     let time = target.time_type();
     let io_of = |m: MsgId| game.io.iter().find(|b| b.message == m);
     let message_name = |m: MsgId| game.messages[m as usize].name.as_str();
+    let mut names = Namespace::new();
+    let fb_name = names.unique(name);
+    let program_name = names.unique(&format!("{fb_name}_main"));
+    let instance = names.unique("ctrl");
+    let gvl = names.unique("GVL_IO");
+    names.reserve("step");
+    names.reserve("scan_done");
     let mut inputs: Vec<Signal> = Vec::new();
     let mut outputs: Vec<(Signal, bool)> = Vec::new();
-    let mut input_of = |m: MsgId| -> (usize, bool) {
-        let (symbol, bound, negated) = match io_of(m) {
-            Some(b) => (binding_ident(&b.target), Some(binding(&b.target)), b.mode == IoMode::Negated),
-            None => (identifier(message_name(m)), None, false),
+    let mut input_of = |m: MsgId, names: &mut Namespace, diags: &mut Diagnostics| -> (usize, bool) {
+        let (key, negated) = match io_of(m) {
+            Some(b) => (signal_key(b), b.mode == IoMode::Negated),
+            None => ((message_name(m).to_string(), false), false),
         };
-        let index = inputs.iter().position(|i| i.variable.symbol == symbol).unwrap_or_else(|| {
-            let variable = Variable { symbol, binding: bound, comment: String::new() };
-            inputs.push(Signal { variable, notes: Vec::new() });
+        let index = inputs.iter().position(|i| i.key == key).unwrap_or_else(|| {
+            let (symbol, bound) = match io_of(m) {
+                Some(b) => (names.unique(&signal_name(game, b)), Some(binding(&b.target, target, diags))),
+                None => (names.unique(message_name(m)), None),
+            };
+            let variable = Variable {
+                symbol,
+                binding: bound.as_ref().map(|b| b.0.clone()),
+                comment: String::new(),
+                span: bound.map(|b| b.1),
+            };
+            inputs.push(Signal { variable, key, notes: Vec::new() });
             inputs.len() - 1
         });
         inputs[index].note(format!("{}{}", if negated { "NOT " } else { "" }, message_name(m)));
         (index, negated)
     };
-    let mut output_of = |m: MsgId| -> (usize, Effect) {
-        let (symbol, bound, effect) = match io_of(m) {
+    let mut output_of = |m: MsgId, names: &mut Namespace, diags: &mut Diagnostics| -> (usize, Effect) {
+        let (key, effect) = match io_of(m) {
             Some(b) => {
                 let effect = match b.mode {
                     IoMode::Set => Effect::Set,
                     IoMode::Reset => Effect::Reset,
                     _ => Effect::Pulse,
                 };
-                (binding_ident(&b.target), Some(binding(&b.target)), effect)
+                (signal_key(b), effect)
             }
-            None => (identifier(message_name(m)), None, Effect::Pulse),
+            None => ((message_name(m).to_string(), true), Effect::Pulse),
         };
-        let index = outputs.iter().position(|(o, _)| o.variable.symbol == symbol).unwrap_or_else(|| {
-            let variable = Variable { symbol, binding: bound, comment: String::new() };
-            outputs.push((Signal { variable, notes: Vec::new() }, effect == Effect::Pulse));
+        let index = outputs.iter().position(|(o, _)| o.key == key).unwrap_or_else(|| {
+            let (symbol, bound) = match io_of(m) {
+                Some(b) => (names.unique(&signal_name(game, b)), Some(binding(&b.target, target, diags))),
+                None => (names.unique(message_name(m)), None),
+            };
+            let variable = Variable {
+                symbol,
+                binding: bound.as_ref().map(|b| b.0.clone()),
+                comment: String::new(),
+                span: bound.map(|b| b.1),
+            };
+            outputs.push((Signal { variable, key, notes: Vec::new() }, effect == Effect::Pulse));
             outputs.len() - 1
         });
         let verb = match effect {
@@ -117,11 +179,13 @@ pub fn build(
         }
     };
     let mut refused: Vec<(ClockId, u32)> = Vec::new();
+    // Every threshold compared: (timer, S5TIME preset, clock, constant), for the STL timer check.
+    let mut thresholds: Vec<(usize, u64, ClockId, u32)> = Vec::new();
     let pos = program.positions();
-    let mut test = |cond: &Condition| -> Test {
+    let mut test = |cond: &Condition, names: &mut Namespace, diags: &mut Diagnostics| -> Test {
         match *cond {
             Condition::Message { message } => {
-                let (input, negated) = input_of(message);
+                let (input, negated) = input_of(message, names, diags);
                 Test::Input { input, negated }
             }
             Condition::Delay { clock, interval } => {
@@ -133,12 +197,17 @@ pub fn build(
                         refused.push((clock, interval.lower));
                         let message =
                             format!("time constant {} ({ms} ms) {why} for target {}", interval.lower, target.name());
-                        report(&mut diags, game, clock, interval.lower, message, notes);
+                        report(diags, game, clock, interval.lower, message, notes);
                     }
                 }
                 // Every accepted threshold fits in 32 bits; a refused one is never printed.
+                let preset = u64::try_from(TimeType::S5Time.preset_for(ms, strict)).unwrap_or(u64::MAX);
                 let ms = u64::try_from(ms).unwrap_or(u64::MAX);
-                Test::Elapsed { timer: timer_of(clock, interval.lower), ms, strict }
+                let timer = timer_of(clock, interval.lower);
+                if !thresholds.iter().any(|&(t, p, _, _)| (t, p) == (timer, preset)) {
+                    thresholds.push((timer, preset, clock, interval.lower));
+                }
+                Test::Elapsed { timer, ms, strict }
             }
         }
     };
@@ -147,12 +216,13 @@ pub fn build(
     for (c, comment) in program.commands.iter().zip(texts) {
         let statement = match c.instruction {
             Instruction::Do { request } => {
-                let (output, effect) = output_of(request);
+                let (output, effect) = output_of(request, &mut names, &mut diags);
                 Statement::Act { output, effect }
             }
-            Instruction::WaitUntil { condition } => Statement::Wait { test: test(&condition) },
+            Instruction::WaitUntil { condition } => Statement::Wait { test: test(&condition, &mut names, &mut diags) },
             Instruction::If { condition, target } => {
-                Statement::Branch { test: test(&condition), target: pos[target as usize] as usize }
+                let test = test(&condition, &mut names, &mut diags);
+                Statement::Branch { test, target: pos[target as usize] as usize }
             }
             Instruction::Goto { target } => Statement::Jump { target: pos[target as usize] as usize },
         };
@@ -173,17 +243,17 @@ pub fn build(
                 report(&mut diags, game, clock, units, message, notes);
             }
         }
-        let clock_ident = identifier(&game.clocks[clock as usize].name);
+        let clock_name = &game.clocks[clock as usize].name;
         code_timers.push(Timer {
-            symbol: format!("t_{clock_ident}"),
-            comment: format!("clock {clock_ident}"),
+            symbol: names.unique(&format!("t_{clock_name}")),
+            comment: format!("clock {clock_name}"),
             preset_ms: u64::try_from(preset).unwrap_or(u64::MAX),
         });
     }
     if diags.has_errors() {
         return Err(diags.items);
     }
-    let steps = steps
+    let steps: Vec<Step> = steps
         .into_iter()
         .map(|(mut step, resets)| {
             step.restarts =
@@ -196,14 +266,44 @@ pub fn build(
         format!("Specification hash (FNV-1a 64): {}", source_hash(source)),
         "Do not edit: change the specification and generate again.".to_string(),
     ];
-    Ok(Code {
-        name: identifier(name),
+    let code = Code {
+        name: fb_name,
+        program: program_name,
+        instance,
+        gvl,
         header,
         inputs: inputs.into_iter().map(Signal::finish).collect(),
         outputs: outputs.into_iter().map(|(o, pulsed)| Output { variable: o.finish(), pulsed }).collect(),
         timers: code_timers,
         steps,
-    })
+    };
+    if target == Target::Stl {
+        for clash in stl::clashes(&code, options) {
+            let d = match clash.variable {
+                Some(v) => {
+                    let span = code.variables().nth(v).and_then(|(v, _)| v.span).unwrap_or_default();
+                    diags.error(span, clash.message)
+                }
+                None => {
+                    // A timer beyond the CPU's count: at the constant it is preset to.
+                    let (timer, preset) = clash.timer.unwrap_or_default();
+                    let (clock, units) = thresholds
+                        .iter()
+                        .find(|&&(t, p, _, _)| (t, p) == (timer, preset))
+                        .map(|&(_, _, c, u)| (c, u))
+                        .unwrap_or_default();
+                    diags.error(crate::timed::constant_span(game, source, clock, units), clash.message)
+                }
+            };
+            for note in clash.notes {
+                d.with_note(note);
+            }
+        }
+        if diags.has_errors() {
+            return Err(diags.items);
+        }
+    }
+    Ok(code)
 }
 
 /// Generates the code of `program` for `target`. `name` names the function block, `source` is
@@ -215,8 +315,9 @@ pub fn generate(
     name: &str,
     source: &str,
 ) -> Result<String, Vec<Diagnostic>> {
-    let code = build(game, program, target, name, source)?;
-    Ok(render(&code, target))
+    let options = Options::default();
+    let code = build(game, program, target, name, source, &options)?;
+    Ok(render(&code, target, &options))
 }
 
 /// Reports a delay constant the target cannot hold: at the constant, with the time unit that

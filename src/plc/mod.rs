@@ -15,19 +15,123 @@
 
 pub mod fragment;
 pub mod il;
+pub mod iotable;
 pub mod lower_timed;
 pub mod model;
 pub mod plcopen;
 pub mod st;
 pub mod stl;
 mod target;
+pub mod twincat;
 
+pub use iotable::{io_table, io_table_csv, tag_table_sdf, IoRow};
 pub use lower_timed::{build, generate};
 pub use model::Code;
 
 pub use target::{Target, TimeType, UnknownTarget, S5TIME_MAX_MS};
 
 use std::fmt;
+
+/// Choices of the printers beyond the code itself. The library reads no clock and no
+/// environment: the caller passes the creation time (the CLI from `SOURCE_DATE_EPOCH` or the
+/// system clock, the page from `Date.now()`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Options {
+    /// STL: the organisation block that runs the controller (`OB 1`).
+    pub ob: u16,
+    /// STL: when set, the controller is `FB n` with instance `DB n`, called from the OB;
+    /// otherwise the OB holds the controller itself, as in the thesis.
+    pub fb: Option<u16>,
+    /// STL: the marker byte holding the program position (`MB 0`; a word `MW n` when the
+    /// program has more than 255 resumption points). Unbound signals get memory bits from byte
+    /// `marker_byte + 10` on.
+    pub marker_byte: u16,
+    /// STL: the number of S7 timers of the CPU (`T 1` … `T n`); more thresholds are refused.
+    pub cpu_timers: u16,
+    /// PLCopen: the creation time, seconds since 1970-01-01 UTC.
+    pub created_unix: u64,
+}
+
+impl Default for Options {
+    fn default() -> Options {
+        Options { ob: 1, fb: None, marker_byte: 0, cpu_timers: 256, created_unix: 0 }
+    }
+}
+
+/// One generated file: its name (with extension) and its text.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct OutputFile {
+    pub name: String,
+    pub text: String,
+}
+
+/// The files of `code` for `target`: one for most targets; TwinCAT writes a `.TcPOU` per block
+/// and program and a `.TcGVL` for the I/O. The first file holds the function block.
+pub fn render_files(code: &Code, target: Target, options: &Options) -> Vec<OutputFile> {
+    if target == Target::Twincat {
+        return twincat::files(code);
+    }
+    let mut text = String::new();
+    print_single(code, target, options, &mut text).expect("writing to a String cannot fail");
+    vec![OutputFile { name: format!("{}.{}", code.name, target.extension()), text }]
+}
+
+fn print_single(code: &Code, target: Target, options: &Options, out: &mut impl fmt::Write) -> fmt::Result {
+    match target {
+        Target::St => st::print(code, st::Dialect::Iec, out),
+        Target::Codesys => st::print(code, st::Dialect::Codesys, out),
+        Target::Scl => st::print(code, st::Dialect::Scl, out),
+        Target::Scl1500 => st::print(code, st::Dialect::Scl1500, out),
+        Target::Il => il::print(code, out),
+        Target::Stl => stl::print(code, options, out),
+        Target::Plcopen => plcopen::print(code, options, out),
+        Target::Twincat => {
+            for file in twincat::files(code) {
+                write!(out, "==> {} <==\n{}", file.name, file.text)?;
+            }
+            Ok(())
+        }
+    }
+}
+
+/// Names in one scope, compared case-insensitively as IEC 61131-3 does, where no name may be a
+/// keyword or type of IEC 61131-3 or of the dialects printed. [`Namespace::unique`] derives a
+/// fresh identifier, adding `_2`, `_3`, … on a clash.
+#[derive(Clone, Debug, Default)]
+pub struct Namespace {
+    taken: std::collections::HashSet<String>,
+}
+
+impl Namespace {
+    pub fn new() -> Namespace {
+        Namespace::default()
+    }
+
+    /// Marks `name` as used.
+    pub fn reserve(&mut self, name: &str) {
+        self.taken.insert(name.to_ascii_uppercase());
+    }
+
+    /// Whether `name` is used or reserved (case-insensitively).
+    pub fn contains(&self, name: &str) -> bool {
+        let upper = name.to_ascii_uppercase();
+        self.taken.contains(&upper) || is_keyword(&upper)
+    }
+
+    /// A valid identifier derived from `base` (see [`identifier`]) that is not yet used, now
+    /// reserved.
+    pub fn unique(&mut self, base: &str) -> String {
+        let base = identifier(base);
+        let mut name = base.clone();
+        let mut n = 2;
+        while self.contains(&name) {
+            name = format!("{base}_{n}");
+            n += 1;
+        }
+        self.reserve(&name);
+        name
+    }
+}
 
 /// A stable 64-bit FNV-1a hash, printed in headers to tie generated code to its source.
 pub fn source_hash(source: &str) -> String {
@@ -39,8 +143,88 @@ pub fn source_hash(source: &str) -> String {
     format!("{h:016x}")
 }
 
-/// Reserved words of IEC 61131-3 and common dialects that may not name a variable.
+/// Reserved words and standard types of IEC 61131-3, IL operators, and the words of the dialects
+/// printed (CODESYS, TwinCAT, SCL) that may not name a variable.
 const KEYWORDS: &[&str] = &[
+    "ADD",
+    "ANY",
+    "BOOL",
+    "CAL",
+    "CALC",
+    "CALCN",
+    "CHAR",
+    "CONTINUE",
+    "CTD",
+    "CTU",
+    "CTUD",
+    "DATA_BLOCK",
+    "DATE_AND_TIME",
+    "DIV",
+    "END_CASE",
+    "END_FOR",
+    "END_FUNCTION",
+    "END_FUNCTION_BLOCK",
+    "END_IF",
+    "END_PROGRAM",
+    "END_REPEAT",
+    "END_STRUCT",
+    "END_TYPE",
+    "END_VAR",
+    "END_WHILE",
+    "EQ",
+    "EXTENDS",
+    "F_TRIG",
+    "FUNCTION_BLOCK",
+    "GE",
+    "GOTO",
+    "GT",
+    "IMPLEMENTS",
+    "JMP",
+    "JMPC",
+    "JMPCN",
+    "LD",
+    "LDN",
+    "LE",
+    "LINT",
+    "LREAL",
+    "LT",
+    "LTIME",
+    "LWORD",
+    "MUL",
+    "NE",
+    "NULL",
+    "ORGANIZATION_BLOCK",
+    "POINTER",
+    "PROPERTY",
+    "R_TRIG",
+    "REFERENCE",
+    "RET",
+    "RETAIN",
+    "RS",
+    "SINT",
+    "SR",
+    "ST",
+    "STN",
+    "SUB",
+    "SUPER",
+    "THIS",
+    "TOD",
+    "TOF",
+    "TON_TIME",
+    "TP",
+    "UDINT",
+    "UINT",
+    "ULINT",
+    "USINT",
+    "VAR_EXTERNAL",
+    "VAR_GLOBAL",
+    "VAR_IN_OUT",
+    "VAR_INPUT",
+    "VAR_OUTPUT",
+    "VAR_TEMP",
+    "VERSION",
+    "WCHAR",
+    "WSTRING",
     "ABS",
     "ACTION",
     "AND",
@@ -122,29 +306,57 @@ pub fn identifier(name: &str) -> String {
     if out.is_empty() || out.starts_with(|c: char| c.is_ascii_digit()) {
         out.insert_str(0, "x_");
     }
-    if KEYWORDS.iter().any(|k| k.eq_ignore_ascii_case(&out)) {
+    if is_keyword(&out) {
         out.push_str("_sig");
     }
     out
 }
 
-/// Prints `code` as `target` writes it.
-pub fn print(code: &Code, target: Target, out: &mut impl fmt::Write) -> fmt::Result {
-    match target {
-        Target::St => st::print(code, st::Dialect::Iec, out),
-        Target::Codesys => st::print(code, st::Dialect::Codesys, out),
-        Target::Scl => st::print(code, st::Dialect::Scl, out),
-        Target::Il => il::print(code, out),
-        Target::Stl => stl::print(code, out),
-        Target::Plcopen => plcopen::print(code, out),
-    }
+fn is_keyword(name: &str) -> bool {
+    KEYWORDS.iter().any(|k| k.eq_ignore_ascii_case(name))
+}
+
+/// Whether `text` is an identifier or a dotted path of identifiers (`GVL.lamp`) as written.
+pub fn is_identifier_path(text: &str) -> bool {
+    text.split('.').all(|part| identifier(part) == part)
+}
+
+/// Prints `code` as `target` writes it. A multi-file target prints each file after a line
+/// `==> NAME <==` (as `head` does); [`render_files`] gives them apart.
+pub fn print(code: &Code, target: Target, options: &Options, out: &mut impl fmt::Write) -> fmt::Result {
+    print_single(code, target, options, out)
 }
 
 /// [`print`] into a string.
-pub fn render(code: &Code, target: Target) -> String {
+pub fn render(code: &Code, target: Target, options: &Options) -> String {
     let mut text = String::new();
-    print(code, target, &mut text).expect("writing to a String cannot fail");
+    print(code, target, options, &mut text).expect("writing to a String cannot fail");
     text
+}
+
+/// A stable name-based GUID (`{8-4-4-4-12}` hex digits, version 4 and variant bits set) for an
+/// object `name` of code whose header is `header`: the same input gives the same files.
+pub fn stable_guid(header: &[String], name: &str) -> String {
+    let a = source_hash(&format!("{}\u{1}{name}", header.join("\n")));
+    let b = source_hash(&format!("{name}\u{1}{}", header.join("\n")));
+    format!("{{{}-{}-4{}-8{}-{}}}", &a[0..8], &a[8..12], &a[13..16], &b[1..4], &b[4..16])
+}
+
+/// `YYYY-MM-DDTHH:MM:SS` (UTC) of a time in seconds since 1970-01-01.
+pub fn iso_datetime(unix: u64) -> String {
+    let days = (unix / 86_400) as i64;
+    let secs = unix % 86_400;
+    // Civil date from days since the epoch (H. Hinnant's algorithm).
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!("{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}", secs / 3600, secs / 60 % 60, secs % 60)
 }
 
 /// `T#…` literal for a duration.
@@ -184,6 +396,35 @@ pub fn preset_literal(code: &Code, timer: usize) -> String {
 
 #[cfg(test)]
 mod tests {
+    use super::*;
+
+    #[test]
+    fn names_never_clash_case_insensitively_with_keywords_or_each_other() {
+        let mut names = Namespace::new();
+        names.reserve("lamp");
+        assert_eq!(names.unique("LAMP"), "LAMP_2");
+        assert_eq!(names.unique("lamp"), "lamp_3");
+        assert_eq!(names.unique("ton"), "ton_sig");
+        assert_eq!(names.unique("Ton"), "Ton_sig_2");
+        assert_eq!(names.unique("end_if"), "end_if_sig");
+        assert_eq!(names.unique("Lamp On"), "Lamp_On");
+        assert_eq!(names.unique("7up"), "x_7up");
+        assert!(is_identifier_path("GVL.lamp") && !is_identifier_path("Lamp On") && !is_identifier_path("GVL..x"));
+    }
+
+    #[test]
+    fn dates_and_guids() {
+        assert_eq!(iso_datetime(0), "1970-01-01T00:00:00");
+        assert_eq!(iso_datetime(951_782_400), "2000-02-29T00:00:00");
+        assert_eq!(iso_datetime(1_700_000_000), "2023-11-14T22:13:20");
+        let header = vec!["x".to_string()];
+        let guid = stable_guid(&header, "lamp");
+        assert_eq!(guid.len(), 38);
+        assert_eq!(guid, stable_guid(&header, "lamp"));
+        assert_ne!(guid, stable_guid(&header, "lamp_main"));
+        assert_eq!(&guid[15..16], "4");
+    }
+
     /// The model and the printers name no engine, so that every engine's controllers can print
     /// through them; only lowerings (`lower_*`) know one.
     #[test]
@@ -195,6 +436,8 @@ mod tests {
             ("il.rs", include_str!("il.rs")),
             ("stl.rs", include_str!("stl.rs")),
             ("plcopen.rs", include_str!("plcopen.rs")),
+            ("twincat.rs", include_str!("twincat.rs")),
+            ("iotable.rs", include_str!("iotable.rs")),
         ];
         for (file, text) in sources {
             for engine in ["crate::timed", "crate::program", "crate::sct", "lower_timed::"] {

@@ -2,13 +2,45 @@
 //! timers, and a list of steps (statements over tests). It names no engine; a lowering (such as
 //! [`super::lower_timed`]) builds it, and printers turn it into text.
 
+use crate::diag::Span;
+
 /// Where a signal lives outside the block.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Binding {
-    /// A direct IEC address such as `I0.0`, `QX1.3`, `MW10` (without the `%`).
+    /// A direct IEC address such as `I0.0`, `QX1.3`, `MX10.2` (without the `%`).
     Address(String),
     /// A symbol of an existing project, possibly dotted (`GVL.lamp`).
     Symbol(String),
+    /// A Siemens tag name written in quotes (`"Lamp On"`), printed with its quotes.
+    Quoted(String),
+}
+
+impl Binding {
+    /// The binding as Siemens code writes it: `%I0.0`, `GVL.lamp`, `"Lamp On"`.
+    pub fn siemens_text(&self) -> String {
+        match self {
+            Binding::Address(text) => format!("%{}", super::siemens_address(text)),
+            Binding::Symbol(text) => text.clone(),
+            Binding::Quoted(text) => format!("\"{text}\""),
+        }
+    }
+
+    /// The binding as IEC code writes it: `%IX0.0`, `GVL.lamp`, `"Lamp On"` (a quoted name is
+    /// only accepted by the lowering for Siemens targets, see `Target::quotes_tags`).
+    pub fn iec_text(&self) -> String {
+        match self {
+            Binding::Address(text) => format!("%{}", super::iec_address(text)),
+            Binding::Symbol(text) => text.clone(),
+            Binding::Quoted(text) => format!("\"{text}\""),
+        }
+    }
+}
+
+/// Which way a signal flows, seen from the PLC program.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Direction {
+    Input,
+    Output,
 }
 
 /// A BOOL variable of the block's interface.
@@ -20,6 +52,8 @@ pub struct Variable {
     pub binding: Option<Binding>,
     /// What the variable stands for, printed beside its declaration.
     pub comment: String,
+    /// Where the binding is written in the source, for diagnostics about it.
+    pub span: Option<Span>,
 }
 
 /// An output variable.
@@ -86,6 +120,12 @@ pub struct Step {
 pub struct Code {
     /// Identifier of the function block.
     pub name: String,
+    /// Identifier of the program (or wrapper block) that instantiates and wires the block.
+    pub program: String,
+    /// Identifier of the block's instance inside [`Code::program`].
+    pub instance: String,
+    /// Identifier of the global variable list of the I/O (CODESYS, TwinCAT).
+    pub gvl: String,
     /// Comment lines for the head of every file.
     pub header: Vec<String>,
     pub inputs: Vec<Variable>,
@@ -111,6 +151,12 @@ impl Code {
 
     /// Whether any variable is wired to a signal outside the block.
     pub fn has_bindings(&self) -> bool {
-        self.inputs.iter().chain(self.outputs.iter().map(|o| &o.variable)).any(|v| v.binding.is_some())
+        self.variables().any(|(v, _)| v.binding.is_some())
+    }
+
+    /// Every interface variable with its direction: inputs first, then outputs.
+    pub fn variables(&self) -> impl Iterator<Item = (&Variable, Direction)> {
+        let inputs = self.inputs.iter().map(|v| (v, Direction::Input));
+        inputs.chain(self.outputs.iter().map(|o| (&o.variable, Direction::Output)))
     }
 }

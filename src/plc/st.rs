@@ -1,19 +1,56 @@
-//! Structured Text: plain IEC 61131-3, CODESYS/TwinCAT and Siemens SCL (TIA Portal source).
+//! Structured Text: plain IEC 61131-3, CODESYS V3 / TwinCAT 3, and Siemens SCL for S7-300/400
+//! and for S7-1200/1500 (TIA Portal external sources).
 //!
 //! A `FUNCTION_BLOCK` with a BOOL input per input signal and a BOOL output per output signal;
 //! a step variable and a `CASE` inside a `WHILE` loop that runs one scan per call (see the
-//! module doc of `plc`). When variables are bound to signals, a `PROGRAM` instantiates the block
-//! and wires it to the addresses or symbols.
+//! module doc of `plc`). When variables are bound to signals, a program instantiates the block
+//! and wires it; addresses appear only there: IEC declares located variables (`AT %IX0.0`) in
+//! the program, CODESYS and TwinCAT in a global variable list, SCL reads PLC tags (`"press"`)
+//! that the tag table ([`super::tag_table_sdf`]) defines.
 
-use super::model::{Binding, Code, Effect, Statement, Test};
-use super::{iec_address, preset_literal, siemens_address, time_literal};
+use super::model::{Binding, Code, Direction, Effect, Statement, Test};
+use super::{preset_literal, time_literal};
 use std::fmt::{self, Write};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Dialect {
     Iec,
+    /// CODESYS V3: the I/O in a global variable list, unbound signals unlocated (for the
+    /// device's I/O mapping).
     Codesys,
+    /// TwinCAT 3: as CODESYS, unbound signals `AT %I*` / `AT %Q*` (linked in the System Manager).
+    Twincat,
+    /// SCL for S7-300/400: standard access, IEC timer `TON`.
     Scl,
+    /// SCL for S7-1200/1500: optimised access, `TON_TIME`.
+    Scl1500,
+}
+
+impl Dialect {
+    fn siemens(self) -> bool {
+        matches!(self, Dialect::Scl | Dialect::Scl1500)
+    }
+
+    /// Whether the I/O lives in a global variable list.
+    fn gvl(self) -> bool {
+        matches!(self, Dialect::Codesys | Dialect::Twincat)
+    }
+}
+
+/// Whether the code of `dialect` has a program that wires the block: with bindings, and always
+/// for the dialects with a global variable list (whose unbound signals are mapped in the tool).
+pub fn wired(code: &Code, dialect: Dialect) -> bool {
+    code.has_bindings() || (dialect.gvl() && code.variables().next().is_some())
+}
+
+/// Whether a variable is declared in the global variable list: bound to an address, or unbound.
+fn in_gvl(binding: &Option<Binding>) -> bool {
+    matches!(binding, None | Some(Binding::Address(_)))
+}
+
+/// Whether `dialect` has a global variable list for `code`.
+pub fn has_gvl(code: &Code, dialect: Dialect) -> bool {
+    dialect.gvl() && code.variables().any(|(v, _)| in_gvl(&v.binding))
 }
 
 fn test_text(code: &Code, test: &Test) -> String {
@@ -32,25 +69,78 @@ fn test_text(code: &Code, test: &Test) -> String {
     }
 }
 
-fn bound_text(binding: &Binding, dialect: Dialect) -> String {
-    match binding {
-        Binding::Address(text) if dialect == Dialect::Scl => format!("%{}", siemens_address(text)),
-        Binding::Address(text) => format!("%{}", iec_address(text)),
-        Binding::Symbol(text) => text.clone(),
+/// The head of a Siemens block: attribute (S7-1200/1500) and version.
+fn siemens_head(dialect: Dialect) -> &'static str {
+    if dialect == Dialect::Scl1500 {
+        "{ S7_Optimized_Access := 'TRUE' }\nVERSION : 0.1\n"
+    } else {
+        "VERSION : 0.1\n"
     }
 }
 
-/// Prints the function block (and, with bindings, a program that wires it).
+/// Prints the header comment, the function block and, with bindings, what wires it: for
+/// CODESYS the global variable list first, then the block and the program.
 pub fn print(code: &Code, dialect: Dialect, o: &mut impl Write) -> fmt::Result {
-    let ton = if dialect == Dialect::Scl { "TON_TIME" } else { "TON" };
     for line in &code.header {
         writeln!(o, "(* {line} *)")?;
     }
-    match dialect {
-        Dialect::Scl => {
-            write!(o, "FUNCTION_BLOCK {}\n{{ S7_Optimized_Access := 'TRUE' }}\nVERSION : 0.1\n", code.name)?
+    let wired = wired(code, dialect);
+    if has_gvl(code, dialect) {
+        writeln!(
+            o,
+            "\n(* Global variable list {}: in CODESYS add a Global Variable List named {} and paste this. *)",
+            code.gvl, code.gvl
+        )?;
+        gvl(code, dialect, o)?;
+        o.write_str("\n")?;
+    }
+    declaration(code, dialect, o)?;
+    if dialect.siemens() {
+        o.write_str("BEGIN\n")?;
+    }
+    body(code, o)?;
+    o.write_str("END_FUNCTION_BLOCK\n")?;
+    if wired {
+        o.write_str("\n")?;
+        program_declaration(code, dialect, o)?;
+        if dialect.siemens() {
+            o.write_str("BEGIN\n")?;
         }
-        _ => writeln!(o, "FUNCTION_BLOCK {}", code.name)?,
+        program_body(code, dialect, o)?;
+        o.write_str(if dialect.siemens() { "END_FUNCTION_BLOCK\n" } else { "END_PROGRAM\n" })?;
+    }
+    Ok(())
+}
+
+/// The global variable list of the I/O (CODESYS, TwinCAT) under `{attribute 'qualified_only'}`,
+/// so that the code names its variables `GVL_IO.press`: every variable bound to an address,
+/// located, and every unbound one, for the tool's I/O mapping (TwinCAT: `AT %I*`, `AT %Q*`).
+pub fn gvl(code: &Code, dialect: Dialect, o: &mut impl Write) -> fmt::Result {
+    o.write_str("{attribute 'qualified_only'}\nVAR_GLOBAL\n")?;
+    for (v, direction) in code.variables() {
+        let at = match &v.binding {
+            Some(b @ Binding::Address(_)) => format!(" AT {}", b.iec_text()),
+            None if dialect == Dialect::Twincat => {
+                if direction == Direction::Input {
+                    " AT %I*".to_string()
+                } else {
+                    " AT %Q*".to_string()
+                }
+            }
+            None => String::new(),
+            Some(_) => continue,
+        };
+        writeln!(o, "    {}{at} : BOOL; (* {} *)", v.symbol, v.comment)?;
+    }
+    o.write_str("END_VAR\n")
+}
+
+/// The declaration part of the function block, from `FUNCTION_BLOCK` to the last `END_VAR`.
+pub fn declaration(code: &Code, dialect: Dialect, o: &mut impl Write) -> fmt::Result {
+    let ton = if dialect == Dialect::Scl1500 { "TON_TIME" } else { "TON" };
+    writeln!(o, "FUNCTION_BLOCK {}", code.name)?;
+    if dialect.siemens() {
+        o.write_str(siemens_head(dialect))?;
     }
     o.write_str("VAR_INPUT\n")?;
     for i in &code.inputs {
@@ -66,14 +156,48 @@ pub fn print(code: &Code, dialect: Dialect, o: &mut impl Write) -> fmt::Result {
     for t in &code.timers {
         writeln!(o, "    {} : {ton}; (* {} *)", t.symbol, t.comment)?;
     }
-    o.write_str("END_VAR\n")?;
-    if dialect == Dialect::Scl {
-        o.write_str("BEGIN\n")?;
+    o.write_str("END_VAR\n")
+}
+
+/// The declaration part of the program that wires the block (an FB in SCL: TIA calls it from
+/// an organisation block).
+pub fn program_declaration(code: &Code, dialect: Dialect, o: &mut impl Write) -> fmt::Result {
+    if dialect.siemens() {
+        write!(o, "FUNCTION_BLOCK {}\n{}", code.program, siemens_head(dialect))?;
+    } else {
+        writeln!(o, "PROGRAM {}", code.program)?;
     }
-    body(code, o)?;
-    o.write_str("END_FUNCTION_BLOCK\n")?;
-    if code.has_bindings() {
-        wiring(code, dialect, o)?;
+    o.write_str("VAR\n")?;
+    writeln!(o, "    {} : {};", code.instance, code.name)?;
+    if dialect == Dialect::Iec {
+        for (v, _) in code.variables() {
+            if let Some(b @ Binding::Address(_)) = &v.binding {
+                writeln!(o, "    {} AT {} : BOOL; (* {} *)", v.symbol, b.iec_text(), v.comment)?;
+            }
+        }
+    }
+    o.write_str("END_VAR\n")
+}
+
+/// The statements of the program: call the block with the inputs, copy its outputs out.
+pub fn program_body(code: &Code, dialect: Dialect, o: &mut impl Write) -> fmt::Result {
+    let signal = |symbol: &str, binding: &Option<Binding>| -> String {
+        match binding {
+            _ if dialect.gvl() && in_gvl(binding) => format!("{}.{symbol}", code.gvl),
+            Some(Binding::Address(_)) if dialect.siemens() => format!("\"{symbol}\""),
+            Some(Binding::Address(_)) => symbol.to_string(),
+            Some(b) => b.iec_text(),
+            None => "FALSE".to_string(),
+        }
+    };
+    let args: Vec<String> =
+        code.inputs.iter().map(|i| format!("{} := {}", i.symbol, signal(&i.symbol, &i.binding))).collect();
+    writeln!(o, "{}({});", code.instance, args.join(", "))?;
+    for out in &code.outputs {
+        let v = &out.variable;
+        if v.binding.is_some() || dialect.gvl() {
+            writeln!(o, "{} := {}.{};", signal(&v.symbol, &v.binding), code.instance, v.symbol)?;
+        }
     }
     Ok(())
 }
@@ -133,49 +257,4 @@ pub fn body(code: &Code, o: &mut impl Write) -> fmt::Result {
         }
     }
     o.write_str("    ELSE\n        step := 0;\n        scan_done := TRUE;\n    END_CASE;\nEND_WHILE;\n")
-}
-
-/// A program that instantiates the block and wires it to addresses and symbols.
-fn wiring(code: &Code, dialect: Dialect, o: &mut impl Write) -> fmt::Result {
-    let scl = dialect == Dialect::Scl;
-    let name = format!("{}_main", code.name);
-    if scl {
-        // TIA Portal: a cyclic organisation block would call the block; the wiring is given as
-        // a function block of its own so it imports without a configuration.
-        write!(o, "\nFUNCTION_BLOCK {name}\n{{ S7_Optimized_Access := 'TRUE' }}\nVERSION : 0.1\n")?;
-    } else {
-        write!(o, "\nPROGRAM {name}\n")?;
-    }
-    o.write_str("VAR\n")?;
-    writeln!(o, "    ctrl : {};", code.name)?;
-    if !scl {
-        // IEC and CODESYS declare located variables; SCL reads addresses directly.
-        for v in code.inputs.iter().chain(code.outputs.iter().map(|x| &x.variable)) {
-            if let Some(b @ Binding::Address(_)) = &v.binding {
-                writeln!(o, "    {}_io AT {} : BOOL;", v.symbol, bound_text(b, dialect))?;
-            }
-        }
-    }
-    o.write_str("END_VAR\n")?;
-    if scl {
-        o.write_str("BEGIN\n")?;
-    }
-    let signal = |symbol: &str, binding: &Option<Binding>| -> String {
-        match binding {
-            Some(b @ Binding::Address(_)) if scl => bound_text(b, dialect),
-            Some(Binding::Address(_)) => format!("{symbol}_io"),
-            Some(Binding::Symbol(text)) => text.clone(),
-            None => "FALSE".to_string(),
-        }
-    };
-    let args: Vec<String> =
-        code.inputs.iter().map(|i| format!("{} := {}", i.symbol, signal(&i.symbol, &i.binding))).collect();
-    writeln!(o, "ctrl({});", args.join(", "))?;
-    for out in &code.outputs {
-        let v = &out.variable;
-        if v.binding.is_some() {
-            writeln!(o, "{} := ctrl.{};", signal(&v.symbol, &v.binding), v.symbol)?;
-        }
-    }
-    o.write_str(if scl { "END_FUNCTION_BLOCK\n" } else { "END_PROGRAM\n" })
 }

@@ -1,5 +1,7 @@
-//! Siemens S7 Statement List (AWL), as in Peter 2005, 6.7.2: an organisation block whose
-//! position is kept in the marker byte MB 0 and entered through a `JL` jump list; a wait stores
+//! Siemens S7 Statement List (AWL), as in Peter 2005, 6.7.2: an organisation block (`OB 1`, or
+//! with [`Options::fb`] a function block with its instance data block called from the OB) whose
+//! position is kept in a marker byte (`MB 0` by default, [`Options::marker_byte`]) and entered
+//! through a `JL` jump list; a wait stores
 //! its position and ends the cycle (`JCN end`) while its condition is false, so the program has
 //! no backward jumps; requests `SET` / `S` / `R` outputs. Labels are four letters numbered by
 //! command position (`aaaa` is command 0, `aaac` command 2), as in the thesis's listing.
@@ -8,11 +10,12 @@
 //! reads inputs taken after the request was written out (the thesis continues into the next test,
 //! which then sees the input image from before the request); and clocks are S7 on-delay timers,
 //! one per compared threshold, restarted by calling `SD` with RLO 0 (resolution 10 ms). Inputs
-//! and outputs without an io binding get memory bits from M 10.0 on.
+//! and outputs without an io binding get memory bits from byte `marker_byte + 10` on (M 10.0).
+//! [`clashes`] finds user `%M` bindings on those bytes and thresholds beyond the CPU's timers.
 
 use super::model::{Binding, Code, Effect, Statement, Test};
-use super::siemens_address;
 use super::target::TimeType;
+use super::{siemens_address, Options};
 use std::fmt::{self, Write};
 
 /// Four-letter label of command `i`: aaaa, aaab, …
@@ -48,46 +51,141 @@ fn operand(binding: &Option<Binding>, fallback: &str) -> String {
             let split = a.find(|c: char| c.is_ascii_digit()).unwrap_or(a.len());
             format!("{} {}", &a[..split], &a[split..])
         }
-        Some(Binding::Symbol(text)) => format!("\"{text}\""),
+        Some(Binding::Symbol(text) | Binding::Quoted(text)) => format!("\"{text}\""),
         None => fallback.to_string(),
     }
 }
 
-/// Prints the organisation block.
-pub fn print(code: &Code, o: &mut impl Write) -> fmt::Result {
-    let n = code.steps.len();
-    // Where execution continues after step i when it falls through (through jumps).
-    let resolve = |mut i: usize| -> usize {
-        let mut hops = 0;
-        while i < n && hops <= n {
-            match code.steps[i].statement {
-                Statement::Jump { target } if code.steps[i].restarts.is_empty() => {
-                    i = target;
-                    hops += 1;
-                }
-                _ => break,
+/// A problem of the chosen [`Options`] with `code`, for the lowering to locate.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Clash {
+    /// The variable (index in [`Code::variables`]) whose binding clashes, if that is the cause.
+    pub variable: Option<usize>,
+    /// The S7 timer (code timer, preset in ms) beyond the CPU's timers, if that is the cause.
+    pub timer: Option<(usize, u64)>,
+    pub message: String,
+    pub notes: Vec<String>,
+}
+
+/// The S7 timers `code` needs: one per (code timer, preset), numbered `T 1` on in this order.
+pub fn s7_timers(code: &Code) -> Vec<(usize, u64)> {
+    let mut s7_timers: Vec<(usize, u64)> = Vec::new();
+    for s in &code.steps {
+        if let Statement::Wait { test: Test::Elapsed { timer, ms, strict } }
+        | Statement::Branch { test: Test::Elapsed { timer, ms, strict }, .. } = s.statement
+        {
+            let key = (timer, preset(ms, strict));
+            if !s7_timers.contains(&key) {
+                s7_timers.push(key);
             }
         }
-        if i >= n {
-            0
+    }
+    s7_timers
+}
+
+/// The S5TIME preset of a threshold: a strict one waits for the next S5TIME value.
+fn preset(ms: u64, strict: bool) -> u64 {
+    u64::try_from(TimeType::S5Time.preset_for(u128::from(ms), strict)).unwrap_or(u64::MAX)
+}
+
+/// The marker bytes `code` uses with `options`: the position (one byte, or a word when there are
+/// more than 255 resumption points) and the bytes of the memory bits of unbound signals.
+fn marker_bytes(code: &Code, options: &Options) -> (std::ops::Range<u32>, std::ops::Range<u32>) {
+    let first = u32::from(options.marker_byte);
+    let width = if resume_points(code).iter().filter(|&&r| r).count() > 255 { 2 } else { 1 };
+    let unbound = code.variables().filter(|(v, _)| v.binding.is_none()).count() as u32;
+    let bits = first + 10;
+    (first..first + width, bits..bits + unbound.div_ceil(8))
+}
+
+/// Memory bits of user bindings on the position or the unbound signals' bytes, and thresholds
+/// beyond the CPU's timers.
+pub fn clashes(code: &Code, options: &Options) -> Vec<Clash> {
+    let (position, bits) = marker_bytes(code, options);
+    let mut out = Vec::new();
+    for (k, (v, _)) in code.variables().enumerate() {
+        let Some(Binding::Address(text)) = &v.binding else { continue };
+        let address = siemens_address(text);
+        let Some(rest) = address.strip_prefix('M') else { continue };
+        let Some(byte) = rest.split('.').next().and_then(|b| b.parse::<u32>().ok()) else { continue };
+        let what = if position.contains(&byte) {
+            let word =
+                if position.len() > 1 { format!("MW {}", position.start) } else { format!("MB {}", position.start) };
+            format!("{word}, which holds the program position")
+        } else if bits.contains(&byte) {
+            format!("MB {byte}, which holds the signals without an io binding (from M {}.0 on)", bits.start)
         } else {
-            i
+            continue;
+        };
+        out.push(Clash {
+            variable: Some(k),
+            timer: None,
+            message: format!("`{}` is bound to %{address}, in {what}", v.symbol),
+            notes: vec!["choose another marker byte with `--marker-byte N` (the default is 0)".to_string()],
+        });
+    }
+    let timers = s7_timers(code);
+    if timers.len() > usize::from(options.cpu_timers) {
+        let key = timers[usize::from(options.cpu_timers)];
+        out.push(Clash {
+            variable: None,
+            timer: Some(key),
+            message: format!(
+                "this threshold needs S7 timer T {}, but the CPU has {} timers",
+                usize::from(options.cpu_timers) + 1,
+                options.cpu_timers
+            ),
+            notes: vec![
+                format!("the program compares {} thresholds, each an S7 timer", timers.len()),
+                "raise the count with `--cpu-timers N` (S7-300 CPUs have 128 to 2048, S7-400 2048)".to_string(),
+            ],
+        });
+    }
+    out
+}
+
+/// Where execution continues after step i when it falls through (through jumps).
+fn resolve(code: &Code, mut i: usize) -> usize {
+    let n = code.steps.len();
+    let mut hops = 0;
+    while i < n && hops <= n {
+        match code.steps[i].statement {
+            Statement::Jump { target } if code.steps[i].restarts.is_empty() => {
+                i = target;
+                hops += 1;
+            }
+            _ => break,
         }
-    };
-    // Resumption points: the start, every wait, the continuation of every request, and the
-    // targets of backward jumps.
-    let mut resume = vec![false; n.max(1)];
+    }
+    if i >= n {
+        0
+    } else {
+        i
+    }
+}
+
+/// Resumption points: the start, every wait, the continuation of every request, and the
+/// targets of backward jumps.
+fn resume_points(code: &Code) -> Vec<bool> {
+    let mut resume = vec![false; code.steps.len().max(1)];
     resume[0] = true;
     for (i, s) in code.steps.iter().enumerate() {
         match s.statement {
             Statement::Wait { .. } => resume[i] = true,
-            Statement::Act { .. } => resume[resolve(i + 1)] = true,
+            Statement::Act { .. } => resume[resolve(code, i + 1)] = true,
             Statement::Branch { target, .. } | Statement::Jump { target } if target <= i => {
-                resume[resolve(target)] = true
+                resume[resolve(code, target)] = true
             }
             _ => {}
         }
     }
+    resume
+}
+
+/// Prints the organisation block (or the function block, its data block and the calling OB).
+pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result {
+    let resolve = |i: usize| resolve(code, i);
+    let resume = resume_points(code);
     let index: Vec<usize> = resume
         .iter()
         .scan(0, |k, &r| {
@@ -101,7 +199,8 @@ pub fn print(code: &Code, o: &mut impl Write) -> fmt::Result {
     let points: Vec<usize> = (0..resume.len()).filter(|&i| resume[i]).collect();
     let wide = points.len() > 255;
     // Memory bits for unbound signals.
-    let mut next_bit = 80usize; // M 10.0
+    let (position_bytes, bit_bytes) = marker_bytes(code, options);
+    let mut next_bit = bit_bytes.start as usize * 8;
     let mut bit = || {
         let b = next_bit;
         next_bit += 1;
@@ -110,21 +209,9 @@ pub fn print(code: &Code, o: &mut impl Write) -> fmt::Result {
     let inputs: Vec<String> = code.inputs.iter().map(|i| operand(&i.binding, &bit())).collect();
     let outputs: Vec<String> = code.outputs.iter().map(|o| operand(&o.variable.binding, &bit())).collect();
     // One S7 timer per (timer, preset); a strict threshold waits for the next S5TIME value.
-    let preset =
-        |ms: u64, strict: bool| u64::try_from(TimeType::S5Time.preset_for(u128::from(ms), strict)).unwrap_or(u64::MAX);
-    let mut s7_timers: Vec<(usize, u64)> = Vec::new();
-    for s in &code.steps {
-        if let Statement::Wait { test: Test::Elapsed { timer, ms, strict } }
-        | Statement::Branch { test: Test::Elapsed { timer, ms, strict }, .. } = s.statement
-        {
-            let key = (timer, preset(ms, strict));
-            if !s7_timers.contains(&key) {
-                s7_timers.push(key);
-            }
-        }
-    }
+    let s7_timers = s7_timers(code);
     let t_number = |timer: usize, ms: u64| s7_timers.iter().position(|&x| x == (timer, ms)).map_or(0, |k| k + 1);
-    let position = if wide { "MW 0" } else { "MB 0" };
+    let position = if wide { format!("MW {}", position_bytes.start) } else { format!("MB {}", position_bytes.start) };
 
     for line in &code.header {
         writeln!(o, "// {line}")?;
@@ -140,7 +227,10 @@ pub fn print(code: &Code, o: &mut impl Write) -> fmt::Result {
     for (k, &(timer, ms)) in s7_timers.iter().enumerate() {
         writeln!(o, "//   T {:<8} {} reached {} ms", k + 1, code.timers[timer].comment, ms)?;
     }
-    o.write_str("ORGANIZATION_BLOCK OB 1\nBEGIN\n")?;
+    match options.fb {
+        Some(fb) => write!(o, "FUNCTION_BLOCK FB {fb}\nBEGIN\n")?,
+        None => write!(o, "ORGANIZATION_BLOCK OB {}\nBEGIN\n", options.ob)?,
+    }
     for (k, out) in code.outputs.iter().enumerate() {
         if out.pulsed {
             write!(o, "\tCLR\n\t=\t{}\n", outputs[k])?;
@@ -153,11 +243,11 @@ pub fn print(code: &Code, o: &mut impl Write) -> fmt::Result {
     let store = |k: usize| format!("\tL\t{k}\n\tT\t{position}\n");
     if wide {
         for &p in &points {
-            write!(o, "\tL\tMW 0\n\tL\t{}\n\t==I\n\tJC\t{}\n", index[p], label(p))?;
+            write!(o, "\tL\t{position}\n\tL\t{}\n\t==I\n\tJC\t{}\n", index[p], label(p))?;
         }
         o.write_str("\tJU\tud\n")?;
     } else {
-        o.write_str("\tL\tMB 0\n\tJL\tud\n")?;
+        write!(o, "\tL\t{position}\n\tJL\tud\n")?;
         for &p in &points {
             writeln!(o, "\tJU\t{}", label(p))?;
         }
@@ -227,7 +317,15 @@ pub fn print(code: &Code, o: &mut impl Write) -> fmt::Result {
         writeln!(o, "{}\tJU\tend", store(0))?;
     }
     o.write_str(&trampolines)?;
-    o.write_str("end:\tNOP\t0\nEND_ORGANIZATION_BLOCK\n")
+    match options.fb {
+        Some(fb) => write!(
+            o,
+            "end:\tNOP\t0\nEND_FUNCTION_BLOCK\n\nDATA_BLOCK DB {fb}\n\tFB {fb}\nBEGIN\nEND_DATA_BLOCK\n\n\
+             ORGANIZATION_BLOCK OB {}\nBEGIN\n\tCALL\tFB {fb}, DB {fb}\nEND_ORGANIZATION_BLOCK\n",
+            options.ob
+        ),
+        None => o.write_str("end:\tNOP\t0\nEND_ORGANIZATION_BLOCK\n"),
+    }
 }
 
 #[cfg(test)]

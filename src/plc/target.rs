@@ -7,31 +7,47 @@ use std::str::FromStr;
 /// The output formats.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Target {
-    /// IEC 61131-3 Structured Text.
+    /// IEC 61131-3 Structured Text: the function block and a program with `AT` mapping.
     St,
-    /// Siemens SCL for S7-1200/1500 (TIA Portal source file).
-    Scl,
-    /// CODESYS / TwinCAT Structured Text.
+    /// TwinCAT 3: `.TcPOU` files for the block and the program, a `.TcGVL` for the I/O.
+    Twincat,
+    /// CODESYS V3 Structured Text: a global variable list with `AT` mapping and
+    /// `{attribute 'qualified_only'}`, the block and a program using the list.
     Codesys,
+    /// Siemens SCL for S7-300/400 (TIA Portal external source, standard access, `TON`).
+    Scl,
+    /// Siemens SCL for S7-1200/1500 (optimised access, `TON_TIME`).
+    Scl1500,
     /// IEC 61131-3 Instruction List.
     Il,
     /// Siemens S7 Statement List (AWL), as in the thesis.
     Stl,
-    /// PLCopen TC6 XML v2.01 project holding the ST function block.
+    /// PLCopen TC6 XML v2.01: the block, a program and a configuration with a task.
     Plcopen,
 }
 
 impl Target {
     /// Every target, in the order menus and help list them.
-    pub const ALL: [Target; 6] = [Target::St, Target::Scl, Target::Codesys, Target::Il, Target::Stl, Target::Plcopen];
+    pub const ALL: [Target; 8] = [
+        Target::St,
+        Target::Twincat,
+        Target::Codesys,
+        Target::Scl,
+        Target::Scl1500,
+        Target::Il,
+        Target::Stl,
+        Target::Plcopen,
+    ];
 
     /// The one table of names, labels and file extensions that the CLI, the page and the
     /// tests read.
     const fn describe(self) -> TargetInfo {
         let (name, label, extension) = match self {
             Target::St => ("st", "Structured Text (IEC 61131-3)", "st"),
-            Target::Scl => ("scl", "SCL (Siemens S7-1200/1500)", "scl"),
-            Target::Codesys => ("codesys", "CODESYS / TwinCAT ST", "st"),
+            Target::Twincat => ("twincat", "TwinCAT 3 (.TcPOU, .TcGVL files)", "TcPOU"),
+            Target::Codesys => ("codesys", "CODESYS V3 ST (GVL, block, program)", "st"),
+            Target::Scl => ("scl", "SCL (Siemens S7-300/400)", "scl"),
+            Target::Scl1500 => ("scl-1500", "SCL (Siemens S7-1200/1500, optimised)", "scl"),
             Target::Il => ("il", "Instruction List (IEC 61131-3)", "il"),
             Target::Stl => ("stl", "S7 STL / AWL", "awl"),
             Target::Plcopen => ("plcopen", "PLCopen TC6 XML", "xml"),
@@ -49,9 +65,20 @@ impl Target {
         self.describe().label
     }
 
-    /// File extension for downloads, without the dot.
+    /// File extension of the main file, without the dot.
     pub const fn extension(self) -> &'static str {
         self.describe().extension
+    }
+
+    /// Whether the target writes several files (`compile -o` then names a directory).
+    pub const fn multi_file(self) -> bool {
+        matches!(self, Target::Twincat)
+    }
+
+    /// Whether the target's language writes Siemens tag names in quotes (`"Lamp On"`); the
+    /// others accept only identifiers as symbols.
+    pub const fn quotes_tags(self) -> bool {
+        matches!(self, Target::Scl | Target::Scl1500 | Target::Stl)
     }
 
     /// The type in which this target writes delay thresholds and timer presets, and so the
@@ -59,11 +86,13 @@ impl Target {
     pub fn time_type(self) -> TimeType {
         match self {
             // IEC 61131-3 leaves TIME's range to the implementation; 32-bit signed milliseconds
-            // is the common one (and S7-1200/1500's TIME). PLCopen XML carries the IEC text.
+            // is the common one (and S7's TIME). PLCopen XML carries the IEC text.
             Target::St | Target::Il | Target::Plcopen => TimeType::Millis { name: "IEC TIME", max_ms: i32::MAX as u64 },
-            Target::Scl => TimeType::Millis { name: "S7 TIME", max_ms: i32::MAX as u64 },
+            Target::Scl | Target::Scl1500 => TimeType::Millis { name: "S7 TIME", max_ms: i32::MAX as u64 },
             // CODESYS and TwinCAT document TIME as an unsigned 32-bit count of milliseconds.
-            Target::Codesys => TimeType::Millis { name: "CODESYS/TwinCAT TIME", max_ms: u32::MAX as u64 },
+            Target::Codesys | Target::Twincat => {
+                TimeType::Millis { name: "CODESYS/TwinCAT TIME", max_ms: u32::MAX as u64 }
+            }
             Target::Stl => TimeType::S5Time,
         }
     }

@@ -324,6 +324,7 @@ pub enum IoMode {
 pub enum IoTarget {
     /// A direct IEC address such as `%I0.0`, `%QX1.3`, `%MW10` (stored without the `%`).
     Address { text: String, span: Span },
-    /// A symbolic name, possibly dotted (`GVL.lamp`) or quoted (`"Lamp On"`).
-    Symbol { text: String, span: Span },
+    /// A symbolic name, possibly dotted (`GVL.lamp`) or quoted (`"Lamp On"`, stored without the
+    /// quotes and `quoted` set).
+    Symbol { text: String, span: Span, quoted: bool },
 }

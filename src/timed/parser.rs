@@ -764,7 +764,7 @@ impl Parser<'_, '_, '_> {
             Tok::Str => {
                 self.bump();
                 let text = self.text(t);
-                IoTarget::Symbol { text: text[1..text.len() - 1].to_string(), span: t.span }
+                IoTarget::Symbol { text: text[1..text.len() - 1].to_string(), span: t.span, quoted: true }
             }
             Tok::Ident => {
                 let mut text = self.ident("a symbol")?.name;
@@ -772,7 +772,7 @@ impl Parser<'_, '_, '_> {
                     text.push('.');
                     text.push_str(&self.ident("a name after `.`")?.name);
                 }
-                IoTarget::Symbol { text, span: self.span_from(t.span) }
+                IoTarget::Symbol { text, span: self.span_from(t.span), quoted: false }
             }
             _ => return Err(self.error_expected("a PLC address such as `%I0.0` or a symbol")),
         };

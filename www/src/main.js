@@ -14,7 +14,7 @@ const byId = new Map(examples.map((e) => [e.id, e]));
 
 const checker = new Engine('checker');
 const solver = new Engine('solver');
-const app = { running: false, name: 'spec', result: null, automata: null, automataDrawn: false, meta: null, code: '' };
+const app = { running: false, name: 'spec', result: null, automata: null, automataDrawn: false, meta: null, code: '', files: [], io: null };
 window.plcsynth = app; // for the console and the browser tests
 app.engines = { checker, solver };
 
@@ -167,7 +167,16 @@ async function drawAutomata() {
 
 // ---- state space and zone ----------------------------------------------------------------
 
-const query = (method, args) => solver.call('query', { method, args });
+/** A query to the worker; the last 20 with their round-trip times are kept in `app.queries`
+ * (for the console and the browser tests' measurements). */
+const query = async (method, args) => {
+  const started = performance.now();
+  try {
+    return await solver.call('query', { method, args });
+  } finally {
+    app.queries = [...(app.queries ?? []).slice(-19), { method, ms: Math.round(performance.now() - started) }];
+  }
+};
 const zoneView = new ZoneView($('#zone'));
 const spaceView = new SpaceView({
   query,
@@ -196,7 +205,7 @@ function fillTargets(list) {
   const select = $('#target');
   const option = (value, label) => h('option', { value }, label);
   select.replaceChildren(
-    h('optgroup', { label: 'Controller' }, list.map((t) => option(t.id, `${t.label} (.${t.extension})`))),
+    h('optgroup', { label: 'Controller' }, list.map((t) => option(t.id, t.multi_file ? t.label : `${t.label} (.${t.extension})`))),
     h('optgroup', { label: 'Analysis (text)' }, option('space', 'State space dump (.txt)'), option('explanation', 'Explanation (.txt)')),
   );
   select.value = app.pendingTarget ?? 'st';
@@ -209,17 +218,98 @@ function setTarget(target) {
   else app.pendingTarget = target;
 }
 
+/** Downloads `text` as `name`. */
+function download(name, text, type = 'text/plain') {
+  const a = h('a', { href: URL.createObjectURL(new Blob([text], { type })), download: name });
+  a.click();
+  setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+}
+
+/** Lines shown at once; the rest follows in chunks between frames, so that the first screen of
+ * a large program (round table 8/8: about 55 000 lines) appears at once and the page stays
+ * responsive. A newer render cancels an older one. */
+const FIRST_LINES = 300;
+const CHUNK_LINES = 4000;
+let renderToken = 0;
+
+/** The index after the `n`-th line break from `from` (or the end). */
+function afterLines(text, from, n) {
+  let at = from;
+  for (let i = 0; i < n; i++) {
+    const next = text.indexOf('\n', at);
+    if (next < 0) return text.length;
+    at = next + 1;
+  }
+  return at;
+}
+
+function renderCode(text, started) {
+  const token = ++renderToken;
+  const pre = $('#code');
+  let at = afterLines(text, 0, FIRST_LINES);
+  pre.textContent = text.slice(0, at);
+  window.plcsynth.codeTimings = { ...window.plcsynth.codeTimings, firstScreenMs: performance.now() - started, doneMs: null };
+  pre.dataset.complete = at >= text.length ? 'true' : 'false';
+  const more = () => {
+    if (token !== renderToken) return;
+    const end = afterLines(text, at, CHUNK_LINES);
+    pre.append(text.slice(at, end));
+    at = end;
+    if (at < text.length) setTimeout(more, 0);
+    else {
+      pre.dataset.complete = 'true';
+      window.plcsynth.codeTimings.doneMs = performance.now() - started;
+    }
+  };
+  if (at < text.length) setTimeout(more, 0);
+  else window.plcsynth.codeTimings.doneMs = performance.now() - started;
+}
+
+/** The I/O table under the target menu, with its CSV and SDF downloads. */
+function renderIo(generated) {
+  const box = $('#io-box');
+  const rows = generated?.io ?? [];
+  app.io = rows.length ? generated : null;
+  box.hidden = rows.length === 0;
+  if (!rows.length) return;
+  $('#io-count').textContent = `${rows.length} signal${rows.length === 1 ? '' : 's'}`;
+  $('#io-table tbody').replaceChildren(
+    ...rows.map((r) => h('tr', {}, h('td', {}, r.address || '—'), h('td', {}, r.type), h('td', {}, r.symbol), h('td', {}, r.direction), h('td', {}, r.meaning))),
+  );
+  $('#download-io-sdf').hidden = !generated.io_sdf;
+}
+
+/** One button per file of a multi-file target (TwinCAT). */
+function renderFiles(files) {
+  const bar = $('#code-files');
+  bar.hidden = files.length < 2;
+  bar.replaceChildren(
+    ...(files.length < 2 ? [] : [h('span', { class: 'muted' }, `${files.length} files:`), ...files.map((f) => h('button', { class: 'file', onclick: () => download(f.name, f.text) }, f.name))]),
+  );
+}
+
 async function refreshCode() {
+  const started = performance.now();
   const target = $('#target').value;
   const note = $('#code-note');
   app.code = '';
   app.extension = 'txt';
   app.suffix = '';
+  app.files = [];
+  renderToken++;
+  // Emptied first: restyling a pane that still holds tens of thousands of lines costs hundreds
+  // of milliseconds. `data-target` and `data-complete` say what it shows (the tests wait on them).
+  $('#code').textContent = '';
+  $('#code').dataset.target = '';
+  $('#code').dataset.complete = 'false';
+  renderIo(null);
+  renderFiles([]);
   if (!app.result) {
     $('#code').textContent = '';
     note.textContent = 'Run the spec first.';
     return;
   }
+  let cap = Infinity;
   if (target === 'explanation') {
     app.code = app.result.explanationText ?? '';
     app.suffix = '.explanation';
@@ -227,30 +317,46 @@ async function refreshCode() {
   } else if (target === 'space') {
     app.code = await query('dump', []);
     app.suffix = '.states';
+    cap = DUMP_LINES;
     note.textContent = 'Every explored state with its status, then its edges.';
   } else {
     let generated;
+    note.textContent = 'Generating…';
     try {
-      generated = await query('code', [target, fileStem()]);
+      generated = await query('code', [target, fileStem(), Date.now() / 1000]);
     } catch (error) {
       if (!error?.diagnostics) throw error;
-      // A time constant this target cannot hold: located in the spec, like any input error.
+      // A time constant or a tag this target cannot hold: located in the spec, like any input error.
       showDiagnostics(error.diagnostics);
       $('#code').textContent = '';
       note.textContent = `No ${target} code: ${error.diagnostics[0]?.message ?? 'the spec does not fit this target'} (see the diagnostics).`;
       return;
     }
+    if ($('#target').value !== target) return;
+    const arrived = performance.timeOrigin + performance.now();
+    window.plcsynth.codeTimings = { target, queryMs: performance.now() - started, engineMs: generated?.engineMs, transitMs: generated ? arrived - generated.postedAt : null, sentAfterMs: generated ? generated.postedAt - (performance.timeOrigin + started) : null };
     if (generated) {
-      app.code = generated.code;
+      const files = generated.files;
+      app.code = files.length === 1 ? files[0].text : files.map((f) => `==> ${f.name} <==\n${f.text}`).join('');
       app.extension = generated.extension;
+      app.files = generated.files;
+      renderIo(generated);
+      renderFiles(generated.files);
       note.textContent = target === 'program' ? 'The optimised controller program (Peter 2005, chapter 6).' : 'Generated from the optimised controller program.';
     } else {
       note.textContent = `No controller: the spec is ${app.result.verdict.replace('_', ' ')}.`;
     }
   }
   if ($('#target').value !== target) return;
-  const lines = app.code.split('\n');
-  $('#code').textContent = lines.length > DUMP_LINES ? `${lines.slice(0, DUMP_LINES).join('\n')}\n… ${fmtInt(lines.length - DUMP_LINES)} more lines: use Download` : app.code;
+  $('#code').dataset.target = target;
+  if (cap < Infinity) {
+    const lines = app.code.split('\n');
+    if (lines.length > cap) {
+      renderCode(`${lines.slice(0, cap).join('\n')}\n… ${fmtInt(lines.length - cap)} more lines: use Download`, started);
+      return;
+    }
+  }
+  renderCode(app.code, started);
 }
 $('#target').addEventListener('change', refreshCode);
 $('#copy-code').addEventListener('click', async () => {
@@ -263,11 +369,12 @@ $('#copy-code').addEventListener('click', async () => {
 });
 $('#download-code').addEventListener('click', () => {
   if (!app.code) return toast('Nothing to download yet: run the spec first.');
-  const file = `${fileStem()}${app.suffix}.${app.extension}`;
-  const a = h('a', { href: URL.createObjectURL(new Blob([app.code], { type: 'text/plain' })), download: file });
-  a.click();
-  setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+  // A target's files under their own names (one download each for TwinCAT's three).
+  if (app.files.length) app.files.forEach((f) => download(f.name, f.text));
+  else download(`${fileStem()}${app.suffix}.${app.extension}`, app.code);
 });
+$('#download-io-csv').addEventListener('click', () => app.io && download(`${fileStem()}_io.csv`, app.io.io_csv, 'text/csv'));
+$('#download-io-sdf').addEventListener('click', () => app.io && download(`${fileStem()}_tags.sdf`, app.io.io_sdf));
 
 // ---- share ------------------------------------------------------------------------------
 

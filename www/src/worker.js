@@ -55,7 +55,14 @@ const ops = {
   query({ method, args }) {
     if (!session) throw new Error('nothing solved yet');
     if (!['space', 'states', 'neighbourhood', 'state', 'dump', 'program', 'code', 'strategy'].includes(method)) throw new Error(`unknown query ${method}`);
-    return session[method](...(args ?? []));
+    const started = performance.now();
+    const value = session[method](...(args ?? []));
+    // The engine's share of a code query, for the page's measurements.
+    if (method === 'code' && value) {
+      value.engineMs = performance.now() - started;
+      value.postedAt = performance.timeOrigin + performance.now();
+    }
+    return value;
   },
 };
 

@@ -1,0 +1,87 @@
+//! The I/O table of a controller: one row per interface variable with its address (or project
+//! symbol), type, symbol, direction and meaning; as CSV for any tool, and as a Siemens symbol
+//! table (SDF, the "System Data Format" of STEP 7 that TIA Portal's PLC tag tables import too).
+
+use super::model::{Binding, Code, Direction};
+use super::siemens_address;
+
+/// One row of the I/O table.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct IoRow {
+    /// `%IX124.0`, a project symbol (`GVL.arm_up`, `"Lamp On"`), or empty when unbound.
+    pub address: String,
+    /// The IEC type (always `BOOL`: every signal is one bit).
+    pub data_type: &'static str,
+    /// The variable's name in the generated code.
+    pub symbol: String,
+    pub direction: Direction,
+    /// The messages of the specification it stands for.
+    pub meaning: String,
+}
+
+impl Direction {
+    pub fn name(self) -> &'static str {
+        match self {
+            Direction::Input => "input",
+            Direction::Output => "output",
+        }
+    }
+}
+
+/// The rows of `code`: inputs first, then outputs, in the order of the block's interface.
+pub fn io_table(code: &Code) -> Vec<IoRow> {
+    code.variables()
+        .map(|(v, direction)| IoRow {
+            address: v.binding.as_ref().map(Binding::iec_text).unwrap_or_default(),
+            data_type: "BOOL",
+            symbol: v.symbol.clone(),
+            direction,
+            meaning: v.comment.clone(),
+        })
+        .collect()
+}
+
+/// A CSV field (RFC 4180): quoted when it holds a comma, a quote or a line break.
+fn csv_field(text: &str) -> String {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
+    }
+}
+
+/// The I/O table as CSV (RFC 4180, comma-separated, a header row, CRLF line ends).
+pub fn io_table_csv(code: &Code) -> String {
+    let mut out = String::from("address,type,symbol,direction,meaning\r\n");
+    for row in io_table(code) {
+        let fields = [row.address.as_str(), row.data_type, &row.symbol, row.direction.name(), &row.meaning];
+        let line: Vec<String> = fields.iter().map(|f| csv_field(f)).collect();
+        out.push_str(&line.join(","));
+        out.push_str("\r\n");
+    }
+    out
+}
+
+/// The signals bound to addresses as a Siemens symbol table in SDF: one line per tag,
+/// `"symbol","address","type","comment"` (STEP 7 "Programming with STEP 7", 8.6: strings in
+/// quotation marks separated by commas; the address in Siemens notation `I 124.0`). STEP 7
+/// limits symbols to 24 and comments to 80 characters; comments are cut to 80. Signals bound to
+/// project symbols or unbound are not tags of this table.
+pub fn tag_table_sdf(code: &Code) -> String {
+    let mut out = String::new();
+    for (v, _) in code.variables() {
+        if let Some(Binding::Address(text)) = &v.binding {
+            let address = siemens_address(text);
+            let split = address.find(|c: char| c.is_ascii_digit()).unwrap_or(address.len());
+            let comment: String = v.comment.replace('"', "'").chars().take(80).collect();
+            out.push_str(&format!(
+                "\"{}\",\"{} {}\",\"BOOL\",\"{}\"\r\n",
+                v.symbol,
+                &address[..split],
+                &address[split..],
+                comment
+            ));
+        }
+    }
+    out
+}

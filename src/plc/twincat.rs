@@ -1,0 +1,80 @@
+//! TwinCAT 3 source files, as TwinCAT's "Add → Existing Item" reads them: a `.TcPOU` per
+//! program organisation unit (the function block and the program that wires it) and a `.TcGVL`
+//! with the I/O's variables, located at their addresses or, when unbound, `AT %I*`/`AT %Q*` for
+//! linking in the System Manager. Each is a `TcPlcObject` (format version 1.1.0.1)
+//! whose declaration and implementation are the CODESYS dialect's Structured Text in CDATA.
+//! Object ids are name-based GUIDs ([`super::stable_guid`]), so the files depend on the input
+//! only.
+
+use super::model::Code;
+use super::st::{self, Dialect};
+use super::{stable_guid, OutputFile};
+use std::fmt::Write;
+
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}
+
+/// Text inside `<![CDATA[…]]>`: a `]]>` in it is split over two sections.
+fn cdata(text: &str) -> String {
+    format!("<![CDATA[{}]]>", text.replace("]]>", "]]]]><![CDATA[>"))
+}
+
+/// The start of every file: the XML declaration, the provenance as an XML comment, the root.
+fn head(code: &Code) -> String {
+    let mut out = String::from("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n");
+    for line in &code.header {
+        out.push_str(&format!("<!-- {} -->\n", escape(line).replace("--", "- -")));
+    }
+    out.push_str("<TcPlcObject Version=\"1.1.0.1\">\n");
+    out
+}
+
+/// The provenance as ST comment lines, first in every declaration.
+fn header_comment(code: &Code) -> String {
+    code.header.iter().map(|l| format!("(* {l} *)\n")).collect()
+}
+
+fn pou(code: &Code, name: &str, declaration: &str, implementation: &str) -> OutputFile {
+    let mut text = head(code);
+    let _ = write!(
+        text,
+        "  <POU Name=\"{}\" Id=\"{}\" SpecialFunc=\"None\">\n    <Declaration>{}</Declaration>\n    \
+         <Implementation>\n      <ST>{}</ST>\n    </Implementation>\n  </POU>\n</TcPlcObject>\n",
+        escape(name),
+        stable_guid(&code.header, name),
+        cdata(declaration),
+        cdata(implementation)
+    );
+    OutputFile { name: format!("{name}.TcPOU"), text }
+}
+
+/// The files: the function block first, then (with bindings) the program and the I/O list.
+pub fn files(code: &Code) -> Vec<OutputFile> {
+    let mut declaration = header_comment(code);
+    let mut body = String::new();
+    st::declaration(code, Dialect::Twincat, &mut declaration).expect("writing to a String cannot fail");
+    st::body(code, &mut body).expect("writing to a String cannot fail");
+    let mut files = vec![pou(code, &code.name, &declaration, &body)];
+    if st::wired(code, Dialect::Twincat) {
+        let mut declaration = header_comment(code);
+        let mut body = String::new();
+        st::program_declaration(code, Dialect::Twincat, &mut declaration).expect("writing to a String cannot fail");
+        st::program_body(code, Dialect::Twincat, &mut body).expect("writing to a String cannot fail");
+        files.push(pou(code, &code.program, &declaration, &body));
+    }
+    if st::has_gvl(code, Dialect::Twincat) {
+        let mut declaration = header_comment(code);
+        st::gvl(code, Dialect::Twincat, &mut declaration).expect("writing to a String cannot fail");
+        let mut text = head(code);
+        let _ = write!(
+            text,
+            "  <GVL Name=\"{}\" Id=\"{}\">\n    <Declaration>{}</Declaration>\n  </GVL>\n</TcPlcObject>\n",
+            escape(&code.gvl),
+            stable_guid(&code.header, &code.gvl),
+            cdata(&declaration)
+        );
+        files.push(OutputFile { name: format!("{}.TcGVL", code.gvl), text });
+    }
+    files
+}
