@@ -305,3 +305,22 @@ fn an_error_at_the_end_of_a_file_ending_in_cr_renders() {
     let text = plcsynth::diag::render_plain("a.sct", src, &diags);
     assert!(text.starts_with("a.sct:1:"), "{text}");
 }
+
+/// Triggers and actions are Structured Text: a mistake in one is located inside its string
+/// (escapes counted), all of them at once; `\var{…}` and `\last{…}` pass through the string.
+#[test]
+fn mistakes_in_triggers_and_actions_are_located_inside_the_string() {
+    let src = "event a : controllable { detect rising \"Q_A AND\"; on denial \"Q_A = FALSE;\"; }\n\
+               event b : controllable { detect edge \"x > \\\"y\"; reset on denial \"Q_B + 1\"; }\n\
+               event c : controllable { detect cyclic \"\\var{Ctrl.busy} AND NOT \\last{%IX0.1}\"; on accept \"IF go THEN Q := TRUE; END_IF;\"; }\n\
+               plant P { alphabet a, b, c; state s { a -> s; b -> s; c -> s; } }\n";
+    let e = errors(src);
+    expect_at(&e, 1, 48, "in the trigger: expected an operand");
+    expect_at(&e, 1, 66, "in the code: expected `:=`, found `=`");
+    // `\"` counts as one character of the fragment and two of the source.
+    expect_at(&e, 2, 43, "in the trigger: unexpected character `\"`");
+    expect_at(&e, 2, 66, "in `reset on denial`: expected a variable or an address to reset");
+    assert_eq!(e.len(), 4, "{e:#?}");
+    let rendered = render_plain("t.sct", src, &e);
+    assert!(rendered.contains("triggers and actions are Structured Text"), "{rendered}");
+}

@@ -26,11 +26,30 @@ pub enum EdgeKind {
 
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum EventItem {
-    Detect { edge: EdgeKind, expr: String, span: Span },
-    Executed { span: Span },
-    ResetOnDenial { addrs: Vec<String>, span: Span },
-    OnAccept { code: String, span: Span },
-    OnDenial { code: String, span: Span },
+    /// `expr_span`, like the other `*_span`s and the addresses' spans, is the string literal's.
+    Detect {
+        edge: EdgeKind,
+        expr: String,
+        expr_span: Span,
+        span: Span,
+    },
+    Executed {
+        span: Span,
+    },
+    ResetOnDenial {
+        addrs: Vec<(String, Span)>,
+        span: Span,
+    },
+    OnAccept {
+        code: String,
+        code_span: Span,
+        span: Span,
+    },
+    OnDenial {
+        code: String,
+        code_span: Span,
+        span: Span,
+    },
 }
 
 #[derive(Clone, Debug)]

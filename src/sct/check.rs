@@ -9,8 +9,9 @@
 
 use super::ast::{self, AutDecl, AutKind, CondExpr, EdgeKind, EventItem, Item, Path, StateItem};
 use super::model::{self, Budget, Cond, EventId, EventKind, Prohibition, Stop, SynthError, Transition};
-use super::parser;
+use super::parser::{self, raw_offset};
 use crate::diag::{Diagnostic, Diagnostics, Span};
+use crate::plc::fragment::{parse_expr, parse_statements, ExprKind, FragmentError};
 use hashbrown::HashMap;
 use serde::Serialize;
 
@@ -269,6 +270,19 @@ fn qualify(prefix: &str, name: &str) -> String {
 }
 
 impl<'s, 'a> Ctx<'s, 'a> {
+    /// Reports a mistake in a Structured Text fragment at its place inside the string literal
+    /// `literal` (quotes included) of the source.
+    fn check_fragment(&mut self, parsed: Result<(), FragmentError>, literal: Span, what: &str) {
+        let Err(e) = parsed else { return };
+        let (start, end) = (literal.start as usize + 1, (literal.end as usize).saturating_sub(1));
+        let raw = &self.diags.source()[start..end.max(start)];
+        let span =
+            Span::new(start + raw_offset(raw, e.span.start as usize), start + raw_offset(raw, e.span.end as usize));
+        self.diags
+            .error(span, format!("{what}: {}", e.message))
+            .with_note("triggers and actions are Structured Text (docs/sct-language.md, Events)");
+    }
+
     fn loc(&self, span: Span) -> String {
         let (l, c) = self.diags.line_col(span.start as usize);
         format!("{l}:{c}")
@@ -478,7 +492,8 @@ impl<'s, 'a> Ctx<'s, 'a> {
                             .error(*span, format!("event `{}` has a second trigger", d.name))
                             .with_note(format!("first trigger at {at}"));
                     }
-                    EventItem::Detect { edge, expr, span } => {
+                    EventItem::Detect { edge, expr, expr_span, span } => {
+                        self.check_fragment(parse_expr(expr).map(|_| ()), *expr_span, "in the trigger");
                         trigger_span = Some(*span);
                         if kind == EventKind::Enforceable {
                             self.diags
@@ -516,21 +531,33 @@ impl<'s, 'a> Ctx<'s, 'a> {
                         meta.trigger = Trigger::Executed;
                     }
                     EventItem::ResetOnDenial { addrs, span } => {
+                        for (addr, at) in addrs {
+                            let signal = parse_expr(addr).and_then(|e| match e.kind {
+                                ExprKind::Var(_) | ExprKind::Address(_) => Ok(()),
+                                _ => Err(FragmentError {
+                                    span: e.span,
+                                    message: "expected a variable or an address to reset".into(),
+                                }),
+                            });
+                            self.check_fragment(signal, *at, "in `reset on denial`");
+                        }
                         if kind != EventKind::Controllable {
                             self.diags.error(
                                 *span,
                                 format!("only controllable events can be reset on denial (`{}` is not)", d.name),
                             );
                         }
-                        meta.reset_on_denial.extend(addrs.iter().cloned());
+                        meta.reset_on_denial.extend(addrs.iter().map(|(a, _)| a.clone()));
                     }
-                    EventItem::OnAccept { code, span } => {
+                    EventItem::OnAccept { code, code_span, span } => {
+                        self.check_fragment(parse_statements(code).map(|_| ()), *code_span, "in the code");
                         if kind == EventKind::Uncontrollable {
                             self.diags.error(*span, format!("uncontrollable event `{}` cannot have actions", d.name));
                         }
                         meta.code_on_accept = Some(code.clone());
                     }
-                    EventItem::OnDenial { code, span } => {
+                    EventItem::OnDenial { code, code_span, span } => {
+                        self.check_fragment(parse_statements(code).map(|_| ()), *code_span, "in the code");
                         if kind == EventKind::Uncontrollable {
                             self.diags.error(*span, format!("uncontrollable event `{}` cannot have actions", d.name));
                         }

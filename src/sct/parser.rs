@@ -130,11 +130,12 @@ impl<'s> Parser<'s, '_> {
         }
     }
 
-    fn string(&mut self, what: &str) -> PResult<String> {
+    /// A string literal's text and the span of the literal (quotes included).
+    fn string_at(&mut self, what: &str) -> PResult<(String, Span)> {
         if self.peek() == Tok::Str {
             let t = self.text();
-            self.bump();
-            Ok(unescape(&t[1..t.len() - 1]))
+            let span = self.bump().1;
+            Ok((unescape(&t[1..t.len() - 1]), span))
         } else {
             self.err(what)
         }
@@ -315,26 +316,26 @@ impl<'s> Parser<'s, '_> {
                                 return Err(());
                             }
                         };
-                        let expr = p.string("the trigger expression as a string")?;
-                        EventItem::Detect { edge, expr, span: start.to(es) }
+                        let (expr, expr_span) = p.string_at("the trigger expression as a string")?;
+                        EventItem::Detect { edge, expr, expr_span, span: start.to(es) }
                     }
                     "executed" => EventItem::Executed { span: start },
                     "reset" => {
                         p.expect_kw("on")?;
                         p.expect_kw("denial")?;
-                        let mut addrs = vec![p.string("an address string")?];
+                        let mut addrs = vec![p.string_at("an address string")?];
                         while p.peek() == Tok::Comma {
                             p.bump();
-                            addrs.push(p.string("an address string")?);
+                            addrs.push(p.string_at("an address string")?);
                         }
                         EventItem::ResetOnDenial { addrs, span: start }
                     }
                     "on" => {
                         let (w, ws) = p.ident("`accept` or `denial`")?;
-                        let code = p.string("the code as a string")?;
+                        let (code, code_span) = p.string_at("the code as a string")?;
                         match w.as_str() {
-                            "accept" => EventItem::OnAccept { code, span: start.to(ws) },
-                            "denial" => EventItem::OnDenial { code, span: start.to(ws) },
+                            "accept" => EventItem::OnAccept { code, code_span, span: start.to(ws) },
+                            "denial" => EventItem::OnDenial { code, code_span, span: start.to(ws) },
                             _ => {
                                 p.diags.error(ws, format!("expected `accept` or `denial`, found `{w}`"));
                                 return Err(());
@@ -584,20 +585,45 @@ impl<'s> Parser<'s, '_> {
     }
 }
 
-fn unescape(s: &str) -> String {
+/// The text of a string literal's contents: `\"`, `\\`, `\n` and `\t` are escapes; any other
+/// backslash is kept as written, so that ST fragments can use SynTACS's `\var{…}` and `\last{…}`.
+pub(super) fn unescape(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
-    let mut it = s.chars();
+    let mut it = s.chars().peekable();
     while let Some(c) = it.next() {
         if c == '\\' {
-            match it.next() {
+            match it.peek() {
                 Some('n') => out.push('\n'),
                 Some('t') => out.push('\t'),
-                Some(o) => out.push(o),
-                None => {}
+                Some('"') => out.push('"'),
+                Some('\\') => out.push('\\'),
+                _ => {
+                    out.push('\\');
+                    continue;
+                }
             }
+            it.next();
         } else {
             out.push(c);
         }
     }
     out
+}
+
+/// The byte offset in a string literal's raw contents of byte `k` of its [`unescape`]d text.
+pub(super) fn raw_offset(raw: &str, k: usize) -> usize {
+    let mut text = 0; // bytes of unescaped text produced so far
+    let mut chars = raw.char_indices().peekable();
+    while let Some((i, c)) = chars.next() {
+        if text >= k {
+            return i;
+        }
+        if c == '\\' && matches!(chars.peek(), Some((_, 'n' | 't' | '"' | '\\'))) {
+            chars.next();
+            text += 1;
+        } else {
+            text += c.len_utf8();
+        }
+    }
+    raw.len()
 }
