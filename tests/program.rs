@@ -109,10 +109,11 @@ fn rule_6_6_2_inlining() {
     let g = abc();
     let mut program = p(&g, "1: GOTO 10; 2: DO (B); 3: GOTO 1; 10: DO (A); 11: GOTO 20; 20: DO (C); 21: GOTO 2;");
     assert!(optimize::inlining(&mut program));
-    // `1: GOTO 10` becomes `1: DO (A); 1.5: GOTO 20`; the original block stays until removed.
+    // `1: GOTO 10` becomes `1: DO (A); 1.5: GOTO 20`; the original block stays until removed. In
+    // the same pass `21: GOTO 2` (block `2` is referenced once) becomes `DO (B); GOTO 1`.
     assert_eq!(
         show(&g, &program),
-        "0 : DO (A); 1 : GOTO 6; 2 : DO (B); 3 : GOTO 0; 4 : DO (A); 5 : GOTO 6; 6 : DO (C); 7 : GOTO 2; "
+        "0 : DO (A); 1 : GOTO 6; 2 : DO (B); 3 : GOTO 0; 4 : DO (A); 5 : GOTO 6; 6 : DO (C); 7 : DO (B); 8 : GOTO 0; "
     );
 }
 

@@ -201,32 +201,60 @@ pub fn reference_inlining(program: &mut Program) -> bool {
 }
 
 /// 6.6.2: `GOTO l2`, where the block at `l2` is one non-IF command and a `GOTO dest` and nothing
-/// else refers to `l2`, becomes a copy of that block.
+/// else refers to `l2`, becomes a copy of that block. Every such GOTO is rewritten in one pass,
+/// except where two rewrites touch the same commands (the fixpoint loop comes back for those):
+/// one site per round made the optimiser quadratic on large programs.
 pub fn inlining(program: &mut Program) -> bool {
     let pos = program.positions();
     let r = reference_counts(program);
-    for i in 0..program.commands.len() {
+    let n = program.commands.len();
+    // Commands read or written by a rewrite of this pass.
+    let mut touched = vec![false; n];
+    let mut sites: Vec<(usize, Command, CmdId)> = Vec::new();
+    for i in 0..n {
         let Instruction::Goto { target: l2 } = program.commands[i].instruction else { continue };
         if program.commands[i].resets != 0 {
             continue;
         }
         let j = pos[l2 as usize];
-        if j == u32::MAX || j as usize + 1 >= program.commands.len() || r[j as usize] != 1 || j as usize == i {
+        if j == u32::MAX || j as usize + 1 >= n || r[j as usize] != 1 || j as usize == i {
             continue;
         }
-        let (s, next) = (program.commands[j as usize], program.commands[j as usize + 1]);
+        let j = j as usize;
+        let (s, next) = (program.commands[j], program.commands[j + 1]);
         let Instruction::Goto { target: dest } = next.instruction else { continue };
         if next.resets != 0 || dest == l2 || matches!(s.instruction, Instruction::If { .. } | Instruction::Goto { .. })
         {
             continue;
         }
-        program.commands[i].instruction = s.instruction;
-        program.commands[i].resets = s.resets;
-        let id = program.fresh_id();
-        program.commands.insert(i + 1, Command { id, instruction: Instruction::Goto { target: dest }, resets: 0 });
-        return true; // positions changed; the fixpoint loop comes back
+        if touched[i] || touched[j] || touched[j + 1] {
+            continue;
+        }
+        touched[i] = true;
+        touched[j] = true;
+        touched[j + 1] = true;
+        sites.push((i, s, dest));
     }
-    false
+    if sites.is_empty() {
+        return false;
+    }
+    let mut out = Vec::with_capacity(n + sites.len());
+    let mut next_site = sites.iter().peekable();
+    for (i, c) in program.commands.iter().enumerate() {
+        match next_site.peek() {
+            Some(&&(at, s, dest)) if at == i => {
+                next_site.next();
+                out.push(Command { id: c.id, instruction: s.instruction, resets: s.resets });
+                out.push(Command { id: CmdId::MAX, instruction: Instruction::Goto { target: dest }, resets: 0 });
+            }
+            _ => out.push(*c),
+        }
+    }
+    for c in out.iter_mut().filter(|c| c.id == CmdId::MAX) {
+        c.id = program.fresh_id();
+    }
+    program.commands = out;
+    true
 }
 
 /// 6.6.4: commands with reference count zero can never run.
@@ -242,19 +270,22 @@ pub fn unreachable_removal(program: &mut Program) -> bool {
     program.commands.len() != before
 }
 
-/// 6.6.5: `GOTO l` right before `l` is removed; jumps to it go to `l`.
+/// 6.6.5: `GOTO l` right before `l` is removed; jumps to it go to `l`. All such GOTOs go in one
+/// pass (a run of them collapses onto the command after the run).
 pub fn redundant_goto_removal(program: &mut Program) -> bool {
-    for i in 0..program.commands.len().saturating_sub(1) {
-        let c = program.commands[i];
-        if let Instruction::Goto { target } = c.instruction {
-            if target == program.commands[i + 1].id && c.resets == 0 {
-                program.commands.remove(i);
-                retarget(program, c.id, target);
-                return true;
-            }
+    let cmds = &program.commands;
+    let n = cmds.len();
+    let mut removed = vec![false; n];
+    for i in 0..n.saturating_sub(1) {
+        if let Instruction::Goto { target } = cmds[i].instruction {
+            removed[i] = target == cmds[i + 1].id && cmds[i].resets == 0;
         }
     }
-    false
+    if !removed.contains(&true) {
+        return false;
+    }
+    remove_falling_through(program, &removed);
+    true
 }
 
 fn retarget(program: &mut Program, from: CmdId, to: CmdId) {
@@ -266,25 +297,62 @@ fn retarget(program: &mut Program, from: CmdId, to: CmdId) {
     }
 }
 
+/// Removes the marked commands, none of them the last: control that reached one falls through
+/// to the first kept command after it, so jumps to it go there.
+fn remove_falling_through(program: &mut Program, removed: &[bool]) {
+    let cmds = &program.commands;
+    let mut redirect: hashbrown::HashMap<CmdId, CmdId> = hashbrown::HashMap::new();
+    let mut landing = None;
+    for i in (0..cmds.len()).rev() {
+        if removed[i] {
+            if let Some(to) = landing {
+                redirect.insert(cmds[i].id, to);
+            }
+        } else {
+            landing = Some(cmds[i].id);
+        }
+    }
+    let mut k = 0;
+    program.commands.retain(|_| {
+        let keep = !removed[k];
+        k += 1;
+        keep
+    });
+    for c in &mut program.commands {
+        if let Instruction::If { target, .. } | Instruction::Goto { target } = &mut c.instruction {
+            if let Some(&to) = redirect.get(target) {
+                *target = to;
+            }
+        }
+    }
+}
+
 /// plcsynth: `WAITUNTIL (silent)` is dropped when the commands it falls through to (following
 /// GOTOs) start with a wait on observable plant messages only: a `WAITUNTIL (m)` or a wait
 /// block of `IF (m)` commands that loops back. Not before a state-guard message: a sensor may
 /// report at any time, so the wait before it is needed.
 pub fn silent_wait_removal(program: &mut Program, cx: &Context) -> bool {
+    // The plant takes an urgent reaction before the controller can do anything else: such a
+    // wait goes wherever it stands, so all of them go in one pass (one per round made the
+    // optimiser quadratic on programs with many instant reactions).
+    let cmds = &program.commands;
+    let urgent: Vec<bool> = (0..cmds.len())
+        .map(|i| {
+            matches!(cmds[i].instruction, Instruction::WaitUntil { condition } if cx.urgent(&condition))
+                && cmds[i].resets == 0
+                && i + 1 < cmds.len()
+        })
+        .collect();
+    if urgent.contains(&true) {
+        remove_falling_through(program, &urgent);
+        return true;
+    }
     let pos = program.positions();
     let cmds = &program.commands;
     for i in 0..cmds.len() {
         let Instruction::WaitUntil { condition } = cmds[i].instruction else { continue };
         if cmds[i].resets != 0 || i + 1 >= cmds.len() {
             continue;
-        }
-        if cx.urgent(&condition) {
-            // The plant takes an urgent reaction before the controller can do anything else.
-            let id = cmds[i].id;
-            program.commands.remove(i);
-            let next = program.commands[i].id;
-            retarget(program, id, next);
-            return true;
         }
         if !cx.silent(&condition) {
             continue;
