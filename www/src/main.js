@@ -222,7 +222,9 @@ function setTarget(target) {
 function download(name, text, type = 'text/plain') {
   const a = h('a', { href: URL.createObjectURL(new Blob([text], { type })), download: name });
   a.click();
-  setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+  // The browser fetches the blob after the click returns; on a busy machine that took over a
+  // second, and a URL revoked by then gave no download at all. A minute is ample.
+  setTimeout(() => URL.revokeObjectURL(a.href), 60_000);
 }
 
 /** Lines shown at once; the rest follows in chunks between frames, so that the first screen of

@@ -70,7 +70,20 @@ onmessage = async ({ data }) => {
   const { id, op } = data;
   try {
     await ready;
-    postMessage({ id, ok: true, value: ops[op](data) });
+    const value = ops[op](data);
+    postMessage({ id, ok: true, value });
+    if (op === 'run' && value?.verdict === 'realizable') {
+      // Build the controller program while the user reads the verdict (0.4 s for round table
+      // 8/8), so that the first code view shows at once; queries that come first go first.
+      const solved = session;
+      setTimeout(() => {
+        try {
+          if (session === solved) solved.program();
+        } catch {
+          // The code query will report it.
+        }
+      }, 0);
+    }
   } catch (error) {
     const poisoned = error instanceof WebAssembly.RuntimeError;
     postMessage({ id, ok: false, error: describe(error), poisoned });
