@@ -1151,13 +1151,11 @@ impl<'g, 'p> Solver<'g, 'p> {
             for &(clock, piece) in &sl.pieces {
                 let iv = self.split.pieces[clock as usize][piece as usize];
                 let Some(upper) = iv.upper else { continue };
-                let target = sl.delays.iter().find(|d| d.clock == clock).map(|d| d.target);
                 exits.push(Exit {
                     unit: u,
                     clock,
                     upper: upper as i32,
                     closed: iv.upper_closed,
-                    target,
                     next_piece: piece + 1,
                 });
             }
@@ -1227,25 +1225,6 @@ impl<'g, 'p> Solver<'g, 'p> {
         mut zone: Dbm,
     ) {
         let plant_count = self.split.plant_count;
-        if let Some(&k) = set.iter().find(|&&k| exits[k].target.is_none()) {
-            // A clock runs past its invariant (plant) or past the last piece it may have.
-            if exits[k].unit < plant_count {
-                let clock = exits[k].clock;
-                self.pending_edges.push(Edge {
-                    from: s,
-                    to: NONE,
-                    kind: EdgeKind::Timeout,
-                    label: Label::Overrun { clock },
-                    resets: 0,
-                    instant: false,
-                    zeno: false,
-                    progress: false,
-                    class: Class::Inert,
-                    next_in: NONE,
-                });
-            }
-            return;
-        }
         // Several clocks of one unit may move on together: follow the unit's delay edges one
         // clock after the other, each from the sub-location the previous one led to (taking
         // each from the original sub-location would keep only the last clock's move).
@@ -1255,10 +1234,26 @@ impl<'g, 'p> Solver<'g, 'p> {
             let e = &exits[k];
             let sub = if e.unit < plant_count { &mut env2[e.unit] } else { &mut plan2[e.unit - plant_count] };
             let from = &self.split.units[e.unit].sublocs[*sub as usize];
-            match from.delays.iter().find(|d| d.clock == e.clock) {
-                Some(d) => *sub = d.target,
-                None => return, // the pieces of one clock do not depend on another's
+            if let Some(d) = from.delays.iter().find(|d| d.clock == e.clock) {
+                *sub = d.target;
+                continue;
             }
+            // The clock runs past its invariant (plant) or past the last piece it may have.
+            if e.unit < plant_count {
+                self.pending_edges.push(Edge {
+                    from: s,
+                    to: NONE,
+                    kind: EdgeKind::Timeout,
+                    label: Label::Overrun { clock: e.clock },
+                    resets: 0,
+                    instant: false,
+                    zeno: false,
+                    progress: false,
+                    class: Class::Inert,
+                    next_in: NONE,
+                });
+            }
+            return;
         }
         zone.up();
         for &k in set {
@@ -1414,8 +1409,6 @@ struct Exit {
     /// End of the current piece, and whether it belongs to the piece.
     upper: i32,
     closed: bool,
-    /// The sub-location with the next piece, or `None` past an invariant or the last piece.
-    target: Option<SubLocId>,
     next_piece: u16,
 }
 
