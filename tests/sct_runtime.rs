@@ -4,7 +4,7 @@
 //! supervision promises.
 
 use plcsynth::rng::Rng;
-use plcsynth::sct::model::{Config, EventId, EventKind, Project, Truth};
+use plcsynth::sct::model::{Config, EventId, EventKind, Project, Transition, Truth};
 use plcsynth::sct::{compile, synthesize_all, CycleInput, Loaded, Outcome, Runtime, SupervisorReport};
 
 fn example(name: &str) -> (Loaded, Vec<SupervisorReport>) {
@@ -110,6 +110,13 @@ fn the_timer_gives_the_controller_its_grace_period() {
     }
 }
 
+/// Where the transition of `trans` that leaves `from` on `e`, with its condition true in the
+/// plant states `plant`, leads.
+fn taken(trans: &[Transition], from: u32, e: EventId, plant: &[u32]) -> Option<u32> {
+    let lookup = |g: u32| plant.get(g as usize).copied();
+    trans.iter().find(|t| t.src == from && t.event == e && t.cond.eval(&lookup) == Truth::True).map(|t| t.dst)
+}
+
 /// The plant models as a running plant: current states, and which events they allow now.
 struct Plant<'p> {
     project: &'p Project,
@@ -123,17 +130,11 @@ impl<'p> Plant<'p> {
 
     /// The successor states if every plant with `e` in its alphabet can take it now.
     fn after(&self, e: EventId) -> Option<Vec<u32>> {
-        let lookup = |plant: u32| self.states.get(plant as usize).copied();
         let mut next = self.states.clone();
         for (g, plant) in self.project.plants.iter().enumerate() {
-            if !plant.alphabet.contains(&e) {
-                continue;
+            if plant.alphabet.contains(&e) {
+                next[g] = taken(&plant.trans, self.states[g], e, &self.states)?;
             }
-            let t = plant
-                .trans
-                .iter()
-                .find(|t| t.src == self.states[g] && t.event == e && t.cond.eval(&lookup) == Truth::True)?;
-            next[g] = t.dst;
         }
         Some(next)
     }
@@ -172,10 +173,8 @@ impl<'p> Monitors<'p> {
                     spec.states[q as usize]
                 ));
             }
-            if let Some(t) =
-                spec.trans.iter().find(|t| t.src == q && t.event == e && t.cond.eval(&lookup) == Truth::True)
-            {
-                self.states[h] = t.dst;
+            if let Some(next) = taken(&spec.trans, q, e, plant) {
+                self.states[h] = next;
             }
         }
         Ok(())
