@@ -23,6 +23,7 @@ pub mod st;
 pub mod stl;
 mod target;
 pub mod twincat;
+pub mod unit;
 
 pub use iotable::{io_table, io_table_csv, tag_table_sdf, IoRow};
 pub use lower_timed::{build, generate};
@@ -438,6 +439,7 @@ mod tests {
             ("plcopen.rs", include_str!("plcopen.rs")),
             ("twincat.rs", include_str!("twincat.rs")),
             ("iotable.rs", include_str!("iotable.rs")),
+            ("unit.rs", include_str!("unit.rs")),
         ];
         for (file, text) in sources {
             for engine in ["crate::timed", "crate::program", "crate::sct", "lower_timed::"] {
