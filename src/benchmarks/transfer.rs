@@ -47,14 +47,21 @@ pub fn transfer_lines(k: usize, m: usize, cap: usize) -> String {
         let _ = writeln!(s, "module TL{i} {{");
         for j in 1..=m {
             let _ = writeln!(s, "  module M{j} {{");
-            let _ = writeln!(s, "    event start : controllable;\n    event finish : uncontrollable;");
+            // Triggers on made-up PLC tags, so that the supervisors run in the runtime framework.
+            let _ = writeln!(
+                s,
+                "    event start : controllable {{ detect rising \"Q_L{i}_M{j}_Run\"; reset on denial \"Q_L{i}_M{j}_Run\"; }}\n    \
+                 event finish : uncontrollable {{ detect rising \"I_L{i}_M{j}_Done\"; }}"
+            );
             let _ = writeln!(s, "    plant P {{ alphabet start, finish; state I initial {{ start -> W; }} state W {{ finish -> I; }} }}");
             let _ = writeln!(s, "  }}");
         }
         let _ = writeln!(s, "  module TU {{");
         let _ = writeln!(
             s,
-            "    event start : controllable;\n    event reject : uncontrollable;\n    event accept : uncontrollable;"
+            "    event start : controllable {{ detect rising \"Q_L{i}_TU_Run\"; reset on denial \"Q_L{i}_TU_Run\"; }}\n    \
+             event reject : uncontrollable {{ detect rising \"I_L{i}_TU_Reject\"; }}\n    \
+             event accept : uncontrollable {{ detect rising \"I_L{i}_TU_Accept\"; }}"
         );
         let _ = writeln!(
             s,

@@ -4,6 +4,7 @@ use clap::{Args, ValueEnum};
 use plcsynth::benchmarks::textbook::{agv, small_factory, transfer_line, transfer_lines_classic};
 use plcsynth::benchmarks::transfer::{extended_line, transfer_lines};
 use plcsynth::diag::{render_plain, Diagnostics};
+use plcsynth::plc;
 use plcsynth::sct::classic::gen::{read_gen_file_within, write_gen, GenFile};
 use plcsynth::sct::classic::{minimize, supcon as classic_supcon, supcon_within, EventId, Events, SupConError};
 use plcsynth::sct::model::dep_closure;
@@ -44,6 +45,30 @@ pub struct SuperviseArgs {
     /// is spent, the run stops with exit status 3.
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_STATES)]
     pub max_states: usize,
+    /// Generate the runtime framework (Göbe 2019, 6.3) for this PLC target instead of printing
+    /// the report (docs/syrf.md).
+    #[arg(long, value_parser = target_parser())]
+    pub target: Option<plc::Target>,
+    /// Write the framework to this file instead of standard output; for a target of several
+    /// files (twincat) a directory, created if missing.
+    #[arg(short, long, requires = "target")]
+    pub output: Option<String>,
+    /// Also write the signal table (CSV: address, type, symbol, direction, events).
+    #[arg(long, value_name = "FILE", requires = "target")]
+    pub io_table: Option<String>,
+    /// The function block type of the existing controller that the framework calls.
+    #[arg(long, value_name = "TYPE", default_value = "Controller", requires = "target")]
+    pub controller: String,
+    /// Prefix of the framework's names (`SyRF_Main`, `SyRF_Execute`, ...).
+    #[arg(long, value_name = "NAME", default_value = "SyRF", requires = "target")]
+    pub name: String,
+}
+
+/// The `--target` values of `supervise`: every PLC target, with its label as help.
+fn target_parser() -> impl clap::builder::TypedValueParser<Value = plc::Target> {
+    use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+    let targets = plc::Target::ALL.into_iter().map(|t| PossibleValue::new(t.name()).help(t.label()));
+    PossibleValuesParser::new(targets).map(|name| name.parse().unwrap_or(plc::Target::St))
 }
 
 #[derive(Args)]
@@ -148,6 +173,15 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
     }
     // The budget stop is one error diagnostic; any other error is an input error.
     let input_errors = sdiags.iter().filter(|d| d.is_error()).count() > usize::from(stop.is_some());
+    if let Some(target) = a.target {
+        if input_errors {
+            return ExitCode::from(2);
+        }
+        if stop.is_some() {
+            return ExitCode::from(3);
+        }
+        return write_framework(a, target, &src, &loaded, &reports);
+    }
     if a.json {
         let out = serde_json::json!({
             "file": a.file,
@@ -192,6 +226,47 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
     } else {
         ExitCode::SUCCESS
     }
+}
+
+/// Lowers the supervisors of `reports` into the runtime framework and writes it for `target`.
+fn write_framework(
+    a: &SuperviseArgs,
+    target: plc::Target,
+    src: &str,
+    loaded: &plcsynth::sct::Loaded,
+    reports: &[plcsynth::sct::SupervisorReport],
+) -> ExitCode {
+    let supervisors: Vec<&plcsynth::sct::model::Supervisor> = reports.iter().map(|r| &r.supervisor).collect();
+    let options = plc::lower_sct::FrameworkOptions { name: a.name.clone(), controller: a.controller.clone() };
+    let unit = match plc::lower_sct::lower(src, loaded, &supervisors, &options) {
+        Ok(unit) => unit,
+        Err(diags) => {
+            eprint!("{}", render_plain(&a.file, src, &diags));
+            eprintln!("{}: nothing written", a.file);
+            return ExitCode::from(2);
+        }
+    };
+    let created_unix = match super::timed::creation_time() {
+        Ok(t) => t,
+        Err(message) => {
+            eprintln!("error: {message}");
+            return ExitCode::from(2);
+        }
+    };
+    let files = match plc::render_unit_files(&unit, target, &plc::Options { created_unix, ..plc::Options::default() }) {
+        Ok(files) => files,
+        Err(message) => {
+            eprintln!("error: {message}");
+            return ExitCode::from(2);
+        }
+    };
+    if let Some(path) = &a.io_table {
+        if let Err(e) = std::fs::write(path, plc::signal_table_csv(&unit)) {
+            eprintln!("error: cannot write {path}: {e}");
+            return ExitCode::from(2);
+        }
+    }
+    super::timed::write_files(a.output.as_deref(), Some(target), &files)
 }
 
 /// How to go on after the state budget stopped a run.

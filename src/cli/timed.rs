@@ -60,13 +60,7 @@ impl PlcArgs {
                 return Err(format!("{flag} applies to --target stl only"));
             }
         }
-        let created_unix = match std::env::var("SOURCE_DATE_EPOCH") {
-            Ok(text) => text
-                .trim()
-                .parse::<u64>()
-                .map_err(|_| format!("SOURCE_DATE_EPOCH is not a number of seconds: `{text}`"))?,
-            Err(_) => std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs()),
-        };
+        let created_unix = creation_time()?;
         let defaults = plc::Options::default();
         Ok(plc::Options {
             ob: self.ob.unwrap_or(defaults.ob),
@@ -267,9 +261,20 @@ pub fn compile(
     write_files(out, Some(t), &plc::render_files(&code, t, &options))
 }
 
+/// The creation time printed into PLCopen files: `SOURCE_DATE_EPOCH` if set (reproducible
+/// builds), else now.
+pub(crate) fn creation_time() -> Result<u64, String> {
+    match std::env::var("SOURCE_DATE_EPOCH") {
+        Ok(text) => {
+            text.trim().parse::<u64>().map_err(|_| format!("SOURCE_DATE_EPOCH is not a number of seconds: `{text}`"))
+        }
+        Err(_) => Ok(std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs())),
+    }
+}
+
 /// Writes `files` to `out` (a file, or a directory for a multi-file target) or to standard
 /// output (several files each after a line `==> NAME <==`).
-fn write_files(out: Option<&str>, target: Option<plc::Target>, files: &[plc::OutputFile]) -> ExitCode {
+pub(crate) fn write_files(out: Option<&str>, target: Option<plc::Target>, files: &[plc::OutputFile]) -> ExitCode {
     let multi = target.is_some_and(plc::Target::multi_file);
     let result = match out {
         Some(dir) if multi => std::fs::create_dir_all(dir).and_then(|()| {

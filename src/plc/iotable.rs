@@ -4,6 +4,7 @@
 
 use super::model::{Binding, Code, Direction};
 use super::siemens_address;
+use super::unit::{SignalKind, Unit};
 
 /// One row of the I/O table.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -82,6 +83,40 @@ pub fn tag_table_sdf(code: &Code) -> String {
                 comment
             ));
         }
+    }
+    out
+}
+
+/// The signal table of a structured unit as CSV (RFC 4180, CRLF): the address each signal of the
+/// user's project has in the STL form (IEC notation), its type, its symbol, its direction and
+/// the events whose triggers or actions use it; then the event constants (`EV_…`, with their
+/// values), which a controller passes to the framework and an HMI reads back.
+pub fn signal_table_csv(unit: &Unit) -> String {
+    let mut out = String::from("address,type,symbol,direction,events\r\n");
+    let mut row = |fields: [&str; 5]| {
+        let line: Vec<String> = fields.iter().map(|f| csv_field(f)).collect();
+        out.push_str(&line.join(","));
+        out.push_str("\r\n");
+    };
+    for s in &unit.signals {
+        let ty = match s.ty {
+            super::unit::Type::Int => "INT",
+            super::unit::Type::Dint => "DINT",
+            _ => "BOOL",
+        };
+        let direction = match s.kind {
+            SignalKind::Input => "input",
+            SignalKind::Output => "output",
+            SignalKind::Memory => "memory",
+        };
+        row([&format!("%{}", super::iec_address(&s.address)), ty, &s.symbol, direction, &s.comment]);
+    }
+    for c in &unit.constants {
+        let value = match c.init {
+            Some(super::unit::Expr::Int(v)) => v.to_string(),
+            _ => String::new(),
+        };
+        row([&value, "INT", &c.name, "constant", &c.comment]);
     }
     out
 }

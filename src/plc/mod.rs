@@ -16,6 +16,7 @@
 pub mod fragment;
 pub mod il;
 pub mod iotable;
+pub mod lower_sct;
 pub mod lower_timed;
 pub mod model;
 pub mod plcopen;
@@ -24,8 +25,10 @@ pub mod stl;
 mod target;
 pub mod twincat;
 pub mod unit;
+pub mod unit_plcopen;
+pub mod unit_st;
 
-pub use iotable::{io_table, io_table_csv, tag_table_sdf, IoRow};
+pub use iotable::{io_table, io_table_csv, signal_table_csv, tag_table_sdf, IoRow};
 pub use lower_timed::{build, generate};
 pub use model::Code;
 
@@ -93,6 +96,34 @@ fn print_single(code: &Code, target: Target, options: &Options, out: &mut impl f
             Ok(())
         }
     }
+}
+
+/// The files of a structured `unit` for `target`: one for most targets; TwinCAT writes a
+/// `.TcPOU` per POU and a `.TcGVL` for the globals. Instruction List is refused: it is
+/// deprecated in IEC 61131-3 (3rd edition) and no SCL or ST tool needs it for a framework of
+/// functions.
+pub fn render_unit_files(unit: &unit::Unit, target: Target, options: &Options) -> Result<Vec<OutputFile>, String> {
+    let single = |text: String| Ok(vec![OutputFile { name: format!("{}.{}", unit.name, target.extension()), text }]);
+    let mut text = String::new();
+    let dialect = match target {
+        Target::St => st::Dialect::Iec,
+        Target::Codesys => st::Dialect::Codesys,
+        Target::Scl => st::Dialect::Scl,
+        Target::Scl1500 => st::Dialect::Scl1500,
+        Target::Twincat => return Ok(unit_st::files(unit)),
+        Target::Plcopen => {
+            unit_plcopen::print(unit, options, &mut text).expect("writing to a String cannot fail");
+            return single(text);
+        }
+        Target::Stl => {
+            return Err("the runtime framework is not yet printed as STL".into());
+        }
+        Target::Il => {
+            return Err("the runtime framework is not generated as Instruction List (deprecated in IEC 61131-3 ed. 3); use st, codesys, scl or stl".into())
+        }
+    };
+    unit_st::print(unit, dialect, &mut text).expect("writing to a String cannot fail");
+    single(text)
 }
 
 /// Names in one scope, compared case-insensitively as IEC 61131-3 does, where no name may be a
@@ -440,6 +471,8 @@ mod tests {
             ("twincat.rs", include_str!("twincat.rs")),
             ("iotable.rs", include_str!("iotable.rs")),
             ("unit.rs", include_str!("unit.rs")),
+            ("unit_st.rs", include_str!("unit_st.rs")),
+            ("unit_plcopen.rs", include_str!("unit_plcopen.rs")),
         ];
         for (file, text) in sources {
             for engine in ["crate::timed", "crate::program", "crate::sct", "lower_timed::"] {

@@ -8,15 +8,15 @@ use super::model::{Binding, Code};
 use super::{iso_datetime, st, Options};
 use std::fmt::{self, Write};
 
-fn escape(text: &str) -> String {
+pub(super) fn escape(text: &str) -> String {
     text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
 
-fn variable(o: &mut impl Write, name: &str, ty: &str, init: Option<&str>, doc: &str) -> fmt::Result {
+pub(super) fn variable(o: &mut impl Write, name: &str, ty: &str, init: Option<&str>, doc: &str) -> fmt::Result {
     located(o, name, None, ty, init, doc)
 }
 
-fn located(
+pub(super) fn located(
     o: &mut impl Write,
     name: &str,
     address: Option<&str>,
@@ -36,17 +36,17 @@ fn located(
 }
 
 /// The ST text inside `<xhtml:p>`.
-fn st_body(o: &mut impl Write, text: &str) -> fmt::Result {
+pub(super) fn st_body(o: &mut impl Write, text: &str) -> fmt::Result {
     o.write_str("        <body>\n          <ST>\n            <xhtml:p><![CDATA[")?;
     o.write_str(&text.replace("]]>", "]]]]><![CDATA[>"))?;
     o.write_str("]]></xhtml:p>\n          </ST>\n        </body>\n")
 }
 
-/// Prints the project, created at `options.created_unix`.
-pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result {
+/// The XML declaration, the provenance, `<project>`, `<fileHeader>` and `<contentHeader>`.
+pub(super) fn project_head(name: &str, header: &[String], options: &Options, o: &mut impl Write) -> fmt::Result {
     let created = iso_datetime(options.created_unix);
     o.write_str("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n")?;
-    for line in &code.header {
+    for line in header {
         writeln!(o, "<!-- {} -->", escape(line))?;
     }
     o.write_str(
@@ -57,8 +57,14 @@ pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result 
         "  <fileHeader companyName=\"plcsynth\" productName=\"plcsynth\" productVersion=\"{}\" creationDateTime=\"{created}\"/>",
         env!("CARGO_PKG_VERSION")
     )?;
-    writeln!(o, "  <contentHeader name=\"{}\" modificationDateTime=\"{created}\">", escape(&code.name))?;
+    writeln!(o, "  <contentHeader name=\"{}\" modificationDateTime=\"{created}\">", escape(name))?;
     o.write_str("    <coordinateInfo>\n      <fbd><scaling x=\"1\" y=\"1\"/></fbd>\n      <ld><scaling x=\"1\" y=\"1\"/></ld>\n      <sfc><scaling x=\"1\" y=\"1\"/></sfc>\n    </coordinateInfo>\n  </contentHeader>\n")?;
+    Ok(())
+}
+
+/// Prints the project, created at `options.created_unix`.
+pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result {
+    project_head(&code.name, &code.header, options, o)?;
     o.write_str("  <types>\n    <dataTypes/>\n    <pous>\n")?;
     write!(o, "      <pou name=\"{}\" pouType=\"functionBlock\">\n        <interface>\n", escape(&code.name))?;
     o.write_str("          <inputVars>\n")?;

@@ -21,9 +21,9 @@ fn cdata(text: &str) -> String {
 }
 
 /// The start of every file: the XML declaration, the provenance as an XML comment, the root.
-fn head(code: &Code) -> String {
+fn head(header: &[String]) -> String {
     let mut out = String::from("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n");
-    for line in &code.header {
+    for line in header {
         out.push_str(&format!("<!-- {} -->\n", escape(line).replace("--", "- -")));
     }
     out.push_str("<TcPlcObject Version=\"1.1.0.1\">\n");
@@ -36,13 +36,18 @@ fn header_comment(code: &Code) -> String {
 }
 
 fn pou(code: &Code, name: &str, declaration: &str, implementation: &str) -> OutputFile {
-    let mut text = head(code);
+    pou_file(&code.header, name, declaration, implementation)
+}
+
+/// A `.TcPOU` file of one POU whose declaration and implementation are given as ST text.
+pub fn pou_file(header: &[String], name: &str, declaration: &str, implementation: &str) -> OutputFile {
+    let mut text = head(header);
     let _ = write!(
         text,
         "  <POU Name=\"{}\" Id=\"{}\" SpecialFunc=\"None\">\n    <Declaration>{}</Declaration>\n    \
          <Implementation>\n      <ST>{}</ST>\n    </Implementation>\n  </POU>\n</TcPlcObject>\n",
         escape(name),
-        stable_guid(&code.header, name),
+        stable_guid(header, name),
         cdata(declaration),
         cdata(implementation)
     );
@@ -66,15 +71,20 @@ pub fn files(code: &Code) -> Vec<OutputFile> {
     if st::has_gvl(code, Dialect::Twincat) {
         let mut declaration = header_comment(code);
         st::gvl(code, Dialect::Twincat, &mut declaration).expect("writing to a String cannot fail");
-        let mut text = head(code);
-        let _ = write!(
-            text,
-            "  <GVL Name=\"{}\" Id=\"{}\">\n    <Declaration>{}</Declaration>\n  </GVL>\n</TcPlcObject>\n",
-            escape(&code.gvl),
-            stable_guid(&code.header, &code.gvl),
-            cdata(&declaration)
-        );
-        files.push(OutputFile { name: format!("{}.TcGVL", code.gvl), text });
+        files.push(gvl_file(&code.header, &code.gvl, &declaration));
     }
     files
+}
+
+/// A `.TcGVL` file of a global variable list given as ST text.
+pub fn gvl_file(header: &[String], name: &str, declaration: &str) -> OutputFile {
+    let mut text = head(header);
+    let _ = write!(
+        text,
+        "  <GVL Name=\"{}\" Id=\"{}\">\n    <Declaration>{}</Declaration>\n  </GVL>\n</TcPlcObject>\n",
+        escape(name),
+        stable_guid(header, name),
+        cdata(declaration)
+    );
+    OutputFile { name: format!("{name}.TcGVL"), text }
 }

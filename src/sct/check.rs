@@ -22,6 +22,20 @@ pub struct EventMeta {
     pub reset_on_denial: Vec<String>,
     pub code_on_accept: Option<String>,
     pub code_on_denial: Option<String>,
+    /// Where the event is declared (its name), and where its fragments are written (the
+    /// string literals), for diagnostics of code generation.
+    #[serde(skip)]
+    pub spans: EventSpans,
+}
+
+/// Source locations of an event's declaration and fragments.
+#[derive(Clone, Debug, Default)]
+pub struct EventSpans {
+    pub name: Span,
+    pub trigger: Option<Span>,
+    pub reset_on_denial: Vec<Span>,
+    pub code_on_accept: Option<Span>,
+    pub code_on_denial: Option<Span>,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -321,6 +335,8 @@ impl<'s, 'a> Ctx<'s, 'a> {
     ) -> u32 {
         let id = self.events.len() as u32;
         self.events.push(model::EventInfo { name: qualify(&self.modules[module].path, name), kind });
+        let mut meta = meta;
+        meta.spans.name = span;
         self.metas.push(meta);
         self.event_decls.push(decl);
         self.add(module, name, Entry::Event(id), span);
@@ -341,6 +357,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                         reset_on_denial: Vec::new(),
                         code_on_accept: None,
                         code_on_denial: None,
+                        spans: EventSpans::default(),
                     };
                     self.new_event(
                         module,
@@ -359,6 +376,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                         reset_on_denial: Vec::new(),
                         code_on_accept: None,
                         code_on_denial: None,
+                        spans: EventSpans::default(),
                     };
                     let id = self.new_event(m, "timeout", EventKind::Uncontrollable, meta, None, t.name_span);
                     self.timers.push((t, module, id));
@@ -482,6 +500,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                 reset_on_denial: Vec::new(),
                 code_on_accept: None,
                 code_on_denial: None,
+                spans: EventSpans::default(),
             };
             let mut trigger_span: Option<Span> = None;
             for it in &d.items {
@@ -508,6 +527,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                                 .with_note("cyclic triggers are meant for controllable events (5.6)");
                         }
                         meta.trigger = Trigger::Detected { edge: *edge, expr: expr.clone() };
+                        meta.spans.trigger = Some(*expr_span);
                     }
                     EventItem::Executed { span } => {
                         trigger_span = Some(*span);
@@ -548,6 +568,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                             );
                         }
                         meta.reset_on_denial.extend(addrs.iter().map(|(a, _)| a.clone()));
+                        meta.spans.reset_on_denial.extend(addrs.iter().map(|(_, at)| *at));
                     }
                     EventItem::OnAccept { code, code_span, span } => {
                         self.check_fragment(parse_statements(code).map(|_| ()), *code_span, "in the code");
@@ -555,6 +576,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                             self.diags.error(*span, format!("uncontrollable event `{}` cannot have actions", d.name));
                         }
                         meta.code_on_accept = Some(code.clone());
+                        meta.spans.code_on_accept = Some(*code_span);
                     }
                     EventItem::OnDenial { code, code_span, span } => {
                         self.check_fragment(parse_statements(code).map(|_| ()), *code_span, "in the code");
@@ -562,9 +584,11 @@ impl<'s, 'a> Ctx<'s, 'a> {
                             self.diags.error(*span, format!("uncontrollable event `{}` cannot have actions", d.name));
                         }
                         meta.code_on_denial = Some(code.clone());
+                        meta.spans.code_on_denial = Some(*code_span);
                     }
                 }
             }
+            meta.spans.name = self.metas[id].spans.name;
             let executed = matches!(meta.trigger, Trigger::Executed);
             if (kind == EventKind::Enforceable || executed) && meta.code_on_accept.is_none() {
                 let why = if executed { "an executed controllable event" } else { "an enforceable event" };

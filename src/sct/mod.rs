@@ -47,7 +47,8 @@ mod partition;
 mod report;
 mod runtime;
 
-pub use check::{compile, compile_within, EventMeta, Loaded, TimerInfo, Trigger};
+pub use ast::EdgeKind;
+pub use check::{compile, compile_within, EventMeta, EventSpans, Loaded, TimerInfo, Trigger};
 pub use report::{
     synthesize_all, synthesize_all_with_progress, synthesize_all_within, JsonState, JsonTransition, SupervisorReport,
 };

@@ -1,0 +1,1265 @@
+//! The SynTACS runtime framework (Göbe 2019, 6.3; "SyRF") lowered into a [`Unit`]: synthesised
+//! supervisors as PLC code around an existing controller. `docs/syrf.md` describes the
+//! generated code; [`crate::sct::Runtime`] is the reference it is checked against, cycle by
+//! cycle, so the two must keep one semantics.
+//!
+//! What is generated (the unit's name `N`, `SyRF` by default):
+//! - constants `EV_…` (one per event, the controller passes them to `N_Execute`) and `SUP_…`;
+//! - globals `N_Data`: every supervisor's state, the diagnostics an HMI shows (denials, the
+//!   last denied event and its supervisor, unexpected uncontrollable events, enforcements,
+//!   conflicts), per-cycle flags per event, edge latches, saved outputs, timer flags;
+//! - functions: `N_Prohibited` (the first supervisor that prohibits an event, or 0), `N_Occur`
+//!   (supervisors take an event; timers react), `N_Execute` (a controllable event: checked by
+//!   all, committed only if all accept — 5.2.3), `N_Uncontrollable`, `N_Enforced` and
+//!   `N_Enforce` (preemption, 5.5);
+//! - the program `N_Main`, which the PLC task calls instead of the controller: the cycle of 6.3.4.
+
+use super::fragment::{self, BinOp, ExprKind, UnOp};
+use super::unit::{Expr, Place, Pou, PouKind, Signal, SignalKind, Stmt, Type, Unit, Var};
+use super::{identifier, source_hash, Namespace};
+use crate::diag::{Diagnostic, Diagnostics, Span};
+use crate::sct::model::{EventId, EventKind, Supervisor};
+use crate::sct::{EdgeKind, EventMeta, Loaded, Trigger};
+use std::collections::BTreeMap;
+
+/// Choices of the framework beyond the specification.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FrameworkOptions {
+    /// Prefix of every generated name (`SyRF`).
+    pub name: String,
+    /// The function block type of the existing controller, which the framework calls.
+    pub controller: String,
+}
+
+impl Default for FrameworkOptions {
+    fn default() -> FrameworkOptions {
+        FrameworkOptions { name: "SyRF".into(), controller: "Controller".into() }
+    }
+}
+
+/// Where a fragment of an event is written, to locate what cannot be lowered.
+#[derive(Clone, Copy)]
+enum FragmentAt {
+    Trigger,
+    Accept,
+    Denial,
+}
+
+fn fragment_span(meta: &EventMeta, at: FragmentAt) -> Span {
+    let s = &meta.spans;
+    match at {
+        FragmentAt::Trigger => s.trigger,
+        FragmentAt::Accept => s.code_on_accept,
+        FragmentAt::Denial => s.code_on_denial,
+    }
+    .unwrap_or(s.name)
+}
+
+/// Signals found in the fragments, with what is known of their use.
+#[derive(Default)]
+struct SignalUse {
+    written: bool,
+    read_by_uncontrollable: bool,
+    read_by_controllable: bool,
+    int: bool,
+    memory: bool,
+    /// Events whose fragments mention it.
+    events: Vec<String>,
+}
+
+struct Lowering<'a> {
+    names: Namespace,
+    /// Signal key (symbol, or address without `%`) → index in `signals`.
+    signal_index: BTreeMap<String, usize>,
+    signals: Vec<(String, SignalUse)>,
+    /// Signals read through `\last{}`: signal index → global holding last cycle's value.
+    last: BTreeMap<usize, String>,
+    diags: Diagnostics<'a>,
+}
+
+fn address_kind(address: &str) -> SignalKind {
+    match address.as_bytes().first() {
+        Some(b'I') => SignalKind::Input,
+        Some(b'Q') => SignalKind::Output,
+        _ => SignalKind::Memory,
+    }
+}
+
+/// The size of a direct address's value: a bit, or an integer (`B`, `W` as INT, `D` as DINT).
+fn address_type(address: &str) -> Type {
+    match address.as_bytes().get(1) {
+        Some(b'W') | Some(b'B') => Type::Int,
+        Some(b'D') | Some(b'L') => Type::Dint,
+        _ => Type::Bool,
+    }
+}
+
+/// Milliseconds of an IEC duration literal (`T#1s500ms`, `TIME#2m`, `t#1h_30m`).
+fn duration_ms(text: &str) -> Option<u64> {
+    let body = text.split_once('#')?.1.to_ascii_lowercase().replace('_', "");
+    let mut total: u64 = 0;
+    let mut rest = body.as_str();
+    if rest.is_empty() {
+        return None;
+    }
+    while !rest.is_empty() {
+        let digits = rest.find(|c: char| !c.is_ascii_digit()).unwrap_or(rest.len());
+        if digits == 0 {
+            return None;
+        }
+        let value: u64 = rest[..digits].parse().ok()?;
+        rest = &rest[digits..];
+        let (unit, len) = if rest.starts_with("ms") {
+            (1, 2)
+        } else if rest.starts_with('d') {
+            (86_400_000, 1)
+        } else if rest.starts_with('h') {
+            (3_600_000, 1)
+        } else if rest.starts_with('m') {
+            (60_000, 1)
+        } else if rest.starts_with('s') {
+            (1000, 1)
+        } else {
+            return None;
+        };
+        rest = &rest[len..];
+        total = total.checked_add(value.checked_mul(unit)?)?;
+    }
+    Some(total)
+}
+
+fn int_literal(text: &str) -> Option<i64> {
+    let clean = text.replace('_', "");
+    match clean.split_once('#') {
+        Some((base, digits)) => i64::from_str_radix(digits, base.parse().ok()?).ok(),
+        None => clean.parse().ok(),
+    }
+}
+
+impl<'a> Lowering<'a> {
+    /// The signal for a fragment name or address, registered on first sight.
+    fn signal(&mut self, key: &str) -> usize {
+        if let Some(&k) = self.signal_index.get(key) {
+            return k;
+        }
+        let k = self.signals.len();
+        self.signal_index.insert(key.to_string(), k);
+        self.signals.push((key.to_string(), SignalUse::default()));
+        k
+    }
+
+    fn signal_key(kind: &ExprKind) -> Option<String> {
+        match kind {
+            ExprKind::Var(path) => Some(path.join(".")),
+            ExprKind::Address(text) => Some(text.trim_start_matches('%').to_ascii_uppercase()),
+            ExprKind::ControllerVar(name) => Some(name.clone()),
+            _ => None,
+        }
+    }
+
+    /// First pass over a fragment expression: which signals, and how they are used.
+    fn scan_expr(&mut self, e: &fragment::Expr, event: &str, kind: EventKind, int_context: bool) {
+        match &e.kind {
+            ExprKind::Var(_) | ExprKind::Address(_) | ExprKind::ControllerVar(_) => {
+                let key = Self::signal_key(&e.kind).unwrap_or_default();
+                let k = self.signal(&key);
+                let u = &mut self.signals[k].1;
+                u.int |= int_context;
+                u.memory |= matches!(e.kind, ExprKind::ControllerVar(_));
+                match kind {
+                    EventKind::Uncontrollable => u.read_by_uncontrollable = true,
+                    _ => u.read_by_controllable = true,
+                }
+                if !u.events.iter().any(|x| x == event) {
+                    u.events.push(event.to_string());
+                }
+            }
+            ExprKind::Last(name) => {
+                let key = name.trim_start_matches('%').to_string();
+                let k = self.signal(&key);
+                self.signals[k].1.int |= int_context;
+                if !self.signals[k].1.events.iter().any(|x| x == event) {
+                    self.signals[k].1.events.push(event.to_string());
+                }
+                self.last.entry(k).or_default();
+            }
+            ExprKind::Unary(UnOp::Neg, a) => self.scan_expr(a, event, kind, true),
+            ExprKind::Unary(UnOp::Not, a) => self.scan_expr(a, event, kind, int_context),
+            ExprKind::Binary(op, a, b) => {
+                let numeric = !matches!(op, BinOp::Or | BinOp::Xor | BinOp::And | BinOp::Eq | BinOp::Ne);
+                // `x = 5`: an integer comparison.
+                let literal_int =
+                    |e: &fragment::Expr| matches!(e.kind, ExprKind::Int(_) | ExprKind::Unary(UnOp::Neg, _));
+                let eq_int = matches!(op, BinOp::Eq | BinOp::Ne) && (literal_int(a) || literal_int(b));
+                self.scan_expr(a, event, kind, numeric || eq_int || (int_context && !is_logic(*op)));
+                self.scan_expr(b, event, kind, numeric || eq_int || (int_context && !is_logic(*op)));
+            }
+            ExprKind::Bool(_) | ExprKind::Int(_) | ExprKind::Real(_) | ExprKind::Time(_) => {}
+        }
+    }
+
+    fn scan_stmts(&mut self, stmts: &[fragment::Stmt], event: &str, kind: EventKind) {
+        for s in stmts {
+            match s {
+                fragment::Stmt::Assign { target, value } => {
+                    let int = matches!(value.kind, ExprKind::Int(_) | ExprKind::Unary(UnOp::Neg, _))
+                        || matches!(value.kind, ExprKind::Binary(op, ..) if !is_logic(op) && !is_comparison(op));
+                    self.scan_expr(target, event, kind, int);
+                    if let Some(key) = Self::signal_key(&target.kind) {
+                        let k = self.signal(&key);
+                        self.signals[k].1.written = true;
+                    }
+                    self.scan_expr(value, event, kind, false);
+                }
+                fragment::Stmt::If { arms, otherwise } => {
+                    for (c, body) in arms {
+                        self.scan_expr(c, event, kind, false);
+                        self.scan_stmts(body, event, kind);
+                    }
+                    self.scan_stmts(otherwise, event, kind);
+                }
+            }
+        }
+    }
+
+    /// A fragment expression as a unit expression; what the framework cannot hold is an error
+    /// at `at`.
+    fn expr(&mut self, e: &fragment::Expr, at: Span) -> Option<Expr> {
+        Some(match &e.kind {
+            ExprKind::Bool(b) => Expr::Bool(*b),
+            ExprKind::Int(text) => match int_literal(text) {
+                Some(v) => Expr::Int(v),
+                None => {
+                    self.diags.error(at, format!("the integer `{text}` is out of range for the PLC code"));
+                    return None;
+                }
+            },
+            ExprKind::Real(text) => {
+                self.diags
+                    .error(at, format!("real numbers such as `{text}` are not supported in the generated framework"))
+                    .with_note("triggers and actions may use BOOL, INT, DINT and TIME values");
+                return None;
+            }
+            ExprKind::Time(text) => match duration_ms(text) {
+                Some(ms) => Expr::Time(ms),
+                None => {
+                    self.diags.error(
+                        at,
+                        format!("`{text}` is not a duration the framework can use (days to ms, whole numbers)"),
+                    );
+                    return None;
+                }
+            },
+            ExprKind::Var(_) | ExprKind::Address(_) | ExprKind::ControllerVar(_) => {
+                let key = Self::signal_key(&e.kind).unwrap_or_default();
+                Expr::Read(Place::Signal(self.signal(&key)))
+            }
+            ExprKind::Last(name) => {
+                let k = self.signal(name.trim_start_matches('%'));
+                Expr::global(self.last[&k].clone())
+            }
+            ExprKind::Unary(UnOp::Not, a) => Expr::Not(Box::new(self.expr(a, at)?)),
+            ExprKind::Unary(UnOp::Neg, a) => match &a.kind {
+                ExprKind::Int(text) => Expr::Int(-int_literal(text).unwrap_or(0)),
+                _ => Expr::Neg(Box::new(self.expr(a, at)?)),
+            },
+            ExprKind::Binary(op, a, b) => Expr::binary(*op, self.expr(a, at)?, self.expr(b, at)?),
+        })
+    }
+
+    fn stmts(&mut self, stmts: &[fragment::Stmt], at: Span) -> Option<Vec<Stmt>> {
+        let mut out = Vec::new();
+        for s in stmts {
+            out.push(match s {
+                fragment::Stmt::Assign { target, value } => {
+                    let Some(key) = Self::signal_key(&target.kind) else {
+                        self.diags.error(at, "only a variable or an address can be assigned");
+                        return None;
+                    };
+                    Stmt::assign(Place::Signal(self.signal(&key)), self.expr(value, at)?)
+                }
+                fragment::Stmt::If { arms, otherwise } => {
+                    let mut lowered = Vec::new();
+                    for (c, body) in arms {
+                        lowered.push((self.expr(c, at)?, self.stmts(body, at)?));
+                    }
+                    Stmt::If { arms: lowered, otherwise: self.stmts(otherwise, at)? }
+                }
+            });
+        }
+        Some(out)
+    }
+}
+
+fn is_logic(op: BinOp) -> bool {
+    matches!(op, BinOp::Or | BinOp::Xor | BinOp::And)
+}
+
+fn is_comparison(op: BinOp) -> bool {
+    matches!(op, BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge)
+}
+
+/// The parsed fragments of one event.
+struct Fragments {
+    trigger: Option<fragment::Expr>,
+    resets: Vec<fragment::Expr>,
+    accept: Vec<fragment::Stmt>,
+    denial: Vec<fragment::Stmt>,
+}
+
+fn parse_fragments(meta: &EventMeta) -> Fragments {
+    // The checker parsed them already and reported any mistake; what does not parse here is
+    // left out (compile refused such a file before it reaches code generation).
+    Fragments {
+        trigger: match &meta.trigger {
+            Trigger::Detected { expr, .. } => fragment::parse_expr(expr).ok(),
+            _ => None,
+        },
+        resets: meta.reset_on_denial.iter().filter_map(|a| fragment::parse_expr(a).ok()).collect(),
+        accept: meta.code_on_accept.as_deref().and_then(|c| fragment::parse_statements(c).ok()).unwrap_or_default(),
+        denial: meta.code_on_denial.as_deref().and_then(|c| fragment::parse_statements(c).ok()).unwrap_or_default(),
+    }
+}
+
+/// `a = x OR a = y …` for the events `list` (by their constants).
+fn any_of(selector: &str, list: &[&str]) -> Expr {
+    let mut it = list.iter().map(|c| Expr::local(selector).eq(Expr::global(*c)));
+    let first = it.next().unwrap_or(Expr::Bool(false));
+    it.fold(first, Expr::or)
+}
+
+fn counter_up(name: &str) -> Stmt {
+    Stmt::assign(Place::global(name), Expr::binary(BinOp::Add, Expr::global(name), Expr::Int(1)))
+}
+
+/// How many enforcements supervisor `s` may make in one cycle: the longest chain of enforced
+/// transitions, at most its number of states (the bound of [`crate::sct::Runtime`]).
+fn enforcement_chain(s: &Supervisor) -> usize {
+    let n = s.states.len();
+    let mut longest = 0;
+    for start in 0..n {
+        let mut state = start;
+        let mut len = 0;
+        while len < n {
+            let Some(f) = s.states[state].enforced else { break };
+            len += 1;
+            let next = s.states[state].transitions.iter().find(|(e, _)| *e == f).map_or(state, |&(_, t)| t as usize);
+            if next == state {
+                break;
+            }
+            state = next;
+        }
+        longest = longest.max(len);
+    }
+    longest
+}
+
+/// Names of parameters and locals of the generated POUs.
+struct Locals {
+    ev: String,
+    only: String,
+    skip: String,
+    timers: String,
+    by: String,
+    sup: String,
+    f: String,
+    p: String,
+    k: String,
+    moved: String,
+    ok: String,
+    go: String,
+    controller: String,
+}
+
+/// Lowers the framework for `supervisors` of `loaded` (whose text is `source`).
+pub fn lower(
+    source: &str,
+    loaded: &Loaded,
+    supervisors: &[&Supervisor],
+    options: &FrameworkOptions,
+) -> Result<Unit, Vec<Diagnostic>> {
+    let project = &loaded.project;
+    let mut l = Lowering {
+        names: Namespace::new(),
+        signal_index: BTreeMap::new(),
+        signals: Vec::new(),
+        last: BTreeMap::new(),
+        diags: Diagnostics::new(source),
+    };
+    let fragments: Vec<Fragments> = loaded.events.iter().map(parse_fragments).collect();
+
+    // Supervisors that cannot run.
+    for s in supervisors {
+        if !s.realizable() {
+            let spec = project.specs.iter().position(|p| p.name == s.name);
+            let at = spec.and_then(|k| loaded.spec_spans.get(k).copied()).unwrap_or_default();
+            l.diags.error(
+                at,
+                format!("supervisor `{}` is void (its specification is unrealizable) and cannot run", s.name),
+            );
+        }
+        let mut reported = Vec::new();
+        for (q, state) in s.states.iter().enumerate() {
+            for &(e, t) in &state.transitions {
+                let meta = &loaded.events[e.0 as usize];
+                let virtual_event =
+                    matches!(meta.trigger, Trigger::Virtual) && project.kind(e) != EventKind::Enforceable;
+                if virtual_event && t as usize != q && !reported.contains(&e) {
+                    reported.push(e);
+                    l.diags
+                        .error(
+                            meta.spans.name,
+                            format!(
+                                "supervisor `{}` changes state on the virtual event `{}`, which the PLC cannot detect",
+                                s.name,
+                                project.event_name(e)
+                            ),
+                        )
+                        .with_note(format!(
+                            "in state `{}`; give the event a trigger (`detect …` or `executed`)",
+                            state.label
+                        ))
+                        .with_note("a virtual event may only be prohibited or loop (Göbe 2019, 6.3.1)");
+                }
+            }
+        }
+    }
+
+    // Signals, first pass: the user's names are taken before any generated one.
+    for (id, f) in fragments.iter().enumerate() {
+        let e = EventId(id as u32);
+        let (name, kind) = (project.event_name(e).to_string(), project.kind(e));
+        if let Some(t) = &f.trigger {
+            l.scan_expr(t, &name, kind, false);
+        }
+        for r in &f.resets {
+            l.scan_expr(r, &name, kind, false);
+            if let Some(key) = Lowering::signal_key(&r.kind) {
+                let k = l.signal(&key);
+                l.signals[k].1.written = true;
+            }
+        }
+        l.scan_stmts(&f.accept, &name, kind);
+        l.scan_stmts(&f.denial, &name, kind);
+    }
+    for (key, _) in &l.signals {
+        l.names.reserve(key.split('.').next().unwrap_or(key));
+    }
+    l.names.reserve(&options.controller);
+    let n = identifier(&options.name);
+    let prefixed = |names: &mut Namespace, what: &str| names.unique(&format!("{n}_{what}"));
+    let gvl = prefixed(&mut l.names, "Data");
+    let f_prohibited = prefixed(&mut l.names, "Prohibited");
+    let f_occur = prefixed(&mut l.names, "Occur");
+    let f_execute = prefixed(&mut l.names, "Execute");
+    let f_uncontrollable = prefixed(&mut l.names, "Uncontrollable");
+    let f_enforced = prefixed(&mut l.names, "Enforced");
+    let f_enforce = prefixed(&mut l.names, "Enforce");
+    let program = prefixed(&mut l.names, "Main");
+    // Parameters and locals: unique too, so that none hides a signal of the user's project.
+    let lv = Locals {
+        ev: l.names.unique("ev"),
+        only: l.names.unique("only"),
+        skip: l.names.unique("skip"),
+        timers: l.names.unique("with_timers"),
+        by: l.names.unique("enforcer"),
+        sup: l.names.unique("sup"),
+        f: l.names.unique("f"),
+        p: l.names.unique("p"),
+        k: l.names.unique("k"),
+        moved: l.names.unique("moved"),
+        ok: l.names.unique("ok"),
+        go: l.names.unique("go"),
+        controller: l.names.unique("controller"),
+    };
+
+    // Signals, second pass: kinds, types, addresses for dialects that need one.
+    let mut used_bytes: BTreeMap<char, u32> = BTreeMap::new();
+    for (key, _) in &l.signals {
+        if key.starts_with(['I', 'Q', 'M'])
+            && key[1..].trim_start_matches(['X', 'B', 'W', 'D']).starts_with(|c: char| c.is_ascii_digit())
+        {
+            let digits = key[1..].trim_start_matches(['X', 'B', 'W', 'D']);
+            let byte: u32 = digits.split('.').next().and_then(|b| b.parse().ok()).unwrap_or(0);
+            let area = key.chars().next().unwrap_or('M');
+            let e = used_bytes.entry(area).or_insert(0);
+            *e = (*e).max(byte + 4);
+        }
+    }
+    let mut next_bit: BTreeMap<char, u32> = BTreeMap::new();
+    let mut signals = Vec::new();
+    for (key, u) in &l.signals {
+        let is_address = key.starts_with(['I', 'Q', 'M'])
+            && key[1..].trim_start_matches(['X', 'B', 'W', 'D']).starts_with(|c: char| c.is_ascii_digit());
+        let (kind, ty, address) = if is_address {
+            (address_kind(key), address_type(key), key.clone())
+        } else {
+            let kind = if u.memory {
+                SignalKind::Memory
+            } else if u.written || u.read_by_controllable {
+                SignalKind::Output
+            } else {
+                SignalKind::Input
+            };
+            let ty = if u.int { Type::Int } else { Type::Bool };
+            let area = match kind {
+                SignalKind::Input => 'I',
+                SignalKind::Output => 'Q',
+                SignalKind::Memory => 'M',
+            };
+            let base = used_bytes.get(&area).copied().unwrap_or(0) + if area == 'M' { 100 } else { 0 };
+            let next = next_bit.entry(area).or_insert(base * 8);
+            let address = if ty == Type::Bool {
+                let a = format!("{area}X{}.{}", *next / 8, *next % 8);
+                *next += 1;
+                a
+            } else {
+                // Words start on an even byte after the bits taken so far.
+                let byte = (next.div_ceil(8) + 1) & !1;
+                *next = (byte + 2) * 8;
+                format!("{area}W{byte}")
+            };
+            (kind, ty, address)
+        };
+        signals.push(Signal { symbol: key.clone(), kind, ty, address, comment: u.events.join(", ") });
+    }
+    let signal_names: Vec<String> = signals.iter().map(|s| s.symbol.clone()).collect();
+    for (&k, global) in l.last.iter_mut() {
+        *global = l.names.unique(&format!("last_{}", signal_names[k]));
+    }
+
+    // Constants.
+    let mut constants = Vec::new();
+    let mut event_const = Vec::new();
+    for (id, info) in project.events.iter().enumerate() {
+        let c = l.names.unique(&format!("EV_{}", info.name));
+        constants.push(
+            Var::new(&c, Type::Int, format!("{} ({})", info.name, format!("{:?}", info.kind).to_lowercase()))
+                .with_init(Expr::Int(id as i64 + 1)),
+        );
+        event_const.push(c);
+    }
+    let mut sup_state = Vec::new();
+    for (k, s) in supervisors.iter().enumerate() {
+        let c = l.names.unique(&format!("SUP_{}", s.name));
+        constants.push(Var::new(&c, Type::Int, format!("supervisor {}", s.name)).with_init(Expr::Int(k as i64 + 1)));
+        sup_state.push(l.names.unique(&format!("state_{}", s.name)));
+    }
+
+    // Globals.
+    let mut globals = Vec::new();
+    for (k, s) in supervisors.iter().enumerate() {
+        let init = s.init.unwrap_or(0);
+        let label = s.states.get(init as usize).map_or("", |st| st.label.as_str());
+        globals.push(
+            Var::new(&sup_state[k], Type::Int, format!("state of supervisor {} (initial: {label})", s.name))
+                .with_init(Expr::Int(i64::from(init))),
+        );
+    }
+    let diag_names = [
+        ("denials", Type::Dint, "controllable events denied since start"),
+        ("last_denied_event", Type::Int, "the last denied event (an EV_ constant)"),
+        ("last_denied_supervisor", Type::Int, "the supervisor that denied it (a SUP_ constant)"),
+        ("unexpected", Type::Dint, "uncontrollable events that a supervisor prohibits (plant model violated)"),
+        ("last_unexpected_event", Type::Int, "the last unexpected event"),
+        ("last_unexpected_supervisor", Type::Int, "the supervisor that prohibits it"),
+        ("enforcements", Type::Dint, "events enforced since start"),
+        ("last_enforced_event", Type::Int, "the last enforced event"),
+        ("conflicts", Type::Dint, "enforced events that another supervisor prohibits (6.4.2)"),
+    ];
+    let mut diag = BTreeMap::new();
+    for (name, ty, comment) in diag_names {
+        let g = l.names.unique(name);
+        globals.push(Var::new(&g, ty, comment));
+        diag.insert(name, g);
+    }
+    let d = |name: &str| diag[name].clone();
+    // Per-event flags of the current cycle, edge latches, saved outputs.
+    let mut flag_acc = BTreeMap::new();
+    let mut flag_den = BTreeMap::new();
+    let mut flag_occ = BTreeMap::new();
+    let mut latch = BTreeMap::new();
+    for (id, info) in project.events.iter().enumerate() {
+        let e = EventId(id as u32);
+        match info.kind {
+            EventKind::Controllable => {
+                let a = l.names.unique(&format!("accepted_{}", info.name));
+                let b = l.names.unique(&format!("denied_{}", info.name));
+                globals.push(Var::new(&a, Type::Bool, format!("{} accepted this cycle", info.name)));
+                globals.push(Var::new(&b, Type::Bool, format!("{} denied this cycle", info.name)));
+                flag_acc.insert(e, a);
+                flag_den.insert(e, b);
+            }
+            EventKind::Uncontrollable | EventKind::Enforceable => {
+                let what = if info.kind == EventKind::Enforceable { "enforced" } else { "occurred" };
+                let a = l.names.unique(&format!("{what}_{}", info.name));
+                globals.push(Var::new(&a, Type::Bool, format!("{} {what} this cycle", info.name)));
+                flag_occ.insert(e, a);
+            }
+        }
+        if fragments[id].trigger.is_some() {
+            let g = l.names.unique(&format!("latch_{}", info.name));
+            globals.push(Var::new(&g, Type::Bool, format!("trigger of {} in the previous cycle", info.name)));
+            latch.insert(e, g);
+        }
+    }
+    for (&k, g) in &l.last {
+        globals.push(Var::new(g, signals[k].ty.clone(), format!("{} in the previous cycle (\\last)", signal_names[k])));
+    }
+    let mut saved: BTreeMap<usize, String> = BTreeMap::new();
+    for f in &fragments {
+        for r in &f.resets {
+            if let Some(key) = Lowering::signal_key(&r.kind) {
+                let k = l.signal(&key);
+                if let std::collections::btree_map::Entry::Vacant(slot) = saved.entry(k) {
+                    let g = l.names.unique(&format!("saved_{}", signal_names[k]));
+                    globals.push(Var::new(
+                        &g,
+                        signals[k].ty.clone(),
+                        format!("{} before the controller ran", signal_names[k]),
+                    ));
+                    slot.insert(g);
+                }
+            }
+        }
+    }
+    struct TimerNames {
+        run: String,
+        restart: String,
+        expired: String,
+        ton: String,
+        due: String,
+    }
+    let mut timer_names = Vec::new();
+    for t in &loaded.timers {
+        let names = TimerNames {
+            run: l.names.unique(&format!("{}_running", t.name)),
+            restart: l.names.unique(&format!("{}_restart", t.name)),
+            expired: l.names.unique(&format!("{}_expired", t.name)),
+            ton: l.names.unique(&format!("{}_ton", t.name)),
+            due: l.names.unique(&format!("{}_due", t.name)),
+        };
+        globals.push(Var::new(&names.run, Type::Bool, format!("timer {} runs", t.name)));
+        globals.push(Var::new(&names.restart, Type::Bool, format!("timer {} starts at the end of this cycle", t.name)));
+        globals.push(Var::new(&names.expired, Type::Bool, format!("timer {} reached {} ms", t.name, t.duration_ms)));
+        timer_names.push(names);
+    }
+
+    let ev = |e: EventId| event_const[e.0 as usize].clone();
+    let event_by_name = |name: &str| project.event(name);
+
+    // N_Prohibited(ev): the first supervisor whose state prohibits ev, else 0.
+    let mut body = vec![Stmt::assign(Place::local(&f_prohibited), Expr::Int(0))];
+    for (k, s) in supervisors.iter().enumerate() {
+        let mut arms = Vec::new();
+        for (q, state) in s.states.iter().enumerate() {
+            if state.prohibited.is_empty() {
+                continue;
+            }
+            let list: Vec<String> = state.prohibited.iter().map(|&e| ev(e)).collect();
+            let refs: Vec<&str> = list.iter().map(String::as_str).collect();
+            arms.push((
+                vec![q as i64],
+                vec![
+                    Stmt::Comment(format!("state {}", state.label)),
+                    Stmt::when(
+                        any_of(&lv.ev, &refs),
+                        vec![Stmt::assign(
+                            Place::local(&f_prohibited),
+                            Expr::global(&constants[project.events.len() + k].name),
+                        )],
+                    ),
+                ],
+            ));
+        }
+        if arms.is_empty() {
+            continue;
+        }
+        body.push(Stmt::Comment(format!("supervisor {}", s.name)));
+        body.push(Stmt::when(
+            Expr::local(&f_prohibited).eq(Expr::Int(0)),
+            vec![Stmt::Case { selector: Expr::global(&sup_state[k]), arms, otherwise: Vec::new() }],
+        ));
+    }
+    let prohibited_fn = Pou {
+        kind: PouKind::Function { returns: Some(Type::Int) },
+        name: f_prohibited.clone(),
+        comment: "The first supervisor (SUP_ constant) whose current state prohibits event ev, or 0 if all allow it."
+            .into(),
+        inputs: vec![Var::new(&lv.ev, Type::Int, "an EV_ constant")],
+        outputs: Vec::new(),
+        locals: Vec::new(),
+        body,
+    };
+
+    // N_Occur(ev, only, skip, timers): supervisors take ev; timers react.
+    let mut body = vec![Stmt::assign(Place::local(&f_occur), Expr::Bool(false))];
+    for (k, s) in supervisors.iter().enumerate() {
+        let mut arms = Vec::new();
+        for (q, state) in s.states.iter().enumerate() {
+            // Transitions grouped by target; loops change nothing and are left out.
+            let mut by_target: BTreeMap<u32, Vec<String>> = BTreeMap::new();
+            for &(e, t) in &state.transitions {
+                if t as usize != q {
+                    by_target.entry(t).or_default().push(ev(e));
+                }
+            }
+            if by_target.is_empty() {
+                continue;
+            }
+            let branches = by_target
+                .iter()
+                .map(|(&t, list)| {
+                    let refs: Vec<&str> = list.iter().map(String::as_str).collect();
+                    (
+                        any_of(&lv.ev, &refs),
+                        vec![
+                            Stmt::assign(Place::global(&sup_state[k]), Expr::Int(i64::from(t))),
+                            Stmt::assign(Place::local(&f_occur), Expr::Bool(true)),
+                        ],
+                    )
+                })
+                .collect();
+            arms.push((
+                vec![q as i64],
+                vec![
+                    Stmt::Comment(format!("state {}", state.label)),
+                    Stmt::If { arms: branches, otherwise: Vec::new() },
+                ],
+            ));
+        }
+        if arms.is_empty() {
+            continue;
+        }
+        let k1 = Expr::Int(k as i64 + 1);
+        let selected = Expr::local(&lv.only)
+            .eq(Expr::Int(0))
+            .or(Expr::local(&lv.only).eq(k1.clone()))
+            .and(Expr::local(&lv.skip).ne(k1));
+        body.push(Stmt::Comment(format!("supervisor {}", s.name)));
+        body.push(Stmt::when(
+            selected,
+            vec![Stmt::Case { selector: Expr::global(&sup_state[k]), arms, otherwise: Vec::new() }],
+        ));
+    }
+    let mut timer_stmts = Vec::new();
+    for (t, names) in loaded.timers.iter().zip(&timer_names) {
+        let stops: Vec<String> = t.stop.iter().filter_map(|s| event_by_name(s)).map(ev).collect();
+        if !stops.is_empty() {
+            let refs: Vec<&str> = stops.iter().map(String::as_str).collect();
+            timer_stmts.push(Stmt::when(
+                any_of(&lv.ev, &refs),
+                vec![
+                    Stmt::assign(Place::global(&names.run), Expr::Bool(false)),
+                    Stmt::assign(Place::global(&names.expired), Expr::Bool(false)),
+                    Stmt::assign(Place::global(&names.restart), Expr::Bool(false)),
+                ],
+            ));
+        }
+        if let Some(start) = event_by_name(&t.start) {
+            let idle_or_expired = Expr::global(&names.run).not().or(Expr::global(&names.expired));
+            timer_stmts.push(Stmt::when(
+                Expr::local(&lv.ev).eq(Expr::global(ev(start))).and(idle_or_expired),
+                vec![
+                    Stmt::assign(Place::global(&names.run), Expr::Bool(true)),
+                    Stmt::assign(Place::global(&names.expired), Expr::Bool(false)),
+                    Stmt::assign(Place::global(&names.restart), Expr::Bool(true)),
+                ],
+            ));
+        }
+    }
+    if !timer_stmts.is_empty() {
+        body.push(Stmt::Comment("timers: a stop event resets, a start event starts unless running".into()));
+        body.push(Stmt::when(Expr::local(&lv.timers), timer_stmts));
+    }
+    let occur_fn = Pou {
+        kind: PouKind::Function { returns: Some(Type::Bool) },
+        name: f_occur.clone(),
+        comment: "Event ev occurs: every supervisor (or only supervisor `only`; none is 0) except `skip` takes it, \
+                  and with `timers` the timers react. TRUE if a supervisor changed state."
+            .into(),
+        inputs: vec![
+            Var::new(&lv.ev, Type::Int, "an EV_ constant"),
+            Var::new(&lv.only, Type::Int, "0: all supervisors"),
+            Var::new(&lv.skip, Type::Int, "0: none"),
+            Var::new(&lv.timers, Type::Bool, "the timers react"),
+        ],
+        outputs: Vec::new(),
+        locals: Vec::new(),
+        body,
+    };
+
+    // Flags set for an event: an IF chain over the events that have one.
+    let flag_chain = |flags: &BTreeMap<EventId, String>, selector: &str| -> Vec<Stmt> {
+        let arms: Vec<(Expr, Vec<Stmt>)> = flags
+            .iter()
+            .map(|(&e, g)| {
+                (Expr::local(selector).eq(Expr::global(ev(e))), vec![Stmt::assign(Place::global(g), Expr::Bool(true))])
+            })
+            .collect();
+        if arms.is_empty() {
+            Vec::new()
+        } else {
+            vec![Stmt::If { arms, otherwise: Vec::new() }]
+        }
+    };
+
+    // N_Execute(ev): a controllable event, committed only if every supervisor accepts it.
+    let mut denied = vec![
+        Stmt::assign(Place::global(d("denials")), Expr::binary(BinOp::Add, Expr::global(d("denials")), Expr::Int(1))),
+        Stmt::assign(Place::global(d("last_denied_event")), Expr::local(&lv.ev)),
+        Stmt::assign(Place::global(d("last_denied_supervisor")), Expr::local(&lv.k)),
+        Stmt::assign(Place::local(&f_execute), Expr::Bool(false)),
+    ];
+    denied.extend(flag_chain(&flag_den, &lv.ev));
+    let mut accepted = vec![
+        Stmt::CallFunction {
+            function: f_occur.clone(),
+            args: vec![
+                (lv.ev.clone(), Expr::local(&lv.ev)),
+                (lv.only.clone(), Expr::Int(0)),
+                (lv.skip.clone(), Expr::Int(0)),
+                (lv.timers.clone(), Expr::Bool(true)),
+            ],
+            result: Some(Place::local(&lv.moved)),
+        },
+        Stmt::assign(Place::local(&f_execute), Expr::Bool(true)),
+    ];
+    accepted.extend(flag_chain(&flag_acc, &lv.ev));
+    let execute_fn = Pou {
+        kind: PouKind::Function { returns: Some(Type::Bool) },
+        name: f_execute.clone(),
+        comment: format!(
+            "A controllable event: TRUE and taken by every supervisor if all accept it, else FALSE and nothing changes. \
+             The controller calls it for its executed events, e.g. {f_execute}(ev := EV_…)."
+        ),
+        inputs: vec![Var::new(&lv.ev, Type::Int, "an EV_ constant of a controllable event")],
+        outputs: Vec::new(),
+        locals: vec![Var::new(&lv.k, Type::Int, ""), Var::new(&lv.moved, Type::Bool, "")],
+        body: vec![
+            Stmt::CallFunction {
+                function: f_prohibited.clone(),
+                args: vec![(lv.ev.clone(), Expr::local(&lv.ev))],
+                result: Some(Place::local(&lv.k)),
+            },
+            Stmt::If { arms: vec![(Expr::local(&lv.k).ne(Expr::Int(0)), denied)], otherwise: accepted },
+        ],
+    };
+
+    // N_Uncontrollable(ev): it happened; a supervisor that prohibits it keeps its state.
+    let mut body = vec![
+        Stmt::CallFunction {
+            function: f_prohibited.clone(),
+            args: vec![(lv.ev.clone(), Expr::local(&lv.ev))],
+            result: Some(Place::local(&lv.k)),
+        },
+        Stmt::CallFunction {
+            function: f_occur.clone(),
+            args: vec![
+                (lv.ev.clone(), Expr::local(&lv.ev)),
+                (lv.only.clone(), Expr::Int(0)),
+                (lv.skip.clone(), Expr::local(&lv.k)),
+                (lv.timers.clone(), Expr::Bool(true)),
+            ],
+            result: Some(Place::local(&lv.moved)),
+        },
+        Stmt::assign(Place::local(&f_uncontrollable), Expr::local(&lv.k).eq(Expr::Int(0))),
+        Stmt::when(
+            Expr::local(&lv.k).ne(Expr::Int(0)),
+            vec![
+                counter_up(&d("unexpected")),
+                Stmt::assign(Place::global(d("last_unexpected_event")), Expr::local(&lv.ev)),
+                Stmt::assign(Place::global(d("last_unexpected_supervisor")), Expr::local(&lv.k)),
+            ],
+        ),
+    ];
+    let uncontrollable_flags: BTreeMap<EventId, String> = flag_occ
+        .iter()
+        .filter(|(&e, _)| project.kind(e) == EventKind::Uncontrollable)
+        .map(|(&e, g)| (e, g.clone()))
+        .collect();
+    body.extend(flag_chain(&uncontrollable_flags, &lv.ev));
+    let uncontrollable_fn = Pou {
+        kind: PouKind::Function { returns: Some(Type::Bool) },
+        name: f_uncontrollable.clone(),
+        comment: "An uncontrollable event happened: every supervisor takes it, except one that prohibits it \
+                  (reported as unexpected). FALSE if one did."
+            .into(),
+        inputs: vec![Var::new(&lv.ev, Type::Int, "an EV_ constant of an uncontrollable event")],
+        outputs: Vec::new(),
+        locals: vec![Var::new(&lv.k, Type::Int, ""), Var::new(&lv.moved, Type::Bool, "")],
+        body,
+    };
+
+    // N_Enforced(sup): the event supervisor sup enforces in its current state, or 0.
+    let mut body = vec![Stmt::assign(Place::local(&f_enforced), Expr::Int(0))];
+    let mut sup_arms = Vec::new();
+    for (k, s) in supervisors.iter().enumerate() {
+        let arms: Vec<(Vec<i64>, Vec<Stmt>)> = s
+            .states
+            .iter()
+            .enumerate()
+            .filter_map(|(q, st)| {
+                st.enforced.map(|f| {
+                    (
+                        vec![q as i64],
+                        vec![
+                            Stmt::Comment(format!("state {}", st.label)),
+                            Stmt::assign(Place::local(&f_enforced), Expr::global(ev(f))),
+                        ],
+                    )
+                })
+            })
+            .collect();
+        if !arms.is_empty() {
+            sup_arms.push((
+                vec![k as i64 + 1],
+                vec![Stmt::Case { selector: Expr::global(&sup_state[k]), arms, otherwise: Vec::new() }],
+            ));
+        }
+    }
+    if !sup_arms.is_empty() {
+        body.push(Stmt::Case { selector: Expr::local(&lv.sup), arms: sup_arms, otherwise: Vec::new() });
+    }
+    let enforced_fn = Pou {
+        kind: PouKind::Function { returns: Some(Type::Int) },
+        name: f_enforced.clone(),
+        comment: "The event (EV_ constant) that supervisor sup enforces in its current state, or 0.".into(),
+        inputs: vec![Var::new(&lv.sup, Type::Int, "a SUP_ constant")],
+        outputs: Vec::new(),
+        locals: Vec::new(),
+        body,
+    };
+
+    // N_Enforce(by): supervisor `by` executes the event its state enforces, if any.
+    let mut action_arms = Vec::new();
+    for (id, f) in fragments.iter().enumerate() {
+        let e = EventId(id as u32);
+        if project.kind(e) != EventKind::Enforceable || f.accept.is_empty() {
+            continue;
+        }
+        let at = fragment_span(&loaded.events[id], FragmentAt::Accept);
+        if let Some(code) = l.stmts(&f.accept, at) {
+            action_arms.push((Expr::local(&lv.f).eq(Expr::global(ev(e))), code));
+        }
+    }
+    let mut also = Vec::new();
+    let mut locals = vec![
+        Var::new(&lv.f, Type::Int, "the enforced event"),
+        Var::new(&lv.p, Type::Int, ""),
+        Var::new(&lv.moved, Type::Bool, ""),
+    ];
+    for (j, s) in supervisors.iter().enumerate() {
+        let name = l.names.unique(&format!("also_{}", j + 1));
+        locals.push(Var::new(&name, Type::Bool, format!("supervisor {} enforces the same event", s.name)));
+        also.push(name);
+    }
+    let mut enforce = vec![
+        Stmt::CallFunction {
+            function: f_prohibited.clone(),
+            args: vec![(lv.ev.clone(), Expr::local(&lv.f))],
+            result: Some(Place::local(&lv.p)),
+        },
+        Stmt::when(Expr::local(&lv.p).ne(Expr::Int(0)), vec![counter_up(&d("conflicts"))]),
+        Stmt::Comment("the others take it only where they enforce it themselves (6.4.2)".into()),
+    ];
+    for (j, name) in also.iter().enumerate() {
+        enforce.push(Stmt::assign(Place::local(name), Expr::Bool(false)));
+        enforce.push(Stmt::when(
+            Expr::local(&lv.by).ne(Expr::Int(j as i64 + 1)),
+            vec![
+                Stmt::CallFunction {
+                    function: f_enforced.clone(),
+                    args: vec![(lv.sup.clone(), Expr::Int(j as i64 + 1))],
+                    result: Some(Place::local(&lv.p)),
+                },
+                Stmt::assign(Place::local(name), Expr::local(&lv.p).eq(Expr::local(&lv.f))),
+            ],
+        ));
+    }
+    enforce.push(Stmt::CallFunction {
+        function: f_occur.clone(),
+        args: vec![
+            (lv.ev.clone(), Expr::local(&lv.f)),
+            (lv.only.clone(), Expr::local(&lv.by)),
+            (lv.skip.clone(), Expr::Int(0)),
+            (lv.timers.clone(), Expr::Bool(true)),
+        ],
+        result: Some(Place::local(&f_enforce)),
+    });
+    for (j, name) in also.iter().enumerate() {
+        enforce.push(Stmt::when(
+            Expr::local(name),
+            vec![Stmt::CallFunction {
+                function: f_occur.clone(),
+                args: vec![
+                    (lv.ev.clone(), Expr::local(&lv.f)),
+                    (lv.only.clone(), Expr::Int(j as i64 + 1)),
+                    (lv.skip.clone(), Expr::Int(0)),
+                    (lv.timers.clone(), Expr::Bool(false)),
+                ],
+                result: Some(Place::local(&lv.moved)),
+            }],
+        ));
+    }
+    enforce.push(counter_up(&d("enforcements")));
+    enforce.push(Stmt::assign(Place::global(d("last_enforced_event")), Expr::local(&lv.f)));
+    let enforced_flags: BTreeMap<EventId, String> = flag_occ
+        .iter()
+        .filter(|(&e, _)| project.kind(e) == EventKind::Enforceable)
+        .map(|(&e, g)| (e, g.clone()))
+        .collect();
+    enforce.extend(flag_chain(&enforced_flags, &lv.f));
+    if !action_arms.is_empty() {
+        enforce.push(Stmt::Comment("the enforced event's code".into()));
+        enforce.push(Stmt::If { arms: action_arms, otherwise: Vec::new() });
+    }
+    let enforce_fn = Pou {
+        kind: PouKind::Function { returns: Some(Type::Bool) },
+        name: f_enforce.clone(),
+        comment: "Supervisor `by` executes the event its current state enforces (preemption, 5.5). \
+                  TRUE if its state changed, so that a cascade goes on."
+            .into(),
+        inputs: vec![Var::new(&lv.by, Type::Int, "a SUP_ constant")],
+        outputs: Vec::new(),
+        locals,
+        body: vec![
+            Stmt::assign(Place::local(&f_enforce), Expr::Bool(false)),
+            Stmt::CallFunction {
+                function: f_enforced.clone(),
+                args: vec![(lv.sup.clone(), Expr::local(&lv.by))],
+                result: Some(Place::local(&lv.f)),
+            },
+            Stmt::when(Expr::local(&lv.f).ne(Expr::Int(0)), enforce),
+        ],
+    };
+
+    // The program: the cycle of 6.3.4.
+    let mut main = Vec::new();
+    let mut locals = vec![
+        Var::new(&lv.controller, Type::Instance(options.controller.clone()), "the supervised controller"),
+        Var::new(&lv.ok, Type::Bool, "an event's answer"),
+        Var::new(&lv.go, Type::Bool, "an enforcement cascade goes on"),
+    ];
+    main.push(Stmt::Comment("1. a new cycle: this cycle's event flags are cleared".into()));
+    for g in flag_acc.values().chain(flag_den.values()).chain(flag_occ.values()) {
+        main.push(Stmt::assign(Place::global(g), Expr::Bool(false)));
+    }
+    if !loaded.timers.is_empty() {
+        main.push(Stmt::Comment("timers are refreshed; a timer that reaches its time is due".into()));
+    }
+    for (t, names) in loaded.timers.iter().zip(&timer_names) {
+        locals.push(Var::new(&names.ton, Type::Ton, format!("timer {} ({} ms)", t.name, t.duration_ms)));
+        locals.push(Var::new(&names.due, Type::Bool, format!("{} is due this cycle", t.timeout)));
+        main.push(Stmt::CallInstance {
+            instance: Place::local(&names.ton),
+            args: vec![("IN".into(), Expr::global(&names.run)), ("PT".into(), Expr::Time(t.duration_ms))],
+        });
+        main.push(Stmt::assign(
+            Place::local(&names.due),
+            Expr::global(&names.run)
+                .and(Expr::global(&names.expired).not())
+                .and(Expr::read(Place::local(&names.ton).member("Q"))),
+        ));
+        main.push(Stmt::when(
+            Expr::local(&names.due),
+            vec![Stmt::assign(Place::global(&names.expired), Expr::Bool(true))],
+        ));
+    }
+    main.push(Stmt::Comment("2. uncontrollable events: due timeouts first, then the detected ones".into()));
+    let call_uncontrollable = |e: EventId| Stmt::CallFunction {
+        function: f_uncontrollable.clone(),
+        args: vec![(lv.ev.clone(), Expr::global(ev(e)))],
+        result: Some(Place::local(&lv.ok)),
+    };
+    for (t, names) in loaded.timers.iter().zip(&timer_names) {
+        if let Some(e) = event_by_name(&t.timeout) {
+            main.push(Stmt::when(Expr::local(&names.due), vec![call_uncontrollable(e)]));
+        }
+    }
+    let mut triggers = BTreeMap::new();
+    for (id, f) in fragments.iter().enumerate() {
+        if let (Some(t), Trigger::Detected { edge, .. }) = (&f.trigger, &loaded.events[id].trigger) {
+            let at = fragment_span(&loaded.events[id], FragmentAt::Trigger);
+            if let Some(now) = l.expr(t, at) {
+                let e = EventId(id as u32);
+                let before = Expr::global(&latch[&e]);
+                let fires = match edge {
+                    EdgeKind::Rising => now.clone().and(before.not()),
+                    EdgeKind::Falling => now.clone().not().and(before),
+                    EdgeKind::Either => Expr::binary(BinOp::Xor, now.clone(), before),
+                    EdgeKind::Cyclic => now.clone(),
+                };
+                triggers.insert(e, (now, fires));
+            }
+        }
+    }
+    for (&e, (_, fires)) in &triggers {
+        if project.kind(e) == EventKind::Uncontrollable {
+            main.push(Stmt::when(fires.clone(), vec![call_uncontrollable(e)]));
+        }
+    }
+    main.push(Stmt::Comment("3. outputs that a denial resets are saved".into()));
+    for (&k, g) in &saved {
+        main.push(Stmt::assign(Place::global(g), Expr::read(Place::Signal(k))));
+    }
+    main.push(Stmt::Comment(format!(
+        "4. the controller runs; its executed events are answered by {f_execute} at once"
+    )));
+    main.push(Stmt::CallInstance { instance: Place::local(&lv.controller), args: Vec::new() });
+    main.push(Stmt::Comment("5. detected controllable events".into()));
+    for (&e, (_, fires)) in &triggers {
+        if project.kind(e) == EventKind::Controllable {
+            main.push(Stmt::when(
+                fires.clone(),
+                vec![Stmt::CallFunction {
+                    function: f_execute.clone(),
+                    args: vec![(lv.ev.clone(), Expr::global(ev(e)))],
+                    result: Some(Place::local(&lv.ok)),
+                }],
+            ));
+        }
+    }
+    main.push(Stmt::Comment("6. denied detected events without code on denial: their outputs are restored".into()));
+    for (id, f) in fragments.iter().enumerate() {
+        let e = EventId(id as u32);
+        let meta = &loaded.events[id];
+        if f.resets.is_empty() || meta.code_on_denial.is_some() || !matches!(meta.trigger, Trigger::Detected { .. }) {
+            continue;
+        }
+        let Some(flag) = flag_den.get(&e) else { continue };
+        let mut restore = Vec::new();
+        for r in &f.resets {
+            if let Some(key) = Lowering::signal_key(&r.kind) {
+                let k = l.signal(&key);
+                restore.push(Stmt::assign(Place::Signal(k), Expr::global(&saved[&k])));
+            }
+        }
+        main.push(Stmt::when(Expr::global(flag), restore));
+    }
+    main.push(Stmt::Comment("7. code on acceptance of controllable events".into()));
+    for (id, f) in fragments.iter().enumerate() {
+        let e = EventId(id as u32);
+        let Some(flag) = flag_acc.get(&e) else { continue };
+        if f.accept.is_empty() {
+            continue;
+        }
+        if let Some(code) = l.stmts(&f.accept, fragment_span(&loaded.events[id], FragmentAt::Accept)) {
+            main.push(Stmt::when(Expr::global(flag), code));
+        }
+    }
+    main.push(Stmt::Comment("8. enforcement: each supervisor executes what its state enforces, in cascades".into()));
+    for (k, s) in supervisors.iter().enumerate() {
+        let chain = enforcement_chain(s);
+        if chain == 0 {
+            continue;
+        }
+        let call = Stmt::CallFunction {
+            function: f_enforce.clone(),
+            args: vec![(lv.by.clone(), Expr::Int(k as i64 + 1))],
+            result: Some(Place::local(&lv.go)),
+        };
+        main.push(Stmt::Comment(format!("supervisor {}: enforcements in a row, at most {chain}", s.name)));
+        main.push(call.clone());
+        for _ in 1..chain {
+            main.push(Stmt::when(Expr::local(&lv.go), vec![call.clone()]));
+        }
+    }
+    main.push(Stmt::Comment("9. code on denial".into()));
+    for (id, f) in fragments.iter().enumerate() {
+        let e = EventId(id as u32);
+        let Some(flag) = flag_den.get(&e) else { continue };
+        if f.denial.is_empty() {
+            continue;
+        }
+        if let Some(code) = l.stmts(&f.denial, fragment_span(&loaded.events[id], FragmentAt::Denial)) {
+            main.push(Stmt::when(Expr::global(flag), code));
+        }
+    }
+    main.push(Stmt::Comment("10. triggers and \\last{} signals are latched for the next cycle".into()));
+    for (&e, (now, _)) in &triggers {
+        main.push(Stmt::assign(Place::global(&latch[&e]), now.clone()));
+    }
+    for (&k, g) in &l.last {
+        main.push(Stmt::assign(Place::global(g), Expr::read(Place::Signal(k))));
+    }
+    if !loaded.timers.is_empty() {
+        main.push(Stmt::Comment("11. timers started this cycle start now; stopped ones are reset".into()));
+    }
+    for (t, names) in loaded.timers.iter().zip(&timer_names) {
+        let ton = Place::local(&names.ton);
+        let call = |on: bool| Stmt::CallInstance {
+            instance: ton.clone(),
+            args: vec![("IN".into(), Expr::Bool(on)), ("PT".into(), Expr::Time(t.duration_ms))],
+        };
+        main.push(Stmt::If {
+            arms: vec![
+                (
+                    Expr::global(&names.restart),
+                    vec![call(false), call(true), Stmt::assign(Place::global(&names.restart), Expr::Bool(false))],
+                ),
+                (Expr::global(&names.run).not(), vec![call(false)]),
+            ],
+            otherwise: Vec::new(),
+        });
+    }
+    let main_pou = Pou {
+        kind: PouKind::Program,
+        name: program.clone(),
+        comment: format!(
+            "The runtime framework (Göbe 2019, 6.3.4): call it from the cyclic task in place of the controller {}.",
+            options.controller
+        ),
+        inputs: Vec::new(),
+        outputs: Vec::new(),
+        locals,
+        body: main,
+    };
+
+    if l.diags.items.iter().any(Diagnostic::is_error) {
+        return Err(l.diags.items);
+    }
+    let header = vec![
+        format!("Generated by plcsynth {} from a supervisory-control specification.", env!("CARGO_PKG_VERSION")),
+        format!("Specification hash (FNV-1a 64): {}", source_hash(source)),
+        format!(
+            "Supervisors: {}.",
+            supervisors
+                .iter()
+                .map(|s| format!("{} ({} states)", s.name, s.states.len()))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        "Do not edit: change the specification and generate again.".to_string(),
+    ];
+    Ok(Unit {
+        name: n,
+        header,
+        gvl,
+        constants,
+        globals,
+        signals,
+        pous: vec![prohibited_fn, occur_fn, execute_fn, uncontrollable_fn, enforced_fn, enforce_fn, main_pou],
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn durations() {
+        assert_eq!(duration_ms("T#1s500ms"), Some(1500));
+        assert_eq!(duration_ms("TIME#2m"), Some(120_000));
+        assert_eq!(duration_ms("t#1h_30m"), Some(5_400_000));
+        assert_eq!(duration_ms("T#1.5s"), None);
+        assert_eq!(duration_ms("T#"), None);
+    }
+
+    #[test]
+    fn integers() {
+        assert_eq!(int_literal("16#FF"), Some(255));
+        assert_eq!(int_literal("1_000"), Some(1000));
+        assert_eq!(int_literal("2#101"), Some(5));
+    }
+}

@@ -1,0 +1,477 @@
+//! A [`Unit`] as Structured Text: plain IEC 61131-3, CODESYS V3, TwinCAT 3 (the same text in
+//! `.TcPOU`/`.TcGVL` files, see [`files`]) and Siemens SCL for S7-300/400 and S7-1200/1500.
+//!
+//! Where the dialects differ:
+//! - **Globals.** IEC, CODESYS and TwinCAT keep them in a global variable list; CODESYS and
+//!   TwinCAT mark it `qualified_only`, so the code writes `SyRF_Data.denials`. Plain IEC 61131-3
+//!   has no standard place for variables that functions share (functions may not use
+//!   `VAR_EXTERNAL`); the text uses the global-variable-list form that CODESYS, TwinCAT and most
+//!   IEC tools read. SCL keeps them in a global data block, `"SyRF_Data".denials`.
+//! - **Constants.** A `VAR_GLOBAL CONSTANT` list beside the globals, except in SCL, where a
+//!   global data block holds no constants: every block declares the constants it uses (`CONST`
+//!   on S7-300/400, `VAR CONSTANT` on S7-1200/1500).
+//! - **Signals** of the user's project are written as the project writes them: a symbol
+//!   (`Q_Inlet`) or a direct address (`%QX0.0`); in SCL a PLC tag in quotes (`"Q_Inlet"`) or a
+//!   Siemens address (`%Q0.0`).
+//! - **Timers** are `TON`, on S7-1200/1500 `TON_TIME`; the program is an FB on Siemens targets,
+//!   called from an organisation block the user adds.
+
+use super::st::Dialect;
+use super::unit::{Expr, Place, Pou, PouKind, SignalKind, Stmt, Type, Unit, Var};
+use super::{iec_address, siemens_address, time_literal, OutputFile};
+use std::collections::BTreeSet;
+use std::fmt::{self, Write};
+
+fn siemens(dialect: Dialect) -> bool {
+    matches!(dialect, Dialect::Scl | Dialect::Scl1500)
+}
+
+fn qualified(dialect: Dialect) -> bool {
+    matches!(dialect, Dialect::Codesys | Dialect::Twincat)
+}
+
+/// The type as the dialect declares it.
+pub fn type_name(ty: &Type, dialect: Dialect) -> String {
+    match ty {
+        Type::Bool => "BOOL".into(),
+        Type::Int => "INT".into(),
+        Type::Dint => "DINT".into(),
+        Type::Time => "TIME".into(),
+        Type::Ton if dialect == Dialect::Scl1500 => "TON_TIME".into(),
+        Type::Ton => "TON".into(),
+        Type::Instance(name) if siemens(dialect) => format!("\"{name}\""),
+        Type::Instance(name) => name.clone(),
+    }
+}
+
+/// How one POU's code names things in `dialect`.
+pub(super) struct Writer<'u> {
+    unit: &'u Unit,
+    dialect: Dialect,
+}
+
+impl<'u> Writer<'u> {
+    pub(super) fn new(unit: &'u Unit, dialect: Dialect) -> Writer<'u> {
+        Writer { unit, dialect }
+    }
+
+    fn place(&self, place: &Place) -> String {
+        match place {
+            Place::Global(name) => {
+                let constant = self.unit.constants.iter().any(|c| &c.name == name);
+                if siemens(self.dialect) {
+                    if constant {
+                        name.clone()
+                    } else {
+                        format!("\"{}\".{name}", self.unit.gvl)
+                    }
+                } else if qualified(self.dialect) {
+                    format!("{}.{name}", self.unit.gvl)
+                } else {
+                    name.clone()
+                }
+            }
+            Place::Local(name) => name.clone(),
+            Place::Signal(n) => {
+                let s = &self.unit.signals[*n];
+                match (siemens(self.dialect), s.is_address()) {
+                    (true, true) => format!("%{}", siemens_address(&s.address)),
+                    (true, false) => format!("\"{}\"", s.symbol),
+                    (false, true) => format!("%{}", iec_address(&s.address)),
+                    (false, false) => s.symbol.clone(),
+                }
+            }
+            Place::Member(base, field) => format!("{}.{field}", self.place(base)),
+        }
+    }
+
+    pub(super) fn expr(&self, e: &Expr) -> String {
+        let mut out = String::new();
+        self.write_expr(e, 0, &mut out);
+        out
+    }
+
+    fn write_expr(&self, e: &Expr, min: u8, out: &mut String) {
+        match e {
+            Expr::Bool(b) => out.push_str(if *b { "TRUE" } else { "FALSE" }),
+            Expr::Int(v) if *v < 0 => {
+                let _ = write!(out, "({v})");
+            }
+            Expr::Int(v) => {
+                let _ = write!(out, "{v}");
+            }
+            Expr::Time(ms) => out.push_str(&time_literal(*ms)),
+            Expr::Read(p) => out.push_str(&self.place(p)),
+            Expr::Not(inner) | Expr::Neg(inner) => {
+                let paren = min > UNARY;
+                if paren {
+                    out.push('(');
+                }
+                out.push_str(if matches!(e, Expr::Not(_)) { "NOT " } else { "-" });
+                self.write_expr(inner, UNARY, out);
+                if paren {
+                    out.push(')');
+                }
+            }
+            Expr::Binary(op, a, b) => {
+                let p = op.precedence();
+                let paren = p < min;
+                if paren {
+                    out.push('(');
+                }
+                self.write_expr(a, p, out);
+                let _ = write!(out, " {} ", op.text());
+                // Left-associative: a right operand of the same precedence needs parentheses.
+                self.write_expr(b, p + 1, out);
+                if paren {
+                    out.push(')');
+                }
+            }
+        }
+    }
+
+    fn args(&self, args: &[(String, Expr)]) -> String {
+        args.iter().map(|(name, value)| format!("{name} := {}", self.expr(value))).collect::<Vec<_>>().join(", ")
+    }
+
+    fn function_name(&self, name: &str) -> String {
+        if siemens(self.dialect) {
+            format!("\"{name}\"")
+        } else {
+            name.to_string()
+        }
+    }
+
+    fn stmts(&self, stmts: &[Stmt], indent: usize, o: &mut String) {
+        for s in stmts {
+            self.stmt(s, indent, o);
+        }
+    }
+
+    fn stmt(&self, s: &Stmt, indent: usize, o: &mut String) {
+        let pad = "    ".repeat(indent);
+        match s {
+            Stmt::Comment(text) => {
+                let _ = writeln!(o, "{pad}(* {} *)", comment_text(text));
+            }
+            Stmt::Assign { target, value } => {
+                let _ = writeln!(o, "{pad}{} := {};", self.place(target), self.expr(value));
+            }
+            Stmt::If { arms, otherwise } => {
+                for (k, (cond, body)) in arms.iter().enumerate() {
+                    let _ = writeln!(o, "{pad}{} {} THEN", if k == 0 { "IF" } else { "ELSIF" }, self.expr(cond));
+                    self.stmts(body, indent + 1, o);
+                }
+                if !otherwise.is_empty() {
+                    let _ = writeln!(o, "{pad}ELSE");
+                    self.stmts(otherwise, indent + 1, o);
+                }
+                let _ = writeln!(o, "{pad}END_IF;");
+            }
+            Stmt::Case { selector, arms, otherwise } => {
+                let _ = writeln!(o, "{pad}CASE {} OF", self.expr(selector));
+                for (labels, body) in arms {
+                    let labels: Vec<String> = labels.iter().map(i64::to_string).collect();
+                    let _ = writeln!(o, "{pad}    {}:", labels.join(", "));
+                    if body.is_empty() {
+                        // An empty arm is not allowed everywhere: say nothing happens.
+                        let _ = writeln!(o, "{pad}        ;");
+                    }
+                    self.stmts(body, indent + 2, o);
+                }
+                if !otherwise.is_empty() {
+                    let _ = writeln!(o, "{pad}ELSE");
+                    self.stmts(otherwise, indent + 1, o);
+                }
+                let _ = writeln!(o, "{pad}END_CASE;");
+            }
+            Stmt::CallFunction { function, args, result } => {
+                let call = format!("{}({})", self.function_name(function), self.args(args));
+                match result {
+                    Some(target) => {
+                        let _ = writeln!(o, "{pad}{} := {call};", self.place(target));
+                    }
+                    None => {
+                        let _ = writeln!(o, "{pad}{call};");
+                    }
+                }
+            }
+            Stmt::CallInstance { instance, args } => {
+                let _ = writeln!(o, "{pad}{}({});", self.place(instance), self.args(args));
+            }
+        }
+    }
+}
+
+const UNARY: u8 = 8;
+
+/// Comment text that cannot end the comment early.
+fn comment_text(text: &str) -> String {
+    text.replace("*)", "* )").replace("(*", "( *")
+}
+
+fn declare(o: &mut String, w: &Writer<'_>, v: &Var) {
+    let init = v.init.as_ref().map(|e| format!(" := {}", w.expr(e))).unwrap_or_default();
+    let comment = if v.comment.is_empty() { String::new() } else { format!(" (* {} *)", comment_text(&v.comment)) };
+    let _ = writeln!(o, "    {} : {}{init};{comment}", v.name, type_name(&v.ty, w.dialect));
+}
+
+/// The constants a POU reads (SCL declares them per block).
+fn constants_used<'u>(unit: &'u Unit, pou: &Pou) -> Vec<&'u Var> {
+    let mut names = BTreeSet::new();
+    fn expr(e: &Expr, names: &mut BTreeSet<String>) {
+        match e {
+            Expr::Read(p) => place(p, names),
+            Expr::Not(a) | Expr::Neg(a) => expr(a, names),
+            Expr::Binary(_, a, b) => {
+                expr(a, names);
+                expr(b, names);
+            }
+            Expr::Bool(_) | Expr::Int(_) | Expr::Time(_) => {}
+        }
+    }
+    fn place(p: &Place, names: &mut BTreeSet<String>) {
+        match p {
+            Place::Global(n) => {
+                names.insert(n.clone());
+            }
+            Place::Member(b, _) => place(b, names),
+            Place::Local(_) | Place::Signal(_) => {}
+        }
+    }
+    fn stmts(list: &[Stmt], names: &mut BTreeSet<String>) {
+        for s in list {
+            match s {
+                Stmt::Comment(_) => {}
+                Stmt::Assign { target, value } => {
+                    place(target, names);
+                    expr(value, names);
+                }
+                Stmt::If { arms, otherwise } => {
+                    for (c, b) in arms {
+                        expr(c, names);
+                        stmts(b, names);
+                    }
+                    stmts(otherwise, names);
+                }
+                Stmt::Case { selector, arms, otherwise } => {
+                    expr(selector, names);
+                    for (_, b) in arms {
+                        stmts(b, names);
+                    }
+                    stmts(otherwise, names);
+                }
+                Stmt::CallFunction { args, result, .. } => {
+                    args.iter().for_each(|(_, e)| expr(e, names));
+                    if let Some(r) = result {
+                        place(r, names);
+                    }
+                }
+                Stmt::CallInstance { instance, args } => {
+                    place(instance, names);
+                    args.iter().for_each(|(_, e)| expr(e, names));
+                }
+            }
+        }
+    }
+    stmts(&pou.body, &mut names);
+    unit.constants.iter().filter(|c| names.contains(&c.name)).collect()
+}
+
+/// The global variable list (IEC, CODESYS, TwinCAT): constants, then variables.
+pub fn gvl(unit: &Unit, dialect: Dialect, o: &mut String) {
+    let w = Writer { unit, dialect };
+    let attribute = if qualified(dialect) { "{attribute 'qualified_only'}\n" } else { "" };
+    if !unit.constants.is_empty() {
+        let _ = writeln!(o, "{attribute}VAR_GLOBAL CONSTANT");
+        for c in &unit.constants {
+            declare(o, &w, c);
+        }
+        o.push_str("END_VAR\n");
+    }
+    if !unit.globals.is_empty() {
+        let attribute = if unit.constants.is_empty() { attribute } else { "" };
+        let _ = writeln!(o, "{attribute}VAR_GLOBAL");
+        for v in &unit.globals {
+            declare(o, &w, v);
+        }
+        o.push_str("END_VAR\n");
+    }
+}
+
+/// The global data block (SCL).
+fn data_block(unit: &Unit, dialect: Dialect, o: &mut String) {
+    let w = Writer { unit, dialect };
+    let _ = write!(o, "DATA_BLOCK \"{}\"\n{}", unit.gvl, siemens_head(dialect));
+    if dialect == Dialect::Scl1500 {
+        o.push_str("VAR\n");
+        for v in &unit.globals {
+            declare(o, &w, v);
+        }
+        o.push_str("END_VAR\n");
+    } else {
+        o.push_str("STRUCT\n");
+        for v in &unit.globals {
+            declare(o, &w, v);
+        }
+        o.push_str("END_STRUCT;\n");
+    }
+    o.push_str("BEGIN\nEND_DATA_BLOCK\n");
+}
+
+fn siemens_head(dialect: Dialect) -> &'static str {
+    if dialect == Dialect::Scl1500 {
+        "{ S7_Optimized_Access := 'TRUE' }\nVERSION : 0.1\n"
+    } else {
+        "VERSION : 0.1\n"
+    }
+}
+
+fn section(o: &mut String, w: &Writer<'_>, keyword: &str, vars: &[Var]) {
+    if vars.is_empty() {
+        return;
+    }
+    let _ = writeln!(o, "{keyword}");
+    for v in vars {
+        declare(o, w, v);
+    }
+    o.push_str("END_VAR\n");
+}
+
+/// A POU's declaration part: from `FUNCTION`/`FUNCTION_BLOCK`/`PROGRAM` to the last `END_VAR`.
+pub fn pou_declaration(unit: &Unit, pou: &Pou, dialect: Dialect, o: &mut String) {
+    let w = Writer { unit, dialect };
+    if !pou.comment.is_empty() {
+        for line in pou.comment.lines() {
+            let _ = writeln!(o, "(* {} *)", comment_text(line));
+        }
+    }
+    let name = if siemens(dialect) { format!("\"{}\"", pou.name) } else { pou.name.clone() };
+    match &pou.kind {
+        PouKind::Function { returns } => {
+            let ty = returns.as_ref().map_or_else(|| "VOID".to_string(), |t| type_name(t, dialect));
+            let _ = writeln!(o, "FUNCTION {name} : {ty}");
+        }
+        PouKind::FunctionBlock => {
+            let _ = writeln!(o, "FUNCTION_BLOCK {name}");
+        }
+        PouKind::Program if siemens(dialect) => {
+            let _ = writeln!(o, "FUNCTION_BLOCK {name}");
+        }
+        PouKind::Program => {
+            let _ = writeln!(o, "PROGRAM {name}");
+        }
+    }
+    if siemens(dialect) {
+        o.push_str(siemens_head(dialect));
+    }
+    section(o, &w, "VAR_INPUT", &pou.inputs);
+    section(o, &w, "VAR_OUTPUT", &pou.outputs);
+    let temp = matches!(pou.kind, PouKind::Function { .. });
+    section(o, &w, if temp && siemens(dialect) { "VAR_TEMP" } else { "VAR" }, &pou.locals);
+    if siemens(dialect) {
+        let used = constants_used(unit, pou);
+        if !used.is_empty() {
+            if dialect == Dialect::Scl1500 {
+                o.push_str("VAR CONSTANT\n");
+                for c in used {
+                    declare(o, &w, c);
+                }
+                o.push_str("END_VAR\n");
+            } else {
+                o.push_str("CONST\n");
+                for c in used {
+                    let value = c.init.as_ref().map(|e| w.expr(e)).unwrap_or_else(|| "0".into());
+                    let _ = writeln!(o, "    {} := {value};", c.name);
+                }
+                o.push_str("END_CONST\n");
+            }
+        }
+    }
+}
+
+/// A POU's statements.
+pub fn pou_body(unit: &Unit, pou: &Pou, dialect: Dialect, o: &mut String) {
+    Writer { unit, dialect }.stmts(&pou.body, 0, o);
+}
+
+fn end_keyword(pou: &Pou, dialect: Dialect) -> &'static str {
+    match pou.kind {
+        PouKind::Function { .. } => "END_FUNCTION",
+        PouKind::FunctionBlock => "END_FUNCTION_BLOCK",
+        PouKind::Program if siemens(dialect) => "END_FUNCTION_BLOCK",
+        PouKind::Program => "END_PROGRAM",
+    }
+}
+
+/// The whole unit as one text: header, globals, then every POU in call order.
+pub fn print(unit: &Unit, dialect: Dialect, o: &mut impl Write) -> fmt::Result {
+    let mut text = String::new();
+    for line in &unit.header {
+        let _ = writeln!(text, "(* {} *)", comment_text(line));
+    }
+    signal_list(unit, &mut text);
+    text.push('\n');
+    if siemens(dialect) {
+        if !unit.globals.is_empty() {
+            data_block(unit, dialect, &mut text);
+            text.push('\n');
+        }
+    } else if !unit.constants.is_empty() || !unit.globals.is_empty() {
+        let _ = writeln!(
+            text,
+            "(* Global variable list {0}: in CODESYS or TwinCAT add a Global Variable List named {0} and paste this. *)",
+            unit.gvl
+        );
+        gvl(unit, dialect, &mut text);
+        text.push('\n');
+    }
+    for (k, pou) in unit.pous.iter().enumerate() {
+        if k > 0 {
+            text.push('\n');
+        }
+        pou_declaration(unit, pou, dialect, &mut text);
+        if siemens(dialect) {
+            text.push_str("BEGIN\n");
+        }
+        pou_body(unit, pou, dialect, &mut text);
+        text.push_str(end_keyword(pou, dialect));
+        text.push('\n');
+    }
+    o.write_str(&text)
+}
+
+/// The signals of the user's project the unit reads and writes, as comment lines.
+fn signal_list(unit: &Unit, o: &mut String) {
+    if unit.signals.is_empty() {
+        return;
+    }
+    o.push_str("(* Signals of the supervised project (declared there): *)\n");
+    for s in &unit.signals {
+        let kind = match s.kind {
+            SignalKind::Input => "input",
+            SignalKind::Output => "output",
+            SignalKind::Memory => "variable",
+        };
+        let _ = writeln!(o, "(*   {:<24} {kind:<8} {} *)", s.symbol, comment_text(&s.comment));
+    }
+}
+
+/// TwinCAT 3 files: a `.TcPOU` per POU and a `.TcGVL` for the globals.
+pub fn files(unit: &Unit) -> Vec<OutputFile> {
+    let header: String = unit.header.iter().map(|l| format!("(* {} *)\n", comment_text(l))).collect();
+    let mut out = Vec::new();
+    for pou in &unit.pous {
+        let mut declaration = header.clone();
+        pou_declaration(unit, pou, Dialect::Twincat, &mut declaration);
+        let mut body = String::new();
+        pou_body(unit, pou, Dialect::Twincat, &mut body);
+        out.push(super::twincat::pou_file(&unit.header, &pou.name, &declaration, &body));
+    }
+    if !unit.constants.is_empty() || !unit.globals.is_empty() {
+        let mut declaration = header;
+        gvl(unit, Dialect::Twincat, &mut declaration);
+        out.push(super::twincat::gvl_file(&unit.header, &unit.gvl, &declaration));
+    }
+    out
+}
