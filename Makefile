@@ -14,9 +14,10 @@ TEST_PROFILE ?= test-opt
 ## wasm-bindgen-test (in Node) and the browser tests (in Chromium).
 test: lint test-native test-wasm test-browser
 
-## The same with the random and property runs ten times bigger (minutes more).
+## The same with the random and property runs ten times bigger and every generated dialect
+## parsed by blark (minutes more).
 test-long:
-	PLCSYNTH_RANDOM_SPECS=4000 PROPTEST_CASES=4096 $(MAKE) test
+	PLCSYNTH_RANDOM_SPECS=4000 PROPTEST_CASES=4096 PLCSYNTH_ALL_DIALECTS=1 $(MAKE) test
 
 ## rustfmt and clippy, warnings as errors (the wasm boundary is linted in test-wasm).
 lint:

@@ -25,6 +25,7 @@ pub mod stl;
 mod target;
 pub mod twincat;
 pub mod unit;
+pub mod unit_exec;
 pub mod unit_plcopen;
 pub mod unit_st;
 
@@ -473,6 +474,7 @@ mod tests {
             ("unit.rs", include_str!("unit.rs")),
             ("unit_st.rs", include_str!("unit_st.rs")),
             ("unit_plcopen.rs", include_str!("unit_plcopen.rs")),
+            ("unit_exec.rs", include_str!("unit_exec.rs")),
         ];
         for (file, text) in sources {
             for engine in ["crate::timed", "crate::program", "crate::sct", "lower_timed::"] {

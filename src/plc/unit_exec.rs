@@ -1,0 +1,389 @@
+//! A reference interpreter of [`Unit`]s: runs the structured code model as a PLC would, cycle by
+//! cycle, on a virtual clock. It is the semantics the printers must keep (their output is run in
+//! an emulator and compared with it) and lets a lowering be checked against its engine without
+//! any printer: what the lowering means is what this interpreter does.
+//!
+//! Integers are stored wrapped to their declared width (`INT` 16 bits, `DINT` 32 bits), as a PLC
+//! stores them; arithmetic is exact in between. A `TON` is on-delay: `Q` rises once `IN` has been
+//! TRUE for `PT` on the virtual clock (`ET` counts up to `PT`), and a call with `IN` FALSE
+//! resets it. Function locals start from their defaults on every call; program and function
+//! block locals keep their values. Division by zero and unknown names are errors, not panics.
+
+use super::fragment::BinOp;
+use super::unit::{Expr, Place, Pou, PouKind, Stmt, Type, Unit, Var};
+use std::collections::HashMap;
+
+/// A value of the model's elementary types.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Value {
+    Bool(bool),
+    Int(i64),
+    /// Milliseconds.
+    Time(i64),
+}
+
+impl Value {
+    pub fn as_bool(self) -> bool {
+        match self {
+            Value::Bool(b) => b,
+            Value::Int(v) | Value::Time(v) => v != 0,
+        }
+    }
+
+    pub fn as_int(self) -> i64 {
+        match self {
+            Value::Bool(b) => i64::from(b),
+            Value::Int(v) | Value::Time(v) => v,
+        }
+    }
+
+    /// The default value of `ty` (FALSE, 0, T#0s).
+    pub fn default_of(ty: &Type) -> Value {
+        match ty {
+            Type::Bool => Value::Bool(false),
+            Type::Time => Value::Time(0),
+            _ => Value::Int(0),
+        }
+    }
+
+    /// The value as stored in a variable of type `ty`: integers wrap to the type's width.
+    fn stored_as(self, ty: &Type) -> Value {
+        match ty {
+            Type::Bool => Value::Bool(self.as_bool()),
+            Type::Int => Value::Int(i64::from(self.as_int() as i16)),
+            Type::Dint => Value::Int(i64::from(self.as_int() as i32)),
+            Type::Time => Value::Time(i64::from(self.as_int() as i32)),
+            Type::Ton | Type::Instance(_) => self,
+        }
+    }
+}
+
+/// Why the interpreter stopped.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ExecError(pub String);
+
+type Result<T> = std::result::Result<T, ExecError>;
+
+fn err<T>(message: impl Into<String>) -> Result<T> {
+    Err(ExecError(message.into()))
+}
+
+/// The state of one on-delay timer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Ton {
+    input: bool,
+    since_ms: u64,
+    preset_ms: u64,
+}
+
+/// The variables of one running POU.
+#[derive(Default)]
+struct Frame {
+    values: HashMap<String, Value>,
+    types: HashMap<String, Type>,
+    timers: HashMap<String, Ton>,
+}
+
+impl Frame {
+    fn declare(&mut self, v: &Var, initial: Option<Value>) {
+        self.types.insert(v.name.clone(), v.ty.clone());
+        match v.ty {
+            Type::Ton => {
+                self.timers.insert(v.name.clone(), Ton::default());
+            }
+            Type::Instance(_) => {}
+            _ => {
+                let value = initial.unwrap_or_else(|| Value::default_of(&v.ty)).stored_as(&v.ty);
+                self.values.insert(v.name.clone(), value);
+            }
+        }
+    }
+}
+
+/// What the user's controller does when the program calls it: it may read and write signals
+/// and call the unit's functions through the machine.
+pub type Controller<'c> = dyn FnMut(&mut Machine<'_>) -> Result<()> + 'c;
+
+/// A PLC running a unit: globals, signals, the program's static variables and a virtual clock.
+pub struct Machine<'u> {
+    unit: &'u Unit,
+    globals: Frame,
+    signals: Vec<Value>,
+    program: Frame,
+    now_ms: u64,
+    /// Calls made so far in the current cycle: a bound on runaway code.
+    steps: u64,
+}
+
+/// Statements one cycle may execute before it counts as a hang.
+const MAX_STEPS_PER_CYCLE: u64 = 10_000_000;
+
+impl<'u> Machine<'u> {
+    /// The unit after a cold start: every variable at its initial value, signals at their
+    /// defaults, the clock at 0.
+    pub fn new(unit: &'u Unit) -> Result<Machine<'u>> {
+        let mut m = Machine {
+            unit,
+            globals: Frame::default(),
+            signals: unit.signals.iter().map(|s| Value::default_of(&s.ty)).collect(),
+            program: Frame::default(),
+            now_ms: 0,
+            steps: 0,
+        };
+        for v in unit.constants.iter().chain(&unit.globals) {
+            let initial = match &v.init {
+                Some(e) => Some(m.eval(e, &mut Frame::default())?),
+                None => None,
+            };
+            m.globals.declare(v, initial);
+        }
+        let program = m.program_pou()?;
+        for v in program.inputs.iter().chain(&program.outputs).chain(&program.locals) {
+            let initial = match &v.init {
+                Some(e) => Some(m.eval(e, &mut Frame::default())?),
+                None => None,
+            };
+            m.program.declare(v, initial);
+        }
+        Ok(m)
+    }
+
+    fn program_pou(&self) -> Result<&'u Pou> {
+        match self.unit.pous.iter().find(|p| p.kind == PouKind::Program) {
+            Some(p) => Ok(p),
+            None => err("the unit has no program"),
+        }
+    }
+
+    /// Lets `ms` pass on the virtual clock.
+    pub fn advance(&mut self, ms: u64) {
+        self.now_ms += ms;
+    }
+
+    pub fn signal(&self, k: usize) -> Value {
+        self.signals[k]
+    }
+
+    /// Sets signal `k` (an input before a cycle, or an output the controller writes).
+    pub fn set_signal(&mut self, k: usize, value: Value) {
+        self.signals[k] = value.stored_as(&self.unit.signals[k].ty);
+    }
+
+    /// The value of global or constant `name`.
+    pub fn global(&self, name: &str) -> Option<Value> {
+        self.globals.values.get(name).copied()
+    }
+
+    /// One PLC cycle: runs the program; its call of the controller instance runs `controller`.
+    pub fn cycle(&mut self, controller: &mut Controller<'_>) -> Result<()> {
+        self.steps = 0;
+        let program = self.program_pou()?;
+        let mut frame = std::mem::take(&mut self.program);
+        let result = self.stmts(&program.body, &mut frame, &mut Some(controller));
+        self.program = frame;
+        result
+    }
+
+    /// Calls function `name` of the unit with named arguments (as the controller does for an
+    /// executed event) and returns its result (FALSE for a function without one).
+    pub fn call(&mut self, name: &str, args: &[(&str, Value)]) -> Result<Value> {
+        let Some(pou) = self.unit.pou(name) else { return err(format!("no function `{name}`")) };
+        let PouKind::Function { returns } = &pou.kind else { return err(format!("`{name}` is not a function")) };
+        let mut frame = Frame::default();
+        for v in pou.inputs.iter().chain(&pou.outputs).chain(&pou.locals) {
+            let initial = match &v.init {
+                Some(e) => Some(self.eval(e, &mut Frame::default())?),
+                None => None,
+            };
+            frame.declare(v, initial);
+        }
+        let result_type = returns.clone().unwrap_or(Type::Bool);
+        frame.declare(&Var::new(name, result_type, ""), None);
+        for (param, value) in args {
+            let Some(ty) = pou.inputs.iter().find(|v| v.name == *param).map(|v| v.ty.clone()) else {
+                return err(format!("`{name}` has no input `{param}`"));
+            };
+            frame.values.insert(param.to_string(), value.stored_as(&ty));
+        }
+        self.stmts(&pou.body, &mut frame, &mut None)?;
+        Ok(frame.values[name])
+    }
+
+    fn tick(&mut self) -> Result<()> {
+        self.steps += 1;
+        if self.steps > MAX_STEPS_PER_CYCLE {
+            return err("the cycle does not end (more than 10^7 statements)");
+        }
+        Ok(())
+    }
+
+    fn stmts(&mut self, list: &[Stmt], frame: &mut Frame, controller: &mut Option<&mut Controller<'_>>) -> Result<()> {
+        for s in list {
+            self.stmt(s, frame, controller)?;
+        }
+        Ok(())
+    }
+
+    fn stmt(&mut self, s: &Stmt, frame: &mut Frame, controller: &mut Option<&mut Controller<'_>>) -> Result<()> {
+        self.tick()?;
+        match s {
+            Stmt::Comment(_) => Ok(()),
+            Stmt::Assign { target, value } => {
+                let v = self.eval(value, frame)?;
+                self.store(target, v, frame)
+            }
+            Stmt::If { arms, otherwise } => {
+                for (cond, body) in arms {
+                    if self.eval(cond, frame)?.as_bool() {
+                        return self.stmts(body, frame, controller);
+                    }
+                }
+                self.stmts(otherwise, frame, controller)
+            }
+            Stmt::Case { selector, arms, otherwise } => {
+                let v = self.eval(selector, frame)?.as_int();
+                match arms.iter().find(|(labels, _)| labels.contains(&v)) {
+                    Some((_, body)) => self.stmts(body, frame, controller),
+                    None => self.stmts(otherwise, frame, controller),
+                }
+            }
+            Stmt::CallFunction { function, args, result } => {
+                let mut values = Vec::new();
+                for (name, e) in args {
+                    values.push((name.as_str(), self.eval(e, frame)?));
+                }
+                let v = self.call(function, &values)?;
+                match result {
+                    Some(place) => self.store(place, v, frame),
+                    None => Ok(()),
+                }
+            }
+            Stmt::CallInstance { instance, args } => {
+                let Place::Local(name) = instance else { return err("only local instances can be called") };
+                match frame.types.get(name) {
+                    Some(Type::Ton) => {
+                        let mut input = None;
+                        let mut preset = None;
+                        for (param, e) in args {
+                            let v = self.eval(e, frame)?;
+                            match param.as_str() {
+                                "IN" => input = Some(v.as_bool()),
+                                "PT" => preset = Some(v.as_int().max(0) as u64),
+                                other => return err(format!("TON has no input `{other}`")),
+                            }
+                        }
+                        let now = self.now_ms;
+                        let t = frame.timers.entry(name.clone()).or_default();
+                        if let Some(p) = preset {
+                            t.preset_ms = p;
+                        }
+                        if let Some(i) = input {
+                            if i && !t.input {
+                                t.since_ms = now;
+                            }
+                            t.input = i;
+                        }
+                        Ok(())
+                    }
+                    Some(Type::Instance(_)) => match controller.as_deref_mut() {
+                        Some(c) => c(self),
+                        None => err("the controller can only be called from the program"),
+                    },
+                    _ => err(format!("`{name}` is not an instance")),
+                }
+            }
+        }
+    }
+
+    fn store(&mut self, place: &Place, v: Value, frame: &mut Frame) -> Result<()> {
+        match place {
+            Place::Local(name) => match frame.types.get(name) {
+                Some(ty) => {
+                    let ty = ty.clone();
+                    frame.values.insert(name.clone(), v.stored_as(&ty));
+                    Ok(())
+                }
+                None => err(format!("no local `{name}`")),
+            },
+            Place::Global(name) => {
+                if self.unit.constants.iter().any(|c| &c.name == name) {
+                    return err(format!("`{name}` is a constant"));
+                }
+                match self.globals.types.get(name) {
+                    Some(ty) => {
+                        let ty = ty.clone();
+                        self.globals.values.insert(name.clone(), v.stored_as(&ty));
+                        Ok(())
+                    }
+                    None => err(format!("no global `{name}`")),
+                }
+            }
+            Place::Signal(k) => {
+                if *k >= self.signals.len() {
+                    return err(format!("no signal {k}"));
+                }
+                self.set_signal(*k, v);
+                Ok(())
+            }
+            Place::Member(..) => err("a timer's outputs cannot be written"),
+        }
+    }
+
+    fn read(&self, place: &Place, frame: &Frame) -> Result<Value> {
+        match place {
+            Place::Local(name) => frame.values.get(name).copied().map_or_else(|| err(format!("no local `{name}`")), Ok),
+            Place::Global(name) => self.global(name).map_or_else(|| err(format!("no global `{name}`")), Ok),
+            Place::Signal(k) => self.signals.get(*k).copied().map_or_else(|| err(format!("no signal {k}")), Ok),
+            Place::Member(base, field) => {
+                let Place::Local(name) = base.as_ref() else { return err("only local timers have outputs") };
+                let Some(t) = frame.timers.get(name) else { return err(format!("`{name}` is not a timer")) };
+                let elapsed = if t.input { (self.now_ms - t.since_ms).min(t.preset_ms) } else { 0 };
+                match field.as_str() {
+                    "Q" => Ok(Value::Bool(t.input && self.now_ms - t.since_ms >= t.preset_ms)),
+                    "ET" => Ok(Value::Time(elapsed as i64)),
+                    other => err(format!("TON has no output `{other}`")),
+                }
+            }
+        }
+    }
+
+    fn eval(&self, e: &Expr, frame: &mut Frame) -> Result<Value> {
+        Ok(match e {
+            Expr::Bool(b) => Value::Bool(*b),
+            Expr::Int(v) => Value::Int(*v),
+            Expr::Time(ms) => Value::Time(*ms as i64),
+            Expr::Read(p) => self.read(p, frame)?,
+            Expr::Not(a) => match self.eval(a, frame)? {
+                Value::Bool(b) => Value::Bool(!b),
+                v => Value::Int(!v.as_int()),
+            },
+            Expr::Neg(a) => Value::Int(self.eval(a, frame)?.as_int().wrapping_neg()),
+            Expr::Binary(op, a, b) => {
+                let (x, y) = (self.eval(a, frame)?, self.eval(b, frame)?);
+                let bools = matches!((x, y), (Value::Bool(_), Value::Bool(_)));
+                let (i, j) = (x.as_int(), y.as_int());
+                match op {
+                    BinOp::And if bools => Value::Bool(x.as_bool() && y.as_bool()),
+                    BinOp::Or if bools => Value::Bool(x.as_bool() || y.as_bool()),
+                    BinOp::Xor if bools => Value::Bool(x.as_bool() != y.as_bool()),
+                    BinOp::And => Value::Int(i & j),
+                    BinOp::Or => Value::Int(i | j),
+                    BinOp::Xor => Value::Int(i ^ j),
+                    BinOp::Eq => Value::Bool(i == j),
+                    BinOp::Ne => Value::Bool(i != j),
+                    BinOp::Lt => Value::Bool(i < j),
+                    BinOp::Le => Value::Bool(i <= j),
+                    BinOp::Gt => Value::Bool(i > j),
+                    BinOp::Ge => Value::Bool(i >= j),
+                    BinOp::Add => Value::Int(i.wrapping_add(j)),
+                    BinOp::Sub => Value::Int(i.wrapping_sub(j)),
+                    BinOp::Mul => Value::Int(i.wrapping_mul(j)),
+                    BinOp::Div | BinOp::Mod if j == 0 => return err("division by zero"),
+                    // IEC truncates towards zero; MOD takes the sign of the dividend.
+                    BinOp::Div => Value::Int(i.wrapping_div(j)),
+                    BinOp::Mod => Value::Int(i.wrapping_rem(j)),
+                }
+            }
+        })
+    }
+}
