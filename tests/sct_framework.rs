@@ -645,3 +645,14 @@ fn every_target_parses_or_validates_for_every_example_and_a_transfer_line() {
         );
     }
 }
+
+/// docs/syrf.md shows one complete generated framework: it must be what `supervise` prints.
+#[test]
+fn the_documented_example_is_the_generated_code() {
+    let doc = std::fs::read_to_string(root().join("docs/syrf.md")).unwrap();
+    let start = doc.rfind("```\n(*").expect("docs/syrf.md ends with the listing") + 4;
+    let listing = &doc[start..doc.len() - 4];
+    let p = project(&std::fs::read_to_string(root().join("examples/sct/tank_preemption.sct")).unwrap());
+    let files = plc::render_unit_files(&unit_of(&p), Target::St, &plc::Options::default()).unwrap();
+    assert_eq!(listing, files[0].text, "regenerate the listing of docs/syrf.md");
+}
