@@ -303,3 +303,78 @@ fn products_written_in_the_file_and_compose_obey_the_state_budget() {
     assert_eq!(code, 2, "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn supervise_writes_the_runtime_framework_for_every_target() {
+    let dir = std::env::temp_dir().join(format!("plcsynth-supervise-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for target in ["st", "codesys", "scl", "scl-1500", "plcopen"] {
+        let path = dir.join(format!("tank.{target}"));
+        let table = dir.join(format!("tank_{target}.csv"));
+        let (code, out, err) = plcsynth(&[
+            "supervise",
+            "examples/sct/tank_timer.sct",
+            "--target",
+            target,
+            "-o",
+            path.to_str().unwrap(),
+            "--io-table",
+            table.to_str().unwrap(),
+            "--controller",
+            "TankControl",
+        ]);
+        assert_eq!(code, 0, "{target}: {err}");
+        assert!(out.is_empty(), "{target}: the code goes to the file");
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains("Specification hash (FNV-1a 64): ") && text.contains("TankControl"), "{target}");
+        let csv = std::fs::read_to_string(&table).unwrap();
+        assert!(csv.starts_with("address,type,symbol,direction,events\r\n"), "{csv}");
+        assert!(csv.contains("%IX0.0,BOOL,I_LevelHigh,input,levelAlarm\r\n"), "{csv}");
+        assert!(csv.contains(",INT,EV_T_timeout,constant,"), "{csv}");
+    }
+    // TwinCAT: a directory with a file per POU and the global variable list.
+    let tc = dir.join("tank_tc");
+    let (code, _, err) =
+        plcsynth(&["supervise", "examples/sct/tank_timer.sct", "--target", "twincat", "-o", tc.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let mut names: Vec<String> =
+        std::fs::read_dir(&tc).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    names.sort();
+    assert!(
+        names.contains(&"SyRF_Main.TcPOU".to_string()) && names.contains(&"SyRF_Data.TcGVL".to_string()),
+        "{names:?}"
+    );
+    // Without -o the code goes to standard output; the report is not printed.
+    let (code, out, _) = plcsynth(&["supervise", "examples/sct/crane.sct", "--target", "st", "--name", "Crane"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("PROGRAM Crane_Main") && out.contains("FUNCTION Crane_Execute : BOOL"), "{out}");
+    assert!(!out.contains("realizable"), "{out}");
+}
+
+#[test]
+fn supervise_refuses_what_cannot_run_and_writes_nothing() {
+    let dir = std::env::temp_dir().join(format!("plcsynth-supervise-refused-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let spec = dir.join("virtual.sct");
+    std::fs::write(
+        &spec,
+        "event go : controllable;\nevent stop : controllable { detect falling \"Q\"; }\n\
+         plant P { alphabet go, stop; state A initial { go -> B; } state B { stop -> A; } }\n\
+         spec S { state X { go -> Y; } state Y { forbid go; stop -> X; } }\n",
+    )
+    .unwrap();
+    let out_path = dir.join("out.st");
+    let (code, _, err) =
+        plcsynth(&["supervise", spec.to_str().unwrap(), "--target", "st", "-o", out_path.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains(":1:7: error: supervisor `S` changes state on the virtual event `go`"), "{err}");
+    assert!(err.contains("1 | event go : controllable;") && err.contains("nothing written"), "{err}");
+    assert!(!out_path.exists());
+    // Instruction List is refused with a reason; options of the framework need a target.
+    let (code, _, err) = plcsynth(&["supervise", "examples/sct/tank_timer.sct", "--target", "il"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("Instruction List"), "{err}");
+    let (code, _, err) = plcsynth(&["supervise", "examples/sct/tank_timer.sct", "-o", "x.st"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--target"), "{err}");
+}

@@ -656,3 +656,51 @@ fn the_documented_example_is_the_generated_code() {
     let files = plc::render_unit_files(&unit_of(&p), Target::St, &plc::Options::default()).unwrap();
     assert_eq!(listing, files[0].text, "regenerate the listing of docs/syrf.md");
 }
+
+/// The trigger and action forms the examples do not use: `edge` (either direction), `\last{}`, `\var{}`,
+/// direct addresses, integer comparisons, `IF` in action code and code on denial.
+const EVERY_FORM: &str = r#"
+event start : controllable { detect rising "Q_Run AND \var{mode} = 1"; reset on denial "Q_Run"; }
+event stop : controllable { detect falling "Q_Run"; on denial "IF Level > 3 THEN Q_Horn := TRUE; ELSE Q_Horn := FALSE; END_IF;"; }
+event toggle : controllable { detect edge "%QX4.1"; reset on denial "%QX4.1"; }
+event tick : controllable { detect cyclic "%QX4.2 AND NOT \last{%QX4.2}"; }
+event full : uncontrollable { detect rising "Level >= 4"; }
+event drained : uncontrollable { detect rising "Level < 1 AND \last{Level} >= 1"; }
+event dump : enforceable { on accept "Q_Run := FALSE; Q_Valve := TRUE; Count := Count + 1;"; }
+plant Tank {
+  alphabet start, stop, full, drained, dump;
+  state Idle initial { start -> Filling; drained -> Idle; }
+  state Filling { stop -> Idle; full -> Full; dump -> Idle; }
+  state Full { stop -> Idle; dump -> Idle; drained -> Idle; }
+}
+plant Switch {
+  alphabet toggle, tick;
+  state Off initial { toggle -> On; }
+  state On { toggle -> Off; tick -> On; }
+}
+spec NoFullWhileRunning { state S { forbid full; } }
+spec TickOnlyWhenOn { state S { tick -> S; } }
+spec OneToggleAfterStart {
+  state A initial { start -> B; forbid toggle; }
+  state B { toggle -> A; start -> B; }
+}
+"#;
+
+#[test]
+fn every_trigger_and_action_form_steps_like_the_reference() {
+    let p = project(EVERY_FORM);
+    let unit = unit_of(&p);
+    let ty = |s: &str| unit.signals.iter().find(|x| x.symbol == s).map(|x| (x.kind, x.ty.clone()));
+    assert_eq!(ty("Level"), Some((SignalKind::Input, plc::unit::Type::Int)));
+    assert_eq!(ty("mode"), Some((SignalKind::Memory, plc::unit::Type::Int)));
+    assert_eq!(ty("QX4.1"), Some((SignalKind::Output, plc::unit::Type::Bool)));
+    let mut total: BTreeMap<&str, usize> = BTreeMap::new();
+    for seed in 1..=4 {
+        for (k, v) in closed_loop("every form", &p, seed, 1500) {
+            *total.entry(k).or_default() += v;
+        }
+    }
+    for kind in ["accepted", "denied", "enforced"] {
+        assert!(total.get(kind).copied().unwrap_or(0) > 20, "too few `{kind}` outcomes: {total:?}");
+    }
+}

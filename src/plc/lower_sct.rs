@@ -157,8 +157,10 @@ impl<'a> Lowering<'a> {
         }
     }
 
-    /// First pass over a fragment expression: which signals, and how they are used.
-    fn scan_expr(&mut self, e: &fragment::Expr, event: &str, kind: EventKind, int_context: bool) {
+    /// First pass over a fragment expression: which signals, and how they are used. `kind` is
+    /// the kind of the event whose trigger reads it (`None` for action code, whose reads say
+    /// nothing of a signal's direction).
+    fn scan_expr(&mut self, e: &fragment::Expr, event: &str, kind: Option<EventKind>, int_context: bool) {
         match &e.kind {
             ExprKind::Var(_) | ExprKind::Address(_) | ExprKind::ControllerVar(_) => {
                 let key = Self::signal_key(&e.kind).unwrap_or_default();
@@ -167,8 +169,9 @@ impl<'a> Lowering<'a> {
                 u.int |= int_context;
                 u.memory |= matches!(e.kind, ExprKind::ControllerVar(_));
                 match kind {
-                    EventKind::Uncontrollable => u.read_by_uncontrollable = true,
-                    _ => u.read_by_controllable = true,
+                    Some(EventKind::Uncontrollable) => u.read_by_uncontrollable = true,
+                    Some(_) => u.read_by_controllable = true,
+                    None => {}
                 }
                 if !u.events.iter().any(|x| x == event) {
                     u.events.push(event.to_string());
@@ -198,25 +201,25 @@ impl<'a> Lowering<'a> {
         }
     }
 
-    fn scan_stmts(&mut self, stmts: &[fragment::Stmt], event: &str, kind: EventKind) {
+    fn scan_stmts(&mut self, stmts: &[fragment::Stmt], event: &str) {
         for s in stmts {
             match s {
                 fragment::Stmt::Assign { target, value } => {
                     let int = matches!(value.kind, ExprKind::Int(_) | ExprKind::Unary(UnOp::Neg, _))
                         || matches!(value.kind, ExprKind::Binary(op, ..) if !is_logic(op) && !is_comparison(op));
-                    self.scan_expr(target, event, kind, int);
+                    self.scan_expr(target, event, None, int);
                     if let Some(key) = Self::signal_key(&target.kind) {
                         let k = self.signal(&key);
                         self.signals[k].1.written = true;
                     }
-                    self.scan_expr(value, event, kind, false);
+                    self.scan_expr(value, event, None, false);
                 }
                 fragment::Stmt::If { arms, otherwise } => {
                     for (c, body) in arms {
-                        self.scan_expr(c, event, kind, false);
-                        self.scan_stmts(body, event, kind);
+                        self.scan_expr(c, event, None, false);
+                        self.scan_stmts(body, event);
                     }
-                    self.scan_stmts(otherwise, event, kind);
+                    self.scan_stmts(otherwise, event);
                 }
             }
         }
@@ -430,17 +433,17 @@ pub fn lower(
         let e = EventId(id as u32);
         let (name, kind) = (project.event_name(e).to_string(), project.kind(e));
         if let Some(t) = &f.trigger {
-            l.scan_expr(t, &name, kind, false);
+            l.scan_expr(t, &name, Some(kind), false);
         }
         for r in &f.resets {
-            l.scan_expr(r, &name, kind, false);
+            l.scan_expr(r, &name, None, false);
             if let Some(key) = Lowering::signal_key(&r.kind) {
                 let k = l.signal(&key);
                 l.signals[k].1.written = true;
             }
         }
-        l.scan_stmts(&f.accept, &name, kind);
-        l.scan_stmts(&f.denial, &name, kind);
+        l.scan_stmts(&f.accept, &name);
+        l.scan_stmts(&f.denial, &name);
     }
     for (key, _) in &l.signals {
         l.names.reserve(key.split('.').next().unwrap_or(key));
