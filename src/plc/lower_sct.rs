@@ -476,6 +476,181 @@ pub fn lower(
         controller: l.names.unique("controller"),
     };
 
+    let signals = signal_table(&l);
+    let signal_names: Vec<String> = signals.iter().map(|s| s.symbol.clone()).collect();
+    for (&k, global) in l.last.iter_mut() {
+        *global = l.names.unique(&format!("last_{}", signal_names[k]));
+    }
+
+    // Constants.
+    let mut constants = Vec::new();
+    let mut event_const = Vec::new();
+    for (id, info) in project.events.iter().enumerate() {
+        let c = l.names.unique(&format!("EV_{}", info.name));
+        constants.push(
+            Var::new(&c, Type::Int, format!("{} ({})", info.name, format!("{:?}", info.kind).to_lowercase()))
+                .with_init(Expr::Int(id as i64 + 1)),
+        );
+        event_const.push(c);
+    }
+    let mut sup_state = Vec::new();
+    let mut sup_const = Vec::new();
+    for (k, s) in supervisors.iter().enumerate() {
+        let c = l.names.unique(&format!("SUP_{}", s.name));
+        sup_const.push(c.clone());
+        constants.push(Var::new(&c, Type::Int, format!("supervisor {}", s.name)).with_init(Expr::Int(k as i64 + 1)));
+        sup_state.push(l.names.unique(&format!("state_{}", s.name)));
+    }
+
+    // Globals.
+    let mut globals = Vec::new();
+    for (k, s) in supervisors.iter().enumerate() {
+        let init = s.init.unwrap_or(0);
+        let label = s.states.get(init as usize).map_or("", |st| st.label.as_str());
+        globals.push(
+            Var::new(&sup_state[k], Type::Int, format!("state of supervisor {} (initial: {label})", s.name))
+                .with_init(Expr::Int(i64::from(init))),
+        );
+    }
+    let diag_names = [
+        ("denials", Type::Dint, "controllable events denied since start"),
+        ("last_denied_event", Type::Int, "the last denied event (an EV_ constant)"),
+        ("last_denied_supervisor", Type::Int, "the supervisor that denied it (a SUP_ constant)"),
+        ("unexpected", Type::Dint, "uncontrollable events that a supervisor prohibits (plant model violated)"),
+        ("last_unexpected_event", Type::Int, "the last unexpected event"),
+        ("last_unexpected_supervisor", Type::Int, "the supervisor that prohibits it"),
+        ("enforcements", Type::Dint, "events enforced since start"),
+        ("last_enforced_event", Type::Int, "the last enforced event"),
+        ("conflicts", Type::Dint, "enforced events that another supervisor prohibits (6.4.2)"),
+    ];
+    let mut diag = BTreeMap::new();
+    for (name, ty, comment) in diag_names {
+        let g = l.names.unique(name);
+        globals.push(Var::new(&g, ty, comment));
+        diag.insert(name, g);
+    }
+    // Per-event flags of the current cycle, edge latches, saved outputs.
+    let mut flag_acc = BTreeMap::new();
+    let mut flag_den = BTreeMap::new();
+    let mut flag_occ = BTreeMap::new();
+    let mut latch = BTreeMap::new();
+    for (id, info) in project.events.iter().enumerate() {
+        let e = EventId(id as u32);
+        match info.kind {
+            EventKind::Controllable => {
+                let a = l.names.unique(&format!("accepted_{}", info.name));
+                let b = l.names.unique(&format!("denied_{}", info.name));
+                globals.push(Var::new(&a, Type::Bool, format!("{} accepted this cycle", info.name)));
+                globals.push(Var::new(&b, Type::Bool, format!("{} denied this cycle", info.name)));
+                flag_acc.insert(e, a);
+                flag_den.insert(e, b);
+            }
+            EventKind::Uncontrollable | EventKind::Enforceable => {
+                let what = if info.kind == EventKind::Enforceable { "enforced" } else { "occurred" };
+                let a = l.names.unique(&format!("{what}_{}", info.name));
+                globals.push(Var::new(&a, Type::Bool, format!("{} {what} this cycle", info.name)));
+                flag_occ.insert(e, a);
+            }
+        }
+        if fragments[id].trigger.is_some() {
+            let g = l.names.unique(&format!("latch_{}", info.name));
+            globals.push(Var::new(&g, Type::Bool, format!("trigger of {} in the previous cycle", info.name)));
+            latch.insert(e, g);
+        }
+    }
+    for (&k, g) in &l.last {
+        globals.push(Var::new(g, signals[k].ty.clone(), format!("{} in the previous cycle (\\last)", signal_names[k])));
+    }
+    let mut saved: BTreeMap<usize, String> = BTreeMap::new();
+    for f in &fragments {
+        for r in &f.resets {
+            if let Some(key) = Lowering::signal_key(&r.kind) {
+                let k = l.signal(&key);
+                if let std::collections::btree_map::Entry::Vacant(slot) = saved.entry(k) {
+                    let g = l.names.unique(&format!("saved_{}", signal_names[k]));
+                    globals.push(Var::new(
+                        &g,
+                        signals[k].ty.clone(),
+                        format!("{} before the controller ran", signal_names[k]),
+                    ));
+                    slot.insert(g);
+                }
+            }
+        }
+    }
+    let mut timer_names = Vec::new();
+    for t in &loaded.timers {
+        let names = TimerNames {
+            run: l.names.unique(&format!("{}_running", t.name)),
+            restart: l.names.unique(&format!("{}_restart", t.name)),
+            expired: l.names.unique(&format!("{}_expired", t.name)),
+            ton: l.names.unique(&format!("{}_ton", t.name)),
+            due: l.names.unique(&format!("{}_due", t.name)),
+        };
+        globals.push(Var::new(&names.run, Type::Bool, format!("timer {} runs", t.name)));
+        globals.push(Var::new(&names.restart, Type::Bool, format!("timer {} starts at the end of this cycle", t.name)));
+        globals.push(Var::new(&names.expired, Type::Bool, format!("timer {} reached {} ms", t.name, t.duration_ms)));
+        timer_names.push(names);
+    }
+
+    let fw = Framework {
+        loaded,
+        supervisors,
+        fragments,
+        lv,
+        fun: Functions {
+            prohibited: f_prohibited,
+            occur: f_occur,
+            execute: f_execute,
+            uncontrollable: f_uncontrollable,
+            enforced: f_enforced,
+            enforce: f_enforce,
+            program,
+        },
+        controller: options.controller.clone(),
+        event_const,
+        sup_const,
+        sup_state,
+        diag,
+        flag_acc,
+        flag_den,
+        flag_occ,
+        latch,
+        saved,
+        timers: timer_names,
+    };
+    let pous = vec![
+        prohibited_pou(&fw),
+        occur_pou(&fw),
+        execute_pou(&fw),
+        uncontrollable_pou(&fw),
+        enforced_pou(&fw),
+        enforce_pou(&fw, &mut l),
+        main_pou(&fw, &mut l),
+    ];
+    if l.diags.items.iter().any(Diagnostic::is_error) {
+        return Err(l.diags.items);
+    }
+    let header = vec![
+        format!("Generated by plcsynth {} from a supervisory-control specification.", env!("CARGO_PKG_VERSION")),
+        format!("Specification hash (FNV-1a 64): {}", source_hash(source)),
+        format!(
+            "Supervisors: {}.",
+            supervisors
+                .iter()
+                .map(|s| format!("{} ({} states)", s.name, s.states.len()))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        "Do not edit: change the specification and generate again.".to_string(),
+    ];
+    Ok(Unit { name: n, header, gvl, constants, globals, signals, pous })
+}
+
+/// The signals found in the fragments, with their kind, type and the address the STL form
+/// gives them: direct addresses as written; symbols after the highest byte written directly,
+/// bits first, words on even bytes (memory from byte 100).
+fn signal_table(l: &Lowering<'_>) -> Vec<Signal> {
     // Signals, second pass: kinds, types, addresses for dialects that need one.
     let mut used_bytes: BTreeMap<char, u32> = BTreeMap::new();
     for (key, _) in &l.signals {
@@ -526,151 +701,98 @@ pub fn lower(
         };
         signals.push(Signal { symbol: key.clone(), kind, ty, address, comment: u.events.join(", ") });
     }
-    let signal_names: Vec<String> = signals.iter().map(|s| s.symbol.clone()).collect();
-    for (&k, global) in l.last.iter_mut() {
-        *global = l.names.unique(&format!("last_{}", signal_names[k]));
+    signals
+}
+
+/// Names of a timer's variables.
+struct TimerNames {
+    run: String,
+    restart: String,
+    expired: String,
+    ton: String,
+    due: String,
+}
+
+/// Names of the generated functions and the program.
+struct Functions {
+    prohibited: String,
+    occur: String,
+    execute: String,
+    uncontrollable: String,
+    enforced: String,
+    enforce: String,
+    program: String,
+}
+
+/// Everything the POUs of the framework refer to by name.
+struct Framework<'a> {
+    loaded: &'a Loaded,
+    supervisors: &'a [&'a Supervisor],
+    fragments: Vec<Fragments>,
+    lv: Locals,
+    fun: Functions,
+    controller: String,
+    /// The constant of every event (by id) and every supervisor (by position).
+    event_const: Vec<String>,
+    sup_const: Vec<String>,
+    /// The global holding every supervisor's state.
+    sup_state: Vec<String>,
+    /// The diagnostic globals, by their base name.
+    diag: BTreeMap<&'static str, String>,
+    flag_acc: BTreeMap<EventId, String>,
+    flag_den: BTreeMap<EventId, String>,
+    flag_occ: BTreeMap<EventId, String>,
+    latch: BTreeMap<EventId, String>,
+    saved: BTreeMap<usize, String>,
+    timers: Vec<TimerNames>,
+}
+
+impl Framework<'_> {
+    fn ev(&self, e: EventId) -> String {
+        self.event_const[e.0 as usize].clone()
     }
 
-    // Constants.
-    let mut constants = Vec::new();
-    let mut event_const = Vec::new();
-    for (id, info) in project.events.iter().enumerate() {
-        let c = l.names.unique(&format!("EV_{}", info.name));
-        constants.push(
-            Var::new(&c, Type::Int, format!("{} ({})", info.name, format!("{:?}", info.kind).to_lowercase()))
-                .with_init(Expr::Int(id as i64 + 1)),
-        );
-        event_const.push(c);
-    }
-    let mut sup_state = Vec::new();
-    for (k, s) in supervisors.iter().enumerate() {
-        let c = l.names.unique(&format!("SUP_{}", s.name));
-        constants.push(Var::new(&c, Type::Int, format!("supervisor {}", s.name)).with_init(Expr::Int(k as i64 + 1)));
-        sup_state.push(l.names.unique(&format!("state_{}", s.name)));
+    fn d(&self, name: &str) -> String {
+        self.diag[name].clone()
     }
 
-    // Globals.
-    let mut globals = Vec::new();
-    for (k, s) in supervisors.iter().enumerate() {
-        let init = s.init.unwrap_or(0);
-        let label = s.states.get(init as usize).map_or("", |st| st.label.as_str());
-        globals.push(
-            Var::new(&sup_state[k], Type::Int, format!("state of supervisor {} (initial: {label})", s.name))
-                .with_init(Expr::Int(i64::from(init))),
-        );
-    }
-    let diag_names = [
-        ("denials", Type::Dint, "controllable events denied since start"),
-        ("last_denied_event", Type::Int, "the last denied event (an EV_ constant)"),
-        ("last_denied_supervisor", Type::Int, "the supervisor that denied it (a SUP_ constant)"),
-        ("unexpected", Type::Dint, "uncontrollable events that a supervisor prohibits (plant model violated)"),
-        ("last_unexpected_event", Type::Int, "the last unexpected event"),
-        ("last_unexpected_supervisor", Type::Int, "the supervisor that prohibits it"),
-        ("enforcements", Type::Dint, "events enforced since start"),
-        ("last_enforced_event", Type::Int, "the last enforced event"),
-        ("conflicts", Type::Dint, "enforced events that another supervisor prohibits (6.4.2)"),
-    ];
-    let mut diag = BTreeMap::new();
-    for (name, ty, comment) in diag_names {
-        let g = l.names.unique(name);
-        globals.push(Var::new(&g, ty, comment));
-        diag.insert(name, g);
-    }
-    let d = |name: &str| diag[name].clone();
-    // Per-event flags of the current cycle, edge latches, saved outputs.
-    let mut flag_acc = BTreeMap::new();
-    let mut flag_den = BTreeMap::new();
-    let mut flag_occ = BTreeMap::new();
-    let mut latch = BTreeMap::new();
-    for (id, info) in project.events.iter().enumerate() {
-        let e = EventId(id as u32);
-        match info.kind {
-            EventKind::Controllable => {
-                let a = l.names.unique(&format!("accepted_{}", info.name));
-                let b = l.names.unique(&format!("denied_{}", info.name));
-                globals.push(Var::new(&a, Type::Bool, format!("{} accepted this cycle", info.name)));
-                globals.push(Var::new(&b, Type::Bool, format!("{} denied this cycle", info.name)));
-                flag_acc.insert(e, a);
-                flag_den.insert(e, b);
-            }
-            EventKind::Uncontrollable | EventKind::Enforceable => {
-                let what = if info.kind == EventKind::Enforceable { "enforced" } else { "occurred" };
-                let a = l.names.unique(&format!("{what}_{}", info.name));
-                globals.push(Var::new(&a, Type::Bool, format!("{} {what} this cycle", info.name)));
-                flag_occ.insert(e, a);
-            }
-        }
-        if fragments[id].trigger.is_some() {
-            let g = l.names.unique(&format!("latch_{}", info.name));
-            globals.push(Var::new(&g, Type::Bool, format!("trigger of {} in the previous cycle", info.name)));
-            latch.insert(e, g);
+    /// Sets the flag of the event `selector` holds: an IF chain over the events in `flags`.
+    fn flag_chain(&self, flags: &BTreeMap<EventId, String>, selector: &str) -> Vec<Stmt> {
+        let arms: Vec<(Expr, Vec<Stmt>)> = flags
+            .iter()
+            .map(|(&e, g)| {
+                (
+                    Expr::local(selector).eq(Expr::global(self.ev(e))),
+                    vec![Stmt::assign(Place::global(g), Expr::Bool(true))],
+                )
+            })
+            .collect();
+        if arms.is_empty() {
+            Vec::new()
+        } else {
+            vec![Stmt::If { arms, otherwise: Vec::new() }]
         }
     }
-    for (&k, g) in &l.last {
-        globals.push(Var::new(g, signals[k].ty.clone(), format!("{} in the previous cycle (\\last)", signal_names[k])));
-    }
-    let mut saved: BTreeMap<usize, String> = BTreeMap::new();
-    for f in &fragments {
-        for r in &f.resets {
-            if let Some(key) = Lowering::signal_key(&r.kind) {
-                let k = l.signal(&key);
-                if let std::collections::btree_map::Entry::Vacant(slot) = saved.entry(k) {
-                    let g = l.names.unique(&format!("saved_{}", signal_names[k]));
-                    globals.push(Var::new(
-                        &g,
-                        signals[k].ty.clone(),
-                        format!("{} before the controller ran", signal_names[k]),
-                    ));
-                    slot.insert(g);
-                }
-            }
-        }
-    }
-    struct TimerNames {
-        run: String,
-        restart: String,
-        expired: String,
-        ton: String,
-        due: String,
-    }
-    let mut timer_names = Vec::new();
-    for t in &loaded.timers {
-        let names = TimerNames {
-            run: l.names.unique(&format!("{}_running", t.name)),
-            restart: l.names.unique(&format!("{}_restart", t.name)),
-            expired: l.names.unique(&format!("{}_expired", t.name)),
-            ton: l.names.unique(&format!("{}_ton", t.name)),
-            due: l.names.unique(&format!("{}_due", t.name)),
-        };
-        globals.push(Var::new(&names.run, Type::Bool, format!("timer {} runs", t.name)));
-        globals.push(Var::new(&names.restart, Type::Bool, format!("timer {} starts at the end of this cycle", t.name)));
-        globals.push(Var::new(&names.expired, Type::Bool, format!("timer {} reached {} ms", t.name, t.duration_ms)));
-        timer_names.push(names);
-    }
+}
 
-    let ev = |e: EventId| event_const[e.0 as usize].clone();
-    let event_by_name = |name: &str| project.event(name);
-
+fn prohibited_pou(fw: &Framework) -> Pou {
     // N_Prohibited(ev): the first supervisor whose state prohibits ev, else 0.
-    let mut body = vec![Stmt::assign(Place::local(&f_prohibited), Expr::Int(0))];
-    for (k, s) in supervisors.iter().enumerate() {
+    let mut body = vec![Stmt::assign(Place::local(&fw.fun.prohibited), Expr::Int(0))];
+    for (k, s) in fw.supervisors.iter().enumerate() {
         let mut arms = Vec::new();
         for (q, state) in s.states.iter().enumerate() {
             if state.prohibited.is_empty() {
                 continue;
             }
-            let list: Vec<String> = state.prohibited.iter().map(|&e| ev(e)).collect();
+            let list: Vec<String> = state.prohibited.iter().map(|&e| fw.ev(e)).collect();
             let refs: Vec<&str> = list.iter().map(String::as_str).collect();
             arms.push((
                 vec![q as i64],
                 vec![
                     Stmt::Comment(format!("state {}", state.label)),
                     Stmt::when(
-                        any_of(&lv.ev, &refs),
-                        vec![Stmt::assign(
-                            Place::local(&f_prohibited),
-                            Expr::global(&constants[project.events.len() + k].name),
-                        )],
+                        any_of(&fw.lv.ev, &refs),
+                        vec![Stmt::assign(Place::local(&fw.fun.prohibited), Expr::global(&fw.sup_const[k]))],
                     ),
                 ],
             ));
@@ -680,31 +802,35 @@ pub fn lower(
         }
         body.push(Stmt::Comment(format!("supervisor {}", s.name)));
         body.push(Stmt::when(
-            Expr::local(&f_prohibited).eq(Expr::Int(0)),
-            vec![Stmt::Case { selector: Expr::global(&sup_state[k]), arms, otherwise: Vec::new() }],
+            Expr::local(&fw.fun.prohibited).eq(Expr::Int(0)),
+            vec![Stmt::Case { selector: Expr::global(&fw.sup_state[k]), arms, otherwise: Vec::new() }],
         ));
     }
     let prohibited_fn = Pou {
         kind: PouKind::Function { returns: Some(Type::Int) },
-        name: f_prohibited.clone(),
+        name: fw.fun.prohibited.clone(),
         comment: "The first supervisor (SUP_ constant) whose current state prohibits event ev, or 0 if all allow it."
             .into(),
-        inputs: vec![Var::new(&lv.ev, Type::Int, "an EV_ constant")],
+        inputs: vec![Var::new(&fw.lv.ev, Type::Int, "an EV_ constant")],
         outputs: Vec::new(),
         locals: Vec::new(),
         body,
     };
 
-    // N_Occur(ev, only, skip, timers): supervisors take ev; timers react.
-    let mut body = vec![Stmt::assign(Place::local(&f_occur), Expr::Bool(false))];
-    for (k, s) in supervisors.iter().enumerate() {
+    prohibited_fn
+}
+
+fn occur_pou(fw: &Framework) -> Pou {
+    // N_Occur(ev, only, skip, timers): fw.supervisors take ev; timers react.
+    let mut body = vec![Stmt::assign(Place::local(&fw.fun.occur), Expr::Bool(false))];
+    for (k, s) in fw.supervisors.iter().enumerate() {
         let mut arms = Vec::new();
         for (q, state) in s.states.iter().enumerate() {
             // Transitions grouped by target; loops change nothing and are left out.
             let mut by_target: BTreeMap<u32, Vec<String>> = BTreeMap::new();
             for &(e, t) in &state.transitions {
                 if t as usize != q {
-                    by_target.entry(t).or_default().push(ev(e));
+                    by_target.entry(t).or_default().push(fw.ev(e));
                 }
             }
             if by_target.is_empty() {
@@ -715,10 +841,10 @@ pub fn lower(
                 .map(|(&t, list)| {
                     let refs: Vec<&str> = list.iter().map(String::as_str).collect();
                     (
-                        any_of(&lv.ev, &refs),
+                        any_of(&fw.lv.ev, &refs),
                         vec![
-                            Stmt::assign(Place::global(&sup_state[k]), Expr::Int(i64::from(t))),
-                            Stmt::assign(Place::local(&f_occur), Expr::Bool(true)),
+                            Stmt::assign(Place::global(&fw.sup_state[k]), Expr::Int(i64::from(t))),
+                            Stmt::assign(Place::local(&fw.fun.occur), Expr::Bool(true)),
                         ],
                     )
                 })
@@ -735,23 +861,23 @@ pub fn lower(
             continue;
         }
         let k1 = Expr::Int(k as i64 + 1);
-        let selected = Expr::local(&lv.only)
+        let selected = Expr::local(&fw.lv.only)
             .eq(Expr::Int(0))
-            .or(Expr::local(&lv.only).eq(k1.clone()))
-            .and(Expr::local(&lv.skip).ne(k1));
+            .or(Expr::local(&fw.lv.only).eq(k1.clone()))
+            .and(Expr::local(&fw.lv.skip).ne(k1));
         body.push(Stmt::Comment(format!("supervisor {}", s.name)));
         body.push(Stmt::when(
             selected,
-            vec![Stmt::Case { selector: Expr::global(&sup_state[k]), arms, otherwise: Vec::new() }],
+            vec![Stmt::Case { selector: Expr::global(&fw.sup_state[k]), arms, otherwise: Vec::new() }],
         ));
     }
     let mut timer_stmts = Vec::new();
-    for (t, names) in loaded.timers.iter().zip(&timer_names) {
-        let stops: Vec<String> = t.stop.iter().filter_map(|s| event_by_name(s)).map(ev).collect();
+    for (t, names) in fw.loaded.timers.iter().zip(&fw.timers) {
+        let stops: Vec<String> = t.stop.iter().filter_map(|s| fw.loaded.project.event(s)).map(|e| fw.ev(e)).collect();
         if !stops.is_empty() {
             let refs: Vec<&str> = stops.iter().map(String::as_str).collect();
             timer_stmts.push(Stmt::when(
-                any_of(&lv.ev, &refs),
+                any_of(&fw.lv.ev, &refs),
                 vec![
                     Stmt::assign(Place::global(&names.run), Expr::Bool(false)),
                     Stmt::assign(Place::global(&names.expired), Expr::Bool(false)),
@@ -759,10 +885,10 @@ pub fn lower(
                 ],
             ));
         }
-        if let Some(start) = event_by_name(&t.start) {
+        if let Some(start) = fw.loaded.project.event(&t.start) {
             let idle_or_expired = Expr::global(&names.run).not().or(Expr::global(&names.expired));
             timer_stmts.push(Stmt::when(
-                Expr::local(&lv.ev).eq(Expr::global(ev(start))).and(idle_or_expired),
+                Expr::local(&fw.lv.ev).eq(Expr::global(fw.ev(start))).and(idle_or_expired),
                 vec![
                     Stmt::assign(Place::global(&names.run), Expr::Bool(true)),
                     Stmt::assign(Place::global(&names.expired), Expr::Bool(false)),
@@ -773,131 +899,133 @@ pub fn lower(
     }
     if !timer_stmts.is_empty() {
         body.push(Stmt::Comment("timers: a stop event resets, a start event starts unless running".into()));
-        body.push(Stmt::when(Expr::local(&lv.timers), timer_stmts));
+        body.push(Stmt::when(Expr::local(&fw.lv.timers), timer_stmts));
     }
     let occur_fn = Pou {
         kind: PouKind::Function { returns: Some(Type::Bool) },
-        name: f_occur.clone(),
+        name: fw.fun.occur.clone(),
         comment: "Event ev occurs: every supervisor (or only supervisor `only`; none is 0) except `skip` takes it, \
                   and with `timers` the timers react. TRUE if a supervisor changed state."
             .into(),
         inputs: vec![
-            Var::new(&lv.ev, Type::Int, "an EV_ constant"),
-            Var::new(&lv.only, Type::Int, "0: all supervisors"),
-            Var::new(&lv.skip, Type::Int, "0: none"),
-            Var::new(&lv.timers, Type::Bool, "the timers react"),
+            Var::new(&fw.lv.ev, Type::Int, "an EV_ constant"),
+            Var::new(&fw.lv.only, Type::Int, "0: all supervisors"),
+            Var::new(&fw.lv.skip, Type::Int, "0: none"),
+            Var::new(&fw.lv.timers, Type::Bool, "the timers react"),
         ],
         outputs: Vec::new(),
         locals: Vec::new(),
         body,
     };
 
-    // Flags set for an event: an IF chain over the events that have one.
-    let flag_chain = |flags: &BTreeMap<EventId, String>, selector: &str| -> Vec<Stmt> {
-        let arms: Vec<(Expr, Vec<Stmt>)> = flags
-            .iter()
-            .map(|(&e, g)| {
-                (Expr::local(selector).eq(Expr::global(ev(e))), vec![Stmt::assign(Place::global(g), Expr::Bool(true))])
-            })
-            .collect();
-        if arms.is_empty() {
-            Vec::new()
-        } else {
-            vec![Stmt::If { arms, otherwise: Vec::new() }]
-        }
-    };
+    occur_fn
+}
 
+fn execute_pou(fw: &Framework) -> Pou {
     // N_Execute(ev): a controllable event, committed only if every supervisor accepts it.
     let mut denied = vec![
-        Stmt::assign(Place::global(d("denials")), Expr::binary(BinOp::Add, Expr::global(d("denials")), Expr::Int(1))),
-        Stmt::assign(Place::global(d("last_denied_event")), Expr::local(&lv.ev)),
-        Stmt::assign(Place::global(d("last_denied_supervisor")), Expr::local(&lv.k)),
-        Stmt::assign(Place::local(&f_execute), Expr::Bool(false)),
+        Stmt::assign(
+            Place::global(fw.d("denials")),
+            Expr::binary(BinOp::Add, Expr::global(fw.d("denials")), Expr::Int(1)),
+        ),
+        Stmt::assign(Place::global(fw.d("last_denied_event")), Expr::local(&fw.lv.ev)),
+        Stmt::assign(Place::global(fw.d("last_denied_supervisor")), Expr::local(&fw.lv.k)),
+        Stmt::assign(Place::local(&fw.fun.execute), Expr::Bool(false)),
     ];
-    denied.extend(flag_chain(&flag_den, &lv.ev));
+    denied.extend(fw.flag_chain(&fw.flag_den, &fw.lv.ev));
     let mut accepted = vec![
         Stmt::CallFunction {
-            function: f_occur.clone(),
+            function: fw.fun.occur.clone(),
             args: vec![
-                (lv.ev.clone(), Expr::local(&lv.ev)),
-                (lv.only.clone(), Expr::Int(0)),
-                (lv.skip.clone(), Expr::Int(0)),
-                (lv.timers.clone(), Expr::Bool(true)),
+                (fw.lv.ev.clone(), Expr::local(&fw.lv.ev)),
+                (fw.lv.only.clone(), Expr::Int(0)),
+                (fw.lv.skip.clone(), Expr::Int(0)),
+                (fw.lv.timers.clone(), Expr::Bool(true)),
             ],
-            result: Some(Place::local(&lv.moved)),
+            result: Some(Place::local(&fw.lv.moved)),
         },
-        Stmt::assign(Place::local(&f_execute), Expr::Bool(true)),
+        Stmt::assign(Place::local(&fw.fun.execute), Expr::Bool(true)),
     ];
-    accepted.extend(flag_chain(&flag_acc, &lv.ev));
+    accepted.extend(fw.flag_chain(&fw.flag_acc, &fw.lv.ev));
     let execute_fn = Pou {
         kind: PouKind::Function { returns: Some(Type::Bool) },
-        name: f_execute.clone(),
+        name: fw.fun.execute.clone(),
         comment: format!(
             "A controllable event: TRUE and taken by every supervisor if all accept it, else FALSE and nothing changes. \
-             The controller calls it for its executed events, e.g. {f_execute}(ev := EV_…)."
+             The controller calls it for its executed events, e.g. {}(ev := EV_…).",
+            fw.fun.execute
         ),
-        inputs: vec![Var::new(&lv.ev, Type::Int, "an EV_ constant of a controllable event")],
+        inputs: vec![Var::new(&fw.lv.ev, Type::Int, "an EV_ constant of a controllable event")],
         outputs: Vec::new(),
-        locals: vec![Var::new(&lv.k, Type::Int, ""), Var::new(&lv.moved, Type::Bool, "")],
+        locals: vec![Var::new(&fw.lv.k, Type::Int, ""), Var::new(&fw.lv.moved, Type::Bool, "")],
         body: vec![
             Stmt::CallFunction {
-                function: f_prohibited.clone(),
-                args: vec![(lv.ev.clone(), Expr::local(&lv.ev))],
-                result: Some(Place::local(&lv.k)),
+                function: fw.fun.prohibited.clone(),
+                args: vec![(fw.lv.ev.clone(), Expr::local(&fw.lv.ev))],
+                result: Some(Place::local(&fw.lv.k)),
             },
-            Stmt::If { arms: vec![(Expr::local(&lv.k).ne(Expr::Int(0)), denied)], otherwise: accepted },
+            Stmt::If { arms: vec![(Expr::local(&fw.lv.k).ne(Expr::Int(0)), denied)], otherwise: accepted },
         ],
     };
 
+    execute_fn
+}
+
+fn uncontrollable_pou(fw: &Framework) -> Pou {
     // N_Uncontrollable(ev): it happened; a supervisor that prohibits it keeps its state.
     let mut body = vec![
         Stmt::CallFunction {
-            function: f_prohibited.clone(),
-            args: vec![(lv.ev.clone(), Expr::local(&lv.ev))],
-            result: Some(Place::local(&lv.k)),
+            function: fw.fun.prohibited.clone(),
+            args: vec![(fw.lv.ev.clone(), Expr::local(&fw.lv.ev))],
+            result: Some(Place::local(&fw.lv.k)),
         },
         Stmt::CallFunction {
-            function: f_occur.clone(),
+            function: fw.fun.occur.clone(),
             args: vec![
-                (lv.ev.clone(), Expr::local(&lv.ev)),
-                (lv.only.clone(), Expr::Int(0)),
-                (lv.skip.clone(), Expr::local(&lv.k)),
-                (lv.timers.clone(), Expr::Bool(true)),
+                (fw.lv.ev.clone(), Expr::local(&fw.lv.ev)),
+                (fw.lv.only.clone(), Expr::Int(0)),
+                (fw.lv.skip.clone(), Expr::local(&fw.lv.k)),
+                (fw.lv.timers.clone(), Expr::Bool(true)),
             ],
-            result: Some(Place::local(&lv.moved)),
+            result: Some(Place::local(&fw.lv.moved)),
         },
-        Stmt::assign(Place::local(&f_uncontrollable), Expr::local(&lv.k).eq(Expr::Int(0))),
+        Stmt::assign(Place::local(&fw.fun.uncontrollable), Expr::local(&fw.lv.k).eq(Expr::Int(0))),
         Stmt::when(
-            Expr::local(&lv.k).ne(Expr::Int(0)),
+            Expr::local(&fw.lv.k).ne(Expr::Int(0)),
             vec![
-                counter_up(&d("unexpected")),
-                Stmt::assign(Place::global(d("last_unexpected_event")), Expr::local(&lv.ev)),
-                Stmt::assign(Place::global(d("last_unexpected_supervisor")), Expr::local(&lv.k)),
+                counter_up(&fw.d("unexpected")),
+                Stmt::assign(Place::global(fw.d("last_unexpected_event")), Expr::local(&fw.lv.ev)),
+                Stmt::assign(Place::global(fw.d("last_unexpected_supervisor")), Expr::local(&fw.lv.k)),
             ],
         ),
     ];
-    let uncontrollable_flags: BTreeMap<EventId, String> = flag_occ
+    let uncontrollable_flags: BTreeMap<EventId, String> = fw
+        .flag_occ
         .iter()
-        .filter(|(&e, _)| project.kind(e) == EventKind::Uncontrollable)
+        .filter(|(&e, _)| fw.loaded.project.kind(e) == EventKind::Uncontrollable)
         .map(|(&e, g)| (e, g.clone()))
         .collect();
-    body.extend(flag_chain(&uncontrollable_flags, &lv.ev));
+    body.extend(fw.flag_chain(&uncontrollable_flags, &fw.lv.ev));
     let uncontrollable_fn = Pou {
         kind: PouKind::Function { returns: Some(Type::Bool) },
-        name: f_uncontrollable.clone(),
+        name: fw.fun.uncontrollable.clone(),
         comment: "An uncontrollable event happened: every supervisor takes it, except one that prohibits it \
                   (reported as unexpected). FALSE if one did."
             .into(),
-        inputs: vec![Var::new(&lv.ev, Type::Int, "an EV_ constant of an uncontrollable event")],
+        inputs: vec![Var::new(&fw.lv.ev, Type::Int, "an EV_ constant of an uncontrollable event")],
         outputs: Vec::new(),
-        locals: vec![Var::new(&lv.k, Type::Int, ""), Var::new(&lv.moved, Type::Bool, "")],
+        locals: vec![Var::new(&fw.lv.k, Type::Int, ""), Var::new(&fw.lv.moved, Type::Bool, "")],
         body,
     };
 
+    uncontrollable_fn
+}
+
+fn enforced_pou(fw: &Framework) -> Pou {
     // N_Enforced(sup): the event supervisor sup enforces in its current state, or 0.
-    let mut body = vec![Stmt::assign(Place::local(&f_enforced), Expr::Int(0))];
+    let mut body = vec![Stmt::assign(Place::local(&fw.fun.enforced), Expr::Int(0))];
     let mut sup_arms = Vec::new();
-    for (k, s) in supervisors.iter().enumerate() {
+    for (k, s) in fw.supervisors.iter().enumerate() {
         let arms: Vec<(Vec<i64>, Vec<Stmt>)> = s
             .states
             .iter()
@@ -908,7 +1036,7 @@ pub fn lower(
                         vec![q as i64],
                         vec![
                             Stmt::Comment(format!("state {}", st.label)),
-                            Stmt::assign(Place::local(&f_enforced), Expr::global(ev(f))),
+                            Stmt::assign(Place::local(&fw.fun.enforced), Expr::global(fw.ev(f))),
                         ],
                     )
                 })
@@ -917,141 +1045,150 @@ pub fn lower(
         if !arms.is_empty() {
             sup_arms.push((
                 vec![k as i64 + 1],
-                vec![Stmt::Case { selector: Expr::global(&sup_state[k]), arms, otherwise: Vec::new() }],
+                vec![Stmt::Case { selector: Expr::global(&fw.sup_state[k]), arms, otherwise: Vec::new() }],
             ));
         }
     }
     if !sup_arms.is_empty() {
-        body.push(Stmt::Case { selector: Expr::local(&lv.sup), arms: sup_arms, otherwise: Vec::new() });
+        body.push(Stmt::Case { selector: Expr::local(&fw.lv.sup), arms: sup_arms, otherwise: Vec::new() });
     }
     let enforced_fn = Pou {
         kind: PouKind::Function { returns: Some(Type::Int) },
-        name: f_enforced.clone(),
+        name: fw.fun.enforced.clone(),
         comment: "The event (EV_ constant) that supervisor sup enforces in its current state, or 0.".into(),
-        inputs: vec![Var::new(&lv.sup, Type::Int, "a SUP_ constant")],
+        inputs: vec![Var::new(&fw.lv.sup, Type::Int, "a SUP_ constant")],
         outputs: Vec::new(),
         locals: Vec::new(),
         body,
     };
 
+    enforced_fn
+}
+
+fn enforce_pou(fw: &Framework, l: &mut Lowering<'_>) -> Pou {
     // N_Enforce(by): supervisor `by` executes the event its state enforces, if any.
     let mut action_arms = Vec::new();
-    for (id, f) in fragments.iter().enumerate() {
+    for (id, f) in fw.fragments.iter().enumerate() {
         let e = EventId(id as u32);
-        if project.kind(e) != EventKind::Enforceable || f.accept.is_empty() {
+        if fw.loaded.project.kind(e) != EventKind::Enforceable || f.accept.is_empty() {
             continue;
         }
-        let at = fragment_span(&loaded.events[id], FragmentAt::Accept);
+        let at = fragment_span(&fw.loaded.events[id], FragmentAt::Accept);
         if let Some(code) = l.stmts(&f.accept, at) {
-            action_arms.push((Expr::local(&lv.f).eq(Expr::global(ev(e))), code));
+            action_arms.push((Expr::local(&fw.lv.f).eq(Expr::global(fw.ev(e))), code));
         }
     }
     let mut also = Vec::new();
     let mut locals = vec![
-        Var::new(&lv.f, Type::Int, "the enforced event"),
-        Var::new(&lv.p, Type::Int, ""),
-        Var::new(&lv.moved, Type::Bool, ""),
+        Var::new(&fw.lv.f, Type::Int, "the enforced event"),
+        Var::new(&fw.lv.p, Type::Int, ""),
+        Var::new(&fw.lv.moved, Type::Bool, ""),
     ];
-    for (j, s) in supervisors.iter().enumerate() {
+    for (j, s) in fw.supervisors.iter().enumerate() {
         let name = l.names.unique(&format!("also_{}", j + 1));
         locals.push(Var::new(&name, Type::Bool, format!("supervisor {} enforces the same event", s.name)));
         also.push(name);
     }
     let mut enforce = vec![
         Stmt::CallFunction {
-            function: f_prohibited.clone(),
-            args: vec![(lv.ev.clone(), Expr::local(&lv.f))],
-            result: Some(Place::local(&lv.p)),
+            function: fw.fun.prohibited.clone(),
+            args: vec![(fw.lv.ev.clone(), Expr::local(&fw.lv.f))],
+            result: Some(Place::local(&fw.lv.p)),
         },
-        Stmt::when(Expr::local(&lv.p).ne(Expr::Int(0)), vec![counter_up(&d("conflicts"))]),
+        Stmt::when(Expr::local(&fw.lv.p).ne(Expr::Int(0)), vec![counter_up(&fw.d("conflicts"))]),
         Stmt::Comment("the others take it only where they enforce it themselves (6.4.2)".into()),
     ];
     for (j, name) in also.iter().enumerate() {
         enforce.push(Stmt::assign(Place::local(name), Expr::Bool(false)));
         enforce.push(Stmt::when(
-            Expr::local(&lv.by).ne(Expr::Int(j as i64 + 1)),
+            Expr::local(&fw.lv.by).ne(Expr::Int(j as i64 + 1)),
             vec![
                 Stmt::CallFunction {
-                    function: f_enforced.clone(),
-                    args: vec![(lv.sup.clone(), Expr::Int(j as i64 + 1))],
-                    result: Some(Place::local(&lv.p)),
+                    function: fw.fun.enforced.clone(),
+                    args: vec![(fw.lv.sup.clone(), Expr::Int(j as i64 + 1))],
+                    result: Some(Place::local(&fw.lv.p)),
                 },
-                Stmt::assign(Place::local(name), Expr::local(&lv.p).eq(Expr::local(&lv.f))),
+                Stmt::assign(Place::local(name), Expr::local(&fw.lv.p).eq(Expr::local(&fw.lv.f))),
             ],
         ));
     }
     enforce.push(Stmt::CallFunction {
-        function: f_occur.clone(),
+        function: fw.fun.occur.clone(),
         args: vec![
-            (lv.ev.clone(), Expr::local(&lv.f)),
-            (lv.only.clone(), Expr::local(&lv.by)),
-            (lv.skip.clone(), Expr::Int(0)),
-            (lv.timers.clone(), Expr::Bool(true)),
+            (fw.lv.ev.clone(), Expr::local(&fw.lv.f)),
+            (fw.lv.only.clone(), Expr::local(&fw.lv.by)),
+            (fw.lv.skip.clone(), Expr::Int(0)),
+            (fw.lv.timers.clone(), Expr::Bool(true)),
         ],
-        result: Some(Place::local(&f_enforce)),
+        result: Some(Place::local(&fw.fun.enforce)),
     });
     for (j, name) in also.iter().enumerate() {
         enforce.push(Stmt::when(
             Expr::local(name),
             vec![Stmt::CallFunction {
-                function: f_occur.clone(),
+                function: fw.fun.occur.clone(),
                 args: vec![
-                    (lv.ev.clone(), Expr::local(&lv.f)),
-                    (lv.only.clone(), Expr::Int(j as i64 + 1)),
-                    (lv.skip.clone(), Expr::Int(0)),
-                    (lv.timers.clone(), Expr::Bool(false)),
+                    (fw.lv.ev.clone(), Expr::local(&fw.lv.f)),
+                    (fw.lv.only.clone(), Expr::Int(j as i64 + 1)),
+                    (fw.lv.skip.clone(), Expr::Int(0)),
+                    (fw.lv.timers.clone(), Expr::Bool(false)),
                 ],
-                result: Some(Place::local(&lv.moved)),
+                result: Some(Place::local(&fw.lv.moved)),
             }],
         ));
     }
-    enforce.push(counter_up(&d("enforcements")));
-    enforce.push(Stmt::assign(Place::global(d("last_enforced_event")), Expr::local(&lv.f)));
-    let enforced_flags: BTreeMap<EventId, String> = flag_occ
+    enforce.push(counter_up(&fw.d("enforcements")));
+    enforce.push(Stmt::assign(Place::global(fw.d("last_enforced_event")), Expr::local(&fw.lv.f)));
+    let enforced_flags: BTreeMap<EventId, String> = fw
+        .flag_occ
         .iter()
-        .filter(|(&e, _)| project.kind(e) == EventKind::Enforceable)
+        .filter(|(&e, _)| fw.loaded.project.kind(e) == EventKind::Enforceable)
         .map(|(&e, g)| (e, g.clone()))
         .collect();
-    enforce.extend(flag_chain(&enforced_flags, &lv.f));
+    enforce.extend(fw.flag_chain(&enforced_flags, &fw.lv.f));
     if !action_arms.is_empty() {
         enforce.push(Stmt::Comment("the enforced event's code".into()));
         enforce.push(Stmt::If { arms: action_arms, otherwise: Vec::new() });
     }
     let enforce_fn = Pou {
         kind: PouKind::Function { returns: Some(Type::Bool) },
-        name: f_enforce.clone(),
+        name: fw.fun.enforce.clone(),
         comment: "Supervisor `by` executes the event its current state enforces (preemption, 5.5). \
                   TRUE if its state changed, so that a cascade goes on."
             .into(),
-        inputs: vec![Var::new(&lv.by, Type::Int, "a SUP_ constant")],
+        inputs: vec![Var::new(&fw.lv.by, Type::Int, "a SUP_ constant")],
         outputs: Vec::new(),
         locals,
         body: vec![
-            Stmt::assign(Place::local(&f_enforce), Expr::Bool(false)),
+            Stmt::assign(Place::local(&fw.fun.enforce), Expr::Bool(false)),
             Stmt::CallFunction {
-                function: f_enforced.clone(),
-                args: vec![(lv.sup.clone(), Expr::local(&lv.by))],
-                result: Some(Place::local(&lv.f)),
+                function: fw.fun.enforced.clone(),
+                args: vec![(fw.lv.sup.clone(), Expr::local(&fw.lv.by))],
+                result: Some(Place::local(&fw.lv.f)),
             },
-            Stmt::when(Expr::local(&lv.f).ne(Expr::Int(0)), enforce),
+            Stmt::when(Expr::local(&fw.lv.f).ne(Expr::Int(0)), enforce),
         ],
     };
 
+    enforce_fn
+}
+
+fn main_pou(fw: &Framework, l: &mut Lowering<'_>) -> Pou {
     // The program: the cycle of 6.3.4.
     let mut main = Vec::new();
     let mut locals = vec![
-        Var::new(&lv.controller, Type::Instance(options.controller.clone()), "the supervised controller"),
-        Var::new(&lv.ok, Type::Bool, "an event's answer"),
-        Var::new(&lv.go, Type::Bool, "an enforcement cascade goes on"),
+        Var::new(&fw.lv.controller, Type::Instance(fw.controller.clone()), "the supervised controller"),
+        Var::new(&fw.lv.ok, Type::Bool, "an event's answer"),
+        Var::new(&fw.lv.go, Type::Bool, "an enforcement cascade goes on"),
     ];
     main.push(Stmt::Comment("1. a new cycle: this cycle's event flags are cleared".into()));
-    for g in flag_acc.values().chain(flag_den.values()).chain(flag_occ.values()) {
+    for g in fw.flag_acc.values().chain(fw.flag_den.values()).chain(fw.flag_occ.values()) {
         main.push(Stmt::assign(Place::global(g), Expr::Bool(false)));
     }
-    if !loaded.timers.is_empty() {
+    if !fw.loaded.timers.is_empty() {
         main.push(Stmt::Comment("timers are refreshed; a timer that reaches its time is due".into()));
     }
-    for (t, names) in loaded.timers.iter().zip(&timer_names) {
+    for (t, names) in fw.loaded.timers.iter().zip(&fw.timers) {
         locals.push(Var::new(&names.ton, Type::Ton, format!("timer {} ({} ms)", t.name, t.duration_ms)));
         locals.push(Var::new(&names.due, Type::Bool, format!("{} is due this cycle", t.timeout)));
         main.push(Stmt::CallInstance {
@@ -1071,22 +1208,22 @@ pub fn lower(
     }
     main.push(Stmt::Comment("2. uncontrollable events: due timeouts first, then the detected ones".into()));
     let call_uncontrollable = |e: EventId| Stmt::CallFunction {
-        function: f_uncontrollable.clone(),
-        args: vec![(lv.ev.clone(), Expr::global(ev(e)))],
-        result: Some(Place::local(&lv.ok)),
+        function: fw.fun.uncontrollable.clone(),
+        args: vec![(fw.lv.ev.clone(), Expr::global(fw.ev(e)))],
+        result: Some(Place::local(&fw.lv.ok)),
     };
-    for (t, names) in loaded.timers.iter().zip(&timer_names) {
-        if let Some(e) = event_by_name(&t.timeout) {
+    for (t, names) in fw.loaded.timers.iter().zip(&fw.timers) {
+        if let Some(e) = fw.loaded.project.event(&t.timeout) {
             main.push(Stmt::when(Expr::local(&names.due), vec![call_uncontrollable(e)]));
         }
     }
     let mut triggers = BTreeMap::new();
-    for (id, f) in fragments.iter().enumerate() {
-        if let (Some(t), Trigger::Detected { edge, .. }) = (&f.trigger, &loaded.events[id].trigger) {
-            let at = fragment_span(&loaded.events[id], FragmentAt::Trigger);
+    for (id, f) in fw.fragments.iter().enumerate() {
+        if let (Some(t), Trigger::Detected { edge, .. }) = (&f.trigger, &fw.loaded.events[id].trigger) {
+            let at = fragment_span(&fw.loaded.events[id], FragmentAt::Trigger);
             if let Some(now) = l.expr(t, at) {
                 let e = EventId(id as u32);
-                let before = Expr::global(&latch[&e]);
+                let before = Expr::global(&fw.latch[&e]);
                 let fires = match edge {
                     EdgeKind::Rising => now.clone().and(before.not()),
                     EdgeKind::Falling => now.clone().not().and(before),
@@ -1098,98 +1235,99 @@ pub fn lower(
         }
     }
     for (&e, (_, fires)) in &triggers {
-        if project.kind(e) == EventKind::Uncontrollable {
+        if fw.loaded.project.kind(e) == EventKind::Uncontrollable {
             main.push(Stmt::when(fires.clone(), vec![call_uncontrollable(e)]));
         }
     }
     main.push(Stmt::Comment("3. outputs that a denial resets are saved".into()));
-    for (&k, g) in &saved {
+    for (&k, g) in &fw.saved {
         main.push(Stmt::assign(Place::global(g), Expr::read(Place::Signal(k))));
     }
     main.push(Stmt::Comment(format!(
-        "4. the controller runs; its executed events are answered by {f_execute} at once"
+        "4. the controller runs; its executed events are answered by {} at once",
+        fw.fun.execute
     )));
-    main.push(Stmt::CallInstance { instance: Place::local(&lv.controller), args: Vec::new() });
+    main.push(Stmt::CallInstance { instance: Place::local(&fw.lv.controller), args: Vec::new() });
     main.push(Stmt::Comment("5. detected controllable events".into()));
     for (&e, (_, fires)) in &triggers {
-        if project.kind(e) == EventKind::Controllable {
+        if fw.loaded.project.kind(e) == EventKind::Controllable {
             main.push(Stmt::when(
                 fires.clone(),
                 vec![Stmt::CallFunction {
-                    function: f_execute.clone(),
-                    args: vec![(lv.ev.clone(), Expr::global(ev(e)))],
-                    result: Some(Place::local(&lv.ok)),
+                    function: fw.fun.execute.clone(),
+                    args: vec![(fw.lv.ev.clone(), Expr::global(fw.ev(e)))],
+                    result: Some(Place::local(&fw.lv.ok)),
                 }],
             ));
         }
     }
     main.push(Stmt::Comment("6. denied detected events without code on denial: their outputs are restored".into()));
-    for (id, f) in fragments.iter().enumerate() {
+    for (id, f) in fw.fragments.iter().enumerate() {
         let e = EventId(id as u32);
-        let meta = &loaded.events[id];
+        let meta = &fw.loaded.events[id];
         if f.resets.is_empty() || meta.code_on_denial.is_some() || !matches!(meta.trigger, Trigger::Detected { .. }) {
             continue;
         }
-        let Some(flag) = flag_den.get(&e) else { continue };
+        let Some(flag) = fw.flag_den.get(&e) else { continue };
         let mut restore = Vec::new();
         for r in &f.resets {
             if let Some(key) = Lowering::signal_key(&r.kind) {
                 let k = l.signal(&key);
-                restore.push(Stmt::assign(Place::Signal(k), Expr::global(&saved[&k])));
+                restore.push(Stmt::assign(Place::Signal(k), Expr::global(&fw.saved[&k])));
             }
         }
         main.push(Stmt::when(Expr::global(flag), restore));
     }
     main.push(Stmt::Comment("7. code on acceptance of controllable events".into()));
-    for (id, f) in fragments.iter().enumerate() {
+    for (id, f) in fw.fragments.iter().enumerate() {
         let e = EventId(id as u32);
-        let Some(flag) = flag_acc.get(&e) else { continue };
+        let Some(flag) = fw.flag_acc.get(&e) else { continue };
         if f.accept.is_empty() {
             continue;
         }
-        if let Some(code) = l.stmts(&f.accept, fragment_span(&loaded.events[id], FragmentAt::Accept)) {
+        if let Some(code) = l.stmts(&f.accept, fragment_span(&fw.loaded.events[id], FragmentAt::Accept)) {
             main.push(Stmt::when(Expr::global(flag), code));
         }
     }
     main.push(Stmt::Comment("8. enforcement: each supervisor executes what its state enforces, in cascades".into()));
-    for (k, s) in supervisors.iter().enumerate() {
+    for (k, s) in fw.supervisors.iter().enumerate() {
         let chain = enforcement_chain(s);
         if chain == 0 {
             continue;
         }
         let call = Stmt::CallFunction {
-            function: f_enforce.clone(),
-            args: vec![(lv.by.clone(), Expr::Int(k as i64 + 1))],
-            result: Some(Place::local(&lv.go)),
+            function: fw.fun.enforce.clone(),
+            args: vec![(fw.lv.by.clone(), Expr::Int(k as i64 + 1))],
+            result: Some(Place::local(&fw.lv.go)),
         };
         main.push(Stmt::Comment(format!("supervisor {}: enforcements in a row, at most {chain}", s.name)));
         main.push(call.clone());
         for _ in 1..chain {
-            main.push(Stmt::when(Expr::local(&lv.go), vec![call.clone()]));
+            main.push(Stmt::when(Expr::local(&fw.lv.go), vec![call.clone()]));
         }
     }
     main.push(Stmt::Comment("9. code on denial".into()));
-    for (id, f) in fragments.iter().enumerate() {
+    for (id, f) in fw.fragments.iter().enumerate() {
         let e = EventId(id as u32);
-        let Some(flag) = flag_den.get(&e) else { continue };
+        let Some(flag) = fw.flag_den.get(&e) else { continue };
         if f.denial.is_empty() {
             continue;
         }
-        if let Some(code) = l.stmts(&f.denial, fragment_span(&loaded.events[id], FragmentAt::Denial)) {
+        if let Some(code) = l.stmts(&f.denial, fragment_span(&fw.loaded.events[id], FragmentAt::Denial)) {
             main.push(Stmt::when(Expr::global(flag), code));
         }
     }
     main.push(Stmt::Comment("10. triggers and \\last{} signals are latched for the next cycle".into()));
     for (&e, (now, _)) in &triggers {
-        main.push(Stmt::assign(Place::global(&latch[&e]), now.clone()));
+        main.push(Stmt::assign(Place::global(&fw.latch[&e]), now.clone()));
     }
     for (&k, g) in &l.last {
         main.push(Stmt::assign(Place::global(g), Expr::read(Place::Signal(k))));
     }
-    if !loaded.timers.is_empty() {
+    if !fw.loaded.timers.is_empty() {
         main.push(Stmt::Comment("11. timers started this cycle start now; stopped ones are reset".into()));
     }
-    for (t, names) in loaded.timers.iter().zip(&timer_names) {
+    for (t, names) in fw.loaded.timers.iter().zip(&fw.timers) {
         let ton = Place::local(&names.ton);
         let call = |on: bool| Stmt::CallInstance {
             instance: ton.clone(),
@@ -1208,10 +1346,10 @@ pub fn lower(
     }
     let main_pou = Pou {
         kind: PouKind::Program,
-        name: program.clone(),
+        name: fw.fun.program.clone(),
         comment: format!(
             "The runtime framework (Göbe 2019, 6.3.4): call it from the cyclic task in place of the controller {}.",
-            options.controller
+            fw.controller
         ),
         inputs: Vec::new(),
         outputs: Vec::new(),
@@ -1219,31 +1357,7 @@ pub fn lower(
         body: main,
     };
 
-    if l.diags.items.iter().any(Diagnostic::is_error) {
-        return Err(l.diags.items);
-    }
-    let header = vec![
-        format!("Generated by plcsynth {} from a supervisory-control specification.", env!("CARGO_PKG_VERSION")),
-        format!("Specification hash (FNV-1a 64): {}", source_hash(source)),
-        format!(
-            "Supervisors: {}.",
-            supervisors
-                .iter()
-                .map(|s| format!("{} ({} states)", s.name, s.states.len()))
-                .collect::<Vec<_>>()
-                .join(", ")
-        ),
-        "Do not edit: change the specification and generate again.".to_string(),
-    ];
-    Ok(Unit {
-        name: n,
-        header,
-        gvl,
-        constants,
-        globals,
-        signals,
-        pous: vec![prohibited_fn, occur_fn, execute_fn, uncontrollable_fn, enforced_fn, enforce_fn, main_pou],
-    })
+    main_pou
 }
 
 #[cfg(test)]
