@@ -24,6 +24,7 @@ pub mod stl;
 mod target;
 pub mod twincat;
 pub mod unit;
+pub mod unit_stl;
 
 pub use iotable::{io_table, io_table_csv, tag_table_sdf, IoRow};
 pub use lower_timed::{build, generate};
@@ -440,6 +441,7 @@ mod tests {
             ("twincat.rs", include_str!("twincat.rs")),
             ("iotable.rs", include_str!("iotable.rs")),
             ("unit.rs", include_str!("unit.rs")),
+            ("unit_stl.rs", include_str!("unit_stl.rs")),
         ];
         for (file, text) in sources {
             for engine in ["crate::timed", "crate::program", "crate::sct", "lower_timed::"] {
