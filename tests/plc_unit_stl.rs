@@ -879,3 +879,244 @@ fn random_units_run_in_awlsim_as_the_reference_says() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
 }
+
+/// A unit with timers (a global one and one local to the program), a function block of its own,
+/// a function, and the user's controller, which calls that function from STL written here.
+fn timer_unit() -> Unit {
+    let start = 0;
+    let req = 1;
+    let level = 2;
+    let signals = vec![
+        signal("start", SignalKind::Input, Type::Bool, "IX0.0"),
+        signal("req", SignalKind::Input, Type::Bool, "IX0.1"),
+        signal("level", SignalKind::Input, Type::Int, "IW2"),
+        signal("q1", SignalKind::Output, Type::Bool, "QX0.0"),
+        signal("q2", SignalKind::Output, Type::Bool, "QX0.1"),
+    ];
+    let edges = Pou {
+        kind: PouKind::FunctionBlock,
+        name: "edges".into(),
+        comment: "counts rising edges of inc from 100 on".into(),
+        inputs: vec![Var::new("inc", Type::Bool, "")],
+        outputs: vec![Var::new("n", Type::Int, "edges so far")],
+        locals: vec![Var::new("prev", Type::Bool, ""), Var::new("seen", Type::Int, "").with_init(Expr::Int(100))],
+        body: vec![
+            Stmt::when(
+                Expr::local("inc").and(Expr::local("prev").not()),
+                vec![Stmt::assign(Place::local("seen"), Expr::binary(BinOp::Add, Expr::local("seen"), Expr::Int(1)))],
+            ),
+            Stmt::assign(Place::local("prev"), Expr::local("inc")),
+            Stmt::assign(Place::local("n"), Expr::local("seen")),
+        ],
+    };
+    let twice = Pou {
+        kind: PouKind::Function { returns: Some(Type::Int) },
+        name: "twice".into(),
+        comment: "x * 2 + bias, for the controller".into(),
+        inputs: vec![Var::new("x", Type::Int, "")],
+        outputs: vec![],
+        locals: vec![],
+        body: vec![Stmt::assign(
+            Place::local("twice"),
+            Expr::binary(BinOp::Add, Expr::binary(BinOp::Mul, Expr::local("x"), Expr::Int(2)), Expr::global("bias")),
+        )],
+    };
+    let t1 = || Place::global("t1");
+    let t2 = || Place::local("t2");
+    let program = Pou {
+        kind: PouKind::Program,
+        name: "main".into(),
+        comment: String::new(),
+        inputs: vec![],
+        outputs: vec![],
+        locals: vec![
+            Var::new("t2", Type::Ton, "slow timer"),
+            Var::new("ctrl", Type::Instance("Controller".into()), "the user's controller"),
+        ],
+        body: vec![
+            Stmt::CallInstance {
+                instance: t1(),
+                args: vec![("IN".into(), Expr::Read(Place::Signal(start))), ("PT".into(), Expr::global("FAST"))],
+            },
+            Stmt::assign(Place::Signal(3), Expr::read(t1().member("Q"))),
+            Stmt::assign(Place::global("et1"), Expr::read(t1().member("ET"))),
+            Stmt::assign(
+                Place::global("fast_done"),
+                Expr::binary(BinOp::Ge, Expr::read(t1().member("ET")), Expr::Time(50)),
+            ),
+            Stmt::CallInstance {
+                instance: t2(),
+                args: vec![
+                    ("IN".into(), Expr::Read(Place::Signal(start)).and(Expr::Bool(true))),
+                    ("PT".into(), Expr::Time(1000)),
+                ],
+            },
+            Stmt::assign(Place::Signal(4), Expr::read(t2().member("Q"))),
+            Stmt::CallInstance {
+                instance: Place::global("cnt"),
+                args: vec![("inc".into(), Expr::Read(Place::Signal(req)))],
+            },
+            Stmt::assign(Place::global("edges_seen"), Expr::read(Place::global("cnt").member("n"))),
+            Stmt::CallInstance {
+                instance: Place::local("ctrl"),
+                args: vec![("req".into(), Expr::Read(Place::Signal(req)))],
+            },
+            Stmt::assign(
+                Place::global("level_seen"),
+                Expr::binary(BinOp::Add, Expr::Read(Place::Signal(level)), Expr::Int(0)),
+            ),
+        ],
+    };
+    Unit {
+        name: "timers".into(),
+        header: vec!["timers, a block of the unit and the user's controller".into()],
+        gvl: "Supervisor".into(),
+        constants: vec![Var::new("FAST", Type::Time, "").with_init(Expr::Time(50))],
+        globals: vec![
+            Var::new("t1", Type::Ton, "fast timer"),
+            Var::new("et1", Type::Time, ""),
+            Var::new("fast_done", Type::Bool, ""),
+            Var::new("bias", Type::Int, "").with_init(Expr::Int(5)),
+            Var::new("cnt", Type::Instance("edges".into()), ""),
+            Var::new("edges_seen", Type::Int, ""),
+            Var::new("level_seen", Type::Int, ""),
+        ],
+        signals,
+        pous: vec![edges, twice, program],
+    }
+}
+
+/// The user's controller: calls the unit's FC 1 (`twice`) with IW 2, stores the result in MW 10
+/// and copies its input `req` to Q 0.2.
+const CONTROLLER: &str = "
+FUNCTION_BLOCK FB 100
+VAR_INPUT
+	req : BOOL;
+END_VAR
+VAR_TEMP
+	r : INT;
+END_VAR
+BEGIN
+	CALL FC 1 (x := IW 2, RET_VAL := #r)
+	L	#r
+	T	MW 10
+	A	#req
+	=	Q 0.2
+END_FUNCTION_BLOCK
+
+DATA_BLOCK DB 100
+	FB 100
+BEGIN
+END_DATA_BLOCK
+";
+
+#[test]
+fn timers_blocks_and_the_controller_run_in_awlsim() {
+    let unit = timer_unit();
+    let options = StlUnitOptions::default();
+    assert_eq!(unit_stl::check(&unit, &options), Vec::<String>::new());
+    let awl = unit_stl::render(&unit, &options);
+    for line in [
+        "//   FC 1      FUNCTION twice(x : INT) : INT",
+        "//   DB 2      global t1: instance of SFB 4 (TON)",
+        "//   DB 3      global cnt: instance of FB 1 (edges)",
+        "//   DB 4      main local t2: instance of SFB 4 (TON)",
+        "//   FB 2      PROGRAM main, instance DB 5, called from OB 1",
+        "//   FB 100    Controller (the user's controller, instance DB 100, called as `ctrl`; not in this file)",
+        "//   FAST                     TIME  T#50MS",
+    ] {
+        assert!(awl.contains(line), "{line}\n{awl}");
+    }
+    let locations = unit_stl::global_locations(&unit, &options);
+    let at = |name: &str| locations.iter().find(|l| l.name == name).unwrap().clone();
+    let size = locations.iter().map(|l| l.byte + 4).max().unwrap();
+    let program = format!("{awl}\n{CONTROLLER}");
+    // Cycle by cycle: inputs (bit 0 start, bit 1 req; IW 2), a sleep before the cycle.
+    let cycles: [(u8, i16, u32); 12] = [
+        (0b00, 21, 0),
+        (0b11, 21, 0),
+        (0b01, 21, 150),
+        (0b01, 21, 20),
+        (0b01, -8, 20),
+        (0b11, -8, 20),
+        (0b01, -8, 20),
+        (0b01, -8, 1000),
+        (0b01, -8, 0),
+        (0b10, 300, 0),
+        (0b00, 300, 0),
+        (0b10, 300, 0),
+    ];
+    let script: Vec<String> = cycles
+        .iter()
+        .map(|&(bits, level, sleep)| {
+            let [hi, lo] = level.to_be_bytes();
+            format!("S{sleep} I0={bits} I2={hi} I3={lo} ?DB1:0:{size} ?Q0:1 ?M10:2")
+        })
+        .collect();
+    let trace = awlsim("timers", &program, &script);
+    let int = |db: &[u8], name: &str| {
+        let b = at(name).byte as usize;
+        i64::from(i16::from_be_bytes([db[b], db[b + 1]]))
+    };
+    let dint = |db: &[u8], name: &str| {
+        let b = at(name).byte as usize;
+        i64::from(i32::from_be_bytes(db[b..b + 4].try_into().unwrap()))
+    };
+    let bit = |db: &[u8], name: &str| db[at(name).byte as usize] >> at(name).bit & 1 == 1;
+    for (k, (&(bits, level, _), reads)) in cycles.iter().zip(&trace).enumerate() {
+        let (db, q, mw) = (&reads[0], reads[1][0], i16::from_be_bytes([reads[2][0], reads[2][1]]));
+        let start = bits & 1 == 1;
+        // The controller calls FC 1 (twice) with IW 2: 2 * level + bias.
+        assert_eq!(i64::from(mw), 2 * i64::from(level) + 5, "cycle {k}: MW 10");
+        assert_eq!(q >> 2 & 1, bits >> 1 & 1, "cycle {k}: the controller copies req to Q 0.2");
+        assert_eq!(int(db, "level_seen"), i64::from(level), "cycle {k}");
+        assert_eq!(int(db, "bias"), 5);
+        // Rising edges of req: cycles 1, 5, 9, 11 (the FB's count starts at 100).
+        let edges = 100 + [1, 5, 9, 11].iter().filter(|&&c| c <= k).count() as i64;
+        assert_eq!(int(db, "edges_seen"), edges, "cycle {k}: edges");
+        // The fast timer (50 ms): off before start and after; on from the cycle after 150 ms,
+        // and it stays on (with ET at its preset) while IN stays on.
+        let fast = (2..=8).contains(&k);
+        assert_eq!(q & 1 == 1, fast, "cycle {k}: t1.Q");
+        assert_eq!(bit(db, "fast_done"), fast, "cycle {k}: t1.ET >= 50 ms");
+        if fast {
+            assert_eq!(dint(db, "et1"), 50, "cycle {k}: t1.ET stays at PT");
+        }
+        if !start {
+            assert_eq!(dint(db, "et1"), 0, "cycle {k}: t1.ET");
+        }
+        // The slow timer (1 s): on only after the long sleep (cycles 2 to 6 are well below 1 s).
+        let slow = (7..=8).contains(&k);
+        assert_eq!(q >> 1 & 1 == 1, slow, "cycle {k}: t2.Q");
+    }
+}
+
+#[test]
+fn what_stl_cannot_express_is_reported_not_printed_wrongly() {
+    let mut unit = timer_unit();
+    // A timer inside a function block (it would need a multi-instance), a name STL refuses,
+    // a member of the controller, a second external block type, a DB clash.
+    unit.pous[0].locals.push(Var::new("t", Type::Ton, ""));
+    unit.globals.push(Var::new("a_name_longer_than_twenty_four", Type::Bool, ""));
+    unit.globals.push(Var::new("other", Type::Instance("Other".into()), ""));
+    let program = unit.pous.last_mut().unwrap();
+    program.body.push(Stmt::assign(Place::Signal(3), Expr::read(Place::local("ctrl").member("busy"))));
+    program.body.push(Stmt::assign(Place::global("bias"), Expr::Bool(true)));
+    program.body.push(Stmt::assign(Place::global("FAST"), Expr::Time(3)));
+    let options = StlUnitOptions { controller_db: 3, ..StlUnitOptions::default() };
+    let errors = unit_stl::check(&unit, &options);
+    for part in [
+        "`t` of type TON in a function block",
+        "global `a_name_longer_than_twenty_four` is not an STL name",
+        "several external block types",
+        "cannot read `busy` of the controller instance",
+        "`bias` of type INT gets a BOOL value",
+        "constant `FAST` cannot be written",
+        "the controller's DB 3 is also a data block of the unit",
+    ] {
+        assert!(errors.iter().any(|e| e.contains(part)), "no error with {part:?} in {errors:#?}");
+    }
+    // Printing still works and marks the places.
+    let text = unit_stl::render(&unit, &options);
+    assert!(text.contains("// ERROR: "), "{text}");
+}
