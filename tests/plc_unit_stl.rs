@@ -1103,6 +1103,9 @@ fn what_stl_cannot_express_is_reported_not_printed_wrongly() {
     program.body.push(Stmt::assign(Place::Signal(3), Expr::read(Place::local("ctrl").member("busy"))));
     program.body.push(Stmt::assign(Place::global("bias"), Expr::Bool(true)));
     program.body.push(Stmt::assign(Place::global("FAST"), Expr::Time(3)));
+    program.body.push(Stmt::CallFunction { function: "missing".into(), args: vec![], result: None });
+    program.body.push(Stmt::assign(Place::Signal(3), Expr::read(Place::Signal(2))));
+    unit.globals.push(Var::new("too_big", Type::Int, "").with_init(Expr::Int(40_000)));
     let options = StlUnitOptions { controller_db: 3, ..StlUnitOptions::default() };
     let errors = unit_stl::check(&unit, &options);
     for part in [
@@ -1110,9 +1113,12 @@ fn what_stl_cannot_express_is_reported_not_printed_wrongly() {
         "global `a_name_longer_than_twenty_four` is not an STL name",
         "several external block types",
         "cannot read `busy` of the controller instance",
-        "`bias` of type INT gets a BOOL value",
+        "`bias` of type INT gets a value of type BOOL",
         "constant `FAST` cannot be written",
         "the controller's DB 3 is also a data block of the unit",
+        "`missing` is not a function of the unit",
+        "`q1` of type BOOL gets a value of type INT",
+        "the initial value of `too_big` is not a literal of type INT",
     ] {
         assert!(errors.iter().any(|e| e.contains(part)), "no error with {part:?} in {errors:#?}");
     }

@@ -950,7 +950,7 @@ impl Gen<'_> {
                 match self.ty(value) {
                     Ok(vt) if (vt == Ty::Bool) != (ty == Ty::Bool) => {
                         return self.error(format!(
-                            "`{}` of type {} gets a {} value",
+                            "`{}` of type {} gets a value of type {}",
                             place_text(unit, target),
                             ty.name(),
                             vt.name()
@@ -1307,6 +1307,21 @@ pub fn check(unit: &Unit, options: &StlUnitOptions) -> Vec<String> {
             ));
         }
     }
+    let vars =
+        unit.globals.iter().chain(unit.pous.iter().flat_map(|p| p.inputs.iter().chain(&p.outputs).chain(&p.locals)));
+    for v in vars {
+        if v.init.is_some() && Ty::of(&v.ty).is_some() {
+            let fits = match (init_literal(v, unit), v.init.as_ref()) {
+                (None, _) => false,
+                (Some(_), Some(Expr::Int(n))) if v.ty == Type::Int => fits_int(*n),
+                (Some(_), Some(Expr::Int(n))) => i32::try_from(*n).is_ok(),
+                _ => true,
+            };
+            if !fits {
+                errors.push(format!("the initial value of `{}` is not a literal of type {}", v.name, type_name(&v.ty)));
+            }
+        }
+    }
     for c in &unit.constants {
         if !matches!(c.init, Some(Expr::Bool(_) | Expr::Int(_) | Expr::Time(_))) {
             errors.push(format!("constant `{}` needs a literal value", c.name));
@@ -1383,12 +1398,8 @@ fn instance_db_text(o: &mut impl Write, db: u16, block: &str, what: &str, inits:
     writeln!(o, "END_DATA_BLOCK\n")
 }
 
-/// Prints `unit` as S7 STL: a header with the block and address tables, the global DB, the
-/// FCs, FBs with their instance DBs, and the OB that calls the program. Problems [`check`]
-/// reports are printed as `// ERROR:` comments where they occur.
-pub fn print(unit: &Unit, options: &StlUnitOptions, o: &mut impl Write) -> fmt::Result {
-    let blocks = blocks(unit, options);
-    let gens: Vec<Gen> = unit.pous.iter().map(|p| generate(unit, options, &blocks, p)).collect();
+/// The header comment: blocks, globals with their addresses, constants, signals.
+fn header(unit: &Unit, options: &StlUnitOptions, blocks: &Blocks, o: &mut String) -> fmt::Result {
     for line in &unit.header {
         writeln!(o, "// {line}")?;
     }
@@ -1460,6 +1471,20 @@ pub fn print(unit: &Unit, options: &StlUnitOptions, o: &mut impl Write) -> fmt::
                 Ty::of(&s.ty).and_then(|t| signal_operand(&s.address, t).ok()).unwrap_or_else(|| s.address.clone());
             writeln!(o, "//   {:<10} {:<24} {:?} {}", address, s.symbol, s.kind, s.comment)?;
         }
+    }
+    Ok(())
+}
+
+/// Prints `unit` as S7 STL: a header with the block and address tables, the global DB, the
+/// FCs, FBs with their instance DBs, and the OB that calls the program. Problems [`check`]
+/// reports are printed as `// ERROR:` comments where they occur.
+pub fn print(unit: &Unit, options: &StlUnitOptions, o: &mut impl Write) -> fmt::Result {
+    let blocks = blocks(unit, options);
+    let gens: Vec<Gen> = unit.pous.iter().map(|p| generate(unit, options, &blocks, p)).collect();
+    let mut head = String::new();
+    header(unit, options, &blocks, &mut head)?;
+    for line in head.lines() {
+        writeln!(o, "{}", line.trim_end())?;
     }
     writeln!(o)?;
     // The global data block.
@@ -1560,4 +1585,51 @@ pub fn render(unit: &Unit, options: &StlUnitOptions) -> String {
     let mut text = String::new();
     print(unit, options, &mut text).expect("writing to a String cannot fail");
     text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn labels_are_four_characters_and_unique() {
+        assert_eq!(label(0), "L000");
+        assert_eq!(label(35), "L00Z");
+        assert_eq!(label(36), "L010");
+        assert_eq!(label(46_656), "M000");
+        let all: std::collections::HashSet<String> = (0..LABELS_MAX).step_by(997).map(label).collect();
+        assert_eq!(all.len(), LABELS_MAX.div_ceil(997));
+    }
+
+    #[test]
+    fn signal_addresses() {
+        assert_eq!(signal_operand("IX0.1", Ty::Bool), Ok("I 0.1".into()));
+        assert_eq!(signal_operand("QX0.0", Ty::Bool), Ok("Q 0.0".into()));
+        assert_eq!(signal_operand("MX20.3", Ty::Bool), Ok("M 20.3".into()));
+        assert_eq!(signal_operand("IW4", Ty::Int), Ok("IW 4".into()));
+        assert_eq!(signal_operand("MD8", Ty::Dint), Ok("MD 8".into()));
+        assert!(signal_operand("IW4", Ty::Bool).is_err());
+        assert!(signal_operand("IX0.8", Ty::Bool).is_err());
+        assert!(signal_operand("GVL.lamp", Ty::Bool).is_err());
+        assert!(signal_operand("", Ty::Bool).is_err());
+    }
+
+    #[test]
+    fn layout_packs_bools_and_aligns_words_and_sections() {
+        let v = |ty: Type| Var::new("x", ty, "");
+        let (places, size) = layout(&[&[v(Type::Bool), v(Type::Bool), v(Type::Int), v(Type::Dint), v(Type::Bool)]]);
+        assert_eq!(places, vec![(0, 0), (0, 1), (2, 0), (4, 0), (8, 0)]);
+        assert_eq!(size, 10);
+        // As awlsim lays out an FB: every declaration section starts on an even byte.
+        let (places, size) = layout(&[&[v(Type::Bool)], &[v(Type::Bool), v(Type::Int)], &[v(Type::Bool)]]);
+        assert_eq!(places, vec![(0, 0), (2, 0), (4, 0), (6, 0)]);
+        assert_eq!(size, 8);
+    }
+
+    #[test]
+    fn names_stl_accepts() {
+        assert!(valid_name("denials") && valid_name("_x") && valid_name("a_b_c"));
+        assert!(!valid_name("a__b") && !valid_name("a_") && !valid_name("1a") && !valid_name(""));
+        assert!(!valid_name("abcdefghijklmnopqrstuvwxy"));
+    }
 }
