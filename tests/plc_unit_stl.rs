@@ -909,6 +909,22 @@ fn timer_unit() -> Unit {
             Stmt::assign(Place::local("n"), Expr::local("seen")),
         ],
     };
+    let delay = Pou {
+        kind: PouKind::FunctionBlock,
+        name: "delay".into(),
+        comment: "go delayed by 50 ms, through a timer of its own (a multi-instance)".into(),
+        inputs: vec![Var::new("go", Type::Bool, "")],
+        outputs: vec![Var::new("done", Type::Bool, ""), Var::new("waited", Type::Time, "")],
+        locals: vec![Var::new("t", Type::Ton, "")],
+        body: vec![
+            Stmt::CallInstance {
+                instance: Place::local("t"),
+                args: vec![("IN".into(), Expr::local("go")), ("PT".into(), Expr::Time(50))],
+            },
+            Stmt::assign(Place::local("done"), Expr::read(Place::local("t").member("Q"))),
+            Stmt::assign(Place::local("waited"), Expr::read(Place::local("t").member("ET"))),
+        ],
+    };
     let twice = Pou {
         kind: PouKind::Function { returns: Some(Type::Int) },
         name: "twice".into(),
@@ -958,6 +974,17 @@ fn timer_unit() -> Unit {
             },
             Stmt::assign(Place::global("edges_seen"), Expr::read(Place::global("cnt").member("n"))),
             Stmt::CallInstance {
+                instance: Place::global("d1"),
+                args: vec![("go".into(), Expr::Read(Place::Signal(start)))],
+            },
+            Stmt::CallInstance {
+                instance: Place::global("d2"),
+                args: vec![("go".into(), Expr::Read(Place::Signal(start)).not())],
+            },
+            Stmt::assign(Place::global("d1_done"), Expr::read(Place::global("d1").member("done"))),
+            Stmt::assign(Place::global("d2_done"), Expr::read(Place::global("d2").member("done"))),
+            Stmt::assign(Place::global("d1_waited"), Expr::read(Place::global("d1").member("waited"))),
+            Stmt::CallInstance {
                 instance: Place::local("ctrl"),
                 args: vec![("req".into(), Expr::Read(Place::Signal(req)))],
             },
@@ -980,9 +1007,14 @@ fn timer_unit() -> Unit {
             Var::new("cnt", Type::Instance("edges".into()), ""),
             Var::new("edges_seen", Type::Int, ""),
             Var::new("level_seen", Type::Int, ""),
+            Var::new("d1", Type::Instance("delay".into()), ""),
+            Var::new("d2", Type::Instance("delay".into()), ""),
+            Var::new("d1_done", Type::Bool, ""),
+            Var::new("d2_done", Type::Bool, ""),
+            Var::new("d1_waited", Type::Time, ""),
         ],
         signals,
-        pous: vec![edges, twice, program],
+        pous: vec![edges, delay, twice, program],
     }
 }
 
@@ -1018,10 +1050,12 @@ fn timers_blocks_and_the_controller_run_in_awlsim() {
     let awl = unit_stl::render(&unit, &options);
     for line in [
         "//   FC 1      FUNCTION twice(x : INT) : INT",
+        "\tCALL\t#t (IN := #go, PT := T#50MS, Q := #t_Q, ET := #t_ET)",
         "//   DB 2      global t1: instance of SFB 4 (TON)",
         "//   DB 3      global cnt: instance of FB 1 (edges)",
-        "//   DB 4      main local t2: instance of SFB 4 (TON)",
-        "//   FB 2      PROGRAM main, instance DB 5, called from OB 1",
+        "//   FB 3      PROGRAM main, instance DB 7, called from OB 1",
+        "//   DB 4      global d1: instance of FB 2 (delay)",
+        "//   DB 6      main local t2: instance of SFB 4 (TON)",
         "//   FB 100    Controller (the user's controller, instance DB 100, called as `ctrl`; not in this file)",
         "//   FAST                     TIME  T#50MS",
     ] {
@@ -1043,7 +1077,7 @@ fn timers_blocks_and_the_controller_run_in_awlsim() {
         (0b01, -8, 1000),
         (0b01, -8, 0),
         (0b10, 300, 0),
-        (0b00, 300, 0),
+        (0b00, 300, 100),
         (0b10, 300, 0),
     ];
     let script: Vec<String> = cycles
@@ -1088,6 +1122,13 @@ fn timers_blocks_and_the_controller_run_in_awlsim() {
         // The slow timer (1 s): on only after the long sleep (cycles 2 to 6 are well below 1 s).
         let slow = (7..=8).contains(&k);
         assert_eq!(q >> 1 & 1 == 1, slow, "cycle {k}: t2.Q");
+        // Two instances of a function block with a timer of its own: d1 follows start as t1
+        // does, d2 follows NOT start (on for the 100 ms before cycle 10).
+        assert_eq!(bit(db, "d1_done"), fast, "cycle {k}: d1.done");
+        assert_eq!(bit(db, "d2_done"), (10..=11).contains(&k), "cycle {k}: d2.done");
+        if fast {
+            assert_eq!(dint(db, "d1_waited"), 50, "cycle {k}: d1.waited");
+        }
     }
 }
 
@@ -1096,7 +1137,9 @@ fn what_stl_cannot_express_is_reported_not_printed_wrongly() {
     let mut unit = timer_unit();
     // A timer inside a function block (it would need a multi-instance), a name STL refuses,
     // a member of the controller, a second external block type, a DB clash.
+    unit.pous[0].locals.push(Var::new("inner", Type::Instance("edges".into()), ""));
     unit.pous[0].locals.push(Var::new("t", Type::Ton, ""));
+    unit.pous[0].locals.push(Var::new("t_ET", Type::Int, ""));
     unit.globals.push(Var::new("a_name_longer_than_twenty_four", Type::Bool, ""));
     unit.globals.push(Var::new("other", Type::Instance("Other".into()), ""));
     let program = unit.pous.last_mut().unwrap();
@@ -1109,7 +1152,8 @@ fn what_stl_cannot_express_is_reported_not_printed_wrongly() {
     let options = StlUnitOptions { controller_db: 3, ..StlUnitOptions::default() };
     let errors = unit_stl::check(&unit, &options);
     for part in [
-        "`t` of type TON in a function block",
+        "`inner` of type edges in a function block",
+        "timer `t` keeps its ET in `t_ET`, which is not a free STL name",
         "global `a_name_longer_than_twenty_four` is not an STL name",
         "several external block types",
         "cannot read `busy` of the controller instance",

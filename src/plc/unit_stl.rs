@@ -20,11 +20,15 @@
 //!   the unit) gets its own instance data block numbered after the global data block; initial
 //!   values of statics are written in the instance DB's `BEGIN` section (awlsim ignores
 //!   initial values in an FB's declaration). `OB ob` calls the program's FB with its DB.
-//! - Timers (`TON`) are instances of SFB 4 with their own instance DB (`CALL SFB 4, DB n`);
-//!   their outputs are read from the instance DB's fixed layout (`IN` 0.0, `PT` 2, `Q` 6.0,
-//!   `ET` 8). awlsim cannot address fields of a multi-instance (`#t.Q`), so a function block of
-//!   the unit (which may have several instances) cannot hold a timer or block instance; [`check`]
-//!   says so.
+//! - Timers (`TON`) are instances of SFB 4. A global timer or one local to the program has its
+//!   own instance DB (`CALL SFB 4, DB n`), and its members are read from the DB's fixed layout
+//!   (`IN` 0.0, `PT` 2, `Q` 6.0, `ET` 8), so an HMI finds them. A timer local to a function
+//!   block of the unit (which may have several instances) is a multi-instance (`t : SFB 4` in
+//!   `VAR`); awlsim cannot address fields of a multi-instance (`#t.Q`), so its call copies `Q`
+//!   and `ET` into statics `t_Q` and `t_ET` (`CALL #t (IN := …, PT := …, Q := #t_Q, ET :=
+//!   #t_ET)`), which is what reading them means in IEC: outputs change only during a call.
+//!   Instances of the unit's function blocks have their own DB too (globals and locals of the
+//!   program); inside a function block [`check`] refuses them.
 //! - An instance of a block type the unit does not define is the user's controller:
 //!   `CALL FB controller_fb, DB controller_db`, with the arguments given. The user's project
 //!   provides that FB and its DB; the header lists what the controller may call (the FCs and
@@ -445,6 +449,15 @@ impl<'a> Gen<'a> {
         self.blocks.instances.iter().find(|(o, n, _, _)| *o == owner && n == name).map(|x| x.3)
     }
 
+    /// The timer local to this function block that `place` names (a multi-instance of SFB 4).
+    fn block_timer(&self, place: &Place) -> Option<&'a str> {
+        let Place::Local(name) = place else { return None };
+        if self.pou.kind != PouKind::FunctionBlock {
+            return None;
+        }
+        self.pou.locals.iter().find(|v| v.name == *name && v.ty == Type::Ton).map(|v| v.name.as_str())
+    }
+
     /// The literal of a constant, when `place` names one.
     fn constant(&self, place: &Place) -> Option<Expr> {
         let Place::Global(name) = place else { return None };
@@ -478,6 +491,16 @@ impl<'a> Gen<'a> {
             }
             Place::Signal(i) => signal_operand(&self.unit.signals[*i].address, scalar),
             Place::Member(inner, field) => {
+                if let Some(timer) = self.block_timer(inner) {
+                    // awlsim cannot read `#t.Q`: the call copies Q and ET into statics.
+                    let field = field.to_ascii_uppercase();
+                    return match field.as_str() {
+                        "Q" | "ET" => Ok(format!("#{}", shadow(timer, &field))),
+                        _ => Err(format!(
+                            "`{timer}.{field}` of a timer in a function block (STL keeps only its Q and ET)"
+                        )),
+                    };
+                }
                 let db = self.instance_db(inner).ok_or_else(|| {
                     format!(
                         "`{}` is an instance inside a function or function block; STL reads members only of \
@@ -1151,8 +1174,14 @@ impl Gen<'_> {
             Err(m) => return self.error(m),
         };
         let saved = self.temps;
+        let mut outputs = String::new();
         // The formal parameters and their types, and the block called.
         let (block, formals): (String, Vec<(String, Option<Ty>)>) = match &ty {
+            Type::Ton if self.block_timer(instance).is_some() => {
+                let timer = self.block_timer(instance).unwrap_or_default();
+                outputs = format!(", Q := #{}, ET := #{}", shadow(timer, "Q"), shadow(timer, "ET"));
+                (format!("#{timer}"), vec![("IN".into(), Some(Ty::Bool)), ("PT".into(), Some(Ty::Time))])
+            }
             Type::Ton => {
                 let Some(db) = self.instance_db(instance) else {
                     return self.error(format!(
@@ -1201,13 +1230,31 @@ impl Gen<'_> {
                 self.error(format!("input `{name}` of `{}` has no STL value type", place_text(unit, instance)));
                 continue;
             };
-            let (text, _) = self.argument(value, ty);
+            // An FB copies its inputs into its instance at the call: a variable of the formal's
+            // type is passed as it is.
+            let direct = match value {
+                Expr::Read(p) if self.constant(p).is_none() && self.ty(value) == Ok(ty) => self.operand(p).ok(),
+                _ => None,
+            };
+            let text = match direct {
+                Some(op) => op,
+                None => self.argument(value, ty).0,
+            };
             params.push(format!("{formal} := {text}"));
         }
-        let list = if params.is_empty() { String::new() } else { format!(" ({})", params.join(", ")) };
+        let list = match (params.is_empty(), outputs.is_empty()) {
+            (true, true) => String::new(),
+            (true, false) => format!(" ({})", &outputs[2..]),
+            _ => format!(" ({}{outputs})", params.join(", ")),
+        };
         self.emit(&format!("CALL\t{block}{list}"));
         self.temps = saved;
     }
+}
+
+/// The static that keeps output `field` of timer `timer` local to a function block.
+fn shadow(timer: &str, field: &str) -> String {
+    format!("{timer}_{field}")
 }
 
 fn default_value(ty: Ty) -> Expr {
@@ -1275,14 +1322,27 @@ fn generate<'a>(unit: &'a Unit, options: &'a StlUnitOptions, blocks: &'a Blocks,
         }
     }
     if pou.kind == PouKind::FunctionBlock {
+        let names: Vec<&str> =
+            pou.inputs.iter().chain(&pou.outputs).chain(&pou.locals).map(|v| v.name.as_str()).collect();
         for v in &pou.locals {
-            if Ty::of(&v.ty).is_none() {
-                g.error(format!(
-                    "`{}` of type {} in a function block: awlsim cannot address members of a multi-instance; \
-                     declare it as a global or a local of the program",
-                    v.name,
-                    type_name(&v.ty)
-                ));
+            match &v.ty {
+                Type::Ton => {
+                    for field in ["Q", "ET"] {
+                        let s = shadow(&v.name, field);
+                        if !valid_name(&s) || names.iter().any(|n| n.eq_ignore_ascii_case(&s)) {
+                            g.error(format!(
+                                "timer `{}` keeps its {field} in `{s}`, which is not a free STL name in this block",
+                                v.name
+                            ));
+                        }
+                    }
+                }
+                Type::Instance(name) => g.error(format!(
+                    "`{}` of type {name} in a function block: awlsim cannot address members of a \
+                     multi-instance; declare it as a global or a local of the program",
+                    v.name
+                )),
+                _ => {}
             }
         }
     }
@@ -1515,8 +1575,22 @@ pub fn print(unit: &Unit, options: &StlUnitOptions, o: &mut impl Write) -> fmt::
         let outputs: Vec<&Var> = pou.outputs.iter().collect();
         let (statics, temps): (Vec<&Var>, Vec<&Var>) = match pou.kind {
             PouKind::Function { .. } => (Vec::new(), pou.locals.iter().collect()),
-            _ => (pou.locals.iter().filter(|v| Ty::of(&v.ty).is_some()).collect(), Vec::new()),
+            PouKind::FunctionBlock => {
+                (pou.locals.iter().filter(|v| !matches!(v.ty, Type::Instance(_))).collect(), Vec::new())
+            }
+            PouKind::Program => (pou.locals.iter().filter(|v| Ty::of(&v.ty).is_some()).collect(), Vec::new()),
         };
+        let shadows: Vec<Var> = statics
+            .iter()
+            .filter(|v| v.ty == Type::Ton)
+            .flat_map(|v| {
+                [
+                    Var::new(shadow(&v.name, "Q"), Type::Bool, format!("{}.Q, copied by its call", v.name)),
+                    Var::new(shadow(&v.name, "ET"), Type::Time, format!("{}.ET, copied by its call", v.name)),
+                ]
+            })
+            .collect();
+        let statics: Vec<&Var> = statics.into_iter().chain(&shadows).collect();
         let generated: Vec<Var> = [TempKind::X, TempKind::W, TempKind::D]
             .into_iter()
             .flat_map(|k| {
