@@ -751,7 +751,7 @@ fn expr_text(unit: &Unit, e: &Expr) -> String {
         match e {
             Expr::Bool(b) => out.push_str(if *b { "TRUE" } else { "FALSE" }),
             Expr::Int(n) => out.push_str(&n.to_string()),
-            Expr::Time(ms) => out.push_str(&super::time_literal(*ms)),
+            Expr::Time(ms) => out.push_str(&time_literal(i64::try_from(*ms).unwrap_or(i64::MAX))),
             Expr::Read(p) => out.push_str(&place_text(unit, p)),
             Expr::Not(x) | Expr::Neg(x) => {
                 out.push_str(if matches!(e, Expr::Not(_)) { "NOT " } else { "-" });
@@ -814,11 +814,24 @@ impl Gen<'_> {
                     Some("0".into())
                 }
             }
-            (Expr::Int(n), Ty::Dint) => Some(format!("L#{}", *n as i32)),
-            (Expr::Int(n), _) => Some(format!("T#{n}MS")),
-            (Expr::Time(ms), _) => Some(format!("T#{ms}MS")),
+            (Expr::Int(n), Ty::Dint) => {
+                if i32::try_from(*n).is_err() {
+                    self.error(format!("{n} does not fit in a DINT"));
+                }
+                Some(format!("L#{}", *n as i32))
+            }
+            (Expr::Int(n), _) => Some(self.time(*n)),
+            (Expr::Time(ms), _) => Some(self.time(i64::try_from(*ms).unwrap_or(i64::MAX))),
             _ => None,
         }
+    }
+
+    /// A TIME literal, or an error beyond the range of TIME (±24 days).
+    fn time(&mut self, ms: i64) -> String {
+        if i32::try_from(ms).is_err() {
+            self.error(format!("{ms} ms is beyond the range of TIME (T#24D20H31M23S647MS)"));
+        }
+        time_literal(ms)
     }
 
     /// Whether `e` loads with one `L` (and perhaps `ITD`).
@@ -1257,6 +1270,29 @@ fn shadow(timer: &str, field: &str) -> String {
     format!("{timer}_{field}")
 }
 
+/// `T#1D2H3M4S5MS`: a TIME literal in the units STEP 7 writes (each below its next unit).
+fn time_literal(ms: i64) -> String {
+    let sign = if ms < 0 { "-" } else { "" };
+    let ms = ms.unsigned_abs();
+    let parts = [
+        (ms / 86_400_000, "D"),
+        (ms / 3_600_000 % 24, "H"),
+        (ms / 60_000 % 60, "M"),
+        (ms / 1000 % 60, "S"),
+        (ms % 1000, "MS"),
+    ];
+    let mut text = format!("T#{sign}");
+    for (v, unit) in parts {
+        if v > 0 {
+            text.push_str(&format!("{v}{unit}"));
+        }
+    }
+    if ms == 0 {
+        text.push_str("0MS");
+    }
+    text
+}
+
 fn default_value(ty: Ty) -> Expr {
     match ty {
         Ty::Bool => Expr::Bool(false),
@@ -1276,8 +1312,8 @@ fn init_literal(var: &Var, constants: &Unit) -> Option<String> {
         (Expr::Bool(b), _) => (if *b { "TRUE" } else { "FALSE" }).into(),
         (Expr::Int(n), Type::Int) => n.to_string(),
         (Expr::Int(n), Type::Dint) => format!("L#{n}"),
-        (Expr::Int(n), Type::Time) => format!("T#{n}MS"),
-        (Expr::Time(ms), _) => format!("T#{ms}MS"),
+        (Expr::Int(n), Type::Time) => time_literal(*n),
+        (Expr::Time(ms), _) => time_literal(i64::try_from(*ms).ok()?),
         _ => return None,
     })
 }
@@ -1698,6 +1734,16 @@ mod tests {
         let (places, size) = layout(&[&[v(Type::Bool)], &[v(Type::Bool), v(Type::Int)], &[v(Type::Bool)]]);
         assert_eq!(places, vec![(0, 0), (2, 0), (4, 0), (6, 0)]);
         assert_eq!(size, 8);
+    }
+
+    #[test]
+    fn time_literals() {
+        assert_eq!(time_literal(50), "T#50MS");
+        assert_eq!(time_literal(1500), "T#1S500MS");
+        assert_eq!(time_literal(3_600_000), "T#1H");
+        assert_eq!(time_literal(90_061_001), "T#1D1H1M1S1MS");
+        assert_eq!(time_literal(0), "T#0MS");
+        assert_eq!(time_literal(-20), "T#-20MS");
     }
 
     #[test]
