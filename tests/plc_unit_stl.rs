@@ -862,21 +862,35 @@ fn compare(unit: &Unit, seed: u64, cycles: usize, mutations: &[Mutation]) -> Vec
 
 #[test]
 fn random_units_run_in_awlsim_as_the_reference_says() {
-    let mut failures = Vec::new();
-    for seed in 1..=3u64 {
-        let unit = random_unit(seed);
-        let mutations =
-            if seed == 1 { vec![Mutation::None, Mutation::EuclidMod, Mutation::XorAsOr] } else { vec![Mutation::None] };
-        for (mutation, mismatch) in compare(&unit, seed, 150, &mutations) {
-            match (mutation, mismatch) {
-                (Mutation::None, None) => {}
-                (Mutation::None, Some(m)) => failures.push(format!("seed {seed}: {m}")),
-                // The comparison must notice a wrong reference.
-                (other, None) => failures.push(format!("seed {seed}: the mutation {other:?} went unnoticed")),
-                _ => {}
-            }
-        }
-    }
+    // One awlsim process per unit, side by side (awlsim starts in about a second).
+    let failures: Vec<String> = std::thread::scope(|s| {
+        let runs: Vec<_> = (1..=3u64)
+            .map(|seed| {
+                s.spawn(move || {
+                    let unit = random_unit(seed);
+                    let mutations = if seed == 1 {
+                        vec![Mutation::None, Mutation::EuclidMod, Mutation::XorAsOr]
+                    } else {
+                        vec![Mutation::None]
+                    };
+                    let mut failures = Vec::new();
+                    for (mutation, mismatch) in compare(&unit, seed, 150, &mutations) {
+                        match (mutation, mismatch) {
+                            (Mutation::None, None) => {}
+                            (Mutation::None, Some(m)) => failures.push(format!("seed {seed}: {m}")),
+                            // The comparison must notice a wrong reference.
+                            (other, None) => {
+                                failures.push(format!("seed {seed}: the mutation {other:?} went unnoticed"))
+                            }
+                            _ => {}
+                        }
+                    }
+                    failures
+                })
+            })
+            .collect();
+        runs.into_iter().flat_map(|r| r.join().unwrap()).collect()
+    });
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
 }
 
