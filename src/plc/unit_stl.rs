@@ -9,12 +9,13 @@
 //! - STL has no named constants: every read of a constant is printed as its literal. The header
 //!   keeps a table of the constants' names and values (event ids the user's controller needs).
 //! - Functions become FCs numbered from `first_fc` in the unit's order: inputs as `VAR_INPUT`,
-//!   the result as `RET_VAL`, locals as `VAR_TEMP`. S7 leaves temporaries and `RET_VAL`
+//!   the result as `RET_VAL` (the function's own name in its body), locals as `VAR_TEMP`. S7 leaves temporaries and `RET_VAL`
 //!   undefined on entry, so every FC starts by setting its locals to their initial values and its
 //!   result to the type's default, as IEC 61131-3 does. Arguments are copied into temporaries of
 //!   the caller before `CALL` (S7 passes FC parameters by reference; IEC by value), and the
 //!   result comes back through a temporary, so a function that writes a global passed to it sees
-//!   what an IEC function would.
+//!   what an IEC function would. (An FB copies its inputs into its instance at the call, so a
+//!   variable of the formal's type is passed to it as it is.)
 //! - Function blocks become FBs numbered from `first_fb`, the program last. Each instance (the
 //!   program's, and every global or program-local instance of a timer or of a function block of
 //!   the unit) gets its own instance data block numbered after the global data block; initial
@@ -33,7 +34,9 @@
 //!   `CALL FB controller_fb, DB controller_db`, with the arguments given. The user's project
 //!   provides that FB and its DB; the header lists what the controller may call (the FCs and
 //!   their parameters).
-//! - Signals are addressed by their address (`IX0.1` → `I 0.1`, `IW4` → `IW 4`).
+//! - Signals are addressed by their address (`IX0.1` → `I 0.1`, `IW4` → `IW 4`, `MD8` → `MD 8`);
+//!   the address's size must suit the signal's type (bit for BOOL, word for INT, double word for
+//!   DINT and TIME).
 //! - BOOL expressions run through the RLO: `A`/`O`/`X` with their negated forms for simple
 //!   operands and nesting brackets (`A(` … `)`, `AN(` … `)`) for composite ones; a bracket
 //!   deeper than six levels (S7 allows seven) is computed first into a temporary bit.
@@ -42,8 +45,8 @@
 //!   Arithmetic works in 16 bits (`+I`, `MOD` as the remainder of `/I`) when both sides are INT,
 //!   in 32 bits (`+D`, `MOD`) when one side is DINT or TIME (INT operands widened with `ITD`);
 //!   an integer literal is INT when it fits in 16 bits. A right operand that is not a plain load
-//!   is computed first into a temporary. INT results wrap at 16 bits, as the CPU's do; division
-//!   by zero leaves the CPU's accumulator as it is (IEC leaves it undefined).
+//!   is computed first into a temporary. INT results wrap at 16 bits, as the CPU's do; a
+//!   division by zero gives 0, the divisor left in the accumulator (IEC leaves it undefined).
 //! - `IF`/`ELSIF`/`ELSE` jump with `JCN`/`JU` to labels `L000`, `L001`, … (four characters,
 //!   unique per block); `CASE` uses a `JL` jump list after a range check when its labels are
 //!   small non-negative integers with few gaps, and a chain of comparisons otherwise.
