@@ -1184,3 +1184,61 @@ fn what_stl_cannot_express_is_reported_not_printed_wrongly() {
     let text = unit_stl::render(&unit, &options);
     assert!(text.contains("// ERROR: "), "{text}");
 }
+
+#[test]
+fn broken_units_get_errors_and_never_a_panic() {
+    let options = StlUnitOptions::default();
+    let empty = Unit {
+        name: "empty".into(),
+        header: vec![],
+        gvl: "GVL".into(),
+        constants: vec![],
+        globals: vec![],
+        signals: vec![],
+        pous: vec![],
+    };
+    assert!(!unit_stl::check(&empty, &options).is_empty());
+    assert!(unit_stl::render(&empty, &options).contains("DATA_BLOCK DB 1"));
+    let bad_places = [
+        Place::Signal(999),
+        Place::local("nope"),
+        Place::global("nope"),
+        Place::global("n0").member("Q"),
+        Place::global("K_STEP"),
+        Place::local("pn").member("ET"),
+        Place::Signal(INT_INPUTS[0]).member("x"),
+    ];
+    let bad_exprs = [
+        Expr::Int(1 << 40),
+        Expr::Time(u64::MAX),
+        Expr::Bool(true).not().and(Expr::Int(3)),
+        Expr::Neg(Box::new(Expr::Bool(false))),
+        Expr::binary(BinOp::Lt, Expr::Bool(true), Expr::Int(2)),
+        Expr::binary(BinOp::Add, Expr::global("b0"), Expr::Int(2)),
+        Expr::binary(BinOp::And, Expr::global("n0"), Expr::Int(2)),
+        Expr::Int(5).not(),
+    ];
+    let mut k = 0;
+    for place in &bad_places {
+        for value in bad_exprs.iter().chain([&Expr::global("n0"), &Expr::global("b0")]) {
+            let mut unit = random_unit(7);
+            let body = &mut unit.pous.last_mut().unwrap().body;
+            let stmt = match k % 5 {
+                0 => Stmt::assign(place.clone(), value.clone()),
+                1 => Stmt::when(value.clone(), vec![Stmt::assign(place.clone(), Expr::Bool(true))]),
+                2 => Stmt::Case { selector: value.clone(), arms: vec![(vec![1, 1 << 40], vec![])], otherwise: vec![] },
+                3 => Stmt::CallInstance { instance: place.clone(), args: vec![("IN".into(), value.clone())] },
+                _ => Stmt::CallFunction {
+                    function: "scale".into(),
+                    args: vec![("a".into(), value.clone()), ("zz".into(), Expr::Bool(true))],
+                    result: Some(place.clone()),
+                },
+            };
+            body.insert(k % (body.len() + 1), stmt);
+            k += 1;
+            let errors = unit_stl::check(&unit, &options);
+            assert!(!errors.is_empty(), "no error for {place:?} and {value:?}");
+            assert!(unit_stl::render(&unit, &options).contains("// ERROR: "));
+        }
+    }
+}
