@@ -811,6 +811,9 @@ fn compare(unit: &Unit, seed: u64, cycles: usize, mutations: &[Mutation]) -> Vec
     assert_eq!(unit_stl::check(unit, &options), Vec::<String>::new());
     let awl = unit_stl::render(unit, &options);
     let db_size = Machine::new(unit, Mutation::None).global_db(&options).len();
+    // The program's statics, where the header says they are.
+    let program = unit_stl::program_locations(unit, &options);
+    let program_size = program.iter().map(|l| l.byte + 2).max().unwrap();
     let mut rng = Rng(seed | 1);
     let inputs: Vec<Vec<u8>> = (0..cycles)
         .map(|_| {
@@ -831,6 +834,7 @@ fn compare(unit: &Unit, seed: u64, cycles: usize, mutations: &[Mutation]) -> Vec
         .map(|bytes| {
             let mut line: Vec<String> = bytes.iter().enumerate().map(|(i, b)| format!("I{i}={b}")).collect();
             line.push(format!("?DB{}:0:{db_size}", options.first_db));
+            line.push(format!("?DB{}:0:{program_size}", program[0].db));
             line.push("?Q0:4".into());
             line.push("?M0:6".into());
             line.join(" ")
@@ -844,7 +848,15 @@ fn compare(unit: &Unit, seed: u64, cycles: usize, mutations: &[Mutation]) -> Vec
             for (k, bytes) in inputs.iter().enumerate() {
                 m.inputs[..bytes.len()].copy_from_slice(bytes);
                 m.cycle();
-                let expected = [m.global_db(&options), m.outputs[..4].to_vec(), m.memory[..6].to_vec()];
+                let mut statics = vec![0u8; program_size as usize];
+                for l in &program {
+                    let (v, b) = (m.program[&l.name], l.byte as usize);
+                    match l.ty {
+                        Type::Bool => statics[b] |= (v as u8 & 1) << l.bit,
+                        _ => statics[b..b + 2].copy_from_slice(&(v as i16).to_be_bytes()),
+                    }
+                }
+                let expected = [m.global_db(&options), statics, m.outputs[..4].to_vec(), m.memory[..6].to_vec()];
                 if trace[k] != expected {
                     return (
                         mutation,

@@ -190,6 +190,22 @@ pub fn global_locations(unit: &Unit, options: &StlUnitOptions) -> Vec<Location> 
         .collect()
 }
 
+/// The program's inputs, outputs and statics (BOOL, INT, DINT, TIME) in its instance DB: a
+/// supervisor's state kept by the program is found there. Empty when the unit has no program.
+pub fn program_locations(unit: &Unit, options: &StlUnitOptions) -> Vec<Location> {
+    let Some(program) = unit.pous.last().filter(|p| p.kind == PouKind::Program) else { return Vec::new() };
+    let db = blocks(unit, options).program_db;
+    let scalars = |vars: &[Var]| -> Vec<Var> { vars.iter().filter(|v| Ty::of(&v.ty).is_some()).cloned().collect() };
+    let sections = [scalars(&program.inputs), scalars(&program.outputs), scalars(&program.locals)];
+    let (places, _) = layout(&[&sections[0], &sections[1], &sections[2]]);
+    sections
+        .iter()
+        .flatten()
+        .zip(places)
+        .map(|(v, (byte, bit))| Location { name: v.name.clone(), ty: v.ty.clone(), db, byte, bit })
+        .collect()
+}
+
 /// Where an instance lives: a global or a local of the program.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 enum Owner {
@@ -1553,6 +1569,14 @@ fn header(unit: &Unit, options: &StlUnitOptions, blocks: &Blocks, o: &mut String
     if !blocks.globals.is_empty() {
         writeln!(o, "//\n// Globals (DB {}):", options.first_db)?;
         for (loc, v) in blocks.globals.iter().zip(unit.globals.iter().filter(|v| Ty::of(&v.ty).is_some())) {
+            writeln!(o, "//   {:<24} {:<5} {:<16} {}", loc.name, type_name(&loc.ty), loc.operand(), v.comment)?;
+        }
+    }
+    let statics = program_locations(unit, options);
+    if let (false, Some(program)) = (statics.is_empty(), unit.pous.last()) {
+        writeln!(o, "//\n// Variables of the program {} (its instance DB {}):", program.name, blocks.program_db)?;
+        let vars = program.inputs.iter().chain(&program.outputs).chain(&program.locals);
+        for (loc, v) in statics.iter().zip(vars.filter(|v| Ty::of(&v.ty).is_some())) {
             writeln!(o, "//   {:<24} {:<5} {:<16} {}", loc.name, type_name(&loc.ty), loc.operand(), v.comment)?;
         }
     }
