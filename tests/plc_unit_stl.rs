@@ -1215,9 +1215,9 @@ fn broken_units_get_errors_and_never_a_panic() {
         Place::Signal(999),
         Place::local("nope"),
         Place::global("nope"),
-        Place::global("n0").member("Q"),
-        Place::global("K_STEP"),
-        Place::local("pn").member("ET"),
+        Place::global("bias").member("Q"),
+        Place::global("FAST"),
+        Place::local("ctrl").member("ET"),
         Place::Signal(INT_INPUTS[0]).member("x"),
     ];
     let bad_exprs = [
@@ -1226,14 +1226,14 @@ fn broken_units_get_errors_and_never_a_panic() {
         Expr::Bool(true).not().and(Expr::Int(3)),
         Expr::Neg(Box::new(Expr::Bool(false))),
         Expr::binary(BinOp::Lt, Expr::Bool(true), Expr::Int(2)),
-        Expr::binary(BinOp::Add, Expr::global("b0"), Expr::Int(2)),
-        Expr::binary(BinOp::And, Expr::global("n0"), Expr::Int(2)),
+        Expr::binary(BinOp::Add, Expr::global("fast_done"), Expr::Int(2)),
+        Expr::binary(BinOp::And, Expr::global("bias"), Expr::Int(2)),
         Expr::Int(5).not(),
     ];
     let mut k = 0;
     for place in &bad_places {
-        for value in bad_exprs.iter().chain([&Expr::global("n0"), &Expr::global("b0")]) {
-            let mut unit = random_unit(7);
+        for value in bad_exprs.iter().chain([&Expr::global("bias"), &Expr::global("fast_done")]) {
+            let mut unit = timer_unit();
             let body = &mut unit.pous.last_mut().unwrap().body;
             let stmt = match k % 5 {
                 0 => Stmt::assign(place.clone(), value.clone()),
@@ -1241,8 +1241,8 @@ fn broken_units_get_errors_and_never_a_panic() {
                 2 => Stmt::Case { selector: value.clone(), arms: vec![(vec![1, 1 << 40], vec![])], otherwise: vec![] },
                 3 => Stmt::CallInstance { instance: place.clone(), args: vec![("IN".into(), value.clone())] },
                 _ => Stmt::CallFunction {
-                    function: "scale".into(),
-                    args: vec![("a".into(), value.clone()), ("zz".into(), Expr::Bool(true))],
+                    function: "twice".into(),
+                    args: vec![("x".into(), value.clone()), ("zz".into(), Expr::Bool(true))],
                     result: Some(place.clone()),
                 },
             };
