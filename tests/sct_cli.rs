@@ -308,7 +308,7 @@ fn products_written_in_the_file_and_compose_obey_the_state_budget() {
 fn supervise_writes_the_runtime_framework_for_every_target() {
     let dir = std::env::temp_dir().join(format!("plcsynth-supervise-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    for target in ["st", "codesys", "scl", "scl-1500", "plcopen"] {
+    for target in ["st", "codesys", "scl", "scl-1500", "plcopen", "stl"] {
         let path = dir.join(format!("tank.{target}"));
         let table = dir.join(format!("tank_{target}.csv"));
         let (code, out, err) = plcsynth(&[
@@ -349,6 +349,9 @@ fn supervise_writes_the_runtime_framework_for_every_target() {
     assert_eq!(code, 0);
     assert!(out.contains("PROGRAM Crane_Main") && out.contains("FUNCTION Crane_Execute : BOOL"), "{out}");
     assert!(!out.contains("realizable"), "{out}");
+    let (code, out, _) = plcsynth(&["supervise", "examples/sct/crane.sct", "--target", "stl", "--controller-fb", "10"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("CALL FB 10, DB 10") || out.contains("CALL\tFB 10, DB 10"), "{out}");
 }
 
 #[test]

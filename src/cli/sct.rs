@@ -62,6 +62,12 @@ pub struct SuperviseArgs {
     /// Prefix of the framework's names (`SyRF_Main`, `SyRF_Execute`, ...).
     #[arg(long, value_name = "NAME", default_value = "SyRF", requires = "target")]
     pub name: String,
+    /// STL: the organisation block that calls the framework's program.
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..), requires = "target")]
+    pub ob: u16,
+    /// STL: the existing controller is FB N with instance DB N.
+    #[arg(long, value_name = "N", default_value_t = 100, value_parser = clap::value_parser!(u16).range(1..), requires = "target")]
+    pub controller_fb: u16,
 }
 
 /// The `--target` values of `supervise`: every PLC target, with its label as help.
@@ -253,7 +259,8 @@ fn write_framework(
             return ExitCode::from(2);
         }
     };
-    let files = match plc::render_unit_files(&unit, target, &plc::Options { created_unix, ..plc::Options::default() }) {
+    let options = plc::Options { created_unix, ob: a.ob, fb: Some(a.controller_fb), ..plc::Options::default() };
+    let files = match plc::render_unit_files(&unit, target, &options) {
         Ok(files) => files,
         Err(message) => {
             eprintln!("error: {message}");

@@ -75,6 +75,8 @@ struct Lowering<'a> {
     /// Signals read through `\last{}`: signal index → global holding last cycle's value.
     last: BTreeMap<usize, String>,
     diags: Diagnostics<'a>,
+    /// The type of every signal, once known (see [`signal_table`]).
+    types: Vec<Type>,
 }
 
 fn address_kind(address: &str) -> SignalKind {
@@ -136,7 +138,34 @@ fn int_literal(text: &str) -> Option<i64> {
     }
 }
 
+/// The longest generated name: STEP 7 Classic (STL, SCL for S7-300/400) limits symbols to 24
+/// characters, so every target gets names that fit.
+const MAX_NAME: usize = 24;
+
 impl<'a> Lowering<'a> {
+    /// A fresh name `prefix + qualified + suffix` made an identifier; when it is longer than
+    /// [`MAX_NAME`], the qualified name's last part stands for it (`accepted_Tank.fill` becomes
+    /// `accepted_fill`), and past that it is cut. Unique case-insensitively, and reserved.
+    fn name(&mut self, prefix: &str, qualified: &str, suffix: &str) -> String {
+        let full = identifier(&format!("{prefix}{qualified}{suffix}"));
+        let base = if full.len() <= MAX_NAME {
+            full
+        } else {
+            let last = qualified.rsplit('.').next().unwrap_or(qualified);
+            identifier(&format!("{prefix}{last}{suffix}"))
+        };
+        let cut = |text: &str, room: usize| text[..text.len().min(room)].trim_end_matches('_').to_string();
+        let mut name = cut(&base, MAX_NAME);
+        let mut n = 2;
+        while self.names.contains(&name) {
+            let tail = format!("_{n}");
+            name = format!("{}{tail}", cut(&base, MAX_NAME - tail.len()));
+            n += 1;
+        }
+        self.names.reserve(&name);
+        name
+    }
+
     /// The signal for a fragment name or address, registered on first sight.
     fn signal(&mut self, key: &str) -> usize {
         if let Some(&k) = self.signal_index.get(key) {
@@ -261,13 +290,47 @@ impl<'a> Lowering<'a> {
                 let k = self.signal(name.trim_start_matches('%'));
                 Expr::global(self.last[&k].clone())
             }
-            ExprKind::Unary(UnOp::Not, a) => Expr::Not(Box::new(self.expr(a, at)?)),
+            ExprKind::Unary(UnOp::Not, a) => {
+                let a = self.expr(a, at)?;
+                self.logic_on_bool(&[&a], "NOT", at)?;
+                Expr::Not(Box::new(a))
+            }
             ExprKind::Unary(UnOp::Neg, a) => match &a.kind {
                 ExprKind::Int(text) => Expr::Int(-int_literal(text).unwrap_or(0)),
                 _ => Expr::Neg(Box::new(self.expr(a, at)?)),
             },
-            ExprKind::Binary(op, a, b) => Expr::binary(*op, self.expr(a, at)?, self.expr(b, at)?),
+            ExprKind::Binary(op, a, b) => {
+                let (a, b) = (self.expr(a, at)?, self.expr(b, at)?);
+                if is_logic(*op) {
+                    self.logic_on_bool(&[&a, &b], op.text(), at)?;
+                }
+                Expr::binary(*op, a, b)
+            }
         })
+    }
+
+    /// Whether `e` is an integer (a signal typed INT, a number, arithmetic).
+    fn is_int(&self, e: &Expr) -> bool {
+        match e {
+            Expr::Int(_) | Expr::Neg(_) => true,
+            Expr::Read(Place::Signal(k)) => matches!(self.types.get(*k), Some(Type::Int | Type::Dint)),
+            Expr::Binary(op, a, _) if is_logic(*op) => self.is_int(a),
+            Expr::Binary(op, ..) => !is_comparison(*op),
+            Expr::Not(a) => self.is_int(a),
+            _ => false,
+        }
+    }
+
+    /// `AND`, `OR`, `XOR` and `NOT` take BOOL operands: bit logic on integers means something
+    /// else in every dialect (and STL has none), so it is refused where it is written.
+    fn logic_on_bool(&mut self, operands: &[&Expr], op: &str, at: Span) -> Option<()> {
+        if operands.iter().any(|e| self.is_int(e)) {
+            self.diags
+                .error(at, format!("`{op}` on an integer: triggers and actions use logic on BOOL values only"))
+                .with_note("compare the integer instead, e.g. `Level > 0`");
+            return None;
+        }
+        Some(())
     }
 
     fn stmts(&mut self, stmts: &[fragment::Stmt], at: Span) -> Option<Vec<Stmt>> {
@@ -388,6 +451,7 @@ pub fn lower(
         signals: Vec::new(),
         last: BTreeMap::new(),
         diags: Diagnostics::new(source),
+        types: Vec::new(),
     };
     let fragments: Vec<Fragments> = loaded.events.iter().map(parse_fragments).collect();
 
@@ -450,43 +514,45 @@ pub fn lower(
     }
     l.names.reserve(&options.controller);
     let n = identifier(&options.name);
-    let prefixed = |names: &mut Namespace, what: &str| names.unique(&format!("{n}_{what}"));
-    let gvl = prefixed(&mut l.names, "Data");
-    let f_prohibited = prefixed(&mut l.names, "Prohibited");
-    let f_occur = prefixed(&mut l.names, "Occur");
-    let f_execute = prefixed(&mut l.names, "Execute");
-    let f_uncontrollable = prefixed(&mut l.names, "Uncontrollable");
-    let f_enforced = prefixed(&mut l.names, "Enforced");
-    let f_enforce = prefixed(&mut l.names, "Enforce");
-    let program = prefixed(&mut l.names, "Main");
+    let prefixed = |l: &mut Lowering<'_>, what: &str| l.name(&format!("{n}_"), what, "");
+    let gvl = prefixed(&mut l, "Data");
+    let f_prohibited = prefixed(&mut l, "Prohibited");
+    let f_occur = prefixed(&mut l, "Occur");
+    let f_execute = prefixed(&mut l, "Execute");
+    let f_uncontrollable = prefixed(&mut l, "Uncontrollable");
+    let f_enforced = prefixed(&mut l, "Enforced");
+    let f_enforce = prefixed(&mut l, "Enforce");
+    let program = prefixed(&mut l, "Main");
     // Parameters and locals: unique too, so that none hides a signal of the user's project.
     let lv = Locals {
-        ev: l.names.unique("ev"),
-        only: l.names.unique("only"),
-        skip: l.names.unique("skip"),
-        timers: l.names.unique("with_timers"),
-        by: l.names.unique("enforcer"),
-        sup: l.names.unique("sup"),
-        f: l.names.unique("f"),
-        p: l.names.unique("p"),
-        k: l.names.unique("k"),
-        moved: l.names.unique("moved"),
-        ok: l.names.unique("ok"),
-        go: l.names.unique("go"),
-        controller: l.names.unique("controller"),
+        ev: l.name("", "ev", ""),
+        only: l.name("", "only", ""),
+        skip: l.name("", "skip", ""),
+        timers: l.name("", "with_timers", ""),
+        by: l.name("", "enforcer", ""),
+        sup: l.name("", "sup", ""),
+        f: l.name("", "f", ""),
+        p: l.name("", "p", ""),
+        k: l.name("", "k", ""),
+        moved: l.name("", "moved", ""),
+        ok: l.name("", "ok", ""),
+        go: l.name("", "go", ""),
+        controller: l.name("", "supervised", ""),
     };
 
     let signals = signal_table(&l);
+    l.types = signals.iter().map(|s| s.ty.clone()).collect();
     let signal_names: Vec<String> = signals.iter().map(|s| s.symbol.clone()).collect();
-    for (&k, global) in l.last.iter_mut() {
-        *global = l.names.unique(&format!("last_{}", signal_names[k]));
+    for k in l.last.keys().copied().collect::<Vec<_>>() {
+        let global = l.name("last_", &signal_names[k], "");
+        l.last.insert(k, global);
     }
 
     // Constants.
     let mut constants = Vec::new();
     let mut event_const = Vec::new();
     for (id, info) in project.events.iter().enumerate() {
-        let c = l.names.unique(&format!("EV_{}", info.name));
+        let c = l.name("EV_", &info.name, "");
         constants.push(
             Var::new(&c, Type::Int, format!("{} ({})", info.name, format!("{:?}", info.kind).to_lowercase()))
                 .with_init(Expr::Int(id as i64 + 1)),
@@ -496,10 +562,10 @@ pub fn lower(
     let mut sup_state = Vec::new();
     let mut sup_const = Vec::new();
     for (k, s) in supervisors.iter().enumerate() {
-        let c = l.names.unique(&format!("SUP_{}", s.name));
+        let c = l.name("SUP_", &s.name, "");
         sup_const.push(c.clone());
         constants.push(Var::new(&c, Type::Int, format!("supervisor {}", s.name)).with_init(Expr::Int(k as i64 + 1)));
-        sup_state.push(l.names.unique(&format!("state_{}", s.name)));
+        sup_state.push(l.name("state_", &s.name, ""));
     }
 
     // Globals.
@@ -518,14 +584,14 @@ pub fn lower(
         ("last_denied_supervisor", Type::Int, "the supervisor that denied it (a SUP_ constant)"),
         ("unexpected", Type::Dint, "uncontrollable events that a supervisor prohibits (plant model violated)"),
         ("last_unexpected_event", Type::Int, "the last unexpected event"),
-        ("last_unexpected_supervisor", Type::Int, "the supervisor that prohibits it"),
+        ("last_unexpected_sup", Type::Int, "the supervisor that prohibits it (a SUP_ constant)"),
         ("enforcements", Type::Dint, "events enforced since start"),
         ("last_enforced_event", Type::Int, "the last enforced event"),
         ("conflicts", Type::Dint, "enforced events that another supervisor prohibits (6.4.2)"),
     ];
     let mut diag = BTreeMap::new();
     for (name, ty, comment) in diag_names {
-        let g = l.names.unique(name);
+        let g = l.name("", name, "");
         globals.push(Var::new(&g, ty, comment));
         diag.insert(name, g);
     }
@@ -538,8 +604,8 @@ pub fn lower(
         let e = EventId(id as u32);
         match info.kind {
             EventKind::Controllable => {
-                let a = l.names.unique(&format!("accepted_{}", info.name));
-                let b = l.names.unique(&format!("denied_{}", info.name));
+                let a = l.name("accepted_", &info.name, "");
+                let b = l.name("denied_", &info.name, "");
                 globals.push(Var::new(&a, Type::Bool, format!("{} accepted this cycle", info.name)));
                 globals.push(Var::new(&b, Type::Bool, format!("{} denied this cycle", info.name)));
                 flag_acc.insert(e, a);
@@ -547,13 +613,13 @@ pub fn lower(
             }
             EventKind::Uncontrollable | EventKind::Enforceable => {
                 let what = if info.kind == EventKind::Enforceable { "enforced" } else { "occurred" };
-                let a = l.names.unique(&format!("{what}_{}", info.name));
+                let a = l.name(&format!("{what}_"), &info.name, "");
                 globals.push(Var::new(&a, Type::Bool, format!("{} {what} this cycle", info.name)));
                 flag_occ.insert(e, a);
             }
         }
         if fragments[id].trigger.is_some() {
-            let g = l.names.unique(&format!("latch_{}", info.name));
+            let g = l.name("latch_", &info.name, "");
             globals.push(Var::new(&g, Type::Bool, format!("trigger of {} in the previous cycle", info.name)));
             latch.insert(e, g);
         }
@@ -567,7 +633,7 @@ pub fn lower(
             if let Some(key) = Lowering::signal_key(&r.kind) {
                 let k = l.signal(&key);
                 if let std::collections::btree_map::Entry::Vacant(slot) = saved.entry(k) {
-                    let g = l.names.unique(&format!("saved_{}", signal_names[k]));
+                    let g = l.name("saved_", &signal_names[k], "");
                     globals.push(Var::new(
                         &g,
                         signals[k].ty.clone(),
@@ -581,11 +647,11 @@ pub fn lower(
     let mut timer_names = Vec::new();
     for t in &loaded.timers {
         let names = TimerNames {
-            run: l.names.unique(&format!("{}_running", t.name)),
-            restart: l.names.unique(&format!("{}_restart", t.name)),
-            expired: l.names.unique(&format!("{}_expired", t.name)),
-            ton: l.names.unique(&format!("{}_ton", t.name)),
-            due: l.names.unique(&format!("{}_due", t.name)),
+            run: l.name("", &t.name, "_running"),
+            restart: l.name("", &t.name, "_restart"),
+            expired: l.name("", &t.name, "_expired"),
+            ton: l.name("", &t.name, "_ton"),
+            due: l.name("", &t.name, "_due"),
         };
         globals.push(Var::new(&names.run, Type::Bool, format!("timer {} runs", t.name)));
         globals.push(Var::new(&names.restart, Type::Bool, format!("timer {} starts at the end of this cycle", t.name)));
@@ -806,7 +872,7 @@ fn prohibited_pou(fw: &Framework) -> Pou {
             vec![Stmt::Case { selector: Expr::global(&fw.sup_state[k]), arms, otherwise: Vec::new() }],
         ));
     }
-    let prohibited_fn = Pou {
+    Pou {
         kind: PouKind::Function { returns: Some(Type::Int) },
         name: fw.fun.prohibited.clone(),
         comment: "The first supervisor (SUP_ constant) whose current state prohibits event ev, or 0 if all allow it."
@@ -815,9 +881,7 @@ fn prohibited_pou(fw: &Framework) -> Pou {
         outputs: Vec::new(),
         locals: Vec::new(),
         body,
-    };
-
-    prohibited_fn
+    }
 }
 
 fn occur_pou(fw: &Framework) -> Pou {
@@ -901,7 +965,7 @@ fn occur_pou(fw: &Framework) -> Pou {
         body.push(Stmt::Comment("timers: a stop event resets, a start event starts unless running".into()));
         body.push(Stmt::when(Expr::local(&fw.lv.timers), timer_stmts));
     }
-    let occur_fn = Pou {
+    Pou {
         kind: PouKind::Function { returns: Some(Type::Bool) },
         name: fw.fun.occur.clone(),
         comment: "Event ev occurs: every supervisor (or only supervisor `only`; none is 0) except `skip` takes it, \
@@ -916,9 +980,7 @@ fn occur_pou(fw: &Framework) -> Pou {
         outputs: Vec::new(),
         locals: Vec::new(),
         body,
-    };
-
-    occur_fn
+    }
 }
 
 fn execute_pou(fw: &Framework) -> Pou {
@@ -947,7 +1009,7 @@ fn execute_pou(fw: &Framework) -> Pou {
         Stmt::assign(Place::local(&fw.fun.execute), Expr::Bool(true)),
     ];
     accepted.extend(fw.flag_chain(&fw.flag_acc, &fw.lv.ev));
-    let execute_fn = Pou {
+    Pou {
         kind: PouKind::Function { returns: Some(Type::Bool) },
         name: fw.fun.execute.clone(),
         comment: format!(
@@ -966,9 +1028,7 @@ fn execute_pou(fw: &Framework) -> Pou {
             },
             Stmt::If { arms: vec![(Expr::local(&fw.lv.k).ne(Expr::Int(0)), denied)], otherwise: accepted },
         ],
-    };
-
-    execute_fn
+    }
 }
 
 fn uncontrollable_pou(fw: &Framework) -> Pou {
@@ -995,7 +1055,7 @@ fn uncontrollable_pou(fw: &Framework) -> Pou {
             vec![
                 counter_up(&fw.d("unexpected")),
                 Stmt::assign(Place::global(fw.d("last_unexpected_event")), Expr::local(&fw.lv.ev)),
-                Stmt::assign(Place::global(fw.d("last_unexpected_supervisor")), Expr::local(&fw.lv.k)),
+                Stmt::assign(Place::global(fw.d("last_unexpected_sup")), Expr::local(&fw.lv.k)),
             ],
         ),
     ];
@@ -1006,7 +1066,7 @@ fn uncontrollable_pou(fw: &Framework) -> Pou {
         .map(|(&e, g)| (e, g.clone()))
         .collect();
     body.extend(fw.flag_chain(&uncontrollable_flags, &fw.lv.ev));
-    let uncontrollable_fn = Pou {
+    Pou {
         kind: PouKind::Function { returns: Some(Type::Bool) },
         name: fw.fun.uncontrollable.clone(),
         comment: "An uncontrollable event happened: every supervisor takes it, except one that prohibits it \
@@ -1016,9 +1076,7 @@ fn uncontrollable_pou(fw: &Framework) -> Pou {
         outputs: Vec::new(),
         locals: vec![Var::new(&fw.lv.k, Type::Int, ""), Var::new(&fw.lv.moved, Type::Bool, "")],
         body,
-    };
-
-    uncontrollable_fn
+    }
 }
 
 fn enforced_pou(fw: &Framework) -> Pou {
@@ -1052,7 +1110,7 @@ fn enforced_pou(fw: &Framework) -> Pou {
     if !sup_arms.is_empty() {
         body.push(Stmt::Case { selector: Expr::local(&fw.lv.sup), arms: sup_arms, otherwise: Vec::new() });
     }
-    let enforced_fn = Pou {
+    Pou {
         kind: PouKind::Function { returns: Some(Type::Int) },
         name: fw.fun.enforced.clone(),
         comment: "The event (EV_ constant) that supervisor sup enforces in its current state, or 0.".into(),
@@ -1060,9 +1118,7 @@ fn enforced_pou(fw: &Framework) -> Pou {
         outputs: Vec::new(),
         locals: Vec::new(),
         body,
-    };
-
-    enforced_fn
+    }
 }
 
 fn enforce_pou(fw: &Framework, l: &mut Lowering<'_>) -> Pou {
@@ -1085,7 +1141,7 @@ fn enforce_pou(fw: &Framework, l: &mut Lowering<'_>) -> Pou {
         Var::new(&fw.lv.moved, Type::Bool, ""),
     ];
     for (j, s) in fw.supervisors.iter().enumerate() {
-        let name = l.names.unique(&format!("also_{}", j + 1));
+        let name = l.name("also_", &(j + 1).to_string(), "");
         locals.push(Var::new(&name, Type::Bool, format!("supervisor {} enforces the same event", s.name)));
         also.push(name);
     }
@@ -1150,7 +1206,7 @@ fn enforce_pou(fw: &Framework, l: &mut Lowering<'_>) -> Pou {
         enforce.push(Stmt::Comment("the enforced event's code".into()));
         enforce.push(Stmt::If { arms: action_arms, otherwise: Vec::new() });
     }
-    let enforce_fn = Pou {
+    Pou {
         kind: PouKind::Function { returns: Some(Type::Bool) },
         name: fw.fun.enforce.clone(),
         comment: "Supervisor `by` executes the event its current state enforces (preemption, 5.5). \
@@ -1168,9 +1224,7 @@ fn enforce_pou(fw: &Framework, l: &mut Lowering<'_>) -> Pou {
             },
             Stmt::when(Expr::local(&fw.lv.f).ne(Expr::Int(0)), enforce),
         ],
-    };
-
-    enforce_fn
+    }
 }
 
 fn main_pou(fw: &Framework, l: &mut Lowering<'_>) -> Pou {
@@ -1344,7 +1398,7 @@ fn main_pou(fw: &Framework, l: &mut Lowering<'_>) -> Pou {
             otherwise: Vec::new(),
         });
     }
-    let main_pou = Pou {
+    Pou {
         kind: PouKind::Program,
         name: fw.fun.program.clone(),
         comment: format!(
@@ -1355,9 +1409,7 @@ fn main_pou(fw: &Framework, l: &mut Lowering<'_>) -> Pou {
         outputs: Vec::new(),
         locals,
         body: main,
-    };
-
-    main_pou
+    }
 }
 
 #[cfg(test)]

@@ -28,6 +28,7 @@ pub mod unit;
 pub mod unit_exec;
 pub mod unit_plcopen;
 pub mod unit_st;
+pub mod unit_stl;
 
 pub use iotable::{io_table, io_table_csv, signal_table_csv, tag_table_sdf, IoRow};
 pub use lower_timed::{build, generate};
@@ -102,7 +103,7 @@ fn print_single(code: &Code, target: Target, options: &Options, out: &mut impl f
 /// The files of a structured `unit` for `target`: one for most targets; TwinCAT writes a
 /// `.TcPOU` per POU and a `.TcGVL` for the globals. Instruction List is refused: it is
 /// deprecated in IEC 61131-3 (3rd edition) and no SCL or ST tool needs it for a framework of
-/// functions.
+/// functions. What STL cannot hold is refused with [`unit_stl::check`]'s reasons.
 pub fn render_unit_files(unit: &unit::Unit, target: Target, options: &Options) -> Result<Vec<OutputFile>, String> {
     let single = |text: String| Ok(vec![OutputFile { name: format!("{}.{}", unit.name, target.extension()), text }]);
     let mut text = String::new();
@@ -117,7 +118,12 @@ pub fn render_unit_files(unit: &unit::Unit, target: Target, options: &Options) -
             return single(text);
         }
         Target::Stl => {
-            return Err("the runtime framework is not yet printed as STL".into());
+            let stl_options = unit_stl_options(options);
+            let problems = unit_stl::check(unit, &stl_options);
+            if !problems.is_empty() {
+                return Err(format!("the STL form cannot hold this framework: {}", problems.join("; ")));
+            }
+            return single(unit_stl::render(unit, &stl_options));
         }
         Target::Il => {
             return Err("the runtime framework is not generated as Instruction List (deprecated in IEC 61131-3 ed. 3); use st, codesys, scl or stl".into())
@@ -125,6 +131,18 @@ pub fn render_unit_files(unit: &unit::Unit, target: Target, options: &Options) -
     };
     unit_st::print(unit, dialect, &mut text).expect("writing to a String cannot fail");
     single(text)
+}
+
+/// The STL block numbers of a unit: the program is called from `options.ob`; the existing
+/// controller is `FB n` with instance `DB n` for `options.fb` (100 when not given).
+pub fn unit_stl_options(options: &Options) -> unit_stl::StlUnitOptions {
+    let controller = options.fb.unwrap_or(100);
+    unit_stl::StlUnitOptions {
+        ob: options.ob,
+        controller_fb: controller,
+        controller_db: controller,
+        ..Default::default()
+    }
 }
 
 /// Names in one scope, compared case-insensitively as IEC 61131-3 does, where no name may be a
@@ -475,6 +493,7 @@ mod tests {
             ("unit_st.rs", include_str!("unit_st.rs")),
             ("unit_plcopen.rs", include_str!("unit_plcopen.rs")),
             ("unit_exec.rs", include_str!("unit_exec.rs")),
+            ("unit_stl.rs", include_str!("unit_stl.rs")),
         ];
         for (file, text) in sources {
             for engine in ["crate::timed", "crate::program", "crate::sct", "lower_timed::"] {
