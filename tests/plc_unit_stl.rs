@@ -398,26 +398,24 @@ impl<'u> Machine<'u> {
 // ---------------------------------------------------------------------------------------------
 // Random units.
 
-struct Rng(u64);
+/// The crate's generator, with the helpers these tests use.
+struct Rng(plcsynth::rng::Rng);
 
 impl Rng {
     fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
+        self.0.next_u64()
     }
 
     fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
+        self.0.below(n as u64) as usize
     }
 
     fn range(&mut self, lo: i64, hi: i64) -> i64 {
-        lo + (self.next() % (hi - lo + 1) as u64) as i64
+        lo + self.0.below((hi - lo + 1) as u64) as i64
     }
 
     fn chance(&mut self, percent: u64) -> bool {
-        self.next() % 100 < percent
+        self.0.chance(percent)
     }
 }
 
@@ -756,7 +754,7 @@ fn deep_expr(rng: &mut Rng, scope: &Scope, levels: usize) -> Expr {
 }
 
 fn random_unit(seed: u64) -> Unit {
-    let mut rng = Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1);
+    let mut rng = Rng(plcsynth::rng::Rng::new(seed));
     let scope = program_scope();
     let mut globals = Vec::new();
     for k in 0..4 {
@@ -814,7 +812,7 @@ fn compare(unit: &Unit, seed: u64, cycles: usize, mutations: &[Mutation]) -> Vec
     // The program's statics, where the header says they are.
     let program = unit_stl::program_locations(unit, &options);
     let program_size = program.iter().map(|l| l.byte + 2).max().unwrap();
-    let mut rng = Rng(seed | 1);
+    let mut rng = Rng(plcsynth::rng::Rng::new(seed ^ 0x5eed));
     let inputs: Vec<Vec<u8>> = (0..cycles)
         .map(|_| {
             let mut bytes = vec![0u8; 10];
