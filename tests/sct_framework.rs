@@ -656,6 +656,10 @@ fn the_stl_framework_runs_in_awlsim_like_the_reference_executor() {
     let mut total: BTreeMap<&str, usize> = BTreeMap::new();
     for ((name, _, _, _, expected, counts), observed) in runs.iter().zip(&results) {
         compare(&format!("{name} (awlsim)"), 11, expected, observed);
+        if name == "tank_timer" {
+            let timeouts = expected.iter().filter(|o| o.flags.get("occurred_T_timeout") == Some(&true)).count();
+            assert!(timeouts >= 3, "the timer must run out in the emulator too: {timeouts} timeouts");
+        }
         for (k, v) in counts {
             *total.entry(k).or_default() += v;
         }
