@@ -47,7 +47,7 @@ pub struct SuperviseArgs {
     pub max_states: usize,
     /// Generate the runtime framework (Göbe 2019, 6.3) for this PLC target instead of printing
     /// the report (docs/syrf.md).
-    #[arg(long, value_parser = target_parser())]
+    #[arg(long, value_parser = target_parser(), conflicts_with = "json")]
     pub target: Option<plc::Target>,
     /// Write the framework to this file instead of standard output; for a target of several
     /// files (twincat) a directory, created if missing.
