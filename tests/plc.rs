@@ -4,6 +4,8 @@
 //! loads and runs the S7 STL. The checkers are installed by `scripts/python-checkers.sh` (`make test`
 //! runs it); without them these tests fail and say so.
 
+mod common;
+
 use plcsynth::diag::Diagnostic;
 use plcsynth::plc::{self, Code, Options, OutputFile, Target};
 use plcsynth::program;
@@ -175,29 +177,7 @@ fn every_target_passes_its_checker_on_every_example() {
             });
         }
     });
-    let files = for_blark.into_inner().unwrap();
-    let script = root().join("tests/checkers/blark_many.py");
-    let children: Vec<_> = [0, 1]
-        .iter()
-        .map(|&half| {
-            Command::new(venv_tool("python"))
-                .arg(&script)
-                .args(files.iter().skip(half).step_by(2))
-                .stdout(std::process::Stdio::piped())
-                .stderr(std::process::Stdio::piped())
-                .spawn()
-                .unwrap()
-        })
-        .collect();
-    for child in children {
-        let out = child.wait_with_output().unwrap();
-        assert!(
-            out.status.success(),
-            "blark rejects generated code:\n{}{}",
-            String::from_utf8_lossy(&out.stdout),
-            String::from_utf8_lossy(&out.stderr)
-        );
-    }
+    common::blark_all(&venv_tool("python"), &root(), &for_blark.into_inner().unwrap());
 }
 
 #[test]

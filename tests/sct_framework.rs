@@ -6,6 +6,8 @@
 //! - by form: every Structured Text output parsed by blark, every PLCopen output validated
 //!   against the TC6 schema, for every example and a generated transfer line.
 
+mod common;
+
 use plcsynth::benchmarks::transfer::transfer_lines;
 use plcsynth::plc::fragment::{self, BinOp, ExprKind, UnOp};
 use plcsynth::plc::lower_sct::{lower, FrameworkOptions};
@@ -895,31 +897,7 @@ fn every_target_parses_or_validates_for_every_example_and_a_transfer_line() {
             }
         }
     }
-    // Two blark processes, one per core; each parses half of the files.
-    let script = root().join("tests/checkers/blark_many.py");
-    let halves: Vec<Vec<PathBuf>> =
-        vec![st_files.iter().step_by(2).cloned().collect(), st_files.iter().skip(1).step_by(2).cloned().collect()];
-    let children: Vec<_> = halves
-        .iter()
-        .map(|files| {
-            Command::new(&python)
-                .arg(&script)
-                .args(files)
-                .stdout(std::process::Stdio::piped())
-                .stderr(std::process::Stdio::piped())
-                .spawn()
-                .unwrap()
-        })
-        .collect();
-    for child in children {
-        let out = child.wait_with_output().unwrap();
-        assert!(
-            out.status.success(),
-            "blark rejects generated code:\n{}{}",
-            String::from_utf8_lossy(&out.stdout),
-            String::from_utf8_lossy(&out.stderr)
-        );
-    }
+    common::blark_all(&python, &root(), &st_files);
 }
 
 /// docs/syrf.md shows one complete generated framework: it must be what `supervise` prints.
