@@ -13,6 +13,7 @@
 
 pub mod benchmarks;
 pub mod diag;
+pub mod ltl;
 pub mod plc;
 pub mod program;
 pub mod rng;

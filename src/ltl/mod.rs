@@ -1,0 +1,170 @@
+//! The LTL synthesis engine (Cheng et al. 2014, G4LTL-ST; appendix C).
+//!
+//! Pipeline: a front end ([`compile_g4ltl`] for G4LTL's `.ltl` lines, [`compile_tlsf`] for
+//! SYNTCOMP's TLSF) checks the text into a [`Spec`] with every diagnostic located →
+//! [`synthesize`] translates the specification and its negation into Büchi automata of our own
+//! (`translate`), plays the bounded co-Büchi safety games of both players for k = 0, 1, …
+//! (`game`) and returns the verdict with the winner's finite-state strategy ([`Machine`]),
+//! minimised. The engine does no I/O and never reads the clock.
+//!
+//! ```
+//! use plcsynth::ltl::{compile_g4ltl, synthesize, Config, Verdict};
+//! let source = "ALWAYS (req -> (grant || NEXT grant))\nALWAYS (grant -> NEXT !grant)\n\
+//!               INPUT req\nOUTPUT grant\n";
+//! let (spec, _warnings) = compile_g4ltl(source).expect("a valid specification");
+//! let outcome = synthesize(&spec, &Config::default(), &mut |_| true).expect("within budget");
+//! assert_eq!(outcome.verdict, Verdict::Realizable);
+//! assert!(outcome.controller.is_some());
+//! ```
+
+mod g4ltl;
+mod game;
+mod machine;
+mod spec;
+mod tlsf;
+mod translate;
+
+pub use g4ltl::compile_g4ltl;
+pub use machine::{Cube, Machine, Row, StateId};
+pub use spec::{Clause, Ltl, Semantics, Signal, SignalId, SignalKind, Spec, Timer, MAX_FORMULA_DEPTH};
+pub use tlsf::compile_tlsf;
+pub use translate::{translate, Automaton};
+
+use serde::Serialize;
+
+/// The two input languages.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// G4LTL's line format (`.ltl`, `.g4ltl`).
+    G4ltl,
+    /// SYNTCOMP's Temporal Logic Synthesis Format (`.tlsf`).
+    Tlsf,
+}
+
+impl Format {
+    /// The format a file name's extension names: `.tlsf` is TLSF, anything else G4LTL's.
+    pub fn of_path(path: &str) -> Format {
+        if path.to_ascii_lowercase().ends_with(".tlsf") {
+            Format::Tlsf
+        } else {
+            Format::G4ltl
+        }
+    }
+}
+
+/// Checks `source` in `format`; TLSF `PARAMETERS` may be overridden by name (`--param n=3`).
+/// On success the specification and the warnings, otherwise every diagnostic.
+pub fn compile(
+    source: &str,
+    format: Format,
+    overrides: &[(String, i64)],
+) -> Result<(Spec, Vec<crate::diag::Diagnostic>), Vec<crate::diag::Diagnostic>> {
+    match format {
+        Format::G4ltl => compile_g4ltl(source),
+        Format::Tlsf => compile_tlsf(source, overrides),
+    }
+}
+
+/// Budgets of one synthesis run.
+#[derive(Clone, Debug)]
+pub struct Config {
+    /// The largest bound k of the co-Büchi counters tried; k grows from 0.
+    pub max_k: u32,
+    /// Game positions (counter vectors) built in all games of the run together.
+    pub max_states: usize,
+    /// States of each Büchi automaton built by the translation.
+    pub max_automaton_states: usize,
+    /// Letters (valuations of all signals) a game may enumerate per position: the explicit
+    /// game costs 2^(inputs + outputs) per position.
+    pub max_signals: usize,
+}
+
+/// The default bound of the co-Büchi counters: enough for every example and every listed
+/// benchmark (most need 1–3).
+pub const DEFAULT_MAX_K: u32 = 8;
+/// The default budget of game positions: a run stops within seconds and a few hundred MB.
+pub const DEFAULT_MAX_STATES: usize = 200_000;
+
+impl Default for Config {
+    fn default() -> Config {
+        Config {
+            max_k: DEFAULT_MAX_K,
+            max_states: DEFAULT_MAX_STATES,
+            max_automaton_states: 20_000,
+            max_signals: 20,
+        }
+    }
+}
+
+/// What a run decided.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Verdict {
+    /// A controller exists (and is returned).
+    Realizable,
+    /// The environment has a strategy that defeats every controller (returned).
+    Unrealizable,
+    /// Neither player won a game up to [`Config::max_k`].
+    Unknown,
+}
+
+/// Progress of a run, passed to the callback; returning `false` cancels.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct Progress {
+    /// The bound being tried.
+    pub k: u32,
+    /// Game positions built so far in this run.
+    pub positions: usize,
+}
+
+/// Sizes and counts of one run, for reports and benchmarks.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Stats {
+    /// States of the Büchi automaton of the negated specification (the controller's game).
+    pub automaton_states: usize,
+    /// States of the Büchi automaton of the specification (the environment's game).
+    pub dual_automaton_states: usize,
+    /// Game positions built in all games.
+    pub positions: usize,
+    /// States of the strategy before minimisation.
+    pub strategy_states_raw: usize,
+}
+
+/// The result of [`synthesize`].
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    pub verdict: Verdict,
+    /// The bound at which the verdict was reached (the last one tried when unknown).
+    pub k: u32,
+    /// The controller: reads the inputs, writes the outputs. `Some` exactly when realizable.
+    pub controller: Option<Machine>,
+    /// The environment's counter-strategy: reads the outputs, writes the inputs. `Some` exactly
+    /// when unrealizable.
+    pub counter_strategy: Option<Machine>,
+    pub stats: Stats,
+}
+
+/// Why a run stopped without a verdict.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Stop {
+    /// A budget of [`Config`] ran out; the message names it and how to raise it.
+    Budget(String),
+    /// The progress callback returned `false`.
+    Cancelled,
+}
+
+impl std::fmt::Display for Stop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Stop::Budget(message) => f.write_str(message),
+            Stop::Cancelled => f.write_str("cancelled"),
+        }
+    }
+}
+
+/// Decides `spec`: for k = 0, 1, …, [`Config::max_k`] plays the controller's bounded game on
+/// the automaton of the negated specification, then the environment's on the automaton of the
+/// specification, and stops at the first that is won.
+pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) -> bool) -> Result<Outcome, Stop> {
+    game::synthesize(spec, cfg, progress)
+}

@@ -1,0 +1,313 @@
+//! The checked specification every LTL front end produces: declared signals, assumptions and
+//! guarantees as formulas over them, the turn order, and (for G4LTL) timers.
+//!
+//! Both input languages (G4LTL's `.ltl` lines and SYNTCOMP's TLSF) end here, so the synthesis
+//! knows nothing of either syntax.
+
+use crate::diag::Span;
+use serde::Serialize;
+
+/// Index of a signal in [`Spec::signals`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+pub struct SignalId(pub u32);
+
+impl SignalId {
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// Who sets a signal: the environment (an input of the controller) or the controller.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SignalKind {
+    Input,
+    Output,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Signal {
+    pub name: String,
+    pub kind: SignalKind,
+    /// Where it was declared.
+    pub span: Span,
+}
+
+/// The turn order within one step.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Semantics {
+    /// The environment sets the inputs first, then the controller answers with outputs in the
+    /// same step (a PLC scan: read inputs, compute, write outputs). G4LTL's semantics.
+    #[default]
+    Mealy,
+    /// The controller sets the outputs first, before it sees the step's inputs (TLSF's
+    /// `SEMANTICS: Moore`): outputs depend only on the inputs of earlier steps.
+    Moore,
+}
+
+/// A G4LTL timer `TIMER t1(10s)`: the controller starts it with the output `t1.start`, the
+/// environment reports its expiry with the input `t1.expire` (paper, section 2).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Timer {
+    pub name: String,
+    /// The preset time in milliseconds.
+    pub preset_ms: u64,
+    pub start: SignalId,
+    pub expire: SignalId,
+    pub span: Span,
+}
+
+/// An LTL formula over the signals of one [`Spec`]. `W` (weak until) and `R` (release) are
+/// kept as written; the translation brings everything into negation normal form.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Ltl {
+    True,
+    False,
+    Var(SignalId),
+    Not(Box<Ltl>),
+    And(Vec<Ltl>),
+    Or(Vec<Ltl>),
+    Implies(Box<Ltl>, Box<Ltl>),
+    Iff(Box<Ltl>, Box<Ltl>),
+    Next(Box<Ltl>),
+    Globally(Box<Ltl>),
+    Finally(Box<Ltl>),
+    Until(Box<Ltl>, Box<Ltl>),
+    Release(Box<Ltl>, Box<Ltl>),
+    WeakUntil(Box<Ltl>, Box<Ltl>),
+}
+
+/// Deepest formula the engine accepts. The translation recurses on the formula, and the page
+/// runs it in a worker with a 1 MiB stack; parsers report a deeper formula as a located error.
+pub const MAX_FORMULA_DEPTH: usize = 200;
+
+impl Ltl {
+    pub fn not(f: Ltl) -> Ltl {
+        Ltl::Not(Box::new(f))
+    }
+    pub fn next(f: Ltl) -> Ltl {
+        Ltl::Next(Box::new(f))
+    }
+    pub fn globally(f: Ltl) -> Ltl {
+        Ltl::Globally(Box::new(f))
+    }
+    pub fn finally(f: Ltl) -> Ltl {
+        Ltl::Finally(Box::new(f))
+    }
+    pub fn implies(a: Ltl, b: Ltl) -> Ltl {
+        Ltl::Implies(Box::new(a), Box::new(b))
+    }
+    pub fn iff(a: Ltl, b: Ltl) -> Ltl {
+        Ltl::Iff(Box::new(a), Box::new(b))
+    }
+    pub fn until(a: Ltl, b: Ltl) -> Ltl {
+        Ltl::Until(Box::new(a), Box::new(b))
+    }
+    pub fn release(a: Ltl, b: Ltl) -> Ltl {
+        Ltl::Release(Box::new(a), Box::new(b))
+    }
+    pub fn weak_until(a: Ltl, b: Ltl) -> Ltl {
+        Ltl::WeakUntil(Box::new(a), Box::new(b))
+    }
+
+    /// The conjunction of `parts`: `true` when empty, the part itself when single.
+    pub fn all(mut parts: Vec<Ltl>) -> Ltl {
+        match parts.len() {
+            0 => Ltl::True,
+            1 => parts.pop().expect("one part"),
+            _ => Ltl::And(parts),
+        }
+    }
+
+    /// The disjunction of `parts`: `false` when empty, the part itself when single.
+    pub fn any(mut parts: Vec<Ltl>) -> Ltl {
+        match parts.len() {
+            0 => Ltl::False,
+            1 => parts.pop().expect("one part"),
+            _ => Ltl::Or(parts),
+        }
+    }
+
+    /// Nesting depth (an atom is 1). Iterative, so that it is safe on any formula.
+    pub fn depth(&self) -> usize {
+        let mut deepest = 0;
+        let mut stack = vec![(self, 1usize)];
+        while let Some((f, d)) = stack.pop() {
+            deepest = deepest.max(d);
+            match f {
+                Ltl::True | Ltl::False | Ltl::Var(_) => {}
+                Ltl::Not(a) | Ltl::Next(a) | Ltl::Globally(a) | Ltl::Finally(a) => stack.push((a, d + 1)),
+                Ltl::And(xs) | Ltl::Or(xs) => stack.extend(xs.iter().map(|x| (x, d + 1))),
+                Ltl::Implies(a, b)
+                | Ltl::Iff(a, b)
+                | Ltl::Until(a, b)
+                | Ltl::Release(a, b)
+                | Ltl::WeakUntil(a, b) => {
+                    stack.push((a, d + 1));
+                    stack.push((b, d + 1));
+                }
+            }
+        }
+        deepest
+    }
+
+    /// Infix text over signal names: `G F X U R W ! && || -> <->`, `true`, `false`. Every
+    /// operand that is not an atom or a unary application is parenthesised, so the text needs no
+    /// precedence table to be read back.
+    pub fn to_infix(&self, name: &dyn Fn(SignalId) -> String) -> String {
+        let mut out = String::new();
+        write_infix(self, name, &mut out);
+        out
+    }
+}
+
+fn is_tight(f: &Ltl) -> bool {
+    matches!(
+        f,
+        Ltl::True | Ltl::False | Ltl::Var(_) | Ltl::Not(_) | Ltl::Next(_) | Ltl::Globally(_) | Ltl::Finally(_)
+    ) || matches!(f, Ltl::And(xs) | Ltl::Or(xs) if xs.len() < 2)
+}
+
+fn write_operand(f: &Ltl, name: &dyn Fn(SignalId) -> String, out: &mut String) {
+    if is_tight(f) {
+        write_infix(f, name, out);
+    } else {
+        out.push('(');
+        write_infix(f, name, out);
+        out.push(')');
+    }
+}
+
+fn write_infix(f: &Ltl, name: &dyn Fn(SignalId) -> String, out: &mut String) {
+    match f {
+        Ltl::True => out.push_str("true"),
+        Ltl::False => out.push_str("false"),
+        Ltl::Var(s) => out.push_str(&name(*s)),
+        Ltl::Not(a) => {
+            out.push('!');
+            write_operand(a, name, out);
+        }
+        Ltl::Next(a) | Ltl::Globally(a) | Ltl::Finally(a) => {
+            out.push_str(match f {
+                Ltl::Next(_) => "X ",
+                Ltl::Globally(_) => "G ",
+                _ => "F ",
+            });
+            write_operand(a, name, out);
+        }
+        Ltl::And(xs) | Ltl::Or(xs) => {
+            let (op, unit) = if matches!(f, Ltl::And(_)) { (" && ", "true") } else { (" || ", "false") };
+            if xs.is_empty() {
+                out.push_str(unit);
+            }
+            for (i, x) in xs.iter().enumerate() {
+                if i > 0 {
+                    out.push_str(op);
+                }
+                write_operand(x, name, out);
+            }
+        }
+        Ltl::Implies(a, b) | Ltl::Iff(a, b) | Ltl::Until(a, b) | Ltl::Release(a, b) | Ltl::WeakUntil(a, b) => {
+            write_operand(a, name, out);
+            out.push_str(match f {
+                Ltl::Implies(..) => " -> ",
+                Ltl::Iff(..) => " <-> ",
+                Ltl::Until(..) => " U ",
+                Ltl::Release(..) => " R ",
+                _ => " W ",
+            });
+            write_operand(b, name, out);
+        }
+    }
+}
+
+/// One formula of the specification with where it was written (a G4LTL line, a TLSF
+/// section entry).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Clause {
+    pub formula: Ltl,
+    pub span: Span,
+}
+
+/// A checked LTL specification: `(∧ assumptions) -> (∧ guarantees)` over the signals.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Spec {
+    /// Inputs and outputs in declaration order; [`SignalId`] indexes this list.
+    pub signals: Vec<Signal>,
+    pub assumptions: Vec<Clause>,
+    pub guarantees: Vec<Clause>,
+    pub semantics: Semantics,
+    pub timers: Vec<Timer>,
+    /// A title for reports and generated code (TLSF `TITLE`), if the source gave one.
+    pub title: Option<String>,
+}
+
+impl Spec {
+    pub fn signal(&self, id: SignalId) -> &Signal {
+        &self.signals[id.index()]
+    }
+
+    pub fn name(&self, id: SignalId) -> &str {
+        &self.signals[id.index()].name
+    }
+
+    pub fn signal_id(&self, name: &str) -> Option<SignalId> {
+        self.signals.iter().position(|s| s.name == name).map(|i| SignalId(i as u32))
+    }
+
+    /// The inputs, in declaration order.
+    pub fn inputs(&self) -> Vec<SignalId> {
+        self.of_kind(SignalKind::Input)
+    }
+
+    /// The outputs, in declaration order.
+    pub fn outputs(&self) -> Vec<SignalId> {
+        self.of_kind(SignalKind::Output)
+    }
+
+    fn of_kind(&self, kind: SignalKind) -> Vec<SignalId> {
+        (0..self.signals.len() as u32).map(SignalId).filter(|&s| self.signal(s).kind == kind).collect()
+    }
+
+    /// The conjunction of the assumptions (`true` if there are none).
+    pub fn assumption(&self) -> Ltl {
+        Ltl::all(self.assumptions.iter().map(|c| c.formula.clone()).collect())
+    }
+
+    /// The conjunction of the guarantees (`true` if there are none).
+    pub fn guarantee(&self) -> Ltl {
+        Ltl::all(self.guarantees.iter().map(|c| c.formula.clone()).collect())
+    }
+
+    /// The whole specification as one formula: `A -> G`, or just `G` without assumptions.
+    pub fn formula(&self) -> Ltl {
+        if self.assumptions.is_empty() {
+            self.guarantee()
+        } else {
+            Ltl::implies(self.assumption(), self.guarantee())
+        }
+    }
+
+    /// [`Spec::formula`] as infix text over the signal names.
+    pub fn formula_text(&self) -> String {
+        self.formula().to_infix(&|s| self.name(s).to_string())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn infix_parenthesises_binary_operands_only() {
+        let a = Ltl::Var(SignalId(0));
+        let b = Ltl::Var(SignalId(1));
+        let f = Ltl::globally(Ltl::implies(a.clone(), Ltl::finally(Ltl::until(a.clone(), Ltl::not(b.clone())))));
+        let names = ["req", "grant"];
+        assert_eq!(f.to_infix(&|s| names[s.index()].to_string()), "G (req -> F (req U !grant))");
+        let g = Ltl::And(vec![Ltl::Or(vec![a.clone(), b.clone()]), Ltl::next(b)]);
+        assert_eq!(g.to_infix(&|s| names[s.index()].to_string()), "(req || grant) && X grant");
+        assert_eq!(g.depth(), 3);
+    }
+}
