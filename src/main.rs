@@ -47,6 +47,10 @@ enum Command {
     /// Synthesise one supervisor per specification of a `.sct` project (Göbe 2019). Exit status:
     /// 0 done, 2 input error, 3 state budget spent.
     Supervise(cli::sct::SuperviseArgs),
+    /// Synthesise a controller from an LTL specification (G4LTL `.ltl` or TLSF `.tlsf`;
+    /// Cheng et al. 2014). Exit status: 0 realizable, 1 unrealizable, 2 input error, 3 unknown
+    /// (bound or budget reached).
+    Ltl(cli::ltl::LtlArgs),
     /// Classic Ramadge–Wonham SupCon of a plant and a specification in libFAUDES `.gen` format.
     Supcon(cli::sct::SupconArgs),
     /// Print benchmark tables beside the published figures.
@@ -100,6 +104,7 @@ fn main() -> ExitCode {
         }
         Command::Supervise(a) => cli::sct::supervise(&a),
         Command::Supcon(a) => cli::sct::supcon(&a),
+        Command::Ltl(a) => cli::ltl::ltl(&a),
         Command::Bench { engine: BenchEngine::Timed { runs, examples } } => cli::bench::timed(&examples, runs),
         Command::Bench { engine: BenchEngine::Sct(a) } => cli::sct::bench(&a),
     }

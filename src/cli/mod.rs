@@ -11,5 +11,6 @@ macro_rules! outln {
 }
 
 pub mod bench;
+pub mod ltl;
 pub mod sct;
 pub mod timed;

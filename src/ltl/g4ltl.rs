@@ -1,6 +1,7 @@
 //! G4LTL's line format (`.ltl`): one formula per line, `ASSUME φ` an assumption and any other
 //! formula a guarantee, `INPUT a, b` / `OUTPUT c` declarations and `TIMER t1(10s)` timers, `##`
-//! and `!--` comments. Operators: `ALWAYS`/`[]`/`G`, `EVENTUALLY`/`<>`/`F`, `NEXT`/`X`,
+//! and `!--` comments (and `//`, which G4LTL does not know, for the `// Expected:` lines of the
+//! project's examples). Operators: `ALWAYS`/`[]`/`G`, `EVENTUALLY`/`<>`/`F`, `NEXT`/`X`,
 //! `UNTIL`/`U`, `R`/`V` (release), `W` (weak until), `! && || -> <->`, `true`/`false`.
 //!
 //! Precedence, loosest first: `<->` (left), `->` (right), `||`, `&&`, the binary temporal
@@ -16,6 +17,7 @@ use std::collections::HashMap;
 #[logos(skip r"[ \t\r\f]+")]
 #[logos(skip(r"##[^\n]*", allow_greedy = true))]
 #[logos(skip(r"!--[^\n]*", allow_greedy = true))]
+#[logos(skip(r"//[^\n]*", allow_greedy = true))]
 enum Tok {
     #[regex(r"[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)?")]
     Ident,

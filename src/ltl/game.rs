@@ -1,7 +1,264 @@
-//! Bounded synthesis games (placeholder: being written).
+//! Bounded synthesis (Schewe–Finkbeiner 2007, appendix C of the paper): the universal
+//! co-Büchi reading of a Büchi automaton, unrolled into a safety game with counters.
+//!
+//! A position maps every automaton state to the largest number of accepting transitions of any
+//! run prefix that ends there (`-1`: no run is there). One round: the player who moves first
+//! sets its signals, then the other; all runs advance on the letter. The protagonist — who
+//! wants the word rejected by the automaton — loses a round when some counter passes `k` or a
+//! run reaches a state that accepts every word. Bounded counters along a play mean no run
+//! accepts, so a strategy that wins the safety game for some `k` wins the LTL game. The
+//! converse holds for k large enough; the run tries k = 0, 1, … up to a bound.
+//!
+//! The controller plays this game on the automaton of `¬φ`; the environment plays it on the
+//! automaton of `φ`, so that an unrealizable specification is shown by a counter-strategy
+//! rather than by a timeout. Both games keep the turn order of the specification's semantics.
+//!
+//! Positions are compared pointwise: a smaller position is at least as good for the
+//! protagonist (its runs are a subset with smaller counters), which lets the strategy
+//! extraction (`strategy`) reuse a winning position for every position below it.
 
-use super::{Config, Outcome, Progress, Spec, Stop};
+use super::strategy::extract;
+use super::translate::Automaton;
+use super::{translate, Config, Ltl, Outcome, Progress, Semantics, SignalId, Spec, Stats, Stop, Verdict};
+use hashbrown::HashMap;
 
-pub fn synthesize(_spec: &Spec, _cfg: &Config, _progress: &mut dyn FnMut(Progress) -> bool) -> Result<Outcome, Stop> {
-    Err(Stop::Cancelled)
+/// The successor of a lost round.
+pub(super) const LOST: u32 = u32::MAX;
+
+/// Successor entries (positions × letters) a game may hold: 4 bytes each, so 200 MB.
+const MAX_ENTRIES: usize = 50_000_000;
+
+/// An explored bounded game.
+pub(super) struct Game {
+    /// Signal masks of the first mover's valuations (index = valuation of `first_signals`).
+    pub first: Vec<u64>,
+    /// Signal masks of the second mover's valuations.
+    pub second: Vec<u64>,
+    /// Whether the protagonist moves first.
+    pub protagonist_first: bool,
+    /// Counter vectors, position 0 initial.
+    pub positions: Vec<Box<[i8]>>,
+    /// `succ[(p * first.len() + a) * second.len() + b]`: the next position or [`LOST`].
+    pub succ: Vec<u32>,
+    /// Whether the protagonist loses from each position (after [`Game::solve`]).
+    pub lost: Vec<bool>,
+}
+
+impl Game {
+    pub fn successor(&self, p: u32, a: usize, b: usize) -> u32 {
+        self.succ[(p as usize * self.first.len() + a) * self.second.len() + b]
+    }
+
+    /// Explores every position reachable from the initial one. `budget` is the number of
+    /// positions still allowed in this run; `progress` is told about every 1024 positions.
+    fn explore(
+        automaton: &Automaton,
+        k: u32,
+        first: Vec<u64>,
+        second: Vec<u64>,
+        protagonist_first: bool,
+        budget: usize,
+        report: &mut dyn FnMut(usize) -> bool,
+    ) -> Result<Game, Explored> {
+        let n = automaton.states.len();
+        let k = k as i8;
+        let letters = first.len() * second.len();
+        let mut init = vec![-1i8; n].into_boxed_slice();
+        if !automaton.is_empty() {
+            init[automaton.init as usize] = 0;
+        }
+        let mut positions = vec![init.clone()];
+        let mut index: HashMap<Box<[i8]>, u32> = HashMap::new();
+        index.insert(init, 0);
+        let mut succ = Vec::new();
+        let mut next = vec![-1i8; n];
+        let mut p = 0;
+        while p < positions.len() {
+            if p % 1024 == 0 && !report(positions.len()) {
+                return Err(Explored::Cancelled);
+            }
+            if positions.len() > budget {
+                return Err(Explored::OverBudget);
+            }
+            if succ.len() + letters > MAX_ENTRIES {
+                return Err(Explored::OverBudget);
+            }
+            for &fa in &first {
+                for &fb in &second {
+                    let letter = fa | fb;
+                    next.fill(-1);
+                    let mut lost = false;
+                    'runs: for (q, &c) in positions[p].iter().enumerate() {
+                        if c < 0 {
+                            continue;
+                        }
+                        for e in automaton.states[q].edges.iter().filter(|e| e.enabled(letter)) {
+                            let count = c + i8::from(e.accepting);
+                            if count > k || automaton.states[e.to as usize].universal {
+                                lost = true;
+                                break 'runs;
+                            }
+                            let slot = &mut next[e.to as usize];
+                            *slot = (*slot).max(count);
+                        }
+                    }
+                    if lost {
+                        succ.push(LOST);
+                        continue;
+                    }
+                    let id = match index.get(next.as_slice()) {
+                        Some(&id) => id,
+                        None => {
+                            let key: Box<[i8]> = next.clone().into_boxed_slice();
+                            let id = positions.len() as u32;
+                            positions.push(key.clone());
+                            index.insert(key, id);
+                            id
+                        }
+                    };
+                    succ.push(id);
+                }
+            }
+            p += 1;
+        }
+        let lost = vec![false; positions.len()];
+        Ok(Game { first, second, protagonist_first, positions, succ, lost })
+    }
+
+    /// Marks the positions the protagonist loses: the least fixpoint of "the opponent can force
+    /// a lost round or a lost position", by counting per position the options left.
+    fn solve(&mut self) {
+        let (l1, l2) = (self.first.len(), self.second.len());
+        let n = self.positions.len();
+        // Per (position, first-mover valuation): the second mover's choices that do not lose
+        // for the protagonist (protagonist second), or whether the valuation is still safe
+        // (protagonist first: a flag, 1 or 0).
+        let mut alive = vec![0u32; n * l1];
+        let mut options = vec![0u32; n];
+        let mut preds: Vec<Vec<u32>> = vec![Vec::new(); n];
+        for p in 0..n {
+            for a in 0..l1 {
+                let row = &self.succ[(p * l1 + a) * l2..(p * l1 + a + 1) * l2];
+                let good = row.iter().filter(|&&q| q != LOST).count() as u32;
+                alive[p * l1 + a] = if self.protagonist_first { u32::from(good == l2 as u32) } else { good };
+                options[p] += u32::from(alive[p * l1 + a] > 0);
+                for &q in row.iter().filter(|&&q| q != LOST) {
+                    preds[q as usize].push((p * l1 + a) as u32);
+                }
+            }
+        }
+        let mut stack = Vec::new();
+        for p in 0..n {
+            let loses = if self.protagonist_first { options[p] == 0 } else { options[p] < l1 as u32 };
+            if loses {
+                self.lost[p] = true;
+                stack.push(p as u32);
+            }
+        }
+        while let Some(q) = stack.pop() {
+            for &pa in &preds[q as usize] {
+                let p = pa as usize / l1;
+                if self.lost[p] || alive[pa as usize] == 0 {
+                    continue;
+                }
+                alive[pa as usize] = if self.protagonist_first { 0 } else { alive[pa as usize] - 1 };
+                if alive[pa as usize] == 0 {
+                    options[p] -= 1;
+                    let loses = self.protagonist_first && options[p] == 0 || !self.protagonist_first;
+                    if loses {
+                        self.lost[p] = true;
+                        stack.push(p as u32);
+                    }
+                }
+            }
+        }
+    }
+}
+
+enum Explored {
+    OverBudget,
+    Cancelled,
+}
+
+/// The valuations of `signals` as signal masks: entry `v` sets signal `signals[i]` when bit
+/// `i` of `v` is set.
+fn valuations(signals: &[SignalId]) -> Vec<u64> {
+    (0..1u64 << signals.len())
+        .map(|v| signals.iter().enumerate().filter(|(i, _)| v >> i & 1 == 1).fold(0, |m, (_, s)| m | 1 << s.0))
+        .collect()
+}
+
+pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) -> bool) -> Result<Outcome, Stop> {
+    let signals = spec.signals.len();
+    if signals > cfg.max_signals.min(63) {
+        return Err(Stop::Budget(format!(
+            "{signals} signals: the explicit games enumerate 2^{signals} letters per position, and the limit is {} \
+             (split the specification into parts with fewer signals)",
+            cfg.max_signals.min(63)
+        )));
+    }
+    let name = |s: SignalId| spec.name(s).to_string();
+    let formula = spec.formula();
+    let against = translate::translate(&Ltl::not(formula.clone()), &name, cfg.max_automaton_states)?;
+    let towards = translate::translate(&formula, &name, cfg.max_automaton_states)?;
+    let (inputs, outputs) = (spec.inputs(), spec.outputs());
+    let controller_first = spec.semantics == Semantics::Moore;
+    let (first_signals, second_signals) =
+        if controller_first { (&outputs, &inputs) } else { (&inputs, &outputs) };
+    let (first, second) = (valuations(first_signals), valuations(second_signals));
+    let mut stats = Stats {
+        automaton_states: against.states.len(),
+        dual_automaton_states: towards.states.len(),
+        ..Stats::default()
+    };
+    let max_k = cfg.max_k.min(100);
+    let mut positions = 0usize;
+    for k in 0..=max_k {
+        // The controller's game, then the environment's, each on the automaton its opponent
+        // wants accepted.
+        for controller in [true, false] {
+            let automaton = if controller { &against } else { &towards };
+            let protagonist_first = controller == controller_first;
+            let budget = cfg.max_states.saturating_sub(positions);
+            let mut report = |built: usize| progress(Progress { k, positions: positions + built });
+            let explored =
+                Game::explore(automaton, k, first.clone(), second.clone(), protagonist_first, budget, &mut report);
+            let mut game = match explored {
+                Ok(game) => game,
+                Err(Explored::Cancelled) => return Err(Stop::Cancelled),
+                Err(Explored::OverBudget) => {
+                    stats.positions = positions;
+                    let limit = format!(
+                        "the game at k = {k} needs more than the {} positions left of the budget ({} in all, \
+                         --max-states)",
+                        budget, cfg.max_states
+                    );
+                    return Ok(unknown(k.saturating_sub(1), stats, limit));
+                }
+            };
+            positions += game.positions.len();
+            game.solve();
+            if !game.lost[0] {
+                let (reads, writes) = if controller { (&inputs, &outputs) } else { (&outputs, &inputs) };
+                let (raw, machine) = extract(&game, reads, writes);
+                stats.positions = positions;
+                stats.strategy_states_raw = raw;
+                let verdict = if controller { Verdict::Realizable } else { Verdict::Unrealizable };
+                return Ok(Outcome {
+                    verdict,
+                    k,
+                    controller: controller.then(|| machine.clone()),
+                    counter_strategy: (!controller).then_some(machine),
+                    stats,
+                    limit: None,
+                });
+            }
+        }
+    }
+    stats.positions = positions;
+    Ok(unknown(max_k, stats, format!("neither player wins with counters bounded by k = {max_k} (--max-k)")))
+}
+
+fn unknown(k: u32, stats: Stats, limit: String) -> Outcome {
+    Outcome { verdict: Verdict::Unknown, k, controller: None, counter_strategy: None, stats, limit: Some(limit) }
 }

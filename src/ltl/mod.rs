@@ -17,13 +17,16 @@
 //! assert!(outcome.controller.is_some());
 //! ```
 
+mod export;
 mod g4ltl;
 mod game;
 mod machine;
 mod spec;
+mod strategy;
 mod tlsf;
 mod translate;
 
+pub use export::{render_machine, report_json, summary};
 pub use g4ltl::compile_g4ltl;
 pub use machine::{Cube, Machine, Row, StateId};
 pub use spec::{Clause, Ltl, Semantics, Signal, SignalId, SignalKind, Spec, Timer, MAX_FORMULA_DEPTH};
@@ -142,6 +145,8 @@ pub struct Outcome {
     /// when unrealizable.
     pub counter_strategy: Option<Machine>,
     pub stats: Stats,
+    /// For an unknown verdict: which bound or budget ended the run, and the flag that raises it.
+    pub limit: Option<String>,
 }
 
 /// Why a run stopped without a verdict.

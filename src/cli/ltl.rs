@@ -1,0 +1,86 @@
+//! `plcsynth ltl`: LTL synthesis of G4LTL or TLSF specifications.
+
+use clap::Args;
+use plcsynth::diag::render_plain;
+use plcsynth::ltl::{self, Config, Format, Verdict};
+use std::process::ExitCode;
+
+#[derive(Args)]
+pub struct LtlArgs {
+    /// The specification: `.ltl`/`.g4ltl` (G4LTL's lines) or `.tlsf` (SYNTCOMP's TLSF).
+    pub file: String,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    pub json: bool,
+    /// The largest co-Büchi bound k tried (k grows from 0 until a player wins).
+    #[arg(long, value_name = "N", default_value_t = ltl::DEFAULT_MAX_K, value_parser = clap::value_parser!(u32).range(0..=100))]
+    pub max_k: u32,
+    /// Game positions all games of the run may build together; past it the verdict is unknown
+    /// (exit status 3).
+    #[arg(long, value_name = "N", default_value_t = ltl::DEFAULT_MAX_STATES)]
+    pub max_states: usize,
+    /// Override a TLSF parameter, e.g. `--param n=3` (repeatable).
+    #[arg(long = "param", value_name = "NAME=VALUE", value_parser = parse_param)]
+    pub params: Vec<(String, i64)>,
+}
+
+fn parse_param(text: &str) -> Result<(String, i64), String> {
+    let (name, value) = text.split_once('=').ok_or("expected NAME=VALUE, e.g. n=3")?;
+    let value = value.trim().parse().map_err(|_| format!("`{value}` is not an integer"))?;
+    Ok((name.trim().to_string(), value))
+}
+
+/// Exit status: 0 realizable, 1 unrealizable, 2 input error, 3 unknown (bound or budget).
+pub fn ltl(a: &LtlArgs) -> ExitCode {
+    let source = match std::fs::read_to_string(&a.file) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: cannot read `{}`: {e}", a.file);
+            return ExitCode::from(2);
+        }
+    };
+    let format = Format::of_path(&a.file);
+    if format == Format::G4ltl && !a.params.is_empty() {
+        eprintln!("error: --param sets TLSF parameters; `{}` is not a .tlsf file", a.file);
+        return ExitCode::from(2);
+    }
+    let spec = match ltl::compile(&source, format, &a.params) {
+        Ok((spec, warnings)) => {
+            if !warnings.is_empty() {
+                eprint!("{}", render_plain(&a.file, &source, &warnings));
+            }
+            spec
+        }
+        Err(diagnostics) => {
+            eprint!("{}", render_plain(&a.file, &source, &diagnostics));
+            return ExitCode::from(2);
+        }
+    };
+    let cfg = Config { max_k: a.max_k, max_states: a.max_states, ..Config::default() };
+    let outcome = match ltl::synthesize(&spec, &cfg, &mut |_| true) {
+        Ok(outcome) => outcome,
+        Err(stop) => {
+            eprintln!("{}: stopped: {stop}", a.file);
+            return ExitCode::from(3);
+        }
+    };
+    if a.json {
+        outln!("{}", ltl::report_json(&spec, &outcome));
+    } else {
+        outln!("{}", ltl::summary(&outcome));
+        outln!("specification: {}", spec.formula_text());
+        if let Some(m) = &outcome.controller {
+            outln!("controller (state: inputs / outputs -> next):");
+            print!("{}", ltl::render_machine(&spec, m));
+        }
+        if let Some(m) = &outcome.counter_strategy {
+            outln!("environment's counter-strategy (state: inputs it sets / outputs it sees -> next):");
+            print!("{}", ltl::render_machine(&spec, m));
+        }
+    }
+    ExitCode::from(match outcome.verdict {
+        Verdict::Realizable => 0,
+        Verdict::Unrealizable => 1,
+        Verdict::Unknown => 3,
+    })
+}

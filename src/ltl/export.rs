@@ -1,0 +1,93 @@
+//! The serialisable views of a run: the JSON document of `plcsynth ltl --json` (and of the
+//! playground), and a plain-text rendering of a strategy.
+
+use super::machine::Machine;
+use super::{Outcome, Spec, Verdict};
+use serde_json::{json, Value};
+
+/// `{"verdict", "k", "semantics", "inputs", "outputs", "ltl", "assumptions", "guarantees",
+/// "stats", then "mealy" (realizable) or "counterstrategy" (unrealizable) or "limit"
+/// (unknown)}`; `docs/ltl-language.md` describes every field.
+pub fn report_json(spec: &Spec, outcome: &Outcome) -> Value {
+    let name = |s| spec.name(s).to_string();
+    let names = |ids: Vec<super::SignalId>| ids.into_iter().map(name).collect::<Vec<_>>();
+    let clauses = |cs: &[super::Clause]| cs.iter().map(|c| c.formula.to_infix(&name)).collect::<Vec<_>>();
+    let mut doc = json!({
+        "verdict": outcome.verdict,
+        "k": outcome.k,
+        "semantics": spec.semantics,
+        "inputs": names(spec.inputs()),
+        "outputs": names(spec.outputs()),
+        "ltl": spec.formula_text(),
+        "assumptions": clauses(&spec.assumptions),
+        "guarantees": clauses(&spec.guarantees),
+        "stats": outcome.stats,
+    });
+    if let Some(machine) = &outcome.controller {
+        doc["mealy"] = machine.to_json(spec);
+    }
+    if let Some(machine) = &outcome.counter_strategy {
+        let mut counter = machine.to_json(spec);
+        counter["moves_first"] = json!(machine.moves_first);
+        doc["counterstrategy"] = counter;
+    }
+    if let Some(limit) = &outcome.limit {
+        doc["limit"] = json!(limit);
+    }
+    doc
+}
+
+/// A strategy as text, one line per row:
+/// `s0: req & !ack / grant -> s1` (reads, then the signals written true, then the next state).
+pub fn render_machine(spec: &Spec, machine: &Machine) -> String {
+    let mut out = String::new();
+    let literals = |ids: &[super::SignalId], care: u64, value: u64, all: bool| -> String {
+        let parts: Vec<String> = ids
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| all || care >> i & 1 == 1)
+            .map(|(i, &s)| {
+                let on = value >> i & 1 == 1;
+                format!("{}{}", if on { "" } else { "!" }, spec.name(s))
+            })
+            .collect();
+        if parts.is_empty() {
+            "true".to_string()
+        } else {
+            parts.join(" & ")
+        }
+    };
+    for (s, rows) in machine.states.iter().enumerate() {
+        for row in rows {
+            let read = literals(&machine.reads, row.read.care, row.read.value, false);
+            let write = literals(&machine.writes, u64::MAX, row.write, true);
+            let write = if machine.writes.is_empty() { "-".to_string() } else { write };
+            if machine.moves_first {
+                out.push_str(&format!("s{s}: {write} / {read} -> s{}\n", row.next.0));
+            } else {
+                out.push_str(&format!("s{s}: {read} / {write} -> s{}\n", row.next.0));
+            }
+        }
+    }
+    out
+}
+
+/// A one-line summary: `realizable at k = 1: controller of 2 states, 3 rows`.
+pub fn summary(outcome: &Outcome) -> String {
+    let size = |m: &Machine| format!("{} states, {} rows", m.states.len(), m.rows());
+    match outcome.verdict {
+        Verdict::Realizable => {
+            format!("realizable at k = {}: a controller of {}", outcome.k, size(outcome.controller.as_ref().expect("a controller")))
+        }
+        Verdict::Unrealizable => format!(
+            "unrealizable at k = {}: the environment wins with a counter-strategy of {}",
+            outcome.k,
+            size(outcome.counter_strategy.as_ref().expect("a counter-strategy"))
+        ),
+        Verdict::Unknown => format!(
+            "unknown at k = {}: {}",
+            outcome.k,
+            outcome.limit.as_deref().unwrap_or("no player won")
+        ),
+    }
+}
