@@ -302,3 +302,244 @@ fn lowered_machines_step_like_the_machine_and_a_corrupted_branch_is_caught() {
         "a spread of machines: {counts:?}"
     );
 }
+
+/// The example of `docs/ltl-plc.md`: a lamp that a button switches on for 5 s (timer `t1`);
+/// pressing it again while on starts the 5 s again.
+fn lamp_example() -> Case {
+    let mut spec = Spec { title: Some("Lamp".into()), ..Spec::default() };
+    for (name, kind) in [
+        ("button", SignalKind::Input),
+        ("lamp", SignalKind::Output),
+        ("t1.start", SignalKind::Output),
+        ("t1.expire", SignalKind::Input),
+    ] {
+        spec.signals.push(signal(name, kind));
+    }
+    spec.timers.push(Timer {
+        name: "t1".into(),
+        preset_ms: 5000,
+        start: SignalId(2),
+        expire: SignalId(3),
+        span: Span::default(),
+    });
+    // reads: button (bit 0), t1.expire (bit 1); writes: lamp (bit 0), t1.start (bit 1)
+    let row = |care, value, write, next| Row { read: Cube { care, value }, write, next: StateId(next) };
+    let machine = Machine {
+        reads: vec![SignalId(0), SignalId(3)],
+        writes: vec![SignalId(1), SignalId(2)],
+        moves_first: false,
+        init: StateId(0),
+        states: vec![
+            // off: the button switches the lamp on and starts t1
+            vec![row(0b01, 0b01, 0b11, 1), row(0b01, 0b00, 0b00, 0)],
+            // on: the button starts t1 again; t1 expired switches off
+            vec![row(0b01, 0b01, 0b11, 1), row(0b11, 0b10, 0b00, 0), row(0b11, 0b00, 0b01, 1)],
+        ],
+    };
+    machine.validate().unwrap();
+    Case { spec, machine, preset_ms: Some(5000) }
+}
+
+/// docs/ltl-plc.md shows the example's generated Structured Text: it must be what the lowering
+/// prints.
+#[test]
+fn the_documented_example_is_the_generated_code() {
+    let unit = lower(&lamp_example());
+    let text = &plc::render_unit_files(&unit, Target::St, &plc::Options::default()).unwrap()[0].text;
+    let doc = std::fs::read_to_string(root().join("docs/ltl-plc.md")).unwrap();
+    assert!(doc.contains(text.as_str()), "docs/ltl-plc.md should show the generated code:\n{text}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// The printed code and the independent tools.
+
+fn venv_tool(name: &str) -> PathBuf {
+    let path = root().join(".venv/bin").join(name);
+    if !path.exists() {
+        let status = Command::new("bash").arg(root().join("scripts/python-checkers.sh")).status().unwrap();
+        assert!(status.success(), "installing the Python checkers failed");
+    }
+    path
+}
+
+fn scratch(name: &str, text: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("plcsynth-ltl-plc-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn check(cmd: &mut Command, what: &Path) {
+    let out = cmd.output().unwrap();
+    assert!(
+        out.status.success(),
+        "{} rejected:\n{}{}\n{}",
+        what.display(),
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+        std::fs::read_to_string(what).unwrap_or_default()
+    );
+}
+
+/// The first random case (from `seed` on) that `wanted` accepts.
+fn find_case(seed: u64, presets: &[u64], wanted: impl Fn(&Case) -> bool) -> (u64, Case) {
+    (seed..).map(|s| (s, random_case(s, presets))).find(|(_, c)| wanted(c)).unwrap()
+}
+
+/// Machines that show every construct: the documented example (a timer started in a Mealy
+/// machine, ELSIF chains), a Moore machine with a timer and tricky names, a Mealy machine of
+/// four inputs without a timer.
+fn representative(presets: &[u64]) -> Vec<(String, Case)> {
+    let inputs = |c: &Case| c.machine.reads.len();
+    let (moore, moore_case) = find_case(0, presets, |c| {
+        c.machine.moves_first && c.preset_ms.is_some() && inputs(c) >= 3 && c.machine.states.len() >= 3
+    });
+    let (mealy, mealy_case) = find_case(0, presets, |c| {
+        !c.machine.moves_first && c.preset_ms.is_none() && inputs(c) == 4 && c.machine.states.len() >= 4
+    });
+    vec![
+        ("lamp".to_string(), lamp_example()),
+        (format!("moore_timer_{moore}"), moore_case),
+        (format!("mealy_{mealy}"), mealy_case),
+    ]
+}
+
+/// Every target of a few machines: blark parses the Structured Text dialects (SCL as blark reads
+/// it), xmllint validates PLCopen against the TC6 schema and TwinCAT's files as XML; Instruction
+/// List is refused with the reason.
+#[test]
+fn every_target_parses_or_validates() {
+    let python = venv_tool("python");
+    let schema = root().join("../shared/schemas/tc6_xml_v201.xsd");
+    assert!(schema.exists(), "the PLCopen schema is expected at {}", schema.display());
+    let options = plc::Options::default();
+    let mut st_files = Vec::new();
+    for (name, case) in representative(&[5000]) {
+        let unit = lower(&case);
+        for target in Target::ALL {
+            let files = plc::render_unit_files(&unit, target, &options);
+            let files = match (target, files) {
+                (Target::Il, Err(reason)) => {
+                    assert!(reason.contains("Instruction List"), "{reason}");
+                    continue;
+                }
+                (_, files) => files.unwrap_or_else(|e| panic!("{name}, {target}: {e}")),
+            };
+            let text = &files[0].text;
+            match target {
+                Target::St | Target::Codesys => st_files.push(scratch(&format!("{name}_{target}.st"), text)),
+                Target::Scl | Target::Scl1500 => {
+                    st_files.push(scratch(&format!("{name}_{target}.st"), &common::scl_for_blark(text)))
+                }
+                Target::Twincat => {
+                    assert_eq!(files.len(), unit.pous.len() + 1, "a .TcPOU per POU and the constants' .TcGVL");
+                    for f in &files {
+                        let path = scratch(&format!("{name}_{}", f.name), &f.text);
+                        check(Command::new("xmllint").arg("--noout").arg(&path), &path);
+                    }
+                }
+                Target::Plcopen => {
+                    let path = scratch(&format!("{name}.xml"), text);
+                    check(Command::new("xmllint").arg("--noout").arg("--schema").arg(&schema).arg(&path), &path);
+                }
+                Target::Stl => {
+                    let stl = plc::unit_stl_options(&options);
+                    assert_eq!(unit_stl::check(&unit, &stl), Vec::<String>::new(), "{name}");
+                }
+                Target::Il => unreachable!("refused above"),
+            }
+        }
+    }
+    common::blark_all(&python, &root(), &st_files);
+}
+
+/// The STL form of `case` run in awlsim on `scans` (a virtual clock advanced by each scan's
+/// `dt`): per cycle the block's outputs and state read from its instance DB.
+fn run_awlsim(name: &str, unit: &Unit, scans: &[Scan]) -> Vec<Observed> {
+    let options = plc::unit_stl_options(&plc::Options::default());
+    assert_eq!(unit_stl::check(unit, &options), Vec::<String>::new());
+    let text = &plc::render_unit_files(unit, Target::Stl, &plc::Options::default()).unwrap()[0].text;
+    let path = scratch(&format!("{name}.awl"), text);
+    let program = unit.pous.iter().find(|p| p.kind == PouKind::Program).unwrap();
+    let fb = &unit.pous[0];
+    let locations = unit_stl::instance_locations(unit, &options, &program.locals[0].name);
+    let location = |var: &str| locations.iter().find(|l| l.name == var).unwrap_or_else(|| panic!("no {var}"));
+    let db = locations[0].db;
+    let size = locations.iter().map(|l| l.byte + 2).max().unwrap();
+    let script: Vec<String> =
+        scans.iter().map(|s| format!("T{} I0={} ?DB{db}:0:{size} ?Q0:1", s.dt, s.inputs)).collect();
+    let mut child = Command::new(venv_tool("python"))
+        .arg(root().join("tests/checkers/unit_run.py"))
+        .arg(&path)
+        .arg("--virtual-time")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    use std::io::Write as _;
+    child.stdin.take().unwrap().write_all(script.join("\n").as_bytes()).unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success(), "awlsim fails on {}:\n{}", path.display(), String::from_utf8_lossy(&out.stderr));
+    let hex = |h: &str| -> Vec<u8> {
+        (0..h.len()).step_by(2).map(|i| u8::from_str_radix(&h[i..i + 2], 16).unwrap()).collect()
+    };
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(text.lines().count(), scans.len(), "one line per cycle");
+    let wired: Vec<usize> =
+        (0..fb.outputs.len()).filter(|&j| !fb.outputs[j].comment.contains("starts timer")).collect();
+    text.lines()
+        .map(|line| {
+            let parts: Vec<Vec<u8>> = line.split(' ').map(hex).collect();
+            let (data, q) = (&parts[0], parts[1][0]);
+            let bit = |var: &str| {
+                let l = location(var);
+                data[l.byte as usize] >> l.bit & 1 == 1
+            };
+            let mut writes = 0;
+            for (j, v) in fb.outputs.iter().enumerate() {
+                writes |= u64::from(bit(&v.name)) << j;
+            }
+            for (k, &j) in wired.iter().enumerate() {
+                assert_eq!(
+                    q >> k & 1 == 1,
+                    writes >> j & 1 == 1,
+                    "{name}: output {} is wired to Q 0.{k}",
+                    fb.outputs[j].name
+                );
+            }
+            let l = location(&fb.locals[0].name);
+            let state = i16::from_be_bytes([data[l.byte as usize], data[l.byte as usize + 1]]);
+            Observed { writes, state: state as u32 }
+        })
+        .collect()
+}
+
+/// The STL form runs in awlsim (an S7 emulator, SFB 4 timers on a virtual clock) like the
+/// machine: the representative machines and more random ones, 200 cycles each. Scans are 0,
+/// 300 or 600 ms apart and presets 500, 700 or 1 100 ms, so no expiry falls on the instant the
+/// emulator's floating-point clock could round either way.
+#[test]
+fn the_stl_form_runs_in_awlsim_like_the_machine() {
+    let presets = [500, 700, 1100];
+    let mut cases = representative(&presets);
+    cases[0].1.spec.timers[0].preset_ms = 1100;
+    cases[0].1.preset_ms = Some(1100);
+    for seed in 1000..1006 {
+        cases.push((format!("random_{seed}"), random_case(seed, &presets)));
+    }
+    let mut expired = 0;
+    for (k, (name, case)) in cases.iter().enumerate() {
+        let unit = lower(case);
+        let mut rng = Rng::new(k as u64);
+        let scans = random_scans(&mut rng, case, 200, &[0, 300, 600]);
+        let (expected, seen) = reference(case, &scans);
+        expired += seen;
+        let observed = run_awlsim(name, &unit, &scans);
+        if let Some((scan, e, o)) = first_difference(&expected, &observed) {
+            panic!("{name}, scan {scan}: expected {e:?}, awlsim gives {o:?}");
+        }
+    }
+    assert!(expired > 0, "a timer expired in the emulator");
+}

@@ -419,14 +419,14 @@ impl Lowering<'_> {
         let mut branch = vec![Stmt::Comment(format!("state {}", self.state_name[s.index()]))];
         branch.extend(self.actions(s, s, groups[0].write, same));
         // The ELSE: the group with nothing left to do (it stays), else the one with the most
-        // valuations, so that the conditions printed are the small ones.
+        // valuations (the last of equals), so that the conditions printed are the small ones.
         let size = |g: &Group| {
             g.cubes.iter().map(|c| 1u128 << (self.sources.len() - c.care.count_ones() as usize)).sum::<u128>()
         };
         let last = groups
             .iter()
             .position(|g| self.actions(s, g.next, g.write, differ).is_empty())
-            .or_else(|| (0..groups.len()).max_by_key(|&k| (size(&groups[k]), std::cmp::Reverse(k))))
+            .or_else(|| (0..groups.len()).max_by_key(|&k| size(&groups[k])))
             .expect("a state has rows");
         let otherwise_group = groups.remove(last);
         let mut decided: Vec<Cube> = Vec::new();
