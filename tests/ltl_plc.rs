@@ -543,3 +543,24 @@ fn the_stl_form_runs_in_awlsim_like_the_machine() {
     }
     assert!(expired > 0, "a timer expired in the emulator");
 }
+
+/// The environment's counter-strategy (it reads the outputs and writes the inputs) is not a
+/// controller: lowering it is an error located at the signal.
+#[test]
+fn a_counter_strategy_is_refused_at_the_signal() {
+    let source = "INPUT req\nOUTPUT grant\n";
+    let mut spec = Spec::default();
+    spec.signals.push(Signal { name: "req".into(), kind: SignalKind::Input, span: Span::new(6, 9) });
+    spec.signals.push(Signal { name: "grant".into(), kind: SignalKind::Output, span: Span::new(17, 22) });
+    let counter = Machine {
+        reads: vec![SignalId(1)],
+        writes: vec![SignalId(0)],
+        moves_first: false,
+        init: StateId(0),
+        states: vec![vec![Row { read: Cube::ANY, write: 1, next: StateId(0) }]],
+    };
+    let errors = lower_ltl::lower(source, &spec, &counter, &LowerOptions::default()).unwrap_err();
+    let text = plcsynth::diag::render_plain("spec.ltl", source, &errors);
+    assert!(text.contains("spec.ltl:2:8: error: the machine reads `grant`, which is not its input"), "{text}");
+    assert!(text.contains("spec.ltl:1:7: error: the machine writes `req`, which is not its output"), "{text}");
+}
