@@ -790,57 +790,6 @@ fn check(cmd: &mut Command, what: &Path) {
     );
 }
 
-/// SCL as blark reads it: TIA's source lines go, the global data block becomes a global
-/// variable list, `CONST` sections become `VAR CONSTANT` ones, `VAR_TEMP` becomes `VAR`, tags
-/// `"x"` become `x`.
-fn scl_for_blark(text: &str) -> String {
-    let mut out = String::new();
-    let mut in_const = false;
-    for line in text.lines() {
-        let t = line.trim();
-        if t.starts_with("{ S7_Optimized_Access") || t.starts_with("VERSION :") || t == "BEGIN" || t == "END_DATA_BLOCK"
-        {
-            continue;
-        }
-        if t.starts_with("DATA_BLOCK ") {
-            out.push_str("VAR_GLOBAL\n");
-            continue;
-        }
-        if t == "STRUCT" {
-            continue;
-        }
-        // blark's grammar has no VAR_TEMP in functions (IEC and SCL do).
-        if t == "VAR_TEMP" {
-            out.push_str("VAR\n");
-            continue;
-        }
-        if t == "END_STRUCT;" {
-            out.push_str("END_VAR\n");
-            continue;
-        }
-        if t == "CONST" {
-            in_const = true;
-            out.push_str("VAR CONSTANT\n");
-            continue;
-        }
-        if t == "END_CONST" {
-            in_const = false;
-            out.push_str("END_VAR\n");
-            continue;
-        }
-        let line = if in_const { line.replacen(" := ", " : INT := ", 1) } else { line.to_string() };
-        let (code, comment) = line.split_once("(*").map_or((line.as_str(), None), |(c, r)| (c, Some(r)));
-        out.push_str(&code.replace('"', ""));
-        if let Some(rest) = comment {
-            out.push_str("(*");
-            out.push_str(rest);
-        }
-        out.push('\n');
-    }
-    // The data block's VAR (S7-1200/1500) inside VAR_GLOBAL: keep one section.
-    out.replace("VAR_GLOBAL\nVAR\n", "VAR_GLOBAL\n")
-}
-
 /// Examples whose framework shows every construct of the printers: timers, integer signals
 /// and negative literals, executed events, several supervisors and enforcement.
 const EVERY_CONSTRUCT: &[&str] = &["tank_timer", "crane", "enforcement_conflict"];
@@ -876,7 +825,7 @@ fn every_target_parses_or_validates_for_every_example_and_a_transfer_line() {
                 }
                 Target::St if every => st_files.push(scratch(&format!("{name}_{target}.st"), &files[0].text)),
                 Target::Scl | Target::Scl1500 if every => {
-                    st_files.push(scratch(&format!("{name}_{target}.st"), &scl_for_blark(&files[0].text)))
+                    st_files.push(scratch(&format!("{name}_{target}.st"), &common::scl_for_blark(&files[0].text)))
                 }
                 Target::Twincat => {
                     assert!(files.iter().any(|f| f.name.ends_with(".TcGVL")) && files.len() == unit.pous.len() + 1);

@@ -1,5 +1,7 @@
 //! PLC back ends: one neutral code model ([`model`]), lowerings that build it from an engine's
-//! controller ([`lower_timed`]: the timed engine's intermediate program), and printers over the
+//! controller ([`lower_timed`]: the timed engine's intermediate program; into the structured
+//! [`unit`] model: [`lower_sct`], the supervisors' runtime framework, and [`lower_ltl`], an LTL
+//! controller's state machine), and printers over the
 //! model alone for IEC 61131-3 Structured Text (plain, CODESYS, Siemens SCL), Instruction List,
 //! Siemens S7 STL (AWL, Peter 2005, 6.7.2) and PLCopen TC6 XML. Printers know no engine, so every
 //! engine's controllers print through the same back ends.
@@ -16,6 +18,7 @@
 pub mod fragment;
 pub mod il;
 pub mod iotable;
+pub mod lower_ltl;
 pub mod lower_sct;
 pub mod lower_timed;
 pub mod model;
@@ -102,8 +105,8 @@ fn print_single(code: &Code, target: Target, options: &Options, out: &mut impl f
 
 /// The files of a structured `unit` for `target`: one for most targets; TwinCAT writes a
 /// `.TcPOU` per POU and a `.TcGVL` for the globals. Instruction List is refused: it is
-/// deprecated in IEC 61131-3 (3rd edition) and no SCL or ST tool needs it for a framework of
-/// functions. What STL cannot hold is refused with [`unit_stl::check`]'s reasons.
+/// deprecated in IEC 61131-3 (3rd edition) and no SCL or ST tool needs it for structured code
+/// (the SyRF framework of `lower_sct`, the LTL controllers of `lower_ltl`). What STL cannot hold is refused with [`unit_stl::check`]'s reasons.
 pub fn render_unit_files(unit: &unit::Unit, target: Target, options: &Options) -> Result<Vec<OutputFile>, String> {
     let single = |text: String| Ok(vec![OutputFile { name: format!("{}.{}", unit.name, target.extension()), text }]);
     let mut text = String::new();
@@ -121,12 +124,12 @@ pub fn render_unit_files(unit: &unit::Unit, target: Target, options: &Options) -
             let stl_options = unit_stl_options(options);
             let problems = unit_stl::check(unit, &stl_options);
             if !problems.is_empty() {
-                return Err(format!("the STL form cannot hold this framework: {}", problems.join("; ")));
+                return Err(format!("the STL form cannot hold this code: {}", problems.join("; ")));
             }
             return single(unit_stl::render(unit, &stl_options));
         }
         Target::Il => {
-            return Err("the runtime framework is not generated as Instruction List (deprecated in IEC 61131-3 ed. 3); use st, codesys, scl or stl".into())
+            return Err("structured code (function blocks and functions) is not generated as Instruction List (deprecated in IEC 61131-3 ed. 3); use st, codesys, scl or stl".into())
         }
     };
     unit_st::print(unit, dialect, &mut text).expect("writing to a String cannot fail");
@@ -496,7 +499,7 @@ mod tests {
             ("unit_stl.rs", include_str!("unit_stl.rs")),
         ];
         for (file, text) in sources {
-            for engine in ["crate::timed", "crate::program", "crate::sct", "lower_timed::"] {
+            for engine in ["crate::timed", "crate::program", "crate::sct", "crate::ltl", "lower_timed::"] {
                 assert!(!text.contains(engine), "src/plc/{file} mentions {engine}");
             }
         }

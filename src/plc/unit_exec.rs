@@ -7,7 +7,10 @@
 //! stores them; arithmetic is exact in between. A `TON` is on-delay: `Q` rises once `IN` has been
 //! TRUE for `PT` on the virtual clock (`ET` counts up to `PT`), and a call with `IN` FALSE
 //! resets it. Function locals start from their defaults on every call; program and function
-//! block locals keep their values. Division by zero and unknown names are errors, not panics.
+//! block locals keep their values. An instance of a function block the unit defines has its own
+//! variables, runs the block's body when called and shows its inputs and outputs as members
+//! (`ctrl.grant`); an instance of a block the unit does not define is the user's controller.
+//! Division by zero and unknown names are errors, not panics.
 
 use super::fragment::BinOp;
 use super::unit::{Expr, Place, Pou, PouKind, Stmt, Type, Unit, Var};
@@ -82,6 +85,8 @@ struct Frame {
     values: HashMap<String, Value>,
     types: HashMap<String, Type>,
     timers: HashMap<String, Ton>,
+    /// Instances of the unit's function blocks, each with its own variables.
+    instances: HashMap<String, Frame>,
 }
 
 impl Frame {
@@ -91,6 +96,7 @@ impl Frame {
             Type::Ton => {
                 self.timers.insert(v.name.clone(), Ton::default());
             }
+            // Instances of the unit's blocks get their frame from `Machine::declare`.
             Type::Instance(_) => {}
             _ => {
                 let value = initial.unwrap_or_else(|| Value::default_of(&v.ty)).stored_as(&v.ty);
@@ -130,22 +136,48 @@ impl<'u> Machine<'u> {
             now_ms: 0,
             steps: 0,
         };
+        let mut globals = Frame::default();
         for v in unit.constants.iter().chain(&unit.globals) {
-            let initial = match &v.init {
-                Some(e) => Some(m.eval(e, &mut Frame::default())?),
-                None => None,
-            };
-            m.globals.declare(v, initial);
+            m.declare(&mut globals, v, 0)?;
         }
+        m.globals = globals;
         let program = m.program_pou()?;
+        let mut frame = Frame::default();
         for v in program.inputs.iter().chain(&program.outputs).chain(&program.locals) {
-            let initial = match &v.init {
-                Some(e) => Some(m.eval(e, &mut Frame::default())?),
-                None => None,
-            };
-            m.program.declare(v, initial);
+            m.declare(&mut frame, v, 0)?;
         }
+        m.program = frame;
         Ok(m)
+    }
+
+    /// Declares `v` in `frame` at its initial value; an instance of one of the unit's function
+    /// blocks gets a frame of its own (`depth` counts the blocks declared around it, so that a
+    /// block containing an instance of itself is an error rather than a stack overflow).
+    fn declare(&self, frame: &mut Frame, v: &Var, depth: usize) -> Result<()> {
+        let initial = match &v.init {
+            Some(e) => Some(self.eval(e, &mut Frame::default())?),
+            None => None,
+        };
+        frame.declare(v, initial);
+        if let Some(block) = self.function_block(&v.ty) {
+            if depth > self.unit.pous.len() {
+                return err(format!("function block `{}` contains an instance of itself", block.name));
+            }
+            let mut own = Frame::default();
+            for w in block.inputs.iter().chain(&block.outputs).chain(&block.locals) {
+                self.declare(&mut own, w, depth + 1)?;
+            }
+            frame.instances.insert(v.name.clone(), own);
+        }
+        Ok(())
+    }
+
+    /// The function block of the unit that `ty` is an instance of.
+    fn function_block(&self, ty: &Type) -> Option<&'u Pou> {
+        match ty {
+            Type::Instance(name) => self.unit.pou(name).filter(|p| p.kind == PouKind::FunctionBlock),
+            _ => None,
+        }
     }
 
     fn program_pou(&self) -> Result<&'u Pou> {
@@ -174,6 +206,12 @@ impl<'u> Machine<'u> {
         self.globals.values.get(name).copied()
     }
 
+    /// The value of variable `field` (an input, output or static) of `instance`, an instance of
+    /// one of the unit's function blocks declared in the program.
+    pub fn instance_value(&self, instance: &str, field: &str) -> Option<Value> {
+        self.program.instances.get(instance)?.values.get(field).copied()
+    }
+
     /// One PLC cycle: runs the program; its call of the controller instance runs `controller`.
     pub fn cycle(&mut self, controller: &mut Controller<'_>) -> Result<()> {
         self.steps = 0;
@@ -191,11 +229,7 @@ impl<'u> Machine<'u> {
         let PouKind::Function { returns } = &pou.kind else { return err(format!("`{name}` is not a function")) };
         let mut frame = Frame::default();
         for v in pou.inputs.iter().chain(&pou.outputs).chain(&pou.locals) {
-            let initial = match &v.init {
-                Some(e) => Some(self.eval(e, &mut Frame::default())?),
-                None => None,
-            };
-            frame.declare(v, initial);
+            self.declare(&mut frame, v, 0)?;
         }
         let result_type = returns.clone().unwrap_or(Type::Bool);
         frame.declare(&Var::new(name, result_type, ""), None);
@@ -285,6 +319,23 @@ impl<'u> Machine<'u> {
                         }
                         Ok(())
                     }
+                    Some(ty @ Type::Instance(_)) if self.function_block(ty).is_some() => {
+                        let block = self.function_block(ty).expect("just checked");
+                        let mut values = Vec::new();
+                        for (param, e) in args {
+                            let Some(input) = block.inputs.iter().find(|v| v.name == *param) else {
+                                return err(format!("`{}` has no input `{param}`", block.name));
+                            };
+                            values.push((param.clone(), self.eval(e, frame)?.stored_as(&input.ty)));
+                        }
+                        let Some(mut own) = frame.instances.remove(name) else {
+                            return err(format!("instance `{name}` has no variables"));
+                        };
+                        own.values.extend(values);
+                        let result = self.stmts(&block.body, &mut own, &mut None);
+                        frame.instances.insert(name.clone(), own);
+                        result
+                    }
                     Some(Type::Instance(_)) => match controller.as_deref_mut() {
                         Some(c) => c(self),
                         None => err("the controller can only be called from the program"),
@@ -335,8 +386,15 @@ impl<'u> Machine<'u> {
             Place::Global(name) => self.global(name).map_or_else(|| err(format!("no global `{name}`")), Ok),
             Place::Signal(k) => self.signals.get(*k).copied().map_or_else(|| err(format!("no signal {k}")), Ok),
             Place::Member(base, field) => {
-                let Place::Local(name) = base.as_ref() else { return err("only local timers have outputs") };
-                let Some(t) = frame.timers.get(name) else { return err(format!("`{name}` is not a timer")) };
+                let Place::Local(name) = base.as_ref() else { return err("only local instances have outputs") };
+                if let Some(own) = frame.instances.get(name) {
+                    return own
+                        .values
+                        .get(field)
+                        .copied()
+                        .map_or_else(|| err(format!("`{name}` has no `{field}`")), Ok);
+                }
+                let Some(t) = frame.timers.get(name) else { return err(format!("`{name}` is not an instance")) };
                 let elapsed = if t.input { (self.now_ms - t.since_ms).min(t.preset_ms) } else { 0 };
                 match field.as_str() {
                     "Q" => Ok(Value::Bool(t.input && self.now_ms - t.since_ms >= t.preset_ms)),

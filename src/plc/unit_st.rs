@@ -446,7 +446,7 @@ fn signal_list(unit: &Unit, o: &mut String) {
     if unit.signals.is_empty() {
         return;
     }
-    o.push_str("(* Signals of the supervised project (declared there): *)\n");
+    o.push_str("(* Signals of the project (declared there): *)\n");
     for s in &unit.signals {
         let kind = match s.kind {
             SignalKind::Input => "input",

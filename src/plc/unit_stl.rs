@@ -206,6 +206,29 @@ pub fn program_locations(unit: &Unit, options: &StlUnitOptions) -> Vec<Location>
         .collect()
 }
 
+/// The inputs, outputs and statics (BOOL, INT, DINT, TIME) of `instance` — a global or a local
+/// of the program that is an instance of one of the unit's function blocks — in its instance
+/// DB: what a watch table or a test reads. Statics declared after a timer are not listed (a
+/// multi-instance of SFB 4 has a layout of its own). Empty when there is no such instance.
+pub fn instance_locations(unit: &Unit, options: &StlUnitOptions, instance: &str) -> Vec<Location> {
+    let blocks = blocks(unit, options);
+    let Some((_, _, Type::Instance(name), db)) = blocks.instances.iter().find(|(_, n, _, _)| n == instance) else {
+        return Vec::new();
+    };
+    let Some(fb) = unit.pou(name) else { return Vec::new() };
+    // Statics after a timer's multi-instance (SFB 4 has a layout of its own) are left out.
+    let scalars = |vars: &[Var]| -> Vec<Var> { vars.iter().filter(|v| Ty::of(&v.ty).is_some()).cloned().collect() };
+    let statics: Vec<Var> = fb.locals.iter().take_while(|v| Ty::of(&v.ty).is_some()).cloned().collect();
+    let sections = [scalars(&fb.inputs), scalars(&fb.outputs), statics];
+    let (places, _) = layout(&[&sections[0], &sections[1], &sections[2]]);
+    sections
+        .iter()
+        .flatten()
+        .zip(places)
+        .map(|(v, (byte, bit))| Location { name: v.name.clone(), ty: v.ty.clone(), db: *db, byte, bit })
+        .collect()
+}
+
 /// Where an instance lives: a global or a local of the program.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 enum Owner {

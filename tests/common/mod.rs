@@ -30,3 +30,56 @@ pub fn blark_all(python: &Path, root: &Path, files: &[PathBuf]) {
         );
     }
 }
+
+/// SCL as blark reads it: TIA's source lines go, the global data block becomes a global
+/// variable list, `CONST` sections become `VAR CONSTANT` ones, `VAR_TEMP` becomes `VAR`, tags
+/// `"x"` become `x`.
+// Not every test binary that includes this module prints SCL.
+#[allow(dead_code)]
+pub fn scl_for_blark(text: &str) -> String {
+    let mut out = String::new();
+    let mut in_const = false;
+    for line in text.lines() {
+        let t = line.trim();
+        if t.starts_with("{ S7_Optimized_Access") || t.starts_with("VERSION :") || t == "BEGIN" || t == "END_DATA_BLOCK"
+        {
+            continue;
+        }
+        if t.starts_with("DATA_BLOCK ") {
+            out.push_str("VAR_GLOBAL\n");
+            continue;
+        }
+        if t == "STRUCT" {
+            continue;
+        }
+        // blark's grammar has no VAR_TEMP in functions (IEC and SCL do).
+        if t == "VAR_TEMP" {
+            out.push_str("VAR\n");
+            continue;
+        }
+        if t == "END_STRUCT;" {
+            out.push_str("END_VAR\n");
+            continue;
+        }
+        if t == "CONST" {
+            in_const = true;
+            out.push_str("VAR CONSTANT\n");
+            continue;
+        }
+        if t == "END_CONST" {
+            in_const = false;
+            out.push_str("END_VAR\n");
+            continue;
+        }
+        let line = if in_const { line.replacen(" := ", " : INT := ", 1) } else { line.to_string() };
+        let (code, comment) = line.split_once("(*").map_or((line.as_str(), None), |(c, r)| (c, Some(r)));
+        out.push_str(&code.replace('"', ""));
+        if let Some(rest) = comment {
+            out.push_str("(*");
+            out.push_str(rest);
+        }
+        out.push('\n');
+    }
+    // The data block's VAR (S7-1200/1500) inside VAR_GLOBAL: keep one section.
+    out.replace("VAR_GLOBAL\nVAR\n", "VAR_GLOBAL\n")
+}

@@ -1,0 +1,574 @@
+//! An LTL controller (a finite-state [`Machine`] of `crate::ltl`) lowered into a [`Unit`]: one
+//! function block that is the machine, and a program that wires it to the PLC's I/O.
+//! `docs/ltl-plc.md` shows the generated code; `plc::unit_exec` runs it against
+//! [`Machine::row`] in `tests/ltl_plc.rs`, so the two must keep one semantics.
+//!
+//! What is generated (the block `FB_<title>`, `FB_Controller` without a title):
+//! - constants `S_<k>`, one per state reachable from the initial one (`k` is the machine's state
+//!   number, as `plcsynth ltl --json` prints it);
+//! - the block: the read signals as `VAR_INPUT`, the written ones as `VAR_OUTPUT`, the state
+//!   (`INT`), a `TON` per timer; its body is a `CASE` over the state with one branch per state.
+//!   A branch first assigns the outputs that every row of the state writes alike (all of them
+//!   for a Moore machine), then decides the rest with `IF`/`ELSIF`/`ELSE` over the state's rows
+//!   grouped by what they do (next state and outputs), each group's condition a small cover of
+//!   its valuations (see [`cover`]);
+//! - the program `<block>_main`: calls an instance `ctrl` with the inputs `%IX0.0`, `%IX0.1`, …
+//!   and copies its outputs to `%QX0.0`, `%QX0.1`, … (in the order of the machine's signals).
+//!
+//! Timers (G4LTL's `TIMER t1(10s)`, the signals `t1.start` and `t1.expire`): the block owns a
+//! `TON` per timer and calls it at the start of every scan, so that `Q` and `ET` are current.
+//! `t1.expire` is not an input of the block but `t1.Q`: TRUE once the preset has passed since
+//! the last start (FALSE before the first). `t1.start` is an output of the block like any
+//! other; in a scan that sets it the timer restarts after the `CASE` with a real rising edge
+//! on `IN` (`t1(IN := FALSE)` then `t1(IN := TRUE, PT := …)`), so the next scans count from
+//! this one. (G4LTL-ST's `t1(IN := 0, PT := …)` resets the timer without starting it.) A start
+//! takes effect from the next scan on: within the scan that starts it, `t1.Q` is still the value
+//! read at the scan's start.
+
+use super::unit::{Expr, Place, Pou, PouKind, Signal, SignalKind, Stmt, Type, Unit, Var};
+use super::{identifier, source_hash, Namespace};
+use crate::diag::{Diagnostic, Diagnostics, Span};
+use crate::ltl::{Cube, Machine, Row, SignalId, SignalKind as Direction, Spec, StateId};
+use std::collections::BTreeSet;
+
+/// Choices of the lowering beyond the machine.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct LowerOptions {
+    /// The function block's name; by default `FB_` and the specification's title, or
+    /// `FB_Controller` without one.
+    pub name: Option<String>,
+}
+
+/// The longest generated name: STEP 7 Classic (STL, SCL for S7-300/400) limits symbols to 24
+/// characters, so every target gets names that fit.
+const MAX_NAME: usize = 24;
+
+/// Room for a timer's name: STL keeps its `Q` and `ET` in statics `<timer>_Q`, `<timer>_ET`.
+const MAX_TIMER_NAME: usize = MAX_NAME - 3;
+
+/// The names of one unit: one scope for the block, the program and the constants, so that no
+/// generated name hides another wherever it is read.
+struct Names(Namespace);
+
+impl Names {
+    /// A fresh identifier from `base`, at most `room` characters (cut, then `_2`, `_3`, … on a
+    /// clash), now reserved.
+    fn fresh(&mut self, base: &str, room: usize) -> String {
+        let base = identifier(base);
+        let cut = |text: &str, room: usize| text[..text.len().min(room)].trim_end_matches('_').to_string();
+        let mut name = cut(&base, room);
+        let mut n = 2;
+        while self.0.contains(&name) {
+            let tail = format!("_{n}");
+            name = format!("{}{tail}", cut(&base, room - tail.len()));
+            n += 1;
+        }
+        self.0.reserve(&name);
+        name
+    }
+}
+
+/// Where the block finds a read signal.
+enum Source {
+    /// Its input of that name.
+    Input(String),
+    /// The `Q` of its timer of that name (the signal is the timer's `expire`).
+    Expired(String),
+}
+
+/// A timer of the specification that the machine uses.
+struct TimerUse {
+    instance: String,
+    preset_ms: u64,
+    /// The block's output that starts it (when the machine writes `start`).
+    start: Option<String>,
+    name: String,
+}
+
+/// Lowers `machine`, a controller of `spec` (whose text is `source`, hashed into the header).
+/// Errors are located in `source`: a machine that does not validate, one that reads an output
+/// or writes an input of the specification (a counter-strategy is not a controller), a timer
+/// longer than a PLC's `TIME` holds.
+pub fn lower(source: &str, spec: &Spec, machine: &Machine, options: &LowerOptions) -> Result<Unit, Vec<Diagnostic>> {
+    let mut diags = Diagnostics::new(source);
+    check(spec, machine, &mut diags);
+    if diags.has_errors() {
+        return Err(diags.items);
+    }
+    let mut names = Names(Namespace::new());
+    let block_base = match (&options.name, &spec.title) {
+        (Some(name), _) => name.clone(),
+        (None, Some(title)) => format!("FB_{title}"),
+        (None, None) => "FB_Controller".into(),
+    };
+    let block = names.fresh(&block_base, MAX_NAME);
+    let program = names.fresh(&format!("{block}_main"), MAX_NAME);
+    let gvl = names.fresh(&format!("{block}_States"), MAX_NAME);
+    let instance = names.fresh("ctrl", MAX_NAME);
+    let state = names.fresh("state", MAX_NAME);
+
+    // The signals' own names first; timers after them.
+    let timer_of_expire = |s: SignalId| spec.timers.iter().position(|t| t.expire == s);
+    let timer_of_start = |s: SignalId| spec.timers.iter().position(|t| t.start == s);
+    let mut inputs = Vec::new();
+    let mut input_names: Vec<Option<String>> = Vec::new();
+    for &s in &machine.reads {
+        if timer_of_expire(s).is_some() {
+            input_names.push(None);
+        } else {
+            let name = names.fresh(spec.name(s), MAX_NAME);
+            inputs.push(Var::new(&name, Type::Bool, format!("input {}", spec.name(s))));
+            input_names.push(Some(name));
+        }
+    }
+    let mut outputs = Vec::new();
+    let mut output_names = Vec::new();
+    for &s in &machine.writes {
+        let name = names.fresh(spec.name(s), MAX_NAME);
+        let comment = match timer_of_start(s) {
+            Some(t) => format!("{}: TRUE in a scan that starts timer {}", spec.name(s), spec.timers[t].name),
+            None => format!("output {}", spec.name(s)),
+        };
+        outputs.push(Var::new(&name, Type::Bool, comment));
+        output_names.push(name);
+    }
+    let mut timers: Vec<TimerUse> = Vec::new();
+    let mut timer_instance = vec![None; spec.timers.len()];
+    for (k, t) in spec.timers.iter().enumerate() {
+        let start = machine.writes.iter().position(|&s| s == t.start);
+        if start.is_none() && !machine.reads.contains(&t.expire) {
+            continue;
+        }
+        let instance = loop {
+            let candidate = names.fresh(&t.name, MAX_TIMER_NAME);
+            let shadows = [format!("{candidate}_Q"), format!("{candidate}_ET")];
+            if shadows.iter().all(|s| !names.0.contains(s)) {
+                shadows.iter().for_each(|s| names.0.reserve(s));
+                break candidate;
+            }
+        };
+        timer_instance[k] = Some(instance.clone());
+        timers.push(TimerUse {
+            instance,
+            preset_ms: t.preset_ms,
+            start: start.map(|i| output_names[i].clone()),
+            name: t.name.clone(),
+        });
+    }
+    let sources: Vec<Source> = machine
+        .reads
+        .iter()
+        .zip(input_names)
+        .map(|(&s, input)| match input {
+            Some(name) => Source::Input(name),
+            None => Source::Expired(
+                timer_instance[timer_of_expire(s).expect("an expire signal")]
+                    .clone()
+                    .expect("a timer whose expiry is read is used"),
+            ),
+        })
+        .collect();
+
+    // States: those reachable from the initial one, named after the machine's numbers.
+    let reachable = reachable(machine);
+    let mut constants = Vec::new();
+    let mut state_name = vec![String::new(); machine.states.len()];
+    for &s in &reachable {
+        let name = names.fresh(&format!("S_{}", s.0), MAX_NAME);
+        let what = if s == machine.init { "state (initial)" } else { "state" };
+        constants.push(Var::new(&name, Type::Int, what).with_init(Expr::Int(i64::from(s.0))));
+        state_name[s.index()] = name;
+    }
+
+    let lowering =
+        Lowering { machine, sources: &sources, outputs: &output_names, state: &state, state_name: &state_name };
+    let mut body = Vec::new();
+    if !timers.is_empty() {
+        body.push(Stmt::Comment("timers run every scan, so that Q and ET are current (IN keeps its value)".into()));
+        for t in &timers {
+            body.push(Stmt::CallInstance {
+                instance: Place::local(&t.instance),
+                args: vec![("PT".into(), Expr::Time(t.preset_ms))],
+            });
+        }
+    }
+    let arms = reachable.iter().map(|&s| (vec![i64::from(s.0)], lowering.state_branch(s))).collect();
+    body.push(Stmt::Case { selector: Expr::local(&state), arms, otherwise: Vec::new() });
+    let started: Vec<&TimerUse> = timers.iter().filter(|t| t.start.is_some()).collect();
+    if !started.is_empty() {
+        body.push(Stmt::Comment("a timer started in this scan restarts: a rising edge on IN".into()));
+    }
+    for t in started {
+        let call = |on: bool, preset: bool| Stmt::CallInstance {
+            instance: Place::local(&t.instance),
+            args: std::iter::once(("IN".to_string(), Expr::Bool(on)))
+                .chain(preset.then(|| ("PT".to_string(), Expr::Time(t.preset_ms))))
+                .collect(),
+        };
+        let start = t.start.as_deref().expect("filtered");
+        body.push(Stmt::when(Expr::local(start), vec![call(false, false), call(true, true)]));
+    }
+
+    let mut locals = vec![Var::new(
+        &state,
+        Type::Int,
+        format!("the current state, an S_ constant (initially {})", state_name[machine.init.index()]),
+    )
+    .with_init(Expr::Int(i64::from(machine.init.0)))];
+    for t in &timers {
+        locals.push(Var::new(&t.instance, Type::Ton, format!("timer {} ({} ms)", t.name, t.preset_ms)));
+    }
+    let turn = if machine.moves_first {
+        "Moore machine: a state's outputs do not depend on the inputs of the same scan"
+    } else {
+        "Mealy machine: reads the inputs and answers in the same scan"
+    };
+    let mut comment = format!("The synthesised controller ({turn}). Call it once per scan.");
+    if !timers.is_empty() {
+        comment.push_str(
+            " A timer's expire input is its TON's Q (TRUE once the preset has passed since the last start); \
+             a start output restarts the timer with a rising edge on IN after the state machine, \
+             effective from the next scan.",
+        );
+    }
+    let fb = Pou { kind: PouKind::FunctionBlock, name: block.clone(), comment, inputs, outputs, locals, body };
+
+    // The program: the block wired to direct addresses, in signal order.
+    let mut signals = Vec::new();
+    let mut args = Vec::new();
+    for (&s, source) in machine.reads.iter().zip(&sources) {
+        if let Source::Input(name) = source {
+            let k = signals.len();
+            let address = format!("IX{}.{}", k / 8, k % 8);
+            signals.push(Signal {
+                symbol: address.clone(),
+                kind: SignalKind::Input,
+                ty: Type::Bool,
+                address,
+                comment: spec.name(s).to_string(),
+            });
+            args.push((name.clone(), Expr::read(Place::Signal(k))));
+        }
+    }
+    let mut main = vec![Stmt::CallInstance { instance: Place::local(&instance), args }];
+    let mut q = 0;
+    for (&s, name) in machine.writes.iter().zip(&output_names) {
+        if timer_of_start(s).is_some() {
+            continue;
+        }
+        let address = format!("QX{}.{}", q / 8, q % 8);
+        q += 1;
+        main.push(Stmt::assign(Place::Signal(signals.len()), Expr::read(Place::local(&instance).member(name))));
+        signals.push(Signal {
+            symbol: address.clone(),
+            kind: SignalKind::Output,
+            ty: Type::Bool,
+            address,
+            comment: spec.name(s).to_string(),
+        });
+    }
+    let main = Pou {
+        kind: PouKind::Program,
+        name: program,
+        comment: format!(
+            "Runs {block} once per scan on the PLC's inputs and outputs: change the addresses to the project's, \
+             or call {block} from a program of your own."
+        ),
+        inputs: Vec::new(),
+        outputs: Vec::new(),
+        locals: vec![Var::new(&instance, Type::Instance(block.clone()), "the controller")],
+        body: main,
+    };
+
+    let signal_list = |list: &[SignalId]| list.iter().map(|&s| spec.name(s)).collect::<Vec<_>>().join(", ");
+    let header = vec![
+        format!("Generated by plcsynth {} from an LTL specification.", env!("CARGO_PKG_VERSION")),
+        format!("Specification hash (FNV-1a 64): {}", source_hash(source)),
+        format!(
+            "Controller: {} states ({} reachable), {}; reads {}; writes {}.",
+            machine.states.len(),
+            reachable.len(),
+            if machine.moves_first { "Moore" } else { "Mealy" },
+            if machine.reads.is_empty() { "nothing".into() } else { signal_list(&machine.reads) },
+            if machine.writes.is_empty() { "nothing".into() } else { signal_list(&machine.writes) },
+        ),
+        "Do not edit: change the specification and generate again.".to_string(),
+    ];
+    Ok(Unit { name: block, header, gvl, constants, globals: Vec::new(), signals, pous: vec![fb, main] })
+}
+
+/// What keeps `machine` from being lowered as a controller of `spec`.
+fn check(spec: &Spec, machine: &Machine, diags: &mut Diagnostics<'_>) {
+    if let Err(problem) = machine.validate() {
+        diags.error(Span::default(), format!("the controller is not a complete deterministic machine: {problem}"));
+    }
+    for (list, want, verb) in
+        [(&machine.reads, Direction::Input, "reads"), (&machine.writes, Direction::Output, "writes")]
+    {
+        for &s in list {
+            match spec.signals.get(s.index()) {
+                None => {
+                    diags.error(
+                        Span::default(),
+                        format!("the controller {verb} signal {}, which the specification does not declare", s.0),
+                    );
+                }
+                Some(signal) if signal.kind != want => {
+                    diags
+                        .error(signal.span, format!("the machine {verb} `{}`, which is not its {}", signal.name, if want == Direction::Input { "input" } else { "output" }))
+                        .with_note("only a controller (reading the inputs, writing the outputs) becomes PLC code, not the environment's counter-strategy");
+                }
+                Some(_) => {}
+            }
+        }
+    }
+    for t in &spec.timers {
+        if t.preset_ms > i32::MAX as u64 {
+            diags.error(
+                t.span,
+                format!(
+                    "timer `{}` runs {} ms, longer than a PLC's TIME holds (T#24D20H31M23S647MS)",
+                    t.name, t.preset_ms
+                ),
+            );
+        }
+    }
+}
+
+/// The states reachable from the initial one, in the machine's order.
+fn reachable(machine: &Machine) -> Vec<StateId> {
+    let mut seen = BTreeSet::from([machine.init]);
+    let mut todo = vec![machine.init];
+    while let Some(s) = todo.pop() {
+        for row in &machine.states[s.index()] {
+            if seen.insert(row.next) {
+                todo.push(row.next);
+            }
+        }
+    }
+    seen.into_iter().collect()
+}
+
+/// What one CASE branch needs to know.
+struct Lowering<'a> {
+    machine: &'a Machine,
+    sources: &'a [Source],
+    outputs: &'a [String],
+    state: &'a str,
+    state_name: &'a [String],
+}
+
+/// Rows of a state that do the same: go to `next` writing `write`, on any valuation in `cubes`.
+struct Group {
+    next: StateId,
+    write: u64,
+    cubes: Vec<Cube>,
+}
+
+impl Lowering<'_> {
+    fn read(&self, i: usize) -> Expr {
+        match &self.sources[i] {
+            Source::Input(name) => Expr::local(name),
+            Source::Expired(timer) => Expr::read(Place::local(timer).member("Q")),
+        }
+    }
+
+    /// `a AND NOT b OR c` for a cover; TRUE for the cover of everything.
+    fn condition(&self, cubes: &[Cube]) -> Expr {
+        let term = |c: &Cube| {
+            let literals = (0..self.sources.len()).filter(|i| c.care >> i & 1 == 1).map(|i| {
+                let e = self.read(i);
+                if c.value >> i & 1 == 1 {
+                    e
+                } else {
+                    e.not()
+                }
+            });
+            literals.reduce(Expr::and).unwrap_or(Expr::Bool(true))
+        };
+        cubes.iter().map(term).reduce(Expr::or).unwrap_or(Expr::Bool(false))
+    }
+
+    /// The assignments of a group: the outputs in `outputs` (a mask) and the state when it
+    /// changes.
+    fn actions(&self, from: StateId, next: StateId, write: u64, outputs: u64) -> Vec<Stmt> {
+        let mut stmts: Vec<Stmt> = (0..self.outputs.len())
+            .filter(|i| outputs >> i & 1 == 1)
+            .map(|i| Stmt::assign(Place::local(&self.outputs[i]), Expr::Bool(write >> i & 1 == 1)))
+            .collect();
+        if next != from {
+            stmts.push(Stmt::assign(Place::local(self.state), Expr::global(&self.state_name[next.index()])));
+        }
+        stmts
+    }
+
+    /// The CASE branch of state `s`.
+    fn state_branch(&self, s: StateId) -> Vec<Stmt> {
+        let mut groups: Vec<Group> = Vec::new();
+        for &Row { read, write, next } in &self.machine.states[s.index()] {
+            let cube = Cube { care: read.care, value: read.value & read.care };
+            match groups.iter_mut().find(|g| g.next == next && g.write == write) {
+                Some(g) => g.cubes.push(cube),
+                None => groups.push(Group { next, write, cubes: vec![cube] }),
+            }
+        }
+        let all = mask(self.outputs.len());
+        // Outputs every group writes alike are assigned once, before the decision.
+        let same = groups.iter().fold(all, |m, g| m & !(g.write ^ groups[0].write));
+        let differ = all & !same;
+        let mut branch = vec![Stmt::Comment(format!("state {}", self.state_name[s.index()]))];
+        branch.extend(self.actions(s, s, groups[0].write, same));
+        // The ELSE: the group with nothing left to do (it stays), else the one with the most
+        // valuations (the last of equals), so that the conditions printed are the small ones.
+        let size = |g: &Group| {
+            g.cubes.iter().map(|c| 1u128 << (self.sources.len() - c.care.count_ones() as usize)).sum::<u128>()
+        };
+        let last = groups
+            .iter()
+            .position(|g| self.actions(s, g.next, g.write, differ).is_empty())
+            .or_else(|| (0..groups.len()).max_by_key(|&k| size(&groups[k])))
+            .expect("a state has rows");
+        let otherwise_group = groups.remove(last);
+        let mut decided: Vec<Cube> = Vec::new();
+        let mut arms = Vec::new();
+        for g in &groups {
+            let condition = self.condition(&cover(&g.cubes, &decided));
+            decided.extend(&g.cubes);
+            arms.push((condition, self.actions(s, g.next, g.write, differ)));
+        }
+        let otherwise = self.actions(s, otherwise_group.next, otherwise_group.write, differ);
+        if arms.is_empty() {
+            branch.extend(otherwise);
+        } else {
+            branch.push(Stmt::If { arms, otherwise });
+        }
+        if branch.len() == 1 {
+            branch.clear(); // nothing happens: an empty branch
+        }
+        branch
+    }
+}
+
+/// The mask of the first `n` bits.
+fn mask(n: usize) -> u64 {
+    if n >= 64 {
+        u64::MAX
+    } else {
+        (1 << n) - 1
+    }
+}
+
+/// Whether `outer` contains every valuation of `inner`.
+fn contains(outer: Cube, inner: Cube) -> bool {
+    outer.care & !inner.care == 0 && inner.value & outer.care == outer.value
+}
+
+fn intersects(a: Cube, b: Cube) -> bool {
+    (a.value ^ b.value) & a.care & b.care == 0
+}
+
+/// Whether every valuation of `c` is in one of `cubes` (cubes normalised: `value ⊆ care`).
+/// Splits `c` on a variable that some overlapping cube cares for until one cube contains it.
+fn covered(c: Cube, cubes: &[Cube]) -> bool {
+    let overlapping: Vec<Cube> = cubes.iter().copied().filter(|&d| intersects(c, d)).collect();
+    if overlapping.iter().any(|&d| contains(d, c)) {
+        return true;
+    }
+    // An overlapping cube that cares only for variables `c` fixes contains `c`: so one cares
+    // for a variable `c` leaves free, unless there are none.
+    let Some(free) = overlapping.iter().map(|d| d.care & !c.care).find(|&m| m != 0) else { return false };
+    let bit = free & free.wrapping_neg();
+    let half = |v: u64| Cube { care: c.care | bit, value: c.value | v };
+    covered(half(0), &overlapping) && covered(half(bit), &overlapping)
+}
+
+/// A small set of cubes whose union contains every valuation of `on` and lies within `on` and
+/// `decided` (valuations an earlier `IF` arm takes, which a later condition may match or not):
+/// each cube is widened by dropping every variable it can (which also merges cubes that differ
+/// in one variable), then cubes the others already cover are dropped, the smallest first.
+pub(crate) fn cover(on: &[Cube], decided: &[Cube]) -> Vec<Cube> {
+    let allowed: Vec<Cube> = on.iter().chain(decided).copied().collect();
+    let mut cubes: Vec<Cube> = Vec::new();
+    for &c in on {
+        if cubes.iter().any(|&d| contains(d, c)) {
+            continue;
+        }
+        let mut wide = c;
+        let mut care = c.care;
+        while care != 0 {
+            let bit = care & care.wrapping_neg();
+            care &= !bit;
+            let candidate = Cube { care: wide.care & !bit, value: wide.value & !bit };
+            if covered(candidate, &allowed) {
+                wide = candidate;
+            }
+        }
+        cubes.retain(|&d| !contains(wide, d));
+        cubes.push(wide);
+    }
+    // Irredundant: the most specific cubes go first when the others cover them.
+    let mut order: Vec<usize> = (0..cubes.len()).collect();
+    order.sort_by_key(|&k| std::cmp::Reverse(cubes[k].care.count_ones()));
+    let mut keep = vec![true; cubes.len()];
+    for k in order {
+        keep[k] = false;
+        let others: Vec<Cube> =
+            (0..cubes.len()).filter(|&j| keep[j]).map(|j| cubes[j]).chain(decided.iter().copied()).collect();
+        if !covered(cubes[k], &others) {
+            keep[k] = true;
+        }
+    }
+    cubes.into_iter().zip(keep).filter(|(_, k)| *k).map(|(c, _)| c).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cube(care: u64, value: u64) -> Cube {
+        Cube { care, value }
+    }
+
+    /// Every valuation of `n` variables in `on` is in the cover, and every one in the cover is
+    /// in `on` or `decided`.
+    fn exact(n: u32, on: &[Cube], decided: &[Cube], got: &[Cube]) {
+        for v in 0..1u64 << n {
+            let want = on.iter().any(|c| c.contains(v));
+            let free = decided.iter().any(|c| c.contains(v));
+            let have = got.iter().any(|c| c.contains(v));
+            assert!(have == want || free, "valuation {v:#b}: cover {got:?} of {on:?} (decided {decided:?})");
+        }
+    }
+
+    #[test]
+    fn neighbours_merge_and_a_full_cover_is_true() {
+        // a ∧ b ∨ a ∧ ¬b = a
+        assert_eq!(cover(&[cube(0b11, 0b11), cube(0b11, 0b01)], &[]), vec![cube(0b01, 0b01)]);
+        // all four valuations of two variables: the cube of everything (TRUE)
+        let all = [cube(3, 0), cube(3, 1), cube(3, 2), cube(3, 3)];
+        assert_eq!(cover(&all, &[]), vec![Cube::ANY]);
+        // with ¬a decided earlier, a ∧ b needs only b
+        assert_eq!(cover(&[cube(3, 3)], &[cube(1, 0)]), vec![cube(2, 2)]);
+    }
+
+    #[test]
+    fn covers_are_exact_on_random_groups() {
+        let mut rng = crate::rng::Rng::new(7);
+        for _ in 0..2000 {
+            let n = 1 + rng.below(5) as u32;
+            let mask = (1u64 << n) - 1;
+            let mut on = Vec::new();
+            let mut decided = Vec::new();
+            for v in 0..1u64 << n {
+                match rng.below(3) {
+                    0 => on.push(cube(mask, v)),
+                    1 => decided.push(cube(mask, v)),
+                    _ => {}
+                }
+            }
+            let got = cover(&on, &decided);
+            exact(n, &on, &decided, &got);
+            assert!(got.len() <= on.len());
+        }
+    }
+}
