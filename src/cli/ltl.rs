@@ -3,6 +3,7 @@
 use clap::Args;
 use plcsynth::diag::render_plain;
 use plcsynth::ltl::{self, Config, Format, Verdict};
+use plcsynth::plc;
 use std::process::ExitCode;
 
 #[derive(Args)]
@@ -22,6 +23,20 @@ pub struct LtlArgs {
     /// Override a TLSF parameter, e.g. `--param n=3` (repeatable).
     #[arg(long = "param", value_name = "NAME=VALUE", value_parser = parse_param)]
     pub params: Vec<(String, i64)>,
+    /// Generate the controller as a PLC function block for this target instead of printing it
+    /// (docs/ltl-plc.md); an unrealizable or unknown verdict writes nothing.
+    #[arg(long, value_parser = super::sct::target_parser(), conflicts_with = "json")]
+    pub target: Option<plc::Target>,
+    /// Write the code to this file instead of standard output; for a target of several files
+    /// (twincat) a directory, created if missing.
+    #[arg(short, long, requires = "target")]
+    pub output: Option<String>,
+    /// Also write the signal table (CSV: address, type, symbol, direction).
+    #[arg(long, value_name = "FILE", requires = "target")]
+    pub io_table: Option<String>,
+    /// The function block's name (default `FB_` and the TLSF title, or `FB_Controller`).
+    #[arg(long, value_name = "NAME", requires = "target")]
+    pub name: Option<String>,
 }
 
 fn parse_param(text: &str) -> Result<(String, i64), String> {
@@ -64,6 +79,13 @@ pub fn ltl(a: &LtlArgs) -> ExitCode {
             return ExitCode::from(3);
         }
     };
+    if let Some(target) = a.target {
+        let Some(controller) = &outcome.controller else {
+            eprintln!("{}: {}; no code written", a.file, ltl::summary(&outcome));
+            return exit_code(outcome.verdict);
+        };
+        return write_code(a, target, &source, &spec, controller);
+    }
     if a.json {
         outln!("{}", ltl::report_json(&spec, &outcome));
     } else {
@@ -78,9 +100,47 @@ pub fn ltl(a: &LtlArgs) -> ExitCode {
             print!("{}", ltl::render_machine(&spec, m));
         }
     }
-    ExitCode::from(match outcome.verdict {
+    exit_code(outcome.verdict)
+}
+
+fn exit_code(verdict: Verdict) -> ExitCode {
+    ExitCode::from(match verdict {
         Verdict::Realizable => 0,
         Verdict::Unrealizable => 1,
         Verdict::Unknown => 3,
     })
+}
+
+/// Lowers the controller into a function block (`plc::lower_ltl`) and writes it for `target`.
+fn write_code(a: &LtlArgs, target: plc::Target, source: &str, spec: &ltl::Spec, controller: &ltl::Machine) -> ExitCode {
+    let options = plc::lower_ltl::LowerOptions { name: a.name.clone() };
+    let unit = match plc::lower_ltl::lower(source, spec, controller, &options) {
+        Ok(unit) => unit,
+        Err(diags) => {
+            eprint!("{}", render_plain(&a.file, source, &diags));
+            eprintln!("{}: nothing written", a.file);
+            return ExitCode::from(2);
+        }
+    };
+    let created_unix = match super::timed::creation_time() {
+        Ok(t) => t,
+        Err(message) => {
+            eprintln!("error: {message}");
+            return ExitCode::from(2);
+        }
+    };
+    let files = match plc::render_unit_files(&unit, target, &plc::Options { created_unix, ..plc::Options::default() }) {
+        Ok(files) => files,
+        Err(message) => {
+            eprintln!("error: {message}");
+            return ExitCode::from(2);
+        }
+    };
+    if let Some(path) = &a.io_table {
+        if let Err(e) = std::fs::write(path, plc::signal_table_csv(&unit)) {
+            eprintln!("error: cannot write {path}: {e}");
+            return ExitCode::from(2);
+        }
+    }
+    super::timed::write_files(a.output.as_deref(), Some(target), &files)
 }

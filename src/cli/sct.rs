@@ -71,7 +71,7 @@ pub struct SuperviseArgs {
 }
 
 /// The `--target` values of `supervise`: every PLC target, with its label as help.
-fn target_parser() -> impl clap::builder::TypedValueParser<Value = plc::Target> {
+pub(crate) fn target_parser() -> impl clap::builder::TypedValueParser<Value = plc::Target> {
     use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
     let targets = plc::Target::ALL.into_iter().map(|t| PossibleValue::new(t.name()).help(t.label()));
     PossibleValuesParser::new(targets).map(|name| name.parse().unwrap_or(plc::Target::St))
