@@ -44,19 +44,26 @@ pub fn compile_tlsf(source: &str, overrides: &[(String, i64)]) -> Result<(Spec, 
 /// The kinds of all global names; a name declared twice is reported at its second place.
 fn declare<'t>(tlsf: &'t Tlsf, diags: &mut Diagnostics<'_>) -> HashMap<&'t str, Kind> {
     let mut kinds = HashMap::new();
-    let mut places: HashMap<&str, Span> = HashMap::new();
+    let mut places: HashMap<&str, (Span, Kind)> = HashMap::new();
     let parameters = tlsf.parameters.iter().map(|p| (p.name.as_str(), p.span, Kind::Parameter));
     let definitions = tlsf.definitions.iter().map(|d| (d.name.as_str(), d.span, Kind::Definition(d.params.len())));
     let signal =
         |s: &'t SignalDecl| (s.name.as_str(), s.span, if s.width.is_some() { Kind::Bus } else { Kind::Signal });
     let signals = tlsf.inputs.iter().chain(&tlsf.outputs).map(signal);
+    let is_input = |span: Span| tlsf.inputs.iter().any(|s| s.span == span);
+    let is_signal = |kind: Kind| matches!(kind, Kind::Signal | Kind::Bus);
     for (name, span, kind) in parameters.chain(definitions).chain(signals) {
-        if let Some(first) = places.get(name) {
+        if let Some(&(first, first_kind)) = places.get(name) {
             let (line, column) = diags.line_col(first.start as usize);
-            diags.error(span, format!("`{name}` is declared twice (first at {line}:{column})"));
+            let message = if is_signal(kind) && is_signal(first_kind) && is_input(first) != is_input(span) {
+                format!("`{name}` is declared both as an input and as an output (also at {line}:{column})")
+            } else {
+                format!("`{name}` is declared twice (first at {line}:{column})")
+            };
+            diags.error(span, message);
             continue;
         }
-        places.insert(name, span);
+        places.insert(name, (span, kind));
         kinds.insert(name, kind);
     }
     kinds
