@@ -144,22 +144,22 @@ impl<'a, 'd, 's> Evaluator<'a, 'd, 's> {
 
     pub fn int(&mut self, e: &'a Expr) -> EResult<i64> {
         let v = self.eval(e)?;
-        self.to_int(v, e.span)
+        self.int_of(v, e.span)
     }
 
     pub fn formula(&mut self, e: &'a Expr) -> EResult<Formula> {
         let v = self.eval(e)?;
-        self.to_formula(v, e.span)
+        self.formula_of(v, e.span)
     }
 
-    fn to_int(&mut self, v: Value, span: Span) -> EResult<i64> {
+    fn int_of(&mut self, v: Value, span: Span) -> EResult<i64> {
         match v {
             Value::Int(n) => Ok(n),
             other => self.fail(span, format!("expected a number, found {}", describe(&other))),
         }
     }
 
-    fn to_formula(&mut self, v: Value, span: Span) -> EResult<Formula> {
+    fn formula_of(&mut self, v: Value, span: Span) -> EResult<Formula> {
         match v {
             Value::Formula(f) => Ok(f),
             Value::Bus(_) => self.fail(span, "expected a formula, found a bus: index it, as in `r[i]`"),
@@ -167,14 +167,14 @@ impl<'a, 'd, 's> Evaluator<'a, 'd, 's> {
         }
     }
 
-    fn to_set(&mut self, v: Value, span: Span) -> EResult<BTreeSet<i64>> {
+    fn set_of(&mut self, v: Value, span: Span) -> EResult<BTreeSet<i64>> {
         match v {
             Value::Set(s) => Ok(s),
             other => self.fail(span, format!("expected a set, found {}", describe(&other))),
         }
     }
 
-    fn to_bool(&mut self, v: Value, span: Span) -> EResult<bool> {
+    fn bool_of(&mut self, v: Value, span: Span) -> EResult<bool> {
         match v {
             Value::Formula(Formula { ltl: Ltl::True, .. }) => Ok(true),
             Value::Formula(Formula { ltl: Ltl::False, .. }) => Ok(false),
@@ -301,7 +301,7 @@ impl<'a, 'd, 's> Evaluator<'a, 'd, 's> {
                 Some(Expr { kind: ExprKind::Otherwise, .. }) => true,
                 Some(guard) => {
                     let v = self.eval(guard)?;
-                    self.to_bool(v, guard.span)?
+                    self.bool_of(v, guard.span)?
                 }
             };
             if taken {
@@ -338,7 +338,7 @@ impl<'a, 'd, 's> Evaluator<'a, 'd, 's> {
                 };
             }
             Unary::Size | Unary::Min | Unary::Max => {
-                let set = self.to_set(v, operand.span)?;
+                let set = self.set_of(v, operand.span)?;
                 let n = match op {
                     Unary::Size => Some(set.len() as i64),
                     Unary::Min => set.first().copied(),
@@ -350,7 +350,7 @@ impl<'a, 'd, 's> Evaluator<'a, 'd, 's> {
                 };
             }
         };
-        let f = self.to_formula(v, operand.span)?;
+        let f = self.formula_of(v, operand.span)?;
         Ok(Value::Formula(self.wrap(f, make, span)?))
     }
 
@@ -373,11 +373,11 @@ impl<'a, 'd, 's> Evaluator<'a, 'd, 's> {
         let b = self.eval(rhs)?;
         let temporal: fn(Ltl, Ltl) -> Ltl = match op {
             Binary::Mul | Binary::Div | Binary::Mod | Binary::Add | Binary::Sub => {
-                let (x, y) = (self.to_int(a, lhs.span)?, self.to_int(b, rhs.span)?);
+                let (x, y) = (self.int_of(a, lhs.span)?, self.int_of(b, rhs.span)?);
                 return self.arithmetic(op, x, y, rhs.span, span).map(Value::Int);
             }
             Binary::Lt | Binary::Le | Binary::Gt | Binary::Ge => {
-                let (x, y) = (self.to_int(a, lhs.span)?, self.to_int(b, rhs.span)?);
+                let (x, y) = (self.int_of(a, lhs.span)?, self.int_of(b, rhs.span)?);
                 let holds = match op {
                     Binary::Lt => x < y,
                     Binary::Le => x <= y,
@@ -394,12 +394,12 @@ impl<'a, 'd, 's> Evaluator<'a, 'd, 's> {
                 return Ok(Value::Formula(Formula::constant((a == b) == (op == Binary::Eq))));
             }
             Binary::In => {
-                let x = self.to_int(a, lhs.span)?;
-                let set = self.to_set(b, rhs.span)?;
+                let x = self.int_of(a, lhs.span)?;
+                let set = self.set_of(b, rhs.span)?;
                 return Ok(Value::Formula(Formula::constant(set.contains(&x))));
             }
             Binary::SetMinus | Binary::Cap | Binary::Cup => {
-                let (x, y) = (self.to_set(a, lhs.span)?, self.to_set(b, rhs.span)?);
+                let (x, y) = (self.set_of(a, lhs.span)?, self.set_of(b, rhs.span)?);
                 self.charge((x.len() + y.len()) as u64, span)?;
                 let set = match op {
                     Binary::SetMinus => x.difference(&y).copied().collect(),
@@ -414,7 +414,7 @@ impl<'a, 'd, 's> Evaluator<'a, 'd, 's> {
             Binary::Until => Ltl::until,
             Binary::Release => Ltl::release,
         };
-        let (f, g) = (self.to_formula(a, lhs.span)?, self.to_formula(b, rhs.span)?);
+        let (f, g) = (self.formula_of(a, lhs.span)?, self.formula_of(b, rhs.span)?);
         let depth = f.depth.max(g.depth) + 1;
         self.check_depth(depth, span)?;
         Ok(Value::Formula(Formula { ltl: temporal(f.ltl, g.ltl), depth, size: f.size + g.size + 1 }))
@@ -515,7 +515,7 @@ impl<'a, 'd, 's> Evaluator<'a, 'd, 's> {
             BigOp::And | BigOp::Or => {
                 let mut formulas = Vec::with_capacity(values.len());
                 for v in values {
-                    formulas.push(self.to_formula(v, body.span)?);
+                    formulas.push(self.formula_of(v, body.span)?);
                 }
                 let junction = if op == BigOp::And { Junction::And } else { Junction::Or };
                 Ok(Value::Formula(self.junction(junction, formulas, span)?))
@@ -523,7 +523,7 @@ impl<'a, 'd, 's> Evaluator<'a, 'd, 's> {
             BigOp::Sum | BigOp::Prod => {
                 let mut total: i64 = if op == BigOp::Sum { 0 } else { 1 };
                 for v in values {
-                    let n = self.to_int(v, body.span)?;
+                    let n = self.int_of(v, body.span)?;
                     let arithmetic = if op == BigOp::Sum { Binary::Add } else { Binary::Mul };
                     total = self.arithmetic(arithmetic, total, n, body.span, span)?;
                 }
@@ -547,7 +547,7 @@ impl<'a, 'd, 's> Evaluator<'a, 'd, 's> {
             }
             Domain::Set(set) => {
                 let v = self.eval(set)?;
-                Box::new(self.to_set(v, set.span)?.into_iter())
+                Box::new(self.set_of(v, set.span)?.into_iter())
             }
         };
         for value in domain {

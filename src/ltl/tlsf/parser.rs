@@ -450,8 +450,8 @@ impl<'s> Parser<'s, '_> {
                 _ => {
                     p.diags.warning(span, format!("unknown INFO field `{field}` is ignored"));
                     // Its value runs up to the next `FIELD:` or the end of the block.
-                    while !matches!(p.peek(), Tok::RBrace | Tok::Eof)
-                        && !(p.peek() == Tok::Ident && p.peek_at(1) == Tok::Colon)
+                    while !(matches!(p.peek(), Tok::RBrace | Tok::Eof)
+                        || p.peek() == Tok::Ident && p.peek_at(1) == Tok::Colon)
                     {
                         p.bump();
                     }
