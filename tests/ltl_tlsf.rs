@@ -434,3 +434,11 @@ proptest! {
         check_any(&source);
     }
 }
+
+#[test]
+fn the_documentation_example_compiles() {
+    let doc = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/ltl-tlsf.md")).unwrap();
+    let example = doc.split("```").nth(1).expect("a code block");
+    let spec = compile_ok(example, &[]);
+    assert_eq!(spec.formula_text(), "G (g_0 -> !g_1) && G (g_1 -> true) && G (r_0 -> F g_0) && G (r_1 -> F g_1)");
+}
