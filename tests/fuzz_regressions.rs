@@ -57,8 +57,12 @@ fn the_seed_inputs_pass_the_fuzz_checks() {
 #[test]
 fn saved_parser_inputs_pass_their_checks() {
     type Check = fn(&str);
-    let checks: [(&str, Check); 3] =
-        [("tga", harness::check_tga), ("sct", harness::check_sct), ("gen", harness::check_gen)];
+    let checks: [(&str, Check); 4] = [
+        ("tga", harness::check_tga),
+        ("sct", harness::check_sct),
+        ("gen", harness::check_gen),
+        ("tlsf", harness::check_tlsf),
+    ];
     let mut replayed = 0;
     for (target, check) in checks {
         let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/fuzz").join(target);

@@ -3,6 +3,7 @@
 //! that found it. Each check panics on a property violation; a parser error is not one.
 
 use plcsynth::diag::{render_plain, Diagnostic};
+use plcsynth::ltl;
 use plcsynth::program::{self, optimize::Context, simulate};
 use plcsynth::sct::classic::{self, Automaton, Events};
 use plcsynth::sct::{self, classic::gen, model::Config};
@@ -61,6 +62,34 @@ pub fn check_sct(source: &str) {
     assert_located(source, &diagnostics);
     render_plain("fuzz.sct", source, &diagnostics);
     assert!(reports.len() <= loaded.project.specs.len(), "more reports than specifications");
+}
+
+/// `.tlsf`: compile as written and with the parameter `n` overridden (absent in most inputs,
+/// then an error); an accepted specification has no error, formulas within the engine's depth
+/// and located clauses; every diagnostic is located and rendered.
+pub fn check_tlsf(source: &str) {
+    for overrides in [vec![], vec![("n".to_string(), 3)]] {
+        match ltl::compile_tlsf(source, &overrides) {
+            Ok((spec, warnings)) => {
+                assert!(
+                    !warnings.iter().any(Diagnostic::is_error),
+                    "a compiled specification with an error diagnostic"
+                );
+                assert_located(source, &warnings);
+                render_plain("fuzz.tlsf", source, &warnings);
+                assert!(spec.formula().depth() <= ltl::MAX_FORMULA_DEPTH, "a formula deeper than the engine takes");
+                for clause in spec.assumptions.iter().chain(&spec.guarantees) {
+                    assert!(clause.span.end as usize <= source.len(), "a clause located outside the source");
+                }
+                spec.formula_text();
+            }
+            Err(diagnostics) => {
+                assert!(diagnostics.iter().any(Diagnostic::is_error), "rejected without an error diagnostic");
+                assert_located(source, &diagnostics);
+                render_plain("fuzz.tlsf", source, &diagnostics);
+            }
+        }
+    }
 }
 
 /// Largest product of two fuzzed generators that the `.gen` check synthesises on.
