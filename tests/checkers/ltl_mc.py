@@ -345,7 +345,7 @@ def translate(prefix, timeout):
 # ----------------------------------------------------------------------------- machine
 
 
-def load(path):
+def load_json(path):
     try:
         with open(path, encoding="utf-8") as f:
             doc = json.load(f)
@@ -353,6 +353,11 @@ def load(path):
         raise Malformed(f"cannot read {path}: {e}") from None
     if not isinstance(doc, dict):
         raise Malformed("the document is not a JSON object")
+    return doc
+
+
+def load(path):
+    doc = load_json(path)
     for key in ("verdict", "semantics", "inputs", "outputs", "ltl"):
         if key not in doc:
             raise Malformed(f"missing key {key!r}")
