@@ -90,6 +90,12 @@ const MC: &[(&str, i32)] = &[
     ("gr1_liveness_counter_bad.json", 1),
     ("gr1_not_response.json", 0),
     ("gr1_not_strict.json", 0),
+    // six request/grant pairs, dotted names: lbt crashes (SIGSEGV) on the whole formula, so these
+    // go through the split
+    ("wide_always_grant_ok.json", 0),
+    ("wide_bad_one_never_granted.json", 1),
+    ("wide_counter_ok.json", 0),
+    ("wide_counter_bad_breaks_assumption.json", 1), // granting forever starves G F t0.req
     ("malformed_overlapping_rows.json", 2),
     ("malformed_moore_counter_as_mealy.json", 2),
 ];
@@ -134,7 +140,7 @@ fn ltl_mc_accepts_the_right_machines_and_gives_a_lasso_against_the_wrong_ones() 
             let lasso = output.contains("prefix:") && output.contains("cycle (repeated forever):");
             let right = code == Some(expected)
                 && match expected {
-                    0 => output.trim() == "ok",
+                    0 => String::from_utf8_lossy(&out.stdout).trim() == "ok",
                     1 => lasso,
                     _ => output.contains("malformed"),
                 };
