@@ -39,7 +39,8 @@ Method (automata-theoretic model checking, nothing taken from the engine):
    semantics on an ultimately periodic word, no automaton), so a misreading of lbt's output
    would show up as exit 3 rather than as a wrong counterexample.
 
-Large formulas. GPVW blows up on long conjunctions, and lbt can crash. The whole bad
+Large formulas. GPVW blows up on long conjunctions, and lbt crashes (SIGSEGV, seen on the negation
+of five response guarantees `G (r -> (g || X g))` and more). The whole bad
 property is tried first (under a timeout); if lbt fails, the bad property is rewritten, by
 propositional equivalences only (De Morgan, `a -> b` = `!a || b`, distributing `&&` over `||`),
 into a disjunction of conjunctions of temporal formulas, each conjunct is translated on its own,
