@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Installs the independent checkers the tests compare against, idempotently:
-# - a git-ignored virtualenv `.venv` with libFAUDES (faudes), blark (IEC 61131-3 ST parser)
-#   and awlsim (an S7 PLC that runs STL/AWL);
-# - xmllint (Debian libxml2-utils) for the PLCopen TC6 schema.
+# - a git-ignored virtualenv `.venv` with libFAUDES (faudes), blark (IEC 61131-3 ST parser),
+#   awlsim (an S7 PLC that runs STL/AWL) and gr1py (a GR(1) solver, tests/checkers/ltl_gr1.py);
+# - xmllint (Debian libxml2-utils) for the PLCopen TC6 schema;
+# - lbt (Debian, an LTL to Büchi translator) for tests/checkers/ltl_mc.py.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if ! command -v xmllint >/dev/null 2>&1; then
@@ -13,6 +14,14 @@ if ! command -v xmllint >/dev/null 2>&1; then
     exit 1
   fi
 fi
+if ! command -v lbt >/dev/null 2>&1; then
+  if [ "$(id -u)" = 0 ]; then
+    apt-get update -qq && apt-get install -y -qq lbt >/dev/null
+  else
+    echo "lbt is missing: install Debian's lbt" >&2
+    exit 1
+  fi
+fi
 if [ ! -x .venv/bin/python ]; then
   python3 -m venv .venv
 fi
@@ -20,7 +29,8 @@ missing=()
 .venv/bin/python -c 'import faudes' >/dev/null 2>&1 || missing+=(faudes)
 .venv/bin/python -c 'import blark' >/dev/null 2>&1 || missing+=(blark)
 .venv/bin/python -c 'import awlsim' >/dev/null 2>&1 || missing+=(awlsim)
+[ -x .venv/bin/gr1py ] || missing+=(gr1py)
 if [ ${#missing[@]} -gt 0 ]; then
   .venv/bin/pip install --quiet "${missing[@]}"
 fi
-echo "checkers ready: faudes, blark, awlsim, xmllint"
+echo "checkers ready: faudes, blark, awlsim, gr1py, xmllint, lbt"
