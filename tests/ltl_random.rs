@@ -12,7 +12,9 @@
 //!
 //! `PLCSYNTH_RANDOM_SPECS` scales the number of cases (400 by default, as the timed tests).
 
-use plcsynth::ltl::{self, translate, Automaton, Config, Ltl, Machine, Semantics, Signal, SignalId, SignalKind, Spec, Verdict};
+use plcsynth::ltl::{
+    self, translate, Automaton, Config, Ltl, Machine, Semantics, Signal, SignalId, SignalKind, Spec, Verdict,
+};
 use plcsynth::rng::Rng;
 
 fn cases() -> usize {
@@ -133,9 +135,7 @@ fn accepts(a: &Automaton, letters: &[u64], loop_start: usize) -> bool {
         seen
     };
     let reachable = reach(id(a.init, 0));
-    (0..reachable.len()).filter(|&x| reachable[x]).any(|x| {
-        edges(x).any(|(y, accepting)| accepting && reach(y)[x])
-    })
+    (0..reachable.len()).filter(|&x| reachable[x]).any(|x| edges(x).any(|(y, accepting)| accepting && reach(y)[x]))
 }
 
 #[test]
@@ -144,7 +144,7 @@ fn the_automaton_accepts_exactly_the_lassos_the_formula_holds_on() {
     let names = |s: SignalId| format!("p{}", s.0);
     for case in 0..cases() {
         let formula = random_formula(&mut rng, 3, 4);
-        let automaton = translate(&formula, &names, 100_000).expect("small formulas translate");
+        let automaton = translate(&formula, &names, 100_000, u64::MAX).expect("small formulas translate");
         for _ in 0..20 {
             let len = 1 + rng.below(5) as usize;
             let letters: Vec<u64> = (0..len).map(|_| rng.below(8)).collect();
@@ -242,14 +242,14 @@ fn verdicts_come_with_strategies_that_win() {
                 let controller = outcome.controller.as_ref().expect("a controller");
                 controller.validate().unwrap();
                 assert_eq!(controller.moves_first, semantics == Semantics::Moore);
-                let negation = translate(&Ltl::not(formula.clone()), &names, 100_000).unwrap();
+                let negation = translate(&Ltl::not(formula.clone()), &names, 100_000, u64::MAX).unwrap();
                 assert!(!some_play_accepted(controller, &negation), "case {case}: the controller violates {text}");
             }
             Verdict::Unrealizable => {
                 unrealizable += 1;
                 let counter = outcome.counter_strategy.as_ref().expect("a counter-strategy");
                 counter.validate().unwrap();
-                let automaton = translate(&formula, &names, 100_000).unwrap();
+                let automaton = translate(&formula, &names, 100_000, u64::MAX).unwrap();
                 assert!(!some_play_accepted(counter, &automaton), "case {case}: the counter-strategy lets {text} hold");
             }
             Verdict::Unknown => {}

@@ -20,6 +20,9 @@ pub struct LtlArgs {
     /// (exit status 3).
     #[arg(long, value_name = "N", default_value_t = ltl::DEFAULT_MAX_STATES)]
     pub max_states: usize,
+    /// Units of work the run may spend (translation and games; about proportional to time).
+    #[arg(long, value_name = "N", default_value_t = ltl::DEFAULT_MAX_WORK)]
+    pub max_work: u64,
     /// Override a TLSF parameter, e.g. `--param n=3` (repeatable).
     #[arg(long = "param", value_name = "NAME=VALUE", value_parser = parse_param)]
     pub params: Vec<(String, i64)>,
@@ -71,7 +74,7 @@ pub fn ltl(a: &LtlArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let cfg = Config { max_k: a.max_k, max_states: a.max_states, ..Config::default() };
+    let cfg = Config { max_k: a.max_k, max_states: a.max_states, max_work: a.max_work, ..Config::default() };
     let outcome = match ltl::synthesize(&spec, &cfg, &mut |_| true) {
         Ok(outcome) => outcome,
         Err(stop) => {
@@ -93,11 +96,11 @@ pub fn ltl(a: &LtlArgs) -> ExitCode {
         outln!("specification: {}", spec.formula_text());
         if let Some(m) = &outcome.controller {
             outln!("controller (state: inputs / outputs -> next):");
-            print!("{}", ltl::render_machine(&spec, m));
+            outln!("{}", ltl::render_machine(&spec, m).trim_end());
         }
         if let Some(m) = &outcome.counter_strategy {
             outln!("environment's counter-strategy (state: inputs it sets / outputs it sees -> next):");
-            print!("{}", ltl::render_machine(&spec, m));
+            outln!("{}", ltl::render_machine(&spec, m).trim_end());
         }
     }
     exit_code(outcome.verdict)

@@ -77,17 +77,19 @@ pub fn summary(outcome: &Outcome) -> String {
     let size = |m: &Machine| format!("{} states, {} rows", m.states.len(), m.rows());
     match outcome.verdict {
         Verdict::Realizable => {
-            format!("realizable at k = {}: a controller of {}", outcome.k, size(outcome.controller.as_ref().expect("a controller")))
+            format!(
+                "realizable at k = {}: a controller of {}",
+                outcome.k,
+                size(outcome.controller.as_ref().expect("a controller"))
+            )
         }
         Verdict::Unrealizable => format!(
             "unrealizable at k = {}: the environment wins with a counter-strategy of {}",
             outcome.k,
             size(outcome.counter_strategy.as_ref().expect("a counter-strategy"))
         ),
-        Verdict::Unknown => format!(
-            "unknown at k = {}: {}",
-            outcome.k,
-            outcome.limit.as_deref().unwrap_or("no player won")
-        ),
+        Verdict::Unknown => {
+            format!("unknown at k = {}: {}", outcome.k, outcome.limit.as_deref().unwrap_or("no player won"))
+        }
     }
 }

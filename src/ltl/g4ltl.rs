@@ -111,10 +111,9 @@ impl<'s> Parser<'s, '_> {
         self.toks.get(self.pos).map(|t| t.0)
     }
     fn span(&self) -> Span {
-        self.toks
-            .get(self.pos)
-            .map(|t| t.1)
-            .unwrap_or_else(|| self.toks.last().map_or(Span::new(0, 0), |t| Span::new(t.1.end as usize, t.1.end as usize)))
+        self.toks.get(self.pos).map(|t| t.1).unwrap_or_else(|| {
+            self.toks.last().map_or(Span::new(0, 0), |t| Span::new(t.1.end as usize, t.1.end as usize))
+        })
     }
     fn text(&self, span: Span) -> &'s str {
         &self.src[span.range()]
@@ -188,9 +187,9 @@ impl<'s> Parser<'s, '_> {
     fn temporal(&mut self, depth: usize) -> Option<(Expr, Span)> {
         let mut parts = vec![self.unary(depth)?];
         let mut ops = Vec::new();
-        while let Some(op) = self.at_word().and_then(word_operator).filter(|op| {
-            matches!(op, Op::Until | Op::Release | Op::WeakUntil)
-        }) {
+        while let Some(op) =
+            self.at_word().and_then(word_operator).filter(|op| matches!(op, Op::Until | Op::Release | Op::WeakUntil))
+        {
             if depth + parts.len() >= MAX_NESTING {
                 self.diags.error(self.span(), format!("more than {MAX_NESTING} temporal operators in a row"));
                 return None;
@@ -266,13 +265,17 @@ impl<'s> Parser<'s, '_> {
                 None
             }
             None => {
-                self.diags.error(span, "the formula ends here; expected a signal, `true`, `false`, `(` or a unary operator");
+                self.diags
+                    .error(span, "the formula ends here; expected a signal, `true`, `false`, `(` or a unary operator");
                 None
             }
             Some(_) => {
                 self.diags.error(
                     span,
-                    format!("unexpected `{}`; expected a signal, `true`, `false`, `(` or a unary operator", self.text(span)),
+                    format!(
+                        "unexpected `{}`; expected a signal, `true`, `false`, `(` or a unary operator",
+                        self.text(span)
+                    ),
                 );
                 None
             }
@@ -391,7 +394,10 @@ fn parse_line<'s>(src: &'s str, toks: &'s [(Tok, Span)], diags: &mut Diagnostics
                 }
                 p.bump();
                 let ms = duration_ms(p.text(preset)).or_else(|| {
-                    p.diags.error(preset, format!("`{}` is not a duration: write e.g. `10s`, `500ms`, `2min`, `1h`", p.text(preset)));
+                    p.diags.error(
+                        preset,
+                        format!("`{}` is not a duration: write e.g. `10s`, `500ms`, `2min`, `1h`", p.text(preset)),
+                    );
                     None
                 })?;
                 if p.peek() != Some(Tok::RParen) {
@@ -454,7 +460,9 @@ fn resolve(src: &str, lines: &[Line], diags: &mut Diagnostics) -> Spec {
         if let Some(&prior) = ids.get(name) {
             let prior = spec.signal(prior).span;
             let (line, col) = diags.line_col(prior.start as usize);
-            diags.error(span, format!("`{name}` is declared twice")).with_note(format!("first declared at {line}:{col}"));
+            diags
+                .error(span, format!("`{name}` is declared twice"))
+                .with_note(format!("first declared at {line}:{col}"));
             return None;
         }
         let id = SignalId(spec.signals.len() as u32);
@@ -466,7 +474,10 @@ fn resolve(src: &str, lines: &[Line], diags: &mut Diagnostics) -> Spec {
         if let Line::Declare { kind, names } = line {
             for &span in names {
                 let name = &src[span.range()];
-                if word_operator(name).is_some() || KEYWORDS.contains(&name) || matches!(name, "true" | "false" | "TRUE" | "FALSE") {
+                if word_operator(name).is_some()
+                    || KEYWORDS.contains(&name)
+                    || matches!(name, "true" | "false" | "TRUE" | "FALSE")
+                {
                     diags.error(span, format!("`{name}` is an operator or keyword of the language; rename the signal"));
                 } else if name.contains('.') {
                     diags
@@ -608,7 +619,8 @@ mod tests {
 
     #[test]
     fn reads_both_spellings_and_precedence() {
-        let src = "ALWAYS (req -> EVENTUALLY grant)\n[] (!a U b && c)\nASSUME [] <> a\nINPUT req, a\nOUTPUT grant, b, c\n";
+        let src =
+            "ALWAYS (req -> EVENTUALLY grant)\n[] (!a U b && c)\nASSUME [] <> a\nINPUT req, a\nOUTPUT grant, b, c\n";
         assert_eq!(text(src), "G F a -> (G (req -> F grant) && G ((!a U b) && c))");
         assert_eq!(text("a -> b -> c <-> d\nINPUT a, b\nOUTPUT c, d"), "(a -> (b -> c)) <-> d");
         assert_eq!(text("a U b W c R d V e\nINPUT a, b\nOUTPUT c, d, e"), "a U (b W (c R (d R e)))");

@@ -19,7 +19,7 @@
 
 use super::strategy::extract;
 use super::translate::Automaton;
-use super::{translate, Config, Ltl, Outcome, Progress, Semantics, SignalId, Spec, Stats, Stop, Verdict};
+use super::{translate, Config, Ltl, Outcome, Progress, Semantics, SignalId, Spec, Stats, Stop, Verdict, Work};
 use hashbrown::HashMap;
 
 /// The successor of a lost round.
@@ -58,7 +58,7 @@ impl Game {
         second: Vec<u64>,
         protagonist_first: bool,
         budget: usize,
-        report: &mut dyn FnMut(usize) -> bool,
+        work: &mut Work,
     ) -> Result<Game, Explored> {
         let n = automaton.states.len();
         let k = k as i8;
@@ -74,9 +74,14 @@ impl Game {
         let mut next = vec![-1i8; n];
         let mut p = 0;
         while p < positions.len() {
-            if p % 1024 == 0 && !report(positions.len()) {
-                return Err(Explored::Cancelled);
-            }
+            work.at.positions = positions.len();
+            let alive: u64 = positions[p]
+                .iter()
+                .enumerate()
+                .filter(|(_, &c)| c >= 0)
+                .map(|(q, _)| automaton.states[q].edges.len() as u64)
+                .sum();
+            work.spend(letters as u64 * (1 + alive)).map_err(Explored::Stopped)?;
             if positions.len() > budget {
                 return Err(Explored::OverBudget);
             }
@@ -177,7 +182,7 @@ impl Game {
 
 enum Explored {
     OverBudget,
-    Cancelled,
+    Stopped(Stop),
 }
 
 /// The valuations of `signals` as signal masks: entry `v` sets signal `signals[i]` when bit
@@ -199,12 +204,12 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) 
     }
     let name = |s: SignalId| spec.name(s).to_string();
     let formula = spec.formula();
-    let against = translate::translate(&Ltl::not(formula.clone()), &name, cfg.max_automaton_states)?;
-    let towards = translate::translate(&formula, &name, cfg.max_automaton_states)?;
+    let mut work = Work::new(cfg.max_work, progress);
+    let against = translate::translate_within(&Ltl::not(formula.clone()), &name, cfg.max_automaton_states, &mut work)?;
+    let towards = translate::translate_within(&formula, &name, cfg.max_automaton_states, &mut work)?;
     let (inputs, outputs) = (spec.inputs(), spec.outputs());
     let controller_first = spec.semantics == Semantics::Moore;
-    let (first_signals, second_signals) =
-        if controller_first { (&outputs, &inputs) } else { (&inputs, &outputs) };
+    let (first_signals, second_signals) = if controller_first { (&outputs, &inputs) } else { (&inputs, &outputs) };
     let (first, second) = (valuations(first_signals), valuations(second_signals));
     let mut stats = Stats {
         automaton_states: against.states.len(),
@@ -220,14 +225,20 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) 
             let automaton = if controller { &against } else { &towards };
             let protagonist_first = controller == controller_first;
             let budget = cfg.max_states.saturating_sub(positions);
-            let mut report = |built: usize| progress(Progress { k, positions: positions + built });
+            work.at.k = k;
             let explored =
-                Game::explore(automaton, k, first.clone(), second.clone(), protagonist_first, budget, &mut report);
+                Game::explore(automaton, k, first.clone(), second.clone(), protagonist_first, budget, &mut work);
             let mut game = match explored {
                 Ok(game) => game,
-                Err(Explored::Cancelled) => return Err(Stop::Cancelled),
+                Err(Explored::Stopped(Stop::Cancelled)) => return Err(Stop::Cancelled),
+                Err(Explored::Stopped(Stop::Budget(limit))) => {
+                    stats.positions = positions;
+                    stats.work = work.used();
+                    return Ok(unknown(k.saturating_sub(1), stats, limit));
+                }
                 Err(Explored::OverBudget) => {
                     stats.positions = positions;
+                    stats.work = work.used();
                     let limit = format!(
                         "the game at k = {k} needs more than the {} positions left of the budget ({} in all, \
                          --max-states)",
@@ -242,6 +253,7 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) 
                 let (reads, writes) = if controller { (&inputs, &outputs) } else { (&outputs, &inputs) };
                 let (raw, machine) = extract(&game, reads, writes);
                 stats.positions = positions;
+                stats.work = work.used();
                 stats.strategy_states_raw = raw;
                 let verdict = if controller { Verdict::Realizable } else { Verdict::Unrealizable };
                 return Ok(Outcome {
@@ -256,6 +268,7 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) 
         }
     }
     stats.positions = positions;
+    stats.work = work.used();
     Ok(unknown(max_k, stats, format!("neither player wins with counters bounded by k = {max_k} (--max-k)")))
 }
 

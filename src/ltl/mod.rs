@@ -31,7 +31,7 @@ pub use g4ltl::compile_g4ltl;
 pub use machine::{Cube, Machine, Row, StateId};
 pub use spec::{Clause, Ltl, Semantics, Signal, SignalId, SignalKind, Spec, Timer, MAX_FORMULA_DEPTH};
 pub use tlsf::compile_tlsf;
-pub use translate::{translate, Automaton};
+pub use translate::{translate, Automaton, AutomatonState, Edge};
 
 use serde::Serialize;
 
@@ -80,6 +80,53 @@ pub struct Config {
     /// Letters (valuations of all signals) a game may enumerate per position: the explicit
     /// game costs 2^(inputs + outputs) per position.
     pub max_signals: usize,
+    /// Units of work of the whole run (tableau terms combined and compared in the
+    /// translation, automaton edges followed in the games): about proportional to time, so
+    /// that no input keeps a caller waiting, however small its state counts.
+    pub max_work: u64,
+}
+
+/// The default work budget: a few seconds natively.
+pub const DEFAULT_MAX_WORK: u64 = 400_000_000;
+
+/// The work a run has spent against [`Config::max_work`], with the caller's progress callback
+/// asked every 2^16 units (its `false` cancels).
+pub(crate) struct Work<'a> {
+    used: u64,
+    limit: u64,
+    next_report: u64,
+    progress: &'a mut dyn FnMut(Progress) -> bool,
+    /// What the callback is told besides the work.
+    pub(crate) at: Progress,
+}
+
+impl<'a> Work<'a> {
+    pub(crate) fn new(limit: u64, progress: &'a mut dyn FnMut(Progress) -> bool) -> Work<'a> {
+        Work { used: 0, limit, next_report: 1 << 16, progress, at: Progress::default() }
+    }
+
+    /// Spends `units`; stops the run past the budget or when the callback cancels.
+    pub(crate) fn spend(&mut self, units: u64) -> Result<(), Stop> {
+        self.used += units;
+        if self.used > self.limit {
+            return Err(Stop::Budget(format!(
+                "the run needs more than {} units of work (--max-work); the specification may be too large for the explicit games",
+                self.limit
+            )));
+        }
+        if self.used >= self.next_report {
+            self.next_report = self.used + (1 << 16);
+            self.at.work = self.used;
+            if !(self.progress)(self.at) {
+                return Err(Stop::Cancelled);
+            }
+        }
+        Ok(())
+    }
+
+    pub(crate) fn used(&self) -> u64 {
+        self.used
+    }
 }
 
 /// The default bound of the co-Büchi counters: enough for every example and every listed
@@ -95,6 +142,7 @@ impl Default for Config {
             max_states: DEFAULT_MAX_STATES,
             max_automaton_states: 20_000,
             max_signals: 20,
+            max_work: DEFAULT_MAX_WORK,
         }
     }
 }
@@ -118,6 +166,8 @@ pub struct Progress {
     pub k: u32,
     /// Game positions built so far in this run.
     pub positions: usize,
+    /// Work spent so far ([`Config::max_work`]).
+    pub work: u64,
 }
 
 /// Sizes and counts of one run, for reports and benchmarks.
@@ -131,6 +181,8 @@ pub struct Stats {
     pub positions: usize,
     /// States of the strategy before minimisation.
     pub strategy_states_raw: usize,
+    /// Work spent ([`Config::max_work`]).
+    pub work: u64,
 }
 
 /// The result of [`synthesize`].

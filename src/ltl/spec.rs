@@ -140,11 +140,7 @@ impl Ltl {
                 Ltl::True | Ltl::False | Ltl::Var(_) => {}
                 Ltl::Not(a) | Ltl::Next(a) | Ltl::Globally(a) | Ltl::Finally(a) => stack.push((a, d + 1)),
                 Ltl::And(xs) | Ltl::Or(xs) => stack.extend(xs.iter().map(|x| (x, d + 1))),
-                Ltl::Implies(a, b)
-                | Ltl::Iff(a, b)
-                | Ltl::Until(a, b)
-                | Ltl::Release(a, b)
-                | Ltl::WeakUntil(a, b) => {
+                Ltl::Implies(a, b) | Ltl::Iff(a, b) | Ltl::Until(a, b) | Ltl::Release(a, b) | Ltl::WeakUntil(a, b) => {
                     stack.push((a, d + 1));
                     stack.push((b, d + 1));
                 }
@@ -164,10 +160,8 @@ impl Ltl {
 }
 
 fn is_tight(f: &Ltl) -> bool {
-    matches!(
-        f,
-        Ltl::True | Ltl::False | Ltl::Var(_) | Ltl::Not(_) | Ltl::Next(_) | Ltl::Globally(_) | Ltl::Finally(_)
-    ) || matches!(f, Ltl::And(xs) | Ltl::Or(xs) if xs.len() < 2)
+    matches!(f, Ltl::True | Ltl::False | Ltl::Var(_) | Ltl::Not(_) | Ltl::Next(_) | Ltl::Globally(_) | Ltl::Finally(_))
+        || matches!(f, Ltl::And(xs) | Ltl::Or(xs) if xs.len() < 2)
 }
 
 fn write_operand(f: &Ltl, name: &dyn Fn(SignalId) -> String, out: &mut String) {

@@ -43,7 +43,8 @@ fn by_fewest_set(count: usize) -> Vec<usize> {
 
 fn choose(game: &Game) -> Table {
     let positions = &game.positions;
-    let dominates = |h: u32, q: u32| positions[q as usize].iter().zip(positions[h as usize].iter()).all(|(x, y)| x <= y);
+    let dominates =
+        |h: u32, q: u32| positions[q as usize].iter().zip(positions[h as usize].iter()).all(|(x, y)| x <= y);
     let winning = |q: u32| q != LOST && !game.lost[q as usize];
     let (l1, l2) = (game.first.len(), game.second.len());
     let mut members: Vec<u32> = vec![0];
@@ -166,11 +167,7 @@ fn cover(moves: &[(u64, u32)], width: usize) -> Vec<Row> {
             for j in i + 1..rows.len() {
                 let (a, b) = (rows[i], rows[j]);
                 let differ = a.read.value ^ b.read.value;
-                if a.write == b.write
-                    && a.next == b.next
-                    && a.read.care == b.read.care
-                    && differ.count_ones() == 1
-                {
+                if a.write == b.write && a.next == b.next && a.read.care == b.read.care && differ.count_ones() == 1 {
                     rows[i].read = Cube { care: a.read.care & !differ, value: a.read.value & !differ };
                     rows.remove(j);
                     merged = true;

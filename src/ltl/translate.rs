@@ -19,7 +19,7 @@
 //!    transitions, so fewer marks mean smaller games and smaller bounds.
 
 use super::spec::{Ltl, SignalId};
-use super::Stop;
+use super::{Progress, Stop, Work};
 use hashbrown::HashMap;
 use petgraph::graph::DiGraph;
 use std::rc::Rc;
@@ -66,11 +66,27 @@ impl Automaton {
 }
 
 /// Translates `formula` into a Büchi automaton accepting exactly its models. States are named
-/// with `name`. Stops when more than `max_states` states would be built.
-pub fn translate(formula: &Ltl, name: &dyn Fn(SignalId) -> String, max_states: usize) -> Result<Automaton, Stop> {
+/// with `name`. Stops when more than `max_states` states would be built, or past `max_work`
+/// units of work (terms combined and compared).
+pub fn translate(
+    formula: &Ltl,
+    name: &dyn Fn(SignalId) -> String,
+    max_states: usize,
+    max_work: u64,
+) -> Result<Automaton, Stop> {
+    translate_within(formula, name, max_states, &mut Work::new(max_work, &mut |_: Progress| true))
+}
+
+/// [`translate`] drawing on a run's work budget.
+pub(crate) fn translate_within(
+    formula: &Ltl,
+    name: &dyn Fn(SignalId) -> String,
+    max_states: usize,
+    work: &mut Work,
+) -> Result<Automaton, Stop> {
     let mut arena = Arena::default();
     let root = arena.nnf(formula, false);
-    let tgba = arena.explore(root, max_states)?;
+    let tgba = arena.explore(root, max_states, work)?;
     let tba = degeneralise(&tgba, max_states)?;
     Ok(prune(tba, &arena, name))
 }
@@ -142,16 +158,17 @@ fn is_subset(small: &[F], big: &[F]) -> bool {
 }
 
 /// Keeps the terms no other term subsumes (one of two equal terms).
-fn minimise(terms: Vec<Term>) -> Vec<Term> {
+fn minimise(terms: Vec<Term>, work: &mut Work) -> Result<Vec<Term>, Stop> {
     let mut kept: Vec<Term> = Vec::with_capacity(terms.len());
     for t in terms {
+        work.spend(1 + kept.len() as u64)?;
         if kept.iter().any(|k| k.subsumes(&t)) {
             continue;
         }
         kept.retain(|k| !t.subsumes(k));
         kept.push(t);
     }
-    kept
+    Ok(kept)
 }
 
 /// Most untils one formula may hold: the deferral sets are one machine word.
@@ -317,9 +334,9 @@ impl Arena {
     }
 
     /// The terms of `f`, memoised.
-    fn expand(&mut self, f: F) -> Rc<Vec<Term>> {
+    fn expand(&mut self, f: F, work: &mut Work) -> Result<Rc<Vec<Term>>, Stop> {
         if let Some(terms) = self.expansions.get(&f) {
-            return terms.clone();
+            return Ok(terms.clone());
         }
         let terms = match self.node(f).clone() {
             Node::True => vec![Term::TRUE],
@@ -329,8 +346,9 @@ impl Arena {
             Node::And(xs) => {
                 let mut acc = vec![Term::TRUE];
                 for x in xs {
-                    let terms = self.expand(x);
-                    acc = minimise(product(&acc, &terms));
+                    let terms = self.expand(x, work)?;
+                    work.spend((acc.len() * terms.len()) as u64)?;
+                    acc = minimise(product(&acc, &terms), work)?;
                     if acc.is_empty() {
                         break;
                     }
@@ -340,40 +358,42 @@ impl Arena {
             Node::Or(xs) => {
                 let mut acc = Vec::new();
                 for x in xs {
-                    acc.extend(self.expand(x).iter().cloned());
+                    acc.extend(self.expand(x, work)?.iter().cloned());
                 }
-                minimise(acc)
+                minimise(acc, work)?
             }
             Node::Next(a) => vec![Term { next: vec![a], ..Term::TRUE }],
             Node::Until(a, b) => {
                 let bit = self.untils.iter().position(|&u| u == f).map_or(0, |i| 1u64 << i);
                 let defer = Term { next: vec![f], pending: bit, ..Term::TRUE };
-                let mut terms = self.expand(b).to_vec();
-                terms.extend(product(&self.expand(a), &[defer]));
-                minimise(terms)
+                let mut terms = self.expand(b, work)?.to_vec();
+                terms.extend(product(&self.expand(a, work)?, &[defer]));
+                minimise(terms, work)?
             }
             Node::Release(a, b) => {
                 let keep = Term { next: vec![f], ..Term::TRUE };
-                let now = self.expand(b);
-                let mut terms = product(&now, &self.expand(a));
+                let now = self.expand(b, work)?;
+                let later = self.expand(a, work)?;
+                work.spend((now.len() * later.len()) as u64)?;
+                let mut terms = product(&now, &later);
                 terms.extend(product(&now, &[keep]));
-                minimise(terms)
+                minimise(terms, work)?
             }
         };
         let terms = Rc::new(terms);
         self.expansions.insert(f, terms.clone());
-        terms
+        Ok(terms)
     }
 
     /// The generalised automaton reachable from `root`: states are conjunctions of obligations.
-    fn explore(&mut self, root: F, max_states: usize) -> Result<Tgba, Stop> {
+    fn explore(&mut self, root: F, max_states: usize, work: &mut Work) -> Result<Tgba, Stop> {
         let mut index: HashMap<F, u32> = HashMap::new();
         let mut states = vec![root];
         index.insert(root, 0);
         let mut edges = Vec::new();
         let mut i = 0;
         while i < states.len() {
-            let terms = self.expand(states[i]);
+            let terms = self.expand(states[i], work)?;
             if self.too_many_untils {
                 return Err(Stop::Budget(format!(
                     "the formula has more than {MAX_UNTILS} until or eventually subformulas; split the specification"

@@ -1,0 +1,274 @@
+//! The LTL engine against other tools' verdicts and an independent model checker:
+//! - every G4LTL specification of `../shared/ltl/g4ltl` gets G4LTL's verdict (its README's
+//!   k = 3 column; the automatic door, which G4LTL cannot parse, the verdict its header claims);
+//! - every TLSF benchmark of `../shared/ltl/tlsf` gets SYNTCOMP's status (the README's table, the
+//!   `STATUS` comments, the `.csv` rows of small parameters);
+//! - every example of `examples/ltl` gets its `// Expected:` verdict;
+//! - every controller and counter-strategy found is checked by `tests/checkers/ltl_mc.py`,
+//!   which translates the specification with Debian's `lbt` (no code shared with the engine)
+//!   and searches the product for a violating play; a mutated controller must be caught;
+//! - where `tests/checkers/ltl_gr1.py` finds the specification GR(1)-shaped, gr1py agrees.
+
+use plcsynth::ltl::{self, Config, Format, Outcome, Spec, Verdict};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn shared() -> PathBuf {
+    root().join("../shared/ltl")
+}
+
+fn decide(path: &Path, params: &[(String, i64)]) -> (Spec, Outcome) {
+    let source = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let format = Format::of_path(path.to_str().unwrap());
+    let (spec, _) = ltl::compile(&source, format, params).unwrap_or_else(|d| panic!("{}: {d:?}", path.display()));
+    let outcome = ltl::synthesize(&spec, &Config::default(), &mut |_| true)
+        .unwrap_or_else(|stop| panic!("{}: {stop}", path.display()));
+    (spec, outcome)
+}
+
+fn verdict(name: &str) -> Verdict {
+    match name {
+        "realizable" => Verdict::Realizable,
+        "unrealizable" => Verdict::Unrealizable,
+        _ => panic!("unknown verdict `{name}`"),
+    }
+}
+
+/// G4LTL's verdicts at k = 3 (`../shared/ltl/README.md`).
+const G4LTL: &[(&str, &str)] = &[
+    ("ptii_Arbitor", "realizable"),
+    ("ptii_PriorityArbitor", "realizable"),
+    ("ptii_ErrorHandling", "realizable"),
+    ("ptii_HydraulicRamp", "realizable"),
+    ("ptii_NumericalOriginal", "unrealizable"),
+    ("ptii_NumericalRefined", "realizable"),
+    ("ptii_AutomaticDoor", "realizable"), // G4LTL: unknown (cannot parse `<->`); its header says realizable
+    ("sample", "realizable"),
+    ("example1", "unrealizable"),
+    ("example1_ass", "realizable"),
+    ("example2", "unrealizable"),
+    ("example3", "unrealizable"),
+    ("example4", "realizable"),
+    ("paper_appC_grant", "realizable"),
+    ("paper_fig1_abstract", "unrealizable"),
+    ("paper_fig1_refined", "realizable"),
+];
+
+/// Every listed specification with its expected verdict and parameter overrides.
+fn listed() -> Vec<(PathBuf, Vec<(String, i64)>, Verdict)> {
+    let mut cases = Vec::new();
+    let files: Vec<_> = std::fs::read_dir(shared().join("g4ltl")).unwrap().map(|e| e.unwrap().path()).collect();
+    assert_eq!(files.len(), G4LTL.len(), "a G4LTL file without an expected verdict");
+    for (name, expected) in G4LTL {
+        cases.push((shared().join(format!("g4ltl/{name}.g4ltl")), Vec::new(), verdict(expected)));
+    }
+    let tlsf = shared().join("tlsf");
+    let n = |v: i64| vec![("n".to_string(), v)];
+    for (file, params, expected) in [
+        ("simple_arbiter/simple_arbiter.tlsf", n(2), "realizable"),
+        ("simple_arbiter/simple_arbiter.tlsf", n(3), "realizable"),
+        ("simple_arbiter_unreal/simple_arbiter_unreal1.tlsf", vec![("n".into(), 2), ("u".into(), 1)], "unrealizable"),
+        ("simple_arbiter_unreal/simple_arbiter_unreal2.tlsf", n(2), "unrealizable"),
+        ("full_arbiter/full_arbiter.tlsf", n(2), "realizable"),
+        ("prioritized_arbiter/prioritized_arbiter.tlsf", n(2), "realizable"),
+        ("prioritized_arbiter_unreal/prioritized_arbiter_unreal2.tlsf", n(2), "unrealizable"),
+        ("round_robin_arbiter/round_robin_arbiter.tlsf", n(2), "realizable"),
+        ("load_balancer/load_balancer.tlsf", n(2), "realizable"),
+        ("ltl2dba/ltl2dba_R.tlsf", n(2), "unrealizable"),
+        ("ltl2dba/ltl2dba_C2_unreal.tlsf", n(2), "unrealizable"),
+    ] {
+        cases.push((tlsf.join(file), params, verdict(expected)));
+    }
+    // Non-parametric ltl2dba files state their status in a comment.
+    let mut dba: Vec<_> = std::fs::read_dir(tlsf.join("ltl2dba")).unwrap().map(|e| e.unwrap().path()).collect();
+    dba.sort();
+    for path in dba {
+        let text = std::fs::read_to_string(&path).unwrap();
+        if let Some(status) = text.lines().find_map(|l| l.strip_prefix("//STATUS : ")) {
+            cases.push((path, Vec::new(), verdict(status.trim())));
+        }
+    }
+    // Rows of the parameter tables with one parameter up to 2 (the larger ones are benchmarks).
+    let mut tables: Vec<_> = walk(&tlsf).into_iter().filter(|p| p.extension().is_some_and(|e| e == "csv")).collect();
+    tables.sort();
+    for table in tables {
+        let text = std::fs::read_to_string(&table).unwrap();
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        if header != ["n", "refsize", "status"] {
+            continue;
+        }
+        for line in lines {
+            let fields: Vec<&str> = line.split(',').collect();
+            let value: i64 = fields[0].parse().unwrap();
+            if value <= 2 && fields[2] != "unknown" {
+                cases.push((table.with_extension("tlsf"), n(value), verdict(fields[2])));
+            }
+        }
+    }
+    let mut examples: Vec<_> =
+        std::fs::read_dir(root().join("examples/ltl")).unwrap().map(|e| e.unwrap().path()).collect();
+    examples.sort();
+    for path in examples {
+        let text = std::fs::read_to_string(&path).unwrap();
+        let expected = text
+            .lines()
+            .find_map(|l| l.strip_prefix("// Expected: "))
+            .unwrap_or_else(|| panic!("{} has no `// Expected:` line", path.display()));
+        assert!(text.lines().next().unwrap().starts_with("// "), "{} starts with its description", path.display());
+        cases.push((path, Vec::new(), verdict(expected.trim())));
+    }
+    cases
+}
+
+fn walk(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            out.extend(walk(&path));
+        } else {
+            out.push(path);
+        }
+    }
+    out
+}
+
+fn label(path: &Path, params: &[(String, i64)]) -> String {
+    let params: Vec<String> = params.iter().map(|(k, v)| format!("{k}={v}")).collect();
+    format!(
+        "{}{}",
+        path.file_name().unwrap().to_string_lossy(),
+        if params.is_empty() { String::new() } else { format!(" ({})", params.join(", ")) }
+    )
+}
+
+/// Specifications whose formula crashes `lbt` (a segmentation fault inside it, on nested
+/// eventualities under `<->`) whole and in every piece `ltl_mc.py` may split it into: the
+/// model check cannot decide them. Kept short and named, so that a new one fails the test.
+const LBT_CRASHES: &[&str] = &["ltl2dba06.tlsf", "ltl2dba07.tlsf", "ltl2dba08.tlsf"];
+
+fn python() -> PathBuf {
+    let path = root().join(".venv/bin/python");
+    assert!(path.exists(), "{} is missing: run `bash scripts/python-checkers.sh` (make test does)", path.display());
+    path
+}
+
+fn check_with(script: &str, json: &Path) -> (i32, String) {
+    let out = Command::new(python())
+        .arg(root().join("tests/checkers").join(script))
+        .arg(json)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run {script}: {e}"));
+    let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    (out.status.code().unwrap_or(-1), text)
+}
+
+fn scratch() -> PathBuf {
+    let dir = root().join("target/ltl-examples");
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn every_listed_specification_gets_its_known_verdict_and_a_strategy_lbt_confirms() {
+    let cases = listed();
+    assert!(cases.len() >= 60, "{} cases", cases.len());
+    let dir = scratch();
+    let mut documents = Vec::new();
+    for (i, (path, params, expected)) in cases.iter().enumerate() {
+        let name = label(path, params);
+        let (spec, outcome) = decide(path, params);
+        assert_eq!(outcome.verdict, *expected, "{name}: {}", ltl::summary(&outcome));
+        let machine = outcome.controller.as_ref().or(outcome.counter_strategy.as_ref()).expect("a strategy");
+        machine.validate().unwrap_or_else(|e| panic!("{name}: {e}"));
+        let json = dir.join(format!("{i}.json"));
+        std::fs::write(&json, ltl::report_json(&spec, &outcome).to_string()).unwrap();
+        documents.push((name, path.file_name().unwrap().to_string_lossy().to_string(), json));
+    }
+    // The model checks, two at a time (lbt and Python start in about 50 ms each).
+    let half = documents.len() / 2;
+    let (first, second) = documents.split_at(half);
+    let results: Vec<(String, String, i32, String)> = std::thread::scope(|s| {
+        let run = |docs: &[(String, String, PathBuf)]| {
+            docs.iter()
+                .map(|(name, file, json)| {
+                    let (code, text) = check_with("ltl_mc.py", json);
+                    (name.clone(), file.clone(), code, text)
+                })
+                .collect::<Vec<_>>()
+        };
+        let a = s.spawn(move || run(first));
+        let b = s.spawn(move || run(second));
+        let mut all = a.join().unwrap();
+        all.extend(b.join().unwrap());
+        all
+    });
+    let mut undecided = Vec::new();
+    for (name, file, code, text) in results {
+        if code == 3 && LBT_CRASHES.contains(&file.as_str()) {
+            undecided.push(file);
+            continue;
+        }
+        assert_eq!(code, 0, "{name}: the independent model check rejects the strategy:\n{text}");
+    }
+    undecided.sort();
+    undecided.dedup();
+    assert_eq!(undecided, LBT_CRASHES, "lbt now decides some of these: shorten LBT_CRASHES");
+}
+
+#[test]
+fn a_mutated_controller_is_caught_by_the_model_check() {
+    let dir = scratch();
+    for file in ["paper_appC_grant", "ptii_Arbitor", "ptii_NumericalRefined"] {
+        let (spec, outcome) = decide(&shared().join(format!("g4ltl/{file}.g4ltl")), &[]);
+        let controller = outcome.controller.clone().expect("realizable");
+        // Every single-bit change of a row's outputs; some are harmless (a don't-care), but
+        // not all of them may be.
+        let mut caught = 0;
+        let mut tried = 0;
+        for s in 0..controller.states.len() {
+            for r in 0..controller.states[s].len() {
+                for bit in 0..controller.writes.len() {
+                    let mut mutant = controller.clone();
+                    mutant.states[s][r].write ^= 1 << bit;
+                    let mutated = Outcome { controller: Some(mutant), ..outcome.clone() };
+                    let json = dir.join(format!("mutant-{file}-{s}-{r}-{bit}.json"));
+                    std::fs::write(&json, ltl::report_json(&spec, &mutated).to_string()).unwrap();
+                    let (code, text) = check_with("ltl_mc.py", &json);
+                    assert!(code == 0 || code == 1, "{file}: {text}");
+                    tried += 1;
+                    caught += usize::from(code == 1);
+                }
+            }
+        }
+        assert!(caught > 0, "{file}: none of {tried} mutants is caught");
+    }
+}
+
+#[test]
+fn gr1py_agrees_where_the_specification_is_gr1() {
+    let dir = scratch();
+    let mut compared = 0;
+    for (i, (path, params, _)) in listed().iter().enumerate() {
+        let (spec, outcome) = decide(path, params);
+        let json = dir.join(format!("gr1-{i}.json"));
+        std::fs::write(&json, ltl::report_json(&spec, &outcome).to_string()).unwrap();
+        let (code, text) = check_with("ltl_gr1.py", &json);
+        match code {
+            4 => continue, // not GR(1)-shaped, or outside the fragment where the games agree
+            0 => {
+                let theirs = text.trim();
+                let ours = if outcome.verdict == Verdict::Realizable { "realizable" } else { "unrealizable" };
+                assert_eq!(theirs, ours, "{}: gr1py disagrees", label(path, params));
+                compared += 1;
+            }
+            _ => panic!("{}: ltl_gr1.py failed:\n{text}", label(path, params)),
+        }
+    }
+    assert!(compared >= 1, "no listed specification was compared with gr1py");
+}
