@@ -58,8 +58,11 @@ const G4LTL: &[(&str, &str)] = &[
     ("paper_fig1_refined", "realizable"),
 ];
 
+/// A specification file, its parameter overrides and its expected verdict.
+type Case = (PathBuf, Vec<(String, i64)>, Verdict);
+
 /// Every listed specification with its expected verdict and parameter overrides.
-fn listed() -> Vec<(PathBuf, Vec<(String, i64)>, Verdict)> {
+fn listed() -> Vec<Case> {
     let mut cases = Vec::new();
     let files: Vec<_> = std::fs::read_dir(shared().join("g4ltl")).unwrap().map(|e| e.unwrap().path()).collect();
     assert_eq!(files.len(), G4LTL.len(), "a G4LTL file without an expected verdict");

@@ -15,9 +15,7 @@ use std::collections::HashMap;
 
 #[derive(Logos, Clone, Copy, Debug, PartialEq, Eq)]
 #[logos(skip r"[ \t\r\f]+")]
-#[logos(skip(r"##[^\n]*", allow_greedy = true))]
-#[logos(skip(r"!--[^\n]*", allow_greedy = true))]
-#[logos(skip(r"//[^\n]*", allow_greedy = true))]
+#[logos(skip(r"(##|!--|//)[^\n]*", allow_greedy = true))]
 enum Tok {
     #[regex(r"[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)?")]
     Ident,
@@ -612,7 +610,7 @@ mod tests {
     }
 
     fn first_error(src: &str) -> (u32, u32, String) {
-        let diags = compile_g4ltl(src).err().expect("an error");
+        let diags = compile_g4ltl(src).expect_err("an error");
         let d = diags.iter().find(|d| d.is_error()).expect("an error");
         (d.line, d.column, d.message.clone())
     }

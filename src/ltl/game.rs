@@ -153,8 +153,8 @@ impl Game {
             }
         }
         let mut stack = Vec::new();
-        for p in 0..n {
-            let loses = if self.protagonist_first { options[p] == 0 } else { options[p] < l1 as u32 };
+        for (p, &left) in options.iter().enumerate() {
+            let loses = if self.protagonist_first { left == 0 } else { left < l1 as u32 };
             if loses {
                 self.lost[p] = true;
                 stack.push(p as u32);
@@ -169,7 +169,7 @@ impl Game {
                 alive[pa as usize] = if self.protagonist_first { 0 } else { alive[pa as usize] - 1 };
                 if alive[pa as usize] == 0 {
                     options[p] -= 1;
-                    let loses = self.protagonist_first && options[p] == 0 || !self.protagonist_first;
+                    let loses = !self.protagonist_first || options[p] == 0;
                     if loses {
                         self.lost[p] = true;
                         stack.push(p as u32);
