@@ -58,11 +58,11 @@ test-browser: browser-setup web
 	node --test --test-concurrency=1 tests/browser/
 
 ## Coverage-guided fuzzing (docs/fuzzing.md; not part of `make test`): runs the targets
-## FUZZ_TARGETS (tga sct gen tlsf verdict share) one after the other, FUZZ_SECONDS each (default 60),
+## FUZZ_TARGETS (tga sct gen tlsf ltl verdict share) one after the other, FUZZ_SECONDS each (default 60),
 ## with corpora seeded from examples/; installs nightly Rust and cargo-fuzz if missing.
 ## Crashes land in fuzz/artifacts/<target>/.
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS ?= tga sct gen tlsf verdict share
+FUZZ_TARGETS ?= tga sct gen tlsf ltl verdict share
 
 fuzz:
 	FUZZ_SECONDS=$(FUZZ_SECONDS) bash scripts/fuzz.sh $(FUZZ_TARGETS)

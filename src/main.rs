@@ -90,6 +90,8 @@ enum BenchEngine {
     },
     /// Supervisory control: transfer lines (Göbe 2019, tables 7.1/7.2) and SupCon vs libFAUDES.
     Sct(cli::sct::BenchArgs),
+    /// LTL synthesis: the public G4LTL and SYNTCOMP specifications beside the published verdicts.
+    Ltl(cli::ltl::BenchArgs),
 }
 
 fn main() -> ExitCode {
@@ -107,5 +109,6 @@ fn main() -> ExitCode {
         Command::Ltl(a) => cli::ltl::ltl(&a),
         Command::Bench { engine: BenchEngine::Timed { runs, examples } } => cli::bench::timed(&examples, runs),
         Command::Bench { engine: BenchEngine::Sct(a) } => cli::sct::bench(&a),
+        Command::Bench { engine: BenchEngine::Ltl(a) } => cli::ltl::bench(&a),
     }
 }

@@ -35,10 +35,11 @@ fn files(relative: &str) -> Vec<(String, String)> {
 #[test]
 fn the_seed_inputs_pass_the_fuzz_checks() {
     type Check = fn(&str);
-    let checks: [(&str, Check); 3] = [
+    let checks: [(&str, Check); 4] = [
         ("examples/timed", harness::check_tga),
         ("examples/sct", harness::check_sct),
         ("fuzz/seeds/gen", harness::check_gen),
+        ("../shared/ltl/g4ltl", harness::check_g4ltl),
     ];
     for (dir, check) in checks {
         let seeds = files(dir);
@@ -57,11 +58,12 @@ fn the_seed_inputs_pass_the_fuzz_checks() {
 #[test]
 fn saved_parser_inputs_pass_their_checks() {
     type Check = fn(&str);
-    let checks: [(&str, Check); 4] = [
+    let checks: [(&str, Check); 5] = [
         ("tga", harness::check_tga),
         ("sct", harness::check_sct),
         ("gen", harness::check_gen),
         ("tlsf", harness::check_tlsf),
+        ("ltl", harness::check_g4ltl),
     ];
     let mut replayed = 0;
     for (target, check) in checks {

@@ -92,6 +92,45 @@ pub fn check_tlsf(source: &str) {
     }
 }
 
+/// Work a fuzzed LTL specification may spend on synthesis: milliseconds per input.
+pub const LTL_MAX_WORK: u64 = 200_000;
+
+/// G4LTL `.ltl` text: parse and check (every diagnostic located and rendered); an accepted
+/// specification is synthesised on a small budget, and a strategy found must satisfy the
+/// machine invariants (disjoint complete rows, Moore rows uniform) and lower to PLC code when
+/// it is a controller.
+pub fn check_g4ltl(source: &str) {
+    match ltl::compile_g4ltl(source) {
+        Ok((spec, warnings)) => {
+            assert!(!warnings.iter().any(Diagnostic::is_error), "a compiled specification with an error diagnostic");
+            assert_located(source, &warnings);
+            render_plain("fuzz.ltl", source, &warnings);
+            assert!(spec.formula().depth() <= ltl::MAX_FORMULA_DEPTH, "a formula deeper than the engine takes");
+            let cfg = ltl::Config { max_k: 2, max_states: 2_000, max_work: LTL_MAX_WORK, ..ltl::Config::default() };
+            let Ok(outcome) = ltl::synthesize(&spec, &cfg, &mut |_| true) else { return };
+            for machine in outcome.controller.iter().chain(&outcome.counter_strategy) {
+                machine.validate().expect("a valid strategy");
+            }
+            if let Some(controller) = &outcome.controller {
+                let options = plcsynth::plc::lower_ltl::LowerOptions::default();
+                if let Err(diagnostics) = plcsynth::plc::lower_ltl::lower(source, &spec, controller, &options) {
+                    // Only a timer too long for the PLC's TIME may refuse a controller.
+                    assert!(
+                        diagnostics.iter().all(|d| d.message.contains("TIME") || d.message.contains("timer")),
+                        "a synthesised controller is refused: {diagnostics:?}"
+                    );
+                }
+            }
+            ltl::report_json(&spec, &outcome);
+        }
+        Err(diagnostics) => {
+            assert!(diagnostics.iter().any(Diagnostic::is_error), "rejected without an error diagnostic");
+            assert_located(source, &diagnostics);
+            render_plain("fuzz.ltl", source, &diagnostics);
+        }
+    }
+}
+
 /// Largest product of two fuzzed generators that the `.gen` check synthesises on.
 const GEN_MAX_PRODUCT: usize = 20_000;
 
