@@ -197,6 +197,12 @@ def split_top(ast, positive=True):
         if not conjunctive:
             return left + right
         return [l + r for l in left for r in right]
+    if op == "<->":
+        # a <-> b is (a && b) || (!a && !b); its negation (a && !b) || (!a && b). lbt's own `e`
+        # crashes it under a negation when the sides hold nested eventualities.
+        a, b = ast[1], ast[2]
+        pairs = [(True, positive), (False, not positive)]
+        return [l + r for pa, pb in pairs for l in split_top(a, pa) for r in split_top(b, pb)]
     return [[ast if positive else ("!", ast)]]
 
 
