@@ -99,8 +99,8 @@ pub fn ltl(a: &LtlArgs) -> ExitCode {
             outln!("{}", ltl::render_machine(&spec, m).trim_end());
         }
         if let Some(m) = &outcome.counter_strategy {
-            outln!("environment's counter-strategy (state: inputs it sets / outputs it sees -> next):");
-            outln!("{}", ltl::render_machine(&spec, m).trim_end());
+            outln!("the environment's counter-strategy, unfolded from its initial state:");
+            outln!("{}", ltl::render_tree(&spec, m).trim_end());
         }
     }
     exit_code(outcome.verdict)

@@ -72,6 +72,93 @@ pub fn render_machine(spec: &Spec, machine: &Machine) -> String {
     out
 }
 
+/// The counter-strategy unfolded as a tree from its initial state: each state's inputs, then
+/// one branch per answer of the controller, each state unfolded once (later visits refer back
+/// to it), so that a plain sequence of inputs reads as a lasso.
+///
+/// For `examples/ltl/arbiter_same_scan.ltl`:
+///
+/// ```text
+/// s0: the environment sets req1 & req2
+/// └─ whatever the controller answers → s0 again
+/// ```
+pub fn render_tree(spec: &Spec, machine: &Machine) -> String {
+    let literals = |ids: &[super::SignalId], care: u64, value: u64| -> String {
+        let parts: Vec<String> = ids
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| care >> i & 1 == 1)
+            .map(|(i, &s)| format!("{}{}", if value >> i & 1 == 1 { "" } else { "!" }, spec.name(s)))
+            .collect();
+        if parts.is_empty() {
+            "nothing".to_string()
+        } else {
+            parts.join(" & ")
+        }
+    };
+    let all = u64::MAX >> (64 - machine.writes.len().max(1));
+    enum Item {
+        Text(String),
+        State(super::StateId, String),
+    }
+    let mut out = String::new();
+    let mut shown = vec![false; machine.states.len()];
+    // Depth-first with an explicit stack (a machine may be long): text to print, or a state to
+    // unfold with the indentation of its branches.
+    let mut stack = vec![Item::State(machine.init, String::new())];
+    while let Some(item) = stack.pop() {
+        let (state, indent) = match item {
+            Item::Text(text) => {
+                out.push_str(&text);
+                continue;
+            }
+            Item::State(state, indent) => (state, indent),
+        };
+        let s = state.index();
+        if shown[s] {
+            // Planned as a branch of an earlier state, unfolded meanwhile by another branch.
+            out.push_str(&format!("s{s} again\n"));
+            continue;
+        }
+        shown[s] = true;
+        if machine.moves_first {
+            out.push_str(&format!(
+                "s{s}: the environment sets {}\n",
+                literals(&machine.writes, all, machine.first_write(state))
+            ));
+        } else {
+            out.push_str(&format!("s{s}\n"));
+        }
+        let rows = &machine.states[s];
+        let mut items = Vec::new();
+        for (i, row) in rows.iter().enumerate() {
+            let (fork, deeper) = if i + 1 == rows.len() { ("└─ ", "   ") } else { ("├─ ", "│  ") };
+            let answer = if row.read.care == 0 {
+                "whatever the controller answers".to_string()
+            } else {
+                format!("if the controller answers {}", literals(&machine.reads, row.read.care, row.read.value))
+            };
+            let sets = if machine.moves_first {
+                String::new()
+            } else {
+                format!(", it sets {}", literals(&machine.writes, all, row.write))
+            };
+            let next = row.next;
+            let head = format!("{indent}{fork}{answer}{sets} → ");
+            // A state is unfolded once, where it is first reached; elsewhere it is referred to.
+            let planned = items.iter().any(|item| matches!(item, Item::State(n, _) if *n == next));
+            if shown[next.index()] || planned {
+                items.push(Item::Text(format!("{head}s{} again\n", next.0)));
+            } else {
+                items.push(Item::Text(head));
+                items.push(Item::State(next, format!("{indent}{deeper}")));
+            }
+        }
+        stack.extend(items.into_iter().rev());
+    }
+    out
+}
+
 /// A one-line summary: `realizable at k = 1: controller of 2 states, 3 rows`.
 pub fn summary(outcome: &Outcome) -> String {
     let size = |m: &Machine| format!("{} states, {} rows", m.states.len(), m.rows());

@@ -26,7 +26,7 @@ mod strategy;
 mod tlsf;
 mod translate;
 
-pub use export::{render_machine, report_json, summary};
+pub use export::{render_machine, render_tree, report_json, summary};
 pub use g4ltl::compile_g4ltl;
 pub use machine::{Cube, Machine, Row, StateId};
 pub use spec::{Clause, Ltl, Semantics, Signal, SignalId, SignalKind, Spec, Timer, MAX_FORMULA_DEPTH};
