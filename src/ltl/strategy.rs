@@ -77,9 +77,18 @@ fn choose(game: &Game) -> Table {
                 moves.push((a as u64, next));
             }
         } else {
-            // Read first: for each valuation, a reply that stays winning, into a known state if
-            // possible.
+            // Read first: for each valuation, a reply that stays winning — one this state
+            // already gives for another valuation if it fits (fewer rows), else one into a known
+            // state, else a new state.
             for a in 0..l1 {
+                let reused = moves.iter().copied().find(|&(b, next): &(u64, u32)| {
+                    let q = game.successor(p, a, b as usize);
+                    winning(q) && dominates(members[next as usize], q)
+                });
+                if let Some(choice) = reused {
+                    moves.push(choice);
+                    continue;
+                }
                 let replies: Vec<usize> =
                     by_fewest_set(l2).into_iter().filter(|&b| winning(game.successor(p, a, b))).collect();
                 let known = replies
@@ -156,11 +165,12 @@ fn number<K: std::hash::Hash + Eq>(keys: impl Iterator<Item = K>) -> Vec<u32> {
 }
 
 /// Disjoint cubes covering every valuation of `width` read signals, one per group of
-/// valuations with the same write and next state: a decision on the signals in order, then
-/// siblings that differ in one signal merged.
+/// valuations with the same write and next state: a decision on the read signals, splitting
+/// each time on the signal that leaves the fewest distinct groups on its two sides, then
+/// sibling cubes that differ in one signal merged.
 fn cover(moves: &[(u64, u32)], width: usize) -> Vec<Row> {
     let mut rows = Vec::new();
-    split(moves, width, Cube::ANY, 0, &mut rows);
+    split(moves, width, Cube::ANY, &mut rows);
     loop {
         let mut merged = false;
         'pairs: for i in 0..rows.len() {
@@ -181,26 +191,47 @@ fn cover(moves: &[(u64, u32)], width: usize) -> Vec<Row> {
     }
 }
 
-fn split(moves: &[(u64, u32)], width: usize, cube: Cube, var: usize, rows: &mut Vec<Row>) {
+/// The valuations of `width` signals inside `cube`.
+fn members(width: usize, cube: Cube) -> impl Iterator<Item = usize> {
     let free = ((1u64 << width) - 1) & !cube.care;
+    let mut sub = Some(free);
+    std::iter::from_fn(move || {
+        let current = sub?;
+        sub = (current != 0).then(|| (current - 1) & free);
+        Some((cube.value | current) as usize)
+    })
+}
+
+fn distinct(moves: &[(u64, u32)], width: usize, cube: Cube) -> usize {
+    let mut seen: Vec<(u64, u32)> = Vec::new();
+    for v in members(width, cube) {
+        if !seen.contains(&moves[v]) {
+            seen.push(moves[v]);
+        }
+    }
+    seen.len()
+}
+
+fn split(moves: &[(u64, u32)], width: usize, cube: Cube, rows: &mut Vec<Row>) {
     let first = moves[cube.value as usize];
-    let mut sub = free;
-    let uniform = loop {
-        if moves[(cube.value | sub) as usize] != first {
-            break false;
-        }
-        if sub == 0 {
-            break true;
-        }
-        sub = (sub - 1) & free;
-    };
-    if uniform {
+    if members(width, cube).all(|v| moves[v] == first) {
         rows.push(Row { read: cube, write: first.0, next: StateId(first.1) });
         return;
     }
-    let bit = 1u64 << var;
-    split(moves, width, Cube { care: cube.care | bit, value: cube.value }, var + 1, rows);
-    split(moves, width, Cube { care: cube.care | bit, value: cube.value | bit }, var + 1, rows);
+    let halves = |bit: u64| {
+        (Cube { care: cube.care | bit, value: cube.value }, Cube { care: cube.care | bit, value: cube.value | bit })
+    };
+    let bit = (0..width)
+        .map(|i| 1u64 << i)
+        .filter(|bit| cube.care & bit == 0)
+        .min_by_key(|&bit| {
+            let (low, high) = halves(bit);
+            distinct(moves, width, low) + distinct(moves, width, high)
+        })
+        .expect("a cube that is not uniform has a free signal");
+    let (low, high) = halves(bit);
+    split(moves, width, low, rows);
+    split(moves, width, high, rows);
 }
 
 #[cfg(test)]
