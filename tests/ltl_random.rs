@@ -14,7 +14,8 @@
 //! timed tests), because an LTL case costs microseconds.
 
 use plcsynth::ltl::{
-    self, translate, Automaton, Config, Ltl, Machine, Semantics, Signal, SignalId, SignalKind, Spec, Verdict,
+    self, translate, Automaton, Config, Ltl, Machine, Semantics, Signal, SignalId, SignalKind, Solver, Spec, Stop,
+    Verdict,
 };
 use plcsynth::rng::Rng;
 
@@ -227,10 +228,55 @@ fn random_spec(rng: &mut Rng, semantics: Semantics) -> Spec {
 
 #[test]
 fn verdicts_come_with_strategies_that_win() {
-    let mut rng = Rng::new(11);
+    strategies_win(Solver::Explicit, 11);
+}
+
+#[test]
+fn the_antichain_solver_wins_with_its_strategies_too() {
+    strategies_win(Solver::Antichain, 13);
+}
+
+/// Both solvers decide the same games: the same verdict at the same bound on every
+/// specification both finish.
+#[test]
+fn the_two_solvers_agree() {
+    let mut rng = Rng::new(17);
+    let mut compared = 0;
+    for case in 0..cases() / 2 {
+        let semantics = if case % 3 == 0 { Semantics::Moore } else { Semantics::Mealy };
+        let spec = random_spec(&mut rng, semantics);
+        let run = |solver| {
+            let cfg = Config { max_k: 3, max_states: 20_000, solver, ..Config::default() };
+            ltl::synthesize(&spec, &cfg, &mut |_| true)
+                .ok()
+                .filter(|o| o.limit.as_deref().is_none_or(|l| l.contains("--max-k")))
+        };
+        if let (Some(a), Some(b)) = (run(Solver::Explicit), run(Solver::Antichain)) {
+            assert_eq!((a.verdict, a.k), (b.verdict, b.k), "case {case}: {}", spec.formula_text());
+            compared += 1;
+        }
+    }
+    assert!(compared > cases() / 4, "{compared} compared");
+}
+
+#[test]
+fn a_run_is_cancelled_when_the_callback_says_so() {
+    let source = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/ltl/mutex.tlsf")).unwrap();
+    let (spec, _) = ltl::compile_tlsf(&source, &[]).unwrap();
+    let mut calls = 0;
+    let result = ltl::synthesize(&spec, &Config::default(), &mut |_| {
+        calls += 1;
+        false
+    });
+    assert_eq!(result.err(), Some(Stop::Cancelled));
+    assert_eq!(calls, 1);
+}
+
+fn strategies_win(solver: Solver, seed: u64) {
+    let mut rng = Rng::new(seed);
     let names = |s: SignalId| ["i0", "i1", "o0", "o1"][s.index()].to_string();
     let (mut realizable, mut unrealizable) = (0, 0);
-    let cfg = Config { max_k: 3, max_states: 20_000, ..Config::default() };
+    let cfg = Config { max_k: 3, max_states: 20_000, solver, ..Config::default() };
     for case in 0..cases() / 2 {
         let semantics = if case % 3 == 0 { Semantics::Moore } else { Semantics::Mealy };
         let spec = random_spec(&mut rng, semantics);

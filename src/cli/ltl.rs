@@ -6,6 +6,12 @@ use plcsynth::ltl::{self, Config, Format, Verdict};
 use plcsynth::plc;
 use std::process::ExitCode;
 
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum SolverArg {
+    Explicit,
+    Antichain,
+}
+
 #[derive(Args)]
 pub struct LtlArgs {
     /// The specification: `.ltl`/`.g4ltl` (G4LTL's lines) or `.tlsf` (SYNTCOMP's TLSF).
@@ -23,6 +29,10 @@ pub struct LtlArgs {
     /// Units of work the run may spend (translation and games; about proportional to time).
     #[arg(long, value_name = "N", default_value_t = ltl::DEFAULT_MAX_WORK)]
     pub max_work: u64,
+    /// How the bounded games are solved: `explicit` (every reachable position; the default) or
+    /// `antichain` (the fixpoint on maximal winning positions).
+    #[arg(long, value_enum, default_value = "explicit")]
+    pub solver: SolverArg,
     /// Override a TLSF parameter, e.g. `--param n=3` (repeatable).
     #[arg(long = "param", value_name = "NAME=VALUE", value_parser = parse_param)]
     pub params: Vec<(String, i64)>,
@@ -74,7 +84,11 @@ pub fn ltl(a: &LtlArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let cfg = Config { max_k: a.max_k, max_states: a.max_states, max_work: a.max_work, ..Config::default() };
+    let solver = match a.solver {
+        SolverArg::Explicit => ltl::Solver::Explicit,
+        SolverArg::Antichain => ltl::Solver::Antichain,
+    };
+    let cfg = Config { max_k: a.max_k, max_states: a.max_states, max_work: a.max_work, solver, ..Config::default() };
     let outcome = match ltl::synthesize(&spec, &cfg, &mut |_| true) {
         Ok(outcome) => outcome,
         Err(stop) => {

@@ -17,13 +17,18 @@
 //! protagonist (its runs are a subset with smaller counters), which lets the strategy
 //! extraction (`strategy`) reuse a winning position for every position below it.
 
-use super::strategy::extract;
+use super::antichain::{self, Antichain};
+use super::strategy::extract_from_antichain;
 use super::translate::Automaton;
-use super::{translate, Config, Ltl, Outcome, Progress, Semantics, SignalId, Spec, Stats, Stop, Verdict, Work};
+use super::{translate, Config, Ltl, Outcome, Progress, Semantics, SignalId, Solver, Spec, Stats, Stop, Verdict, Work};
 use hashbrown::HashMap;
 
 /// The successor of a lost round.
 pub(super) const LOST: u32 = u32::MAX;
+
+/// Work the explicit solver may spend on the antichain fixpoint of a won game, for a smaller
+/// strategy; past it the explored positions serve.
+const EXTRACTION_WORK: u64 = 10_000_000;
 
 /// Successor entries (positions × letters) a game may hold: 4 bytes each, so 200 MB.
 const MAX_ENTRIES: usize = 50_000_000;
@@ -45,8 +50,17 @@ pub(super) struct Game {
 }
 
 impl Game {
-    pub fn successor(&self, p: u32, a: usize, b: usize) -> u32 {
-        self.succ[(p as usize * self.first.len() + a) * self.second.len() + b]
+    /// The maximal winning positions: the winning region is closed downwards within the
+    /// explored positions (a position below a winning one wins with the same moves), so these
+    /// describe it, as the antichain solver's result does.
+    fn maximal_winning(&self) -> Antichain {
+        let mut set = Antichain::default();
+        for (p, position) in self.positions.iter().enumerate() {
+            if !self.lost[p] {
+                set.insert(position.clone());
+            }
+        }
+        set
     }
 
     /// Explores every position reachable from the initial one. `budget` is the number of
@@ -90,24 +104,7 @@ impl Game {
             }
             for &fa in &first {
                 for &fb in &second {
-                    let letter = fa | fb;
-                    next.fill(-1);
-                    let mut lost = false;
-                    'runs: for (q, &c) in positions[p].iter().enumerate() {
-                        if c < 0 {
-                            continue;
-                        }
-                        for e in automaton.states[q].edges.iter().filter(|e| e.enabled(letter)) {
-                            let count = c + i8::from(e.accepting);
-                            if count > k || automaton.states[e.to as usize].universal {
-                                lost = true;
-                                break 'runs;
-                            }
-                            let slot = &mut next[e.to as usize];
-                            *slot = (*slot).max(count);
-                        }
-                    }
-                    if lost {
+                    if !advance(automaton, k, &positions[p], fa | fb, &mut next) {
                         succ.push(LOST);
                         continue;
                     }
@@ -180,6 +177,27 @@ impl Game {
     }
 }
 
+/// One round from `position` on `letter`: the counters of every run after it in `next`, or
+/// `false` when the protagonist loses the round (a counter past `k`, or a run reaching a state
+/// that accepts every word).
+pub(super) fn advance(automaton: &Automaton, k: i8, position: &[i8], letter: u64, next: &mut [i8]) -> bool {
+    next.fill(-1);
+    for (q, &c) in position.iter().enumerate() {
+        if c < 0 {
+            continue;
+        }
+        for e in automaton.states[q].edges.iter().filter(|e| e.enabled(letter)) {
+            let count = c + i8::from(e.accepting);
+            if count > k || automaton.states[e.to as usize].universal {
+                return false;
+            }
+            let slot = &mut next[e.to as usize];
+            *slot = (*slot).max(count);
+        }
+    }
+    true
+}
+
 enum Explored {
     OverBudget,
     Stopped(Stop),
@@ -226,32 +244,91 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) 
             let protagonist_first = controller == controller_first;
             let budget = cfg.max_states.saturating_sub(positions);
             work.at.k = k;
-            let explored =
-                Game::explore(automaton, k, first.clone(), second.clone(), protagonist_first, budget, &mut work);
-            let mut game = match explored {
-                Ok(game) => game,
-                Err(Explored::Stopped(Stop::Cancelled)) => return Err(Stop::Cancelled),
-                Err(Explored::Stopped(Stop::Budget(limit))) => {
-                    stats.positions = positions;
-                    stats.work = work.used();
-                    return Ok(unknown(k.saturating_sub(1), stats, limit));
+            let (reads, writes) = if controller { (&inputs, &outputs) } else { (&outputs, &inputs) };
+            let won = match cfg.solver {
+                Solver::Antichain => {
+                    match antichain::solve(automaton, k, &first, &second, protagonist_first, budget, &mut work) {
+                        Ok(winning) => {
+                            positions += winning.elements.len();
+                            let mut init = vec![-1i8; automaton.states.len()];
+                            if !automaton.is_empty() {
+                                init[automaton.init as usize] = 0;
+                            }
+                            winning.contains(&init).then(|| {
+                                extract_from_antichain(
+                                    automaton,
+                                    k,
+                                    &winning,
+                                    &first,
+                                    &second,
+                                    protagonist_first,
+                                    reads,
+                                    writes,
+                                )
+                            })
+                        }
+                        Err(Stop::Cancelled) => return Err(Stop::Cancelled),
+                        Err(Stop::Budget(limit)) => {
+                            stats.positions = positions;
+                            stats.work = work.used();
+                            return Ok(unknown(k.saturating_sub(1), stats, limit));
+                        }
+                    }
                 }
-                Err(Explored::OverBudget) => {
-                    stats.positions = positions;
-                    stats.work = work.used();
-                    let limit = format!(
-                        "the game at k = {k} needs more than the {} positions left of the budget ({} in all, \
-                         --max-states)",
-                        budget, cfg.max_states
+                Solver::Explicit => {
+                    let explored = Game::explore(
+                        automaton,
+                        k,
+                        first.clone(),
+                        second.clone(),
+                        protagonist_first,
+                        budget,
+                        &mut work,
                     );
-                    return Ok(unknown(k.saturating_sub(1), stats, limit));
+                    let mut game = match explored {
+                        Ok(game) => game,
+                        Err(Explored::Stopped(Stop::Cancelled)) => return Err(Stop::Cancelled),
+                        Err(Explored::Stopped(Stop::Budget(limit))) => {
+                            stats.positions = positions;
+                            stats.work = work.used();
+                            return Ok(unknown(k.saturating_sub(1), stats, limit));
+                        }
+                        Err(Explored::OverBudget) => {
+                            stats.positions = positions;
+                            stats.work = work.used();
+                            return Ok(unknown(k.saturating_sub(1), stats, position_budget(k, budget, cfg.max_states)));
+                        }
+                    };
+                    positions += game.positions.len();
+                    game.solve();
+                    if game.lost[0] {
+                        None
+                    } else {
+                        // The strategy is read off the maximal winning positions. Those of the
+                        // whole game (the antichain fixpoint) lie higher than the explored ones
+                        // and give smaller machines, so they are computed when affordable.
+                        let fixpoint = work.capped(EXTRACTION_WORK, |work| {
+                            antichain::solve(automaton, k, &first, &second, protagonist_first, budget, work)
+                        });
+                        let winning = match fixpoint {
+                            Ok(winning) => winning,
+                            Err(Stop::Cancelled) => return Err(Stop::Cancelled),
+                            Err(Stop::Budget(_)) => game.maximal_winning(),
+                        };
+                        Some(extract_from_antichain(
+                            automaton,
+                            k,
+                            &winning,
+                            &first,
+                            &second,
+                            protagonist_first,
+                            reads,
+                            writes,
+                        ))
+                    }
                 }
             };
-            positions += game.positions.len();
-            game.solve();
-            if !game.lost[0] {
-                let (reads, writes) = if controller { (&inputs, &outputs) } else { (&outputs, &inputs) };
-                let (raw, machine) = extract(&game, reads, writes);
+            if let Some((raw, machine)) = won {
                 stats.positions = positions;
                 stats.work = work.used();
                 stats.strategy_states_raw = raw;
@@ -270,6 +347,11 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) 
     stats.positions = positions;
     stats.work = work.used();
     Ok(unknown(max_k, stats, format!("neither player wins with counters bounded by k = {max_k} (--max-k)")))
+}
+
+/// The message of a run that needed more positions than `budget` (of `max_states`) at `k`.
+pub(super) fn position_budget(k: u32, budget: usize, max_states: usize) -> String {
+    format!("the game at k = {k} needs more than the {budget} positions left of the budget ({max_states} in all, --max-states)")
 }
 
 fn unknown(k: u32, stats: Stats, limit: String) -> Outcome {

@@ -17,6 +17,7 @@
 //! assert!(outcome.controller.is_some());
 //! ```
 
+mod antichain;
 mod export;
 mod g4ltl;
 mod game;
@@ -80,10 +81,25 @@ pub struct Config {
     /// Letters (valuations of all signals) a game may enumerate per position: the explicit
     /// game costs 2^(inputs + outputs) per position.
     pub max_signals: usize,
+    /// How the bounded games are solved.
+    pub solver: Solver,
     /// Units of work of the whole run (tableau terms combined and compared in the
     /// translation, automaton edges followed in the games): about proportional to time, so
     /// that no input keeps a caller waiting, however small its state counts.
     pub max_work: u64,
+}
+
+/// The two solvers of the bounded games; they decide the same games (the tests compare them),
+/// and both hand the winner's maximal winning positions to one strategy extraction.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Solver {
+    /// Every position reachable from the initial one explored, the game solved backwards by
+    /// counting: the faster on the listed specifications.
+    #[default]
+    Explicit,
+    /// The greatest fixpoint on antichains of maximal winning positions (Filiot, Jin and Raskin):
+    /// no position below them is enumerated, but meets of antichains can grow.
+    Antichain,
 }
 
 /// The default work budget: a few seconds natively.
@@ -127,6 +143,16 @@ impl<'a> Work<'a> {
     pub(crate) fn used(&self) -> u64 {
         self.used
     }
+
+    /// Runs `f` with at most `units` more to spend (within the run's budget), then restores
+    /// the run's budget: for optional work whose running out is not the run's end.
+    pub(crate) fn capped<T>(&mut self, units: u64, f: impl FnOnce(&mut Work) -> T) -> T {
+        let limit = self.limit;
+        self.limit = limit.min(self.used.saturating_add(units));
+        let result = f(self);
+        self.limit = limit;
+        result
+    }
 }
 
 /// The default bound of the co-Büchi counters: enough for every example and every listed
@@ -143,6 +169,7 @@ impl Default for Config {
             max_automaton_states: 20_000,
             max_signals: 20,
             max_work: DEFAULT_MAX_WORK,
+            solver: Solver::Explicit,
         }
     }
 }
@@ -177,7 +204,8 @@ pub struct Stats {
     pub automaton_states: usize,
     /// States of the Büchi automaton of the specification (the environment's game).
     pub dual_automaton_states: usize,
-    /// Game positions built in all games.
+    /// Game positions built in all games (explicit solver), or antichain elements of the
+    /// winning sets (antichain solver).
     pub positions: usize,
     /// States of the strategy before minimisation.
     pub strategy_states_raw: usize,

@@ -1,34 +1,131 @@
-//! From a won bounded game to a small finite-state strategy: extraction over the winning
-//! positions with reuse of dominating positions, minimisation by partition refinement, and
-//! rows written as few disjoint cubes.
+//! From a won bounded game to a small finite-state strategy: extraction over the maximal
+//! winning positions, minimisation by partition refinement, and rows written as few disjoint
+//! cubes.
 //!
-//! Reuse: a position dominated pointwise by a winning position `h` is won by `h`'s strategy
-//! (its runs are a subset of `h`'s with counters no larger, and the successors keep that
-//! order), so the extraction jumps to an existing machine state `h` whenever one dominates
-//! the successor. This is the antichain argument of Filiot, Jin and Raskin; it keeps the
-//! machine near the maximal winning positions it needs instead of every position it meets.
+//! A position below a winning position `h` (pointwise) is won by `h`'s moves: its runs are a
+//! subset of `h`'s with counters no larger, and successors keep that order. So the machine's
+//! states are maximal winning positions (an antichain, Filiot, Jin and Raskin), and a move
+//! goes to a state above its successor, preferring one the machine already has.
 
-use super::game::{Game, LOST};
+use super::antichain::Antichain;
+use super::game::advance;
 use super::machine::{Cube, Machine, Row, StateId};
 use super::spec::SignalId;
+use super::translate::Automaton;
 use hashbrown::HashMap;
 
-/// The winner's strategy in `game` from the initial position, which must be winning: states
-/// before minimisation, and the minimised machine reading `reads` and writing `writes`.
-pub(super) fn extract(game: &Game, reads: &[SignalId], writes: &[SignalId]) -> (usize, Machine) {
-    let table = choose(game);
+/// The winner's strategy read off the antichain of its maximal winning positions: machine
+/// states are antichain elements; from element `h`, a move whose successor lies below an
+/// element `g` goes to `g` (the same moves win from every position below `h`).
+#[allow(clippy::too_many_arguments)] // the game's parts, as `antichain::solve` takes them
+pub(super) fn extract_from_antichain(
+    automaton: &Automaton,
+    k: u32,
+    winning: &Antichain,
+    first: &[u64],
+    second: &[u64],
+    protagonist_first: bool,
+    reads: &[SignalId],
+    writes: &[SignalId],
+) -> (usize, Machine) {
+    let k = k as i8;
+    let elements = &winning.elements;
+    let mut init = vec![-1i8; automaton.states.len()];
+    if !automaton.is_empty() {
+        init[automaton.init as usize] = 0;
+    }
+    let start = winning.above(&init).expect("the initial position is winning");
+    let mut members: Vec<usize> = vec![start];
+    let mut next = vec![-1i8; automaton.states.len()];
+    // The machine state for a successor: a member above it, else a new member above it.
+    let target = |members: &mut Vec<usize>, succ: &[i8]| -> Option<u32> {
+        if let Some(m) = members.iter().position(|&e| below(succ, &elements[e])) {
+            return Some(m as u32);
+        }
+        let e = winning.above(succ)?;
+        members.push(e);
+        Some(members.len() as u32 - 1)
+    };
+    let mut table: Table = Vec::new();
+    let mut i = 0;
+    while i < members.len() {
+        let h = elements[members[i]].clone();
+        let mut moves: Vec<(u64, u32)> = Vec::new();
+        if protagonist_first {
+            // An own valuation after which every reply stays below the antichain, preferring the
+            // one whose successors lie below states the machine has.
+            let known = |a: usize, members: &[usize], next: &mut [i8]| -> Option<usize> {
+                let mut count = 0;
+                for &fb in second {
+                    if !advance(automaton, k, &h, first[a] | fb, next) || !winning.contains(next) {
+                        return None;
+                    }
+                    count += usize::from(members.iter().any(|&e| below(next, &elements[e])));
+                }
+                Some(count)
+            };
+            let a = by_fewest_set(first.len())
+                .into_iter()
+                .filter_map(|a| known(a, &members, &mut next).map(|c| (c, a)))
+                .max_by_key(|&(c, a)| (c, std::cmp::Reverse(a.count_ones()), std::cmp::Reverse(a)))
+                .map(|(_, a)| a)
+                .expect("a winning position has a safe move");
+            for &fb in second {
+                assert!(advance(automaton, k, &h, first[a] | fb, &mut next), "checked above");
+                let to = target(&mut members, &next).expect("checked above");
+                moves.push((a as u64, to));
+            }
+        } else {
+            for &fa in first {
+                // A reply this state already gives, if it wins here too.
+                let reused = moves.iter().copied().find(|&(b, to): &(u64, u32)| {
+                    advance(automaton, k, &h, fa | second[b as usize], &mut next)
+                        && below(&next, &elements[members[to as usize]])
+                });
+                if let Some(choice) = reused {
+                    moves.push(choice);
+                    continue;
+                }
+                let mut fresh = None;
+                let mut chosen = None;
+                for b in by_fewest_set(second.len()) {
+                    if !advance(automaton, k, &h, fa | second[b], &mut next) {
+                        continue;
+                    }
+                    if let Some(m) = members.iter().position(|&e| below(&next, &elements[e])) {
+                        chosen = Some((b as u64, m as u32));
+                        break;
+                    }
+                    if fresh.is_none() && winning.contains(&next) {
+                        fresh = Some((b, next.clone()));
+                    }
+                }
+                let choice = chosen.unwrap_or_else(|| {
+                    let (b, succ) = fresh.expect("a winning position has a reply to every move");
+                    (b as u64, target(&mut members, &succ).expect("winning"))
+                });
+                moves.push(choice);
+            }
+        }
+        table.push(moves);
+        i += 1;
+    }
     let raw = table.len();
     let table = minimise(&table);
     let states = table.iter().map(|moves| cover(moves, reads.len())).collect();
     let machine = Machine {
         reads: reads.to_vec(),
         writes: writes.to_vec(),
-        moves_first: game.protagonist_first,
+        moves_first: protagonist_first,
         init: StateId(0),
         states,
     };
     debug_assert_eq!(machine.validate(), Ok(()));
     (raw, machine)
+}
+
+fn below(a: &[i8], b: &[i8]) -> bool {
+    a.iter().zip(b).all(|(x, y)| x <= y)
 }
 
 /// Per machine state and valuation of the read signals: the value written and the next state.
@@ -39,72 +136,6 @@ fn by_fewest_set(count: usize) -> Vec<usize> {
     let mut order: Vec<usize> = (0..count).collect();
     order.sort_by_key(|&v| (v.count_ones(), v));
     order
-}
-
-fn choose(game: &Game) -> Table {
-    let positions = &game.positions;
-    let dominates =
-        |h: u32, q: u32| positions[q as usize].iter().zip(positions[h as usize].iter()).all(|(x, y)| x <= y);
-    let winning = |q: u32| q != LOST && !game.lost[q as usize];
-    let (l1, l2) = (game.first.len(), game.second.len());
-    let mut members: Vec<u32> = vec![0];
-    let mut table: Table = Vec::new();
-    let mut i = 0;
-    // The machine state standing for successor `q`: an existing one that dominates it, if any.
-    fn existing(members: &[u32], q: u32, dominates: &dyn Fn(u32, u32) -> bool) -> Option<u32> {
-        members.iter().position(|&h| dominates(h, q)).map(|m| m as u32)
-    }
-    fn add(members: &mut Vec<u32>, q: u32) -> u32 {
-        members.push(q);
-        members.len() as u32 - 1
-    }
-    while i < members.len() {
-        let p = members[i];
-        let mut moves = Vec::new();
-        if game.protagonist_first {
-            // Write first: a valuation after which every reply stays winning, preferring the
-            // one whose successors the machine already has.
-            let safe = by_fewest_set(l1).into_iter().filter(|&a| (0..l2).all(|b| winning(game.successor(p, a, b))));
-            let a = safe
-                .max_by_key(|&a| {
-                    let known = (0..l2).filter(|&b| existing(&members, game.successor(p, a, b), &dominates).is_some());
-                    (known.count(), std::cmp::Reverse(a.count_ones()), std::cmp::Reverse(a))
-                })
-                .expect("a winning position has a safe move");
-            for b in 0..l2 {
-                let q = game.successor(p, a, b);
-                let next = existing(&members, q, &dominates).unwrap_or_else(|| add(&mut members, q));
-                moves.push((a as u64, next));
-            }
-        } else {
-            // Read first: for each valuation, a reply that stays winning — one this state
-            // already gives for another valuation if it fits (fewer rows), else one into a known
-            // state, else a new state.
-            for a in 0..l1 {
-                let reused = moves.iter().copied().find(|&(b, next): &(u64, u32)| {
-                    let q = game.successor(p, a, b as usize);
-                    winning(q) && dominates(members[next as usize], q)
-                });
-                if let Some(choice) = reused {
-                    moves.push(choice);
-                    continue;
-                }
-                let replies: Vec<usize> =
-                    by_fewest_set(l2).into_iter().filter(|&b| winning(game.successor(p, a, b))).collect();
-                let known = replies
-                    .iter()
-                    .find_map(|&b| existing(&members, game.successor(p, a, b), &dominates).map(|m| (b, m)));
-                let (b, next) = known.unwrap_or_else(|| {
-                    let b = *replies.first().expect("a winning position has a reply to every move");
-                    (b, add(&mut members, game.successor(p, a, b)))
-                });
-                moves.push((b as u64, next));
-            }
-        }
-        table.push(moves);
-        i += 1;
-    }
-    table
 }
 
 /// The smallest machine with the same behaviour (Moore's partition refinement on writes and
