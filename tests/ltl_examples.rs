@@ -7,9 +7,14 @@
 //! - every controller and counter-strategy found is checked by `tests/checkers/ltl_mc.py`,
 //!   which translates the specification with Debian's `lbt` (no code shared with the engine)
 //!   and searches the product for a violating play; a mutated controller must be caught;
-//! - where `tests/checkers/ltl_gr1.py` finds the specification GR(1)-shaped, gr1py agrees.
+//! - where `tests/checkers/ltl_gr1.py` finds the specification GR(1)-shaped, gr1py agrees;
+//! - every synthesised controller becomes code for every structured target, and blark parses
+//!   (xmllint validates) the code of three of them, one with a timer.
+
+mod common;
 
 use plcsynth::ltl::{self, Config, Format, Outcome, Spec, Verdict};
+use plcsynth::plc::{self, Target};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -261,4 +266,57 @@ fn gr1py_agrees_where_the_specification_is_gr1() {
         }
     }
     assert!(compared >= 4, "only {compared} listed specifications were compared with gr1py");
+}
+
+#[test]
+fn synthesised_controllers_become_code_for_every_target() {
+    let dir = scratch();
+    let options = plc::Options::default();
+    let schema = root().join("../shared/schemas/tc6_xml_v201.xsd");
+    let checked = ["paper_fig1_refined.g4ltl", "ptii_AutomaticDoor.g4ltl", "mutex.tlsf"];
+    let mut st_files = Vec::new();
+    for (path, params, _) in listed() {
+        let (spec, outcome) = decide(&path, &params);
+        let Some(controller) = &outcome.controller else { continue };
+        let source = std::fs::read_to_string(&path).unwrap();
+        let name = label(&path, &params);
+        let unit = plc::lower_ltl::lower(&source, &spec, controller, &plc::lower_ltl::LowerOptions::default())
+            .unwrap_or_else(|d| panic!("{name}: {d:?}"));
+        let file = path.file_name().unwrap().to_string_lossy().to_string();
+        for target in Target::ALL {
+            let files = plc::render_unit_files(&unit, target, &options);
+            if target == Target::Il {
+                assert!(files.is_err(), "{name}: Instruction List is refused");
+                continue;
+            }
+            let files = files.unwrap_or_else(|e| panic!("{name}, {target}: {e}"));
+            if !checked.contains(&file.as_str()) || !params.is_empty() {
+                continue;
+            }
+            let text = &files[0].text;
+            let stem = file.replace('.', "_");
+            match target {
+                Target::St | Target::Codesys => {
+                    let out = dir.join(format!("{stem}_{target}.st"));
+                    std::fs::write(&out, text).unwrap();
+                    st_files.push(out);
+                }
+                Target::Scl | Target::Scl1500 => {
+                    let out = dir.join(format!("{stem}_{target}.st"));
+                    std::fs::write(&out, common::scl_for_blark(text)).unwrap();
+                    st_files.push(out);
+                }
+                Target::Plcopen => {
+                    let out = dir.join(format!("{stem}.xml"));
+                    std::fs::write(&out, text).unwrap();
+                    let status = Command::new("xmllint").arg("--noout").arg("--schema").arg(&schema).arg(&out).output();
+                    let status = status.expect("xmllint runs (bash scripts/python-checkers.sh installs it)");
+                    assert!(status.status.success(), "{name}: {}", String::from_utf8_lossy(&status.stderr));
+                }
+                _ => {}
+            }
+        }
+    }
+    assert_eq!(st_files.len(), 4 * checked.len(), "each checked controller in four ST dialects");
+    common::blark_all(&python(), &root(), &st_files);
 }
