@@ -82,6 +82,8 @@ fn listed() -> Vec<Case> {
         ("simple_arbiter_unreal/simple_arbiter_unreal1.tlsf", vec![("n".into(), 2), ("u".into(), 1)], "unrealizable"),
         ("simple_arbiter_unreal/simple_arbiter_unreal2.tlsf", n(2), "unrealizable"),
         ("full_arbiter/full_arbiter.tlsf", n(2), "realizable"),
+        ("full_arbiter/full_arbiter.tlsf", n(3), "realizable"),
+        ("load_balancer/load_balancer.tlsf", n(3), "realizable"),
         ("prioritized_arbiter/prioritized_arbiter.tlsf", n(2), "realizable"),
         ("prioritized_arbiter_unreal/prioritized_arbiter_unreal2.tlsf", n(2), "unrealizable"),
         ("round_robin_arbiter/round_robin_arbiter.tlsf", n(2), "realizable"),

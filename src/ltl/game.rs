@@ -20,7 +20,9 @@
 use super::antichain::{self, Antichain};
 use super::strategy::extract_from_antichain;
 use super::translate::Automaton;
-use super::{translate, Config, Ltl, Outcome, Progress, Semantics, SignalId, Solver, Spec, Stats, Stop, Verdict, Work};
+use super::{
+    translate, Config, Ltl, Machine, Outcome, Progress, Semantics, SignalId, Solver, Spec, Stats, Stop, Verdict, Work,
+};
 use hashbrown::HashMap;
 
 /// The successor of a lost round.
@@ -236,117 +238,167 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) 
     };
     let max_k = cfg.max_k.min(100);
     let mut positions = 0usize;
+    // A player whose game outgrew its share of the budgets plays no more; the other goes on, so
+    // that an exploding game of the environment does not hide a controller, nor the reverse.
+    let mut given_up: [Option<String>; 2] = [None, None];
+    let mut decided_up_to = None;
     for k in 0..=max_k {
         // The controller's game, then the environment's, each on the automaton its opponent
         // wants accepted.
-        for controller in [true, false] {
-            let automaton = if controller { &against } else { &towards };
-            let protagonist_first = controller == controller_first;
-            let budget = cfg.max_states.saturating_sub(positions);
-            work.at.k = k;
-            let (reads, writes) = if controller { (&inputs, &outputs) } else { (&outputs, &inputs) };
-            let won = match cfg.solver {
-                Solver::Antichain => {
-                    match antichain::solve(automaton, k, &first, &second, protagonist_first, budget, &mut work) {
-                        Ok(winning) => {
-                            positions += winning.elements.len();
-                            let mut init = vec![-1i8; automaton.states.len()];
-                            if !automaton.is_empty() {
-                                init[automaton.init as usize] = 0;
-                            }
-                            winning.contains(&init).then(|| {
-                                extract_from_antichain(
-                                    automaton,
-                                    k,
-                                    &winning,
-                                    &first,
-                                    &second,
-                                    protagonist_first,
-                                    reads,
-                                    writes,
-                                )
-                            })
-                        }
-                        Err(Stop::Cancelled) => return Err(Stop::Cancelled),
-                        Err(Stop::Budget(limit)) => {
-                            stats.positions = positions;
-                            stats.work = work.used();
-                            return Ok(unknown(k.saturating_sub(1), stats, limit));
-                        }
-                    }
-                }
-                Solver::Explicit => {
-                    let explored = Game::explore(
-                        automaton,
-                        k,
-                        first.clone(),
-                        second.clone(),
-                        protagonist_first,
-                        budget,
-                        &mut work,
-                    );
-                    let mut game = match explored {
-                        Ok(game) => game,
-                        Err(Explored::Stopped(Stop::Cancelled)) => return Err(Stop::Cancelled),
-                        Err(Explored::Stopped(Stop::Budget(limit))) => {
-                            stats.positions = positions;
-                            stats.work = work.used();
-                            return Ok(unknown(k.saturating_sub(1), stats, limit));
-                        }
-                        Err(Explored::OverBudget) => {
-                            stats.positions = positions;
-                            stats.work = work.used();
-                            return Ok(unknown(k.saturating_sub(1), stats, position_budget(k, budget, cfg.max_states)));
-                        }
-                    };
-                    positions += game.positions.len();
-                    game.solve();
-                    if game.lost[0] {
-                        None
-                    } else {
-                        // The strategy is read off the maximal winning positions. Those of the
-                        // whole game (the antichain fixpoint) lie higher than the explored ones
-                        // and give smaller machines, so they are computed when affordable.
-                        let fixpoint = work.capped(EXTRACTION_WORK, |work| {
-                            antichain::solve(automaton, k, &first, &second, protagonist_first, budget, work)
-                        });
-                        let winning = match fixpoint {
-                            Ok(winning) => winning,
-                            Err(Stop::Cancelled) => return Err(Stop::Cancelled),
-                            Err(Stop::Budget(_)) => game.maximal_winning(),
-                        };
-                        Some(extract_from_antichain(
-                            automaton,
-                            k,
-                            &winning,
-                            &first,
-                            &second,
-                            protagonist_first,
-                            reads,
-                            writes,
-                        ))
-                    }
-                }
-            };
-            if let Some((raw, machine)) = won {
-                stats.positions = positions;
-                stats.work = work.used();
-                stats.strategy_states_raw = raw;
-                let verdict = if controller { Verdict::Realizable } else { Verdict::Unrealizable };
-                return Ok(Outcome {
-                    verdict,
-                    k,
-                    controller: controller.then(|| machine.clone()),
-                    counter_strategy: (!controller).then_some(machine),
-                    stats,
-                    limit: None,
-                });
+        for (side, controller) in [(0, true), (1, false)] {
+            if given_up[side].is_some() {
+                continue;
             }
+            work.at.k = k;
+            let game = Play {
+                automaton: if controller { &against } else { &towards },
+                k,
+                first: &first,
+                second: &second,
+                protagonist_first: controller == controller_first,
+                reads: if controller { &inputs } else { &outputs },
+                writes: if controller { &outputs } else { &inputs },
+                max_positions: cfg.max_states.saturating_sub(positions),
+                max_states: cfg.max_states,
+            };
+            let share = work.remaining() / 3 * 2;
+            match work.capped(share, |work| game.play(cfg.solver, work)) {
+                Ok((built, won)) => {
+                    positions += built;
+                    if let Some((raw, machine)) = won {
+                        stats.positions = positions;
+                        stats.work = work.used();
+                        stats.strategy_states_raw = raw;
+                        let verdict = if controller { Verdict::Realizable } else { Verdict::Unrealizable };
+                        return Ok(Outcome {
+                            verdict,
+                            k,
+                            controller: controller.then(|| machine.clone()),
+                            counter_strategy: (!controller).then_some(machine),
+                            stats,
+                            limit: None,
+                        });
+                    }
+                }
+                Err(Stop::Cancelled) => return Err(Stop::Cancelled),
+                Err(Stop::Budget(limit)) => {
+                    let player = if controller { "the controller's" } else { "the environment's" };
+                    given_up[side] = Some(format!("{player} game at k = {k}: {limit}"));
+                }
+            }
+        }
+        if let [Some(a), Some(b)] = &given_up {
+            stats.positions = positions;
+            stats.work = work.used();
+            return Ok(unknown(decided_up_to.unwrap_or(0), stats, format!("{a}; {b}")));
+        }
+        if given_up.iter().all(Option::is_none) {
+            decided_up_to = Some(k);
         }
     }
     stats.positions = positions;
     stats.work = work.used();
-    Ok(unknown(max_k, stats, format!("neither player wins with counters bounded by k = {max_k} (--max-k)")))
+    let limit = match given_up.iter().flatten().next() {
+        Some(gave_up) => format!("{gave_up}; and the other player wins no game up to k = {max_k} (--max-k)"),
+        None => format!("neither player wins with counters bounded by k = {max_k} (--max-k)"),
+    };
+    Ok(unknown(max_k, stats, limit))
+}
+
+/// One bounded game of one player.
+struct Play<'a> {
+    automaton: &'a Automaton,
+    k: u32,
+    first: &'a [u64],
+    second: &'a [u64],
+    protagonist_first: bool,
+    /// The protagonist's signals and the opponent's, for its strategy.
+    reads: &'a [SignalId],
+    writes: &'a [SignalId],
+    /// Positions (or antichain elements) this game may build, and the run's whole budget.
+    max_positions: usize,
+    max_states: usize,
+}
+
+impl Play<'_> {
+    /// Solves the game: the positions built, and the protagonist's strategy if it wins (with
+    /// its size before minimisation). A budget stop ends only this game.
+    fn play(&self, solver: Solver, work: &mut Work) -> Result<(usize, Option<(usize, Machine)>), Stop> {
+        let (k, automaton) = (self.k, self.automaton);
+        let winning = match solver {
+            Solver::Antichain => {
+                let winning = self.fixpoint(work)?;
+                let built = winning.elements.len();
+                if !winning.contains(&self.initial()) {
+                    return Ok((built, None));
+                }
+                (built, winning)
+            }
+            Solver::Explicit => {
+                let explored = Game::explore(
+                    automaton,
+                    k,
+                    self.first.to_vec(),
+                    self.second.to_vec(),
+                    self.protagonist_first,
+                    self.max_positions,
+                    work,
+                );
+                let mut game = match explored {
+                    Ok(game) => game,
+                    Err(Explored::Stopped(stop)) => return Err(stop),
+                    Err(Explored::OverBudget) => {
+                        return Err(Stop::Budget(position_budget(k, self.max_positions, self.max_states)))
+                    }
+                };
+                game.solve();
+                let built = game.positions.len();
+                if game.lost[0] {
+                    return Ok((built, None));
+                }
+                // The strategy is read off the maximal winning positions. Those of the whole
+                // game (the antichain fixpoint) lie higher than the explored ones and give
+                // smaller machines, so they are computed when affordable.
+                match work.capped(EXTRACTION_WORK, |work| self.fixpoint(work)) {
+                    Ok(winning) => (built, winning),
+                    Err(Stop::Cancelled) => return Err(Stop::Cancelled),
+                    Err(Stop::Budget(_)) => (built, game.maximal_winning()),
+                }
+            }
+        };
+        let (built, winning) = winning;
+        let strategy = extract_from_antichain(
+            automaton,
+            k,
+            &winning,
+            self.first,
+            self.second,
+            self.protagonist_first,
+            self.reads,
+            self.writes,
+        );
+        Ok((built, Some(strategy)))
+    }
+
+    fn fixpoint(&self, work: &mut Work) -> Result<Antichain, Stop> {
+        antichain::solve(
+            self.automaton,
+            self.k,
+            self.first,
+            self.second,
+            self.protagonist_first,
+            self.max_positions,
+            work,
+        )
+    }
+
+    fn initial(&self) -> Vec<i8> {
+        let mut init = vec![-1i8; self.automaton.states.len()];
+        if !self.automaton.is_empty() {
+            init[self.automaton.init as usize] = 0;
+        }
+        init
+    }
 }
 
 /// The message of a run that needed more positions than `budget` (of `max_states`) at `k`.

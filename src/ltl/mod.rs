@@ -103,7 +103,7 @@ pub enum Solver {
 }
 
 /// The default work budget: a few seconds natively.
-pub const DEFAULT_MAX_WORK: u64 = 400_000_000;
+pub const DEFAULT_MAX_WORK: u64 = 1_500_000_000;
 
 /// The work a run has spent against [`Config::max_work`], with the caller's progress callback
 /// asked every 2^16 units (its `false` cancels).
@@ -142,6 +142,11 @@ impl<'a> Work<'a> {
 
     pub(crate) fn used(&self) -> u64 {
         self.used
+    }
+
+    /// Units left before the budget ends the run.
+    pub(crate) fn remaining(&self) -> u64 {
+        self.limit.saturating_sub(self.used)
     }
 
     /// Runs `f` with at most `units` more to spend (within the run's budget), then restores
