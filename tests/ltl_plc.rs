@@ -17,7 +17,7 @@ use plcsynth::plc::unit::{Expr, Place, PouKind, Stmt, Unit};
 use plcsynth::plc::unit_exec::{self, Value};
 use plcsynth::plc::{self, unit_stl, Target};
 use plcsynth::rng::Rng;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::{Command, Stdio};
 
 fn root() -> PathBuf {
@@ -353,33 +353,10 @@ fn the_documented_example_is_the_generated_code() {
 // ---------------------------------------------------------------------------------------------
 // The printed code and the independent tools.
 
-fn venv_tool(name: &str) -> PathBuf {
-    let path = root().join(".venv/bin").join(name);
-    if !path.exists() {
-        let status = Command::new("bash").arg(root().join("scripts/python-checkers.sh")).status().unwrap();
-        assert!(status.success(), "installing the Python checkers failed");
-    }
-    path
-}
+use common::{check, venv_tool};
 
 fn scratch(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("plcsynth-ltl-plc-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path
-}
-
-fn check(cmd: &mut Command, what: &Path) {
-    let out = cmd.output().unwrap();
-    assert!(
-        out.status.success(),
-        "{} rejected:\n{}{}\n{}",
-        what.display(),
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr),
-        std::fs::read_to_string(what).unwrap_or_default()
-    );
+    common::scratch("plcsynth-ltl-plc", name, text)
 }
 
 /// The first random case (from `seed` on) that `wanted` accepts.

@@ -17,11 +17,7 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-fn venv_tool(name: &str) -> PathBuf {
-    let path = root().join(".venv/bin").join(name);
-    assert!(path.exists(), "{} is missing: run `bash scripts/python-checkers.sh` (make test does)", path.display());
-    path
-}
+use common::venv_tool;
 
 fn example(name: &str) -> String {
     std::fs::read_to_string(root().join(format!("examples/timed/{name}.tga"))).unwrap()

@@ -19,7 +19,7 @@ use plcsynth::rng::Rng;
 use plcsynth::sct::model::{Config, EventId, EventKind, Supervisor};
 use plcsynth::sct::{compile, synthesize_all, EdgeKind, Loaded, Outcome, Runtime, Trigger};
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 
 fn root() -> PathBuf {
@@ -761,33 +761,10 @@ fn a_virtual_event_that_moves_a_supervisor_is_a_located_error() {
 // ---------------------------------------------------------------------------------------------
 // Form: the independent parsers.
 
-fn venv_tool(name: &str) -> PathBuf {
-    let path = root().join(".venv/bin").join(name);
-    if !path.exists() {
-        let status = Command::new("bash").arg(root().join("scripts/python-checkers.sh")).status().unwrap();
-        assert!(status.success(), "installing the Python checkers failed");
-    }
-    path
-}
+use common::{check, venv_tool};
 
 fn scratch(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("plcsynth-syrf-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path
-}
-
-fn check(cmd: &mut Command, what: &Path) {
-    let out = cmd.output().unwrap();
-    assert!(
-        out.status.success(),
-        "{} rejected:\n{}{}\n{}",
-        what.display(),
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr),
-        std::fs::read_to_string(what).unwrap_or_default()
-    );
+    common::scratch("plcsynth-syrf", name, text)
 }
 
 /// Examples whose framework shows every construct of the printers: timers, integer signals

@@ -139,27 +139,7 @@ fn write_code(a: &LtlArgs, target: plc::Target, source: &str, spec: &ltl::Spec, 
             return ExitCode::from(2);
         }
     };
-    let created_unix = match super::timed::creation_time() {
-        Ok(t) => t,
-        Err(message) => {
-            eprintln!("error: {message}");
-            return ExitCode::from(2);
-        }
-    };
-    let files = match plc::render_unit_files(&unit, target, &plc::Options { created_unix, ..plc::Options::default() }) {
-        Ok(files) => files,
-        Err(message) => {
-            eprintln!("error: {message}");
-            return ExitCode::from(2);
-        }
-    };
-    if let Some(path) = &a.io_table {
-        if let Err(e) = std::fs::write(path, plc::signal_table_csv(&unit)) {
-            eprintln!("error: cannot write {path}: {e}");
-            return ExitCode::from(2);
-        }
-    }
-    super::timed::write_files(a.output.as_deref(), Some(target), &files)
+    super::write_unit(&unit, target, plc::Options::default(), a.io_table.as_deref(), a.output.as_deref())
 }
 
 #[derive(Args)]

@@ -252,28 +252,8 @@ fn write_framework(
             return ExitCode::from(2);
         }
     };
-    let created_unix = match super::timed::creation_time() {
-        Ok(t) => t,
-        Err(message) => {
-            eprintln!("error: {message}");
-            return ExitCode::from(2);
-        }
-    };
-    let options = plc::Options { created_unix, ob: a.ob, fb: Some(a.controller_fb), ..plc::Options::default() };
-    let files = match plc::render_unit_files(&unit, target, &options) {
-        Ok(files) => files,
-        Err(message) => {
-            eprintln!("error: {message}");
-            return ExitCode::from(2);
-        }
-    };
-    if let Some(path) = &a.io_table {
-        if let Err(e) = std::fs::write(path, plc::signal_table_csv(&unit)) {
-            eprintln!("error: cannot write {path}: {e}");
-            return ExitCode::from(2);
-        }
-    }
-    super::timed::write_files(a.output.as_deref(), Some(target), &files)
+    let options = plc::Options { ob: a.ob, fb: Some(a.controller_fb), ..plc::Options::default() };
+    super::write_unit(&unit, target, options, a.io_table.as_deref(), a.output.as_deref())
 }
 
 /// How to go on after the state budget stopped a run.

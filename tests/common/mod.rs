@@ -1,7 +1,45 @@
 //! Helpers shared by the test binaries that run the independent checkers.
+// Each test binary compiles this module and uses a part of it.
+#![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
+
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A tool of the checkers' virtualenv, installing the checkers first if it is missing.
+pub fn venv_tool(name: &str) -> PathBuf {
+    let path = root().join(".venv/bin").join(name);
+    if !path.exists() {
+        let status = Command::new("bash").arg(root().join("scripts/python-checkers.sh")).status().unwrap();
+        assert!(status.success(), "installing the Python checkers failed");
+    }
+    path
+}
+
+/// Writes `text` to `name` in a directory of this process named after `prefix`.
+pub fn scratch(prefix: &str, name: &str, text: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("{prefix}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// Runs a checker on the file `what` and fails with its output and the file unless it accepts.
+pub fn check(cmd: &mut Command, what: &Path) {
+    let out = cmd.output().unwrap();
+    assert!(
+        out.status.success(),
+        "{} rejected:\n{}{}\n{}",
+        what.display(),
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+        std::fs::read_to_string(what).unwrap_or_default()
+    );
+}
 
 /// Parses `files` with blark in two processes, one per core (`tests/checkers/blark_many.py`:
 /// blark's start-up costs about a second, more than most files), and fails naming every file
