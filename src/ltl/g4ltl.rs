@@ -158,27 +158,30 @@ impl<'s> Parser<'s, '_> {
     }
 
     fn or(&mut self, depth: usize) -> Option<(Expr, Span)> {
-        let (first, mut span) = self.and(depth + 1)?;
-        let mut parts = vec![first];
-        while self.peek() == Some(Tok::Or) {
-            self.bump();
-            let (rhs, rspan) = self.and(depth + 1)?;
-            parts.push(rhs);
-            span = span.to(rspan);
-        }
-        Some((if parts.len() == 1 { parts.pop().expect("one part") } else { Expr::Many(Bin::Or, parts) }, span))
+        self.flat_chain(depth, Tok::Or, Bin::Or, Self::and)
     }
 
     fn and(&mut self, depth: usize) -> Option<(Expr, Span)> {
-        let (first, mut span) = self.temporal(depth + 1)?;
+        self.flat_chain(depth, Tok::And, Bin::And, Self::temporal)
+    }
+
+    /// Operands of `operand` joined by `tok`, kept as one flat [`Expr::Many`] of `bin`.
+    fn flat_chain(
+        &mut self,
+        depth: usize,
+        tok: Tok,
+        bin: Bin,
+        operand: fn(&mut Self, usize) -> Option<(Expr, Span)>,
+    ) -> Option<(Expr, Span)> {
+        let (first, mut span) = operand(self, depth + 1)?;
         let mut parts = vec![first];
-        while self.peek() == Some(Tok::And) {
+        while self.peek() == Some(tok) {
             self.bump();
-            let (rhs, rspan) = self.temporal(depth + 1)?;
+            let (rhs, rspan) = operand(self, depth + 1)?;
             parts.push(rhs);
             span = span.to(rspan);
         }
-        Some((if parts.len() == 1 { parts.pop().expect("one part") } else { Expr::Many(Bin::And, parts) }, span))
+        Some((if parts.len() == 1 { parts.pop().expect("one part") } else { Expr::Many(bin, parts) }, span))
     }
 
     /// `U R V W`, right-associative, folded from the right.
