@@ -26,7 +26,7 @@ use super::{
 use hashbrown::HashMap;
 
 /// The successor of a lost round.
-pub(super) const LOST: u32 = u32::MAX;
+const LOST: u32 = u32::MAX;
 
 /// Work the explicit solver may spend on the antichain fixpoint of a won game, for a smaller
 /// strategy; past it the explored positions serve.
@@ -36,19 +36,19 @@ const EXTRACTION_WORK: u64 = 10_000_000;
 const MAX_ENTRIES: usize = 50_000_000;
 
 /// An explored bounded game.
-pub(super) struct Game {
+struct Game {
     /// Signal masks of the first mover's valuations (index = valuation of `first_signals`).
-    pub first: Vec<u64>,
+    first: Vec<u64>,
     /// Signal masks of the second mover's valuations.
-    pub second: Vec<u64>,
+    second: Vec<u64>,
     /// Whether the protagonist moves first.
-    pub protagonist_first: bool,
+    protagonist_first: bool,
     /// Counter vectors, position 0 initial.
-    pub positions: Vec<Box<[i8]>>,
+    positions: Vec<Box<[i8]>>,
     /// `succ[(p * first.len() + a) * second.len() + b]`: the next position or [`LOST`].
-    pub succ: Vec<u32>,
+    succ: Vec<u32>,
     /// Whether the protagonist loses from each position (after [`Game::solve`]).
-    pub lost: Vec<bool>,
+    lost: Vec<bool>,
 }
 
 impl Game {
