@@ -125,6 +125,23 @@ impl<'s> Parser<'s, '_> {
         (self.peek() == Some(Tok::Ident)).then(|| self.text(self.span()))
     }
 
+    /// After an item of a declaration list: `Some(true)` past a `,`, `Some(false)` at the end
+    /// of the line, `None` (reported) on anything else.
+    fn another_item(&mut self) -> Option<bool> {
+        match self.peek() {
+            None => Some(false),
+            Some(Tok::Comma) => {
+                self.bump();
+                Some(true)
+            }
+            Some(_) => {
+                let span = self.span();
+                self.diags.error(span, "expected `,` or the end of the line");
+                None
+            }
+        }
+    }
+
     /// `<->`, loosest and left-associative.
     fn iff(&mut self, depth: usize) -> Option<(Expr, Span)> {
         let (mut lhs, mut span) = self.implies(depth)?;
@@ -358,16 +375,8 @@ fn parse_line<'s>(src: &'s str, toks: &'s [(Tok, Span)], diags: &mut Diagnostics
                         return None;
                     }
                 }
-                match p.peek() {
-                    None => break,
-                    Some(Tok::Comma) => {
-                        p.bump();
-                    }
-                    Some(_) => {
-                        let span = p.span();
-                        p.diags.error(span, "expected `,` or the end of the line");
-                        return None;
-                    }
+                if !p.another_item()? {
+                    break;
                 }
             }
             Some(Line::Declare { kind, names })
@@ -408,16 +417,8 @@ fn parse_line<'s>(src: &'s str, toks: &'s [(Tok, Span)], diags: &mut Diagnostics
                 }
                 p.bump();
                 timers.push((name, ms));
-                match p.peek() {
-                    None => break,
-                    Some(Tok::Comma) => {
-                        p.bump();
-                    }
-                    Some(_) => {
-                        let span = p.span();
-                        p.diags.error(span, "expected `,` or the end of the line");
-                        return None;
-                    }
+                if !p.another_item()? {
+                    break;
                 }
             }
             Some(Line::Timers(timers))
