@@ -109,6 +109,8 @@ pub const DEFAULT_MAX_WORK: u64 = 1_500_000_000;
 /// asked every 2^16 units (its `false` cancels).
 pub(crate) struct Work<'a> {
     used: u64,
+    /// The run's budget, and the limit now in force (lower inside [`Work::capped`]).
+    budget: u64,
     limit: u64,
     next_report: u64,
     progress: &'a mut dyn FnMut(Progress) -> bool,
@@ -118,17 +120,21 @@ pub(crate) struct Work<'a> {
 
 impl<'a> Work<'a> {
     pub(crate) fn new(limit: u64, progress: &'a mut dyn FnMut(Progress) -> bool) -> Work<'a> {
-        Work { used: 0, limit, next_report: 1 << 16, progress, at: Progress::default() }
+        Work { used: 0, budget: limit, limit, next_report: 1 << 16, progress, at: Progress::default() }
     }
 
     /// Spends `units`; stops the run past the budget or when the callback cancels.
     pub(crate) fn spend(&mut self, units: u64) -> Result<(), Stop> {
         self.used += units;
         if self.used > self.limit {
-            return Err(Stop::Budget(format!(
-                "the run needs more than {} units of work (--max-work); the specification may be too large for the explicit games",
-                self.limit
-            )));
+            return Err(Stop::Budget(if self.limit < self.budget {
+                format!(
+                    "it would pass {} units of work, the end of its share (--max-work {} for the whole run)",
+                    self.limit, self.budget
+                )
+            } else {
+                format!("the run needs more than {} units of work (--max-work)", self.budget)
+            }));
         }
         if self.used >= self.next_report {
             self.next_report = self.used + (1 << 16);

@@ -112,21 +112,34 @@ impl Ltl {
         Ltl::WeakUntil(Box::new(a), Box::new(b))
     }
 
-    /// The conjunction of `parts`: `true` when empty, the part itself when single.
-    pub fn all(mut parts: Vec<Ltl>) -> Ltl {
-        match parts.len() {
-            0 => Ltl::True,
-            1 => parts.pop().expect("one part"),
-            _ => Ltl::And(parts),
-        }
+    /// The conjunction of `parts` without its `true` parts (`false` if one is `false`): `true`
+    /// when nothing is left, the part itself when one is.
+    pub fn all(parts: Vec<Ltl>) -> Ltl {
+        Ltl::junction(parts, true)
     }
 
-    /// The disjunction of `parts`: `false` when empty, the part itself when single.
-    pub fn any(mut parts: Vec<Ltl>) -> Ltl {
-        match parts.len() {
-            0 => Ltl::False,
-            1 => parts.pop().expect("one part"),
-            _ => Ltl::Or(parts),
+    /// The disjunction of `parts` without its `false` parts (`true` if one is `true`): `false`
+    /// when nothing is left, the part itself when one is.
+    pub fn any(parts: Vec<Ltl>) -> Ltl {
+        Ltl::junction(parts, false)
+    }
+
+    fn junction(parts: Vec<Ltl>, conjunction: bool) -> Ltl {
+        let (unit, zero) = if conjunction { (Ltl::True, Ltl::False) } else { (Ltl::False, Ltl::True) };
+        let mut kept: Vec<Ltl> = Vec::with_capacity(parts.len());
+        for part in parts {
+            if part == zero {
+                return zero;
+            }
+            if part != unit {
+                kept.push(part);
+            }
+        }
+        match kept.len() {
+            0 => unit,
+            1 => kept.pop().expect("one part"),
+            _ if conjunction => Ltl::And(kept),
+            _ => Ltl::Or(kept),
         }
     }
 
