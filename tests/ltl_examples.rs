@@ -135,6 +135,21 @@ fn listed() -> Vec<Case> {
     cases
 }
 
+/// Every listed specification decided, once for all the tests of this file (the larger
+/// instances take seconds).
+fn decided() -> &'static [(Case, Spec, Outcome)] {
+    static DECIDED: std::sync::OnceLock<Vec<(Case, Spec, Outcome)>> = std::sync::OnceLock::new();
+    DECIDED.get_or_init(|| {
+        listed()
+            .into_iter()
+            .map(|case| {
+                let (spec, outcome) = decide(&case.0, &case.1);
+                (case, spec, outcome)
+            })
+            .collect()
+    })
+}
+
 fn walk(dir: &Path) -> Vec<PathBuf> {
     let mut out = Vec::new();
     for entry in std::fs::read_dir(dir).unwrap() {
@@ -181,18 +196,17 @@ fn scratch() -> PathBuf {
 
 #[test]
 fn every_listed_specification_gets_its_known_verdict_and_a_strategy_lbt_confirms() {
-    let cases = listed();
+    let cases = decided();
     assert!(cases.len() >= 60, "{} cases", cases.len());
     let dir = scratch();
     let mut documents = Vec::new();
-    for (i, (path, params, expected)) in cases.iter().enumerate() {
+    for (i, ((path, params, expected), spec, outcome)) in cases.iter().enumerate() {
         let name = label(path, params);
-        let (spec, outcome) = decide(path, params);
-        assert_eq!(outcome.verdict, *expected, "{name}: {}", ltl::summary(&outcome));
+        assert_eq!(outcome.verdict, *expected, "{name}: {}", ltl::summary(outcome));
         let machine = outcome.controller.as_ref().or(outcome.counter_strategy.as_ref()).expect("a strategy");
         machine.validate().unwrap_or_else(|e| panic!("{name}: {e}"));
         let json = dir.join(format!("{i}.json"));
-        std::fs::write(&json, ltl::report_json(&spec, &outcome).to_string()).unwrap();
+        std::fs::write(&json, ltl::report_json(spec, outcome).to_string()).unwrap();
         documents.push((name, json));
     }
     // The model checks, two at a time (lbt and Python start in about 50 ms each).
@@ -251,10 +265,9 @@ fn a_mutated_controller_is_caught_by_the_model_check() {
 fn gr1py_agrees_where_the_specification_is_gr1() {
     let dir = scratch();
     let mut compared = 0;
-    for (i, (path, params, _)) in listed().iter().enumerate() {
-        let (spec, outcome) = decide(path, params);
+    for (i, ((path, params, _), spec, outcome)) in decided().iter().enumerate() {
         let json = dir.join(format!("gr1-{i}.json"));
-        std::fs::write(&json, ltl::report_json(&spec, &outcome).to_string()).unwrap();
+        std::fs::write(&json, ltl::report_json(spec, outcome).to_string()).unwrap();
         let (code, text) = check_with("ltl_gr1.py", &json);
         match code {
             4 => continue, // not GR(1)-shaped, or outside the fragment where the games agree
@@ -277,12 +290,11 @@ fn synthesised_controllers_become_code_for_every_target() {
     let schema = root().join("../shared/schemas/tc6_xml_v201.xsd");
     let checked = ["paper_fig1_refined.g4ltl", "ptii_AutomaticDoor.g4ltl", "mutex.tlsf"];
     let mut st_files = Vec::new();
-    for (path, params, _) in listed() {
-        let (spec, outcome) = decide(&path, &params);
+    for ((path, params, _), spec, outcome) in decided() {
         let Some(controller) = &outcome.controller else { continue };
-        let source = std::fs::read_to_string(&path).unwrap();
-        let name = label(&path, &params);
-        let unit = plc::lower_ltl::lower(&source, &spec, controller, &plc::lower_ltl::LowerOptions::default())
+        let source = std::fs::read_to_string(path).unwrap();
+        let name = label(path, params);
+        let unit = plc::lower_ltl::lower(&source, spec, controller, &plc::lower_ltl::LowerOptions::default())
             .unwrap_or_else(|d| panic!("{name}: {d:?}"));
         let file = path.file_name().unwrap().to_string_lossy().to_string();
         for target in Target::ALL {
