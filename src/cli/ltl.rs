@@ -108,6 +108,9 @@ pub fn ltl(a: &LtlArgs) -> ExitCode {
     } else {
         outln!("{}", ltl::summary(&outcome));
         outln!("specification: {}", spec.formula_text());
+        for learned in &outcome.refinement.learned {
+            outln!("learned: ASSUME {}  ({})", learned.formula, learned.reason);
+        }
         if let Some(m) = &outcome.controller {
             outln!("controller (state: inputs / outputs -> next):");
             outln!("{}", ltl::render_machine(&spec, m).trim_end());

@@ -9,6 +9,8 @@ use serde_json::{json, Value};
 /// "stats", then "mealy" (realizable) or "counterstrategy" (unrealizable) or "limit"
 /// (unknown)}`; `docs/ltl-language.md` describes every field.
 pub fn report_json(spec: &Spec, outcome: &Outcome) -> Value {
+    // The result is about the specification with what the refinement loop learned.
+    let spec = &super::refined(spec, &outcome.refinement);
     let name = |s| spec.name(s).to_string();
     let names = |ids: Vec<super::SignalId>| ids.into_iter().map(name).collect::<Vec<_>>();
     let clauses = |cs: &[super::Clause]| cs.iter().map(|c| c.formula.to_infix(&name)).collect::<Vec<_>>();
@@ -34,6 +36,10 @@ pub fn report_json(spec: &Spec, outcome: &Outcome) -> Value {
     if let Some(limit) = &outcome.limit {
         doc["limit"] = json!(limit);
     }
+    if !outcome.refinement.learned.is_empty() {
+        doc["learned"] = json!(outcome.refinement.learned);
+    }
+    doc["rounds"] = json!(outcome.refinement.rounds);
     doc
 }
 

@@ -8,7 +8,10 @@
 //! operators `U R V W` (right), then the unary operators, which bind tightest (`!a U b` is
 //! `(!a) U b`, as in G4LTL and Spot).
 
-use super::spec::{Clause, Ltl, Signal, SignalId, SignalKind, Spec, Timer, MAX_FORMULA_DEPTH};
+use super::spec::{
+    Clause, Ltl, NumExpr, NumberKind, NumericId, NumericInput, Predicate, Relation, Signal, SignalId, SignalKind, Spec,
+    Timer, MAX_FORMULA_DEPTH,
+};
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use logos::Logos;
 use std::collections::HashMap;
@@ -21,6 +24,37 @@ enum Tok {
     Ident,
     #[regex(r"[0-9]+[A-Za-z]*")]
     Number,
+    #[regex(r"[0-9]+\.[0-9]+([eE][+-]?[0-9]+)?")]
+    Decimal,
+    #[token("+")]
+    Plus,
+    #[token("-")]
+    Minus,
+    #[token("*")]
+    Star,
+    #[token("/")]
+    Slash,
+    #[token("^")]
+    Caret,
+    #[token("<")]
+    Lt,
+    #[token("<=")]
+    Le,
+    #[token(">")]
+    Gt,
+    #[token(">=")]
+    Ge,
+    #[token("=")]
+    #[token("==")]
+    Eq,
+    #[token("!=")]
+    Ne,
+    #[token(":")]
+    Colon,
+    #[token("[")]
+    LBracket,
+    #[token("]")]
+    RBracket,
     #[token("\n")]
     Newline,
     #[token("[]")]
@@ -60,7 +94,7 @@ fn word_operator(word: &str) -> Option<Op> {
     })
 }
 
-const KEYWORDS: [&str; 4] = ["INPUT", "OUTPUT", "TIMER", "ASSUME"];
+const KEYWORDS: [&str; 7] = ["INPUT", "OUTPUT", "TIMER", "ASSUME", "WHENEVER", "THEN", "FOR"];
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Op {
@@ -72,16 +106,32 @@ enum Op {
     WeakUntil,
 }
 
-/// A formula as written, names unresolved (declarations may follow their use).
+/// A formula as written, names unresolved (declarations may follow their use). Arithmetic
+/// and comparisons are parsed with it; the resolver checks which is which.
 #[derive(Debug)]
 enum Expr {
     Const(bool),
     Name(Span),
+    /// A numeric literal.
+    Number(Span),
+    Neg(Box<Expr>),
+    Arith(ArithOp, Box<Expr>, Box<Expr>),
+    /// `x ^ n` with the exponent's span.
+    Pow(Box<Expr>, Span),
+    Compare(Relation, Box<Expr>, Box<Expr>, Span),
     Not(Box<Expr>),
     Unary(Op, Box<Expr>),
     Binary(Bin, Box<Expr>, Box<Expr>),
     /// A chain of `&&` or `||`, kept flat so that a long chain nests nothing.
     Many(Bin, Vec<Expr>),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum ArithOp {
+    Add,
+    Sub,
+    Mul,
+    Div,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -203,7 +253,7 @@ impl<'s> Parser<'s, '_> {
 
     /// `U R V W`, right-associative, folded from the right.
     fn temporal(&mut self, depth: usize) -> Option<(Expr, Span)> {
-        let mut parts = vec![self.unary(depth)?];
+        let mut parts = vec![self.compare(depth)?];
         let mut ops = Vec::new();
         while let Some(op) =
             self.at_word().and_then(word_operator).filter(|op| matches!(op, Op::Until | Op::Release | Op::WeakUntil))
@@ -214,9 +264,86 @@ impl<'s> Parser<'s, '_> {
             }
             self.bump();
             ops.push(op);
-            parts.push(self.unary(depth + parts.len())?);
+            parts.push(self.compare(depth + parts.len())?);
         }
         Some(fold_right(parts, |i| Bin::Temporal(ops[i])))
+    }
+
+    /// `sum REL sum` or just a sum: a comparison binds tighter than every logical operator.
+    fn compare(&mut self, depth: usize) -> Option<(Expr, Span)> {
+        let (lhs, span) = self.sum(depth)?;
+        let relation = match self.peek() {
+            Some(Tok::Lt) => Relation::Lt,
+            Some(Tok::Le) => Relation::Le,
+            Some(Tok::Gt) => Relation::Gt,
+            Some(Tok::Ge) => Relation::Ge,
+            Some(Tok::Eq) => Relation::Eq,
+            Some(Tok::Ne) => Relation::Ne,
+            _ => return Some((lhs, span)),
+        };
+        self.bump();
+        let (rhs, rspan) = self.sum(depth + 1)?;
+        let span = span.to(rspan);
+        Some((Expr::Compare(relation, Box::new(lhs), Box::new(rhs), span), span))
+    }
+
+    /// `+` and `-` (left-associative), then `*` and `/`, then `^`, then a sign.
+    fn sum(&mut self, depth: usize) -> Option<(Expr, Span)> {
+        self.arith_chain(depth, &[(Tok::Plus, ArithOp::Add), (Tok::Minus, ArithOp::Sub)], Self::product)
+    }
+
+    fn product(&mut self, depth: usize) -> Option<(Expr, Span)> {
+        self.arith_chain(depth, &[(Tok::Star, ArithOp::Mul), (Tok::Slash, ArithOp::Div)], Self::power)
+    }
+
+    fn arith_chain(
+        &mut self,
+        depth: usize,
+        ops: &[(Tok, ArithOp)],
+        operand: fn(&mut Self, usize) -> Option<(Expr, Span)>,
+    ) -> Option<(Expr, Span)> {
+        let (mut lhs, mut span) = operand(self, depth + 1)?;
+        let mut count = 1;
+        while let Some(&(_, op)) = ops.iter().find(|(t, _)| Some(*t) == self.peek()) {
+            count += 1;
+            if depth + count >= MAX_NESTING {
+                self.diags.error(self.span(), format!("more than {MAX_NESTING} arithmetic operands in a row"));
+                return None;
+            }
+            self.bump();
+            let (rhs, rspan) = operand(self, depth + count)?;
+            lhs = Expr::Arith(op, Box::new(lhs), Box::new(rhs));
+            span = span.to(rspan);
+        }
+        Some((lhs, span))
+    }
+
+    fn power(&mut self, depth: usize) -> Option<(Expr, Span)> {
+        let (base, span) = self.signed(depth)?;
+        if self.peek() != Some(Tok::Caret) {
+            return Some((base, span));
+        }
+        self.bump();
+        let exponent = self.span();
+        if self.peek() != Some(Tok::Number) || !self.text(exponent).bytes().all(|b| b.is_ascii_digit()) {
+            self.diags.error(exponent, "expected a whole number as the exponent, as in `x^2`");
+            return None;
+        }
+        self.bump();
+        Some((Expr::Pow(Box::new(base), exponent), span.to(exponent)))
+    }
+
+    fn signed(&mut self, depth: usize) -> Option<(Expr, Span)> {
+        if self.peek() != Some(Tok::Minus) {
+            return self.unary(depth);
+        }
+        let start = self.bump();
+        if depth >= MAX_NESTING {
+            self.diags.error(start, format!("the formula nests deeper than {MAX_NESTING} levels"));
+            return None;
+        }
+        let (inner, span) = self.signed(depth + 1)?;
+        Some((Expr::Neg(Box::new(inner)), start.to(span)))
     }
 
     fn unary(&mut self, depth: usize) -> Option<(Expr, Span)> {
@@ -241,7 +368,7 @@ impl<'s> Parser<'s, '_> {
             _ => return self.atom(depth),
         };
         self.bump();
-        let (inner, span) = self.unary(depth + 1)?;
+        let (inner, span) = self.compare(depth + 1)?;
         let span = start.to(span);
         Some(match op {
             None => (Expr::Not(Box::new(inner)), span),
@@ -278,9 +405,9 @@ impl<'s> Parser<'s, '_> {
                     None
                 }
             }
-            Some(Tok::Number) => {
-                self.diags.error(span, format!("unexpected number `{}` in a formula", self.text(span)));
-                None
+            Some(Tok::Number | Tok::Decimal) => {
+                self.bump();
+                Some((Expr::Number(span), span))
             }
             None => {
                 self.diags
@@ -312,10 +439,31 @@ fn fold_right(mut parts: Vec<(Expr, Span)>, bin: impl Fn(usize) -> Bin) -> (Expr
     (acc, span)
 }
 
+/// The real-time patterns of the paper's table 1 (`docs/ltl-language.md` gives their
+/// encodings).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Pattern {
+    /// `WHENEVER a THEN b FOR d`: b from each `a` on, until d has passed since the last `a`.
+    HoldFor,
+    /// `WHENEVER a FOR d THEN b`: b whenever a has held for d without a break.
+    After,
+    /// `WHENEVER a THEN b UNTIL c FOR d`: b from each `a` on, until c has held for d.
+    UntilHeld,
+}
+
+/// The type of a numeric input as declared: `REAL[0, 4]`.
+struct NumberType {
+    kind: NumberKind,
+    lo: String,
+    hi: String,
+    span: Span,
+}
+
 /// One line of the file.
 enum Line {
     Formula { assume: bool, expr: Expr, span: Span },
-    Declare { kind: SignalKind, names: Vec<Span> },
+    Pattern { pattern: Pattern, a: Expr, b: Expr, c: Option<Expr>, ms: u64, span: Span },
+    Declare { kind: SignalKind, names: Vec<(Span, Option<NumberType>)> },
     Timers(Vec<(Span, u64)>),
 }
 
@@ -368,7 +516,13 @@ fn parse_line<'s>(src: &'s str, toks: &'s [(Tok, Span)], diags: &mut Diagnostics
                 match p.peek() {
                     Some(Tok::Ident) => {
                         p.bump();
-                        names.push(span);
+                        let ty = if p.peek() == Some(Tok::Colon) {
+                            p.bump();
+                            Some(number_type(&mut p, kind)?)
+                        } else {
+                            None
+                        };
+                        names.push((span, ty));
                     }
                     _ => {
                         p.diags.error(span, format!("expected a signal name after `{kw}`"));
@@ -423,6 +577,7 @@ fn parse_line<'s>(src: &'s str, toks: &'s [(Tok, Span)], diags: &mut Diagnostics
             }
             Some(Line::Timers(timers))
         }
+        Some("WHENEVER") => parse_pattern(src, toks, p.diags),
         _ => {
             let assume = first == Some("ASSUME");
             if assume {
@@ -439,6 +594,173 @@ fn parse_line<'s>(src: &'s str, toks: &'s [(Tok, Span)], diags: &mut Diagnostics
             Some(Line::Formula { assume, expr, span })
         }
     }
+}
+
+/// `REAL[lo, hi]` or `INT[lo, hi]` after `name:` in an `INPUT` line.
+fn number_type(p: &mut Parser, kind: SignalKind) -> Option<NumberType> {
+    let start = p.span();
+    let word = p.at_word();
+    let number = match word {
+        Some("REAL") => NumberKind::Real,
+        Some("INT") => NumberKind::Int,
+        _ => {
+            p.diags.error(start, "expected `REAL[lo, hi]` or `INT[lo, hi]` after `:`");
+            return None;
+        }
+    };
+    if kind == SignalKind::Output {
+        p.diags
+            .error(start, "outputs are Boolean: only inputs can be numbers")
+            .with_note("the paper's engine, like this one, abstracts predicates on inputs only");
+        return None;
+    }
+    p.bump();
+    let expect = |p: &mut Parser, tok: Tok, what: &str| {
+        if p.peek() == Some(tok) {
+            p.bump();
+            Some(())
+        } else {
+            let span = p.span();
+            p.diags.error(span, format!("expected {what}, as in `x: REAL[0, 4]`"));
+            None
+        }
+    };
+    expect(p, Tok::LBracket, "`[` and the bounds")?;
+    let lo = bound(p)?;
+    expect(p, Tok::Comma, "`,` between the bounds")?;
+    let hi = bound(p)?;
+    let end = p.span();
+    expect(p, Tok::RBracket, "`]` after the bounds")?;
+    Some(NumberType { kind: number, lo, hi, span: start.to(end) })
+}
+
+/// A bound: an optionally negative decimal literal, checked later.
+fn bound(p: &mut Parser) -> Option<String> {
+    let negative = p.peek() == Some(Tok::Minus);
+    if negative {
+        p.bump();
+    }
+    let span = p.span();
+    if !matches!(p.peek(), Some(Tok::Number | Tok::Decimal)) {
+        p.diags.error(span, "expected a number as a bound");
+        return None;
+    }
+    p.bump();
+    Some(format!("{}{}", if negative { "-" } else { "" }, p.text(span)))
+}
+
+/// Whether a numeric type's bounds are numbers, integers for `INT`, and ordered (reported).
+fn check_bounds(ty: &NumberType, diags: &mut Diagnostics) -> bool {
+    let value = |text: &str| text.parse::<f64>().ok().filter(|v| v.is_finite());
+    let (Some(lo), Some(hi)) = (value(&ty.lo), value(&ty.hi)) else {
+        diags.error(ty.span, "the bounds must be decimal numbers, as in `REAL[-1.5, 4]`");
+        return false;
+    };
+    if ty.kind == NumberKind::Int && !(ty.lo.bytes().all(|b| b.is_ascii_digit() || b == b'-') && ty.hi.bytes().all(|b| b.is_ascii_digit() || b == b'-')) {
+        diags.error(ty.span, "the bounds of an `INT` input must be whole numbers");
+        return false;
+    }
+    if ty.kind == NumberKind::Int && (lo < -32768.0 || hi > 32767.0) {
+        diags.error(ty.span, "an `INT` holds -32768 to 32767");
+        return false;
+    }
+    if lo > hi {
+        diags.error(ty.span, format!("the lower bound {} is above the upper bound {}", ty.lo, ty.hi));
+        return false;
+    }
+    true
+}
+
+/// A `WHENEVER` line: its parts are cut at the keywords `THEN` and `FOR` (and, in the
+/// `THEN` part before a `FOR`, at `UNTIL`/`U`) outside parentheses, then parsed as formulas.
+fn parse_pattern<'s>(src: &'s str, toks: &'s [(Tok, Span)], diags: &mut Diagnostics<'s>) -> Option<Line> {
+    let span = toks.first()?.1.to(toks.last()?.1);
+    let word = |i: usize| (toks[i].0 == Tok::Ident).then(|| &src[toks[i].1.range()]);
+    let mut depth = 0i32;
+    let (mut then, mut for_, mut until) = (None, None, None);
+    for i in 1..toks.len() {
+        match toks[i].0 {
+            Tok::LParen => depth += 1,
+            Tok::RParen => depth -= 1,
+            _ if depth == 0 => match word(i) {
+                Some("THEN") if then.is_none() => then = Some(i),
+                Some("FOR") if for_.is_none() => for_ = Some(i),
+                Some("UNTIL" | "U") if then.is_some() && for_.is_none() && until.is_none() => until = Some(i),
+                _ => {}
+            },
+            _ => {}
+        }
+    }
+    let usage = "write `WHENEVER a THEN b FOR 10s`, `WHENEVER a FOR 10s THEN b` or `WHENEVER a THEN b UNTIL c FOR 10s`";
+    let Some(then) = then else {
+        diags.error(span, "a `WHENEVER` line needs `THEN`").with_note(usage);
+        return None;
+    };
+    let Some(for_) = for_ else {
+        diags.error(span, "a `WHENEVER` line needs `FOR` and a duration").with_note(usage);
+        return None;
+    };
+    let formula = |from: usize, to: usize, what: &str, diags: &mut Diagnostics<'s>| -> Option<Expr> {
+        if from >= to {
+            let at = toks.get(from).or(toks.last()).map_or(span, |t| t.1);
+            diags.error(at, format!("expected {what} here")).with_note(usage);
+            return None;
+        }
+        let mut p = Parser { src, toks: &toks[from..to], pos: 0, diags };
+        let (expr, _) = p.iff(0)?;
+        if p.peek().is_some() {
+            let extra = p.span();
+            p.diags.error(extra, format!("unexpected `{}` in {what}", p.text(extra))).with_note(usage);
+            return None;
+        }
+        Some(expr)
+    };
+    // The duration is one number token, right after `FOR`.
+    let duration = |at: usize, diags: &mut Diagnostics<'s>| -> Option<u64> {
+        let Some(&(tok, dspan)) = toks.get(at) else {
+            diags.error(toks[at - 1].1, "expected a duration such as `10s` after `FOR`");
+            return None;
+        };
+        let text = &src[dspan.range()];
+        match (tok, duration_ms(text)) {
+            (Tok::Number, Some(0)) => {
+                diags.error(dspan, "a pattern's duration must be longer than 0");
+                None
+            }
+            (Tok::Number, Some(ms)) => Some(ms),
+            _ => {
+                diags.error(dspan, format!("`{text}` is not a duration: write e.g. `10s`, `500ms`, `2min`, `1h`"));
+                None
+            }
+        }
+    };
+    if for_ < then {
+        // WHENEVER a FOR d THEN b
+        let a = formula(1, for_, "the condition after `WHENEVER`", diags);
+        let ms = duration(for_ + 1, diags);
+        if for_ + 2 != then {
+            let at = toks.get(for_ + 2).map_or(span, |t| t.1);
+            diags.error(at, "expected `THEN` after the duration").with_note(usage);
+            return None;
+        }
+        let b = formula(then + 1, toks.len(), "the reaction after `THEN`", diags);
+        return Some(Line::Pattern { pattern: Pattern::After, a: a?, b: b?, c: None, ms: ms?, span });
+    }
+    let a = formula(1, then, "the condition after `WHENEVER`", diags);
+    let (b, c, pattern) = match until {
+        Some(u) => (
+            formula(then + 1, u, "the reaction after `THEN`", diags),
+            formula(u + 1, for_, "the condition after `UNTIL`", diags).map(Some),
+            Pattern::UntilHeld,
+        ),
+        None => (formula(then + 1, for_, "the reaction after `THEN`", diags), Some(None), Pattern::HoldFor),
+    };
+    let ms = duration(for_ + 1, diags);
+    if let Some(&(_, extra)) = toks.get(for_ + 2) {
+        diags.error(extra, format!("unexpected `{}` after the duration", &src[extra.range()])).with_note(usage);
+        return None;
+    }
+    Some(Line::Pattern { pattern, a: a?, b: b?, c: c?, ms: ms?, span })
 }
 
 /// Milliseconds of `10s`, `500ms`, `2min`, `1h`; `None` if malformed or beyond 2^63 ms.
@@ -458,13 +780,29 @@ fn duration_ms(text: &str) -> Option<u64> {
 fn resolve(src: &str, lines: &[Line], diags: &mut Diagnostics) -> Spec {
     let mut spec = Spec::default();
     let mut ids: HashMap<String, SignalId> = HashMap::new();
-    let mut declare = |spec: &mut Spec, diags: &mut Diagnostics, name: &str, kind: SignalKind, span: Span| {
-        if let Some(&prior) = ids.get(name) {
-            let prior = spec.signal(prior).span;
+    let mut numeric_ids: HashMap<String, NumericId> = HashMap::new();
+    let mut declare = |spec: &mut Spec, diags: &mut Diagnostics, name: &str, kind, span: Span, ty: Option<&NumberType>| {
+        let prior = match (ids.get(name), numeric_ids.get(name)) {
+            (Some(&s), _) => Some(spec.signal(s).span),
+            (None, Some(&n)) => Some(spec.numeric[n.0 as usize].span),
+            (None, None) => None,
+        };
+        if let Some(prior) = prior {
             let (line, col) = diags.line_col(prior.start as usize);
             diags
                 .error(span, format!("`{name}` is declared twice"))
                 .with_note(format!("first declared at {line}:{col}"));
+            return None;
+        }
+        if let Some(ty) = ty {
+            numeric_ids.insert(name.to_string(), NumericId(spec.numeric.len() as u32));
+            spec.numeric.push(NumericInput {
+                name: name.to_string(),
+                kind: ty.kind,
+                lo: ty.lo.clone(),
+                hi: ty.hi.clone(),
+                span,
+            });
             return None;
         }
         let id = SignalId(spec.signals.len() as u32);
@@ -474,19 +812,24 @@ fn resolve(src: &str, lines: &[Line], diags: &mut Diagnostics) -> Spec {
     };
     for line in lines {
         if let Line::Declare { kind, names } = line {
-            for &span in names {
+            for (span, ty) in names {
+                let span = *span;
                 let name = &src[span.range()];
                 if word_operator(name).is_some()
                     || KEYWORDS.contains(&name)
-                    || matches!(name, "true" | "false" | "TRUE" | "FALSE")
+                    || matches!(name, "true" | "false" | "TRUE" | "FALSE" | "REAL" | "INT")
                 {
                     diags.error(span, format!("`{name}` is an operator or keyword of the language; rename the signal"));
                 } else if name.contains('.') {
                     diags
                         .error(span, format!("`{name}`: signal names have no `.`"))
                         .with_note("`t.start` and `t.expire` come from a `TIMER t(…)` declaration");
+                } else if let Some(ty) = ty {
+                    if check_bounds(ty, diags) {
+                        declare(&mut spec, diags, name, *kind, span, Some(ty));
+                    }
                 } else {
-                    declare(&mut spec, diags, name, *kind, span);
+                    declare(&mut spec, diags, name, *kind, span, None);
                 }
             }
         }
@@ -499,18 +842,54 @@ fn resolve(src: &str, lines: &[Line], diags: &mut Diagnostics) -> Spec {
                     diags.error(span, format!("`{name}`: timer names have no `.`"));
                     continue;
                 }
-                let start = declare(&mut spec, diags, &format!("{name}.start"), SignalKind::Output, span);
-                let expire = declare(&mut spec, diags, &format!("{name}.expire"), SignalKind::Input, span);
+                let start = declare(&mut spec, diags, &format!("{name}.start"), SignalKind::Output, span, None);
+                let expire = declare(&mut spec, diags, &format!("{name}.expire"), SignalKind::Input, span, None);
                 if let (Some(start), Some(expire)) = (start, expire) {
                     spec.timers.push(Timer { name: name.to_string(), preset_ms, start, expire, span });
                 }
             }
         }
     }
-    let mut used = vec![false; spec.signals.len()];
+    // Each pattern gets a timer of its own: `w1`, `w2`, … (a name no declared timer has).
+    let mut pattern_timers = Vec::new();
     for line in lines {
+        if let Line::Pattern { ms, span, .. } = line {
+            let taken = |name: &str| spec.timers.iter().any(|t| t.name == name) || spec.signal_id(name).is_some();
+            let name = (1..).map(|n| format!("w{n}")).find(|n| !taken(n)).expect("a free name");
+            let start = declare(&mut spec, diags, &format!("{name}.start"), SignalKind::Output, *span, None);
+            let expire = declare(&mut spec, diags, &format!("{name}.expire"), SignalKind::Input, *span, None);
+            let (Some(start), Some(expire)) = (start, expire) else { continue };
+            pattern_timers.push(spec.timers.len());
+            spec.timers.push(Timer { name, preset_ms: *ms, start, expire, span: *span });
+        }
+    }
+    let mut uses = Uses {
+        signals: vec![false; spec.signals.len()],
+        numeric: vec![false; spec.numeric.len()],
+        predicates: Vec::new(),
+        base: spec.signals.len() as u32,
+    };
+    let mut next_pattern_timer = pattern_timers.into_iter();
+    for line in lines {
+        if let Line::Pattern { pattern, a, b, c, span, .. } = line {
+            let Some(timer) = next_pattern_timer.next() else { continue };
+            let (a, b) = (to_ltl(src, a, &spec, &mut uses, diags), to_ltl(src, b, &spec, &mut uses, diags));
+            let c = c.as_ref().map(|c| to_ltl(src, c, &spec, &mut uses, diags));
+            let (Some(a), Some(b)) = (a, b) else { continue };
+            let c = match c {
+                Some(None) => continue,
+                Some(Some(c)) => Some(c),
+                None => None,
+            };
+            let formula = expand_pattern(*pattern, a, b, c, &spec.timers[timer]);
+            if formula.depth() > MAX_FORMULA_DEPTH {
+                diags.error(*span, format!("the formula nests deeper than {MAX_FORMULA_DEPTH} levels"));
+                continue;
+            }
+            spec.guarantees.push(Clause { formula, span: *span });
+        }
         if let Line::Formula { assume, expr, span } = line {
-            let Some(formula) = to_ltl(src, expr, &spec, &mut used, diags) else { continue };
+            let Some(formula) = to_ltl(src, expr, &spec, &mut uses, diags) else { continue };
             if formula.depth() > MAX_FORMULA_DEPTH {
                 diags.error(*span, format!("the formula nests deeper than {MAX_FORMULA_DEPTH} levels"));
                 continue;
@@ -523,26 +902,185 @@ fn resolve(src: &str, lines: &[Line], diags: &mut Diagnostics) -> Spec {
             }
         }
     }
-    // The timer abstraction of section 2: the environment's timer block expires some time after
-    // each start. A first, coarse model (expiry strictly later, a restart not modelled); the
-    // refinement from counter-strategies comes with the timer support of the next issue.
+    // The timer abstraction of section 2, corrected for restarts (`refine`): a timer expires
+    // some scans after a start unless it is started again first. What else a real timer does is
+    // learned from counter-strategies.
     for timer in &spec.timers {
-        let (start, expire) = (Ltl::Var(timer.start), Ltl::Var(timer.expire));
-        let formula = Ltl::globally(Ltl::implies(start, Ltl::next(Ltl::finally(expire))));
+        let formula = super::refine::timer_liveness(timer);
         spec.assumptions.push(Clause { formula, span: timer.span });
-        used[timer.start.index()] = true;
-        used[timer.expire.index()] = true;
+        uses.signals[timer.start.index()] = true;
+        uses.signals[timer.expire.index()] = true;
     }
-    for (signal, used) in spec.signals.iter().zip(&used) {
+    for (signal, used) in spec.signals.iter().zip(&uses.signals) {
         if !used {
             diags.warning(signal.span, format!("`{}` is declared but no formula uses it", signal.name));
         }
     }
+    for (input, used) in spec.numeric.iter().zip(&uses.numeric) {
+        if !used {
+            diags.warning(input.span, format!("`{}` is declared but no formula uses it", input.name));
+        }
+    }
+    // Each predicate becomes a Boolean input `p0`, `p1`, … (a name nothing else has).
+    let mut next = 0;
+    for (lhs, relation, rhs, span) in uses.predicates {
+        let taken = |n: &str| spec.signal_id(n).is_some() || spec.numeric.iter().any(|x| x.name == n);
+        let name = loop {
+            let name = format!("p{next}");
+            next += 1;
+            if !taken(&name) {
+                break name;
+            }
+        };
+        let signal = SignalId(spec.signals.len() as u32);
+        spec.signals.push(Signal { name, kind: SignalKind::Input, span });
+        spec.predicates.push(Predicate { signal, lhs, relation, rhs, span });
+    }
     spec
 }
 
-fn to_ltl(src: &str, expr: &Expr, spec: &Spec, used: &mut [bool], diags: &mut Diagnostics) -> Option<Ltl> {
+/// The encoding of a table-1 pattern with its timer (start `s`, expiry `e`); the timer model
+/// is that of `refine` (a start restarts it).
+fn expand_pattern(pattern: Pattern, a: Ltl, b: Ltl, c: Option<Ltl>, timer: &Timer) -> Ltl {
+    let (s, e) = (Ltl::Var(timer.start), Ltl::Var(timer.expire));
+    // The timer starts exactly when `x` rises (in the first step if `x` holds there).
+    let started_on_rise = |x: Ltl| {
+        Ltl::And(vec![
+            Ltl::iff(s.clone(), x.clone()),
+            Ltl::globally(Ltl::iff(Ltl::next(s.clone()), Ltl::And(vec![Ltl::not(x.clone()), Ltl::next(x)]))),
+        ])
+    };
+    // Has `x` held since its last rise for the timer's preset? (In the scan of the rise the timer
+    // still shows the previous run, hence `!s`.)
+    let held = |x: Ltl| Ltl::And(vec![x, e.clone(), Ltl::not(s.clone())]);
+    match pattern {
+        Pattern::HoldFor => Ltl::globally(Ltl::implies(
+            a,
+            Ltl::And(vec![b.clone(), s.clone(), Ltl::next(Ltl::weak_until(b, e.clone()))]),
+        )),
+        Pattern::After => Ltl::And(vec![started_on_rise(a.clone()), Ltl::globally(Ltl::implies(held(a), b))]),
+        Pattern::UntilHeld => {
+            let c = c.expect("an UNTIL pattern has its condition");
+            Ltl::And(vec![started_on_rise(c.clone()), Ltl::globally(Ltl::implies(a, Ltl::weak_until(b, held(c))))])
+        }
+    }
+}
+
+/// What the formulas use: signals and numeric inputs (for the warnings), and the predicates
+/// met so far, each to become the Boolean input `base + its index`.
+struct Uses {
+    signals: Vec<bool>,
+    numeric: Vec<bool>,
+    predicates: Vec<(NumExpr, Relation, NumExpr, Span)>,
+    base: u32,
+}
+
+/// An arithmetic expression over numeric inputs (`None`: reported).
+fn to_num(src: &str, expr: &Expr, spec: &Spec, uses: &mut Uses, diags: &mut Diagnostics) -> Option<NumExpr> {
+    let numeric = |e: &Expr| matches!(e, Expr::Number(_));
     Some(match expr {
+        Expr::Number(span) => {
+            let text = &src[span.range()];
+            if text.parse::<f64>().map_or(true, |v| !v.is_finite()) || text.ends_with(|c: char| c.is_ascii_alphabetic()) {
+                diags.error(*span, format!("`{text}` is not a number"));
+                return None;
+            }
+            NumExpr::Const(text.to_string())
+        }
+        Expr::Name(span) => {
+            let name = &src[span.range()];
+            match spec.numeric.iter().position(|n| n.name == name) {
+                Some(i) => {
+                    uses.numeric[i] = true;
+                    NumExpr::Var(NumericId(i as u32))
+                }
+                None if spec.signal_id(name).is_some() => {
+                    diags.error(*span, format!("`{name}` is a Boolean signal, not a number"));
+                    return None;
+                }
+                None => {
+                    diags
+                        .error(*span, format!("`{name}` is not declared"))
+                        .with_note(format!("declare a numeric input with `INPUT {name}: REAL[0, 10]`"));
+                    return None;
+                }
+            }
+        }
+        Expr::Neg(a) => NumExpr::Neg(Box::new(to_num(src, a, spec, uses, diags)?)),
+        Expr::Arith(op, a, b) => {
+            let (x, y) = (to_num(src, a, spec, uses, diags), to_num(src, b, spec, uses, diags));
+            let (x, y) = (Box::new(x?), Box::new(y?));
+            match op {
+                ArithOp::Add => NumExpr::Add(x, y),
+                ArithOp::Sub => NumExpr::Sub(x, y),
+                ArithOp::Mul => NumExpr::Mul(x, y),
+                ArithOp::Div if numeric(b) || matches!(**b, Expr::Neg(ref n) if numeric(n)) => {
+                    if y.as_ref() == &NumExpr::Const("0".into()) || matches!(&*y, NumExpr::Const(t) if t.parse::<f64>() == Ok(0.0)) {
+                        diags.error(span_of(b), "division by zero");
+                        return None;
+                    }
+                    NumExpr::Div(x, y)
+                }
+                ArithOp::Div => {
+                    diags
+                        .error(span_of(b), "only division by a number is supported")
+                        .with_note("predicates are polynomials: multiply out, e.g. `x > 2 * y` for `x / y > 2` with y > 0");
+                    return None;
+                }
+            }
+        }
+        Expr::Pow(a, exponent) => {
+            let n: u32 = match src[exponent.range()].parse() {
+                Ok(n) if n <= 16 => n,
+                _ => {
+                    diags.error(*exponent, "exponents go up to 16");
+                    return None;
+                }
+            };
+            NumExpr::Pow(Box::new(to_num(src, a, spec, uses, diags)?), n)
+        }
+        _ => {
+            diags.error(span_of(expr), "expected an arithmetic expression over numeric inputs here");
+            return None;
+        }
+    })
+}
+
+/// Where a parsed expression starts (for diagnostics on arithmetic operands).
+fn span_of(expr: &Expr) -> Span {
+    match expr {
+        Expr::Name(s) | Expr::Number(s) | Expr::Compare(.., s) => *s,
+        Expr::Neg(a) | Expr::Arith(_, a, _) | Expr::Pow(a, _) | Expr::Not(a) | Expr::Unary(_, a) => span_of(a),
+        Expr::Binary(_, a, _) => span_of(a),
+        Expr::Many(_, parts) => parts.first().map_or_else(Span::default, span_of),
+        Expr::Const(_) => Span::default(),
+    }
+}
+
+fn to_ltl(src: &str, expr: &Expr, spec: &Spec, uses: &mut Uses, diags: &mut Diagnostics) -> Option<Ltl> {
+    let used = &mut uses.signals;
+    Some(match expr {
+        Expr::Compare(relation, a, b, span) => {
+            let (x, y) = (to_num(src, a, spec, uses, diags), to_num(src, b, spec, uses, diags));
+            let (x, y) = (x?, y?);
+            let key = (x, *relation, y);
+            let index = match uses.predicates.iter().position(|(l, r, h, _)| (l, r, h) == (&key.0, &key.1, &key.2)) {
+                Some(i) => i,
+                None => {
+                    uses.predicates.push((key.0, key.1, key.2, *span));
+                    uses.predicates.len() - 1
+                }
+            };
+            Ltl::Var(SignalId(uses.base + index as u32))
+        }
+        Expr::Number(span) | Expr::Pow(_, span) => {
+            diags.error(*span, "a number is not a formula: compare it, as in `x > 3`");
+            return None;
+        }
+        Expr::Neg(_) | Expr::Arith(..) => {
+            diags.error(span_of(expr), "an arithmetic expression is not a formula: compare it, as in `x + y > 3`");
+            return None;
+        }
         Expr::Const(true) => Ltl::True,
         Expr::Const(false) => Ltl::False,
         Expr::Name(span) => {
@@ -551,6 +1089,12 @@ fn to_ltl(src: &str, expr: &Expr, spec: &Spec, used: &mut [bool], diags: &mut Di
                 Some(id) => {
                     used[id.index()] = true;
                     Ltl::Var(id)
+                }
+                None if spec.numeric.iter().any(|n| n.name == name) => {
+                    diags
+                        .error(*span, format!("`{name}` is a number, not a formula"))
+                        .with_note(format!("compare it, as in `{name} > 3`"));
+                    return None;
                 }
                 None => {
                     let d = diags.error(*span, format!("`{name}` is not declared"));
@@ -567,9 +1111,9 @@ fn to_ltl(src: &str, expr: &Expr, spec: &Spec, used: &mut [bool], diags: &mut Di
                 }
             }
         }
-        Expr::Not(a) => Ltl::not(to_ltl(src, a, spec, used, diags)?),
+        Expr::Not(a) => Ltl::not(to_ltl(src, a, spec, uses, diags)?),
         Expr::Unary(op, a) => {
-            let a = to_ltl(src, a, spec, used, diags)?;
+            let a = to_ltl(src, a, spec, uses, diags)?;
             match op {
                 Op::Globally => Ltl::globally(a),
                 Op::Finally => Ltl::finally(a),
@@ -578,7 +1122,7 @@ fn to_ltl(src: &str, expr: &Expr, spec: &Spec, used: &mut [bool], diags: &mut Di
         }
         Expr::Many(bin, parts) => {
             // Every part is checked, so that every unknown name is reported.
-            let parts: Vec<Option<Ltl>> = parts.iter().map(|p| to_ltl(src, p, spec, used, diags)).collect();
+            let parts: Vec<Option<Ltl>> = parts.iter().map(|p| to_ltl(src, p, spec, uses, diags)).collect();
             let parts: Vec<Ltl> = parts.into_iter().collect::<Option<_>>()?;
             if *bin == Bin::And {
                 Ltl::And(parts)
@@ -588,8 +1132,8 @@ fn to_ltl(src: &str, expr: &Expr, spec: &Spec, used: &mut [bool], diags: &mut Di
         }
         Expr::Binary(bin, a, b) => {
             // Both sides are checked, so that every unknown name is reported.
-            let a = to_ltl(src, a, spec, used, diags);
-            let b = to_ltl(src, b, spec, used, diags);
+            let a = to_ltl(src, a, spec, uses, diags);
+            let b = to_ltl(src, b, spec, uses, diags);
             let (a, b) = (a?, b?);
             match bin {
                 Bin::And => Ltl::And(vec![a, b]),
@@ -641,7 +1185,7 @@ mod tests {
         assert_eq!(spec.timers[0].preset_ms, 10_000);
         assert_eq!(spec.signal(spec.timers[0].start).kind, SignalKind::Output);
         assert_eq!(spec.signal(spec.timers[0].expire).kind, SignalKind::Input);
-        assert_eq!(spec.formula_text(), "G (t1.start -> X F t1.expire) -> G (req -> t1.start)");
+        assert_eq!(spec.formula_text(), "G (t1.start -> X F (t1.expire || t1.start)) -> G (req -> t1.start)");
     }
 
     #[test]

@@ -277,6 +277,9 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) 
                             counter_strategy: (!controller).then_some(machine),
                             stats,
                             limit: None,
+                            refinement: Default::default(),
+                            groups: Vec::new(),
+                            split: 1,
                         });
                     }
                 }
@@ -407,5 +410,15 @@ pub(super) fn position_budget(k: u32, budget: usize, max_states: usize) -> Strin
 }
 
 fn unknown(k: u32, stats: Stats, limit: String) -> Outcome {
-    Outcome { verdict: Verdict::Unknown, k, controller: None, counter_strategy: None, stats, limit: Some(limit) }
+    Outcome {
+        verdict: Verdict::Unknown,
+        k,
+        controller: None,
+        counter_strategy: None,
+        stats,
+        limit: Some(limit),
+        refinement: Default::default(),
+        groups: Vec::new(),
+        split: 1,
+    }
 }

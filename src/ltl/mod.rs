@@ -18,19 +18,26 @@
 //! ```
 
 mod antichain;
+mod compose;
 mod export;
 mod g4ltl;
 mod game;
 mod machine;
+mod refine;
 mod spec;
 mod strategy;
 mod tlsf;
 mod translate;
 
+pub use compose::{product, Group};
 pub use export::{render_machine, render_tree, report_json, summary};
 pub use g4ltl::compile_g4ltl;
 pub use machine::{Cube, Machine, Row, StateId};
-pub use spec::{Clause, Ltl, Semantics, Signal, SignalId, SignalKind, Spec, Timer, MAX_FORMULA_DEPTH};
+pub use refine::{refined, Learned, Refinement};
+pub use spec::{
+    Clause, Ltl, NumExpr, NumberKind, NumericId, NumericInput, Predicate, Relation, Semantics, Signal, SignalId, SignalKind,
+    Spec, Timer, MAX_FORMULA_DEPTH,
+};
 pub use tlsf::compile_tlsf;
 pub use translate::{translate, Automaton, AutomatonState, Edge};
 
@@ -87,6 +94,9 @@ pub struct Config {
     /// translation, automaton edges followed in the games): about proportional to time, so
     /// that no input keeps a caller waiting, however small its state counts.
     pub max_work: u64,
+    /// Solve groups of guarantees with disjoint outputs alone first (`compose`); the verdict
+    /// is the same either way.
+    pub compositional: bool,
 }
 
 /// The two solvers of the bounded games; they decide the same games (the tests compare them),
@@ -181,6 +191,7 @@ impl Default for Config {
             max_signals: 20,
             max_work: DEFAULT_MAX_WORK,
             solver: Solver::Explicit,
+            compositional: true,
         }
     }
 }
@@ -238,6 +249,15 @@ pub struct Outcome {
     pub stats: Stats,
     /// For an unknown verdict: which bound or budget ended the run, and the flag that raises it.
     pub limit: Option<String>,
+    /// The assumptions the refinement loop learned: the controller or counter-strategy is one
+    /// of the specification with them ([`refined`]).
+    pub refinement: Refinement,
+    /// The groups of a compositional run, each with its controller (empty when the
+    /// specification was solved as a whole).
+    pub groups: Vec<Group>,
+    /// How many groups the guarantees split into (1: nothing to split). More than 1 with no
+    /// [`Outcome::groups`]: a group was not realizable alone, and the whole decided.
+    pub split: usize,
 }
 
 /// Why a run stopped without a verdict.
@@ -260,7 +280,28 @@ impl std::fmt::Display for Stop {
 
 /// Decides `spec`: for k = 0, 1, …, [`Config::max_k`] plays the controller's bounded game on
 /// the automaton of the negated specification, then the environment's on the automaton of the
-/// specification, and stops at the first that is won.
+/// specification, and stops at the first that is won. A counter-strategy that uses timer
+/// behaviour no real timer shows is excluded by a learned assumption and the games are played
+/// again (`refine`).
+///
+/// With [`Config::compositional`], groups of guarantees that share no output are solved alone
+/// first; when every group is realizable their controllers run side by side
+/// ([`Outcome::groups`]), otherwise the whole specification is solved.
 pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) -> bool) -> Result<Outcome, Stop> {
-    game::synthesize(spec, cfg, progress)
+    let split = compose::split(spec).len();
+    let mut spent = 0;
+    if cfg.compositional && split > 1 {
+        let mut tried = Config { max_work: cfg.max_work / 2, ..cfg.clone() };
+        tried.max_states = cfg.max_states / 2;
+        match compose::synthesize(spec, &tried, progress) {
+            Ok(Ok(outcome)) => return Ok(outcome),
+            Ok(Err(work)) => spent = work,
+            Err(Stop::Budget(_)) => spent = tried.max_work,
+            Err(Stop::Cancelled) => return Err(Stop::Cancelled),
+        }
+    }
+    let whole = Config { max_work: cfg.max_work - spent, ..cfg.clone() };
+    let mut outcome = refine::synthesize(spec, &whole, progress)?;
+    outcome.split = split;
+    Ok(outcome)
 }

@@ -58,6 +58,114 @@ pub struct Timer {
     pub span: Span,
 }
 
+/// The type of a numeric input.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum NumberKind {
+    /// IEC `REAL`.
+    Real,
+    /// IEC `INT` (the bounds must be integers).
+    Int,
+}
+
+/// A bounded numeric input, `INPUT x: REAL[0, 4]` (paper, section 3): the environment sets it;
+/// formulas only compare it in [`Predicate`]s.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct NumericInput {
+    pub name: String,
+    pub kind: NumberKind,
+    /// The bounds as written (decimal literals, exact).
+    pub lo: String,
+    pub hi: String,
+    pub span: Span,
+}
+
+/// Index of a numeric input in [`Spec::numeric`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+pub struct NumericId(pub u32);
+
+/// A polynomial expression over numeric inputs, as written.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum NumExpr {
+    /// A decimal literal as written (`3`, `3.5`, `1.0e-3`).
+    Const(String),
+    Var(NumericId),
+    Neg(Box<NumExpr>),
+    Add(Box<NumExpr>, Box<NumExpr>),
+    Sub(Box<NumExpr>, Box<NumExpr>),
+    Mul(Box<NumExpr>, Box<NumExpr>),
+    /// Division by a constant only (the checker makes sure): the result stays a polynomial.
+    Div(Box<NumExpr>, Box<NumExpr>),
+    Pow(Box<NumExpr>, u32),
+}
+
+/// A comparison of a [`Predicate`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+pub enum Relation {
+    Lt,
+    Le,
+    Gt,
+    Ge,
+    Eq,
+    Ne,
+}
+
+impl Relation {
+    pub fn symbol(self) -> &'static str {
+        match self {
+            Relation::Lt => "<",
+            Relation::Le => "<=",
+            Relation::Gt => ">",
+            Relation::Ge => ">=",
+            Relation::Eq => "=",
+            Relation::Ne => "!=",
+        }
+    }
+}
+
+/// An arithmetic predicate on the numeric inputs, abstracted into the Boolean input `signal`
+/// (paper, section 3): the controller reads its truth value, computed once per scan.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Predicate {
+    pub signal: SignalId,
+    pub lhs: NumExpr,
+    pub relation: Relation,
+    pub rhs: NumExpr,
+    /// Where it was first written.
+    pub span: Span,
+}
+
+impl NumExpr {
+    /// Infix text with the inputs' names, fully parenthesised where precedence could matter.
+    pub fn to_text(&self, name: &dyn Fn(NumericId) -> String) -> String {
+        let operand = |e: &NumExpr| match e {
+            NumExpr::Const(_) | NumExpr::Var(_) | NumExpr::Pow(..) => e.to_text(name),
+            _ => format!("({})", e.to_text(name)),
+        };
+        match self {
+            NumExpr::Const(text) => text.clone(),
+            NumExpr::Var(v) => name(*v),
+            NumExpr::Neg(a) => format!("-{}", operand(a)),
+            NumExpr::Add(a, b) => format!("{} + {}", a.to_text(name), operand_sum(b, name)),
+            NumExpr::Sub(a, b) => format!("{} - {}", a.to_text(name), operand(b)),
+            NumExpr::Mul(a, b) => format!("{} * {}", operand(a), operand(b)),
+            NumExpr::Div(a, b) => format!("{} / {}", operand(a), operand(b)),
+            NumExpr::Pow(a, n) => match **a {
+                NumExpr::Const(_) | NumExpr::Var(_) => format!("{}^{n}", a.to_text(name)),
+                _ => format!("({})^{n}", a.to_text(name)),
+            },
+        }
+    }
+}
+
+/// The right operand of `+`: a product or power needs no parentheses.
+fn operand_sum(e: &NumExpr, name: &dyn Fn(NumericId) -> String) -> String {
+    match e {
+        NumExpr::Add(..) | NumExpr::Sub(..) | NumExpr::Neg(_) => format!("({})", e.to_text(name)),
+        _ => e.to_text(name),
+    }
+}
+
 /// An LTL formula over the signals of one [`Spec`]. `W` (weak until) and `R` (release) are
 /// kept as written; the translation brings everything into negation normal form.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -247,6 +355,10 @@ pub struct Spec {
     pub guarantees: Vec<Clause>,
     pub semantics: Semantics,
     pub timers: Vec<Timer>,
+    /// Bounded numeric inputs (G4LTL-ST's `INPUT x: REAL[0, 4]`).
+    pub numeric: Vec<NumericInput>,
+    /// The arithmetic predicates, each abstracted into a Boolean input.
+    pub predicates: Vec<Predicate>,
     /// A title for reports and generated code (TLSF `TITLE`), if the source gave one.
     pub title: Option<String>,
 }
@@ -276,6 +388,17 @@ impl Spec {
 
     fn of_kind(&self, kind: SignalKind) -> Vec<SignalId> {
         (0..self.signals.len() as u32).map(SignalId).filter(|&s| self.signal(s).kind == kind).collect()
+    }
+
+    /// A predicate's text over the numeric inputs' names, `x + y > 3`.
+    pub fn predicate_text(&self, p: &Predicate) -> String {
+        let name = |v: NumericId| self.numeric[v.0 as usize].name.clone();
+        format!("{} {} {}", p.lhs.to_text(&name), p.relation.symbol(), p.rhs.to_text(&name))
+    }
+
+    /// The predicate abstracted into `signal`, if it is one.
+    pub fn predicate_of(&self, signal: SignalId) -> Option<&Predicate> {
+        self.predicates.iter().find(|p| p.signal == signal)
     }
 
     /// The conjunction of the assumptions (`true` if there are none).

@@ -144,8 +144,8 @@ fn evaluate(tlsf: &Tlsf, overrides: &[(String, i64)], diags: &mut Diagnostics<'_
             Turn::Mealy => Semantics::Mealy,
             Turn::Moore => Semantics::Moore,
         },
-        timers: Vec::new(),
         title: tlsf.title.clone(),
+        ..Spec::default()
     };
     let depth = spec.formula().depth();
     if depth > MAX_FORMULA_DEPTH {

@@ -1,0 +1,241 @@
+//! The abstraction-refinement loop (paper, section 3 and figure 2): the Boolean abstraction
+//! of timers (and of arithmetic predicates, see [`super::theory`]) over-approximates what the
+//! environment can do. When the environment wins the abstract game, its counter-strategy is
+//! checked against what a real timer (or the theory) allows; what it used but cannot happen is
+//! excluded by a new assumption, and the game is played again. The loop ends with a controller,
+//! with a counter-strategy that only does what is possible (a genuine one), or at a budget.
+//!
+//! The timer model. A start in a scan restarts the timer (the code gives `IN` a rising edge at
+//! the end of that scan, `docs/ltl-plc.md`), and `expire` is the timer's `Q` read at the start
+//! of a scan. So a real timer behaves as follows, whatever the scan time (assuming only that
+//! the preset is longer than a scan):
+//!
+//! - *expires unless restarted* (always assumed): `G (s -> X F (e || s))`. The paper's
+//!   antecedent `G (s -> X F e)` is stronger and unsound: a controller that starts the timer in
+//!   every scan makes it false, and so wins any specification vacuously once a restart is
+//!   known to delay the expiry;
+//! - *no expiry before the first start*: `!e W (s && !e)`;
+//! - *a start resets*: `G (s -> X !e)` (the scan after a start reads the timer running);
+//! - *an expiry lasts until the next start*: `G ((e && !s) -> X e)`.
+//!
+//! The last three are learned: added when a counter-strategy breaks them. Together they are
+//! satisfiable by the environment against every controller (an expiry two scans after a start
+//! that was not repeated), so the refined assumptions never make a specification vacuous.
+
+use super::game;
+use crate::diag::Span;
+use super::machine::{Machine, StateId};
+use super::spec::{Clause, Ltl, SignalId, Spec, Timer};
+use super::{Config, Outcome, Progress, Stop, Verdict};
+use serde::Serialize;
+use std::collections::{BTreeSet, HashSet};
+
+/// Rounds of the loop before it gives up (each adds at least one assumption).
+const MAX_ROUNDS: u32 = 64;
+
+/// An assumption the loop added, and why.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Learned {
+    /// The assumption as infix text over the signal names.
+    pub formula: String,
+    /// What the counter-strategy did that cannot happen.
+    pub reason: String,
+    #[serde(skip)]
+    pub ltl: Ltl,
+    /// What it came from in the source (the timer's or the predicate's declaration).
+    #[serde(skip)]
+    pub span: Span,
+}
+
+/// What the refinement loop did in one run.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Refinement {
+    /// The assumptions added, in order.
+    pub learned: Vec<Learned>,
+    /// Games solved (1 when nothing was learned).
+    pub rounds: u32,
+}
+
+/// The timer facts that can be learned, in the order they are checked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+enum TimerFact {
+    NoExpiryBeforeStart,
+    StartResets,
+    ExpiryLasts,
+}
+
+impl TimerFact {
+    const ALL: [TimerFact; 3] = [TimerFact::NoExpiryBeforeStart, TimerFact::StartResets, TimerFact::ExpiryLasts];
+
+    fn formula(self, t: &Timer) -> Ltl {
+        let (s, e) = (Ltl::Var(t.start), Ltl::Var(t.expire));
+        match self {
+            TimerFact::NoExpiryBeforeStart => Ltl::weak_until(Ltl::not(e.clone()), Ltl::And(vec![s, Ltl::not(e)])),
+            TimerFact::StartResets => Ltl::globally(Ltl::implies(s, Ltl::next(Ltl::not(e)))),
+            TimerFact::ExpiryLasts => {
+                Ltl::globally(Ltl::implies(Ltl::And(vec![e.clone(), Ltl::not(s)]), Ltl::next(e)))
+            }
+        }
+    }
+
+    fn reason(self, t: &Timer) -> String {
+        let n = &t.name;
+        match self {
+            TimerFact::NoExpiryBeforeStart => format!("the counter-strategy reported `{n}.expire` before any start"),
+            TimerFact::StartResets => {
+                format!("the counter-strategy reported `{n}.expire` in the scan right after a start of `{n}`")
+            }
+            TimerFact::ExpiryLasts => {
+                format!("the counter-strategy withdrew `{n}.expire` without a start of `{n}` in between")
+            }
+        }
+    }
+}
+
+/// The assumption every timer gets from the start: it expires some scans after a start
+/// unless it is started again first.
+pub(super) fn timer_liveness(t: &Timer) -> Ltl {
+    let (s, e) = (Ltl::Var(t.start), Ltl::Var(t.expire));
+    Ltl::globally(Ltl::implies(s.clone(), Ltl::next(Ltl::finally(Ltl::Or(vec![e, s])))))
+}
+
+/// One letter of a play of a machine: the valuation of every signal (bit = signal id).
+type Letter = u64;
+
+/// The letters a machine's plays can show, with every answer of the other player, and the
+/// pairs of consecutive letters.
+struct Plays {
+    steps: HashSet<(Letter, Letter)>,
+    letters: BTreeSet<Letter>,
+}
+
+/// All letters of `machine`'s plays (the other player answering anything), and the pairs of
+/// consecutive ones.
+fn plays(machine: &Machine) -> Plays {
+    let n = machine.reads.len();
+    let moves: Vec<Vec<(Letter, StateId)>> = (0..machine.states.len() as u32)
+        .map(|s| {
+            (0..1u64 << n)
+                .map(|read| {
+                    let row = machine.row(StateId(s), read);
+                    (letter(machine, read, row.write), row.next)
+                })
+                .collect()
+        })
+        .collect();
+    let mut reachable = vec![false; machine.states.len()];
+    let mut stack = vec![machine.init];
+    while let Some(s) = stack.pop() {
+        if !std::mem::replace(&mut reachable[s.index()], true) {
+            stack.extend(moves[s.index()].iter().map(|&(_, next)| next));
+        }
+    }
+    let mut out = Plays { steps: HashSet::new(), letters: BTreeSet::new() };
+    for s in (0..machine.states.len()).filter(|&s| reachable[s]) {
+        for &(a, next) in &moves[s] {
+            out.letters.insert(a);
+            out.steps.extend(moves[next.index()].iter().map(|&(b, _)| (a, b)));
+        }
+    }
+    out
+}
+
+/// The letter of a step in which `machine` reads `read` and writes `write`.
+fn letter(machine: &Machine, read: u64, write: u64) -> Letter {
+    let bits = |ids: &[SignalId], v: u64| ids.iter().enumerate().fold(0u64, |m, (i, s)| m | (v >> i & 1) << s.0);
+    bits(&machine.reads, read) | bits(&machine.writes, write)
+}
+
+/// Whether some play shows `fact` broken for `t`.
+fn breaks(fact: TimerFact, t: &Timer, plays: &Plays, machine: &Machine) -> bool {
+    let on = |letter: Letter, s: SignalId| letter >> s.0 & 1 == 1;
+    match fact {
+        TimerFact::StartResets => plays.steps.iter().any(|&(a, b)| on(a, t.start) && on(b, t.expire)),
+        TimerFact::ExpiryLasts => {
+            plays.steps.iter().any(|&(a, b)| on(a, t.expire) && !on(a, t.start) && !on(b, t.expire))
+        }
+        TimerFact::NoExpiryBeforeStart => expiry_before_start(t, machine),
+    }
+}
+
+/// Whether a play reports `t.expire` at or before the timer's first start (a search over the
+/// machine's states while no start has been seen).
+fn expiry_before_start(t: &Timer, machine: &Machine) -> bool {
+    let n = machine.reads.len();
+    let mut seen = vec![false; machine.states.len()];
+    let mut stack = vec![machine.init];
+    while let Some(s) = stack.pop() {
+        if std::mem::replace(&mut seen[s.index()], true) {
+            continue;
+        }
+        for read in 0..1u64 << n {
+            let row = machine.row(s, read);
+            let letter = letter(machine, read, row.write);
+            if letter >> t.expire.0 & 1 == 1 {
+                return true;
+            }
+            if letter >> t.start.0 & 1 == 0 {
+                stack.push(row.next);
+            }
+        }
+    }
+    false
+}
+
+/// Decides `spec` with the refinement loop around the bounded games.
+pub(super) fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) -> bool) -> Result<Outcome, Stop> {
+    let mut current = spec.clone();
+    let mut refinement = Refinement::default();
+    let mut known: HashSet<(usize, TimerFact)> = HashSet::new();
+    let mut used_work = 0u64;
+    loop {
+        refinement.rounds += 1;
+        let round_cfg = Config { max_work: cfg.max_work.saturating_sub(used_work), ..cfg.clone() };
+        let mut outcome = game::synthesize(&current, &round_cfg, progress)?;
+        used_work += outcome.stats.work;
+        outcome.stats.work = used_work;
+        let new = match (&outcome.verdict, &outcome.counter_strategy) {
+            (Verdict::Unrealizable, Some(counter)) => {
+                let plays = plays(counter);
+                let mut new = Vec::new();
+                for (k, t) in current.timers.iter().enumerate() {
+                    for fact in TimerFact::ALL {
+                        if !known.contains(&(k, fact)) && breaks(fact, t, &plays, counter) {
+                            new.push((k, fact));
+                        }
+                    }
+                }
+                new
+            }
+            _ => Vec::new(),
+        };
+        if new.is_empty() {
+            outcome.refinement = refinement;
+            return Ok(outcome);
+        }
+        if refinement.rounds >= MAX_ROUNDS {
+            outcome.verdict = Verdict::Unknown;
+            outcome.counter_strategy = None;
+            outcome.limit = Some(format!("the refinement loop learned assumptions for {MAX_ROUNDS} rounds"));
+            outcome.refinement = refinement;
+            return Ok(outcome);
+        }
+        for (k, fact) in new {
+            known.insert((k, fact));
+            let t = &current.timers[k];
+            let ltl = fact.formula(t);
+            let formula = ltl.to_infix(&|s| current.name(s).to_string());
+            let learned = Learned { formula, reason: fact.reason(t), ltl, span: t.span };
+            current.assumptions.push(Clause { formula: learned.ltl.clone(), span: learned.span });
+            refinement.learned.push(learned);
+        }
+    }
+}
+
+/// `spec` with the assumptions a run learned: the specification its controller or
+/// counter-strategy is for.
+pub fn refined(spec: &Spec, refinement: &Refinement) -> Spec {
+    let mut out = spec.clone();
+    out.assumptions.extend(refinement.learned.iter().map(|l| Clause { formula: l.ltl.clone(), span: l.span }));
+    out
+}
