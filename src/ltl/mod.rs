@@ -24,6 +24,7 @@ mod game;
 mod machine;
 mod spec;
 mod strategy;
+mod suggest;
 mod tlsf;
 mod translate;
 
@@ -31,6 +32,7 @@ pub use export::{render_machine, render_tree, report_json, summary};
 pub use g4ltl::compile_g4ltl;
 pub use machine::{Cube, Machine, Row, StateId};
 pub use spec::{Clause, Ltl, Semantics, Signal, SignalId, SignalKind, Spec, Timer, MAX_FORMULA_DEPTH};
+pub use suggest::{longest_play, suggest, Play, SuggestConfig, Suggestion, Suggestions, Template};
 pub use tlsf::compile_tlsf;
 pub use translate::{translate, Automaton, AutomatonState, Edge};
 
