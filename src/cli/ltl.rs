@@ -169,7 +169,9 @@ fn print_suggestions(spec: &ltl::Spec, s: &ltl::Suggestions) {
     if s.found.is_empty() {
         outln!("none: {}", s.limit.as_deref().unwrap_or("no candidate made the specification realizable"));
     }
-    for (i, found) in s.found.iter().enumerate() {
+    // The best few; `--json` lists them all.
+    const SHOWN: usize = 5;
+    for (i, found) in s.found.iter().take(SHOWN).enumerate() {
         let patterns: Vec<&str> = found.templates.iter().map(|t| t.pattern()).collect();
         outln!("{}. ASSUME {}   (template {})", i + 1, found.texts().join(" ; ASSUME "), patterns.join(" + "));
         let m = found.controller();
@@ -182,6 +184,9 @@ fn print_suggestions(spec: &ltl::Spec, s: &ltl::Suggestions) {
         for line in ltl::render_machine(&found.spec, m).lines() {
             outln!("   {line}");
         }
+    }
+    if s.found.len() > SHOWN {
+        outln!("... and {} more (--json lists every suggestion)", s.found.len() - SHOWN);
     }
 }
 
