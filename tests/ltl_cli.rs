@@ -135,3 +135,46 @@ fn the_controller_is_written_as_plc_code() {
     assert_eq!(unreal.status.code(), Some(1));
     assert!(stderr(&unreal).contains("no code written"), "{}", stderr(&unreal));
 }
+
+#[test]
+fn suggest_prints_assumptions_with_their_controllers_and_keeps_the_exit_status() {
+    let out = plcsynth(&["ltl", "--suggest", "../shared/ltl/g4ltl/ptii_NumericalOriginal.g4ltl"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.contains("longest play the counter-strategy forces: [0] req1 & req2"), "{text}");
+    assert!(text.contains("1. ASSUME G !(req1 && req2)   (template G !(?a && ?b))"), "{text}");
+    assert!(text.contains("   realizable at k = "), "{text}");
+    let json = plcsynth(&["ltl", "--json", "--suggest", "examples/ltl/fair_grant_unfair_env.ltl"]);
+    assert_eq!(json.status.code(), Some(1));
+    let doc: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    assert_eq!(doc["verdict"], "unrealizable");
+    let first = &doc["suggestions"][0];
+    assert_eq!(first["assumptions"], serde_json::json!(["G F req"]));
+    assert_eq!(first["template"], "G F ?a");
+    assert!(first["mealy"]["states"].is_object() && first["k"].is_u64(), "{first}");
+    assert!(doc.get("suggest_limit").is_none());
+    // A realizable specification: nothing extra.
+    let real = plcsynth(&["ltl", "--suggest", "examples/ltl/fair_grant.ltl"]);
+    assert_eq!(real.status.code(), Some(0));
+    assert!(!stdout(&real).contains("suggestion"), "{}", stdout(&real));
+}
+
+#[test]
+fn suggest_max_reports_that_no_set_that_small_was_found() {
+    let dir = root().join("target/ltl-cli");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("two_faults.ltl");
+    std::fs::write(
+        &file,
+        "ALWAYS (grant -> req)\nALWAYS (grant -> NEXT !grant)\nALWAYS EVENTUALLY grant\nALWAYS (r1 -> g1)\n\
+         ALWAYS (r2 -> g2)\nALWAYS !(g1 && g2)\nINPUT req, r1, r2\nOUTPUT grant, g1, g2\n",
+    )
+    .unwrap();
+    let out = plcsynth(&["ltl", "--suggest", "--suggest-max", "1", file.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(stdout(&out).contains("none: no set of at most 1 assumption found"), "{}", stdout(&out));
+    let json = plcsynth(&["ltl", "--json", "--suggest", "--suggest-max", "1", file.to_str().unwrap()]);
+    let doc: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    assert_eq!(doc["suggestions"], serde_json::json!([]));
+    assert!(doc["suggest_limit"].as_str().unwrap().starts_with("no set of at most 1 assumption found"), "{doc}");
+}

@@ -50,6 +50,14 @@ pub struct LtlArgs {
     /// The function block's name (default `FB_` and the TLSF title, or `FB_Controller`).
     #[arg(long, value_name = "NAME", requires = "target")]
     pub name: Option<String>,
+    /// After an unrealizable verdict, search environment assumptions that make the
+    /// specification realizable, and print each with the controller it allows
+    /// (docs/ltl-language.md, "Assumption suggestions"). Nothing extra for other verdicts.
+    #[arg(long, conflicts_with = "target")]
+    pub suggest: bool,
+    /// With --suggest: add at most N assumptions (one set).
+    #[arg(long, value_name = "N", default_value_t = 3, requires = "suggest", value_parser = clap::value_parser!(u64).range(1..=10))]
+    pub suggest_max: u64,
 }
 
 fn parse_param(text: &str) -> Result<(String, i64), String> {
@@ -103,8 +111,24 @@ pub fn ltl(a: &LtlArgs) -> ExitCode {
         };
         return write_code(a, target, &source, &spec, controller);
     }
+    let suggestions = if a.suggest && outcome.verdict == Verdict::Unrealizable {
+        let scfg = ltl::SuggestConfig { max_assumptions: a.suggest_max as usize, ..ltl::SuggestConfig::default() };
+        match ltl::suggest(&spec, &outcome, &cfg, &scfg, &mut |_| true) {
+            Ok(s) => Some(s),
+            Err(stop) => {
+                eprintln!("{}: suggestions stopped: {stop}", a.file);
+                None
+            }
+        }
+    } else {
+        None
+    };
     if a.json {
-        outln!("{}", ltl::report_json(&spec, &outcome));
+        let mut doc = ltl::report_json(&spec, &outcome);
+        if let Some(s) = &suggestions {
+            add_suggestions_json(&mut doc, &spec, s);
+        }
+        outln!("{doc}");
     } else {
         outln!("{}", ltl::summary(&outcome));
         outln!("specification: {}", spec.formula_text());
@@ -119,8 +143,54 @@ pub fn ltl(a: &LtlArgs) -> ExitCode {
             outln!("the environment's counter-strategy, unfolded from its initial state:");
             outln!("{}", ltl::render_tree(&spec, m).trim_end());
         }
+        if let Some(s) = &suggestions {
+            print_suggestions(&spec, s);
+        }
     }
     exit_code(outcome.verdict)
+}
+
+/// The `--suggest` keys of `--json`: `suggestions`, `suggest_play`, and `suggest_limit` when
+/// nothing was found.
+fn add_suggestions_json(doc: &mut serde_json::Value, spec: &ltl::Spec, s: &ltl::Suggestions) {
+    doc["suggestions"] = s.to_json();
+    if let Some(play) = &s.play {
+        doc["suggest_play"] = serde_json::json!(play.describe(spec));
+    }
+    doc["suggest_tried"] = serde_json::json!(s.tried);
+    if let Some(limit) = &s.limit {
+        doc["suggest_limit"] = serde_json::json!(limit);
+    }
+}
+
+/// The `--suggest` section of the text report.
+fn print_suggestions(spec: &ltl::Spec, s: &ltl::Suggestions) {
+    if let Some(play) = &s.play {
+        outln!("longest play the counter-strategy forces: {}", play.describe(spec));
+    }
+    outln!("assumption suggestions ({} candidates from the templates, {} re-syntheses):", s.candidates, s.tried);
+    if s.found.is_empty() {
+        outln!("none: {}", s.limit.as_deref().unwrap_or("no candidate made the specification realizable"));
+    }
+    // The best few; `--json` lists them all.
+    const SHOWN: usize = 5;
+    for (i, found) in s.found.iter().take(SHOWN).enumerate() {
+        let patterns: Vec<&str> = found.templates.iter().map(|t| t.pattern()).collect();
+        outln!("{}. ASSUME {}   (template {})", i + 1, found.texts().join(" ; ASSUME "), patterns.join(" + "));
+        let m = found.controller();
+        outln!(
+            "   realizable at k = {}: a controller of {} states, {} rows",
+            found.outcome.k,
+            m.states.len(),
+            m.rows()
+        );
+        for line in ltl::render_machine(&found.spec, m).lines() {
+            outln!("   {line}");
+        }
+    }
+    if s.found.len() > SHOWN {
+        outln!("... and {} more (--json lists every suggestion)", s.found.len() - SHOWN);
+    }
 }
 
 fn exit_code(verdict: Verdict) -> ExitCode {

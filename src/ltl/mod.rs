@@ -26,6 +26,7 @@ mod machine;
 mod refine;
 mod spec;
 mod strategy;
+mod suggest;
 mod tlsf;
 mod translate;
 
@@ -38,6 +39,7 @@ pub use spec::{
     Clause, Ltl, NumExpr, NumberKind, NumericId, NumericInput, Predicate, Relation, Semantics, Signal, SignalId, SignalKind,
     Spec, Timer, MAX_FORMULA_DEPTH,
 };
+pub use suggest::{longest_play, suggest, Play, SuggestConfig, Suggestion, Suggestions, Template};
 pub use tlsf::compile_tlsf;
 pub use translate::{translate, Automaton, AutomatonState, Edge};
 
