@@ -28,7 +28,7 @@
 use super::unit::{Expr, Place, Pou, PouKind, Signal, SignalKind, Stmt, Type, Unit, Var};
 use super::{identifier, source_hash, Namespace};
 use crate::diag::{Diagnostic, Diagnostics, Span};
-use crate::ltl::{Cube, Machine, Row, SignalId, SignalKind as Direction, Spec, StateId};
+use crate::ltl::{Cube, Machine, Outcome, Row, SignalId, SignalKind as Direction, Spec, StateId};
 use std::collections::BTreeSet;
 
 /// Choices of the lowering beyond the machine.
@@ -90,11 +90,47 @@ struct TimerUse {
 /// or writes an input of the specification (a counter-strategy is not a controller), a timer
 /// longer than a PLC's `TIME` holds.
 pub fn lower(source: &str, spec: &Spec, machine: &Machine, options: &LowerOptions) -> Result<Unit, Vec<Diagnostic>> {
+    lower_machines(source, spec, std::slice::from_ref(machine), options)
+}
+
+/// Lowers a run's controller: one state machine per group of a compositional run (the
+/// paper's appendix A), else the one controller. `None` for a run without a controller.
+pub fn lower_outcome(
+    source: &str,
+    spec: &Spec,
+    outcome: &Outcome,
+    options: &LowerOptions,
+) -> Option<Result<Unit, Vec<Diagnostic>>> {
+    let machines: Vec<Machine> = outcome.groups.iter().filter_map(|g| g.controller.clone()).collect();
+    if machines.len() > 1 {
+        return Some(lower_machines(source, spec, &machines, options));
+    }
+    outcome.controller.as_ref().map(|m| lower(source, spec, m, options))
+}
+
+/// Lowers machines that run side by side in one block (disjoint writes), each with its own
+/// state variable and `CASE`.
+pub fn lower_machines(
+    source: &str,
+    spec: &Spec,
+    machines: &[Machine],
+    options: &LowerOptions,
+) -> Result<Unit, Vec<Diagnostic>> {
     let mut diags = Diagnostics::new(source);
-    check(spec, machine, &mut diags);
+    for machine in machines {
+        check(spec, machine, &mut diags);
+    }
+    let written: Vec<SignalId> = machines.iter().flat_map(|m| m.writes.iter().copied()).collect();
+    if written.iter().collect::<BTreeSet<_>>().len() != written.len() {
+        diags.error(Span::default(), "two state machines write one output");
+    }
+    if machines.is_empty() {
+        diags.error(Span::default(), "no state machine to lower");
+    }
     if diags.has_errors() {
         return Err(diags.items);
     }
+    let many = machines.len() > 1;
     let mut names = Names(Namespace::new());
     let block_base = match (&options.name, &spec.title) {
         (Some(name), _) => name.clone(),
@@ -105,38 +141,41 @@ pub fn lower(source: &str, spec: &Spec, machine: &Machine, options: &LowerOption
     let program = names.fresh(&format!("{block}_main"), MAX_NAME);
     let gvl = names.fresh(&format!("{block}_States"), MAX_NAME);
     let instance = names.fresh("ctrl", MAX_NAME);
-    let state = names.fresh("state", MAX_NAME);
+    let state_vars: Vec<String> = (1..=machines.len())
+        .map(|k| names.fresh(&if many { format!("state{k}") } else { "state".to_string() }, MAX_NAME))
+        .collect();
 
-    // The signals' own names first; timers after them.
+    // Every signal some machine reads or writes, in the specification's order: the signals'
+    // own names first, timers after them.
+    let read: BTreeSet<SignalId> = machines.iter().flat_map(|m| m.reads.iter().copied()).collect();
     let timer_of_expire = |s: SignalId| spec.timers.iter().position(|t| t.expire == s);
     let timer_of_start = |s: SignalId| spec.timers.iter().position(|t| t.start == s);
     let mut inputs = Vec::new();
-    let mut input_names: Vec<Option<String>> = Vec::new();
-    for &s in &machine.reads {
-        if timer_of_expire(s).is_some() {
-            input_names.push(None);
-        } else {
+    let mut input_name: std::collections::HashMap<SignalId, String> = Default::default();
+    let reads_in_order: Vec<SignalId> = read.iter().copied().collect();
+    for &s in &reads_in_order {
+        if timer_of_expire(s).is_none() {
             let name = names.fresh(spec.name(s), MAX_NAME);
             inputs.push(Var::new(&name, Type::Bool, format!("input {}", spec.name(s))));
-            input_names.push(Some(name));
+            input_name.insert(s, name);
         }
     }
+    let writes_in_order: Vec<SignalId> = written.iter().copied().collect::<BTreeSet<_>>().into_iter().collect();
     let mut outputs = Vec::new();
-    let mut output_names = Vec::new();
-    for &s in &machine.writes {
+    let mut output_name: std::collections::HashMap<SignalId, String> = Default::default();
+    for &s in &writes_in_order {
         let name = names.fresh(spec.name(s), MAX_NAME);
         let comment = match timer_of_start(s) {
             Some(t) => format!("{}: TRUE in a scan that starts timer {}", spec.name(s), spec.timers[t].name),
             None => format!("output {}", spec.name(s)),
         };
         outputs.push(Var::new(&name, Type::Bool, comment));
-        output_names.push(name);
+        output_name.insert(s, name);
     }
     let mut timers: Vec<TimerUse> = Vec::new();
     let mut timer_instance = vec![None; spec.timers.len()];
     for (k, t) in spec.timers.iter().enumerate() {
-        let start = machine.writes.iter().position(|&s| s == t.start);
-        if start.is_none() && !machine.reads.contains(&t.expire) {
+        if !output_name.contains_key(&t.start) && !read.contains(&t.expire) {
             continue;
         }
         let instance = loop {
@@ -151,37 +190,22 @@ pub fn lower(source: &str, spec: &Spec, machine: &Machine, options: &LowerOption
         timers.push(TimerUse {
             instance,
             preset_ms: t.preset_ms,
-            start: start.map(|i| output_names[i].clone()),
+            start: output_name.get(&t.start).cloned(),
             name: t.name.clone(),
         });
     }
-    let sources: Vec<Source> = machine
-        .reads
-        .iter()
-        .zip(input_names)
-        .map(|(&s, input)| match input {
-            Some(name) => Source::Input(name),
-            None => Source::Expired(
-                timer_instance[timer_of_expire(s).expect("an expire signal")]
-                    .clone()
-                    .expect("a timer whose expiry is read is used"),
-            ),
-        })
-        .collect();
+    let source_of = |s: SignalId| match input_name.get(&s) {
+        Some(name) => Source::Input(name.clone()),
+        None => Source::Expired(
+            timer_instance[timer_of_expire(s).expect("an expire signal")]
+                .clone()
+                .expect("a timer whose expiry is read is used"),
+        ),
+    };
 
-    // States: those reachable from the initial one, named after the machine's numbers.
-    let reachable = reachable(machine);
+    // States: those reachable from the initial one, named after the machine's numbers
+    // (`S_3`; `S1_3`, `S2_0`, … for the machines of a compositional run).
     let mut constants = Vec::new();
-    let mut state_name = vec![String::new(); machine.states.len()];
-    for &s in &reachable {
-        let name = names.fresh(&format!("S_{}", s.0), MAX_NAME);
-        let what = if s == machine.init { "state (initial)" } else { "state" };
-        constants.push(Var::new(&name, Type::Int, what).with_init(Expr::Int(i64::from(s.0))));
-        state_name[s.index()] = name;
-    }
-
-    let lowering =
-        Lowering { machine, sources: &sources, outputs: &output_names, state: &state, state_name: &state_name };
     let mut body = Vec::new();
     if !timers.is_empty() {
         body.push(Stmt::Comment("timers run every scan, so that Q and ET are current (IN keeps its value)".into()));
@@ -192,8 +216,39 @@ pub fn lower(source: &str, spec: &Spec, machine: &Machine, options: &LowerOption
             });
         }
     }
-    let arms = reachable.iter().map(|&s| (vec![i64::from(s.0)], lowering.state_branch(s))).collect();
-    body.push(Stmt::Case { selector: Expr::local(&state), arms, otherwise: Vec::new() });
+    let mut locals = Vec::new();
+    let mut reachable_counts = Vec::new();
+    for (k, machine) in machines.iter().enumerate() {
+        let reachable = reachable(machine);
+        reachable_counts.push(reachable.len());
+        let mut state_name = vec![String::new(); machine.states.len()];
+        for &s in &reachable {
+            let base = if many { format!("S{}_{}", k + 1, s.0) } else { format!("S_{}", s.0) };
+            let name = names.fresh(&base, MAX_NAME);
+            let what = if s == machine.init { "state (initial)" } else { "state" };
+            constants.push(Var::new(&name, Type::Int, what).with_init(Expr::Int(i64::from(s.0))));
+            state_name[s.index()] = name;
+        }
+        let sources: Vec<Source> = machine.reads.iter().map(|&s| source_of(s)).collect();
+        let output_names: Vec<String> = machine.writes.iter().map(|s| output_name[s].clone()).collect();
+        let state = &state_vars[k];
+        let lowering =
+            Lowering { machine, sources: &sources, outputs: &output_names, state, state_name: &state_name };
+        if many {
+            let outs: Vec<&str> = machine.writes.iter().map(|&s| spec.name(s)).collect();
+            body.push(Stmt::Comment(format!("state machine {} of {}: writes {}", k + 1, machines.len(), outs.join(", "))));
+        }
+        let arms = reachable.iter().map(|&s| (vec![i64::from(s.0)], lowering.state_branch(s))).collect();
+        body.push(Stmt::Case { selector: Expr::local(state), arms, otherwise: Vec::new() });
+        locals.push(
+            Var::new(
+                state,
+                Type::Int,
+                format!("the current state, an S_ constant (initially {})", state_name[machine.init.index()]),
+            )
+            .with_init(Expr::Int(i64::from(machine.init.0))),
+        );
+    }
     let started: Vec<&TimerUse> = timers.iter().filter(|t| t.start.is_some()).collect();
     if !started.is_empty() {
         body.push(Stmt::Comment("a timer started in this scan restarts: a rising edge on IN".into()));
@@ -208,22 +263,24 @@ pub fn lower(source: &str, spec: &Spec, machine: &Machine, options: &LowerOption
         let start = t.start.as_deref().expect("filtered");
         body.push(Stmt::when(Expr::local(start), vec![call(false, false), call(true, true)]));
     }
-
-    let mut locals = vec![Var::new(
-        &state,
-        Type::Int,
-        format!("the current state, an S_ constant (initially {})", state_name[machine.init.index()]),
-    )
-    .with_init(Expr::Int(i64::from(machine.init.0)))];
     for t in &timers {
         locals.push(Var::new(&t.instance, Type::Ton, format!("timer {} ({} ms)", t.name, t.preset_ms)));
     }
-    let turn = if machine.moves_first {
+    let moore = machines.iter().all(|m| m.moves_first);
+    let turn = if moore {
         "Moore machine: a state's outputs do not depend on the inputs of the same scan"
     } else {
         "Mealy machine: reads the inputs and answers in the same scan"
     };
-    let mut comment = format!("The synthesised controller ({turn}). Call it once per scan.");
+    let mut comment = if many {
+        format!(
+            "The synthesised controller: {} state machines side by side, one per group of guarantees with \
+             their own outputs ({turn}). Call it once per scan.",
+            machines.len()
+        )
+    } else {
+        format!("The synthesised controller ({turn}). Call it once per scan.")
+    };
     if !timers.is_empty() {
         comment.push_str(
             " A timer's expire input is its TON's Q (TRUE once the preset has passed since the last start); \
@@ -236,8 +293,8 @@ pub fn lower(source: &str, spec: &Spec, machine: &Machine, options: &LowerOption
     // The program: the block wired to direct addresses, in signal order.
     let mut signals = Vec::new();
     let mut args = Vec::new();
-    for (&s, source) in machine.reads.iter().zip(&sources) {
-        if let Source::Input(name) = source {
+    for &s in &reads_in_order {
+        if let Some(name) = input_name.get(&s) {
             let k = signals.len();
             let address = format!("IX{}.{}", k / 8, k % 8);
             signals.push(Signal {
@@ -252,12 +309,13 @@ pub fn lower(source: &str, spec: &Spec, machine: &Machine, options: &LowerOption
     }
     let mut main = vec![Stmt::CallInstance { instance: Place::local(&instance), args }];
     let mut q = 0;
-    for (&s, name) in machine.writes.iter().zip(&output_names) {
+    for &s in &writes_in_order {
         if timer_of_start(s).is_some() {
             continue;
         }
         let address = format!("QX{}.{}", q / 8, q % 8);
         q += 1;
+        let name = &output_name[&s];
         main.push(Stmt::assign(Place::Signal(signals.len()), Expr::read(Place::local(&instance).member(name))));
         signals.push(Signal {
             symbol: address.clone(),
@@ -281,19 +339,22 @@ pub fn lower(source: &str, spec: &Spec, machine: &Machine, options: &LowerOption
     };
 
     let signal_list = |list: &[SignalId]| list.iter().map(|&s| spec.name(s)).collect::<Vec<_>>().join(", ");
-    let header = vec![
+    let mut header = vec![
         format!("Generated by plcsynth {} from an LTL specification.", env!("CARGO_PKG_VERSION")),
         format!("Specification hash (FNV-1a 64): {}", source_hash(source)),
-        format!(
-            "Controller: {} states ({} reachable), {}; reads {}; writes {}.",
+    ];
+    for (k, machine) in machines.iter().enumerate() {
+        header.push(format!(
+            "{}: {} states ({} reachable), {}; reads {}; writes {}.",
+            if many { format!("State machine {}", k + 1) } else { "Controller".to_string() },
             machine.states.len(),
-            reachable.len(),
+            reachable_counts[k],
             if machine.moves_first { "Moore" } else { "Mealy" },
             if machine.reads.is_empty() { "nothing".into() } else { signal_list(&machine.reads) },
             if machine.writes.is_empty() { "nothing".into() } else { signal_list(&machine.writes) },
-        ),
-        "Do not edit: change the specification and generate again.".to_string(),
-    ];
+        ));
+    }
+    header.push("Do not edit: change the specification and generate again.".to_string());
     Ok(Unit { name: block, header, gvl, constants, globals: Vec::new(), signals, pous: vec![fb, main] })
 }
 
