@@ -856,7 +856,12 @@ fn expr_text(unit: &Unit, e: &Expr) -> String {
                 for (k, x) in [a, b].into_iter().enumerate() {
                     let mut inner = String::new();
                     let q = go(unit, x, &mut inner);
-                    if q < p || (k == 1 && q == p) {
+                    let negative = match x.as_ref() {
+                        Expr::Int(n) => *n < 0,
+                        Expr::Real(r) => r.value() < 0.0,
+                        _ => false,
+                    };
+                    if q < p || (k == 1 && q == p) || negative {
                         out.push_str(&format!("({inner})"));
                     } else {
                         out.push_str(&inner);
