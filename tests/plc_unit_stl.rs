@@ -1,7 +1,7 @@
 //! `plc::unit_stl` checked by running its output in awlsim (an independent S7 implementation):
-//! random units (Boolean logic, INT/DINT arithmetic, comparisons, nested IF, dense and sparse
-//! CASE, function calls) against a reference interpreter of `plc::unit` written here, cycle by
-//! cycle on random inputs; TON timers in real time; a controller FB written in STL that calls
+//! random units (Boolean logic, INT/DINT arithmetic, REAL arithmetic and comparisons, nested IF,
+//! dense and sparse CASE, function calls) against a reference interpreter of `plc::unit` written
+//! here, cycle by cycle on random inputs; TON timers in real time; a controller FB written in STL that calls
 //! one of the unit's FCs. awlsim comes from `scripts/python-checkers.sh` (`make test` runs it);
 //! without it these tests fail and say so.
 
@@ -60,6 +60,11 @@ fn awlsim(name: &str, awl: &str, script: &[String]) -> Vec<Vec<Vec<u8>>> {
 
 // ---------------------------------------------------------------------------------------------
 // A reference interpreter of `plc::unit` (IEC semantics; INT wraps at 16 bits, DINT at 32).
+// A REAL is held as the bits of its `f32` in an `i64`; every REAL operation is computed in
+// `f32` (as an S7 CPU does; awlsim rounds each result to `f32`), so REAL results and
+// comparisons are compared exactly, bit for bit. The random units keep REAL values within
+// ±1E4 between statements and expressions three deep, so no NaN, infinity or subnormal arises
+// (awlsim saturates an overflow at ±3.4E38 where IEEE gives infinity).
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Ty {
@@ -67,6 +72,17 @@ enum Ty {
     Int,
     Dint,
     Time,
+    Real,
+}
+
+fn real(bits: i64) -> f32 {
+    f32::from_bits(bits as u32)
+}
+
+fn bits(v: f32) -> i64 {
+    // S7 flushes subnormal results to zero.
+    let v = if v.is_subnormal() { 0.0 } else { v };
+    i64::from(v.to_bits())
 }
 
 fn scalar(ty: &Type) -> Ty {
@@ -75,6 +91,7 @@ fn scalar(ty: &Type) -> Ty {
         Type::Int => Ty::Int,
         Type::Dint => Ty::Dint,
         Type::Time => Ty::Time,
+        Type::Real => Ty::Real,
         other => panic!("no value type: {other:?}"),
     }
 }
@@ -83,6 +100,7 @@ fn wrap(v: i64, ty: Ty) -> i64 {
     match ty {
         Ty::Int => v as i16 as i64,
         Ty::Bool => v & 1,
+        Ty::Real => v as u32 as i64,
         _ => v as i32 as i64,
     }
 }
@@ -95,6 +113,8 @@ enum Mutation {
     EuclidMod,
     /// XOR as OR.
     XorAsOr,
+    /// REAL arithmetic in `f64`, rounded to `f32` only when stored.
+    RealInF64,
 }
 
 struct Machine<'u> {
@@ -138,17 +158,18 @@ impl<'u> Machine<'u> {
             unit,
             globals: HashMap::new(),
             program: HashMap::new(),
-            inputs: vec![0; 16],
+            inputs: vec![0; 32],
             outputs: vec![0; 16],
             memory: vec![0; 16],
             mutation,
         };
-        for v in unit.globals.iter().filter(|v| matches!(v.ty, Type::Bool | Type::Int | Type::Dint | Type::Time)) {
+        let scalar = |v: &&Var| matches!(v.ty, Type::Bool | Type::Int | Type::Dint | Type::Time | Type::Real);
+        for v in unit.globals.iter().filter(scalar) {
             let init = m.literal(v.init.as_ref());
             m.globals.insert(v.name.clone(), init);
         }
         let program = unit.pous.last().unwrap();
-        for v in program.locals.iter().filter(|v| matches!(v.ty, Type::Bool | Type::Int | Type::Dint | Type::Time)) {
+        for v in program.locals.iter().filter(scalar) {
             let init = m.literal(v.init.as_ref());
             m.program.insert(v.name.clone(), init);
         }
@@ -160,6 +181,7 @@ impl<'u> Machine<'u> {
             None => 0,
             Some(Expr::Bool(b)) => *b as i64,
             Some(Expr::Int(n)) => *n,
+            Some(Expr::Real(r)) => bits(r.value()),
             Some(Expr::Time(ms)) => *ms as i64,
             Some(other) => panic!("not a literal: {other:?}"),
         }
@@ -235,12 +257,15 @@ impl<'u> Machine<'u> {
                     Ty::Dint
                 }
             }
+            Expr::Real(_) => Ty::Real,
             Expr::Time(_) => Ty::Time,
             Expr::Read(p) => self.place_ty(frame, p),
             Expr::Neg(x) => self.ty(frame, x),
             Expr::Binary(op, a, b) => match op {
                 BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::Div | BinOp::Mod => {
                     match (self.ty(frame, a), self.ty(frame, b)) {
+                        (Ty::Real, Ty::Real) => Ty::Real,
+                        (Ty::Real, _) | (_, Ty::Real) => panic!("REAL mixed with an integer in {e:?}"),
                         (Ty::Time, _) | (_, Ty::Time) => Ty::Time,
                         (Ty::Dint, _) | (_, Ty::Dint) => Ty::Dint,
                         _ => Ty::Int,
@@ -288,10 +313,40 @@ impl<'u> Machine<'u> {
         match e {
             Expr::Bool(b) => *b as i64,
             Expr::Int(n) => *n,
+            Expr::Real(r) => bits(r.value()),
             Expr::Time(ms) => *ms as i64,
             Expr::Read(p) => self.read(frame, p),
             Expr::Not(x) => 1 - self.eval(frame, x),
+            Expr::Neg(x) if self.ty(frame, x) == Ty::Real => bits(-real(self.eval(frame, x))),
             Expr::Neg(x) => wrap(-self.eval(frame, x), self.ty(frame, e)),
+            Expr::Binary(op, a, b) if self.ty(frame, a) == Ty::Real => {
+                if self.mutation == Mutation::RealInF64 {
+                    let (x, y) = (self.eval_f64(frame, a), self.eval_f64(frame, b));
+                    return match op {
+                        BinOp::Eq => (x == y) as i64,
+                        BinOp::Ne => (x != y) as i64,
+                        BinOp::Lt => (x < y) as i64,
+                        BinOp::Le => (x <= y) as i64,
+                        BinOp::Gt => (x > y) as i64,
+                        BinOp::Ge => (x >= y) as i64,
+                        _ => bits(self.eval_f64(frame, e) as f32),
+                    };
+                }
+                let (x, y) = (real(self.eval(frame, a)), real(self.eval(frame, b)));
+                match op {
+                    BinOp::Eq => (x == y) as i64,
+                    BinOp::Ne => (x != y) as i64,
+                    BinOp::Lt => (x < y) as i64,
+                    BinOp::Le => (x <= y) as i64,
+                    BinOp::Gt => (x > y) as i64,
+                    BinOp::Ge => (x >= y) as i64,
+                    BinOp::Add => bits(x + y),
+                    BinOp::Sub => bits(x - y),
+                    BinOp::Mul => bits(x * y),
+                    BinOp::Div => bits(x / y),
+                    other => panic!("{other:?} of REALs"),
+                }
+            }
             Expr::Binary(op, a, b) => {
                 let (x, y) = (self.eval(frame, a), self.eval(frame, b));
                 let t = self.ty(frame, e);
@@ -314,6 +369,23 @@ impl<'u> Machine<'u> {
                     BinOp::Mod => wrap(x % y, t),
                 }
             }
+        }
+    }
+
+    /// A REAL expression computed in `f64` throughout (the mutation `RealInF64`).
+    fn eval_f64(&mut self, frame: &Frame, e: &Expr) -> f64 {
+        match e {
+            Expr::Neg(x) => -self.eval_f64(frame, x),
+            Expr::Binary(op, a, b) => {
+                let (x, y) = (self.eval_f64(frame, a), self.eval_f64(frame, b));
+                match op {
+                    BinOp::Add => x + y,
+                    BinOp::Sub => x - y,
+                    BinOp::Mul => x * y,
+                    _ => x / y,
+                }
+            }
+            other => f64::from(real(self.eval(frame, other))),
         }
     }
 
@@ -431,6 +503,9 @@ const BOOL_OUTPUTS: std::ops::Range<usize> = 11..15; // Q 0.0 … Q 0.3
 const INT_OUTPUT: usize = 15; // QW 2
 const BOOL_MEMORY: usize = 16; // M 1.0
 const INT_MEMORY: usize = 17; // MW 4
+const REAL_INPUTS: [usize; 2] = [18, 19]; // ID 10, ID 14
+const REAL_OUTPUT: usize = 20; // QD 4
+const REAL_MEMORY: usize = 21; // MD 8
 
 fn signals() -> Vec<Signal> {
     let mut s = Vec::new();
@@ -446,6 +521,10 @@ fn signals() -> Vec<Signal> {
     s.push(signal("setpoint", SignalKind::Output, Type::Int, "QW2"));
     s.push(signal("flag", SignalKind::Memory, Type::Bool, "MX1.0"));
     s.push(signal("word", SignalKind::Memory, Type::Int, "MW4"));
+    s.push(signal("x", SignalKind::Input, Type::Real, "ID10"));
+    s.push(signal("y", SignalKind::Input, Type::Real, "ID14"));
+    s.push(signal("valve", SignalKind::Output, Type::Real, "QD4"));
+    s.push(signal("gain", SignalKind::Memory, Type::Real, "MD8"));
     s
 }
 
@@ -454,6 +533,7 @@ struct Scope {
     bools: Vec<Place>,
     ints: Vec<Place>,
     dints: Vec<Place>,
+    reals: Vec<Place>,
 }
 
 fn program_scope() -> Scope {
@@ -467,7 +547,11 @@ fn program_scope() -> Scope {
     ints.push(Place::Signal(INT_MEMORY));
     ints.push(Place::local("pn"));
     let dints = vec![Place::Signal(DINT_INPUT), Place::global("d0"), Place::global("d1"), Place::global("K_BIG")];
-    Scope { bools, ints, dints }
+    let mut reals: Vec<Place> = REAL_INPUTS.map(Place::Signal).to_vec();
+    reals.extend([REAL_OUTPUT, REAL_MEMORY].map(Place::Signal));
+    reals.extend(["r0", "r1", "r2", "K_HALF"].map(Place::global));
+    reals.push(Place::local("pr"));
+    Scope { bools, ints, dints, reals }
 }
 
 fn pick(rng: &mut Rng, places: &[Place]) -> Place {
@@ -483,7 +567,18 @@ fn bool_expr(rng: &mut Rng, scope: &Scope, depth: usize) -> Expr {
         };
     }
     let d = depth - 1;
-    match rng.below(9) {
+    match rng.below(11) {
+        9 | 10 => {
+            let ops = [BinOp::Eq, BinOp::Ne, BinOp::Lt, BinOp::Le, BinOp::Gt, BinOp::Ge];
+            let a = real_expr(rng, scope, d.min(2));
+            // Now and then the same value on both sides, or a literal both can hold exactly.
+            let b = match rng.below(6) {
+                0 => a.clone(),
+                1 => Expr::real(rng.range(-8, 8) as f64 * 0.5).unwrap(),
+                _ => real_expr(rng, scope, d.min(2)),
+            };
+            Expr::binary(ops[rng.below(6)], a, b)
+        }
         0 => bool_expr(rng, scope, d).not(),
         1 | 2 => bool_expr(rng, scope, d).and(bool_expr(rng, scope, d)),
         3 | 4 => bool_expr(rng, scope, d).or(bool_expr(rng, scope, d)),
@@ -499,6 +594,61 @@ fn bool_expr(rng: &mut Rng, scope: &Scope, depth: usize) -> Expr {
             Expr::binary(ops[rng.below(6)], int_expr(rng, scope, d, wide), int_expr(rng, scope, d, false))
         }
     }
+}
+
+/// A REAL literal: a multiple of 1/8 (exact in `f32`) or of 1/10 (rounded).
+fn real_literal(rng: &mut Rng) -> Expr {
+    let x = if rng.chance(50) { rng.range(-400, 400) as f64 / 8.0 } else { rng.range(-500, 500) as f64 / 10.0 };
+    Expr::real(x).unwrap()
+}
+
+/// A REAL expression over operands within ±1E4: at most eight factors (below 1E32), divisors
+/// at least 1 (a literal, or `v * v + 1.0`).
+fn real_expr(rng: &mut Rng, scope: &Scope, depth: usize) -> Expr {
+    if depth == 0 || rng.chance(25) {
+        return match rng.below(3) {
+            0 => real_literal(rng),
+            _ => Expr::Read(pick(rng, &scope.reals)),
+        };
+    }
+    let d = depth - 1;
+    match rng.below(9) {
+        0 => real_expr(rng, scope, d).neg(),
+        1 | 2 => Expr::binary(BinOp::Add, real_expr(rng, scope, d), real_expr(rng, scope, d)),
+        3 | 4 => Expr::binary(BinOp::Sub, real_expr(rng, scope, d), real_expr(rng, scope, d)),
+        5 | 6 => Expr::binary(BinOp::Mul, real_expr(rng, scope, d), real_expr(rng, scope, d)),
+        _ => {
+            let divisor = if rng.chance(50) {
+                Expr::real(rng.range(1, 40) as f64 / 4.0 * if rng.chance(50) { 1.0 } else { -1.0 }).unwrap()
+            } else {
+                let v = Expr::Read(pick(rng, &scope.reals));
+                Expr::binary(BinOp::Add, Expr::binary(BinOp::Mul, v.clone(), v), Expr::real(1.0).unwrap())
+            };
+            Expr::binary(BinOp::Div, real_expr(rng, scope, d), divisor)
+        }
+    }
+}
+
+/// `target := e` when `e` is within ±1E4, else a literal: REAL values stay bounded.
+fn real_assign(rng: &mut Rng, scope: &Scope, target: Place) -> Stmt {
+    let e = real_expr(rng, scope, 3);
+    let bound = Expr::real(1e4).unwrap();
+    let inside = Expr::binary(BinOp::Lt, e.clone(), bound.clone()).and(Expr::binary(BinOp::Gt, e.clone(), bound.neg()));
+    Stmt::If {
+        arms: vec![(inside, vec![Stmt::assign(target.clone(), e)])],
+        otherwise: vec![Stmt::assign(target, real_literal(rng))],
+    }
+}
+
+fn targets_real() -> Vec<Place> {
+    vec![
+        Place::global("r0"),
+        Place::global("r1"),
+        Place::global("r2"),
+        Place::Signal(REAL_OUTPUT),
+        Place::Signal(REAL_MEMORY),
+        Place::local("pr"),
+    ]
 }
 
 /// An INT expression, or DINT when `wide`.
@@ -571,8 +721,12 @@ fn targets_int() -> Vec<Place> {
 }
 
 fn statement(rng: &mut Rng, scope: &Scope, depth: usize) -> Stmt {
-    let choice = if depth == 0 { rng.below(4) } else { rng.below(10) };
+    let choice = if depth == 0 { rng.below(4) } else { rng.below(12) };
     match choice {
+        10 | 11 => {
+            let target = pick(rng, &targets_real());
+            real_assign(rng, scope, target)
+        }
         0 | 1 => Stmt::assign(pick(rng, &targets_bool()), bool_expr(rng, scope, 4)),
         2 => Stmt::assign(pick(rng, &targets_int()), int_expr(rng, scope, 3, false)),
         3 => {
@@ -622,7 +776,21 @@ fn statement(rng: &mut Rng, scope: &Scope, depth: usize) -> Stmt {
 }
 
 fn call(rng: &mut Rng, scope: &Scope) -> Stmt {
-    match rng.below(3) {
+    match rng.below(5) {
+        3 => Stmt::CallFunction {
+            function: "norm2".into(),
+            args: vec![("a".into(), real_expr(rng, scope, 2)), ("b".into(), real_expr(rng, scope, 2))],
+            result: Some(pick(rng, &targets_real())),
+        },
+        4 => Stmt::CallFunction {
+            function: "inside".into(),
+            args: vec![
+                ("px".into(), Expr::Read(pick(rng, &scope.reals))),
+                ("py".into(), real_expr(rng, scope, 1)),
+                ("r".into(), real_literal(rng)),
+            ],
+            result: Some(pick(rng, &targets_bool())),
+        },
         0 => Stmt::CallFunction {
             function: "scale".into(),
             args: vec![("a".into(), int_expr(rng, scope, 2, false)), ("up".into(), bool_expr(rng, scope, 2))],
@@ -698,7 +866,51 @@ fn functions() -> Vec<Pou> {
         locals: vec![],
         body: vec![Stmt::assign(Place::global("n2"), Expr::binary(BinOp::Sub, Expr::local("v"), Expr::global("n2")))],
     };
-    vec![scale, above, nudge]
+    let (ra, rb) = (|| Expr::local("a"), || Expr::local("b"));
+    let square = |e: Expr| Expr::binary(BinOp::Mul, e.clone(), e);
+    let norm2 = Pou {
+        kind: PouKind::Function { returns: Some(Type::Real) },
+        name: "norm2".into(),
+        comment: "a*a + b*b + acc, at most 1E4; acc starts at 0.5 on every call and counts in r2".into(),
+        inputs: vec![Var::new("a", Type::Real, ""), Var::new("b", Type::Real, "")],
+        outputs: vec![],
+        locals: vec![Var::new("acc", Type::Real, "").with_init(Expr::real(0.5).unwrap())],
+        body: vec![
+            Stmt::assign(
+                Place::local("norm2"),
+                Expr::binary(BinOp::Add, Expr::binary(BinOp::Add, square(ra()), square(rb())), Expr::local("acc")),
+            ),
+            Stmt::when(
+                Expr::binary(BinOp::Gt, Expr::local("norm2"), Expr::real(1e4).unwrap()),
+                vec![Stmt::assign(Place::local("norm2"), Expr::real(1e4).unwrap())],
+            ),
+            Stmt::assign(Place::local("acc"), Expr::binary(BinOp::Mul, Expr::local("acc"), Expr::local("norm2"))),
+            Stmt::when(
+                Expr::binary(BinOp::Lt, Expr::global("r2"), Expr::real(9000.0).unwrap()),
+                vec![Stmt::assign(
+                    Place::global("r2"),
+                    Expr::binary(BinOp::Add, Expr::global("r2"), Expr::global("K_HALF")),
+                )],
+            ),
+        ],
+    };
+    let inside = Pou {
+        kind: PouKind::Function { returns: Some(Type::Bool) },
+        name: "inside".into(),
+        comment: "px*px + py*py < r*r (the point within radius r)".into(),
+        inputs: vec![Var::new("px", Type::Real, ""), Var::new("py", Type::Real, ""), Var::new("r", Type::Real, "")],
+        outputs: vec![],
+        locals: vec![],
+        body: vec![Stmt::assign(
+            Place::local("inside"),
+            Expr::binary(
+                BinOp::Lt,
+                Expr::binary(BinOp::Add, square(Expr::local("px")), square(Expr::local("py"))),
+                square(Expr::local("r")),
+            ),
+        )],
+    };
+    vec![scale, above, nudge, norm2, inside]
 }
 
 /// A big state machine: CASE over `state` with `arms` arms (labels 0, `step`, 2·`step`, …).
@@ -766,10 +978,14 @@ fn random_unit(seed: u64) -> Unit {
     globals.push(Var::new("state", Type::Int, "supervisor state").with_init(Expr::Int(rng.range(0, 20))));
     globals.push(Var::new("d0", Type::Dint, "").with_init(Expr::Int(rng.range(-100_000, 100_000))));
     globals.push(Var::new("d1", Type::Dint, "").with_init(Expr::Int(7)));
+    globals.push(Var::new("r0", Type::Real, "").with_init(real_literal(&mut rng)));
+    globals.push(Var::new("r1", Type::Real, "").with_init(Expr::real(-0.1).unwrap()));
+    globals.push(Var::new("r2", Type::Real, "counts norm2 calls by halves"));
     let constants = vec![
         Var::new("K_ON", Type::Bool, "").with_init(Expr::Bool(true)),
         Var::new("K_STEP", Type::Int, "event id").with_init(Expr::Int(7)),
         Var::new("K_BIG", Type::Dint, "").with_init(Expr::Int(123_456)),
+        Var::new("K_HALF", Type::Real, "").with_init(Expr::real(0.5).unwrap()),
     ];
     let mut body: Vec<Stmt> = (0..14).map(|_| statement(&mut rng, &scope, 3)).collect();
     body.insert(0, Stmt::Comment("random statements\nover two lines".into()));
@@ -786,6 +1002,7 @@ fn random_unit(seed: u64) -> Unit {
         locals: vec![
             Var::new("pb", Type::Bool, "a static BOOL").with_init(Expr::Bool(true)),
             Var::new("pn", Type::Int, "a static INT").with_init(Expr::Int(-3)),
+            Var::new("pr", Type::Real, "a static REAL").with_init(Expr::real(2.5).unwrap()),
         ],
         body,
     };
@@ -811,11 +1028,11 @@ fn compare(unit: &Unit, seed: u64, cycles: usize, mutations: &[Mutation]) -> Vec
     let db_size = Machine::new(unit, Mutation::None).global_db(&options).len();
     // The program's statics, where the header says they are.
     let program = unit_stl::program_locations(unit, &options);
-    let program_size = program.iter().map(|l| l.byte + 2).max().unwrap();
+    let program_size = program.iter().map(|l| l.byte + if l.ty == Type::Real { 4 } else { 2 }).max().unwrap();
     let mut rng = Rng(plcsynth::rng::Rng::new(seed ^ 0x5eed));
     let inputs: Vec<Vec<u8>> = (0..cycles)
         .map(|_| {
-            let mut bytes = vec![0u8; 10];
+            let mut bytes = vec![0u8; 18];
             bytes[0] = rng.next() as u8;
             // Levels and counts in ranges that also make products overflow now and then.
             let level = rng.range(-400, 400) as i16;
@@ -824,6 +1041,11 @@ fn compare(unit: &Unit, seed: u64, cycles: usize, mutations: &[Mutation]) -> Vec
             bytes[2..4].copy_from_slice(&level.to_be_bytes());
             bytes[4..6].copy_from_slice(&speed.to_be_bytes());
             bytes[6..10].copy_from_slice(&count.to_be_bytes());
+            // REALs within ±100, in thousandths (mostly inexact in binary); now and then equal.
+            let x = rng.range(-100_000, 100_000) as f32 / 1000.0;
+            let y = if rng.chance(15) { x } else { rng.range(-100_000, 100_000) as f32 / 1000.0 };
+            bytes[10..14].copy_from_slice(&x.to_be_bytes());
+            bytes[14..18].copy_from_slice(&y.to_be_bytes());
             bytes
         })
         .collect();
@@ -833,8 +1055,8 @@ fn compare(unit: &Unit, seed: u64, cycles: usize, mutations: &[Mutation]) -> Vec
             let mut line: Vec<String> = bytes.iter().enumerate().map(|(i, b)| format!("I{i}={b}")).collect();
             line.push(format!("?DB{}:0:{db_size}", options.first_db));
             line.push(format!("?DB{}:0:{program_size}", program[0].db));
-            line.push("?Q0:4".into());
-            line.push("?M0:6".into());
+            line.push("?Q0:8".into());
+            line.push("?M0:12".into());
             line.join(" ")
         })
         .collect();
@@ -851,10 +1073,11 @@ fn compare(unit: &Unit, seed: u64, cycles: usize, mutations: &[Mutation]) -> Vec
                     let (v, b) = (m.program[&l.name], l.byte as usize);
                     match l.ty {
                         Type::Bool => statics[b] |= (v as u8 & 1) << l.bit,
+                        Type::Real => statics[b..b + 4].copy_from_slice(&(v as u32).to_be_bytes()),
                         _ => statics[b..b + 2].copy_from_slice(&(v as i16).to_be_bytes()),
                     }
                 }
-                let expected = [m.global_db(&options), statics, m.outputs[..4].to_vec(), m.memory[..6].to_vec()];
+                let expected = [m.global_db(&options), statics, m.outputs[..8].to_vec(), m.memory[..12].to_vec()];
                 if trace[k] != expected {
                     return (
                         mutation,
@@ -879,7 +1102,7 @@ fn random_units_run_in_awlsim_as_the_reference_says() {
                 s.spawn(move || {
                     let unit = random_unit(seed);
                     let mutations = if seed == 1 {
-                        vec![Mutation::None, Mutation::EuclidMod, Mutation::XorAsOr]
+                        vec![Mutation::None, Mutation::EuclidMod, Mutation::XorAsOr, Mutation::RealInF64]
                     } else {
                         vec![Mutation::None]
                     };

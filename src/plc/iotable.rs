@@ -102,6 +102,8 @@ pub fn signal_table_csv(unit: &Unit) -> String {
         let ty = match s.ty {
             super::unit::Type::Int => "INT",
             super::unit::Type::Dint => "DINT",
+            super::unit::Type::Real => "REAL",
+            super::unit::Type::Time => "TIME",
             _ => "BOOL",
         };
         let direction = match s.kind {

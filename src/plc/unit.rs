@@ -23,6 +23,9 @@ pub enum Type {
     Int,
     /// 32-bit signed integer (`DINT`).
     Dint,
+    /// 32-bit IEEE 754 floating point (`REAL`). No operation mixes it with an integer type:
+    /// IEC 61131-3 converts only explicitly, and the model offers no conversion.
+    Real,
     /// A duration (`TIME`).
     Time,
     /// An on-delay timer instance (`TON`; `TON_TIME` on S7-1200/1500, SFB 4 in STL).
@@ -87,6 +90,35 @@ impl Signal {
     }
 }
 
+/// Direct addresses (IEC form without `%`) for signals of the given types in one area
+/// (`area` `'I'`, `'Q'` or `'M'`), in order: BOOLs packed into bits from byte 0 (`IX0.0`,
+/// `IX0.1`, …), then the others on even bytes after the last bit's byte: INT as a word
+/// (`IW2`), DINT, TIME and REAL as a double word (`ID4`). `None` for a type that has no
+/// address (a timer or block instance).
+pub fn direct_addresses(area: char, types: &[Type]) -> Vec<Option<String>> {
+    let bits = types.iter().filter(|t| **t == Type::Bool).count();
+    let mut bit = 0;
+    let mut byte = bits.div_ceil(8).next_multiple_of(2);
+    types
+        .iter()
+        .map(|t| {
+            let (size, width) = match t {
+                Type::Bool => {
+                    let a = format!("{area}X{}.{}", bit / 8, bit % 8);
+                    bit += 1;
+                    return Some(a);
+                }
+                Type::Int => ('W', 2),
+                Type::Dint | Type::Time | Type::Real => ('D', 4),
+                Type::Ton | Type::Instance(_) => return None,
+            };
+            let a = format!("{area}{size}{byte}");
+            byte += width;
+            Some(a)
+        })
+        .collect()
+}
+
 /// Something that holds a value.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Place {
@@ -115,11 +147,70 @@ impl Place {
     }
 }
 
-/// An expression. Integer arithmetic is on `INT`/`DINT`; comparisons yield `BOOL`.
+/// A `REAL` literal: the 32-bit float the PLC holds, finite, with `-0.0` stored as `0.0`.
+/// Equal and hashed by its bits.
+#[derive(Clone, Copy, Debug)]
+pub struct RealLit(f32);
+
+impl RealLit {
+    /// `x` rounded to the nearest `f32`; `None` when that is not finite (NaN, or beyond
+    /// ±3.4028235E38), which no PLC source can write as a literal.
+    pub fn new(x: f64) -> Option<RealLit> {
+        let v = x as f32;
+        v.is_finite().then_some(RealLit(if v == 0.0 { 0.0 } else { v }))
+    }
+
+    /// The value as the PLC holds it.
+    pub fn value(self) -> f32 {
+        self.0
+    }
+
+    /// The literal in Structured Text (every dialect): the shortest decimal that reads back as
+    /// the same `f32`, always with a decimal point (`3.0`, `-0.25`, `1.0E-7`, `1.5E+20`).
+    /// Magnitudes from 1E-4 below 1E7 are written without an exponent.
+    pub fn iec_text(self) -> String {
+        let v = self.0;
+        let a = v.abs();
+        if a == 0.0 || (1e-4..1e7).contains(&a) {
+            let text = format!("{v}");
+            if text.contains('.') {
+                text
+            } else {
+                format!("{text}.0")
+            }
+        } else {
+            // `{:e}` is the shortest round-trip form too: `1e-7`, `1.5e20`.
+            let text = format!("{v:e}");
+            let (mantissa, exponent) = text.split_once('e').expect("`{:e}` writes an exponent");
+            let mantissa = if mantissa.contains('.') { mantissa.to_string() } else { format!("{mantissa}.0") };
+            let exponent = exponent.strip_prefix('-').map_or_else(|| format!("+{exponent}"), |e| format!("-{e}"));
+            format!("{mantissa}E{exponent}")
+        }
+    }
+}
+
+impl PartialEq for RealLit {
+    fn eq(&self, other: &RealLit) -> bool {
+        self.0.to_bits() == other.0.to_bits()
+    }
+}
+
+impl Eq for RealLit {}
+
+impl std::hash::Hash for RealLit {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.0.to_bits().hash(state);
+    }
+}
+
+/// An expression. Integer arithmetic is on `INT`/`DINT`, real arithmetic on `REAL` (never both
+/// in one operation); comparisons yield `BOOL`.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Expr {
     Bool(bool),
     Int(i64),
+    /// A `REAL` literal ([`Expr::real`]).
+    Real(RealLit),
     /// A duration in milliseconds.
     Time(u64),
     Read(Place),
@@ -135,6 +226,17 @@ impl Expr {
 
     pub fn global(name: impl Into<String>) -> Expr {
         Expr::Read(Place::global(name))
+    }
+
+    /// A `REAL` literal of `x` rounded to `f32`; `None` when that is not finite.
+    pub fn real(x: f64) -> Option<Expr> {
+        RealLit::new(x).map(Expr::Real)
+    }
+
+    /// Arithmetic negation (`-x`).
+    #[allow(clippy::should_implement_trait)]
+    pub fn neg(self) -> Expr {
+        Expr::Neg(Box::new(self))
     }
 
     pub fn local(name: impl Into<String>) -> Expr {
@@ -264,5 +366,47 @@ impl Unit {
     /// The POU named `name`.
     pub fn pou(&self, name: &str) -> Option<&Pou> {
         self.pous.iter().find(|p| p.name == name)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn real_literals_are_the_shortest_iec_text_that_reads_back() {
+        let text = |x: f64| RealLit::new(x).unwrap().iec_text();
+        assert_eq!(text(3.0), "3.0");
+        assert_eq!(text(3.5), "3.5");
+        assert_eq!(text(-0.25), "-0.25");
+        assert_eq!(text(-0.0), "0.0");
+        assert_eq!(text(0.1), "0.1");
+        assert_eq!(text(1e-3), "0.001");
+        assert_eq!(text(1e-7), "1.0E-7");
+        assert_eq!(text(1.5e20), "1.5E+20");
+        assert_eq!(text(16_777_216.0), "1.6777216E+7");
+        assert_eq!(text(1_234_567.0), "1234567.0");
+        assert!(RealLit::new(1e39).is_none() && RealLit::new(f64::NAN).is_none());
+        for k in 0..5000u32 {
+            let x = f32::from_bits(0x0080_0000 + k * 425_775);
+            if !x.is_finite() {
+                continue;
+            }
+            let t = RealLit::new(f64::from(x)).unwrap().iec_text();
+            assert!(t.contains('.'), "{t}");
+            let mantissa = t.split('E').next().unwrap();
+            assert!(mantissa.trim_start_matches('-').split('.').all(|d| !d.is_empty()), "{t}");
+            assert_eq!(t.parse::<f32>().unwrap().to_bits(), x.to_bits(), "{t}");
+        }
+        assert_eq!(RealLit::new(0.1).unwrap(), RealLit::new(0.1f32 as f64).unwrap());
+    }
+
+    #[test]
+    fn direct_addresses_pack_bits_then_words() {
+        let got = direct_addresses('I', &[Type::Real, Type::Bool, Type::Int, Type::Bool, Type::Real, Type::Ton]);
+        let want = [Some("ID2"), Some("IX0.0"), Some("IW6"), Some("IX0.1"), Some("ID8"), None];
+        assert_eq!(got, want.map(|a| a.map(String::from)));
+        let bits: Vec<Type> = (0..17).map(|_| Type::Bool).chain([Type::Real]).collect();
+        assert_eq!(direct_addresses('Q', &bits)[16..], [Some("QX2.0".into()), Some("QD4".into())]);
     }
 }

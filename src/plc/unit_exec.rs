@@ -4,7 +4,10 @@
 //! any printer: what the lowering means is what this interpreter does.
 //!
 //! Integers are stored wrapped to their declared width (`INT` 16 bits, `DINT` 32 bits), as a PLC
-//! stores them; arithmetic is exact in between. A `TON` is on-delay: `Q` rises once `IN` has been
+//! stores them; arithmetic is exact in between. `REAL` values are `f32` and every operation is
+//! computed in `f32` (as an S7 CPU does, so results agree bit for bit with awlsim), a subnormal
+//! result flushed to 0.0 as S7 does; an operation that mixes `REAL` with an integer, or a store
+//! of one into the other, is an error (IEC converts only explicitly). A `TON` is on-delay: `Q` rises once `IN` has been
 //! TRUE for `PT` on the virtual clock (`ET` counts up to `PT`), and a call with `IN` FALSE
 //! resets it. Function locals start from their defaults on every call; program and function
 //! block locals keep their values. An instance of a function block the unit defines has its own
@@ -17,10 +20,11 @@ use super::unit::{Expr, Place, Pou, PouKind, Stmt, Type, Unit, Var};
 use std::collections::HashMap;
 
 /// A value of the model's elementary types.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Value {
     Bool(bool),
     Int(i64),
+    Real(f32),
     /// Milliseconds.
     Time(i64),
 }
@@ -30,6 +34,7 @@ impl Value {
         match self {
             Value::Bool(b) => b,
             Value::Int(v) | Value::Time(v) => v != 0,
+            Value::Real(v) => v != 0.0,
         }
     }
 
@@ -37,6 +42,16 @@ impl Value {
         match self {
             Value::Bool(b) => i64::from(b),
             Value::Int(v) | Value::Time(v) => v,
+            // Truncated; only for CASE selectors and presets, which a checked unit never makes REAL.
+            Value::Real(v) => v as i64,
+        }
+    }
+
+    /// The value as a REAL (an integer converted, as `set_signal` accepts it).
+    pub fn as_real(self) -> f32 {
+        match self {
+            Value::Real(v) => v,
+            other => other.as_int() as f32,
         }
     }
 
@@ -45,6 +60,7 @@ impl Value {
         match ty {
             Type::Bool => Value::Bool(false),
             Type::Time => Value::Time(0),
+            Type::Real => Value::Real(0.0),
             _ => Value::Int(0),
         }
     }
@@ -56,9 +72,26 @@ impl Value {
             Type::Int => Value::Int(i64::from(self.as_int() as i16)),
             Type::Dint => Value::Int(i64::from(self.as_int() as i32)),
             Type::Time => Value::Time(i64::from(self.as_int() as i32)),
+            Type::Real => Value::Real(self.as_real()),
             Type::Ton | Type::Instance(_) => self,
         }
     }
+}
+
+/// `v` stored into `name` of type `ty`, or an error when one of them is REAL and the other
+/// is not (an integer and a REAL never convert implicitly).
+fn convert(v: Value, ty: &Type, name: &str) -> Result<Value> {
+    let scalar = matches!(ty, Type::Bool | Type::Int | Type::Dint | Type::Time | Type::Real);
+    if scalar && matches!(v, Value::Real(_)) != (*ty == Type::Real) {
+        let (to, from) = if *ty == Type::Real { ("REAL", "an integer or BOOL") } else { ("not REAL", "REAL") };
+        return err(format!("`{name}` ({to}) gets a value of type {from}: IEC needs an explicit conversion"));
+    }
+    Ok(v.stored_as(ty))
+}
+
+/// A REAL result as an S7 CPU keeps it: a subnormal becomes 0.0.
+fn s7_real(v: f32) -> Value {
+    Value::Real(if v.is_subnormal() { 0.0 } else { v })
 }
 
 /// Why the interpreter stopped.
@@ -237,7 +270,7 @@ impl<'u> Machine<'u> {
             let Some(ty) = pou.inputs.iter().find(|v| v.name == *param).map(|v| v.ty.clone()) else {
                 return err(format!("`{name}` has no input `{param}`"));
             };
-            frame.values.insert(param.to_string(), value.stored_as(&ty));
+            frame.values.insert(param.to_string(), convert(*value, &ty, param)?);
         }
         self.stmts(&pou.body, &mut frame, &mut None)?;
         Ok(frame.values[name])
@@ -326,7 +359,7 @@ impl<'u> Machine<'u> {
                             let Some(input) = block.inputs.iter().find(|v| v.name == *param) else {
                                 return err(format!("`{}` has no input `{param}`", block.name));
                             };
-                            values.push((param.clone(), self.eval(e, frame)?.stored_as(&input.ty)));
+                            values.push((param.clone(), convert(self.eval(e, frame)?, &input.ty, param)?));
                         }
                         let Some(mut own) = frame.instances.remove(name) else {
                             return err(format!("instance `{name}` has no variables"));
@@ -350,8 +383,8 @@ impl<'u> Machine<'u> {
         match place {
             Place::Local(name) => match frame.types.get(name) {
                 Some(ty) => {
-                    let ty = ty.clone();
-                    frame.values.insert(name.clone(), v.stored_as(&ty));
+                    let v = convert(v, ty, name)?;
+                    frame.values.insert(name.clone(), v);
                     Ok(())
                 }
                 None => err(format!("no local `{name}`")),
@@ -362,8 +395,8 @@ impl<'u> Machine<'u> {
                 }
                 match self.globals.types.get(name) {
                     Some(ty) => {
-                        let ty = ty.clone();
-                        self.globals.values.insert(name.clone(), v.stored_as(&ty));
+                        let v = convert(v, ty, name)?;
+                        self.globals.values.insert(name.clone(), v);
                         Ok(())
                     }
                     None => err(format!("no global `{name}`")),
@@ -373,7 +406,8 @@ impl<'u> Machine<'u> {
                 if *k >= self.signals.len() {
                     return err(format!("no signal {k}"));
                 }
-                self.set_signal(*k, v);
+                let s = &self.unit.signals[*k];
+                self.signals[*k] = convert(v, &s.ty, &s.symbol)?;
                 Ok(())
             }
             Place::Member(..) => err("a timer's outputs cannot be written"),
@@ -409,15 +443,29 @@ impl<'u> Machine<'u> {
         Ok(match e {
             Expr::Bool(b) => Value::Bool(*b),
             Expr::Int(v) => Value::Int(*v),
+            Expr::Real(r) => Value::Real(r.value()),
             Expr::Time(ms) => Value::Time(*ms as i64),
             Expr::Read(p) => self.read(p, frame)?,
             Expr::Not(a) => match self.eval(a, frame)? {
                 Value::Bool(b) => Value::Bool(!b),
                 v => Value::Int(!v.as_int()),
             },
-            Expr::Neg(a) => Value::Int(self.eval(a, frame)?.as_int().wrapping_neg()),
+            Expr::Neg(a) => match self.eval(a, frame)? {
+                Value::Real(v) => Value::Real(-v),
+                v => Value::Int(v.as_int().wrapping_neg()),
+            },
             Expr::Binary(op, a, b) => {
                 let (x, y) = (self.eval(a, frame)?, self.eval(b, frame)?);
+                match (x, y) {
+                    (Value::Real(p), Value::Real(q)) => return real_binary(*op, p, q),
+                    (Value::Real(_), _) | (_, Value::Real(_)) => {
+                        return err(format!(
+                            "`{}` of REAL and a value of another type: IEC needs an explicit conversion",
+                            op.text()
+                        ))
+                    }
+                    _ => {}
+                }
                 let bools = matches!((x, y), (Value::Bool(_), Value::Bool(_)));
                 let (i, j) = (x.as_int(), y.as_int());
                 match op {
@@ -444,4 +492,24 @@ impl<'u> Machine<'u> {
             }
         })
     }
+}
+
+/// `p op q` on REALs, computed in `f32`.
+fn real_binary(op: BinOp, p: f32, q: f32) -> Result<Value> {
+    Ok(match op {
+        BinOp::Eq => Value::Bool(p == q),
+        BinOp::Ne => Value::Bool(p != q),
+        BinOp::Lt => Value::Bool(p < q),
+        BinOp::Le => Value::Bool(p <= q),
+        BinOp::Gt => Value::Bool(p > q),
+        BinOp::Ge => Value::Bool(p >= q),
+        BinOp::Add => s7_real(p + q),
+        BinOp::Sub => s7_real(p - q),
+        BinOp::Mul => s7_real(p * q),
+        BinOp::Div if q == 0.0 => return err("division by zero"),
+        BinOp::Div => s7_real(p / q),
+        BinOp::And | BinOp::Or | BinOp::Xor | BinOp::Mod => {
+            return err(format!("`{}` of REALs (only + - * / and comparisons)", op.text()))
+        }
+    })
 }

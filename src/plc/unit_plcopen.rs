@@ -15,6 +15,7 @@ fn xml_type(ty: &Type) -> String {
         Type::Bool => "<BOOL/>".into(),
         Type::Int => "<INT/>".into(),
         Type::Dint => "<DINT/>".into(),
+        Type::Real => "<REAL/>".into(),
         Type::Time => "<TIME/>".into(),
         Type::Ton => "<derived name=\"TON\"/>".into(),
         Type::Instance(name) => format!("<derived name=\"{}\"/>", escape(name)),
@@ -28,7 +29,7 @@ fn vars(o: &mut impl Write, unit: &Unit, element: &str, list: &[Var]) -> fmt::Re
     writeln!(o, "          <{element}>")?;
     let w = Writer::new(unit, Dialect::Iec);
     for v in list {
-        let init = v.init.as_ref().map(|e| w.expr(e));
+        let init = v.init.as_ref().map(|e| w.init(e));
         variable(o, &v.name, &xml_type(&v.ty), init.as_deref(), &v.comment)?;
     }
     writeln!(o, "          </{element}>")
@@ -87,7 +88,7 @@ pub fn print(unit: &Unit, options: &Options, o: &mut impl Write) -> fmt::Result 
         let attribute = if constant { " constant=\"true\"" } else { "" };
         writeln!(o, "          <globalVars name=\"{}\"{attribute}>", escape(&unit.gvl))?;
         for v in list.iter() {
-            let init = v.init.as_ref().map(|e| w.expr(e));
+            let init = v.init.as_ref().map(|e| w.init(e));
             variable(o, &v.name, &xml_type(&v.ty), init.as_deref(), &v.comment)?;
         }
         o.write_str("          </globalVars>\n")?;

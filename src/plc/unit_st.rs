@@ -36,6 +36,7 @@ pub fn type_name(ty: &Type, dialect: Dialect) -> String {
         Type::Bool => "BOOL".into(),
         Type::Int => "INT".into(),
         Type::Dint => "DINT".into(),
+        Type::Real => "REAL".into(),
         Type::Time => "TIME".into(),
         Type::Ton if dialect == Dialect::Scl1500 => "TON_TIME".into(),
         Type::Ton => "TON".into(),
@@ -100,6 +101,10 @@ impl<'u> Writer<'u> {
             Expr::Int(v) => {
                 let _ = write!(out, "{v}");
             }
+            Expr::Real(r) if r.value() < 0.0 => {
+                let _ = write!(out, "({})", r.iec_text());
+            }
+            Expr::Real(r) => out.push_str(&r.iec_text()),
             Expr::Time(ms) => out.push_str(&time_literal(*ms)),
             Expr::Read(p) => out.push_str(&self.place(p)),
             Expr::Not(inner) | Expr::Neg(inner) => {
@@ -127,6 +132,15 @@ impl<'u> Writer<'u> {
                     out.push(')');
                 }
             }
+        }
+    }
+
+    /// An initial value: a negative literal without the parentheses an operand needs.
+    pub(super) fn init(&self, e: &Expr) -> String {
+        match e {
+            Expr::Int(v) => v.to_string(),
+            Expr::Real(r) => r.iec_text(),
+            e => self.expr(e),
         }
     }
 
@@ -211,7 +225,7 @@ fn comment_text(text: &str) -> String {
 }
 
 fn declare(o: &mut String, w: &Writer<'_>, v: &Var) {
-    let init = v.init.as_ref().map(|e| format!(" := {}", w.expr(e))).unwrap_or_default();
+    let init = v.init.as_ref().map(|e| format!(" := {}", w.init(e))).unwrap_or_default();
     let comment = if v.comment.is_empty() { String::new() } else { format!(" (* {} *)", comment_text(&v.comment)) };
     let _ = writeln!(o, "    {} : {}{init};{comment}", v.name, type_name(&v.ty, w.dialect));
 }
@@ -227,7 +241,7 @@ fn constants_used<'u>(unit: &'u Unit, pou: &Pou) -> Vec<&'u Var> {
                 expr(a, names);
                 expr(b, names);
             }
-            Expr::Bool(_) | Expr::Int(_) | Expr::Time(_) => {}
+            Expr::Bool(_) | Expr::Int(_) | Expr::Real(_) | Expr::Time(_) => {}
         }
     }
     fn place(p: &Place, names: &mut BTreeSet<String>) {
@@ -381,7 +395,7 @@ pub fn pou_declaration(unit: &Unit, pou: &Pou, dialect: Dialect, o: &mut String)
             } else {
                 o.push_str("CONST\n");
                 for c in used {
-                    let value = c.init.as_ref().map(|e| w.expr(e)).unwrap_or_else(|| "0".into());
+                    let value = c.init.as_ref().map(|e| w.init(e)).unwrap_or_else(|| "0".into());
                     let _ = writeln!(o, "    {} := {value};", c.name);
                 }
                 o.push_str("END_CONST\n");

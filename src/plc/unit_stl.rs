@@ -2,7 +2,7 @@
 //! Classic sources accept.
 //!
 //! How the unit maps onto S7 blocks:
-//! - The globals (BOOL, INT, DINT, TIME) live in one global data block, `DB first_db`, declared
+//! - The globals (BOOL, INT, DINT, TIME, REAL) live in one global data block, `DB first_db`, declared
 //!   as a STRUCT with their initial values. Code addresses them absolutely (`DB1.DBW 2`), so the
 //!   file needs no symbol table; the header lists each global with its address, for an HMI or a
 //!   watch table ([`global_locations`] gives the same table to programs).
@@ -36,7 +36,7 @@
 //!   their parameters).
 //! - Signals are addressed by their address (`IX0.1` → `I 0.1`, `IW4` → `IW 4`, `MD8` → `MD 8`);
 //!   the address's size must suit the signal's type (bit for BOOL, word for INT, double word for
-//!   DINT and TIME).
+//!   DINT, TIME and REAL: `ID4` → `ID 4`).
 //! - BOOL expressions run through the RLO: `A`/`O`/`X` with their negated forms for simple
 //!   operands and nesting brackets (`A(` … `)`, `AN(` … `)`) for composite ones; a bracket
 //!   deeper than six levels (S7 allows seven) is computed first into a temporary bit.
@@ -47,6 +47,11 @@
 //!   an integer literal is INT when it fits in 16 bits. A right operand that is not a plain load
 //!   is computed first into a temporary. INT results wrap at 16 bits, as the CPU's do; a
 //!   division by zero gives 0, the divisor left in the accumulator (IEC leaves it undefined).
+//! - REAL arithmetic and comparisons use the floating-point instructions (`+R -R *R /R`,
+//!   `NEGR`, `==R <>R <R <=R >R >=R`) on 32-bit IEEE values held in double words; a literal is
+//!   loaded in the S7 real format (`L 3.500000e+00`, with 7 significant digits, or 8 or 9 when
+//!   the `f32` needs them to read back exactly). An operation, assignment or parameter that
+//!   mixes REAL with an integer type is an error (IEC converts only explicitly).
 //! - `IF`/`ELSIF`/`ELSE` jump with `JCN`/`JU` to labels `L000`, `L001`, … (four characters,
 //!   unique per block); `CASE` uses a `JL` jump list after a range check when its labels are
 //!   small non-negative integers with few gaps, and a chain of comparisons otherwise.
@@ -54,7 +59,7 @@
 //!   every statement is preceded by its Structured Text form.
 
 use super::siemens_address;
-use super::unit::{BinOp, Expr, Place, Pou, PouKind, Stmt, Type, Unit, Var};
+use super::unit::{BinOp, Expr, Place, Pou, PouKind, RealLit, Stmt, Type, Unit, Var};
 use std::collections::HashMap;
 use std::fmt::{self, Write};
 
@@ -110,6 +115,7 @@ enum Ty {
     Int,
     Dint,
     Time,
+    Real,
 }
 
 impl Ty {
@@ -119,12 +125,13 @@ impl Ty {
             Type::Int => Some(Ty::Int),
             Type::Dint => Some(Ty::Dint),
             Type::Time => Some(Ty::Time),
+            Type::Real => Some(Ty::Real),
             _ => None,
         }
     }
 
     fn wide(self) -> bool {
-        matches!(self, Ty::Dint | Ty::Time)
+        matches!(self, Ty::Dint | Ty::Time | Ty::Real)
     }
 
     fn name(self) -> &'static str {
@@ -133,6 +140,7 @@ impl Ty {
             Ty::Int => "INT",
             Ty::Dint => "DINT",
             Ty::Time => "TIME",
+            Ty::Real => "REAL",
         }
     }
 }
@@ -143,9 +151,25 @@ fn type_name(ty: &Type) -> String {
         Type::Int => "INT".into(),
         Type::Dint => "DINT".into(),
         Type::Time => "TIME".into(),
+        Type::Real => "REAL".into(),
         Type::Ton => "TON".into(),
         Type::Instance(name) => name.clone(),
     }
+}
+
+/// A REAL literal in the S7 format (`3.500000e+00`, `-2.500000e-01`, `0.000000e+00`): seven
+/// significant digits as STEP 7 writes them, or eight or nine when the `f32` needs them to read
+/// back exactly.
+fn real_literal(r: RealLit) -> String {
+    let v = r.value();
+    let text = (6..=8)
+        .map(|p| format!("{v:.p$e}"))
+        .find(|t| t.parse::<f32>().ok().map(f32::to_bits) == Some(v.to_bits()))
+        .unwrap_or_else(|| format!("{v:.8e}"));
+    let (mantissa, exponent) = text.split_once('e').expect("`{:e}` writes an exponent");
+    let exponent: i32 = exponent.parse().expect("an integer exponent");
+    let sign = if exponent < 0 { '-' } else { '+' };
+    format!("{mantissa}e{sign}{:02}", exponent.unsigned_abs())
 }
 
 /// Byte and bit of each variable of `sections`, laid out as S7 does (BOOLs packed into bytes,
@@ -190,7 +214,7 @@ pub fn global_locations(unit: &Unit, options: &StlUnitOptions) -> Vec<Location> 
         .collect()
 }
 
-/// The program's inputs, outputs and statics (BOOL, INT, DINT, TIME) in its instance DB: a
+/// The program's inputs, outputs and statics (BOOL, INT, DINT, TIME, REAL) in its instance DB: a
 /// supervisor's state kept by the program is found there. Empty when the unit has no program.
 pub fn program_locations(unit: &Unit, options: &StlUnitOptions) -> Vec<Location> {
     let Some(program) = unit.pous.last().filter(|p| p.kind == PouKind::Program) else { return Vec::new() };
@@ -206,7 +230,7 @@ pub fn program_locations(unit: &Unit, options: &StlUnitOptions) -> Vec<Location>
         .collect()
 }
 
-/// The inputs, outputs and statics (BOOL, INT, DINT, TIME) of `instance` — a global or a local
+/// The inputs, outputs and statics (BOOL, INT, DINT, TIME, REAL) of `instance` — a global or a local
 /// of the program that is an instance of one of the unit's function blocks — in its instance
 /// DB: what a watch table or a test reads. Statics declared after a timer are not listed (a
 /// multi-instance of SFB 4 has a layout of its own). Empty when there is no such instance.
@@ -507,6 +531,7 @@ impl<'a> Gen<'a> {
         Some(c.init.clone().unwrap_or(match c.ty {
             Type::Bool => Expr::Bool(false),
             Type::Time => Expr::Time(0),
+            Type::Real => Expr::Real(RealLit::new(0.0).expect("0.0 is finite")),
             _ => Expr::Int(0),
         }))
     }
@@ -515,7 +540,7 @@ impl<'a> Gen<'a> {
     fn operand(&mut self, place: &Place) -> Result<String, String> {
         let ty = self.place_type(place)?;
         let scalar = Ty::of(&ty)
-            .ok_or_else(|| format!("`{}` is not a BOOL, INT, DINT or TIME", place_text(self.unit, place)))?;
+            .ok_or_else(|| format!("`{}` is not a BOOL, INT, DINT, TIME or REAL", place_text(self.unit, place)))?;
         match place {
             Place::Global(name) => {
                 if self.unit.constants.iter().any(|c| c.name == *name) {
@@ -586,6 +611,7 @@ impl<'a> Gen<'a> {
         match e {
             Expr::Bool(_) => Ok(Ty::Bool),
             Expr::Int(n) => Ok(if fits_int(*n) { Ty::Int } else { Ty::Dint }),
+            Expr::Real(_) => Ok(Ty::Real),
             Expr::Time(_) => Ok(Ty::Time),
             Expr::Read(p) => {
                 let ty = self.place_type(p)?;
@@ -602,6 +628,17 @@ impl<'a> Gen<'a> {
             },
             Expr::Binary(op, a, b) => {
                 let (ta, tb) = (self.ty(a)?, self.ty(b)?);
+                if (ta == Ty::Real) != (tb == Ty::Real) && ta != Ty::Bool && tb != Ty::Bool {
+                    return Err(format!(
+                        "`{}` of {} and {}: IEC needs an explicit conversion between REAL and integers",
+                        op.text(),
+                        ta.name(),
+                        tb.name()
+                    ));
+                }
+                if ta == Ty::Real && matches!(op, BinOp::Mod) {
+                    return Err("MOD of REAL values".into());
+                }
                 match op {
                     BinOp::And | BinOp::Or | BinOp::Xor => {
                         if ta == Ty::Bool && tb == Ty::Bool {
@@ -734,13 +771,21 @@ fn flatten<'e>(op: BinOp, e: &'e Expr, out: &mut Vec<&'e Expr>) {
     }
 }
 
+/// Whether a value of type `value` cannot be stored into a `target` (BOOL only into BOOL, REAL
+/// only into REAL; integers of any width into each other).
+fn incompatible(value: Ty, target: Ty) -> bool {
+    (value == Ty::Bool) != (target == Ty::Bool) || (value == Ty::Real) != (target == Ty::Real)
+}
+
 fn is_comparison(op: BinOp) -> bool {
     matches!(op, BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge)
 }
 
 /// The type arithmetic on `a` and `b` has.
 fn numeric(a: Ty, b: Ty) -> Ty {
-    if a == Ty::Time || b == Ty::Time {
+    if a == Ty::Real || b == Ty::Real {
+        Ty::Real
+    } else if a == Ty::Time || b == Ty::Time {
         Ty::Time
     } else if a == Ty::Dint || b == Ty::Dint {
         Ty::Dint
@@ -769,7 +814,7 @@ fn signal_operand(address: &str, ty: Ty) -> Result<String, String> {
                     .is_some_and(|(b, x)| b.parse::<u32>().is_ok() && x.parse::<u8>().is_ok_and(|x| x < 8))
         }
         Ty::Int => size == "W" && number.parse::<u32>().is_ok(),
-        Ty::Dint | Ty::Time => size == "D" && number.parse::<u32>().is_ok(),
+        Ty::Dint | Ty::Time | Ty::Real => size == "D" && number.parse::<u32>().is_ok(),
     };
     if ok {
         Ok(format!("{area} {number}"))
@@ -793,6 +838,7 @@ fn expr_text(unit: &Unit, e: &Expr) -> String {
         match e {
             Expr::Bool(b) => out.push_str(if *b { "TRUE" } else { "FALSE" }),
             Expr::Int(n) => out.push_str(&n.to_string()),
+            Expr::Real(r) => out.push_str(&r.iec_text()),
             Expr::Time(ms) => out.push_str(&time_literal(i64::try_from(*ms).unwrap_or(i64::MAX))),
             Expr::Read(p) => out.push_str(&place_text(unit, p)),
             Expr::Not(x) | Expr::Neg(x) => {
@@ -810,7 +856,12 @@ fn expr_text(unit: &Unit, e: &Expr) -> String {
                 for (k, x) in [a, b].into_iter().enumerate() {
                     let mut inner = String::new();
                     let q = go(unit, x, &mut inner);
-                    if q < p || (k == 1 && q == p) {
+                    let negative = match x.as_ref() {
+                        Expr::Int(n) => *n < 0,
+                        Expr::Real(r) => r.value() < 0.0,
+                        _ => false,
+                    };
+                    if q < p || (k == 1 && q == p) || negative {
                         out.push_str(&format!("({inner})"));
                     } else {
                         out.push_str(&inner);
@@ -848,6 +899,11 @@ impl Gen<'_> {
     /// An integer or time literal as loaded into a 16-bit (`wide == false`) or 32-bit accumulator.
     fn number_literal(&mut self, e: &Expr, ty: Ty) -> Option<String> {
         match (e, ty) {
+            (Expr::Real(r), Ty::Real) => Some(real_literal(*r)),
+            (Expr::Real(_), _) | (_, Ty::Real) => {
+                self.error(format!("{} where a {} is needed", expr_text(self.unit, e), ty.name()));
+                Some("0".into())
+            }
             (Expr::Int(n), Ty::Int) => {
                 if fits_int(*n) {
                     Some(n.to_string())
@@ -879,7 +935,7 @@ impl Gen<'_> {
     /// Whether `e` loads with one `L` (and perhaps `ITD`).
     fn simple_load(&self, e: &Expr) -> bool {
         match e {
-            Expr::Int(_) | Expr::Time(_) => true,
+            Expr::Int(_) | Expr::Real(_) | Expr::Time(_) => true,
             Expr::Read(p) => self.constant(p).is_some() || Ty::of(&self.place_type(p).unwrap_or(Type::Ton)).is_some(),
             _ => false,
         }
@@ -894,7 +950,7 @@ impl Gen<'_> {
         };
         let widen = !own.wide() && ty.wide();
         match e {
-            Expr::Int(_) | Expr::Time(_) => {
+            Expr::Int(_) | Expr::Real(_) | Expr::Time(_) => {
                 let lit = self.number_literal(e, if widen { ty } else { own }).unwrap_or_default();
                 return self.emit(&format!("L\t{lit}"));
             }
@@ -910,11 +966,19 @@ impl Gen<'_> {
             }
             Expr::Neg(x) => {
                 self.load(x, own);
-                self.emit(if own.wide() { "NEGD" } else { "NEGI" });
+                self.emit(match own {
+                    Ty::Real => "NEGR",
+                    t if t.wide() => "NEGD",
+                    _ => "NEGI",
+                });
             }
             Expr::Binary(op, a, b) => {
                 self.load_pair(a, b, own);
-                let s = if own.wide() { "D" } else { "I" };
+                let s = match own {
+                    Ty::Real => "R",
+                    t if t.wide() => "D",
+                    _ => "I",
+                };
                 match op {
                     BinOp::Add => self.emit(&format!("+{s}")),
                     BinOp::Sub => self.emit(&format!("-{s}")),
@@ -955,6 +1019,14 @@ impl Gen<'_> {
     /// A comparison of numbers, its result in the RLO.
     fn compare(&mut self, op: BinOp, a: &Expr, b: &Expr) {
         let ty = match (self.ty(a), self.ty(b)) {
+            (Ok(x), Ok(y)) if (x == Ty::Real) != (y == Ty::Real) && x != Ty::Bool && y != Ty::Bool => {
+                return self.error(format!(
+                    "`{}` of {} and {}: IEC needs an explicit conversion between REAL and integers",
+                    op.text(),
+                    x.name(),
+                    y.name()
+                ))
+            }
             (Ok(x), Ok(y)) => numeric(x, y),
             (Err(m), _) | (_, Err(m)) => return self.error(m),
         };
@@ -967,7 +1039,14 @@ impl Gen<'_> {
             BinOp::Gt => ">",
             _ => ">=",
         };
-        self.emit(&format!("{cmp}{}", if ty.wide() { "D" } else { "I" }));
+        self.emit(&format!(
+            "{cmp}{}",
+            match ty {
+                Ty::Real => "R",
+                t if t.wide() => "D",
+                _ => "I",
+            }
+        ));
     }
 
     /// Stores `value` into the operand `op` of type `ty`.
@@ -991,6 +1070,16 @@ impl Gen<'_> {
             Expr::Read(p) => self.constant(p).unwrap_or_else(|| value.clone()),
             _ => value.clone(),
         };
+        if let Ok(vt) = self.ty(&value) {
+            if (vt == Ty::Real) != (ty == Ty::Real) {
+                self.error(format!(
+                    "{} of type {} passed as a {}: IEC needs an explicit conversion between REAL and integers",
+                    expr_text(self.unit, &value),
+                    vt.name(),
+                    ty.name()
+                ));
+            }
+        }
         match (&value, ty) {
             (Expr::Bool(b), Ty::Bool) => return ((if *b { "TRUE" } else { "FALSE" }).into(), None),
             (Expr::Int(_) | Expr::Time(_), Ty::Int | Ty::Dint | Ty::Time) => {
@@ -1026,7 +1115,7 @@ impl Gen<'_> {
                     return self.error(format!("cannot assign to `{}`", place_text(unit, target)));
                 };
                 match self.ty(value) {
-                    Ok(vt) if (vt == Ty::Bool) != (ty == Ty::Bool) => {
+                    Ok(vt) if incompatible(vt, ty) => {
                         return self.error(format!(
                             "`{}` of type {} gets a value of type {}",
                             place_text(unit, target),
@@ -1072,6 +1161,7 @@ impl Gen<'_> {
         self.comment(&format!("CASE {} OF", expr_text(unit, selector)));
         let ty = match self.ty(selector) {
             Ok(Ty::Bool) => return self.error("CASE over a BOOL".into()),
+            Ok(Ty::Real) => return self.error("CASE over a REAL".into()),
             Ok(t) => t,
             Err(m) => return self.error(m),
         };
@@ -1172,7 +1262,7 @@ impl Gen<'_> {
         let mut params = Vec::new();
         for p in &f.inputs {
             let Some(ty) = Ty::of(&p.ty) else {
-                self.error(format!("input `{}` of `{function}` is not a BOOL, INT, DINT or TIME", p.name));
+                self.error(format!("input `{}` of `{function}` is not a BOOL, INT, DINT, TIME or REAL", p.name));
                 continue;
             };
             let value = args
@@ -1202,7 +1292,7 @@ impl Gen<'_> {
         if let (Some((tmp, rt)), Some(place)) = (copy_back, result) {
             let ty = self.place_type(place).ok().as_ref().and_then(Ty::of);
             match (ty, self.operand(place)) {
-                (Some(ty), Ok(op)) if (ty == Ty::Bool) == (rt == Ty::Bool) => {
+                (Some(ty), Ok(op)) if !incompatible(rt, ty) => {
                     if ty == Ty::Bool {
                         self.emit(&format!("A\t{tmp}"));
                         self.emit(&format!("=\t{op}"));
@@ -1339,6 +1429,7 @@ fn default_value(ty: Ty) -> Expr {
     match ty {
         Ty::Bool => Expr::Bool(false),
         Ty::Time => Expr::Time(0),
+        Ty::Real => Expr::Real(RealLit::new(0.0).expect("0.0 is finite")),
         _ => Expr::Int(0),
     }
 }
@@ -1352,6 +1443,7 @@ fn init_literal(var: &Var, constants: &Unit) -> Option<String> {
     };
     Some(match (init, &var.ty) {
         (Expr::Bool(b), _) => (if *b { "TRUE" } else { "FALSE" }).into(),
+        (Expr::Real(r), Type::Real) => real_literal(*r),
         (Expr::Int(n), Type::Int) => n.to_string(),
         (Expr::Int(n), Type::Dint) => format!("L#{n}"),
         (Expr::Int(n), Type::Time) => time_literal(*n),
@@ -1379,7 +1471,7 @@ fn generate<'a>(unit: &'a Unit, options: &'a StlUnitOptions, blocks: &'a Blocks,
             g.error("a function with outputs (STL prints results through RET_VAL only)".into());
         }
         if returns.as_ref().is_some_and(|t| Ty::of(t).is_none()) {
-            g.error("a function whose result is not a BOOL, INT, DINT or TIME".into());
+            g.error("a function whose result is not a BOOL, INT, DINT, TIME or REAL".into());
         }
         // S7 leaves temporaries and RET_VAL undefined; IEC starts from the initial values.
         let mut first = true;
@@ -1461,7 +1553,7 @@ pub fn check(unit: &Unit, options: &StlUnitOptions) -> Vec<String> {
         }
     }
     for c in &unit.constants {
-        if !matches!(c.init, Some(Expr::Bool(_) | Expr::Int(_) | Expr::Time(_))) {
+        if !matches!(c.init, Some(Expr::Bool(_) | Expr::Int(_) | Expr::Real(_) | Expr::Time(_))) {
             errors.push(format!("constant `{}` needs a literal value", c.name));
         }
     }
@@ -1794,6 +1886,29 @@ mod tests {
         assert_eq!(time_literal(90_061_001), "T#1D1H1M1S1MS");
         assert_eq!(time_literal(0), "T#0MS");
         assert_eq!(time_literal(-20), "T#-20MS");
+    }
+
+    #[test]
+    fn real_literals_read_back_as_the_same_f32() {
+        let lit = |x: f64| real_literal(RealLit::new(x).unwrap());
+        assert_eq!(lit(3.5), "3.500000e+00");
+        assert_eq!(lit(-0.25), "-2.500000e-01");
+        assert_eq!(lit(0.0), "0.000000e+00");
+        assert_eq!(lit(-0.0), "0.000000e+00");
+        assert_eq!(lit(1e-3), "1.000000e-03");
+        assert_eq!(lit(1e20), "1.000000e+20");
+        assert_eq!(lit(0.1 + 0.2), "3.000000e-01");
+        // 16777215 and 2^-126 need more than seven digits.
+        assert_eq!(lit(16_777_215.0), "1.6777215e+07");
+        for x in [f32::MAX, f32::MIN_POSITIVE, -f32::MAX, 1.0 / 3.0, 16_777_215.0, 0.1, 2.0e-38, 123_456.79] {
+            let text = lit(f64::from(x));
+            assert_eq!(text.parse::<f32>().unwrap().to_bits(), x.to_bits(), "{text}");
+        }
+        for k in 0..2000 {
+            let x = f32::from_bits(0x0080_0000 + k * 1_064_437);
+            let text = lit(f64::from(x));
+            assert_eq!(text.parse::<f32>().unwrap().to_bits(), x.to_bits(), "{text}");
+        }
     }
 
     #[test]
