@@ -154,8 +154,7 @@ fn part(spec: &Spec, guarantees: &[usize]) -> (Spec, Vec<SignalId>) {
         }
     }
     let global: Vec<SignalId> = keep.into_iter().collect();
-    let local: HashMap<SignalId, SignalId> =
-        global.iter().enumerate().map(|(i, &g)| (g, SignalId(i as u32))).collect();
+    let local: HashMap<SignalId, SignalId> = global.iter().enumerate().map(|(i, &g)| (g, SignalId(i as u32))).collect();
     let map = |f: &Ltl| rename(f, &local);
     let sub = Spec {
         signals: global.iter().map(|&g| spec.signal(g).clone()).collect::<Vec<Signal>>(),

@@ -656,7 +656,10 @@ fn check_bounds(ty: &NumberType, diags: &mut Diagnostics) -> bool {
         diags.error(ty.span, "the bounds must be decimal numbers, as in `REAL[-1.5, 4]`");
         return false;
     };
-    if ty.kind == NumberKind::Int && !(ty.lo.bytes().all(|b| b.is_ascii_digit() || b == b'-') && ty.hi.bytes().all(|b| b.is_ascii_digit() || b == b'-')) {
+    if ty.kind == NumberKind::Int
+        && !(ty.lo.bytes().all(|b| b.is_ascii_digit() || b == b'-')
+            && ty.hi.bytes().all(|b| b.is_ascii_digit() || b == b'-'))
+    {
         diags.error(ty.span, "the bounds of an `INT` input must be whole numbers");
         return false;
     }
@@ -781,35 +784,36 @@ fn resolve(src: &str, lines: &[Line], diags: &mut Diagnostics) -> Spec {
     let mut spec = Spec::default();
     let mut ids: HashMap<String, SignalId> = HashMap::new();
     let mut numeric_ids: HashMap<String, NumericId> = HashMap::new();
-    let mut declare = |spec: &mut Spec, diags: &mut Diagnostics, name: &str, kind, span: Span, ty: Option<&NumberType>| {
-        let prior = match (ids.get(name), numeric_ids.get(name)) {
-            (Some(&s), _) => Some(spec.signal(s).span),
-            (None, Some(&n)) => Some(spec.numeric[n.0 as usize].span),
-            (None, None) => None,
+    let mut declare =
+        |spec: &mut Spec, diags: &mut Diagnostics, name: &str, kind, span: Span, ty: Option<&NumberType>| {
+            let prior = match (ids.get(name), numeric_ids.get(name)) {
+                (Some(&s), _) => Some(spec.signal(s).span),
+                (None, Some(&n)) => Some(spec.numeric[n.0 as usize].span),
+                (None, None) => None,
+            };
+            if let Some(prior) = prior {
+                let (line, col) = diags.line_col(prior.start as usize);
+                diags
+                    .error(span, format!("`{name}` is declared twice"))
+                    .with_note(format!("first declared at {line}:{col}"));
+                return None;
+            }
+            if let Some(ty) = ty {
+                numeric_ids.insert(name.to_string(), NumericId(spec.numeric.len() as u32));
+                spec.numeric.push(NumericInput {
+                    name: name.to_string(),
+                    kind: ty.kind,
+                    lo: ty.lo.clone(),
+                    hi: ty.hi.clone(),
+                    span,
+                });
+                return None;
+            }
+            let id = SignalId(spec.signals.len() as u32);
+            spec.signals.push(Signal { name: name.to_string(), kind, span });
+            ids.insert(name.to_string(), id);
+            Some(id)
         };
-        if let Some(prior) = prior {
-            let (line, col) = diags.line_col(prior.start as usize);
-            diags
-                .error(span, format!("`{name}` is declared twice"))
-                .with_note(format!("first declared at {line}:{col}"));
-            return None;
-        }
-        if let Some(ty) = ty {
-            numeric_ids.insert(name.to_string(), NumericId(spec.numeric.len() as u32));
-            spec.numeric.push(NumericInput {
-                name: name.to_string(),
-                kind: ty.kind,
-                lo: ty.lo.clone(),
-                hi: ty.hi.clone(),
-                span,
-            });
-            return None;
-        }
-        let id = SignalId(spec.signals.len() as u32);
-        spec.signals.push(Signal { name: name.to_string(), kind, span });
-        ids.insert(name.to_string(), id);
-        Some(id)
-    };
     for line in lines {
         if let Line::Declare { kind, names } = line {
             for (span, ty) in names {
@@ -981,7 +985,8 @@ fn to_num(src: &str, expr: &Expr, spec: &Spec, uses: &mut Uses, diags: &mut Diag
     Some(match expr {
         Expr::Number(span) => {
             let text = &src[span.range()];
-            if text.parse::<f64>().map_or(true, |v| !v.is_finite()) || text.ends_with(|c: char| c.is_ascii_alphabetic()) {
+            if text.parse::<f64>().map_or(true, |v| !v.is_finite()) || text.ends_with(|c: char| c.is_ascii_alphabetic())
+            {
                 diags.error(*span, format!("`{text}` is not a number"));
                 return None;
             }
@@ -1015,16 +1020,18 @@ fn to_num(src: &str, expr: &Expr, spec: &Spec, uses: &mut Uses, diags: &mut Diag
                 ArithOp::Sub => NumExpr::Sub(x, y),
                 ArithOp::Mul => NumExpr::Mul(x, y),
                 ArithOp::Div if numeric(b) || matches!(**b, Expr::Neg(ref n) if numeric(n)) => {
-                    if y.as_ref() == &NumExpr::Const("0".into()) || matches!(&*y, NumExpr::Const(t) if t.parse::<f64>() == Ok(0.0)) {
+                    if y.as_ref() == &NumExpr::Const("0".into())
+                        || matches!(&*y, NumExpr::Const(t) if t.parse::<f64>() == Ok(0.0))
+                    {
                         diags.error(span_of(b), "division by zero");
                         return None;
                     }
                     NumExpr::Div(x, y)
                 }
                 ArithOp::Div => {
-                    diags
-                        .error(span_of(b), "only division by a number is supported")
-                        .with_note("predicates are polynomials: multiply out, e.g. `x > 2 * y` for `x / y > 2` with y > 0");
+                    diags.error(span_of(b), "only division by a number is supported").with_note(
+                        "predicates are polynomials: multiply out, e.g. `x > 2 * y` for `x / y > 2` with y > 0",
+                    );
                     return None;
                 }
             }

@@ -36,8 +36,8 @@ pub use g4ltl::compile_g4ltl;
 pub use machine::{Cube, Machine, Row, StateId};
 pub use refine::{refined, Learned, Refinement};
 pub use spec::{
-    Clause, Ltl, NumExpr, NumberKind, NumericId, NumericInput, Predicate, Relation, Semantics, Signal, SignalId, SignalKind,
-    Spec, Timer, MAX_FORMULA_DEPTH,
+    Clause, Ltl, NumExpr, NumberKind, NumericId, NumericInput, Predicate, Relation, Semantics, Signal, SignalId,
+    SignalKind, Spec, Timer, MAX_FORMULA_DEPTH,
 };
 pub use suggest::{longest_play, suggest, Play, SuggestConfig, Suggestion, Suggestions, Template};
 pub use tlsf::compile_tlsf;

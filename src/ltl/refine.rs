@@ -23,10 +23,10 @@
 //! that was not repeated), so the refined assumptions never make a specification vacuous.
 
 use super::game;
-use crate::diag::Span;
 use super::machine::{Machine, StateId};
 use super::spec::{Clause, Ltl, SignalId, Spec, Timer};
 use super::{Config, Outcome, Progress, Stop, Verdict};
+use crate::diag::Span;
 use serde::Serialize;
 use std::collections::{BTreeSet, HashSet};
 
@@ -72,9 +72,7 @@ impl TimerFact {
         match self {
             TimerFact::NoExpiryBeforeStart => Ltl::weak_until(Ltl::not(e.clone()), Ltl::And(vec![s, Ltl::not(e)])),
             TimerFact::StartResets => Ltl::globally(Ltl::implies(s, Ltl::next(Ltl::not(e)))),
-            TimerFact::ExpiryLasts => {
-                Ltl::globally(Ltl::implies(Ltl::And(vec![e.clone(), Ltl::not(s)]), Ltl::next(e)))
-            }
+            TimerFact::ExpiryLasts => Ltl::globally(Ltl::implies(Ltl::And(vec![e.clone(), Ltl::not(s)]), Ltl::next(e))),
         }
     }
 
@@ -183,7 +181,11 @@ fn expiry_before_start(t: &Timer, machine: &Machine) -> bool {
 }
 
 /// Decides `spec` with the refinement loop around the bounded games.
-pub(super) fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) -> bool) -> Result<Outcome, Stop> {
+pub(super) fn synthesize(
+    spec: &Spec,
+    cfg: &Config,
+    progress: &mut dyn FnMut(Progress) -> bool,
+) -> Result<Outcome, Stop> {
     let mut current = spec.clone();
     let mut refinement = Refinement::default();
     let mut known: HashSet<(usize, TimerFact)> = HashSet::new();

@@ -59,7 +59,7 @@ pub struct Timer {
 }
 
 /// The type of a numeric input.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum NumberKind {
     /// IEC `REAL`.

@@ -521,13 +521,7 @@ fn environment_side(spec: &Spec) -> Spec {
         Semantics::Mealy => Semantics::Moore,
         Semantics::Moore => Semantics::Mealy,
     };
-    Spec {
-        signals,
-        assumptions: Vec::new(),
-        guarantees: spec.assumptions.clone(),
-        semantics,
-        ..Spec::default()
-    }
+    Spec { signals, assumptions: Vec::new(), guarantees: spec.assumptions.clone(), semantics, ..Spec::default() }
 }
 
 fn extended(spec: &Spec, added: &[Ltl]) -> Spec {

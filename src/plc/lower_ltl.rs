@@ -25,10 +25,13 @@
 //! takes effect from the next scan on: within the scan that starts it, `t1.Q` is still the value
 //! read at the scan's start.
 
-use super::unit::{Expr, Place, Pou, PouKind, Signal, SignalKind, Stmt, Type, Unit, Var};
+use super::unit::{BinOp, Expr, Place, Pou, PouKind, Signal, SignalKind, Stmt, Type, Unit, Var};
 use super::{identifier, source_hash, Namespace};
 use crate::diag::{Diagnostic, Diagnostics, Span};
-use crate::ltl::{Cube, Machine, Outcome, Row, SignalId, SignalKind as Direction, Spec, StateId};
+use crate::ltl::{
+    Cube, Machine, NumExpr, NumberKind, NumericId, Outcome, Relation, Row, SignalId, SignalKind as Direction, Spec,
+    StateId,
+};
 use std::collections::BTreeSet;
 
 /// Choices of the lowering beyond the machine.
@@ -153,12 +156,46 @@ pub fn lower_machines(
     let mut inputs = Vec::new();
     let mut input_name: std::collections::HashMap<SignalId, String> = Default::default();
     let reads_in_order: Vec<SignalId> = read.iter().copied().collect();
+    // Numeric inputs first (those the predicates read), then the Boolean ones; a predicate is
+    // a local BOOL computed at the start of the scan (the paper's appendix A).
+    let mut numeric_name: Vec<Option<String>> = vec![None; spec.numeric.len()];
+    let predicates: Vec<&crate::ltl::Predicate> = reads_in_order.iter().filter_map(|&s| spec.predicate_of(s)).collect();
+    for p in &predicates {
+        for v in numeric_vars(&p.lhs).into_iter().chain(numeric_vars(&p.rhs)) {
+            let n = &spec.numeric[v.0 as usize];
+            if numeric_name[v.0 as usize].is_none() {
+                let name = names.fresh(&n.name, MAX_NAME);
+                let ty = match n.kind {
+                    NumberKind::Real => Type::Real,
+                    NumberKind::Int => Type::Int,
+                };
+                inputs.push(Var::new(&name, ty, format!("input {} in [{}, {}]", n.name, n.lo, n.hi)));
+                numeric_name[v.0 as usize] = Some(name);
+            }
+        }
+    }
+    let mut predicate_locals = Vec::new();
+    let mut predicate_updates = Vec::new();
     for &s in &reads_in_order {
-        if timer_of_expire(s).is_none() {
+        if let Some(p) = spec.predicate_of(s) {
+            let name = names.fresh(spec.name(s), MAX_NAME);
+            let text = spec.predicate_text(p);
+            match predicate_expr(spec, p, &numeric_name) {
+                Ok(e) => predicate_updates.push(Stmt::assign(Place::local(&name), e)),
+                Err(message) => {
+                    diags.error(p.span, format!("predicate `{text}`: {message}"));
+                }
+            }
+            predicate_locals.push(Var::new(&name, Type::Bool, format!("{text}, this scan")));
+            input_name.insert(s, name);
+        } else if timer_of_expire(s).is_none() {
             let name = names.fresh(spec.name(s), MAX_NAME);
             inputs.push(Var::new(&name, Type::Bool, format!("input {}", spec.name(s))));
             input_name.insert(s, name);
         }
+    }
+    if diags.has_errors() {
+        return Err(diags.items);
     }
     let writes_in_order: Vec<SignalId> = written.iter().copied().collect::<BTreeSet<_>>().into_iter().collect();
     let mut outputs = Vec::new();
@@ -207,6 +244,10 @@ pub fn lower_machines(
     // (`S_3`; `S1_3`, `S2_0`, … for the machines of a compositional run).
     let mut constants = Vec::new();
     let mut body = Vec::new();
+    if !predicate_updates.is_empty() {
+        body.push(Stmt::Comment("the predicates on the numeric inputs, once per scan".into()));
+        body.extend(predicate_updates);
+    }
     if !timers.is_empty() {
         body.push(Stmt::Comment("timers run every scan, so that Q and ET are current (IN keeps its value)".into()));
         for t in &timers {
@@ -216,7 +257,7 @@ pub fn lower_machines(
             });
         }
     }
-    let mut locals = Vec::new();
+    let mut locals = predicate_locals;
     let mut reachable_counts = Vec::new();
     for (k, machine) in machines.iter().enumerate() {
         let reachable = reachable(machine);
@@ -232,11 +273,15 @@ pub fn lower_machines(
         let sources: Vec<Source> = machine.reads.iter().map(|&s| source_of(s)).collect();
         let output_names: Vec<String> = machine.writes.iter().map(|s| output_name[s].clone()).collect();
         let state = &state_vars[k];
-        let lowering =
-            Lowering { machine, sources: &sources, outputs: &output_names, state, state_name: &state_name };
+        let lowering = Lowering { machine, sources: &sources, outputs: &output_names, state, state_name: &state_name };
         if many {
             let outs: Vec<&str> = machine.writes.iter().map(|&s| spec.name(s)).collect();
-            body.push(Stmt::Comment(format!("state machine {} of {}: writes {}", k + 1, machines.len(), outs.join(", "))));
+            body.push(Stmt::Comment(format!(
+                "state machine {} of {}: writes {}",
+                k + 1,
+                machines.len(),
+                outs.join(", ")
+            )));
         }
         let arms = reachable.iter().map(|&s| (vec![i64::from(s.0)], lowering.state_branch(s))).collect();
         body.push(Stmt::Case { selector: Expr::local(state), arms, otherwise: Vec::new() });
@@ -290,22 +335,23 @@ pub fn lower_machines(
     }
     let fb = Pou { kind: PouKind::FunctionBlock, name: block.clone(), comment, inputs, outputs, locals, body };
 
-    // The program: the block wired to direct addresses, in signal order.
+    // The program: the block wired to direct addresses, in the block's input order (numeric
+    // inputs as words or double words after the bits).
     let mut signals = Vec::new();
     let mut args = Vec::new();
-    for &s in &reads_in_order {
-        if let Some(name) = input_name.get(&s) {
-            let k = signals.len();
-            let address = format!("IX{}.{}", k / 8, k % 8);
-            signals.push(Signal {
-                symbol: address.clone(),
-                kind: SignalKind::Input,
-                ty: Type::Bool,
-                address,
-                comment: spec.name(s).to_string(),
-            });
-            args.push((name.clone(), Expr::read(Place::Signal(k))));
-        }
+    let input_types: Vec<Type> = fb.inputs.iter().map(|v| v.ty.clone()).collect();
+    let addresses = super::unit::direct_addresses('I', &input_types);
+    for (var, address) in fb.inputs.iter().zip(addresses) {
+        let address = address.expect("inputs are BOOL, INT or REAL");
+        let k = signals.len();
+        signals.push(Signal {
+            symbol: address.clone(),
+            kind: SignalKind::Input,
+            ty: var.ty.clone(),
+            address,
+            comment: var.comment.trim_start_matches("input ").to_string(),
+        });
+        args.push((var.name.clone(), Expr::read(Place::Signal(k))));
     }
     let mut main = vec![Stmt::CallInstance { instance: Place::local(&instance), args }];
     let mut q = 0;
@@ -356,6 +402,154 @@ pub fn lower_machines(
     }
     header.push("Do not edit: change the specification and generate again.".to_string());
     Ok(Unit { name: block, header, gvl, constants, globals: Vec::new(), signals, pous: vec![fb, main] })
+}
+
+/// The numeric inputs an expression reads.
+fn numeric_vars(e: &NumExpr) -> Vec<NumericId> {
+    match e {
+        NumExpr::Const(_) => Vec::new(),
+        NumExpr::Var(v) => vec![*v],
+        NumExpr::Neg(a) | NumExpr::Pow(a, _) => numeric_vars(a),
+        NumExpr::Add(a, b) | NumExpr::Sub(a, b) | NumExpr::Mul(a, b) | NumExpr::Div(a, b) => {
+            let mut v = numeric_vars(a);
+            v.extend(numeric_vars(b));
+            v
+        }
+    }
+}
+
+/// A predicate as a BOOL expression of the block: in REAL when it reads a REAL input, in INT
+/// when it reads only INT inputs and integers (and no value can leave INT's range, which the
+/// inputs' bounds decide). IEC has no implicit conversion, so a predicate mixing the two is
+/// refused, as is one whose INT arithmetic could overflow or divide.
+fn predicate_expr(spec: &Spec, p: &crate::ltl::Predicate, names: &[Option<String>]) -> Result<Expr, String> {
+    let kinds: BTreeSet<NumberKind> =
+        numeric_vars(&p.lhs).into_iter().chain(numeric_vars(&p.rhs)).map(|v| spec.numeric[v.0 as usize].kind).collect();
+    let has_decimal = |e: &NumExpr| num_any(e, &|x| matches!(x, NumExpr::Const(t) if t.parse::<i64>().is_err()));
+    let real = kinds.contains(&NumberKind::Real) || has_decimal(&p.lhs) || has_decimal(&p.rhs);
+    if real && kinds.contains(&NumberKind::Int) {
+        return Err("it mixes INT and REAL (IEC 61131-3 needs an explicit conversion): declare its inputs alike".into());
+    }
+    if !real {
+        let bounds = |v: NumericId| {
+            let n = &spec.numeric[v.0 as usize];
+            (n.lo.parse::<f64>().unwrap_or(0.0), n.hi.parse::<f64>().unwrap_or(0.0))
+        };
+        for side in [&p.lhs, &p.rhs] {
+            if num_any(side, &|x| matches!(x, NumExpr::Div(..))) {
+                return Err("division of INT values truncates: write it without `/` or declare the inputs REAL".into());
+            }
+            let (lo, hi) = int_range(side, &bounds);
+            if lo < -32768.0 || hi > 32767.0 {
+                return Err(format!("a value can reach [{lo}, {hi}], beyond INT; declare the inputs REAL"));
+            }
+        }
+    }
+    let lhs = num_expr(&p.lhs, names, real)?;
+    let rhs = num_expr(&p.rhs, names, real)?;
+    let op = match p.relation {
+        Relation::Lt => BinOp::Lt,
+        Relation::Le => BinOp::Le,
+        Relation::Gt => BinOp::Gt,
+        Relation::Ge => BinOp::Ge,
+        Relation::Eq => BinOp::Eq,
+        Relation::Ne => BinOp::Ne,
+    };
+    Ok(Expr::binary(op, lhs, rhs))
+}
+
+fn num_any(e: &NumExpr, f: &dyn Fn(&NumExpr) -> bool) -> bool {
+    f(e) || match e {
+        NumExpr::Const(_) | NumExpr::Var(_) => false,
+        NumExpr::Neg(a) | NumExpr::Pow(a, _) => num_any(a, f),
+        NumExpr::Add(a, b) | NumExpr::Sub(a, b) | NumExpr::Mul(a, b) | NumExpr::Div(a, b) => {
+            num_any(a, f) || num_any(b, f)
+        }
+    }
+}
+
+/// The range of every intermediate value of an integer expression bounds the whole (interval
+/// arithmetic); the widest range met is returned.
+fn int_range(e: &NumExpr, bounds: &dyn Fn(NumericId) -> (f64, f64)) -> (f64, f64) {
+    fn go(e: &NumExpr, bounds: &dyn Fn(NumericId) -> (f64, f64), widest: &mut (f64, f64)) -> (f64, f64) {
+        let r = match e {
+            NumExpr::Const(t) => {
+                let v = t.parse::<f64>().unwrap_or(0.0);
+                (v, v)
+            }
+            NumExpr::Var(v) => bounds(*v),
+            NumExpr::Neg(a) => {
+                let (lo, hi) = go(a, bounds, widest);
+                (-hi, -lo)
+            }
+            NumExpr::Add(a, b) | NumExpr::Sub(a, b) | NumExpr::Mul(a, b) | NumExpr::Div(a, b) => {
+                let (x, y) = (go(a, bounds, widest), go(b, bounds, widest));
+                match e {
+                    NumExpr::Add(..) => (x.0 + y.0, x.1 + y.1),
+                    NumExpr::Sub(..) => (x.0 - y.1, x.1 - y.0),
+                    _ => {
+                        let p = [x.0 * y.0, x.0 * y.1, x.1 * y.0, x.1 * y.1];
+                        (
+                            p.iter().copied().fold(f64::INFINITY, f64::min),
+                            p.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                        )
+                    }
+                }
+            }
+            NumExpr::Pow(a, n) => {
+                let mut r = (1.0, 1.0);
+                let x = go(a, bounds, widest);
+                for _ in 0..*n {
+                    let p = [r.0 * x.0, r.0 * x.1, r.1 * x.0, r.1 * x.1];
+                    r = (
+                        p.iter().copied().fold(f64::INFINITY, f64::min),
+                        p.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                    );
+                    *widest = (widest.0.min(r.0), widest.1.max(r.1));
+                }
+                r
+            }
+        };
+        *widest = (widest.0.min(r.0), widest.1.max(r.1));
+        r
+    }
+    let mut widest = (0.0, 0.0);
+    go(e, bounds, &mut widest);
+    widest
+}
+
+/// An arithmetic expression of the block: literals as REAL or INT, `x^n` as a product.
+fn num_expr(e: &NumExpr, names: &[Option<String>], real: bool) -> Result<Expr, String> {
+    let go = |x: &NumExpr| num_expr(x, names, real);
+    Ok(match e {
+        NumExpr::Const(text) => {
+            let v: f64 = text.parse().map_err(|_| format!("`{text}` is not a number"))?;
+            if real {
+                Expr::real(v).ok_or_else(|| format!("`{text}` is beyond REAL"))?
+            } else {
+                Expr::Int(v as i64)
+            }
+        }
+        NumExpr::Var(v) => Expr::local(names[v.0 as usize].as_deref().expect("a named numeric input")),
+        NumExpr::Neg(a) => go(a)?.neg(),
+        NumExpr::Add(a, b) => Expr::binary(BinOp::Add, go(a)?, go(b)?),
+        NumExpr::Sub(a, b) => Expr::binary(BinOp::Sub, go(a)?, go(b)?),
+        NumExpr::Mul(a, b) => Expr::binary(BinOp::Mul, go(a)?, go(b)?),
+        NumExpr::Div(a, b) => Expr::binary(BinOp::Div, go(a)?, go(b)?),
+        NumExpr::Pow(a, n) => {
+            let base = go(a)?;
+            match n {
+                0 => {
+                    if real {
+                        Expr::real(1.0).expect("finite")
+                    } else {
+                        Expr::Int(1)
+                    }
+                }
+                _ => (1..*n).fold(base.clone(), |acc, _| Expr::binary(BinOp::Mul, acc, base.clone())),
+            }
+        }
+    })
 }
 
 /// What keeps `machine` from being lowered as a controller of `spec`.
