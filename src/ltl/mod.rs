@@ -24,6 +24,7 @@ mod game;
 mod machine;
 mod spec;
 mod strategy;
+pub mod theory;
 mod tlsf;
 mod translate;
 
