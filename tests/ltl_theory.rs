@@ -78,19 +78,19 @@ fn to_poly(terms: &Terms) -> Poly {
     poly
 }
 
-/// This file's own evaluation of a term list at a point, exactly.
-fn value(terms: &Terms, point: &[Rational]) -> Rational {
+/// This file's own evaluation of a term list at a point, exactly (None on overflow).
+fn value(terms: &Terms, point: &[Rational]) -> Option<Rational> {
     let mut sum = Rational::ZERO;
     for (coef, exps) in terms {
         let mut term = Rational::from_i64(*coef);
         for (x, e) in point.iter().zip(exps) {
             for _ in 0..*e {
-                term = term.checked_mul(*x).expect("small values");
+                term = term.checked_mul(*x)?;
             }
         }
-        sum = sum.checked_add(term).expect("small values");
+        sum = sum.checked_add(term)?;
     }
-    sum
+    Some(sum)
 }
 
 fn holds(rel: Rel, v: Rational) -> bool {
@@ -105,8 +105,14 @@ fn holds(rel: Rel, v: Rational) -> bool {
     }
 }
 
+/// Whether the point satisfies the literals; a witness with numbers too large for this file's
+/// term-by-term evaluation (deep in a bisection) is evaluated on the canonical polynomial.
 fn satisfies(p: &Problem, literals: &[usize], point: &[Rational]) -> bool {
-    literals.iter().all(|&i| holds(p.atoms[i].1, value(&p.atoms[i].0, point)) == p.polarities[i])
+    literals.iter().all(|&i| {
+        let (terms, rel) = &p.atoms[i];
+        let v = value(terms, point).or_else(|| to_poly(terms).eval(point)).expect("a value");
+        holds(*rel, v) == p.polarities[i]
+    })
 }
 
 fn in_box(domains: &[Domain], point: &[Rational]) -> bool {

@@ -16,7 +16,9 @@
 //!   is certainly false is discarded, one where all are certainly true yields a witness; else a
 //!   candidate point (the box's simplest rational point, with equalities solved for a variable
 //!   they are linear in) is tried, a box whose undecided literals are all linear goes to the
-//!   linear procedure, and the rest is bisected on its widest variable. Equalities the
+//!   linear procedure, and the rest is bisected on its widest variable, breadth first. The
+//!   enclosure is tightened where the polynomial is monotone in a variable over the box
+//!   (derivative enclosure of one sign: that variable held at the extremal endpoint). Equalities the
 //!   candidates miss end in `Unknown` when the budget runs out, never in a guess.
 //!
 //! Every `Sat` witness is re-checked by exact evaluation of every literal and of the box before
@@ -26,7 +28,7 @@
 
 use serde::Serialize;
 use std::cmp::Ordering;
-use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::collections::{BTreeMap, BTreeSet, HashMap, VecDeque};
 use std::fmt;
 
 // ------------------------------------------------------------------------------------------
@@ -474,6 +476,23 @@ impl Poly {
             sum = sum.add(term)?;
         }
         Some(sum)
+    }
+
+    /// The partial derivative in `v`.
+    pub fn derivative(&self, v: NumVar) -> Option<Poly> {
+        let mut terms = BTreeMap::new();
+        for (m, c) in &self.terms {
+            let Some(at) = m.iter().position(|&(w, _)| w == v) else { continue };
+            let e = m[at].1;
+            let mut reduced = m.clone();
+            if e == 1 {
+                reduced.remove(at);
+            } else {
+                reduced[at].1 = e - 1;
+            }
+            add_term(&mut terms, reduced, c.checked_mul(Rational::from_int(i128::from(e)))?)?;
+        }
+        Some(Poly { terms })
     }
 
     fn rename(&self, map: &HashMap<NumVar, NumVar>) -> Option<Poly> {
@@ -1273,19 +1292,55 @@ fn candidate(cons: &[(Poly, Rel)], live: &[usize], bx: &[Interval], integer: &[b
     satisfied(&point).then_some(point)
 }
 
+/// The range enclosure, tightened by monotonicity: a variable in which the polynomial is
+/// monotone over the whole box (its derivative's enclosure has one sign) is held at the
+/// endpoint that gives the minimum (maximum) for the lower (upper) bound. This settles
+/// literals whose zero set touches the box's boundary, where the plain enclosure never does.
+fn refined_range(poly: &Poly, derivatives: &[(usize, Poly)], bx: &[Interval]) -> Option<Interval> {
+    let plain = poly.range(bx)?;
+    let (mut low, mut high) = (bx.to_vec(), bx.to_vec());
+    let mut monotone = false;
+    for (k, derivative) in derivatives {
+        let Some(slope) = derivative.range(bx) else { continue };
+        let (lo, hi) = (Interval::point(bx[*k].lo), Interval::point(bx[*k].hi));
+        if slope.lo >= Rational::ZERO {
+            (low[*k], high[*k]) = (lo, hi);
+        } else if slope.hi <= Rational::ZERO {
+            (low[*k], high[*k]) = (hi, lo);
+        } else {
+            continue;
+        }
+        monotone = true;
+    }
+    if !monotone {
+        return Some(plain);
+    }
+    let lo = poly.range(&low).map_or(plain.lo, |r| r.lo.max(plain.lo));
+    let hi = poly.range(&high).map_or(plain.hi, |r| r.hi.min(plain.hi));
+    Some(Interval { lo, hi })
+}
+
+/// Boxes are processed breadth first, so that a degenerate corner cannot swallow the budget
+/// before the rest of the box has been looked at.
 fn branch_and_bound(
     cons: &[(Poly, Rel)],
     bx: Vec<Interval>,
     integer: &[bool],
     budget: &mut u64,
 ) -> Result<Vec<Rational>, Stop> {
-    let mut stack: Vec<(Vec<Interval>, Vec<usize>)> = vec![(bx, (0..cons.len()).collect())];
+    let mut derivatives: Vec<Vec<(usize, Poly)>> = Vec::with_capacity(cons.len());
+    for (poly, _) in cons {
+        let vars = poly.vars();
+        let d = vars.iter().map(|&v| Some((v.0 as usize, poly.derivative(v)?))).collect::<Option<_>>();
+        derivatives.push(d.or_unknown()?);
+    }
+    let mut queue: VecDeque<(Vec<Interval>, Vec<usize>)> = VecDeque::from([(bx, (0..cons.len()).collect())]);
     let mut incomplete = false;
-    'boxes: while let Some((bx, live)) = stack.pop() {
+    'boxes: while let Some((bx, live)) = queue.pop_front() {
         spend(budget, 1)?;
         let mut undecided = Vec::with_capacity(live.len());
         for &i in &live {
-            let Some(range) = cons[i].0.range(&bx) else {
+            let Some(range) = refined_range(&cons[i].0, &derivatives[i], &bx) else {
                 incomplete = true; // overflow: this box is given up
                 continue 'boxes;
             };
@@ -1352,8 +1407,8 @@ fn branch_and_bound(
         left[k].hi = low;
         let mut right = bx;
         right[k].lo = high;
-        stack.push((right, undecided.clone()));
-        stack.push((left, undecided));
+        queue.push_back((left, undecided.clone()));
+        queue.push_back((right, undecided));
     }
     Err(if incomplete { Stop::Unknown } else { Stop::Unsat })
 }
