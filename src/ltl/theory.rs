@@ -1292,6 +1292,9 @@ fn candidate(cons: &[(Poly, Rel)], live: &[usize], bx: &[Interval], integer: &[b
     satisfied(&point).then_some(point)
 }
 
+/// Waiting boxes beyond which branch and bound goes depth first.
+const MAX_FRONTIER: usize = 4096;
+
 /// The range enclosure, tightened by monotonicity: a variable in which the polynomial is
 /// monotone over the whole box (its derivative's enclosure has one sign) is held at the
 /// endpoint that gives the minimum (maximum) for the lower (upper) bound. This settles
@@ -1320,8 +1323,8 @@ fn refined_range(poly: &Poly, derivatives: &[(usize, Poly)], bx: &[Interval]) ->
     Some(Interval { lo, hi })
 }
 
-/// Boxes are processed breadth first, so that a degenerate corner cannot swallow the budget
-/// before the rest of the box has been looked at.
+/// Boxes are processed breadth first (up to [`MAX_FRONTIER`] waiting), so that a degenerate
+/// corner cannot swallow the budget before the rest of the box has been looked at.
 fn branch_and_bound(
     cons: &[(Poly, Rel)],
     bx: Vec<Interval>,
@@ -1336,7 +1339,8 @@ fn branch_and_bound(
     }
     let mut queue: VecDeque<(Vec<Interval>, Vec<usize>)> = VecDeque::from([(bx, (0..cons.len()).collect())]);
     let mut incomplete = false;
-    'boxes: while let Some((bx, live)) = queue.pop_front() {
+    // Depth first once the frontier is large, which bounds its memory.
+    'boxes: while let Some((bx, live)) = if queue.len() > MAX_FRONTIER { queue.pop_back() } else { queue.pop_front() } {
         spend(budget, 1)?;
         let mut undecided = Vec::with_capacity(live.len());
         for &i in &live {
