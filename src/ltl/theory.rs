@@ -1518,8 +1518,8 @@ impl Theory {
 
     /// A smallest-found unsatisfiable sub-combination (literals dropped greedily while the rest
     /// stays Unsat), sorted — the learned assumption is its negation, e.g. `G !(p0 && p1)`.
-    /// Meant for Unsat combinations: any other comes back unchanged (sorted), so that nothing
-    /// is learned from it by mistake being smaller than it is.
+    /// Meant for Unsat combinations: any other (Sat or Unknown) comes back unchanged (sorted);
+    /// callers must learn only from combinations `check` answered Unsat.
     pub fn minimal_unsat(&mut self, combination: &[(usize, bool)]) -> Vec<(usize, bool)> {
         let key = sorted(combination);
         if self.check(&key) != Answer::Unsat {
