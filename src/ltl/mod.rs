@@ -27,6 +27,7 @@ mod refine;
 mod spec;
 mod strategy;
 mod suggest;
+pub mod theory;
 mod tlsf;
 mod translate;
 
