@@ -105,11 +105,11 @@ pub fn ltl(a: &LtlArgs) -> ExitCode {
         }
     };
     if let Some(target) = a.target {
-        let Some(controller) = &outcome.controller else {
+        if outcome.controller.is_none() {
             eprintln!("{}: {}; no code written", a.file, ltl::summary(&outcome));
             return exit_code(outcome.verdict);
-        };
-        return write_code(a, target, &source, &spec, controller);
+        }
+        return write_code(a, target, &source, &spec, &outcome);
     }
     let suggestions = if a.suggest && outcome.verdict == Verdict::Unrealizable {
         let scfg = ltl::SuggestConfig { max_assumptions: a.suggest_max as usize, ..ltl::SuggestConfig::default() };
@@ -132,8 +132,36 @@ pub fn ltl(a: &LtlArgs) -> ExitCode {
     } else {
         outln!("{}", ltl::summary(&outcome));
         outln!("specification: {}", spec.formula_text());
+        for p in &spec.predicates {
+            outln!("predicate: {} := {}", spec.name(p.signal), spec.predicate_text(p));
+        }
         for learned in &outcome.refinement.learned {
             outln!("learned: ASSUME {}  ({})", learned.formula, learned.reason);
+        }
+        for w in &outcome.refinement.witnesses {
+            let values: Vec<String> = w.values.iter().map(|(n, v)| format!("{n} = {v}")).collect();
+            outln!("possible: {} with {}", w.combination, values.join(", "));
+        }
+        if outcome.groups.len() > 1 {
+            outln!(
+                "compositional: {} groups of guarantees with their own outputs, each solved alone:",
+                outcome.groups.len()
+            );
+            for (i, g) in outcome.groups.iter().enumerate() {
+                let outs: Vec<&str> = g.outputs.iter().map(|&s| spec.name(s)).collect();
+                let states = g.controller.as_ref().map_or(0, |m| m.states.len());
+                outln!(
+                    "  group {}: guarantees {:?}, writes {}; {} states at k = {}",
+                    i + 1,
+                    g.guarantees.iter().map(|i| i + 1).collect::<Vec<_>>(),
+                    outs.join(", "),
+                    states,
+                    g.k
+                );
+            }
+            outln!("(the controller below is the groups' machines run side by side)");
+        } else if outcome.split > 1 {
+            outln!("compositional: {} groups, not all realizable alone; decided as a whole", outcome.split);
         }
         if let Some(m) = &outcome.controller {
             outln!("controller (state: inputs / outputs -> next):");
@@ -202,9 +230,9 @@ fn exit_code(verdict: Verdict) -> ExitCode {
 }
 
 /// Lowers the controller into a function block (`plc::lower_ltl`) and writes it for `target`.
-fn write_code(a: &LtlArgs, target: plc::Target, source: &str, spec: &ltl::Spec, controller: &ltl::Machine) -> ExitCode {
+fn write_code(a: &LtlArgs, target: plc::Target, source: &str, spec: &ltl::Spec, outcome: &ltl::Outcome) -> ExitCode {
     let options = plc::lower_ltl::LowerOptions { name: a.name.clone() };
-    let unit = match plc::lower_ltl::lower(source, spec, controller, &options) {
+    let unit = match plc::lower_ltl::lower_outcome(source, spec, outcome, &options).expect("a controller") {
         Ok(unit) => unit,
         Err(diags) => {
             eprint!("{}", render_plain(&a.file, source, &diags));

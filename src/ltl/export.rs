@@ -40,6 +40,35 @@ pub fn report_json(spec: &Spec, outcome: &Outcome) -> Value {
         doc["learned"] = json!(outcome.refinement.learned);
     }
     doc["rounds"] = json!(outcome.refinement.rounds);
+    if !spec.numeric.is_empty() {
+        doc["numeric_inputs"] = json!(spec.numeric);
+        doc["predicates"] = spec
+            .predicates
+            .iter()
+            .map(|p| json!({"signal": spec.name(p.signal), "predicate": spec.predicate_text(p)}))
+            .collect();
+    }
+    if !outcome.refinement.witnesses.is_empty() {
+        doc["witnesses"] = json!(outcome.refinement.witnesses);
+    }
+    if let Some(theory) = &outcome.refinement.theory {
+        doc["theory"] = json!(theory);
+    }
+    doc["split"] = json!(outcome.split);
+    if outcome.groups.len() > 1 {
+        doc["groups"] = outcome
+            .groups
+            .iter()
+            .map(|g| {
+                json!({
+                    "guarantees": g.guarantees,
+                    "outputs": g.outputs.iter().map(|&s| spec.name(s)).collect::<Vec<_>>(),
+                    "k": g.k,
+                    "mealy": g.controller.as_ref().map(|m| m.to_json(spec)),
+                })
+            })
+            .collect();
+    }
     doc
 }
 

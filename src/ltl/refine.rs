@@ -24,7 +24,8 @@
 
 use super::game;
 use super::machine::{Machine, StateId};
-use super::spec::{Clause, Ltl, SignalId, Spec, Timer};
+use super::spec::{Clause, Ltl, NumExpr, NumberKind, Relation, SignalId, Spec, Timer};
+use super::theory::{Answer, Atom, Domain, NumVar, Poly, Rational, Rel, Theory, TheoryStats};
 use super::{Config, Outcome, Progress, Stop, Verdict};
 use crate::diag::Span;
 use serde::Serialize;
@@ -54,6 +55,129 @@ pub struct Refinement {
     pub learned: Vec<Learned>,
     /// Games solved (1 when nothing was learned).
     pub rounds: u32,
+    /// For a genuine counter-strategy over predicates: a valuation of the numeric inputs for
+    /// each combination of predicate values it uses.
+    pub witnesses: Vec<Witness>,
+    /// Queries of the theory checker, and how many the memo answered.
+    pub theory: Option<TheoryStats>,
+}
+
+/// Numeric inputs that make a combination of predicate values true.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Witness {
+    /// The combination, as `p0 && !p1`.
+    pub combination: String,
+    /// Each numeric input's value (exact, `7/2` or `3`).
+    pub values: Vec<(String, String)>,
+}
+
+/// The theory of a specification's predicates: one atom per predicate, one domain per
+/// numeric input. `None` when there are no predicates; an atom that cannot be built (its
+/// rational arithmetic overflows) is `None`, and combinations using it are never decided.
+struct PredicateTheory {
+    theory: Theory,
+    /// The predicate of atom `i` (index into `Spec::predicates`), for atoms that exist.
+    atoms: Vec<usize>,
+}
+
+fn poly(e: &NumExpr) -> Option<Poly> {
+    Some(match e {
+        NumExpr::Const(text) => Poly::constant(Rational::parse_decimal(text)?),
+        NumExpr::Var(v) => Poly::var(NumVar(v.0)),
+        NumExpr::Neg(a) => poly(a)?.neg()?,
+        NumExpr::Add(a, b) => poly(a)?.add(&poly(b)?)?,
+        NumExpr::Sub(a, b) => poly(a)?.sub(&poly(b)?)?,
+        NumExpr::Mul(a, b) => poly(a)?.mul(&poly(b)?)?,
+        NumExpr::Div(a, b) => {
+            let divisor = poly(b)?.as_constant()?;
+            poly(a)?.scale(Rational::ONE.checked_div(divisor)?)?
+        }
+        NumExpr::Pow(a, n) => poly(a)?.pow(*n)?,
+    })
+}
+
+impl PredicateTheory {
+    fn new(spec: &Spec) -> Option<PredicateTheory> {
+        if spec.predicates.is_empty() {
+            return None;
+        }
+        let rel = |r: Relation| match r {
+            Relation::Lt => Rel::Lt,
+            Relation::Le => Rel::Le,
+            Relation::Gt => Rel::Gt,
+            Relation::Ge => Rel::Ge,
+            Relation::Eq => Rel::Eq,
+            Relation::Ne => Rel::Ne,
+        };
+        let mut atoms = Vec::new();
+        let mut built = Vec::new();
+        for (i, p) in spec.predicates.iter().enumerate() {
+            if let Some(atom) = poly(&p.lhs).zip(poly(&p.rhs)).and_then(|(l, r)| Atom::new(l, rel(p.relation), r)) {
+                atoms.push(atom);
+                built.push(i);
+            }
+        }
+        let domains = spec
+            .numeric
+            .iter()
+            .map(|n| Domain {
+                lo: Rational::parse_decimal(&n.lo).unwrap_or(Rational::ZERO),
+                hi: Rational::parse_decimal(&n.hi).unwrap_or(Rational::ZERO),
+                integer: n.kind == NumberKind::Int,
+            })
+            .collect();
+        Some(PredicateTheory { theory: Theory::new(atoms, domains), atoms: built })
+    }
+}
+
+/// What the theory says of the predicate combinations a counter-strategy uses.
+#[derive(Default)]
+struct TheoryVerdict {
+    /// Unsatisfiable cores, as (predicate index, value) literals.
+    cores: Vec<Vec<(usize, bool)>>,
+    witnesses: Vec<Witness>,
+    /// Combinations neither proved nor refuted.
+    undecided: Vec<String>,
+}
+
+fn combination_text(spec: &Spec, literals: &[(usize, bool)]) -> String {
+    let parts: Vec<String> = literals
+        .iter()
+        .map(|&(i, on)| format!("{}{}", if on { "" } else { "!" }, spec.name(spec.predicates[i].signal)))
+        .collect();
+    parts.join(" && ")
+}
+
+fn check_combinations(spec: &Spec, pt: &mut PredicateTheory, plays: &Plays) -> TheoryVerdict {
+    let mut combos: BTreeSet<Vec<(usize, bool)>> = BTreeSet::new();
+    for &letter in &plays.letters {
+        combos.insert(spec.predicates.iter().enumerate().map(|(i, p)| (i, letter >> p.signal.0 & 1 == 1)).collect());
+    }
+    let mut out = TheoryVerdict::default();
+    for combo in combos {
+        // The query in atom numbering; predicates without an atom make it undecidable.
+        let query: Option<Vec<(usize, bool)>> =
+            combo.iter().map(|&(i, on)| pt.atoms.iter().position(|&a| a == i).map(|a| (a, on))).collect();
+        let Some(query) = query else {
+            out.undecided.push(combination_text(spec, &combo));
+            continue;
+        };
+        match pt.theory.check(&query) {
+            Answer::Unsat => {
+                let core: Vec<(usize, bool)> =
+                    pt.theory.minimal_unsat(&query).into_iter().map(|(a, on)| (pt.atoms[a], on)).collect();
+                if !out.cores.contains(&core) {
+                    out.cores.push(core);
+                }
+            }
+            Answer::Sat(values) => out.witnesses.push(Witness {
+                combination: combination_text(spec, &combo),
+                values: spec.numeric.iter().zip(values).map(|(n, v)| (n.name.clone(), v.to_string())).collect(),
+            }),
+            Answer::Unknown => out.undecided.push(combination_text(spec, &combo)),
+        }
+    }
+    out
 }
 
 /// The timer facts that can be learned, in the order they are checked.
@@ -190,28 +314,39 @@ pub(super) fn synthesize(
     let mut refinement = Refinement::default();
     let mut known: HashSet<(usize, TimerFact)> = HashSet::new();
     let mut used_work = 0u64;
+    let mut theory = PredicateTheory::new(spec);
     loop {
         refinement.rounds += 1;
         let round_cfg = Config { max_work: cfg.max_work.saturating_sub(used_work), ..cfg.clone() };
         let mut outcome = game::synthesize(&current, &round_cfg, progress)?;
         used_work += outcome.stats.work;
         outcome.stats.work = used_work;
-        let new = match (&outcome.verdict, &outcome.counter_strategy) {
-            (Verdict::Unrealizable, Some(counter)) => {
-                let plays = plays(counter);
-                let mut new = Vec::new();
-                for (k, t) in current.timers.iter().enumerate() {
-                    for fact in TimerFact::ALL {
-                        if !known.contains(&(k, fact)) && breaks(fact, t, &plays, counter) {
-                            new.push((k, fact));
-                        }
+        let (mut new, mut verdict) = (Vec::new(), TheoryVerdict::default());
+        if let (Verdict::Unrealizable, Some(counter)) = (&outcome.verdict, &outcome.counter_strategy) {
+            let plays = plays(counter);
+            for (k, t) in current.timers.iter().enumerate() {
+                for fact in TimerFact::ALL {
+                    if !known.contains(&(k, fact)) && breaks(fact, t, &plays, counter) {
+                        new.push((k, fact));
                     }
                 }
-                new
             }
-            _ => Vec::new(),
-        };
-        if new.is_empty() {
+            if let Some(pt) = theory.as_mut() {
+                verdict = check_combinations(&current, pt, &plays);
+            }
+        }
+        refinement.theory = theory.as_ref().map(|pt| pt.theory.stats());
+        if new.is_empty() && verdict.cores.is_empty() {
+            if !verdict.undecided.is_empty() {
+                outcome.verdict = Verdict::Unknown;
+                outcome.counter_strategy = None;
+                outcome.limit = Some(format!(
+                    "the theory checker could not decide whether {} can happen (a nonlinear equality, or its budget)",
+                    verdict.undecided.join(", ")
+                ));
+            } else {
+                refinement.witnesses = verdict.witnesses;
+            }
             outcome.refinement = refinement;
             return Ok(outcome);
         }
@@ -230,6 +365,39 @@ pub(super) fn synthesize(
             let learned = Learned { formula, reason: fact.reason(t), ltl, span: t.span };
             current.assumptions.push(Clause { formula: learned.ltl.clone(), span: learned.span });
             refinement.learned.push(learned);
+        }
+        for core in verdict.cores {
+            let literal = |&(i, on): &(usize, bool)| {
+                let v = Ltl::Var(current.predicates[i].signal);
+                if on {
+                    v
+                } else {
+                    Ltl::not(v)
+                }
+            };
+            let ltl = Ltl::globally(Ltl::not(Ltl::all(core.iter().map(literal).collect())));
+            let formula = ltl.to_infix(&|s| current.name(s).to_string());
+            let texts: Vec<String> = core
+                .iter()
+                .map(|&(i, on)| {
+                    let p = &current.predicates[i];
+                    let text = current.predicate_text(p);
+                    if on {
+                        format!("{} ({text})", current.name(p.signal))
+                    } else {
+                        format!("!{} (not {text})", current.name(p.signal))
+                    }
+                })
+                .collect();
+            let inputs: Vec<&str> = current.numeric.iter().map(|n| n.name.as_str()).collect();
+            let reason = format!(
+                "the counter-strategy used {}, which no value of {} in its range satisfies",
+                texts.join(" and "),
+                inputs.join(", ")
+            );
+            let span = current.predicates[core[0].0].span;
+            current.assumptions.push(Clause { formula: ltl.clone(), span });
+            refinement.learned.push(Learned { formula, reason, ltl, span });
         }
     }
 }
