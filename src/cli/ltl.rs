@@ -55,6 +55,14 @@ pub struct LtlArgs {
     /// (docs/ltl-language.md, "Assumption suggestions"). Nothing extra for other verdicts.
     #[arg(long, conflicts_with = "target")]
     pub suggest: bool,
+    /// Solve the whole specification at once, not its groups of guarantees with their own
+    /// outputs first (the verdict is the same).
+    #[arg(long)]
+    pub monolithic: bool,
+    /// Decide the Boolean abstraction only: learn no timer facts and no exclusions of
+    /// predicate combinations from counter-strategies.
+    #[arg(long)]
+    pub no_refine: bool,
     /// With --suggest: add at most N assumptions (one set).
     #[arg(long, value_name = "N", default_value_t = 3, requires = "suggest", value_parser = clap::value_parser!(u64).range(1..=10))]
     pub suggest_max: u64,
@@ -96,7 +104,15 @@ pub fn ltl(a: &LtlArgs) -> ExitCode {
         SolverArg::Explicit => ltl::Solver::Explicit,
         SolverArg::Antichain => ltl::Solver::Antichain,
     };
-    let cfg = Config { max_k: a.max_k, max_states: a.max_states, max_work: a.max_work, solver, ..Config::default() };
+    let cfg = Config {
+        max_k: a.max_k,
+        max_states: a.max_states,
+        max_work: a.max_work,
+        solver,
+        compositional: !a.monolithic,
+        refine: !a.no_refine,
+        ..Config::default()
+    };
     let outcome = match ltl::synthesize(&spec, &cfg, &mut |_| true) {
         Ok(outcome) => outcome,
         Err(stop) => {

@@ -100,6 +100,9 @@ pub struct Config {
     /// Solve groups of guarantees with disjoint outputs alone first (`compose`); the verdict
     /// is the same either way.
     pub compositional: bool,
+    /// Refine the abstraction of timers and predicates from counter-strategies (`refine`);
+    /// without it the verdict is that of the Boolean abstraction.
+    pub refine: bool,
 }
 
 /// The two solvers of the bounded games; they decide the same games (the tests compare them),
@@ -195,6 +198,7 @@ impl Default for Config {
             max_work: DEFAULT_MAX_WORK,
             solver: Solver::Explicit,
             compositional: true,
+            refine: true,
         }
     }
 }

@@ -322,6 +322,10 @@ pub(super) fn synthesize(
         used_work += outcome.stats.work;
         outcome.stats.work = used_work;
         let (mut new, mut verdict) = (Vec::new(), TheoryVerdict::default());
+        if !cfg.refine {
+            outcome.refinement = refinement;
+            return Ok(outcome);
+        }
         if let (Verdict::Unrealizable, Some(counter)) = (&outcome.verdict, &outcome.counter_strategy) {
             let plays = plays(counter);
             for (k, t) in current.timers.iter().enumerate() {
