@@ -338,3 +338,26 @@ fn synthesised_controllers_become_code_for_every_target() {
     assert_eq!(st_files.len(), 4 * checked.len(), "each checked controller in four ST dialects");
     common::blark_all(&python(), &root(), &st_files);
 }
+
+/// The compositional split never changes a verdict: every listed specification whose
+/// guarantees split into groups is decided again as a whole, with the same result; and every
+/// compositional controller's groups write disjoint outputs.
+#[test]
+fn compositional_and_monolithic_verdicts_agree() {
+    let mut split = 0;
+    for ((path, params, _), spec, outcome) in decided() {
+        if outcome.split < 2 {
+            continue;
+        }
+        split += 1;
+        let cfg = Config { compositional: false, ..Config::default() };
+        let whole = ltl::synthesize(spec, &cfg, &mut |_| true).unwrap();
+        assert_eq!(whole.verdict, outcome.verdict, "{}", label(path, params));
+        let mut written: Vec<_> = outcome.groups.iter().flat_map(|g| g.outputs.clone()).collect();
+        let n = written.len();
+        written.sort();
+        written.dedup();
+        assert_eq!(written.len(), n, "{}: groups share an output", label(path, params));
+    }
+    assert!(split >= 5, "only {split} listed specifications split into groups");
+}

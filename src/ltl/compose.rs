@@ -147,12 +147,9 @@ fn part(spec: &Spec, guarantees: &[usize]) -> (Spec, Vec<SignalId>) {
     for &g in guarantees {
         keep.extend(mentions(&spec.guarantees[g].formula));
     }
-    for t in &spec.timers {
-        if keep.contains(&t.start) || keep.contains(&t.expire) {
-            keep.insert(t.start);
-            keep.insert(t.expire);
-        }
-    }
+    // An output of another group never comes along: an input-only assumption may mention a
+    // timer's expiry, and then this group sees it as a free input (no timer of its own).
+    keep.retain(|&s| !is_output(s) || outputs.contains(&s));
     let global: Vec<SignalId> = keep.into_iter().collect();
     let local: HashMap<SignalId, SignalId> = global.iter().enumerate().map(|(i, &g)| (g, SignalId(i as u32))).collect();
     let map = |f: &Ltl| rename(f, &local);
@@ -167,7 +164,7 @@ fn part(spec: &Spec, guarantees: &[usize]) -> (Spec, Vec<SignalId>) {
         timers: spec
             .timers
             .iter()
-            .filter(|t| local.contains_key(&t.start))
+            .filter(|t| local.contains_key(&t.start) && local.contains_key(&t.expire))
             .map(|t| Timer { start: local[&t.start], expire: local[&t.expire], ..t.clone() })
             .collect(),
         numeric: spec.numeric.clone(),
