@@ -155,7 +155,13 @@ pub fn lower_machines(
     let timer_of_start = |s: SignalId| spec.timers.iter().position(|t| t.start == s);
     let mut inputs = Vec::new();
     let mut input_name: std::collections::HashMap<SignalId, String> = Default::default();
-    let reads_in_order: Vec<SignalId> = read.iter().copied().collect();
+    // In the machines' own order (a single machine's reads stay as they are), each once.
+    let mut reads_in_order: Vec<SignalId> = Vec::new();
+    for &s in machines.iter().flat_map(|m| m.reads.iter()) {
+        if !reads_in_order.contains(&s) {
+            reads_in_order.push(s);
+        }
+    }
     // Numeric inputs first (those the predicates read), then the Boolean ones; a predicate is
     // a local BOOL computed at the start of the scan (the paper's appendix A).
     let mut numeric_name: Vec<Option<String>> = vec![None; spec.numeric.len()];
@@ -197,7 +203,7 @@ pub fn lower_machines(
     if diags.has_errors() {
         return Err(diags.items);
     }
-    let writes_in_order: Vec<SignalId> = written.iter().copied().collect::<BTreeSet<_>>().into_iter().collect();
+    let writes_in_order: Vec<SignalId> = written.clone();
     let mut outputs = Vec::new();
     let mut output_name: std::collections::HashMap<SignalId, String> = Default::default();
     for &s in &writes_in_order {
