@@ -292,14 +292,15 @@ fn synthesised_controllers_become_code_for_every_target() {
     let dir = scratch();
     let options = plc::Options::default();
     let schema = root().join("../shared/schemas/tc6_xml_v201.xsd");
-    let checked = ["sample.g4ltl", "ptii_AutomaticDoor.g4ltl", "mutex.tlsf"];
+    // A timer, many states, Moore semantics, and predicates with two state machines.
+    let checked = ["sample.g4ltl", "ptii_AutomaticDoor.g4ltl", "mutex.tlsf", "fig1.ltl"];
     let mut st_files = Vec::new();
     for ((path, params, _), spec, outcome) in decided() {
-        let Some(controller) = &outcome.controller else { continue };
         let source = std::fs::read_to_string(path).unwrap();
         let name = label(path, params);
-        let unit = plc::lower_ltl::lower(&source, spec, controller, &plc::lower_ltl::LowerOptions::default())
-            .unwrap_or_else(|d| panic!("{name}: {d:?}"));
+        let options_ltl = plc::lower_ltl::LowerOptions::default();
+        let Some(unit) = plc::lower_ltl::lower_outcome(&source, spec, outcome, &options_ltl) else { continue };
+        let unit = unit.unwrap_or_else(|d| panic!("{name}: {d:?}"));
         let file = path.file_name().unwrap().to_string_lossy().to_string();
         for target in Target::ALL {
             let files = plc::render_unit_files(&unit, target, &options);

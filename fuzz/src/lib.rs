@@ -111,15 +111,19 @@ pub fn check_g4ltl(source: &str) {
             for machine in outcome.controller.iter().chain(&outcome.counter_strategy) {
                 machine.validate().expect("a valid strategy");
             }
-            if let Some(controller) = &outcome.controller {
-                let options = plcsynth::plc::lower_ltl::LowerOptions::default();
-                if let Err(diagnostics) = plcsynth::plc::lower_ltl::lower(source, &spec, controller, &options) {
-                    // Only a timer too long for the PLC's TIME may refuse a controller.
-                    assert!(
-                        diagnostics.iter().all(|d| d.message.contains("TIME") || d.message.contains("timer")),
-                        "a synthesised controller is refused: {diagnostics:?}"
-                    );
-                }
+            for group in &outcome.groups {
+                group.controller.as_ref().expect("a compositional group has its controller").validate().expect("valid");
+            }
+            let options = plcsynth::plc::lower_ltl::LowerOptions::default();
+            if let Some(Err(diagnostics)) = plcsynth::plc::lower_ltl::lower_outcome(source, &spec, &outcome, &options) {
+                // Only a timer too long for the PLC's TIME, or a predicate IEC cannot compute
+                // as written (INT and REAL mixed, INT overflow or division), may refuse one.
+                assert!(
+                    diagnostics.iter().all(|d| d.message.contains("TIME")
+                        || d.message.contains("timer")
+                        || d.message.starts_with("predicate")),
+                    "a synthesised controller is refused: {diagnostics:?}"
+                );
             }
             ltl::report_json(&spec, &outcome);
         }

@@ -681,8 +681,8 @@ fn parse_pattern<'s>(src: &'s str, toks: &'s [(Tok, Span)], diags: &mut Diagnost
     let word = |i: usize| (toks[i].0 == Tok::Ident).then(|| &src[toks[i].1.range()]);
     let mut depth = 0i32;
     let (mut then, mut for_, mut until) = (None, None, None);
-    for i in 1..toks.len() {
-        match toks[i].0 {
+    for (i, &(tok, _)) in toks.iter().enumerate().skip(1) {
+        match tok {
             Tok::LParen => depth += 1,
             Tok::RParen => depth -= 1,
             _ if depth == 0 => match word(i) {
