@@ -53,6 +53,15 @@ fn the_heating_pair_is_decided_by_the_theory() {
     assert_eq!(refined.verdict, Verdict::Realizable);
     assert_eq!(refined.refinement.learned.len(), 1);
     assert_eq!(refined.refinement.learned[0].formula, "G !(p0 && p1)");
+    // Ptolemy's numerical demo pair: the Boolean original is unrealizable, and the refined twin's
+    // hand-written assumption is the one learned here (p0, p1 for req1, req2).
+    let demo = |name: &str| compile(&std::fs::read_to_string(root().join("../shared/ltl/g4ltl").join(name)).unwrap());
+    let original = demo("ptii_NumericalOriginal.g4ltl");
+    assert_eq!(decide(&original, &Config::default()).verdict, Verdict::Unrealizable);
+    let twin = demo("ptii_NumericalRefined.g4ltl");
+    let written = twin.assumptions[0].formula.to_infix(&|s| twin.name(s).to_string());
+    assert_eq!(written, refined.refinement.learned[0].formula.replace("p0", "req1").replace("p1", "req2"));
+    assert_eq!(decide(&twin, &Config::default()).verdict, Verdict::Realizable);
     let spec = example("heating_overlap.ltl");
     let overlap = decide(&spec, &Config::default());
     assert_eq!(overlap.verdict, Verdict::Unrealizable);
