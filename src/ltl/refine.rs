@@ -24,8 +24,8 @@
 
 use super::game;
 use super::machine::{Machine, StateId};
-use super::spec::{Clause, Ltl, NumExpr, NumberKind, Relation, SignalId, Spec, Timer};
-use super::theory::{Answer, Atom, Domain, NumVar, Poly, Rational, Rel, Theory, TheoryStats};
+use super::spec::{Clause, Ltl, NumExpr, NumberKind, SignalId, Spec, Timer};
+use super::theory::{Answer, Atom, Domain, NumVar, Poly, Rational, Theory, TheoryStats};
 use super::{Config, Outcome, Progress, Stop, Verdict};
 use crate::diag::Span;
 use serde::Serialize;
@@ -101,18 +101,10 @@ impl PredicateTheory {
         if spec.predicates.is_empty() {
             return None;
         }
-        let rel = |r: Relation| match r {
-            Relation::Lt => Rel::Lt,
-            Relation::Le => Rel::Le,
-            Relation::Gt => Rel::Gt,
-            Relation::Ge => Rel::Ge,
-            Relation::Eq => Rel::Eq,
-            Relation::Ne => Rel::Ne,
-        };
         let mut atoms = Vec::new();
         let mut built = Vec::new();
         for (i, p) in spec.predicates.iter().enumerate() {
-            if let Some(atom) = poly(&p.lhs).zip(poly(&p.rhs)).and_then(|(l, r)| Atom::new(l, rel(p.relation), r)) {
+            if let Some(atom) = poly(&p.lhs).zip(poly(&p.rhs)).and_then(|(l, r)| Atom::new(l, p.relation, r)) {
                 atoms.push(atom);
                 built.push(i);
             }

@@ -99,29 +99,8 @@ pub enum NumExpr {
     Pow(Box<NumExpr>, u32),
 }
 
-/// A comparison of a [`Predicate`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
-pub enum Relation {
-    Lt,
-    Le,
-    Gt,
-    Ge,
-    Eq,
-    Ne,
-}
-
-impl Relation {
-    pub fn symbol(self) -> &'static str {
-        match self {
-            Relation::Lt => "<",
-            Relation::Le => "<=",
-            Relation::Gt => ">",
-            Relation::Ge => ">=",
-            Relation::Eq => "=",
-            Relation::Ne => "!=",
-        }
-    }
-}
+/// A comparison of a [`Predicate`]: the theory checker's relations.
+pub use super::theory::Rel as Relation;
 
 /// An arithmetic predicate on the numeric inputs, abstracted into the Boolean input `signal`
 /// (paper, section 3): the controller reads its truth value, computed once per scan.
