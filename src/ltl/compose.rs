@@ -131,7 +131,20 @@ fn part(spec: &Spec, guarantees: &[usize]) -> (Spec, Vec<SignalId>) {
     for &g in guarantees {
         outputs.extend(mentions(&spec.guarantees[g].formula).into_iter().filter(|&s| is_output(s)));
     }
-    // Outputs tied by assumptions or timers come along (split made them one group).
+    // Outputs tied to these by assumptions come along (split made them one group), to a fixpoint:
+    // an assumption may name an output no guarantee writes, such as an unused timer's start.
+    loop {
+        let before = outputs.len();
+        for c in &spec.assumptions {
+            let m = mentions(&c.formula);
+            if m.iter().any(|s| outputs.contains(s)) {
+                outputs.extend(m.into_iter().filter(|&s| is_output(s)));
+            }
+        }
+        if outputs.len() == before {
+            break;
+        }
+    }
     let assumptions: Vec<&Clause> = spec
         .assumptions
         .iter()
