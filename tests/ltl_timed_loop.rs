@@ -1078,3 +1078,39 @@ fn groups_of_a_compositional_run_lower() {
         }
     }
 }
+
+/// The checks themselves have teeth: the finite-trace evaluator reports a broken safety part
+/// and leaves open obligations open; the timer-model check rejects an expiry before the first
+/// start and one that ends without a restart.
+#[test]
+fn the_finite_trace_checks_have_teeth() {
+    let (a, b) = (Ltl::Var(SignalId(0)), Ltl::Var(SignalId(1)));
+    let trace = |rows: &[[bool; 2]]| rows.iter().map(|r| r.to_vec()).collect::<Vec<_>>();
+    let response = Ltl::globally(Ltl::implies(a.clone(), Ltl::next(b.clone())));
+    assert_eq!(first_break(&response, &trace(&[[false, false], [true, false], [false, false]])), Some(1));
+    assert_eq!(first_break(&response, &trace(&[[false, false], [true, false]])), None, "X b open at the end");
+    let eventually = Ltl::globally(Ltl::implies(a.clone(), Ltl::finally(b.clone())));
+    assert_eq!(eval(&eventually, &trace(&[[true, false], [false, false]]))[0], Tri::Unknown);
+    let until = Ltl::until(a.clone(), b.clone());
+    assert_eq!(eval(&until, &trace(&[[true, false], [false, false]]))[0], Tri::False);
+    assert_eq!(eval(&until, &trace(&[[true, false], [true, false]]))[0], Tri::Unknown);
+    assert_eq!(eval(&Ltl::weak_until(a.clone(), b.clone()), &trace(&[[true, false], [false, true]]))[0], Tri::True);
+    assert_eq!(eval(&Ltl::release(a, b), &trace(&[[false, true], [false, false]]))[0], Tri::False);
+
+    let jam = case("jam_alarm");
+    let plain = mutant_run(&jam, &jam.unit, 8, "teeth");
+    assert!(check_timer_model(&jam, &plain).is_ok());
+    let start = jam.spec.timers[0].start.index();
+    let first = plain.iter().position(|s| s.outputs[start]).unwrap();
+    assert!(first > 0, "this run starts the timer after scan 0");
+    let mut early = plain.clone();
+    early[first - 1].q[0] = true;
+    assert!(check_timer_model(&jam, &early).unwrap_err().contains("before the first start"));
+    let mut dropped = plain.clone();
+    let n = (1..dropped.len())
+        .find(|&n| dropped[n - 1].q[0] && !dropped[n - 1].outputs[start] && !dropped[n].outputs[start])
+        .expect("an expiry that lasts a scan");
+    dropped[n].q[0] = false;
+    assert!(check_timer_model(&jam, &dropped).is_err());
+    assert!(check_machine(&jam, &dropped).is_err(), "the DB's Q against the model");
+}
