@@ -25,7 +25,7 @@
 use super::game;
 use super::machine::{Machine, StateId};
 use super::spec::{Clause, Ltl, NumExpr, NumberKind, SignalId, Spec, Timer};
-use super::theory::{Answer, Atom, Domain, NumVar, Poly, Rational, Theory, TheoryStats};
+use super::theory::{Answer, Atom, Domain, NumVar, Poly, Rational, Theory, TheoryStats, DEFAULT_BUDGET};
 use super::{Config, Outcome, Progress, Stop, Verdict};
 use crate::diag::Span;
 use serde::Serialize;
@@ -33,6 +33,11 @@ use std::collections::{BTreeSet, HashSet};
 
 /// Rounds of the loop before it gives up (each adds at least one assumption).
 const MAX_ROUNDS: u32 = 64;
+
+/// Units of the run's work ([`Config::max_work`]) one unit of the theory checker costs: a box
+/// split or an elimination takes about 10 µs, a game unit a few ns (measured on this project's
+/// machine with a tangency the checker cannot settle, `tests/fixtures/fuzz/ltl/l2_…`).
+const THEORY_UNIT_COST: u64 = 4_000;
 
 /// An assumption the loop added, and why.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
@@ -140,7 +145,9 @@ fn combination_text(spec: &Spec, literals: &[(usize, bool)]) -> String {
     parts.join(" && ")
 }
 
-fn check_combinations(spec: &Spec, pt: &mut PredicateTheory, plays: &Plays) -> TheoryVerdict {
+/// Decides the combinations `plays` uses, spending at most `left` units of the theory
+/// checker in all (a combination left over is undecided).
+fn check_combinations(spec: &Spec, pt: &mut PredicateTheory, plays: &Plays, left: &mut u64) -> TheoryVerdict {
     let mut combos: BTreeSet<Vec<(usize, bool)>> = BTreeSet::new();
     for &letter in &plays.letters {
         combos.insert(spec.predicates.iter().enumerate().map(|(i, p)| (i, letter >> p.signal.0 & 1 == 1)).collect());
@@ -154,19 +161,32 @@ fn check_combinations(spec: &Spec, pt: &mut PredicateTheory, plays: &Plays) -> T
             out.undecided.push(combination_text(spec, &combo));
             continue;
         };
-        match pt.theory.check(&query) {
+        let before = pt.theory.stats().work;
+        pt.theory.set_budget((*left).min(DEFAULT_BUDGET));
+        let answer = if *left == 0 { Answer::Unknown } else { pt.theory.check(&query) };
+        let answer = match answer {
             Answer::Unsat => {
-                let core: Vec<(usize, bool)> =
-                    pt.theory.minimal_unsat(&query).into_iter().map(|(a, on)| (pt.atoms[a], on)).collect();
+                let core = pt.theory.minimal_unsat(&query);
+                *left = left.saturating_sub(pt.theory.stats().work - before);
+                (Answer::Unsat, core)
+            }
+            other => {
+                *left = left.saturating_sub(pt.theory.stats().work - before);
+                (other, Vec::new())
+            }
+        };
+        match answer {
+            (Answer::Unsat, core) => {
+                let core: Vec<(usize, bool)> = core.into_iter().map(|(a, on)| (pt.atoms[a], on)).collect();
                 if !out.cores.contains(&core) {
                     out.cores.push(core);
                 }
             }
-            Answer::Sat(values) => out.witnesses.push(Witness {
+            (Answer::Sat(values), _) => out.witnesses.push(Witness {
                 combination: combination_text(spec, &combo),
                 values: spec.numeric.iter().zip(values).map(|(n, v)| (n.name.clone(), v.to_string())).collect(),
             }),
-            Answer::Unknown => out.undecided.push(combination_text(spec, &combo)),
+            (Answer::Unknown, _) => out.undecided.push(combination_text(spec, &combo)),
         }
     }
     out
@@ -328,7 +348,11 @@ pub(super) fn synthesize(
                 }
             }
             if let Some(pt) = theory.as_mut() {
-                verdict = check_combinations(&current, pt, &plays);
+                let mut left = cfg.max_work.saturating_sub(used_work) / THEORY_UNIT_COST;
+                let before = left;
+                verdict = check_combinations(&current, pt, &plays, &mut left);
+                used_work += (before - left) * THEORY_UNIT_COST;
+                outcome.stats.work = used_work;
             }
         }
         refinement.theory = theory.as_ref().map(|pt| pt.theory.stats());
@@ -337,7 +361,7 @@ pub(super) fn synthesize(
                 outcome.verdict = Verdict::Unknown;
                 outcome.counter_strategy = None;
                 outcome.limit = Some(format!(
-                    "the theory checker could not decide whether {} can happen (a nonlinear equality, or its budget)",
+                    "the theory checker could not decide whether {} can happen (predicates that touch without crossing, a nonlinear equality, or the work budget: --max-work)",
                     verdict.undecided.join(", ")
                 ));
             } else {

@@ -1430,6 +1430,8 @@ pub struct TheoryStats {
     pub queries: usize,
     pub cached: usize,
     pub computed: usize,
+    /// Units of work the computed queries spent (boxes split, eliminations).
+    pub work: u64,
 }
 
 /// Memoising front: the atoms (predicates) fixed once, queried many times with combinations.
@@ -1476,6 +1478,11 @@ impl Theory {
         self
     }
 
+    /// Changes the work each computed query from now on may spend.
+    pub fn set_budget(&mut self, budget: u64) {
+        self.budget = budget;
+    }
+
     pub fn atoms(&self) -> &[Atom] {
         &self.atoms
     }
@@ -1506,7 +1513,9 @@ impl Theory {
         } else {
             let literals: Vec<(Atom, bool)> = key.iter().map(|&(i, p)| (self.atoms[i].clone(), p)).collect();
             let mut budget = self.budget;
-            decide(&literals, &self.domains, &mut budget)
+            let answer = decide(&literals, &self.domains, &mut budget);
+            self.stats.work += self.budget - budget;
+            answer
         };
         if answer == Answer::Unsat {
             self.unsat.retain(|core| !is_subset(&key, core));
