@@ -656,6 +656,12 @@ fn check_bounds(ty: &NumberType, diags: &mut Diagnostics) -> bool {
         diags.error(ty.span, "the bounds must be decimal numbers, as in `REAL[-1.5, 4]`");
         return false;
     };
+    // The theory checker computes with exact rationals of 128 bits.
+    let exact = |t: &str| super::theory::Rational::parse_decimal(t).is_some();
+    if !exact(&ty.lo) || !exact(&ty.hi) {
+        diags.error(ty.span, "a bound is too large or has too many digits to compute with exactly");
+        return false;
+    }
     if ty.kind == NumberKind::Int
         && !(ty.lo.bytes().all(|b| b.is_ascii_digit() || b == b'-')
             && ty.hi.bytes().all(|b| b.is_ascii_digit() || b == b'-'))

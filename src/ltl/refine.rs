@@ -118,6 +118,7 @@ impl PredicateTheory {
             .numeric
             .iter()
             .map(|n| Domain {
+                // The front end checked that the bounds parse exactly.
                 lo: Rational::parse_decimal(&n.lo).unwrap_or(Rational::ZERO),
                 hi: Rational::parse_decimal(&n.hi).unwrap_or(Rational::ZERO),
                 integer: n.kind == NumberKind::Int,
@@ -176,6 +177,9 @@ fn check_combinations(spec: &Spec, pt: &mut PredicateTheory, plays: &Plays, left
             }
         };
         match answer {
+            // An empty core would exclude every letter: never learned (the bounds are checked
+            // non-empty, so it cannot come from a sound checker).
+            (Answer::Unsat, core) if core.is_empty() => out.undecided.push(combination_text(spec, &combo)),
             (Answer::Unsat, core) => {
                 let core: Vec<(usize, bool)> = core.into_iter().map(|(a, on)| (pt.atoms[a], on)).collect();
                 if !out.cores.contains(&core) {
