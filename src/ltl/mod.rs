@@ -307,7 +307,8 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) 
             Err(Stop::Cancelled) => return Err(Stop::Cancelled),
         }
     }
-    let whole = Config { max_work: cfg.max_work - spent, ..cfg.clone() };
+    // A game may overshoot its share by its last step, and the theory by its last query.
+    let whole = Config { max_work: cfg.max_work.saturating_sub(spent), ..cfg.clone() };
     let mut outcome = refine::synthesize(spec, &whole, progress)?;
     outcome.split = split;
     Ok(outcome)
