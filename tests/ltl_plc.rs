@@ -18,7 +18,7 @@ use plcsynth::plc::unit_exec::{self, Value};
 use plcsynth::plc::{self, unit_stl, Target};
 use plcsynth::rng::Rng;
 use std::path::PathBuf;
-use std::process::{Command, Stdio};
+use std::process::Command;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -446,29 +446,13 @@ fn run_awlsim(name: &str, unit: &Unit, scans: &[Scan]) -> Vec<Observed> {
     let size = locations.iter().map(|l| l.byte + 2).max().unwrap();
     let script: Vec<String> =
         scans.iter().map(|s| format!("T{} I0={} ?DB{db}:0:{size} ?Q0:1", s.dt, s.inputs)).collect();
-    let mut child = Command::new(venv_tool("python"))
-        .arg(root().join("tests/checkers/unit_run.py"))
-        .arg(&path)
-        .arg("--virtual-time")
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    use std::io::Write as _;
-    child.stdin.take().unwrap().write_all(script.join("\n").as_bytes()).unwrap();
-    let out = child.wait_with_output().unwrap();
-    assert!(out.status.success(), "awlsim fails on {}:\n{}", path.display(), String::from_utf8_lossy(&out.stderr));
-    let hex = |h: &str| -> Vec<u8> {
-        (0..h.len()).step_by(2).map(|i| u8::from_str_radix(&h[i..i + 2], 16).unwrap()).collect()
-    };
-    let text = String::from_utf8(out.stdout).unwrap();
+    let text = common::run_checker("unit_run.py", &[path.as_os_str(), "--virtual-time".as_ref()], &script.join("\n"));
     assert_eq!(text.lines().count(), scans.len(), "one line per cycle");
     let wired: Vec<usize> =
         (0..fb.outputs.len()).filter(|&j| !fb.outputs[j].comment.contains("starts timer")).collect();
     text.lines()
         .map(|line| {
-            let parts: Vec<Vec<u8>> = line.split(' ').map(hex).collect();
+            let parts: Vec<Vec<u8>> = line.split(' ').map(common::hex_bytes).collect();
             let (data, q) = (&parts[0], parts[1][0]);
             let bit = |var: &str| {
                 let l = location(var);

@@ -21,13 +21,11 @@
 
 mod common;
 
-use common::{root, venv_tool};
+use common::root;
 use plcsynth::ltl::{self, Config, Format, Ltl, Machine, NumExpr, Relation, SignalId, Spec, Verdict};
 use plcsynth::plc::unit::{Expr, Place, PouKind, Stmt, Type, Unit};
 use plcsynth::plc::{self, lower_ltl, Target};
 use plcsynth::rng::Rng;
-use std::io::Write as _;
-use std::process::{Command, Stdio};
 
 /// A specification with the `UNTIL` pattern (no example has one).
 const UNTIL_SPEC: &str = "// A valve opened on request stays open until the level switch has been on for 500 ms.
@@ -371,20 +369,9 @@ fn run(case: &Case, unit: &Unit, drives: &[Drive], tag: &str) -> Vec<Scan> {
             line
         })
         .collect();
-    let mut child = Command::new(venv_tool("python"))
-        .arg(root().join("tests/checkers/timed_run.py"))
-        .arg(&path)
-        .arg(db.to_string())
-        .args(&fields)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    child.stdin.take().unwrap().write_all(script.join("\n").as_bytes()).unwrap();
-    let out = child.wait_with_output().unwrap();
-    assert!(out.status.success(), "awlsim fails on {}:\n{}", path.display(), String::from_utf8_lossy(&out.stderr));
-    let text = String::from_utf8(out.stdout).unwrap();
+    let mut args = vec![path.clone().into_os_string(), db.to_string().into()];
+    args.extend(fields.iter().map(Into::into));
+    let text = common::run_checker("timed_run.py", &args, &script.join("\n"));
     assert_eq!(text.lines().count(), drives.len(), "{}: one line per cycle", case.name);
     let wired: Vec<SignalId> =
         io.outputs.iter().map(|&(_, s)| s).filter(|s| case.spec.timers.iter().all(|t| t.start != *s)).collect();

@@ -13,9 +13,8 @@ use plcsynth::plc::unit::{
 };
 use plcsynth::plc::unit_exec::{Machine, Value};
 use plcsynth::plc::{self, unit_stl, Target};
-use std::io::Write as _;
 use std::path::PathBuf;
-use std::process::{Command, Stdio};
+use std::process::Command;
 
 fn root() -> PathBuf {
     common::root()
@@ -240,22 +239,9 @@ fn awlsim(unit: &Unit, points: &[(f32, f32)]) -> Vec<Vec<u8>> {
             format!("{} ?Q0:10", words.join(" "))
         })
         .collect();
-    let mut child = Command::new(venv_tool("python"))
-        .arg(root().join("tests/checkers/unit_run.py"))
-        .arg(&path)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    child.stdin.take().unwrap().write_all(script.join("\n").as_bytes()).unwrap();
-    let out = child.wait_with_output().unwrap();
-    assert!(out.status.success(), "awlsim fails on {}:\n{}", path.display(), String::from_utf8_lossy(&out.stderr));
-    let text = String::from_utf8(out.stdout).unwrap();
+    let text = common::run_checker("unit_run.py", &[&path], &script.join("\n"));
     assert_eq!(text.lines().count(), points.len(), "one line per cycle");
-    text.lines()
-        .map(|h| (0..h.len()).step_by(2).map(|i| u8::from_str_radix(&h[i..i + 2], 16).unwrap()).collect())
-        .collect()
+    text.lines().map(common::hex_bytes).collect()
 }
 
 #[test]

@@ -5,22 +5,11 @@
 //! one of the unit's FCs. awlsim comes from `scripts/python-checkers.sh` (`make test` runs it);
 //! without it these tests fail and say so.
 
+mod common;
+
 use plcsynth::plc::unit::{BinOp, Expr, Place, Pou, PouKind, Signal, SignalKind, Stmt, Type, Unit, Var};
 use plcsynth::plc::unit_stl::{self, StlUnitOptions};
 use std::collections::HashMap;
-use std::io::Write as _;
-use std::path::PathBuf;
-use std::process::{Command, Stdio};
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn venv_tool(name: &str) -> PathBuf {
-    let path = root().join(".venv/bin").join(name);
-    assert!(path.exists(), "{} is missing: run `bash scripts/python-checkers.sh` (make test does)", path.display());
-    path
-}
 
 /// Runs `awl` in awlsim with one script line per cycle; the reads of each cycle, as bytes.
 fn awlsim(name: &str, awl: &str, script: &[String]) -> Vec<Vec<Vec<u8>>> {
@@ -28,34 +17,10 @@ fn awlsim(name: &str, awl: &str, script: &[String]) -> Vec<Vec<Vec<u8>>> {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(format!("{name}.awl"));
     std::fs::write(&path, awl).unwrap();
-    let mut child = Command::new(venv_tool("python"))
-        .arg(root().join("tests/checkers/unit_run.py"))
-        .arg(&path)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("python runs");
-    child.stdin.take().unwrap().write_all(script.join("\n").as_bytes()).unwrap();
-    let out = child.wait_with_output().unwrap();
-    assert!(
-        out.status.success(),
-        "awlsim rejected {}:\n{}\n{}",
-        path.display(),
-        String::from_utf8_lossy(&out.stderr),
-        String::from_utf8_lossy(&out.stdout)
-    );
-    let text = String::from_utf8(out.stdout).unwrap();
+    let text = common::run_checker("unit_run.py", &[&path], &script.join("\n"));
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines.len(), script.len(), "one line per cycle:\n{text}");
-    lines
-        .iter()
-        .map(|l| {
-            l.split_whitespace()
-                .map(|h| (0..h.len()).step_by(2).map(|i| u8::from_str_radix(&h[i..i + 2], 16).unwrap()).collect())
-                .collect()
-        })
-        .collect()
+    lines.iter().map(|l| l.split_whitespace().map(common::hex_bytes).collect()).collect()
 }
 
 // ---------------------------------------------------------------------------------------------

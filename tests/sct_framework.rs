@@ -521,27 +521,11 @@ fn run_awlsim(p: &Project, unit: &Unit, actions: &[CycleActions]) -> Vec<Observe
         script.push_str(&words.join(" "));
         script.push('\n');
     }
-    let mut child = Command::new(venv_tool("python"))
-        .arg(root().join("tests/checkers/unit_run.py"))
-        .arg(&path)
-        .arg("--virtual-time")
-        .stdin(std::process::Stdio::piped())
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    use std::io::Write as _;
-    child.stdin.take().unwrap().write_all(script.as_bytes()).unwrap();
-    let out = child.wait_with_output().unwrap();
-    assert!(out.status.success(), "awlsim fails on {}:\n{}", path.display(), String::from_utf8_lossy(&out.stderr));
+    let text = common::run_checker("unit_run.py", &[path.as_os_str(), "--virtual-time".as_ref()], &script);
     let states = state_globals(p, unit);
-    let text = String::from_utf8(out.stdout).unwrap();
-    let hex = |h: &str| -> Vec<u8> {
-        (0..h.len()).step_by(2).map(|i| u8::from_str_radix(&h[i..i + 2], 16).unwrap()).collect()
-    };
     let mut observed = Vec::new();
     for (line, a) in text.lines().zip(actions) {
-        let parts: Vec<Vec<u8>> = line.split(' ').map(hex).collect();
+        let parts: Vec<Vec<u8>> = line.split(' ').map(common::hex_bytes).collect();
         let (dbm, q, m) = (&parts[0], &parts[1], &parts[2]);
         let global = |name: &str| -> i64 {
             let l = locations.iter().find(|l| l.name == name).unwrap_or_else(|| panic!("no location of {name}"));

@@ -19,6 +19,36 @@ pub fn venv_tool(name: &str) -> PathBuf {
     path
 }
 
+/// Runs the checker script `tests/checkers/<script>` with the virtualenv's Python, `args` after
+/// it and `stdin` fed to it; its standard output. Fails with its output unless it succeeds.
+pub fn run_checker<S: AsRef<std::ffi::OsStr>>(script: &str, args: &[S], stdin: &str) -> String {
+    use std::io::Write as _;
+    let mut child = Command::new(venv_tool("python"))
+        .arg(root().join("tests/checkers").join(script))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("python runs");
+    child.stdin.take().unwrap().write_all(stdin.as_bytes()).unwrap();
+    let out = child.wait_with_output().unwrap();
+    let args: Vec<_> = args.iter().map(|a| a.as_ref().to_string_lossy().into_owned()).collect();
+    assert!(
+        out.status.success(),
+        "{script} fails on {}:\n{}\n{}",
+        args.join(" "),
+        String::from_utf8_lossy(&out.stderr),
+        String::from_utf8_lossy(&out.stdout)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// The bytes of a hex string as the checkers print them (`0a1f…`).
+pub fn hex_bytes(h: &str) -> Vec<u8> {
+    (0..h.len()).step_by(2).map(|i| u8::from_str_radix(&h[i..i + 2], 16).unwrap()).collect()
+}
+
 /// Writes `text` to `name` in a directory of this process named after `prefix`.
 pub fn scratch(prefix: &str, name: &str, text: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("{prefix}-{}", std::process::id()));
