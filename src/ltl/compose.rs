@@ -34,28 +34,6 @@ pub struct Group {
     pub verdict: Verdict,
 }
 
-/// The signals a formula mentions.
-fn signals_of(f: &Ltl, out: &mut BTreeSet<SignalId>) {
-    match f {
-        Ltl::True | Ltl::False => {}
-        Ltl::Var(s) => {
-            out.insert(*s);
-        }
-        Ltl::Not(a) | Ltl::Next(a) | Ltl::Globally(a) | Ltl::Finally(a) => signals_of(a, out),
-        Ltl::And(xs) | Ltl::Or(xs) => xs.iter().for_each(|x| signals_of(x, out)),
-        Ltl::Implies(a, b) | Ltl::Iff(a, b) | Ltl::Until(a, b) | Ltl::Release(a, b) | Ltl::WeakUntil(a, b) => {
-            signals_of(a, out);
-            signals_of(b, out);
-        }
-    }
-}
-
-fn mentions(f: &Ltl) -> BTreeSet<SignalId> {
-    let mut out = BTreeSet::new();
-    signals_of(f, &mut out);
-    out
-}
-
 /// Union-find over signal indices.
 struct Sets(Vec<usize>);
 
@@ -88,11 +66,11 @@ pub(super) fn split(spec: &Spec) -> Vec<Vec<usize>> {
         sets.union(t.start.index(), t.expire.index());
     }
     for c in &spec.guarantees {
-        let outs: Vec<SignalId> = mentions(&c.formula).into_iter().filter(|&s| is_output(s)).collect();
+        let outs: Vec<SignalId> = c.formula.signals().into_iter().filter(|&s| is_output(s)).collect();
         link(&outs, &mut sets);
     }
     for c in &spec.assumptions {
-        let all: Vec<SignalId> = mentions(&c.formula).into_iter().collect();
+        let all: Vec<SignalId> = c.formula.signals().into_iter().collect();
         if all.iter().any(|&s| is_output(s)) {
             link(&all, &mut sets);
         }
@@ -100,7 +78,7 @@ pub(super) fn split(spec: &Spec) -> Vec<Vec<usize>> {
     let mut by_root: Vec<(usize, Vec<usize>)> = Vec::new();
     let mut loose = Vec::new();
     for (i, c) in spec.guarantees.iter().enumerate() {
-        match mentions(&c.formula).into_iter().find(|&s| is_output(s)) {
+        match c.formula.signals().into_iter().find(|&s| is_output(s)) {
             Some(out) => {
                 let root = sets.find(out.index());
                 match by_root.iter_mut().find(|(r, _)| *r == root) {
@@ -129,14 +107,14 @@ fn part(spec: &Spec, guarantees: &[usize]) -> (Spec, Vec<SignalId>) {
     let is_output = |s: SignalId| spec.signal(s).kind == SignalKind::Output;
     let mut outputs = BTreeSet::new();
     for &g in guarantees {
-        outputs.extend(mentions(&spec.guarantees[g].formula).into_iter().filter(|&s| is_output(s)));
+        outputs.extend(spec.guarantees[g].formula.signals().into_iter().filter(|&s| is_output(s)));
     }
     // Outputs tied to these by assumptions come along (split made them one group), to a fixpoint:
     // an assumption may name an output no guarantee writes, such as an unused timer's start.
     loop {
         let before = outputs.len();
         for c in &spec.assumptions {
-            let m = mentions(&c.formula);
+            let m = c.formula.signals();
             if m.iter().any(|s| outputs.contains(s)) {
                 outputs.extend(m.into_iter().filter(|&s| is_output(s)));
             }
@@ -149,16 +127,16 @@ fn part(spec: &Spec, guarantees: &[usize]) -> (Spec, Vec<SignalId>) {
         .assumptions
         .iter()
         .filter(|c| {
-            let m = mentions(&c.formula);
+            let m = c.formula.signals();
             m.iter().all(|&s| !is_output(s)) || m.iter().any(|s| outputs.contains(s))
         })
         .collect();
     let mut keep: BTreeSet<SignalId> = outputs.clone();
     for c in &assumptions {
-        keep.extend(mentions(&c.formula));
+        keep.extend(c.formula.signals());
     }
     for &g in guarantees {
-        keep.extend(mentions(&spec.guarantees[g].formula));
+        keep.extend(spec.guarantees[g].formula.signals());
     }
     // An output of another group never comes along: an input-only assumption may mention a
     // timer's expiry, and then this group sees it as a free input (no timer of its own).

@@ -249,6 +249,27 @@ impl Ltl {
         deepest
     }
 
+    /// The signals the formula mentions. Iterative, so that it is safe on any formula.
+    pub fn signals(&self) -> std::collections::BTreeSet<SignalId> {
+        let mut out = std::collections::BTreeSet::new();
+        let mut stack = vec![self];
+        while let Some(f) = stack.pop() {
+            match f {
+                Ltl::True | Ltl::False => {}
+                Ltl::Var(s) => {
+                    out.insert(*s);
+                }
+                Ltl::Not(a) | Ltl::Next(a) | Ltl::Globally(a) | Ltl::Finally(a) => stack.push(a),
+                Ltl::And(xs) | Ltl::Or(xs) => stack.extend(xs.iter()),
+                Ltl::Implies(a, b) | Ltl::Iff(a, b) | Ltl::Until(a, b) | Ltl::Release(a, b) | Ltl::WeakUntil(a, b) => {
+                    stack.push(a);
+                    stack.push(b);
+                }
+            }
+        }
+        out
+    }
+
     /// Infix text over signal names: `G F X U R W ! && || -> <->`, `true`, `false`. Every
     /// operand that is not an atom or a unary application is parenthesised, so the text needs no
     /// precedence table to be read back.

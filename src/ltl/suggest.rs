@@ -362,24 +362,6 @@ fn instances(inputs: &[SignalId], outputs: &[SignalId]) -> Vec<(Ltl, Template)> 
     out
 }
 
-fn collect_signals(f: &Ltl, into: &mut HashSet<SignalId>) {
-    let mut stack = vec![f];
-    while let Some(f) = stack.pop() {
-        match f {
-            Ltl::True | Ltl::False => {}
-            Ltl::Var(s) => {
-                into.insert(*s);
-            }
-            Ltl::Not(a) | Ltl::Next(a) | Ltl::Globally(a) | Ltl::Finally(a) => stack.push(a),
-            Ltl::And(xs) | Ltl::Or(xs) => stack.extend(xs.iter()),
-            Ltl::Implies(a, b) | Ltl::Iff(a, b) | Ltl::Until(a, b) | Ltl::Release(a, b) | Ltl::WeakUntil(a, b) => {
-                stack.push(a);
-                stack.push(b);
-            }
-        }
-    }
-}
-
 /// The valuation of all signals at one step of the counter-strategy: the inputs it writes,
 /// and the outputs' cube of the row taken as (bits that must be 1, bits that must be 0).
 fn step_letter(m: &Machine, state: StateId, row: usize) -> (u64, u64, u64) {
@@ -533,10 +515,8 @@ fn extended(spec: &Spec, added: &[Ltl]) -> Spec {
 /// The candidates against the counter-strategy `m` of `spec`, filtered and in the order they
 /// are tried: those the longest play violates first, each group by template, weakest first.
 fn candidates(spec: &Spec, m: &Machine, play: &Play, cfg: &Config) -> Vec<(Ltl, Template)> {
-    let mut used = HashSet::new();
-    for c in spec.assumptions.iter().chain(&spec.guarantees) {
-        collect_signals(&c.formula, &mut used);
-    }
+    let used: HashSet<SignalId> =
+        spec.assumptions.iter().chain(&spec.guarantees).flat_map(|c| c.formula.signals()).collect();
     // An input no formula mentions cannot matter: the environment can fix it, and nothing
     // the controller could learn from it would help.
     let inputs: Vec<SignalId> = spec.inputs().into_iter().filter(|s| used.contains(s)).collect();
