@@ -263,10 +263,10 @@ const MAX_PRODUCT_STATES: usize = 100_000;
 /// of the controllers would be too large to report.
 pub(super) fn synthesize(
     spec: &Spec,
+    groups: &[Vec<usize>],
     cfg: &Config,
     progress: &mut dyn FnMut(Progress) -> bool,
 ) -> Result<Result<Outcome, u64>, Stop> {
-    let groups = split(spec);
     if groups.len() < 2 {
         return Ok(Err(0));
     }
@@ -274,7 +274,7 @@ pub(super) fn synthesize(
     let mut stats = Stats::default();
     let mut refinement = Refinement::default();
     let mut k = 0;
-    for guarantees in &groups {
+    for guarantees in groups {
         let (sub, global) = part(spec, guarantees);
         let left = Config { max_work: cfg.max_work.saturating_sub(stats.work), ..cfg.clone() };
         let outcome = refine::synthesize(&sub, &left, progress)?;

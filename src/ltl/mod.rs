@@ -295,12 +295,13 @@ impl std::fmt::Display for Stop {
 /// first; when every group is realizable their controllers run side by side
 /// ([`Outcome::groups`]), otherwise the whole specification is solved.
 pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) -> bool) -> Result<Outcome, Stop> {
-    let split = compose::split(spec).len();
+    let groups = compose::split(spec);
+    let split = groups.len();
     let mut spent = 0;
     if cfg.compositional && split > 1 {
         let mut tried = Config { max_work: cfg.max_work / 2, ..cfg.clone() };
         tried.max_states = cfg.max_states / 2;
-        match compose::synthesize(spec, &tried, progress) {
+        match compose::synthesize(spec, &groups, &tried, progress) {
             Ok(Ok(outcome)) => return Ok(outcome),
             Ok(Err(work)) => spent = work,
             Err(Stop::Budget(_)) => spent = tried.max_work,
