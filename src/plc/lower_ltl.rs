@@ -150,7 +150,6 @@ pub fn lower_machines(
 
     // Every signal some machine reads or writes, in the specification's order: the signals'
     // own names first, timers after them.
-    let read: BTreeSet<SignalId> = machines.iter().flat_map(|m| m.reads.iter().copied()).collect();
     let timer_of_expire = |s: SignalId| spec.timers.iter().position(|t| t.expire == s);
     let timer_of_start = |s: SignalId| spec.timers.iter().position(|t| t.start == s);
     let mut inputs = Vec::new();
@@ -203,10 +202,9 @@ pub fn lower_machines(
     if diags.has_errors() {
         return Err(diags.items);
     }
-    let writes_in_order: Vec<SignalId> = written.clone();
     let mut outputs = Vec::new();
     let mut output_name: std::collections::HashMap<SignalId, String> = Default::default();
-    for &s in &writes_in_order {
+    for &s in &written {
         let name = names.fresh(spec.name(s), MAX_NAME);
         let comment = match timer_of_start(s) {
             Some(t) => format!("{}: TRUE in a scan that starts timer {}", spec.name(s), spec.timers[t].name),
@@ -218,7 +216,7 @@ pub fn lower_machines(
     let mut timers: Vec<TimerUse> = Vec::new();
     let mut timer_instance = vec![None; spec.timers.len()];
     for (k, t) in spec.timers.iter().enumerate() {
-        if !output_name.contains_key(&t.start) && !read.contains(&t.expire) {
+        if !output_name.contains_key(&t.start) && !reads_in_order.contains(&t.expire) {
             continue;
         }
         let instance = loop {
@@ -361,7 +359,7 @@ pub fn lower_machines(
     }
     let mut main = vec![Stmt::CallInstance { instance: Place::local(&instance), args }];
     let mut q = 0;
-    for &s in &writes_in_order {
+    for &s in &written {
         if timer_of_start(s).is_some() {
             continue;
         }
