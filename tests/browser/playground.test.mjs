@@ -59,6 +59,8 @@ test('the lamp example runs: verdict, counts, automata, state space and zone', a
   const id = Number(await removedWithClock.getAttribute('data-id'));
   await page.click(`#space-graph svg #st-${id}`);
   await page.waitForSelector(`#space-graph svg #st-${id}.selected`);
+  // The bar is written after the graph marks the state: wait for it, then check it.
+  await page.waitForFunction((id) => document.querySelector('#selected-bar').textContent.includes(`s${id} removed`), id);
   assert.match(await page.textContent('#selected-bar'), new RegExp(`s${id} removed — \\S`));
   await page.check('#fit-graph');
   const fitted = await page.$eval('#space-graph svg', (svg) => svg.getBoundingClientRect().width <= svg.parentElement.clientWidth + 1);
