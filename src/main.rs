@@ -24,6 +24,8 @@ enum Command {
         json: bool,
         #[command(flatten)]
         budget: cli::timed::BudgetArgs,
+        #[command(flatten)]
+        scan: cli::timed::ScanArgs,
         /// Also print every explored state with its status and edges.
         #[arg(long)]
         states: bool,
@@ -34,6 +36,8 @@ enum Command {
         file: String,
         #[command(flatten)]
         budget: cli::timed::BudgetArgs,
+        #[command(flatten)]
+        scan: cli::timed::ScanArgs,
         /// What to produce.
         #[arg(long, value_parser = output_parser(), default_value = "program")]
         target: Output,
@@ -96,13 +100,13 @@ enum BenchEngine {
 
 fn main() -> ExitCode {
     match Cli::parse().command {
-        Command::Solve { file, json, budget, states } => cli::timed::solve(&file, json, &budget, states),
-        Command::Compile { file, budget, target, output, plc } => {
+        Command::Solve { file, json, budget, scan, states } => cli::timed::solve(&file, json, &budget, &scan, states),
+        Command::Compile { file, budget, scan, target, output, plc } => {
             let target = match target {
                 Output::Program => None,
                 Output::Plc(t) => Some(t),
             };
-            cli::timed::compile(&file, &budget, target, output.as_deref(), &plc)
+            cli::timed::compile(&file, &budget, &scan, target, output.as_deref(), &plc)
         }
         Command::Supervise(a) => cli::sct::supervise(&a),
         Command::Supcon(a) => cli::sct::supcon(&a),

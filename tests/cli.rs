@@ -292,3 +292,54 @@ fn compile_writes_the_io_table_and_takes_the_stl_and_plcopen_options() {
     let xml = String::from_utf8_lossy(&out.stdout);
     assert!(xml.contains("creationDateTime=\"20") && !xml.contains("1970-01-01"), "{xml}");
 }
+
+#[test]
+fn a_scan_time_turns_the_verdict_into_implementability() {
+    // Without a scan time the verdict says what it assumes.
+    let (code, out, _) = plcsynth(&["solve", "examples/timed/lamp.tga"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("realizable") && out.contains("reacts in zero time"), "{out}");
+    // The thesis's lamp is realizable only with zero latency: exit 1, with the counter-play.
+    let (code, out, _) = plcsynth(&["solve", "examples/timed/lamp.tga", "--scan", "10ms"]);
+    assert_eq!(code, 1, "{out}");
+    assert!(out.contains("not implementable at 10 ms (realizable with a zero-time controller)"), "{out}");
+    assert!(out.contains("scan time: not implementable at any scan time tried, down to 1 ms"), "{out}");
+    assert!(out.contains("why a PLC with a 10 ms scan cannot do it") && out.contains("!press_settled"), "{out}");
+    // The example that declares `scan 10 ms;` is implementable, with its bound.
+    let (code, out, _) = plcsynth(&["solve", "examples/timed/lamp_scan.tga"]);
+    assert_eq!(code, 0, "{out}");
+    assert!(out.contains("implementable at 10 ms") && out.contains("implementable at 14 ms, not at 15 ms"), "{out}");
+    // The flag overrides the declaration.
+    let (code, out, _) = plcsynth(&["solve", "examples/timed/lamp_scan.tga", "--scan", "0.02s"]);
+    assert_eq!(code, 1, "{out}");
+    assert!(out.contains("not implementable at 20 ms"), "{out}");
+    let (code, out, _) = plcsynth(&["solve", "examples/timed/lamp_scan.tga", "--json"]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(v["semantics"], "zero-time controller");
+    assert_eq!(v["scan"]["scan_ms"], 10);
+    assert_eq!(v["scan"]["implementable"], true);
+    assert_eq!(v["scan"]["bound"]["works"], 14);
+    assert_eq!(v["scan"]["bound"]["fails"], 15);
+    // Unrealizable stays unrealizable, said as such.
+    let (code, out, _) = plcsynth(&["solve", "examples/timed/lamp_naive.tga", "--scan", "10ms"]);
+    assert_eq!(code, 1);
+    assert!(out.contains("unrealizable (even with a zero-time controller)"), "{out}");
+    // A bad duration is refused by the argument parser.
+    for bad in ["0ms", "1.5ms", "fast"] {
+        let (code, _, err) = plcsynth(&["solve", "examples/timed/lamp.tga", "--scan", bad]);
+        assert_eq!(code, 2, "{bad}: {err}");
+        assert!(err.contains("--scan"), "{bad}: {err}");
+    }
+}
+
+#[test]
+fn compile_at_a_scan_time_writes_nothing_for_a_controller_no_plc_can_run() {
+    let (code, out, err) = plcsynth(&["compile", "examples/timed/lamp.tga", "--target", "st", "--scan", "10ms"]);
+    assert_eq!(code, 1, "{out}");
+    assert!(out.is_empty(), "{out}");
+    assert!(err.contains("not implementable at 10 ms; nothing written") && err.contains("!press_settled"), "{err}");
+    let (code, out, err) = plcsynth(&["compile", "examples/timed/lamp_scan.tga", "--target", "st"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("FUNCTION_BLOCK"), "{out}");
+}

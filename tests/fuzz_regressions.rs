@@ -147,19 +147,3 @@ fn generated_timed_specs_are_well_formed_and_both_verdicts_occur() {
     }
     assert!(realizable >= 30 && unrealizable >= 30, "{realizable} realizable, {unrealizable} unrealizable");
 }
-
-/// Finding V1 (docs/fuzzing.md): a strategy that makes plan progress forever at one instant
-/// counts as winning. The thesis accepts such controller zenoness (5.1) under its zero-time
-/// semantics, where the verdict is right; on a PLC, whose scans take time, the clock leaves
-/// `[0,0]` and the plant refuses the request. Decided by the scan-time semantics (issue 14).
-#[test]
-#[ignore = "V1: zero-time semantics (thesis 5.1); decided by the scan-time semantics of issue 14, see docs/fuzzing.md"]
-fn progress_at_one_instant_is_not_winning() {
-    let (_, source) = inputs("handed_over")
-        .into_iter()
-        .find(|(name, _)| name == "v1_progress_at_one_instant.tga")
-        .expect("the saved input");
-    for seed in 0..20 {
-        harness::check_verdict(&source, seed, false).expect("compiles");
-    }
-}

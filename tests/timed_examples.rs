@@ -345,3 +345,23 @@ fn json_views_describe_automata_and_the_state_space() {
     assert_eq!(small["states"].as_array().unwrap().len(), 3);
     assert_eq!(small["truncated"], true);
 }
+
+/// An example that declares its PLC's scan time states the verdict there too
+/// (`// Expected at the scan time: implementable` or `not implementable`).
+#[test]
+fn examples_with_a_scan_time_have_their_expected_verdict_there() {
+    let mut declared = 0;
+    for (name, source) in examples() {
+        let (game, _) = compile(&source).unwrap();
+        let Some((ms, _)) = game.scan_ms else { continue };
+        declared += 1;
+        let line = source
+            .lines()
+            .find(|l| l.trim_start().starts_with("// Expected at the scan time:"))
+            .unwrap_or_else(|| panic!("{name} declares a scan time but no verdict for it"));
+        let expected = if line.contains("not implementable") { Verdict::Unrealizable } else { Verdict::Realizable };
+        let result = plcsynth::timed::synthesize_at_scan(&game, ms, &SolveOptions::default(), &mut |_| true).unwrap();
+        assert_eq!(result.synthesis.solution.verdict, expected, "{name} at {ms} ms");
+    }
+    assert!(declared > 0, "no example declares a scan time");
+}

@@ -23,6 +23,114 @@ pub struct BudgetArgs {
     pub max_work: u64,
 }
 
+/// The PLC's cycle time.
+#[derive(Args)]
+pub struct ScanArgs {
+    /// Decide implementability on a PLC with this cycle time (`10ms`, `0.5s`, or milliseconds),
+    /// overriding the specification's `scan` declaration.
+    #[arg(long, value_name = "DURATION", value_parser = parse_duration_ms)]
+    pub scan: Option<u64>,
+}
+
+/// `10ms`, `10 ms`, `2s`, `0.5s` or `10` (milliseconds) as whole milliseconds.
+fn parse_duration_ms(text: &str) -> Result<u64, String> {
+    let t = text.trim();
+    let (number, factor) = if let Some(n) = t.strip_suffix("ms") {
+        (n, 1.0)
+    } else if let Some(n) = t.strip_suffix('s') {
+        (n, 1000.0)
+    } else {
+        (t, 1.0)
+    };
+    let value: f64 = number.trim().parse().map_err(|_| format!("`{text}` is not a duration such as `10ms`"))?;
+    let ms = value * factor;
+    if !(ms >= 1.0 && ms.fract() == 0.0 && ms <= 1e12) {
+        return Err(format!("`{text}` is not a whole number of milliseconds of at least 1 ms"));
+    }
+    Ok(ms as u64)
+}
+
+impl ScanArgs {
+    /// The scan time in force: the flag, else the specification's declaration.
+    fn resolve(&self, game: &timed::model::Game) -> Option<u64> {
+        self.scan.or(game.scan_ms.map(|(ms, _)| ms))
+    }
+}
+
+/// The scan-time verdict of a game realizable in zero time.
+struct ScanOutcome {
+    scan_ms: u64,
+    result: timed::ScanSynthesis,
+    millis: f64,
+    bound: Option<timed::ScanBound>,
+}
+
+impl ScanOutcome {
+    fn implementable(&self) -> bool {
+        self.result.synthesis.solution.verdict == Verdict::Realizable
+    }
+
+    fn verdict_text(&self) -> String {
+        match self.result.synthesis.solution.verdict {
+            Verdict::Realizable => format!("implementable at {} ms", self.scan_ms),
+            Verdict::Unrealizable => format!("not implementable at {} ms", self.scan_ms),
+            Verdict::BudgetExceeded => format!(
+                "budget exceeded at {} ms after {} states",
+                self.scan_ms, self.result.synthesis.solution.stats.visited
+            ),
+            Verdict::Cancelled => "cancelled".to_string(),
+        }
+    }
+
+    fn bound_text(&self) -> Option<String> {
+        let b = self.bound?;
+        if b.scale_free {
+            return Some("the same at every scan time (the specification has no time constants)".into());
+        }
+        let text = match (b.works, b.fails) {
+            (Some(w), Some(f)) => format!("implementable at {w} ms, not at {f} ms"),
+            (None, Some(f)) => format!("not implementable at any scan time tried, down to 1 ms (fails at {f} ms)"),
+            (Some(w), None) => format!("implementable up to at least {w} ms (the longest tried)"),
+            (None, None) => return None,
+        };
+        Some(if b.stopped { format!("{text}; the search stopped at a budget") } else { text })
+    }
+}
+
+/// Solves the scan game after a zero-time verdict of realizable, with the bound if asked.
+/// A game the construction refuses is an input error (exit status 2), printed here.
+fn solve_at_scan(
+    file: &str,
+    source: &str,
+    game: &timed::model::Game,
+    scan_ms: u64,
+    options: &SolveOptions,
+    with_bound: bool,
+) -> Result<ScanOutcome, ExitCode> {
+    let started = Instant::now();
+    let result = match timed::synthesize_at_scan(game, scan_ms, options, &mut |_| true) {
+        Ok(result) => result,
+        Err(error) => {
+            let mut d = Diagnostics::new(source);
+            let span = game.scan_ms.map(|(_, span)| span).unwrap_or_default();
+            d.error(span, error.to_string());
+            eprint!("{}", render_plain(file, source, &d.items));
+            return Err(ExitCode::from(2));
+        }
+    };
+    let millis = started.elapsed().as_secs_f64() * 1000.0;
+    let decided = matches!(result.synthesis.solution.verdict, Verdict::Realizable | Verdict::Unrealizable);
+    let bound = (with_bound && decided).then(|| {
+        let implementable = result.synthesis.solution.verdict == Verdict::Realizable;
+        timed::scan_bound(game, scan_ms, implementable, options, &mut |_| true)
+    });
+    Ok(ScanOutcome { scan_ms, result, millis, bound })
+}
+
+/// The note every zero-time verdict carries.
+const ZERO_TIME: &str = "assumes a controller that reacts in zero time (the thesis's semantics); \
+                         declare `scan 10 ms;` or pass --scan to decide it for a PLC's cycle";
+
 /// Options of the PLC targets.
 #[derive(Args)]
 pub struct PlcArgs {
@@ -126,8 +234,9 @@ fn load(file: &str) -> Result<(String, timed::model::Game), ExitCode> {
     }
 }
 
-/// Exit status: 0 realizable, 1 unrealizable, 2 input error, 3 budget exceeded.
-pub fn solve(file: &str, json: bool, budget: &BudgetArgs, dump_states: bool) -> ExitCode {
+/// Exit status: 0 realizable (implementable at the scan time, if one is given), 1 unrealizable
+/// or not implementable, 2 input error, 3 budget exceeded.
+pub fn solve(file: &str, json: bool, budget: &BudgetArgs, scan: &ScanArgs, dump_states: bool) -> ExitCode {
     let (source, game) = match load(file) {
         Ok(ok) => ok,
         Err(code) => return code,
@@ -136,13 +245,41 @@ pub fn solve(file: &str, json: bool, budget: &BudgetArgs, dump_states: bool) -> 
     let started = Instant::now();
     let result = timed::synthesize(&game, &options, &mut |_| true);
     let millis = started.elapsed().as_secs_f64() * 1000.0;
+    let scan_ms = scan.resolve(&game);
+    let at_scan = match scan_ms {
+        Some(ms) if result.solution.verdict == Verdict::Realizable => {
+            match solve_at_scan(file, &source, &game, ms, &options, true) {
+                Ok(outcome) => Some(outcome),
+                Err(code) => return code,
+            }
+        }
+        _ => None,
+    };
     let stats = &result.solution.stats;
     let explanation = result.explanation.as_ref().map(|e| e.render());
+    let scan_explanation = at_scan.as_ref().and_then(|o| o.result.synthesis.explanation.as_ref().map(|e| e.render()));
     if json {
+        let scan_value = at_scan.as_ref().map(|o| {
+            let st = &o.result.synthesis.solution.stats;
+            serde_json::json!({
+                "scan_ms": o.scan_ms,
+                "verdict": o.result.synthesis.solution.verdict,
+                "implementable": o.implementable(),
+                "visited": st.visited,
+                "removed": st.removed,
+                "edges": st.edges,
+                "work": st.work,
+                "millis": o.millis,
+                "budget": o.result.synthesis.solution.stop,
+                "bound": o.bound,
+                "explanation": scan_explanation,
+            })
+        });
         let value = serde_json::json!({
             "file": file,
             "verdict": result.solution.verdict,
             "realizable": result.solution.verdict == Verdict::Realizable,
+            "semantics": "zero-time controller",
             "visited": stats.visited,
             "expanded": stats.expanded,
             "winning": stats.winning,
@@ -154,6 +291,7 @@ pub fn solve(file: &str, json: bool, budget: &BudgetArgs, dump_states: bool) -> 
             "budget": result.solution.stop,
             "millis": millis,
             "explanation": explanation,
+            "scan": scan_value,
         });
         outln!("{value}");
     } else {
@@ -163,7 +301,11 @@ pub fn solve(file: &str, json: bool, budget: &BudgetArgs, dump_states: bool) -> 
             Verdict::BudgetExceeded => format!("budget exceeded after {} states", stats.visited),
             Verdict::Cancelled => "cancelled".to_string(),
         };
-        outln!("{file}: {verdict}");
+        match &at_scan {
+            Some(o) => outln!("{file}: {} (realizable with a zero-time controller)", o.verdict_text()),
+            None if scan_ms.is_some() => outln!("{file}: {verdict} (even with a zero-time controller)"),
+            None => outln!("{file}: {verdict}\n  = note: this verdict {ZERO_TIME}"),
+        }
         outln!(
             "visited {} · winning {} · removed {} · edges {} · {:.1} ms",
             stats.visited,
@@ -172,17 +314,42 @@ pub fn solve(file: &str, json: bool, budget: &BudgetArgs, dump_states: bool) -> 
             stats.edges,
             millis
         );
+        if let Some(o) = &at_scan {
+            let st = &o.result.synthesis.solution.stats;
+            outln!(
+                "at {} ms: visited {} · removed {} · edges {} · {:.1} ms",
+                o.scan_ms,
+                st.visited,
+                st.removed,
+                st.edges,
+                o.millis
+            );
+            if let Some(text) = o.bound_text() {
+                outln!("scan time: {text}");
+            }
+        }
         if let Some(text) = explanation {
             outln!("\nwhy the initial state is lost:\n{text}");
         }
+        if let (Some(o), Some(text)) = (&at_scan, scan_explanation) {
+            outln!("\nwhy a PLC with a {} ms scan cannot do it (`plc` is the scan: it reads at `plc.read`, decides `scan:r` or `scan:idle`, and its output `r` takes effect at some moment of the scan):\n{text}", o.scan_ms);
+        }
         if dump_states {
             outln!("\n{}", timed::explain::dump(&game, &result.split, &result.solution.space));
+            if let Some(o) = &at_scan {
+                let s = &o.result.synthesis;
+                outln!("\nat {} ms:\n{}", o.scan_ms, timed::explain::dump(&o.result.game, &s.split, &s.solution.space));
+            }
         }
     }
     if let Some(stop) = &result.solution.stop {
         eprint!("{}", render_stop(file, &source, stop));
     }
-    match result.solution.verdict {
+    if let Some(stop) = at_scan.as_ref().and_then(|o| o.result.synthesis.solution.stop.as_ref()) {
+        eprint!("{}", render_stop(file, &source, stop));
+    }
+    let verdict = at_scan.as_ref().map_or(result.solution.verdict, |o| o.result.synthesis.solution.verdict);
+    match verdict {
         Verdict::Realizable => ExitCode::SUCCESS,
         Verdict::Unrealizable => ExitCode::from(1),
         Verdict::BudgetExceeded | Verdict::Cancelled => ExitCode::from(3),
@@ -196,6 +363,7 @@ pub fn solve(file: &str, json: bool, budget: &BudgetArgs, dump_states: bool) -> 
 pub fn compile(
     file: &str,
     budget: &BudgetArgs,
+    scan: &ScanArgs,
     target: Option<plc::Target>,
     out: Option<&str>,
     plc_args: &PlcArgs,
@@ -234,6 +402,34 @@ pub fn compile(
             }
         }
     };
+    if let Some(ms) = scan.resolve(&game) {
+        let outcome = match solve_at_scan(file, &source, &game, ms, &budget.options(), false) {
+            Ok(outcome) => outcome,
+            Err(code) => return code,
+        };
+        match outcome.result.synthesis.solution.verdict {
+            Verdict::Realizable => {}
+            Verdict::Unrealizable => {
+                let bound = timed::scan_bound(&game, ms, false, &budget.options(), &mut |_| true);
+                let outcome = ScanOutcome { bound: Some(bound), ..outcome };
+                eprintln!("{file}: {}; nothing written", outcome.verdict_text());
+                if let Some(text) = outcome.bound_text() {
+                    eprintln!("scan time: {text}");
+                }
+                if let Some(e) = &outcome.result.synthesis.explanation {
+                    eprintln!("\nwhy a PLC with a {ms} ms scan cannot do it:\n{}", e.render());
+                }
+                return ExitCode::from(1);
+            }
+            _ => {
+                if let Some(stop) = &outcome.result.synthesis.solution.stop {
+                    eprint!("{}", render_stop(file, &source, stop));
+                }
+                eprintln!("{file}: {}; nothing written", outcome.verdict_text());
+                return ExitCode::from(3);
+            }
+        }
+    }
     let name = std::path::Path::new(file).file_stem().and_then(|s| s.to_str()).unwrap_or("controller");
     let Some(t) = target else {
         return write_files(out, None, &[plc::OutputFile { name: String::new(), text: program.render(&game) }]);

@@ -23,6 +23,7 @@ pub struct Ident {
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Spec {
     pub timeunit: Vec<TimeUnitDecl>,
+    pub scan: Vec<TimeUnitDecl>,
     pub components: Vec<Component>,
     pub assertions: Vec<Assertion>,
     pub dependencies: Vec<Dependency>,
@@ -31,7 +32,8 @@ pub struct Spec {
     pub io: Vec<IoEntry>,
 }
 
-/// `timeunit 100ms;`: the real duration of one time unit of the clocks.
+/// `timeunit 100ms;`: the real duration of one time unit of the clocks; also `scan 10 ms;`, the
+/// PLC's cycle time.
 #[derive(Clone, Debug, Serialize)]
 pub struct TimeUnitDecl {
     pub millis: u64,

@@ -50,6 +50,8 @@ fn empty_game() -> Game {
     Game {
         timeunit_ms: 1000,
         timeunit_span: None,
+        scan_ms: None,
+        scan: None,
         clocks: vec![Clock { name: "0".into(), owner: ClockOwner::Reference, span: Span::default() }],
         messages: Vec::new(),
         components: Vec::new(),
@@ -85,6 +87,15 @@ impl Checker<'_, '_> {
         if let Some(first) = spec.timeunit.first() {
             self.game.timeunit_ms = first.millis.max(1);
             self.game.timeunit_span = Some(first.span);
+        }
+        if let Some(first) = spec.scan.first() {
+            self.game.scan_ms = Some((first.millis, first.span));
+        }
+        for extra in spec.scan.iter().skip(1) {
+            let first = self.where_(spec.scan[0].span);
+            self.diags
+                .error(extra.span, "the scan time is declared twice")
+                .with_note(format!("first declared at {first}"));
         }
         for extra in spec.timeunit.iter().skip(1) {
             let first = self.where_(spec.timeunit[0].span);

@@ -31,6 +31,7 @@ pub mod lexer;
 pub mod model;
 pub mod parser;
 pub mod precompute;
+pub mod scan;
 pub mod solve;
 pub mod timelock;
 
@@ -100,6 +101,113 @@ pub fn synthesize(
         None
     };
     Synthesis { split, solution, explanation }
+}
+
+/// A verdict at a PLC scan time: the scan game (see [`scan`]) and its solution.
+pub struct ScanSynthesis {
+    pub scan_ms: u64,
+    pub game: model::Game,
+    pub synthesis: Synthesis,
+}
+
+/// Solves the scan game of `game` at `scan_ms`: realizable means implementable on a PLC with
+/// that cycle time.
+pub fn synthesize_at_scan(
+    game: &model::Game,
+    scan_ms: u64,
+    options: &solve::SolveOptions,
+    progress: &mut dyn FnMut(&solve::Stats) -> bool,
+) -> Result<ScanSynthesis, scan::ScanError> {
+    let scan_game = scan::scan_game(game, scan_ms)?;
+    let synthesis = synthesize(&scan_game, options, progress);
+    Ok(ScanSynthesis { scan_ms, game: scan_game, synthesis })
+}
+
+/// The scan times around a verdict: the longest found to work and the shortest found not to.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct ScanBound {
+    /// Implementable at this scan time (milliseconds).
+    pub works: Option<u64>,
+    /// Not implementable at this scan time.
+    pub fails: Option<u64>,
+    /// A search hit a budget or was cancelled: the bound is what was found before.
+    pub stopped: bool,
+    /// The specification has no time constants: scaling time maps the runs at one scan time
+    /// onto the runs at any other, so the verdict is the same at every scan time.
+    pub scale_free: bool,
+}
+
+/// Searches the scan times around `scan_ms`, where the verdict was `implementable`: below it by
+/// bisection when it fails, above it by doubling (up to four times the longest constant of the
+/// specification) and then bisection when it works. Implementability need not be monotone in
+/// the scan time, so the answer is two neighbouring times that were solved, not a proof about
+/// the times between: "works at `works`, fails at `fails`".
+pub fn scan_bound(
+    game: &model::Game,
+    scan_ms: u64,
+    implementable: bool,
+    options: &solve::SolveOptions,
+    progress: &mut dyn FnMut(&solve::Stats) -> bool,
+) -> ScanBound {
+    let mut bound = ScanBound::default();
+    let mut verdict_at = |ms: u64, bound: &mut ScanBound| -> Option<bool> {
+        let result = synthesize_at_scan(game, ms, options, progress).ok()?;
+        match result.synthesis.solution.verdict {
+            solve::Verdict::Realizable => Some(true),
+            solve::Verdict::Unrealizable => Some(false),
+            _ => {
+                bound.stopped = true;
+                None
+            }
+        }
+    };
+    let longest = game
+        .components
+        .iter()
+        .flat_map(|c| {
+            let guards = c.edges.iter().flat_map(|e| &e.guard);
+            guards.chain(c.locations.iter().flat_map(|l| &l.invariant))
+        })
+        .map(|ci| ci.interval.upper.unwrap_or(ci.interval.lower))
+        .chain(game.plans.iter().flat_map(|p| p.clocks.iter().map(|&(_, b)| b)))
+        .max()
+        .unwrap_or(0);
+    if longest == 0 {
+        bound.scale_free = true;
+        return bound;
+    }
+    let (mut lo, mut hi) = if implementable {
+        let cap = (u64::from(longest) * game.timeunit_ms).max(scan_ms).saturating_mul(4);
+        let mut works = scan_ms;
+        loop {
+            let next = works.saturating_mul(2);
+            if next > cap {
+                bound.works = Some(works);
+                return bound;
+            }
+            match verdict_at(next, &mut bound) {
+                Some(true) => works = next,
+                Some(false) => break (works, next),
+                None => {
+                    bound.works = Some(works);
+                    return bound;
+                }
+            }
+        }
+    } else {
+        (0, scan_ms)
+    };
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        match verdict_at(mid, &mut bound) {
+            Some(true) => lo = mid,
+            Some(false) => hi = mid,
+            None => break,
+        }
+    }
+    bound.works = (lo > 0).then_some(lo);
+    bound.fails = Some(hi);
+    bound
 }
 
 /// Where constant `value` of `clock` is written in `source`, the text `game` was compiled from:

@@ -20,6 +20,12 @@ pub struct Game {
     pub timeunit_ms: u64,
     /// Where `timeunit` is declared (`None`: the default), for diagnostics of the code generator.
     pub timeunit_span: Option<Span>,
+    /// The PLC's scan time in milliseconds (`scan 10 ms;`), and where it is declared. `None`:
+    /// the zero-time controller of the thesis.
+    pub scan_ms: Option<(u64, Span)>,
+    /// Set in a scan game (built by [`super::scan::scan_game`]): the messages of its scan
+    /// automaton, which the solver treats specially.
+    pub scan: Option<super::scan::ScanRoles>,
     /// Index 0 is the reference clock of the zones; real clocks start at 1.
     pub clocks: Vec<Clock>,
     pub messages: Vec<Message>,

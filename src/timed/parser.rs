@@ -261,7 +261,7 @@ impl Parser<'_, '_, '_> {
         }
         if t.tok != Tok::Ident {
             return Err(self.error_expected(
-                "a section (`plant`, `assertions`, `dependencies`, `guards`, `plans`, `timeunit` or `io`)",
+                "a section (`plant`, `assertions`, `dependencies`, `guards`, `plans`, `timeunit`, `scan` or `io`)",
             ));
         }
         match self.text(t) {
@@ -290,13 +290,27 @@ impl Parser<'_, '_, '_> {
                 self.block("io section", |p| p.io_entry())
             }
             "timeunit" => self.timeunit(),
+            "scan" => self.scan(),
             _ => Err(self.error_expected(
-                "a section (`plant`, `assertions`, `dependencies`, `guards`, `plans`, `timeunit` or `io`)",
+                "a section (`plant`, `assertions`, `dependencies`, `guards`, `plans`, `timeunit`, `scan` or `io`)",
             )),
         }
     }
 
     fn timeunit(&mut self) -> PResult<()> {
+        let decl = self.duration("the time unit")?;
+        self.spec.timeunit.push(decl);
+        Ok(())
+    }
+
+    fn scan(&mut self) -> PResult<()> {
+        let decl = self.duration("the scan time")?;
+        self.spec.scan.push(decl);
+        Ok(())
+    }
+
+    /// `KEYWORD INT unit ;` for `timeunit` and `scan`.
+    fn duration(&mut self, what: &str) -> PResult<TimeUnitDecl> {
         let start = self.bump().span;
         let value_tok = self.peek();
         let value = self.int("a duration such as `100ms`")?;
@@ -314,12 +328,11 @@ impl Parser<'_, '_, '_> {
             }
         };
         if value == 0 {
-            self.diags.error(value_tok.span, "the time unit must be longer than zero");
+            self.diags.error(value_tok.span, format!("{what} must be longer than zero"));
         }
-        self.expect(Tok::Semi, "`;` after the time unit")?;
+        self.expect(Tok::Semi, &format!("`;` after {what}"))?;
         // At most 2^24 h, about 6·10^13 ms: no overflow. Each PLC target checks its own limits.
-        self.spec.timeunit.push(TimeUnitDecl { millis: u64::from(value) * factor, span: self.span_from(start) });
-        Ok(())
+        Ok(TimeUnitDecl { millis: u64::from(value) * factor, span: self.span_from(start) })
     }
 
     // ----- plant components ---------------------------------------------------------------
@@ -787,4 +800,4 @@ impl Parser<'_, '_, '_> {
 pub const MAX_CONSTANT: u32 = 1 << 24;
 const _: () = assert!(2 * MAX_CONSTANT as i64 <= crate::zone::Bound::MAX_CONSTANT as i64);
 
-const SECTION_WORDS: &[&str] = &["plant", "assertions", "dependencies", "guards", "plans", "timeunit", "io"];
+const SECTION_WORDS: &[&str] = &["plant", "assertions", "dependencies", "guards", "plans", "timeunit", "scan", "io"];

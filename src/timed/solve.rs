@@ -586,6 +586,45 @@ struct Solver<'g, 'p> {
     successor_cost: u64,
     vector_cost: u64,
     halt: Option<Halt>,
+    /// In a scan game: the scan automaton's quiet and armed sub-locations (see `scan::ScanRoles`).
+    scan_arm: Option<ScanArm>,
+}
+
+/// Where a delay arms the scan automaton of a scan game.
+struct ScanArm {
+    unit: usize,
+    quiet: SubLocId,
+    /// `armed` with its clock at 0, and with its clock just above 0.
+    armed_at_zero: SubLocId,
+    armed_after_zero: SubLocId,
+    clock: ClockId,
+}
+
+impl ScanArm {
+    fn new(game: &Game, split: &SplitGame) -> Option<ScanArm> {
+        let roles = game.scan.as_ref()?;
+        let unit = roles.plc as usize;
+        let sublocs = &split.units[unit].sublocs;
+        let find = |loc: LocId, piece: Option<bool>| {
+            let position = sublocs.iter().position(|sl| {
+                sl.location == loc
+                    && piece.is_none_or(|closed| {
+                        sl.pieces.iter().any(|&(c, p)| {
+                            let iv = split.pieces[c as usize][p as usize];
+                            c == roles.clock && iv.lower == 0 && iv.lower_closed == closed
+                        })
+                    })
+            });
+            position.map(|p| p as SubLocId)
+        };
+        Some(ScanArm {
+            unit,
+            quiet: find(roles.quiet, None)?,
+            armed_at_zero: find(roles.armed, Some(true))?,
+            armed_after_zero: find(roles.armed, Some(false))?,
+            clock: roles.clock,
+        })
+    }
 }
 
 impl<'g, 'p> Solver<'g, 'p> {
@@ -623,6 +662,7 @@ impl<'g, 'p> Solver<'g, 'p> {
             successor_cost: STEP_COST + (dim * dim + split.units.len()) as u64,
             vector_cost: STEP_COST + split.units.len() as u64,
             halt: None,
+            scan_arm: ScanArm::new(game, split),
         }
     }
 
@@ -1254,6 +1294,22 @@ impl<'g, 'p> Solver<'g, 'p> {
                 });
             }
             return;
+        }
+        // A scan game's PLC that saw no change at its last read notices this one (a timer
+        // reaching its threshold) at its next read: its clock starts at the instant of the change.
+        if let Some(arm) = &self.scan_arm {
+            if env2[arm.unit] == arm.quiet && set.iter().any(|&k| exits[k].clock != arm.clock) {
+                let first = &exits[set[0]];
+                let c = first.clock as usize;
+                zone.up();
+                if !(zone.constrain(c, 0, Bound::le(first.upper)) && zone.constrain(0, c, Bound::le(-first.upper))) {
+                    return;
+                }
+                zone.reset(arm.clock as usize);
+                // The clock is 0 at the change: in the target it is still 0 if the piece entered
+                // starts there, and above 0 if the piece starts just after it.
+                env2[arm.unit] = if first.closed { arm.armed_after_zero } else { arm.armed_at_zero };
+            }
         }
         zone.up();
         for &k in set {
