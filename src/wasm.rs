@@ -75,6 +75,20 @@ struct SolveSummary {
     budget: Option<BudgetStop>,
     /// Present when the verdict is `unrealizable`.
     explanation_depth: Option<u32>,
+    /// Present when the specification declares a scan time and is realizable: the verdict on
+    /// a PLC with that cycle (`timed::synthesize_at_scan`).
+    scan: Option<ScanSummary>,
+}
+
+#[derive(Serialize)]
+struct ScanSummary {
+    scan_ms: u64,
+    /// `realizable` here means implementable at `scan_ms`.
+    verdict: Verdict,
+    stats: Stats,
+    budget: Option<BudgetStop>,
+    /// Why no PLC with this scan can do it, as text (the scan game's counter-play).
+    explanation_text: Option<String>,
 }
 
 /// A code target of the page's menu.
@@ -243,6 +257,19 @@ impl Session {
             }
         };
         let synthesis = timed::synthesize(&self.game, &options, &mut report);
+        let scan = match self.game.scan_ms {
+            // A callback error cancels the run, so a realizable verdict means none occurred.
+            Some((ms, _)) if synthesis.solution.verdict == Verdict::Realizable => {
+                timed::synthesize_at_scan(&self.game, ms, &options, &mut report).ok().map(|r| ScanSummary {
+                    scan_ms: ms,
+                    verdict: r.synthesis.solution.verdict,
+                    stats: r.synthesis.solution.stats,
+                    budget: r.synthesis.solution.stop.clone(),
+                    explanation_text: r.synthesis.explanation.as_ref().map(|e| e.render()),
+                })
+            }
+            _ => None,
+        };
         if let Some(e) = callback_error {
             return Err(e);
         }
@@ -251,6 +278,7 @@ impl Session {
             stats: synthesis.solution.stats,
             budget: synthesis.solution.stop.clone(),
             explanation_depth: synthesis.explanation.as_ref().map(|e| e.depth),
+            scan,
         };
         self.synthesis = Some(synthesis);
         self.incoming = OnceCell::new();

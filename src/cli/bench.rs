@@ -73,11 +73,70 @@ pub fn timed(examples_dir: &Path, runs: usize) -> std::process::ExitCode {
             st.bytes as f64 / (1024.0 * 1024.0)
         );
     }
+    scan_table(examples_dir, runs);
     if let Some(peak) = peak_rss_kib() {
         outln!();
         outln!("peak resident memory of this process: {:.1} MiB", peak as f64 / 1024.0);
     }
     std::process::ExitCode::SUCCESS
+}
+
+/// The scan time of the scan-game table: the example's own `scan`, else this.
+const BENCH_SCAN_MS: u64 = 10;
+
+/// Every example at a PLC's scan time beside its zero-time verdict: what the scan semantics
+/// costs (states and time, as a ratio measured in the same run). The thesis has no such figures.
+fn scan_table(examples_dir: &Path, runs: usize) {
+    outln!();
+    outln!(
+        "At a PLC scan time (the example's `scan`, else {BENCH_SCAN_MS} ms; default budgets; median of {runs} runs): the zero-time game beside the scan game"
+    );
+    outln!();
+    outln!("| example | zero-time verdict | visited | time [ms] | scan [ms] | scan verdict | visited | time [ms] | time ratio |");
+    outln!("|---|---|---:|---:|---:|---|---:|---:|---:|");
+    let mut files: Vec<_> = std::fs::read_dir(examples_dir)
+        .map(|d| {
+            d.filter_map(|e| e.ok()).map(|e| e.path()).filter(|p| p.extension().is_some_and(|x| x == "tga")).collect()
+        })
+        .unwrap_or_default();
+    files.sort();
+    let median = |mut times: Vec<f64>| {
+        times.sort_by(f64::total_cmp);
+        times[times.len() / 2]
+    };
+    for path in files {
+        let Ok(source) = std::fs::read_to_string(&path) else { continue };
+        let Ok((game, _)) = compile(&source) else { continue };
+        let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("?");
+        let scan_ms = game.scan_ms.map_or(BENCH_SCAN_MS, |(ms, _)| ms);
+        let (mut zero_times, mut scan_times) = (Vec::new(), Vec::new());
+        let mut last = None;
+        for _ in 0..runs.max(1) {
+            let started = Instant::now();
+            let zero = synthesize(&game, &SolveOptions::default(), &mut |_| true);
+            zero_times.push(started.elapsed().as_secs_f64() * 1000.0);
+            let started = Instant::now();
+            let scan = plcsynth::timed::synthesize_at_scan(&game, scan_ms, &SolveOptions::default(), &mut |_| true);
+            scan_times.push(started.elapsed().as_secs_f64() * 1000.0);
+            last = Some((zero, scan));
+        }
+        let Some((zero, Ok(scan))) = last else { continue };
+        let word = |v: Verdict, realizable: &'static str, not: &'static str| match v {
+            Verdict::Realizable => realizable,
+            Verdict::Unrealizable => not,
+            Verdict::BudgetExceeded => "budget exceeded",
+            Verdict::Cancelled => "cancelled",
+        };
+        let (zt, st) = (median(zero_times), median(scan_times));
+        outln!(
+            "| {name} | {} | {} | {zt:.1} | {scan_ms} | {} | {} | {st:.1} | {:.0}× |",
+            word(zero.solution.verdict, "realizable", "unrealizable"),
+            zero.solution.stats.visited,
+            word(scan.synthesis.solution.verdict, "implementable", "not implementable"),
+            scan.synthesis.solution.stats.visited,
+            st / zt.max(1e-3)
+        );
+    }
 }
 
 /// Peak resident set size from /proc (Linux), in KiB.

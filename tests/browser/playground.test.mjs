@@ -32,6 +32,8 @@ test('the lamp example runs: verdict, counts, automata, state space and zone', a
   const removed = await number(page, '#stat-removed');
   assert.ok(visited > 0 && winning > 0 && winning <= visited, `visited ${visited}, winning ${winning}`);
   assert.match(await page.textContent('#status'), new RegExp(`realizable: ${visited} states visited, ${winning} winning, ${removed} removed`));
+  // The thesis's lamp declares no scan time: the verdict says it assumes zero time.
+  assert.match(await page.textContent('#zero-time-note'), /reacts in zero time/);
   await shot(page, '02-lamp-summary');
 
   await page.click('[data-tab=automata]');
@@ -139,6 +141,25 @@ test('the lamp example runs: verdict, counts, automata, state space and zone', a
   }
   await shot(page, '06c-lamp-code-twincat');
   assert.deepEqual(foreign, [], 'no request leaves the origin');
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
+test('a spec with a scan time shows the verdict on the PLC, and a too slow scan the counter-play', async () => {
+  const page = await newPage(browser, `${server.url}#example/lamp_scan`);
+  assert.equal(await runAndWait(page), 'realizable');
+  await page.waitForSelector('#scan-verdict');
+  assert.equal(await page.getAttribute('#scan-verdict', 'data-verdict'), 'realizable');
+  assert.match(await page.textContent('#scan-verdict'), /Implementable at 10 ms/);
+  await shot(page, '07a-scan-implementable');
+  // At 20 ms the button may settle before the lamp follows: the scan game's counter-play.
+  await setEditorText(page, readExample('lamp_scan').replace('scan 10 ms;', 'scan 20 ms;'));
+  assert.equal(await runAndWait(page), 'realizable');
+  await page.waitForFunction(() => document.querySelector('#scan-verdict')?.dataset.verdict === 'unrealizable');
+  assert.match(await page.textContent('#scan-verdict'), /Not implementable at 20 ms/);
+  assert.match(await page.textContent('#scan-explanation'), /plc\.read/);
+  assert.match(await page.textContent('#scan-explanation'), /✗/);
+  await shot(page, '07b-scan-not-implementable');
   assert.deepEqual(page.errors, []);
   await page.context().close();
 });

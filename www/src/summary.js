@@ -23,6 +23,36 @@ function stepTree(step, onState) {
   ];
 }
 
+const scanText = {
+  realizable: (ms) => `Implementable at ${ms} ms: a PLC with this scan time can meet the spec`,
+  unrealizable: (ms) => `Not implementable at ${ms} ms: only a controller reacting faster than a PLC scan can meet the spec`,
+  budget_exceeded: (ms) => `At ${ms} ms: budget exceeded before deciding`,
+  cancelled: () => 'Cancelled',
+};
+
+/** The verdict at the declared scan time, or a note that the verdict assumes zero time. */
+function scanPart(summary) {
+  const scan = summary.scan;
+  if (!scan) {
+    return summary.verdict === 'realizable'
+      ? h('p', { class: 'muted', id: 'zero-time-note' }, 'This verdict assumes a controller that reacts in zero time (the thesis’s semantics). Declare the PLC’s cycle, e.g. `scan 10 ms;`, to decide it for a real PLC.')
+      : null;
+  }
+  return h(
+    'section',
+    {},
+    h('div', { class: `verdict ${scan.verdict}`, id: 'scan-verdict', 'data-verdict': scan.verdict }, scanText[scan.verdict]?.(scan.scan_ms) ?? scan.verdict),
+    h('p', { class: 'muted' }, `The scan game: ${fmtInt(scan.stats.visited)} states visited, ${fmtInt(scan.stats.removed)} removed.`),
+    scan.explanation_text
+      ? [
+          h('h3', {}, `Why a PLC with a ${scan.scan_ms} ms scan cannot do it`),
+          h('p', { class: 'muted' }, '`plc` is the scan: it reads at plc.read, decides scan:r or scan:idle, and its output r takes effect at some moment of the scan.'),
+          h('pre', { class: 'explanation', id: 'scan-explanation' }, scan.explanation_text),
+        ]
+      : null,
+  );
+}
+
 // Which budget stopped the search; only the state budget has a field on the page.
 function budgetText(budget, maxStates) {
   if (!budget || budget.budget === 'states') {
@@ -36,11 +66,12 @@ export function renderSummary(root, { summary, ms, expected, maxStates, onState 
   const s = summary.stats;
   const row = (label, value, id) => h('tr', {}, h('th', {}, label), h('td', { id }, value));
   const parts = [
-    h('div', { class: `verdict ${summary.verdict}`, id: 'verdict', 'data-verdict': summary.verdict }, verdictText[summary.verdict] ?? summary.verdict),
+    h('div', { class: `verdict ${summary.verdict}`, id: 'verdict', 'data-verdict': summary.verdict }, summary.scan && summary.verdict === 'realizable' ? 'Realizable with a zero-time controller' : (verdictText[summary.verdict] ?? summary.verdict)),
     expected && summary.verdict !== 'budget_exceeded'
       ? h('p', { class: 'muted' }, expected === summary.verdict ? `As the example expects (${expected}).` : `The example says it should be ${expected}.`)
       : null,
     summary.verdict === 'budget_exceeded' ? h('p', {}, budgetText(summary.budget, maxStates)) : null,
+    scanPart(summary),
     h(
       'table',
       { class: 'stats' },
