@@ -467,11 +467,11 @@ fn awlsim_agrees_with_the_interpreter_scan_by_scan_and_gives_the_same_verdicts()
                 let Some(e) = chosen.get(i) else { break };
                 let mut plc = Awlsim::start(&e.name, &e.stl.0);
                 let expected = expected_failure(&e.name);
-                // Two seeds of a few hundred scans; for an example that fails, the first two
+                // Two seeds of 1500 scans (15 s); for an example that fails, the first two
                 // seeds on which the interpreter fails within 1500 scans and the first on which
                 // it does not, if any.
                 let (seeds, scans) = match expected {
-                    None => (vec![0, 1], 400),
+                    None => (vec![0, 1], 1500),
                     Some(_) => {
                         let fails: Vec<bool> =
                             (0..40).map(|s| run_rust(e, Target::Stl, s, 1500).failure.is_some()).collect();

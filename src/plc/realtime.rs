@@ -120,7 +120,10 @@ impl ScanController for Interpreter<'_> {
         }
         for (t, timer) in code.timers.iter().enumerate() {
             let start = *self.started[t].get_or_insert(now_us);
-            self.elapsed[t] = (now_us - start).min(timer.preset_ms.saturating_mul(1000));
+            // A TON's ET stops at PT; STL has an S7 timer per threshold, each with its own
+            // preset (the code timer's is the largest threshold, not above it).
+            let cap = if self.stl { u64::MAX } else { timer.preset_ms.saturating_mul(1000) };
+            self.elapsed[t] = (now_us - start).min(cap);
         }
         let mut i = self.position;
         // Within a scan control only moves forward, so it ends within `steps.len()` steps.
@@ -1031,6 +1034,18 @@ mod tests {
         };
         assert_eq!(run(Target::Stl), vec![0, 1, 2, 3, 4, 5]);
         assert_eq!(run(Target::St), vec![0, 2, 4]);
+    }
+
+    #[test]
+    fn stl_waits_for_a_strict_threshold_beyond_the_code_timers_preset() {
+        // STL's code timer carries the largest threshold as its preset (30 ms); its S7 timer
+        // for `> 30 ms` is preset to 40 ms, the next S5TIME value, and must still elapse.
+        let mut c = code();
+        c.timers[0].preset_ms = 30;
+        c.steps[0].statement = Statement::Wait { test: Test::Elapsed { timer: 0, ms: 30, strict: true } };
+        let mut i = Interpreter::new(&c, Target::Stl);
+        let requests = (0..10u64).map(|k| i.scan(k * 10_000, &[false])[0]).collect::<Vec<_>>();
+        assert_eq!(requests.iter().positions(), vec![4, 9]);
     }
 
     trait Positions {
