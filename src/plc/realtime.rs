@@ -788,9 +788,9 @@ impl Run<'_> {
         let (_, plan) = self.decided.take()?;
         match plan {
             Next::React(m) => {
+                // The window was computed on this very state, so the move is enabled.
+                debug_assert!(self.plant.enabled(&m), "{} not enabled at its chosen time", self.describe(&m));
                 if !self.plant.enabled(&m) {
-                    // Cannot happen: the window was computed on this very state.
-                    self.note(format!("internal: {} not enabled at its chosen time", self.describe(&m)));
                     return None;
                 }
                 self.report.reactions += 1;

@@ -247,3 +247,53 @@ impl<'g> Plant<'g> {
             .min()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::Rng;
+
+    /// On random walks through examples with guards and invariants, a move is enabled exactly
+    /// at the delays of its window: at both ends, and not just outside them.
+    #[test]
+    fn a_window_holds_exactly_the_delays_at_which_a_move_is_enabled() {
+        for source in [
+            include_str!("../../examples/timed/two_robots_14.tga"),
+            include_str!("../../examples/timed/lamp.tga"),
+            include_str!("../../examples/timed/hardware_xyz.tga"),
+        ] {
+            let (game, _) = crate::timed::compile(source).unwrap();
+            let mut plant = Plant::new(&game, 1000);
+            let mut rng = Rng::new(7);
+            for _ in 0..300 {
+                let kinds = [MessageKind::Controllable, MessageKind::Uncontrollable];
+                let mut possible = Vec::new();
+                for m in plant.candidates(&kinds) {
+                    let at = |d: i64| {
+                        let mut p = plant.clone();
+                        p.delay(d);
+                        p.enabled(&m)
+                    };
+                    match plant.window(&m) {
+                        Some((lo, hi)) => {
+                            assert!(at(lo) && (lo == 0 || !at(lo - 1)), "{m:?} at {lo}");
+                            if let Some(hi) = hi {
+                                assert!(at(hi), "{m:?} at {hi}");
+                                assert!(!at(hi + 1) || plant.room() == Some(hi), "{m:?} after {hi}");
+                            }
+                            possible.push((m, lo, hi));
+                        }
+                        None => assert!((0..3000).step_by(7).all(|d| !at(d) || plant.room().is_some_and(|r| d > r))),
+                    }
+                }
+                if possible.is_empty() {
+                    break;
+                }
+                let (m, lo, hi) = possible.swap_remove(rng.below(possible.len() as u64) as usize);
+                let d = lo + rng.below((hi.unwrap_or(lo + 2000) - lo + 1) as u64) as i64;
+                plant.delay(d);
+                plant.apply(&m);
+            }
+        }
+    }
+}
