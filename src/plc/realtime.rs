@@ -7,8 +7,9 @@
 //! the output image at `t_k + e_k`, the execution time `e_k` in `[0, scan)` chosen by the
 //! adversary. Outputs are physical signals: a request reaches the plant on a rising edge of its
 //! output (a pulse repeated in the next scan stays TRUE and is no second request; a latched
-//! output sends its `set` request on FALSE→TRUE and its `reset` request on TRUE→FALSE). Inputs
-//! are levels (see [`Inputs`] and docs/plc-code.md, "The I/O contract").
+//! output sends its `set` request on FALSE→TRUE and its `reset` request on TRUE→FALSE); edges
+//! of one write reach the plant in the order of the outputs (the order in which the program
+//! first drives them). Inputs are levels (docs/plc-code.md, "The I/O contract").
 //!
 //! The plant decides after every change of its state which reaction fires when: random times
 //! within guards and invariants, the earliest and latest allowed instants, 1 µs after a scan
