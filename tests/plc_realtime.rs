@@ -4,7 +4,8 @@
 //! a scan, random execution times). Some examples are known not to be implementable at 10 ms
 //! ([`FAILS_AT_10_MS`], with the reason); the checker must find their failure on a fixed set of
 //! seeds, and every other example must hold on every run. Mutants (a request removed, an
-//! output flipped, a timer threshold lowered) must be caught. The same plant also drives the
+//! output flipped, a guard not checked, a timer threshold lowered, a pulse repeated) must be
+//! caught. The same plant also drives the
 //! STL in awlsim (`tests/checkers/scan_loop.py`, one process per example on a virtual clock),
 //! whose outputs must equal the Rust interpreter's scan by scan and give the same verdicts.
 
@@ -305,6 +306,18 @@ fn mutants_are_caught() {
     let k = step_of(&m, |s| matches!(s, Statement::Act { output, .. } if *output == process));
     m.steps[k].statement = Statement::Act { output: outtake, effect: Effect::Pulse };
     assert!(first_failure(g, &m, 2000).is_some(), "a swapped request is caught");
+    // A state guard not checked: the gripper closes without reading `gear_is_present`.
+    let g = example("gripper_guard");
+    let mut m = g.stl.0.clone();
+    let k = step_of(&m, |s| matches!(s, Statement::Wait { test: Test::Input { .. } }));
+    assert_eq!(m.inputs[0].symbol, "gear_is_present");
+    m.steps[k].statement = Statement::Jump { target: k + 1 };
+    let r = first_failure(g, &m, 2000).expect("an unchecked guard is caught");
+    assert!(
+        matches!(&r.failure, Some(Failure::GuardViolated { guard, .. }) if guard == "gear_is_present"),
+        "{}",
+        show(&r)
+    );
     // A timer threshold lowered below the guard it waits for: the request comes too early.
     let source = "timeunit 10ms;\nplant { automaton A { clocks x; nodes a, b;\n  \
                   a -> b ?go { x in [3,inf) } reset { x }; b -> a ?back; } }\n\
