@@ -23,6 +23,7 @@ pub mod lower_sct;
 pub mod lower_timed;
 pub mod model;
 pub mod plcopen;
+pub mod realtime;
 pub mod st;
 pub mod stl;
 mod target;

@@ -84,7 +84,7 @@ pub fn s7_timers(code: &Code) -> Vec<(usize, u64)> {
 }
 
 /// The S5TIME preset of a threshold: a strict one waits for the next S5TIME value.
-fn preset(ms: u64, strict: bool) -> u64 {
+pub fn preset(ms: u64, strict: bool) -> u64 {
     u64::try_from(TimeType::S5Time.preset_for(u128::from(ms), strict)).unwrap_or(u64::MAX)
 }
 
@@ -144,8 +144,9 @@ pub fn clashes(code: &Code, options: &Options) -> Vec<Clash> {
     out
 }
 
-/// Where execution continues after step i when it falls through (through jumps).
-fn resolve(code: &Code, mut i: usize) -> usize {
+/// Where execution continues after step i when it falls through (through jumps without
+/// restarts; past the last step, at 0): the position STL stores.
+pub fn resolve(code: &Code, mut i: usize) -> usize {
     let n = code.steps.len();
     let mut hops = 0;
     while i < n && hops <= n {
@@ -182,6 +183,21 @@ fn resume_points(code: &Code) -> Vec<bool> {
     resume
 }
 
+/// The STL operands of the inputs and of the outputs (`I 124.0`, `Q 125.6`, `"Lamp On"`):
+/// unbound signals take memory bits from byte `marker_byte + 10` on, inputs first.
+pub fn operands(code: &Code, options: &Options) -> (Vec<String>, Vec<String>) {
+    let (_, bit_bytes) = marker_bytes(code, options);
+    let mut next_bit = bit_bytes.start as usize * 8;
+    let mut bit = || {
+        let b = next_bit;
+        next_bit += 1;
+        format!("M {}.{}", b / 8, b % 8)
+    };
+    let inputs = code.inputs.iter().map(|i| operand(&i.binding, &bit())).collect();
+    let outputs = code.outputs.iter().map(|o| operand(&o.variable.binding, &bit())).collect();
+    (inputs, outputs)
+}
+
 /// Prints the organisation block (or the function block, its data block and the calling OB).
 pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result {
     let resolve = |i: usize| resolve(code, i);
@@ -198,16 +214,8 @@ pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result 
         .collect();
     let points: Vec<usize> = (0..resume.len()).filter(|&i| resume[i]).collect();
     let wide = points.len() > 255;
-    // Memory bits for unbound signals.
-    let (position_bytes, bit_bytes) = marker_bytes(code, options);
-    let mut next_bit = bit_bytes.start as usize * 8;
-    let mut bit = || {
-        let b = next_bit;
-        next_bit += 1;
-        format!("M {}.{}", b / 8, b % 8)
-    };
-    let inputs: Vec<String> = code.inputs.iter().map(|i| operand(&i.binding, &bit())).collect();
-    let outputs: Vec<String> = code.outputs.iter().map(|o| operand(&o.variable.binding, &bit())).collect();
+    let (position_bytes, _) = marker_bytes(code, options);
+    let (inputs, outputs) = operands(code, options);
     // One S7 timer per (timer, preset); a strict threshold waits for the next S5TIME value.
     let s7_timers = s7_timers(code);
     let t_number = |timer: usize, ms: u64| s7_timers.iter().position(|&x| x == (timer, ms)).map_or(0, |k| k + 1);

@@ -1,6 +1,6 @@
 //! Closed-loop checking: a controller program run against the plant it was made for.
 //!
-//! The plant is the specification's own automata (not the solver's split game), with concrete
+//! The plant is the specification's own automata ([`crate::timed::plant`]), with concrete
 //! clock values in eighths of a time unit; the controller is an interpreter of the intermediate
 //! program under the scan-cycle model of 6.3: after every plant step it runs, in zero time,
 //! until it waits. The plant chooses at random among its enabled reactions and delays within
@@ -11,7 +11,8 @@
 //! the controller stops waiting or stops making plan progress.
 
 use super::{Condition, Instruction, Program};
-use crate::timed::model::{Game, Interval, LocId, MessageKind, MessageRole, MsgId};
+use crate::timed::model::{Game, Interval, MessageKind, MessageRole, MsgId};
+use crate::timed::plant::{Move as PlantMove, Plant, Violation};
 use serde::Serialize;
 
 /// Clock values are counted in `1 / TICKS` time units.
@@ -41,17 +42,6 @@ pub struct RunReport {
 
 pub use crate::rng::Rng;
 
-fn holds(i: &Interval, ticks: i64) -> bool {
-    let lo = i.lower as i64 * TICKS;
-    let above = if i.lower_closed { ticks >= lo } else { ticks > lo };
-    let below = match i.upper {
-        None => true,
-        Some(u) if i.upper_closed => ticks <= u as i64 * TICKS,
-        Some(u) => ticks < u as i64 * TICKS,
-    };
-    above && below
-}
-
 /// True if `ticks` has reached the interval's lower bound.
 fn reached(i: &Interval, ticks: i64) -> bool {
     let lo = i.lower as i64 * TICKS;
@@ -62,131 +52,16 @@ fn reached(i: &Interval, ticks: i64) -> bool {
     }
 }
 
-/// Largest delay (in ticks) that keeps `ticks` inside `i`, if bounded.
-fn room(i: &Interval, ticks: i64) -> Option<i64> {
-    i.upper.map(|u| {
-        let limit = u as i64 * TICKS - i64::from(!i.upper_closed);
-        (limit - ticks).max(0)
-    })
-}
-
-/// One plant move: a sending transition and the `$` transitions taken with it.
-struct PlantMove {
-    message: MsgId,
-    instant: bool,
-    /// (unit, edge index) of every participating transition.
-    parts: Vec<(usize, usize)>,
-}
-
+/// The plant, the controller's timers (one per clock, in ticks) and the time.
 struct World<'g> {
-    game: &'g Game,
-    locs: Vec<LocId>,
-    plan_locs: Vec<LocId>,
-    clocks: Vec<i64>,
+    plant: Plant<'g>,
     timers: Vec<i64>,
     time: i64,
 }
 
 impl World<'_> {
-    fn guard_ok(&self, unit: usize, edge: usize) -> bool {
-        let e = &self.game.components[unit].edges[edge];
-        e.guard.iter().all(|ci| holds(&ci.interval, self.clocks[ci.clock as usize]))
-    }
-
-    /// Enabled moves of the plant: each sending transition with one enabled `$` transition of
-    /// every unit that synchronises on its message (algorithm 3); the target invariants must hold.
-    fn moves(&self, kinds: &[MessageKind]) -> Vec<PlantMove> {
-        let mut out = Vec::new();
-        for (u, a) in self.game.components.iter().enumerate() {
-            for (ei, e) in a.edges.iter().enumerate() {
-                if e.from != self.locs[u] || !kinds.contains(&e.kind) || !self.guard_ok(u, ei) {
-                    continue;
-                }
-                let mut combos: Vec<Vec<(usize, usize)>> = vec![vec![(u, ei)]];
-                for &other in &self.game.messages[e.message as usize].synchronised {
-                    let o = other as usize;
-                    let options: Vec<usize> = self.game.components[o]
-                        .edges
-                        .iter()
-                        .enumerate()
-                        .filter(|(oi, oe)| {
-                            oe.kind == MessageKind::Synchronised
-                                && oe.message == e.message
-                                && oe.from == self.locs[o]
-                                && self.guard_ok(o, *oi)
-                        })
-                        .map(|(oi, _)| oi)
-                        .collect();
-                    combos = combos
-                        .into_iter()
-                        .flat_map(|c| options.iter().map(move |&oi| [c.clone(), vec![(o, oi)]].concat()))
-                        .collect();
-                }
-                for parts in combos {
-                    let instant = parts.iter().any(|&(pu, pe)| self.game.components[pu].edges[pe].instant);
-                    if self.targets_ok(&parts) {
-                        out.push(PlantMove { message: e.message, instant, parts });
-                    }
-                }
-            }
-        }
-        out
-    }
-
-    fn targets_ok(&self, parts: &[(usize, usize)]) -> bool {
-        let mut clocks = self.clocks.clone();
-        for &(u, ei) in parts {
-            for &c in &self.game.components[u].edges[ei].resets {
-                clocks[c as usize] = 0;
-            }
-        }
-        parts.iter().all(|&(u, ei)| {
-            let to = self.game.components[u].edges[ei].to;
-            self.game.components[u].locations[to as usize]
-                .invariant
-                .iter()
-                .all(|ci| holds(&ci.interval, clocks[ci.clock as usize]))
-        })
-    }
-
-    /// Applies a move to the plant and the plans; returns whether a plan made progress.
-    fn apply(&mut self, m: &PlantMove) -> bool {
-        for &(u, ei) in &m.parts {
-            let e = &self.game.components[u].edges[ei];
-            for &c in &e.resets {
-                self.clocks[c as usize] = 0;
-            }
-            self.locs[u] = e.to;
-        }
-        let mut progress = false;
-        for (p, plan) in self.game.plans.iter().enumerate() {
-            if let Some(e) = plan.edges.iter().find(|e| e.from == self.plan_locs[p] && e.message == m.message) {
-                for &c in &e.resets {
-                    self.clocks[c as usize] = 0;
-                }
-                self.plan_locs[p] = e.to;
-                progress = true;
-            }
-        }
-        progress
-    }
-
-    fn max_delay(&self) -> Option<i64> {
-        let mut best: Option<i64> = None;
-        for (u, a) in self.game.components.iter().enumerate() {
-            for ci in &a.locations[self.locs[u] as usize].invariant {
-                if let Some(r) = room(&ci.interval, self.clocks[ci.clock as usize]) {
-                    best = Some(best.map_or(r, |b| b.min(r)));
-                }
-            }
-        }
-        best
-    }
-
     fn delay(&mut self, d: i64) {
-        for c in self.clocks.iter_mut().skip(1) {
-            *c += d;
-        }
+        self.plant.delay(d);
         for t in self.timers.iter_mut().skip(1) {
             *t += d;
         }
@@ -194,18 +69,11 @@ impl World<'_> {
     }
 
     fn failure(&self) -> Option<Failure> {
-        for a in &self.game.assertions {
-            if !a.holds.eval(&self.locs) {
-                return Some(Failure::Assertion { text: a.text.clone() });
-            }
-        }
-        for (p, plan) in self.game.plans.iter().enumerate() {
-            let timed_out = plan.clocks.iter().any(|&(c, bound)| self.clocks[c as usize] > bound as i64 * TICKS);
-            if self.plan_locs[p] == plan.failed || timed_out {
-                return Some(Failure::PlanFailed { plan: plan.name.clone() });
-            }
-        }
-        None
+        let game = self.plant.game;
+        self.plant.violation().map(|v| match v {
+            Violation::Assertion(k) => Failure::Assertion { text: game.assertions[k].text.clone() },
+            Violation::Plan(k) => Failure::PlanFailed { plan: game.plans[k].name.clone() },
+        })
     }
 }
 
@@ -227,6 +95,7 @@ impl Run<'_, '_> {
     fn trace(&mut self, line: String) {
         let plans: Vec<String> = self
             .w
+            .plant
             .game
             .plans
             .iter()
@@ -238,20 +107,25 @@ impl Run<'_, '_> {
                     .map(|&(c, _)| {
                         format!(
                             "{}={:.3}",
-                            self.w.game.clocks[c as usize].name,
-                            self.w.clocks[c as usize] as f64 / TICKS as f64
+                            self.w.plant.game.clocks[c as usize].name,
+                            self.w.plant.clocks[c as usize] as f64 / TICKS as f64
                         )
                     })
                     .collect();
-                format!("{}.{} {}", plan.name, plan.locations[self.w.plan_locs[p] as usize].name, clocks.join(" "))
+                format!(
+                    "{}.{} {}",
+                    plan.name,
+                    plan.locations[self.w.plant.plan_locs[p] as usize].name,
+                    clocks.join(" ")
+                )
             })
             .collect();
-        let clocks: Vec<String> = (1..self.w.clocks.len())
+        let clocks: Vec<String> = (1..self.w.plant.clocks.len())
             .map(|c| {
                 format!(
                     "{}={:.3}/{:.3}",
-                    self.w.game.clocks[c].name,
-                    self.w.clocks[c] as f64 / TICKS as f64,
+                    self.w.plant.game.clocks[c].name,
+                    self.w.plant.clocks[c] as f64 / TICKS as f64,
                     self.w.timers[c] as f64 / TICKS as f64
                 )
             })
@@ -270,7 +144,7 @@ impl Run<'_, '_> {
     }
 
     fn name(&self, m: MsgId) -> String {
-        self.w.game.messages[m as usize].name.clone()
+        self.w.plant.game.messages[m as usize].name.clone()
     }
 
     fn progressed(&mut self) {
@@ -309,12 +183,15 @@ impl Run<'_, '_> {
                 Condition::Delay { clock, interval } => reached(interval, run.w.timers[*clock as usize]),
             };
             match c.instruction {
-                Instruction::Do { .. } if self.w.moves(&[MessageKind::Uncontrollable]).iter().any(|m| m.instant) => {
+                Instruction::Do { .. }
+                    if self.w.plant.moves(&[MessageKind::Uncontrollable]).iter().any(|m| m.instant) =>
+                {
                     return acted; // an instant reaction has priority: the controller acts after it
                 }
                 Instruction::Do { request } => {
                     let candidates: Vec<PlantMove> = self
                         .w
+                        .plant
                         .moves(&[MessageKind::Controllable])
                         .into_iter()
                         .filter(|m| m.message == request)
@@ -324,7 +201,7 @@ impl Run<'_, '_> {
                         return acted;
                     }
                     let k = self.rng.below(candidates.len() as u64) as usize;
-                    if self.w.apply(&candidates[k]) {
+                    if self.w.plant.apply(&candidates[k]) {
                         self.progressed();
                     }
                     self.reset(c.resets);
@@ -403,9 +280,9 @@ impl Run<'_, '_> {
             let g = self.guards[i];
             self.guard_values[g as usize] = self.rng.below(2) == 0;
         }
-        let reactions = self.w.moves(&[MessageKind::Uncontrollable]);
+        let reactions = self.w.plant.moves(&[MessageKind::Uncontrollable]);
         let urgent: Vec<usize> = (0..reactions.len()).filter(|&i| reactions[i].instant).collect();
-        let max = self.w.max_delay();
+        let max = self.w.plant.room();
         let chosen = if !urgent.is_empty() {
             Some(urgent[self.rng.below(urgent.len() as u64) as usize])
         } else if !reactions.is_empty() && (max == Some(0) || self.rng.below(3) == 0) {
@@ -416,7 +293,7 @@ impl Run<'_, '_> {
         match chosen {
             Some(i) => {
                 let m = &reactions[i];
-                if self.w.apply(m) {
+                if self.w.plant.apply(m) {
                     self.progressed();
                 }
                 let line = format!("{:.3}: !{}", self.w.time as f64 / TICKS as f64, self.name(m.message));
@@ -456,14 +333,7 @@ pub fn run(game: &Game, program: &Program, observable: &[bool], seed: u64, steps
     // the controller's option (5.3.4), i.e. it assumes the guard holds when the controller
     // needs it: a WAITUNTIL on a guard is therefore satisfied at once.
     let mut run = Run {
-        w: World {
-            game,
-            locs: game.components.iter().map(|a| a.initial).collect(),
-            plan_locs: game.plans.iter().map(|p| p.initial).collect(),
-            clocks: vec![0; game.dim()],
-            timers: vec![0; game.dim()],
-            time: 0,
-        },
+        w: World { plant: Plant::new(game, TICKS), timers: vec![0; game.dim()], time: 0 },
         program,
         pos: program.positions(),
         pc: 0,

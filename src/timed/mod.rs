@@ -30,6 +30,7 @@ pub mod export;
 pub mod lexer;
 pub mod model;
 pub mod parser;
+pub mod plant;
 pub mod precompute;
 pub mod scan;
 pub mod solve;

@@ -1,0 +1,1061 @@
+//! Closed-loop checking in real time: a lowered timed controller ([`Code`]) scanned with a real
+//! period against the plant automata of its [`Game`], in continuous time counted in
+//! microseconds, with a plant that picks its timings adversarially within the specification.
+//!
+//! The PLC scans at `t_k = k · scan`: it latches the input image from the plant's state, runs
+//! the code from its stored position (the [`super::model::Statement`] semantics), and writes
+//! the output image at `t_k + e_k`, the execution time `e_k` in `[0, scan)` chosen by the
+//! adversary. Outputs are physical signals: a request reaches the plant on a rising edge of its
+//! output (a pulse repeated in the next scan stays TRUE and is no second request; a latched
+//! output sends its `set` request on FALSE→TRUE and its `reset` request on TRUE→FALSE); edges
+//! of one write reach the plant in the order of the outputs (the order in which the program
+//! first drives them). Inputs are levels (docs/plc-code.md, "The I/O contract").
+//!
+//! The plant decides after every change of its state which reaction fires when: random times
+//! within guards and invariants, the earliest and latest allowed instants, 1 µs after a scan
+//! instant, 1 µs before one; it may also idle. Guard inputs are drawn anew at every move, and
+//! one that is FALSE turns TRUE within a scan period. `instant` transitions
+//! fire at once, before anything else. A run fails when an assertion is violated (checked after
+//! every plant move and every request), a plan fails (a timeout clock beyond its bound, at the
+//! microsecond), a request is refused, a request enters a guarded condition while the scan that
+//! issued it read the guard FALSE, or the plans stop progressing while the controller keeps
+//! running. The controller is a [`ScanController`]: [`Interpreter`] runs the code in Rust; a
+//! test plugs in a PLC emulator. No I/O, no clock: a run is a function of its seed.
+
+use super::lower_timed::Wiring;
+use super::model::{Code, Effect, Statement, Test};
+use super::{stl, Target};
+use crate::rng::Rng;
+use crate::timed::model::{Game, MessageKind, MessageRole, MsgId};
+use crate::timed::plant::{Move, Plant, Violation};
+use std::collections::VecDeque;
+
+/// The controller side of a run.
+pub trait ScanController {
+    /// One scan at `now_us` (microseconds since the run began) on the input image `inputs` (a
+    /// level per input of the code); returns the output image (a level per output), which the
+    /// run writes out at the end of the scan's execution time.
+    fn scan(&mut self, now_us: u64, inputs: &[bool]) -> Vec<bool>;
+
+    /// The stored program position after the last scan, for traces.
+    fn position(&self) -> Option<usize> {
+        None
+    }
+}
+
+/// The reference interpreter of a [`Code`], as the printers execute it: pulsed outputs are
+/// cleared and every timer is called with `IN := TRUE` at the start of each scan (so a timer's
+/// `ET` is measured at the scan instant, in whole milliseconds); a restart stops the timer
+/// (`IN := FALSE`: `ET` is 0 for the rest of the scan) and the next scan's call starts it
+/// again. `Target::Stl` follows `stl.rs` where it differs from the IEC targets: stored
+/// positions resolve through jumps without restarts ([`stl::resolve`]; the IEC code spends a
+/// scan on a stored backward jump) and a strict threshold waits for the next S5TIME value
+/// ([`stl::preset`]).
+pub struct Interpreter<'c> {
+    code: &'c Code,
+    stl: bool,
+    position: usize,
+    outputs: Vec<bool>,
+    /// Per timer: the scan instant its running started at (`None`: stopped).
+    started: Vec<Option<u64>>,
+    /// Per timer: `ET` in µs as of its last call.
+    elapsed: Vec<u64>,
+}
+
+impl<'c> Interpreter<'c> {
+    /// A block in its initial state (position 0, outputs FALSE, timers stopped) running the
+    /// code as `target`'s printer does.
+    pub fn new(code: &'c Code, target: Target) -> Interpreter<'c> {
+        Interpreter {
+            code,
+            stl: target == Target::Stl,
+            position: 0,
+            outputs: vec![false; code.outputs.len()],
+            started: vec![None; code.timers.len()],
+            elapsed: vec![0; code.timers.len()],
+        }
+    }
+
+    fn test(&self, test: Test, inputs: &[bool]) -> bool {
+        match test {
+            Test::Input { input, negated } => inputs[input] != negated,
+            // `ET >= T#…` (`ET > T#…` when strict) on whole milliseconds; STL's S7 timer is
+            // elapsed at its S5TIME preset.
+            Test::Elapsed { timer, ms, strict } => {
+                let et_ms = self.elapsed[timer] / 1000;
+                if self.stl {
+                    et_ms >= stl::preset(ms, strict)
+                } else if strict {
+                    et_ms > ms
+                } else {
+                    et_ms >= ms
+                }
+            }
+        }
+    }
+
+    fn restart(&mut self, step: usize) {
+        for &t in &self.code.steps[step].restarts {
+            self.started[t] = None;
+            self.elapsed[t] = 0;
+        }
+    }
+
+    /// The position stored to continue at `p` in the next scan.
+    fn store(&self, p: usize) -> usize {
+        if self.stl {
+            stl::resolve(self.code, p)
+        } else {
+            p
+        }
+    }
+}
+
+impl ScanController for Interpreter<'_> {
+    fn scan(&mut self, now_us: u64, inputs: &[bool]) -> Vec<bool> {
+        let code = self.code;
+        for (k, out) in code.outputs.iter().enumerate() {
+            if out.pulsed {
+                self.outputs[k] = false;
+            }
+        }
+        for (t, timer) in code.timers.iter().enumerate() {
+            let start = *self.started[t].get_or_insert(now_us);
+            // A TON's ET stops at PT; STL has an S7 timer per threshold, each with its own
+            // preset (the code timer's is the largest threshold, not above it).
+            let cap = if self.stl { u64::MAX } else { timer.preset_ms.saturating_mul(1000) };
+            self.elapsed[t] = (now_us - start).min(cap);
+        }
+        let mut i = self.position;
+        // Within a scan control only moves forward, so it ends within `steps.len()` steps.
+        loop {
+            if i >= code.steps.len() {
+                // Falling off the end restarts the program in the next scan.
+                self.position = 0;
+                break;
+            }
+            match code.steps[i].statement {
+                Statement::Wait { test } => {
+                    if self.test(test, inputs) {
+                        self.restart(i);
+                        i += 1;
+                    } else {
+                        self.position = i;
+                        break;
+                    }
+                }
+                Statement::Branch { test, target } => {
+                    if self.test(test, inputs) {
+                        self.restart(i);
+                        if target <= i {
+                            self.position = self.store(target);
+                            break;
+                        }
+                        i = target;
+                    } else {
+                        i += 1;
+                    }
+                }
+                // ---- Act: the one place that executes a request. ----
+                // The output is driven, the step's timers restart, and the scan ends.
+                Statement::Act { output, effect } => {
+                    self.outputs[output] = effect != Effect::Reset;
+                    self.restart(i);
+                    self.position = self.store(i + 1);
+                    break;
+                }
+                Statement::Jump { target } => {
+                    self.restart(i);
+                    if target <= i {
+                        self.position = self.store(target);
+                        break;
+                    }
+                    i = target;
+                }
+            }
+        }
+        self.outputs.clone()
+    }
+
+    fn position(&self) -> Option<usize> {
+        Some(self.position)
+    }
+}
+
+/// The choices of one run.
+#[derive(Clone, Debug)]
+pub struct Config {
+    /// The scan period, in µs.
+    pub scan_us: u64,
+    /// Scans per run.
+    pub scans: u64,
+    /// How many of the last events a report keeps.
+    pub trace_lines: usize,
+    /// No plan progress after this many requests, or this many scans with neither a request
+    /// nor a plant reaction that could still happen, is a failure ([`Failure::NoProgress`]).
+    pub patience: u64,
+}
+
+impl Default for Config {
+    fn default() -> Config {
+        Config { scan_us: 10_000, scans: 2000, trace_lines: 40, patience: 1000 }
+    }
+}
+
+/// Why a run failed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Failure {
+    Assertion {
+        text: String,
+    },
+    PlanFailed {
+        plan: String,
+    },
+    /// A request the plant could not take when it arrived.
+    RequestRefused {
+        request: String,
+        reason: String,
+    },
+    /// A request entered a guarded condition while the scan that issued it read its guard
+    /// FALSE (or the code does not read the guard).
+    GuardViolated {
+        request: String,
+        guard: String,
+    },
+    /// The plans stopped progressing while the controller kept running.
+    NoProgress {
+        reason: String,
+    },
+}
+
+/// How a run ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stop {
+    /// All scans ran.
+    Scans,
+    /// The plant could neither move nor let time pass (an invariant expired with no reaction
+    /// enabled, or instant transitions without end): the specification's tolerated timeout,
+    /// not the controller's fault.
+    Timelock,
+    Failed,
+}
+
+/// Request latencies in scans. A request's latency is the number of scans from the input
+/// change it reacted to — the last scan whose input image differed from the one before by a
+/// change a plant reaction (or guard) made; the feedback of the controller's own requests does
+/// not count — to the scan that issued it. Per plan cycle (from one plan progress to the next)
+/// the latencies add up, a chain of requests reacting to the same change counting once, by its
+/// last request: the scans the cycle waited for the controller.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Latency {
+    pub requests: u64,
+    pub sum: u64,
+    pub max: u64,
+    /// Plan cycles closed, and the summed and the largest latency one of them added.
+    pub cycles: u64,
+    pub cycle_sum: u64,
+    pub cycle_max: u64,
+}
+
+impl Latency {
+    /// Mean scans per request.
+    pub fn mean(&self) -> f64 {
+        self.sum as f64 / self.requests.max(1) as f64
+    }
+
+    /// Mean scans of request latency per plan cycle.
+    pub fn cycle_mean(&self) -> f64 {
+        self.cycle_sum as f64 / self.cycles.max(1) as f64
+    }
+
+    /// Adds another run's figures.
+    pub fn merge(&mut self, other: &Latency) {
+        self.requests += other.requests;
+        self.sum += other.sum;
+        self.max = self.max.max(other.max);
+        self.cycles += other.cycles;
+        self.cycle_sum += other.cycle_sum;
+        self.cycle_max = self.cycle_max.max(other.cycle_max);
+    }
+}
+
+/// What one run did.
+#[derive(Clone, Debug)]
+pub struct RunReport {
+    pub seed: u64,
+    pub stop: Stop,
+    pub failure: Option<Failure>,
+    /// Where the run ended (at the failure, if any), in µs.
+    pub time_us: u64,
+    pub scans: u64,
+    pub requests: u64,
+    pub reactions: u64,
+    /// Plan progress events (plan cycles).
+    pub progress: u64,
+    pub latency: Latency,
+    /// Scans that pulsed an output already TRUE from the scan before: the signal stays TRUE,
+    /// so the plant sees one request where the code made two.
+    pub repeated_pulses: u64,
+    /// A legend (the inputs' and outputs' names, the plant's manner in this run), then the last
+    /// events: time in ms, the event, the inputs' levels and the outputs.
+    pub trace: Vec<String>,
+}
+
+/// How each input's level follows the plant (docs/plc-code.md, "The I/O contract").
+///
+/// A reaction *holds* from its occurrence until its sender next takes part in a transition that
+/// is not `instant` (a sensor of the state reached: an instant transition leaves no time to see
+/// the location it leaves), and initially when an edge carrying it enters its sender's initial
+/// location. A guard holds while the environment says so. An input whose messages are bound
+/// with both polarities is a latch: a `Level` message sets it TRUE when it occurs, a `not`
+/// message sets it FALSE; initially it is TRUE when one of its `Level` messages holds. Any
+/// other input is TRUE while one of its messages holds, or, bound only with `not`, FALSE while
+/// one holds.
+struct Inputs {
+    /// Per input: its messages and polarities.
+    messages: Vec<Vec<(MsgId, bool)>>,
+    /// Per input: the latch's value, for latches.
+    latch: Vec<Option<bool>>,
+    /// Per message: whether it holds.
+    holds: Vec<bool>,
+}
+
+impl Inputs {
+    fn new(game: &Game, wiring: &Wiring) -> Inputs {
+        let holds: Vec<bool> = (0..game.messages.len())
+            .map(|m| match game.messages[m].sender {
+                Some(s) if game.messages[m].role == MessageRole::Reaction => {
+                    let a = &game.components[s as usize];
+                    a.edges
+                        .iter()
+                        .any(|e| e.message as usize == m && e.kind != MessageKind::Synchronised && e.to == a.initial)
+                }
+                _ => false,
+            })
+            .collect();
+        let latch = wiring
+            .inputs
+            .iter()
+            .map(|ms| {
+                let both = ms.iter().any(|&(_, n)| n) && ms.iter().any(|&(_, n)| !n);
+                both.then(|| ms.iter().any(|&(m, n)| !n && holds[m as usize]))
+            })
+            .collect();
+        Inputs { messages: wiring.inputs.clone(), latch, holds }
+    }
+
+    fn level(&self, input: usize) -> bool {
+        match self.latch[input] {
+            Some(v) => v,
+            None => {
+                let ms = &self.messages[input];
+                let any = ms.iter().any(|&(m, _)| self.holds[m as usize]);
+                if ms.iter().all(|&(_, n)| n) {
+                    !any
+                } else {
+                    any
+                }
+            }
+        }
+    }
+
+    fn image(&self) -> Vec<bool> {
+        (0..self.messages.len()).map(|i| self.level(i)).collect()
+    }
+
+    /// A plant move happened: its participants' reactions stop holding unless it is instant,
+    /// its message holds and sets or clears its latches.
+    fn moved(&mut self, game: &Game, m: &Move) {
+        if !m.instant {
+            for &(u, _) in &m.parts {
+                for (k, msg) in game.messages.iter().enumerate() {
+                    if msg.sender == Some(u as u32) && msg.role == MessageRole::Reaction {
+                        self.holds[k] = false;
+                    }
+                }
+            }
+        }
+        if game.messages[m.message as usize].role == MessageRole::Reaction {
+            self.holds[m.message as usize] = true;
+        }
+        for (i, ms) in self.messages.iter().enumerate() {
+            if let (Some(v), Some(&(_, negated))) = (&mut self.latch[i], ms.iter().find(|&&(k, _)| k == m.message)) {
+                *v = !negated;
+            }
+        }
+    }
+}
+
+/// When the plant lets a reaction fire within its window.
+#[derive(Clone, Copy, Debug)]
+enum Timing {
+    Uniform,
+    Earliest,
+    Latest,
+    AfterScan,
+    BeforeScan,
+}
+
+const TIMINGS: [Timing; 5] = [Timing::Uniform, Timing::Earliest, Timing::Latest, Timing::AfterScan, Timing::BeforeScan];
+
+/// How long a scan's execution takes.
+#[derive(Clone, Copy, Debug)]
+enum Execution {
+    Random,
+    Zero,
+    /// 1 µs below the scan period.
+    Longest,
+    /// One of the three, anew each scan.
+    Mixed,
+}
+
+/// What the plant has decided to do next.
+#[derive(Clone, Debug)]
+enum Next {
+    React(Move),
+    /// The environment sets guard message `m` to the value.
+    Guard(MsgId, bool),
+    /// Nothing until then; decide again.
+    Idle,
+    /// The invariants expire with no reaction enabled.
+    Timelock,
+}
+
+struct Write {
+    at: i64,
+    outputs: Vec<bool>,
+    image: Vec<bool>,
+    scan: u64,
+}
+
+struct Run<'a> {
+    game: &'a Game,
+    code: &'a Code,
+    wiring: &'a Wiring,
+    config: &'a Config,
+    plant: Plant<'a>,
+    inputs: Inputs,
+    guards: Vec<MsgId>,
+    rng: Rng,
+    /// Per timing strategy: its weight in this run.
+    timing: [u64; 5],
+    execution: Execution,
+    /// Longest idle time and stretch of an unbounded window, in µs.
+    horizon: i64,
+    now: i64,
+    scan: i64,
+    next_scan: i64,
+    physical: Vec<bool>,
+    write: Option<Write>,
+    decided: Option<(i64, Next)>,
+    /// Whether some reaction may still happen in the current state (set when deciding).
+    plant_can_react: bool,
+    last_image: Option<Vec<bool>>,
+    /// The last scan whose image differed from the one before by a change a reaction made.
+    last_change: u64,
+    /// Some reaction changed an input's level since the last scan.
+    reacted: bool,
+    /// The trigger (`last_change`) and latency of the last request, and the latency the
+    /// current plan cycle has added so far.
+    episode: Option<(u64, u64)>,
+    cycle_latency: u64,
+    requests_since_progress: u64,
+    stalled_scans: u64,
+    trace: VecDeque<String>,
+    /// The first line of every trace: the names behind the bits of the trace's lines.
+    legend: String,
+    report: RunReport,
+}
+
+/// Runs `controller`, whose code is `code` wired to `game` by `wiring`, against the plant of
+/// `game` for `config.scans` scans of `config.scan_us`; `seed` decides every choice of the
+/// plant.
+pub fn run(
+    game: &Game,
+    code: &Code,
+    wiring: &Wiring,
+    controller: &mut dyn ScanController,
+    config: &Config,
+    seed: u64,
+) -> RunReport {
+    let unit_us = i64::try_from(game.timeunit_ms.saturating_mul(1000)).unwrap_or(i64::MAX);
+    let scan = i64::try_from(config.scan_us.max(1)).unwrap_or(i64::MAX);
+    let mut rng = Rng::new(seed);
+    // This run's manner: even timings, or one that dominates; one kind of execution time.
+    let mut timing = [1u64; 5];
+    if rng.chance(60) {
+        timing[rng.below(5) as usize] = 12;
+    }
+    let execution = [Execution::Random, Execution::Zero, Execution::Longest, Execution::Mixed][rng.below(4) as usize];
+    let guards: Vec<MsgId> =
+        (0..game.messages.len() as MsgId).filter(|&m| game.messages[m as usize].role == MessageRole::Guard).collect();
+    let mut run = Run {
+        game,
+        code,
+        wiring,
+        config,
+        plant: Plant::new(game, unit_us),
+        inputs: Inputs::new(game, wiring),
+        guards,
+        rng,
+        timing,
+        execution,
+        horizon: unit_us.saturating_mul(2).max(scan.saturating_mul(10)),
+        now: 0,
+        scan,
+        next_scan: 0,
+        physical: vec![false; code.outputs.len()],
+        write: None,
+        decided: None,
+        plant_can_react: true,
+        last_image: None,
+        last_change: 0,
+        reacted: true,
+        episode: None,
+        cycle_latency: 0,
+        requests_since_progress: 0,
+        stalled_scans: 0,
+        trace: VecDeque::new(),
+        legend: format!(
+            "inputs {}; outputs {}",
+            code.inputs.iter().map(|v| v.symbol.as_str()).collect::<Vec<_>>().join(" "),
+            code.outputs.iter().map(|o| o.variable.symbol.as_str()).collect::<Vec<_>>().join(" ")
+        ),
+        report: RunReport {
+            seed,
+            stop: Stop::Scans,
+            failure: None,
+            time_us: 0,
+            scans: 0,
+            requests: 0,
+            reactions: 0,
+            progress: 0,
+            latency: Latency::default(),
+            repeated_pulses: 0,
+            trace: Vec::new(),
+        },
+    };
+    for i in 0..run.guards.len() {
+        let g = run.guards[i];
+        run.inputs.holds[g as usize] = run.rng.chance(50);
+    }
+    run.legend += &format!(
+        "; timing weights {:?} (uniform, earliest, latest, after a scan, before a scan); execution {:?}",
+        run.timing, run.execution
+    );
+    let stop = run.go(controller);
+    run.report.stop = stop;
+    run.report.time_us = run.now as u64;
+    run.report.trace = std::iter::once(run.legend).chain(run.trace).collect();
+    run.report
+}
+
+impl Run<'_> {
+    fn name(&self, m: MsgId) -> &str {
+        &self.game.messages[m as usize].name
+    }
+
+    fn bits(v: &[bool]) -> String {
+        v.iter().map(|&b| if b { '1' } else { '0' }).collect()
+    }
+
+    /// Adds a trace line: the time in ms, the event, the inputs' levels and the outputs.
+    fn note(&mut self, event: String) {
+        if self.config.trace_lines == 0 {
+            return;
+        }
+        let line = format!(
+            "{:>12.3} ms  {event}   [in {} out {}]",
+            self.now as f64 / 1000.0,
+            Self::bits(&self.inputs.image()),
+            Self::bits(&self.physical)
+        );
+        if self.trace.len() == self.config.trace_lines {
+            self.trace.pop_front();
+        }
+        self.trace.push_back(line);
+    }
+
+    fn describe(&self, m: &Move) -> String {
+        let parts: Vec<String> = m
+            .parts
+            .iter()
+            .map(|&(u, ei)| {
+                let a = &self.game.components[u];
+                let e = &a.edges[ei];
+                format!("{} {} -> {}", a.name, a.locations[e.from as usize].name, a.locations[e.to as usize].name)
+            })
+            .collect();
+        format!(
+            "{}{} ({})",
+            self.game.messages[m.message as usize].name,
+            if m.instant { " instant" } else { "" },
+            parts.join(", ")
+        )
+    }
+
+    fn fail(&mut self, failure: Failure) -> Stop {
+        self.note(format!("FAILURE: {failure:?}"));
+        self.report.failure = Some(failure);
+        Stop::Failed
+    }
+
+    fn violated(&mut self) -> Option<Stop> {
+        let failure = match self.plant.violation()? {
+            Violation::Assertion(k) => Failure::Assertion { text: self.game.assertions[k].text.clone() },
+            Violation::Plan(k) => Failure::PlanFailed { plan: self.game.plans[k].name.clone() },
+        };
+        Some(self.fail(failure))
+    }
+
+    /// Applies a plant move (a reaction or a request) and what follows at once: the inputs, the
+    /// plans, the instant transitions it enables; then checks the state.
+    fn apply(&mut self, m: &Move, what: String) -> Option<Stop> {
+        let before = self.inputs.image();
+        if self.plant.apply(m) {
+            self.progressed();
+        }
+        self.inputs.moved(self.game, m);
+        self.decided = None;
+        self.stalled_scans = 0;
+        self.note(what);
+        // Guard inputs are drawn anew at every plant move and request.
+        for i in 0..self.guards.len() {
+            let g = self.guards[i];
+            self.inputs.holds[g as usize] = self.rng.chance(50);
+        }
+        let request = self.game.messages[m.message as usize].role == MessageRole::Request;
+        self.reacted |= !request && self.inputs.image() != before;
+        self.violated().or_else(|| self.settle())
+    }
+
+    /// Fires the instant transitions enabled now, one after the other (checking the state after
+    /// each), until none is.
+    fn settle(&mut self) -> Option<Stop> {
+        for _ in 0..10_000 {
+            let instants: Vec<Move> =
+                self.plant.moves(&[MessageKind::Uncontrollable]).into_iter().filter(|m| m.instant).collect();
+            if instants.is_empty() {
+                return None;
+            }
+            let m = instants[self.rng.below(instants.len() as u64) as usize].clone();
+            let before = self.inputs.image();
+            if self.plant.apply(&m) {
+                self.progressed();
+            }
+            self.inputs.moved(self.game, &m);
+            self.reacted |= self.inputs.image() != before;
+            self.decided = None;
+            self.report.reactions += 1;
+            let line = format!("!{}", self.describe(&m));
+            self.note(line);
+            if let Some(stop) = self.violated() {
+                return Some(stop);
+            }
+        }
+        self.note("instant transitions without end".into());
+        Some(Stop::Timelock)
+    }
+
+    fn progressed(&mut self) {
+        self.report.progress += 1;
+        self.requests_since_progress = 0;
+        let l = &mut self.report.latency;
+        l.cycles += 1;
+        l.cycle_sum += self.cycle_latency;
+        l.cycle_max = l.cycle_max.max(self.cycle_latency);
+        self.cycle_latency = 0;
+    }
+
+    /// A delay within `lo..=hi` (from now) by this run's timing strategies.
+    fn pick_time(&mut self, lo: i64, hi: Option<i64>) -> i64 {
+        let hi = hi.unwrap_or(lo.saturating_add(self.horizon));
+        let total: u64 = self.timing.iter().sum();
+        let mut r = self.rng.below(total);
+        let mut timing = Timing::Uniform;
+        for (k, &w) in self.timing.iter().enumerate() {
+            if r < w {
+                timing = TIMINGS[k];
+                break;
+            }
+            r -= w;
+        }
+        let uniform = |rng: &mut Rng| lo + rng.below((hi - lo + 1) as u64) as i64;
+        // The scan instants after the window opens, shifted by `offset`: one of the first three.
+        let near_scan = |rng: &mut Rng, offset: i64| -> Option<i64> {
+            let from = self.now + lo - offset;
+            let first = from.div_euclid(self.scan) + i64::from(from.rem_euclid(self.scan) != 0);
+            let d = (first + rng.below(3) as i64) * self.scan + offset - self.now;
+            (lo..=hi).contains(&d).then_some(d)
+        };
+        match timing {
+            Timing::Uniform => uniform(&mut self.rng),
+            Timing::Earliest => lo,
+            Timing::Latest => hi,
+            Timing::AfterScan => near_scan(&mut self.rng, 1).unwrap_or_else(|| uniform(&mut self.rng)),
+            Timing::BeforeScan => near_scan(&mut self.rng, -1).unwrap_or_else(|| uniform(&mut self.rng)),
+        }
+    }
+
+    /// The plant decides its next event in the current state.
+    fn decide(&mut self) {
+        let room = self.plant.room();
+        let mut reactions = Vec::new();
+        let mut instant: Option<(i64, Vec<Move>)> = None;
+        for m in self.plant.candidates(&[MessageKind::Uncontrollable]) {
+            let Some((lo, hi)) = self.plant.window(&m) else { continue };
+            if m.instant {
+                match &mut instant {
+                    Some((at, ms)) if *at == lo => ms.push(m),
+                    Some((at, _)) if *at < lo => {}
+                    _ => instant = Some((lo, vec![m])),
+                }
+            } else {
+                reactions.push((m, lo, hi));
+            }
+        }
+        self.plant_can_react = !reactions.is_empty() || instant.is_some();
+        // Options: each reaction, and idling while no invariant presses.
+        let idle = room.is_none();
+        let total = reactions.len() as u64 + u64::from(idle);
+        let mut choice = if total == 0 {
+            room.map(|r| (r, Next::Timelock))
+        } else {
+            let r = self.rng.below(total) as usize;
+            if r < reactions.len() {
+                let (m, lo, hi) = reactions.swap_remove(r);
+                Some((self.pick_time(lo, hi), Next::React(m)))
+            } else {
+                Some((self.pick_time(1, Some(self.horizon.max(1))), Next::Idle))
+            }
+        };
+        // A guard that is FALSE turns TRUE within a scan period (the game assumes a guard holds
+        // when the controller needs it), unless the plant moves first.
+        let low: Vec<MsgId> = self.guards.iter().copied().filter(|&g| !self.inputs.holds[g as usize]).collect();
+        if !low.is_empty() {
+            let g = low[self.rng.below(low.len() as u64) as usize];
+            let d = self.pick_time(1, Some(self.scan));
+            if choice.as_ref().is_none_or(|&(at, _)| d < at) {
+                choice = Some((d, Next::Guard(g, true)));
+            }
+        }
+        if let Some((at, ms)) = instant {
+            if choice.as_ref().is_none_or(|&(d, _)| d >= at) {
+                let m = ms[self.rng.below(ms.len() as u64) as usize].clone();
+                choice = Some((at, Next::React(m)));
+            }
+        }
+        self.decided = choice.map(|(d, p)| (self.now + d, p));
+    }
+
+    fn go(&mut self, controller: &mut dyn ScanController) -> Stop {
+        // Instant transitions enabled initially fire before the first scan.
+        if let Some(stop) = self.violated().or_else(|| self.settle()) {
+            return stop;
+        }
+        loop {
+            if self.report.scans >= self.config.scans && self.write.is_none() {
+                return Stop::Scans;
+            }
+            if self.decided.is_none() {
+                self.decide();
+            }
+            let t_controller = self.write.as_ref().map_or(self.next_scan, |w| w.at);
+            let t_plant = self.decided.as_ref().map(|&(t, _)| t);
+            let t_deadline = self.plant.plan_deadline().map(|d| self.now + d);
+            let t = [Some(t_controller), t_plant, t_deadline].into_iter().flatten().min().unwrap_or(t_controller);
+            self.plant.delay(t - self.now);
+            self.now = t;
+            if let Some(stop) = self.violated() {
+                return stop;
+            }
+            if t_plant == Some(t) {
+                if let Some(stop) = self.plant_event() {
+                    return stop;
+                }
+            } else if t_controller == t {
+                let stop = match self.write.take() {
+                    Some(w) => self.output(w),
+                    None => self.scan(controller),
+                };
+                if let Some(stop) = stop {
+                    return stop;
+                }
+            }
+        }
+    }
+
+    fn plant_event(&mut self) -> Option<Stop> {
+        let (_, plan) = self.decided.take()?;
+        match plan {
+            Next::React(m) => {
+                // The window was computed on this very state, so the move is enabled.
+                debug_assert!(self.plant.enabled(&m), "{} not enabled at its chosen time", self.describe(&m));
+                if !self.plant.enabled(&m) {
+                    return None;
+                }
+                self.report.reactions += 1;
+                let line = format!("!{}", self.describe(&m));
+                self.apply(&m, line)
+            }
+            Next::Guard(g, value) => {
+                let before = self.inputs.image();
+                self.inputs.holds[g as usize] = value;
+                self.reacted |= self.inputs.image() != before;
+                let line = format!("guard {} := {}", self.name(g), u8::from(value));
+                self.note(line);
+                None
+            }
+            Next::Idle => None,
+            Next::Timelock => {
+                self.note("the plant can neither move nor wait (an invariant expires)".into());
+                Some(Stop::Timelock)
+            }
+        }
+    }
+
+    /// A scan instant: latch the inputs, run the controller, schedule the output write.
+    fn scan(&mut self, controller: &mut dyn ScanController) -> Option<Stop> {
+        let k = self.report.scans;
+        let image = self.inputs.image();
+        let changed = self.last_image.as_ref() != Some(&image);
+        if changed && self.reacted {
+            self.last_change = k;
+        }
+        self.reacted = false;
+        let outputs = controller.scan(self.now as u64, &image);
+        assert_eq!(outputs.len(), self.code.outputs.len(), "the controller writes one level per output");
+        let execution = match self.execution {
+            Execution::Mixed => [Execution::Random, Execution::Zero, Execution::Longest][self.rng.below(3) as usize],
+            e => e,
+        };
+        let e = match execution {
+            Execution::Zero => 0,
+            Execution::Longest => self.scan - 1,
+            _ => self.rng.below(self.scan as u64) as i64,
+        };
+        if changed || outputs != self.physical {
+            let at = controller.position().map_or(String::new(), |p| format!(" -> step {p}"));
+            self.note(format!("scan {k}: read {}{at}, writes {} at +{e} us", Self::bits(&image), Self::bits(&outputs)));
+        }
+        self.last_image = Some(image.clone());
+        self.write = Some(Write { at: self.now + e, outputs, image, scan: k });
+        self.report.scans += 1;
+        self.next_scan += self.scan;
+        if !self.plant_can_react {
+            self.stalled_scans += 1;
+            if self.stalled_scans >= self.config.patience {
+                let reason =
+                    format!("{} scans without a request while the plant can do nothing by itself", self.stalled_scans);
+                return Some(self.fail(Failure::NoProgress { reason }));
+            }
+        }
+        None
+    }
+
+    /// The end of a scan's execution: the output image is written; edges send requests.
+    fn output(&mut self, w: Write) -> Option<Stop> {
+        for k in 0..w.outputs.len() {
+            if w.outputs[k] == self.physical[k] {
+                if w.outputs[k] && self.code.outputs[k].pulsed {
+                    self.report.repeated_pulses += 1;
+                    let line = format!(
+                        "{} pulsed again in scan {}: no rising edge, no request",
+                        self.code.outputs[k].variable.symbol, w.scan
+                    );
+                    self.note(line);
+                }
+                continue;
+            }
+            self.physical[k] = w.outputs[k];
+            let rising = w.outputs[k];
+            let requests: Vec<MsgId> = self.wiring.outputs[k]
+                .iter()
+                .filter(|&&(_, e)| (e == Effect::Reset) != rising)
+                .map(|&(m, _)| m)
+                .collect();
+            let Some(&first) = requests.first() else { continue };
+            let moves: Vec<Move> = self
+                .plant
+                .moves(&[MessageKind::Controllable])
+                .into_iter()
+                .filter(|m| requests.contains(&m.message))
+                .collect();
+            if moves.is_empty() {
+                let reason = self.refusal(first);
+                let request = self.name(first).to_string();
+                return Some(self.fail(Failure::RequestRefused { request, reason }));
+            }
+            let m = moves[self.rng.below(moves.len() as u64) as usize].clone();
+            // Guards apply to requests that enter a guarded condition (4.2.1).
+            let before = self.plant.locs.clone();
+            let mut after = before.clone();
+            for &(u, ei) in &m.parts {
+                after[u] = self.game.components[u].edges[ei].to;
+            }
+            for rule in &self.game.guards {
+                if rule.cond.eval(&before) || !rule.cond.eval(&after) {
+                    continue;
+                }
+                let read = self
+                    .wiring
+                    .inputs
+                    .iter()
+                    .zip(&w.image)
+                    .any(|(ms, &level)| ms.iter().any(|&(g, negated)| g == rule.message && level != negated));
+                if !read {
+                    let (request, guard) = (self.name(m.message).to_string(), self.name(rule.message).to_string());
+                    return Some(self.fail(Failure::GuardViolated { request, guard }));
+                }
+            }
+            let latency = w.scan - self.last_change;
+            let l = &mut self.report.latency;
+            l.requests += 1;
+            l.sum += latency;
+            l.max = l.max.max(latency);
+            // A chain of requests reacting to one change adds its last request's latency.
+            self.cycle_latency += match self.episode {
+                Some((trigger, before)) if trigger == self.last_change => latency.saturating_sub(before),
+                _ => latency,
+            };
+            self.episode = Some((self.last_change, latency));
+            self.report.requests += 1;
+            self.requests_since_progress += 1;
+            let line = format!("?{} from scan {} (latency {latency})", self.describe(&m), w.scan);
+            if let Some(stop) = self.apply(&m, line) {
+                return Some(stop);
+            }
+            if self.requests_since_progress > self.config.patience {
+                let reason = format!("{} requests since the last plan progress", self.requests_since_progress);
+                return Some(self.fail(Failure::NoProgress { reason }));
+            }
+        }
+        None
+    }
+
+    /// Why request `m` cannot be taken now.
+    fn refusal(&self, m: MsgId) -> String {
+        let game = self.game;
+        let Some(s) = game.messages[m as usize].sender else { return "it has no sender".into() };
+        let a = &game.components[s as usize];
+        let here = &a.locations[self.plant.locs[s as usize] as usize].name;
+        let candidates: Vec<Move> =
+            self.plant.candidates(&[MessageKind::Controllable]).into_iter().filter(|c| c.message == m).collect();
+        if !a.edges.iter().any(|e| e.message == m && e.from == self.plant.locs[s as usize]) {
+            return format!("{} has no ?{} in {here}", a.name, self.name(m));
+        }
+        if candidates.is_empty() {
+            let missing: Vec<String> = game.messages[m as usize]
+                .synchronised
+                .iter()
+                .map(|&o| (&game.components[o as usize], self.plant.locs[o as usize]))
+                .filter(|(b, at)| !b.edges.iter().any(|e| e.message == m && e.from == *at))
+                .map(|(b, at)| format!("{} has no ${} in {}", b.name, self.name(m), b.locations[at as usize].name))
+                .collect();
+            return missing.join("; ");
+        }
+        let c = &candidates[0];
+        for &(u, ei) in &c.parts {
+            let e = &game.components[u].edges[ei];
+            for ci in &e.guard {
+                let v = self.plant.clocks[ci.clock as usize];
+                if !self.plant.holds(&ci.interval, v) {
+                    return format!(
+                        "guard {} in {} of {} is false ({} = {:.3} units)",
+                        game.clocks[ci.clock as usize].name,
+                        ci.interval,
+                        game.components[u].name,
+                        game.clocks[ci.clock as usize].name,
+                        v as f64 / self.plant.ticks as f64
+                    );
+                }
+            }
+        }
+        "a target's invariant would not hold".into()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plc::model::{Output, Step, Timer, Variable};
+
+    fn variable(symbol: &str) -> Variable {
+        Variable { symbol: symbol.into(), binding: None, comment: String::new(), span: None }
+    }
+
+    fn step(statement: Statement, restarts: Vec<usize>) -> Step {
+        Step { statement, restarts, comment: String::new() }
+    }
+
+    /// `0: WAIT t >= 30 ms; 1: DO go (restart t); 2: GOTO 0` with one input and a pulsed output.
+    fn code() -> Code {
+        Code {
+            name: "c".into(),
+            program: "c_main".into(),
+            instance: "ctrl".into(),
+            gvl: "GVL_IO".into(),
+            header: Vec::new(),
+            inputs: vec![variable("x")],
+            outputs: vec![Output { variable: variable("go"), pulsed: true }],
+            timers: vec![Timer { symbol: "t_x".into(), comment: String::new(), preset_ms: 40 }],
+            steps: vec![
+                step(Statement::Wait { test: Test::Elapsed { timer: 0, ms: 30, strict: false } }, vec![]),
+                step(Statement::Act { output: 0, effect: Effect::Pulse }, vec![0]),
+                step(Statement::Jump { target: 0 }, vec![]),
+            ],
+        }
+    }
+
+    fn outputs(target: Target, scans: u64) -> Vec<bool> {
+        let code = code();
+        let mut i = Interpreter::new(&code, target);
+        (0..scans).map(|k| i.scan(k * 10_000, &[false])[0]).collect()
+    }
+
+    #[test]
+    fn a_timer_restarted_by_a_request_starts_with_the_next_scan() {
+        // STL: started at scan 0, elapsed at scan 3 (30 ms); restarted there, running from scan
+        // 4, elapsed at scan 7; the position after the request resolves through the jump.
+        let stl = outputs(Target::Stl, 12);
+        assert_eq!(stl.iter().positions(), vec![3, 7, 11]);
+        // ST stores the jump and spends scan 4 on it: the same timer, the same requests.
+        assert_eq!(outputs(Target::St, 12).iter().positions(), vec![3, 7, 11]);
+    }
+
+    #[test]
+    fn a_stored_backward_jump_costs_the_iec_code_a_scan() {
+        // Waiting for nothing, STL pulses in every scan (one long TRUE: a single request for
+        // the plant), ST in every other one, spending a scan on `GOTO 0`.
+        let mut c = code();
+        c.steps[0].statement = Statement::Wait { test: Test::Input { input: 0, negated: true } };
+        let run = |target| {
+            let mut i = Interpreter::new(&c, target);
+            (0..6u64).map(|k| i.scan(k * 10_000, &[false])[0]).collect::<Vec<_>>().iter().positions()
+        };
+        assert_eq!(run(Target::Stl), vec![0, 1, 2, 3, 4, 5]);
+        assert_eq!(run(Target::St), vec![0, 2, 4]);
+    }
+
+    #[test]
+    fn stl_waits_for_a_strict_threshold_beyond_the_code_timers_preset() {
+        // STL's code timer carries the largest threshold as its preset (30 ms); its S7 timer
+        // for `> 30 ms` is preset to 40 ms, the next S5TIME value, and must still elapse.
+        let mut c = code();
+        c.timers[0].preset_ms = 30;
+        c.steps[0].statement = Statement::Wait { test: Test::Elapsed { timer: 0, ms: 30, strict: true } };
+        let mut i = Interpreter::new(&c, Target::Stl);
+        let requests = (0..10u64).map(|k| i.scan(k * 10_000, &[false])[0]).collect::<Vec<_>>();
+        assert_eq!(requests.iter().positions(), vec![4, 9]);
+    }
+
+    trait Positions {
+        fn positions(self) -> Vec<usize>;
+    }
+
+    impl<'a, I: Iterator<Item = &'a bool>> Positions for I {
+        fn positions(self) -> Vec<usize> {
+            self.enumerate().filter(|(_, &b)| b).map(|(k, _)| k).collect()
+        }
+    }
+}
