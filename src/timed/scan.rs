@@ -16,7 +16,10 @@
 //!   and the decision. One request per scan, as the generated code issues them;
 //! - `out_r -!r-> scheduled` at any `scan ∈ [0,T]`, chosen by the plant: the output takes effect
 //!   at some moment of the scan. The plant's own `?r` transitions become `$r`, taken with it;
-//! - `scheduled -!scan-> read` at `scan = T`, resetting `scan`: the next scan reads;
+//! - `scheduled -!scan-> read` at `scan = T`, resetting `scan`: the next scan reads. After a
+//!   pulsed request `r` (an output TRUE for one scan, the default) the next read is
+//!   `read_after_r`, which may not commit `r` again: pulsed in two scans in a row, the output
+//!   would stay TRUE and the plant see one request. Idle there, it reads again a scan later;
 //! - a scan that changed nothing leaves the PLC `quiet` (its clock unused): until something
 //!   changes, every further scan reads the same inputs and timers and decides the same. A
 //!   change is a plant reaction (the automaton takes `$m` with every reaction `m`) or time
@@ -230,11 +233,44 @@ pub fn scan_game(game: &Game, scan_ms: u64) -> Result<Game, ScanError> {
         edge(armed, read, MessageKind::Uncontrollable, tick, within(0, period), vec![clock], false),
         edge(scheduled, read, MessageKind::Uncontrollable, tick, within(period, period), vec![clock], false),
     ];
-    for (&r, &commit) in requests.iter().zip(&commit_msgs) {
+    // A pulsed output is TRUE for the scan of its request; pulsed again in the next scan it
+    // stays TRUE, and the plant sees one rising edge for two requests. So after a scan that
+    // pulsed `r`, the next read (`read_after_r`) may not commit `r`: one scan must leave it FALSE.
+    let pulsed = |r: MsgId| !game.io.iter().any(|b| b.message == r && matches!(b.mode, IoMode::Set | IoMode::Reset));
+    let mut reads = vec![(read, None)];
+    let mut after: Vec<Option<(LocId, LocId)>> = vec![None; requests.len()];
+    for (k, &r) in requests.iter().enumerate() {
+        if pulsed(r) {
+            let name = &game.messages[r as usize].name;
+            let read_after = locations.len() as LocId;
+            locations.push(location(&format!("read_after_{name}"), within(0, 0)));
+            let scheduled_after = locations.len() as LocId;
+            locations.push(location(&format!("scheduled_after_{name}"), within(0, period)));
+            // Idle there, the PLC reads again a scan later, where `r` is allowed again.
+            edges.push(edge(read_after, scheduled, MessageKind::Controllable, idle_msg, Vec::new(), Vec::new(), true));
+            edges.push(edge(
+                scheduled_after,
+                read_after,
+                MessageKind::Uncontrollable,
+                tick,
+                within(period, period),
+                vec![clock],
+                false,
+            ));
+            reads.push((read_after, Some(r)));
+            after[k] = Some((read_after, scheduled_after));
+        }
+    }
+    for (k, (&r, &commit)) in requests.iter().zip(&commit_msgs).enumerate() {
         let out_r = locations.len() as LocId;
         locations.push(location(&format!("out_{}", game.messages[r as usize].name), within(0, period)));
-        edges.push(edge(read, out_r, MessageKind::Controllable, commit, Vec::new(), Vec::new(), true));
-        edges.push(edge(out_r, scheduled, MessageKind::Uncontrollable, r, within(0, period), Vec::new(), false));
+        for &(from, barred) in &reads {
+            if barred != Some(r) {
+                edges.push(edge(from, out_r, MessageKind::Controllable, commit, Vec::new(), Vec::new(), true));
+            }
+        }
+        let next = after[k].map_or(scheduled, |(_, scheduled_after)| scheduled_after);
+        edges.push(edge(out_r, next, MessageKind::Uncontrollable, r, within(0, period), Vec::new(), false));
     }
     for &m in &reactions {
         for l in 0..locations.len() as LocId {
