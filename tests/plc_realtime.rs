@@ -4,8 +4,8 @@
 //! a scan, random execution times). Some examples are known not to be implementable at 10 ms
 //! ([`FAILS_AT_10_MS`], with the reason); the checker must find their failure on a fixed set of
 //! seeds, and every other example must hold on every run. Mutants (a request removed, an
-//! output flipped, a guard not checked, a timer threshold lowered, a pulse repeated) must be
-//! caught. The same plant also drives the
+//! output flipped, a guard not checked, a timer threshold lowered, a pulse repeated in the next
+//! scan) must be caught, and no example may repeat a pulse. The same plant also drives the
 //! STL in awlsim (`tests/checkers/scan_loop.py`, one process per example on a virtual clock),
 //! whose outputs must equal the Rust interpreter's scan by scan and give the same verdicts.
 
@@ -27,8 +27,9 @@ const SCAN_US: u64 = 10_000;
 
 /// The realizable examples whose code fails at a 10 ms scan today, why, and the failure the
 /// checker must find. The lamp and two_robots_14 are not implementable at 10 ms
-/// (`tests/timed_scan.rs`); the round tables are, with a scan between two pulses of `cycle`,
-/// which the generated code does not keep yet.
+/// (`tests/timed_scan.rs`). The round tables are, with a scan between two pulses of `cycle`
+/// (the table may end a cycle before the next scan), which the code keeps: a pulse of an output
+/// pulsed in the previous scan waits a scan (`Output::last`).
 const FAILS_AT_10_MS: &[Known] = &[
     Known {
         name: "lamp",
@@ -42,14 +43,6 @@ const FAILS_AT_10_MS: &[Known] = &[
          starts a scan late, so b_delivered comes 30-40 ms after the deadline",
         failure: |f| matches!(f, Failure::PlanFailed { .. }),
     },
-    Known { name: "round_table_1", why: ROUND_TABLE, failure: lost_pulse },
-    Known { name: "round_table_2", why: ROUND_TABLE, failure: lost_pulse },
-    Known { name: "round_table_3", why: ROUND_TABLE, failure: lost_pulse },
-    Known { name: "round_table_4", why: ROUND_TABLE, failure: lost_pulse },
-    Known { name: "round_table_5", why: ROUND_TABLE, failure: lost_pulse },
-    Known { name: "round_table_6", why: ROUND_TABLE, failure: lost_pulse },
-    Known { name: "round_table_7", why: ROUND_TABLE, failure: lost_pulse },
-    Known { name: "round_table_8", why: ROUND_TABLE, failure: lost_pulse },
 ];
 
 /// A realizable example known to fail at a 10 ms scan.
@@ -58,15 +51,6 @@ struct Known {
     why: &'static str,
     /// Whether a failure is the one the reason explains.
     failure: fn(&Failure) -> bool,
-}
-
-const ROUND_TABLE: &str = "`cycle_end` has no time bound: when the table ends a cycle before the next scan, \
-     the program's next `DO (cycle)` pulses `cycle` in the very next scan, the output stays TRUE and the \
-     table gets one request where the program counts two (a classification or unloading then happens at \
-     the wrong position)";
-
-fn lost_pulse(f: &Failure) -> bool {
-    matches!(f, Failure::Assertion { .. } | Failure::RequestRefused { .. })
 }
 
 /// Runs (and scans per run) of the Rust interpreter per example: the large round tables get
@@ -225,6 +209,14 @@ fn realizable_examples_hold_at_10_ms_unless_listed_and_the_listed_fail() {
                 assert!((known.failure)(f), "{}: not the known failure ({}):\n{}", e.name, known.why, show(&r));
             }
         }
+        // No pulse of the code is lost: two pulses of one output always have a FALSE write between.
+        assert_eq!(
+            tally.repeated_pulses,
+            0,
+            "{}: pulses repeated in consecutive scans\n{}",
+            e.name,
+            tally.line(&e.name)
+        );
         if expected.is_some() {
             assert!(tally.failures > 0, "{}: no failure found in {} runs", e.name, tally.runs);
         } else {
@@ -346,14 +338,23 @@ fn mutants_are_caught() {
     let r = first_failure(&w, &m, 1000).expect("a lowered threshold is caught");
     assert!(matches!(&r.failure, Some(Failure::RequestRefused { request, .. }) if request == "go"), "{}", show(&r));
     // A pulse repeated in the next scan is one request: a program that sends `go` twice in a row
-    // (the second for `back`'s place) never gets `back` and stops progressing.
+    // (the second for `back`'s place). As generated, the second `go` waits a scan and reaches
+    // the plant as a request of its own, which it refuses in `b`.
     let mut m = w.stl.0.clone();
     let (go, back) = (0, 1);
     assert_eq!((m.outputs[go].variable.symbol.as_str(), m.outputs[back].variable.symbol.as_str()), ("go", "back"));
     let k = step_of(&m, |s| matches!(s, Statement::Act { output, .. } if *output == back));
     m.steps[k].statement = Statement::Act { output: go, effect: Effect::Pulse };
+    let r = first_failure(&w, &m, 1000).expect("a second go is caught");
+    let refused_go =
+        |r: &RunReport| matches!(&r.failure, Some(Failure::RequestRefused { request, .. }) if request == "go");
+    assert!(r.repeated_pulses == 0 && refused_go(&r), "{}", show(&r));
+    // The mutant: without the memory of `go`'s last write, the second pulse comes in the next
+    // scan and `go` stays TRUE: the plant sees one request where the code made two (and
+    // refuses a later `go`, never having got `back`).
+    m.outputs[go].last = None;
     let r = first_failure(&w, &m, 1000).expect("a lost request is caught");
-    assert!(r.repeated_pulses > 0 && matches!(r.failure, Some(Failure::RequestRefused { .. })), "{}", show(&r));
+    assert!(r.repeated_pulses > 0 && refused_go(&r), "{}", show(&r));
 }
 
 // ----- the same plant driving awlsim ----------------------------------------------------------
@@ -526,6 +527,7 @@ fn awlsim_agrees_with_the_interpreter_scan_by_scan_and_gives_the_same_verdicts()
                     }
                     tally.add(&r);
                 }
+                assert_eq!(tally.repeated_pulses, 0, "{}: awlsim repeated a pulse", e.name);
                 if expected.is_some() {
                     assert!(tally.failures > 0, "{}: awlsim's runs found no failure", e.name);
                 }

@@ -40,11 +40,19 @@ pub fn print(code: &Code, o: &mut impl Write) -> fmt::Result {
         writeln!(o, "    {} : BOOL; (* {} *)", out.variable.symbol, out.variable.comment)?;
     }
     o.write_str("END_VAR\nVAR\n    step : INT := 0;\n")?;
+    for out in &code.outputs {
+        if let Some(last) = out.gap() {
+            writeln!(o, "    {last} : BOOL; (* {} at the last output write *)", out.variable.symbol)?;
+        }
+    }
     for t in &code.timers {
         writeln!(o, "    {} : TON;", t.symbol)?;
     }
     o.write_str("END_VAR\n")?;
     for out in code.outputs.iter().filter(|out| out.pulsed) {
+        if let Some(last) = out.gap() {
+            write!(o, "        LD {}\n        ST {last}\n", out.variable.symbol)?;
+        }
         write!(o, "        LD FALSE\n        ST {}\n", out.variable.symbol)?;
     }
     for (k, t) in code.timers.iter().enumerate() {
@@ -90,6 +98,11 @@ pub fn print(code: &Code, o: &mut impl Write) -> fmt::Result {
                     Effect::Set => "S",
                     Effect::Reset => "R",
                 };
+                if let Some(last) = code.outputs[output].gap().filter(|_| effect == Effect::Pulse) {
+                    // Pulsed in the previous scan: wait here for one scan with the output FALSE.
+                    store(o, i)?;
+                    write!(o, "        LD {last}\n        JMPC END_SCAN\n")?;
+                }
                 write!(o, "        LD TRUE\n        {verb} {out}\n")?;
                 o.write_str(&restarts)?;
                 store(o, i + 1)?;

@@ -91,7 +91,8 @@ impl Signal {
 /// is the specification text of `game` (hashed into the header). Variables are named after the
 /// messages (a signal bound to several messages after the first that reads it as it is), unique
 /// case-insensitively among themselves, the keywords and types, the block, its program, instance
-/// and global variable list. A delay constant that the target's time type cannot hold exactly
+/// and global variable list; every pulsed output gets a memory of its last write, `last_NAME`
+/// (see [`Output::last`]), named after all other variables. A delay constant that the target's time type cannot hold exactly
 /// (see [`Target::time_type`]) is an error located at the constant in `source`; nothing is
 /// rounded or wrapped. For STL, `options` choose the marker byte and the CPU's timer count,
 /// and clashes with them are errors located in `source` too.
@@ -324,7 +325,15 @@ pub fn build_wired(
         gvl,
         header,
         inputs: inputs.into_iter().map(Signal::finish).collect(),
-        outputs: outputs.into_iter().map(|(o, pulsed)| Output { variable: o.finish(), pulsed }).collect(),
+        outputs: outputs
+            .into_iter()
+            .map(|(o, pulsed)| {
+                let variable = o.finish();
+                // Named after every other variable, so that no message's name depends on it.
+                let last = pulsed.then(|| names.unique(&format!("last_{}", variable.symbol)));
+                Output { variable, pulsed, last }
+            })
+            .collect(),
         timers: code_timers,
         steps,
     };

@@ -62,6 +62,20 @@ pub struct Output {
     pub variable: Variable,
     /// Pulsed outputs are cleared at the start of every scan.
     pub pulsed: bool,
+    /// For a pulsed output: a BOOL of the block that holds the output's value at the last
+    /// output write, captured at the start of every scan before the clear. A pulse while it is
+    /// TRUE (the output was pulsed in the previous scan) does not act: the step ends the scan
+    /// and pulses in the next one, so the machine sees a FALSE write, and a rising edge, for
+    /// every pulse. The lowering gives every pulsed output one; without it (`None`) two pulses
+    /// in consecutive scans keep the output TRUE and are one request for the machine.
+    pub last: Option<String>,
+}
+
+impl Output {
+    /// The memory of the last write, if the output is pulsed and has one.
+    pub fn gap(&self) -> Option<&str> {
+        self.last.as_deref().filter(|_| self.pulsed)
+    }
 }
 
 /// An on-delay timer (`TON`), running while the block runs and restarted by steps.
@@ -86,7 +100,7 @@ pub enum Test {
 /// What a step does to its output.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Effect {
-    /// TRUE for this scan.
+    /// TRUE for this scan (one scan later if the output was TRUE in the previous one).
     Pulse,
     Set,
     Reset,
@@ -99,7 +113,9 @@ pub enum Statement {
     Wait { test: Test },
     /// If `test` holds, continue at `target`, else at the next position.
     Branch { test: Test, target: usize },
-    /// Drive an output, then end the scan and continue at the next position.
+    /// Drive an output, then end the scan and continue at the next position. A pulse of an
+    /// output that was TRUE at the last write (see [`Output::last`]) only ends the scan and
+    /// stays at this position.
     Act { output: usize, effect: Effect },
     /// Continue at `target`.
     Jump { target: usize },

@@ -78,6 +78,11 @@ pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result 
     o.write_str("          </outputVars>\n          <localVars>\n")?;
     variable(o, "step", "<INT/>", Some("0"), "program position")?;
     variable(o, "scan_done", "<BOOL/>", None, "")?;
+    for out in &code.outputs {
+        if let Some(last) = out.gap() {
+            variable(o, last, "<BOOL/>", None, &format!("{} at the last output write", out.variable.symbol))?;
+        }
+    }
     for t in &code.timers {
         variable(o, &t.symbol, "<derived name=\"TON\"/>", None, "timer of a clock")?;
     }

@@ -44,7 +44,8 @@ pub trait ScanController {
 }
 
 /// The reference interpreter of a [`Code`], as the printers execute it: pulsed outputs are
-/// cleared and every timer is called with `IN := TRUE` at the start of each scan (so a timer's
+/// cleared (their value as last written kept for [`Output::last`](super::model::Output::last):
+/// a pulse right after a pulse waits a scan) and every timer is called with `IN := TRUE` at the start of each scan (so a timer's
 /// `ET` is measured at the scan instant, in whole milliseconds); a restart stops the timer
 /// (`IN := FALSE`: `ET` is 0 for the rest of the scan) and the next scan's call starts it
 /// again. `Target::Stl` follows `stl.rs` where it differs from the IEC targets: stored
@@ -114,6 +115,8 @@ impl<'c> Interpreter<'c> {
 impl ScanController for Interpreter<'_> {
     fn scan(&mut self, now_us: u64, inputs: &[bool]) -> Vec<bool> {
         let code = self.code;
+        // The output image as last written: the memory of every pulsed output's last write.
+        let last = self.outputs.clone();
         for (k, out) in code.outputs.iter().enumerate() {
             if out.pulsed {
                 self.outputs[k] = false;
@@ -157,8 +160,14 @@ impl ScanController for Interpreter<'_> {
                     }
                 }
                 // ---- Act: the one place that executes a request. ----
-                // The output is driven, the step's timers restart, and the scan ends.
+                // The output is driven, the step's timers restart, and the scan ends; a pulse of
+                // an output TRUE at the last write (with its memory, `Output::last`) only ends
+                // the scan and stays here, to pulse in the next one.
                 Statement::Act { output, effect } => {
+                    if effect == Effect::Pulse && last[output] && code.outputs[output].gap().is_some() {
+                        self.position = i;
+                        break;
+                    }
                     self.outputs[output] = effect != Effect::Reset;
                     self.restart(i);
                     self.position = self.store(i + 1);
@@ -997,7 +1006,7 @@ mod tests {
             gvl: "GVL_IO".into(),
             header: Vec::new(),
             inputs: vec![variable("x")],
-            outputs: vec![Output { variable: variable("go"), pulsed: true }],
+            outputs: vec![Output { variable: variable("go"), pulsed: true, last: Some("last_go".into()) }],
             timers: vec![Timer { symbol: "t_x".into(), comment: String::new(), preset_ms: 40 }],
             steps: vec![
                 step(Statement::Wait { test: Test::Elapsed { timer: 0, ms: 30, strict: false } }, vec![]),
@@ -1025,16 +1034,37 @@ mod tests {
 
     #[test]
     fn a_stored_backward_jump_costs_the_iec_code_a_scan() {
-        // Waiting for nothing, STL pulses in every scan (one long TRUE: a single request for
-        // the plant), ST in every other one, spending a scan on `GOTO 0`.
+        // Waiting for nothing, ST pulses in every other scan, spending a scan on `GOTO 0`;
+        // STL would pulse in every scan, but a pulse right after a pulse waits a scan.
         let mut c = code();
         c.steps[0].statement = Statement::Wait { test: Test::Input { input: 0, negated: true } };
-        let run = |target| {
-            let mut i = Interpreter::new(&c, target);
-            (0..6u64).map(|k| i.scan(k * 10_000, &[false])[0]).collect::<Vec<_>>().iter().positions()
+        let run = |c: &Code, target| {
+            let mut i = Interpreter::new(c, target);
+            let outputs: Vec<bool> = (0..6u64).map(|k| i.scan(k * 10_000, &[false])[0]).collect();
+            outputs.iter().positions()
         };
-        assert_eq!(run(Target::Stl), vec![0, 1, 2, 3, 4, 5]);
-        assert_eq!(run(Target::St), vec![0, 2, 4]);
+        assert_eq!(run(&c, Target::St), vec![0, 2, 4]);
+        assert_eq!(run(&c, Target::Stl), vec![0, 2, 4]);
+        // Without the memory of the last write STL pulses in every scan: one long TRUE, a
+        // single request for the plant.
+        c.outputs[0].last = None;
+        assert_eq!(run(&c, Target::Stl), vec![0, 1, 2, 3, 4, 5]);
+        assert_eq!(run(&c, Target::St), vec![0, 2, 4]);
+    }
+
+    #[test]
+    fn a_pulse_after_a_pulse_waits_at_its_step_for_one_scan() {
+        // STL, waiting for nothing: scan 1 reaches the request with `go` TRUE from scan 0 and
+        // stays at step 1 without acting.
+        let mut c = code();
+        c.steps[0].statement = Statement::Wait { test: Test::Input { input: 0, negated: true } };
+        let mut i = Interpreter::new(&c, Target::Stl);
+        assert_eq!(i.scan(0, &[false]), vec![true]);
+        assert_eq!(i.position(), Some(0));
+        assert_eq!(i.scan(10_000, &[false]), vec![false]);
+        assert_eq!(i.position(), Some(1));
+        assert_eq!(i.scan(20_000, &[false]), vec![true]);
+        assert_eq!(i.position(), Some(0));
     }
 
     #[test]

@@ -153,6 +153,11 @@ pub fn declaration(code: &Code, dialect: Dialect, o: &mut impl Write) -> fmt::Re
     o.write_str("END_VAR\nVAR\n")?;
     o.write_str("    step : INT := 0; (* program position *)\n")?;
     o.write_str("    scan_done : BOOL;\n")?;
+    for out in &code.outputs {
+        if let Some(last) = out.gap() {
+            writeln!(o, "    {last} : BOOL; (* {} at the last output write *)", out.variable.symbol)?;
+        }
+    }
     for t in &code.timers {
         writeln!(o, "    {} : {ton}; (* {} *)", t.symbol, t.comment)?;
     }
@@ -204,8 +209,11 @@ pub fn program_body(code: &Code, dialect: Dialect, o: &mut impl Write) -> fmt::R
 
 /// The statements of the function block (between its declarations and `END_FUNCTION_BLOCK`).
 pub fn body(code: &Code, o: &mut impl Write) -> fmt::Result {
-    o.write_str("(* Pulsed outputs are TRUE for one scan. *)\n")?;
+    o.write_str("(* Pulsed outputs are TRUE for one scan, with a FALSE scan between two pulses. *)\n")?;
     for out in code.outputs.iter().filter(|out| out.pulsed) {
+        if let Some(last) = out.gap() {
+            writeln!(o, "{last} := {};", out.variable.symbol)?;
+        }
         writeln!(o, "{} := FALSE;", out.variable.symbol)?;
     }
     if !code.timers.is_empty() {
@@ -246,12 +254,20 @@ pub fn body(code: &Code, o: &mut impl Write) -> fmt::Result {
             )?,
             Statement::Act { output, effect } => {
                 let value = if effect == Effect::Reset { "FALSE" } else { "TRUE" };
-                write!(
-                    o,
-                    "        {} := {value};\n        {restarts}step := {};\n        scan_done := TRUE;\n",
-                    code.outputs[output].variable.symbol,
-                    i + 1
-                )?
+                let symbol = &code.outputs[output].variable.symbol;
+                match code.outputs[output].gap().filter(|_| effect == Effect::Pulse) {
+                    // Pulsed in the previous scan: wait here for one scan with the output FALSE.
+                    Some(last) => write!(
+                        o,
+                        "        IF NOT {last} THEN\n            {symbol} := {value};\n            {restarts}step := {};\n        END_IF;\n        scan_done := TRUE;\n",
+                        i + 1
+                    )?,
+                    None => write!(
+                        o,
+                        "        {symbol} := {value};\n        {restarts}step := {};\n        scan_done := TRUE;\n",
+                        i + 1
+                    )?,
+                }
             }
             Statement::Jump { target } => writeln!(o, "        {restarts}{}", go(target))?,
         }

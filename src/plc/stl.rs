@@ -93,7 +93,8 @@ pub fn preset(ms: u64, strict: bool) -> u64 {
 fn marker_bytes(code: &Code, options: &Options) -> (std::ops::Range<u32>, std::ops::Range<u32>) {
     let first = u32::from(options.marker_byte);
     let width = if resume_points(code).iter().filter(|&&r| r).count() > 255 { 2 } else { 1 };
-    let unbound = code.variables().filter(|(v, _)| v.binding.is_none()).count() as u32;
+    let unbound = code.variables().filter(|(v, _)| v.binding.is_none()).count() as u32
+        + code.outputs.iter().filter(|o| o.gap().is_some()).count() as u32;
     let bits = first + 10;
     (first..first + width, bits..bits + unbound.div_ceil(8))
 }
@@ -173,7 +174,13 @@ fn resume_points(code: &Code) -> Vec<bool> {
     for (i, s) in code.steps.iter().enumerate() {
         match s.statement {
             Statement::Wait { .. } => resume[i] = true,
-            Statement::Act { .. } => resume[resolve(code, i + 1)] = true,
+            Statement::Act { output, effect } => {
+                resume[resolve(code, i + 1)] = true;
+                // A pulse after a pulse waits here for the next scan.
+                if effect == Effect::Pulse && code.outputs[output].gap().is_some() {
+                    resume[i] = true;
+                }
+            }
             Statement::Branch { target, .. } | Statement::Jump { target } if target <= i => {
                 resume[resolve(code, target)] = true
             }
@@ -186,6 +193,13 @@ fn resume_points(code: &Code) -> Vec<bool> {
 /// The STL operands of the inputs and of the outputs (`I 124.0`, `Q 125.6`, `"Lamp On"`):
 /// unbound signals take memory bits from byte `marker_byte + 10` on, inputs first.
 pub fn operands(code: &Code, options: &Options) -> (Vec<String>, Vec<String>) {
+    let (inputs, outputs, _) = all_operands(code, options);
+    (inputs, outputs)
+}
+
+/// [`operands`], and per output the memory bit of its value at the last output write
+/// ([`super::model::Output::last`]), after the bits of the unbound signals.
+fn all_operands(code: &Code, options: &Options) -> (Vec<String>, Vec<String>, Vec<Option<String>>) {
     let (_, bit_bytes) = marker_bytes(code, options);
     let mut next_bit = bit_bytes.start as usize * 8;
     let mut bit = || {
@@ -195,7 +209,8 @@ pub fn operands(code: &Code, options: &Options) -> (Vec<String>, Vec<String>) {
     };
     let inputs = code.inputs.iter().map(|i| operand(&i.binding, &bit())).collect();
     let outputs = code.outputs.iter().map(|o| operand(&o.variable.binding, &bit())).collect();
-    (inputs, outputs)
+    let last = code.outputs.iter().map(|o| o.gap().map(|_| bit())).collect();
+    (inputs, outputs, last)
 }
 
 /// Prints the organisation block (or the function block, its data block and the calling OB).
@@ -215,7 +230,7 @@ pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result 
     let points: Vec<usize> = (0..resume.len()).filter(|&i| resume[i]).collect();
     let wide = points.len() > 255;
     let (position_bytes, _) = marker_bytes(code, options);
-    let (inputs, outputs) = operands(code, options);
+    let (inputs, outputs, last) = all_operands(code, options);
     // One S7 timer per (timer, preset); a strict threshold waits for the next S5TIME value.
     let s7_timers = s7_timers(code);
     let t_number = |timer: usize, ms: u64| s7_timers.iter().position(|&x| x == (timer, ms)).map_or(0, |k| k + 1);
@@ -231,6 +246,11 @@ pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result 
     for (k, out) in code.outputs.iter().enumerate() {
         writeln!(o, "//   {:<10} {}", outputs[k], out.variable.comment)?;
     }
+    for (k, out) in code.outputs.iter().enumerate() {
+        if let Some(bit) = &last[k] {
+            writeln!(o, "//   {bit:<10} {} at the last output write", out.variable.symbol)?;
+        }
+    }
     writeln!(o, "//   {position:<10} program position")?;
     for (k, &(timer, ms)) in s7_timers.iter().enumerate() {
         writeln!(o, "//   T {:<8} {} reached {} ms", k + 1, code.timers[timer].comment, ms)?;
@@ -241,6 +261,9 @@ pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result 
     }
     for (k, out) in code.outputs.iter().enumerate() {
         if out.pulsed {
+            if let Some(bit) = &last[k] {
+                write!(o, "\tA\t{}\n\t=\t{bit}\n", outputs[k])?;
+            }
             write!(o, "\tCLR\n\t=\t{}\n", outputs[k])?;
         }
     }
@@ -307,6 +330,10 @@ pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result 
                     Effect::Set => "S",
                     Effect::Reset => "R",
                 };
+                if let Some(bit) = last[output].as_ref().filter(|_| effect == Effect::Pulse) {
+                    // Pulsed in the previous scan: wait here for one scan with the output FALSE.
+                    write!(o, "{}\tA\t{bit}\n\tJC\tend\n", store(index[i]))?;
+                }
                 write!(o, "\tSET\n\t{verb}\t{}\n", outputs[output])?;
                 writeln!(o, "{}{}\tJU\tend", restart(i), store(index[resolve(i + 1)]))?;
             }
