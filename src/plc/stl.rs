@@ -10,7 +10,9 @@
 //! reads inputs taken after the request was written out (the thesis continues into the next test,
 //! which then sees the input image from before the request); and clocks are S7 on-delay timers,
 //! one per compared threshold, restarted by calling `SD` with RLO 0 (resolution 10 ms). Inputs
-//! and outputs without an io binding get memory bits from byte `marker_byte + 10` on (M 10.0).
+//! and outputs without an io binding get memory bits from byte `marker_byte + 10` on (M 10.0),
+//! then each pulsed output a bit for its value at the last output write: a pulse while that bit
+//! is set stores its own position and ends the cycle (`A M …`, `JC end`), to pulse in the next.
 //! [`clashes`] finds user `%M` bindings on those bytes and thresholds beyond the CPU's timers.
 
 use super::model::{Binding, Code, Effect, Statement, Test};
@@ -114,7 +116,11 @@ pub fn clashes(code: &Code, options: &Options) -> Vec<Clash> {
                 if position.len() > 1 { format!("MW {}", position.start) } else { format!("MB {}", position.start) };
             format!("{word}, which holds the program position")
         } else if bits.contains(&byte) {
-            format!("MB {byte}, which holds the signals without an io binding (from M {}.0 on)", bits.start)
+            format!(
+                "MB {byte}, which holds the signals without an io binding and the pulsed outputs' last writes \
+                 (from M {}.0 on)",
+                bits.start
+            )
         } else {
             continue;
         };
@@ -191,7 +197,8 @@ fn resume_points(code: &Code) -> Vec<bool> {
 }
 
 /// The STL operands of the inputs and of the outputs (`I 124.0`, `Q 125.6`, `"Lamp On"`):
-/// unbound signals take memory bits from byte `marker_byte + 10` on, inputs first.
+/// unbound signals take memory bits from byte `marker_byte + 10` on, inputs first (the bits
+/// of the pulsed outputs' last writes follow them).
 pub fn operands(code: &Code, options: &Options) -> (Vec<String>, Vec<String>) {
     let (inputs, outputs, _) = all_operands(code, options);
     (inputs, outputs)
