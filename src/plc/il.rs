@@ -87,11 +87,11 @@ pub fn print(code: &Code, o: &mut impl Write) -> fmt::Result {
                 if target > i {
                     writeln!(o, "        JMP S{target}")?;
                 } else {
-                    store(o, target)?;
+                    store(o, code.resume_at(target))?;
                     o.write_str("        JMP END_SCAN\n")?;
                 }
             }
-            Statement::Act { output, effect } => {
+            Statement::Act { output, effect, ends_scan } => {
                 let out = &code.outputs[output].variable.symbol;
                 let verb = match effect {
                     Effect::Pulse => "ST",
@@ -105,15 +105,17 @@ pub fn print(code: &Code, o: &mut impl Write) -> fmt::Result {
                 }
                 write!(o, "        LD TRUE\n        {verb} {out}\n")?;
                 o.write_str(&restarts)?;
-                store(o, i + 1)?;
-                o.write_str("        JMP END_SCAN\n")?;
+                if ends_scan {
+                    store(o, code.resume_at(i + 1))?;
+                    o.write_str("        JMP END_SCAN\n")?;
+                }
             }
             Statement::Jump { target } => {
                 o.write_str(&restarts)?;
                 if target > i {
                     writeln!(o, "        JMP S{target}")?;
                 } else {
-                    store(o, target)?;
+                    store(o, code.resume_at(target))?;
                     o.write_str("        JMP END_SCAN\n")?;
                 }
             }

@@ -3,11 +3,15 @@
 //! the signals of the `io` section), clocks read by delay conditions become timers, and each
 //! command becomes one step.
 
-use super::model::{Binding, Code, Effect, Output, Statement, Step, Test, Timer, Variable};
+use super::model::{
+    chain_requests, Binding, Code, Effect, Output, RequestFacts, Statement, Step, Test, Timer, Variable,
+};
 use super::{iec_address, is_identifier_path, render, source_hash, stl, Namespace, Options, Target, TimeType};
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use crate::program::{Condition, Instruction, Program};
-use crate::timed::model::{ClockId, Game, IoBinding, IoMode, IoTarget, MsgId};
+use crate::timed::model::{
+    ClockId, ClockOwner, CompId, Game, IoBinding, IoMode, IoTarget, MessageKind, MessageRole, MsgId, Pred,
+};
 
 /// The signal an io binding names, as a key: the address (`%I0.0` and `%IX0.0` alike) or the
 /// symbol text, and the direction.
@@ -243,11 +247,18 @@ pub fn build_wired(
     };
     let texts = program.command_texts(game);
     let mut steps = Vec::new();
+    // The request of each step that sends one.
+    let mut requests: Vec<Option<MsgId>> = Vec::new();
     for (c, comment) in program.commands.iter().zip(texts) {
+        requests.push(match c.instruction {
+            Instruction::Do { request } => Some(request),
+            _ => None,
+        });
         let statement = match c.instruction {
             Instruction::Do { request } => {
                 let (output, effect) = output_of(request, &mut names, &mut diags);
-                Statement::Act { output, effect }
+                // Decided by `chain_requests` once the inputs are known.
+                Statement::Act { output, effect, ends_scan: true }
             }
             Instruction::WaitUntil { condition } => Statement::Wait { test: test(&condition, &mut names, &mut diags) },
             Instruction::If { condition, target } => {
@@ -318,7 +329,7 @@ pub fn build_wired(
         format!("Specification hash (FNV-1a 64): {}", source_hash(source)),
         "Do not edit: change the specification and generate again.".to_string(),
     ];
-    let code = Code {
+    let mut code = Code {
         name: fb_name,
         program: program_name,
         instance,
@@ -337,6 +348,9 @@ pub fn build_wired(
         timers: code_timers,
         steps,
     };
+    let facts: Vec<Option<RequestFacts>> =
+        requests.iter().map(|r| r.map(|m| request_facts(game, m, &wiring.inputs))).collect();
+    chain_requests(&mut code, &facts);
     if target == Target::Stl {
         for clash in stl::clashes(&code, options) {
             let d = match clash.variable {
@@ -364,6 +378,94 @@ pub fn build_wired(
         }
     }
     Ok((code, wiring))
+}
+
+/// What request `m` changes at once when the machine takes it, for [`chain_requests`]: the
+/// components it moves (its receiver, those synchronised on it, those owning a clock it resets)
+/// and, closed under them, the `instant` reactions those components may send with the
+/// components those move. Its feedback is every input with a reaction such a component sends
+/// (a sensor of the state reached changes when its sender moves; a latch when the reaction
+/// occurs) and every state-guard input (the environment may change a guard at any move). Its
+/// footprint holds those components, every assertion and state guard over one of them, and
+/// every plan that observes the request or one of those reactions; requests with disjoint
+/// footprints commute: neither enables, disables or reorders what the other does, and no rule
+/// sees a state between them that the other order would not show.
+fn request_facts(game: &Game, m: MsgId, inputs: &[Vec<(MsgId, bool)>]) -> RequestFacts {
+    let n = game.components.len();
+    let mut moved = vec![false; n];
+    let mut sent = vec![m];
+    let mut k = 0;
+    while k < sent.len() {
+        let msg = sent[k];
+        k += 1;
+        let info = &game.messages[msg as usize];
+        let mut movers: Vec<CompId> = info.synchronised.clone();
+        movers.extend(info.sender);
+        // Clocks reset by the message's transitions belong to components that move with it.
+        for a in &game.components {
+            for e in a.edges.iter().filter(|e| e.message == msg) {
+                for &c in &e.resets {
+                    if let ClockOwner::Component(owner) = game.clocks[c as usize].owner {
+                        movers.push(owner);
+                    }
+                }
+            }
+        }
+        for u in movers {
+            if std::mem::replace(&mut moved[u as usize], true) {
+                continue;
+            }
+            for e in &game.components[u as usize].edges {
+                if e.instant && e.kind == MessageKind::Uncontrollable && !sent.contains(&e.message) {
+                    sent.push(e.message);
+                }
+            }
+        }
+    }
+    let feedback = inputs
+        .iter()
+        .enumerate()
+        .filter(|(_, ms)| {
+            ms.iter().any(|&(x, _)| {
+                let info = &game.messages[x as usize];
+                info.role == MessageRole::Guard
+                    || (info.role == MessageRole::Reaction && info.sender.is_some_and(|s| moved[s as usize]))
+            })
+        })
+        .map(|(i, _)| i)
+        .collect();
+    let touches = |p: &Pred| pred_components(p).iter().any(|&c| moved[c as usize]);
+    let mut footprint: Vec<u32> = (0..n as u32).filter(|&c| moved[c as usize]).collect();
+    let mut token = n as u32;
+    for rule in &game.assertions {
+        if touches(&rule.holds) {
+            footprint.push(token);
+        }
+        token += 1;
+    }
+    for rule in &game.guards {
+        if touches(&rule.cond) {
+            footprint.push(token);
+        }
+        token += 1;
+    }
+    for plan in &game.plans {
+        if plan.edges.iter().any(|e| sent.contains(&e.message)) {
+            footprint.push(token);
+        }
+        token += 1;
+    }
+    RequestFacts { feedback, footprint }
+}
+
+/// The components a predicate reads.
+fn pred_components(p: &Pred) -> Vec<CompId> {
+    match p {
+        Pred::Const { .. } => Vec::new(),
+        Pred::At { comp, .. } => vec![*comp],
+        Pred::Not { operand } => pred_components(operand),
+        Pred::And { operands } | Pred::Or { operands } => operands.iter().flat_map(pred_components).collect(),
+    }
 }
 
 /// Generates the code of `program` for `target`. `name` names the function block, `source` is

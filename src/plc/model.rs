@@ -113,10 +113,14 @@ pub enum Statement {
     Wait { test: Test },
     /// If `test` holds, continue at `target`, else at the next position.
     Branch { test: Test, target: usize },
-    /// Drive an output, then end the scan and continue at the next position. A pulse of an
-    /// output that was TRUE at the last write (see [`Output::last`]) only ends the scan and
-    /// stays at this position.
-    Act { output: usize, effect: Effect },
+    /// Drive an output and continue at the next position: in the next scan when `ends_scan`,
+    /// else within this one. A pulse of an output that was TRUE at the last write (see
+    /// [`Output::last`]) only ends the scan and stays at this position.
+    ///
+    /// A request may go on within its scan only where nothing later in the scan depends on it
+    /// having taken effect: the input image is the one latched before the request, and every
+    /// output is written at the end of the scan at once. [`chain_requests`] decides it.
+    Act { output: usize, effect: Effect, ends_scan: bool },
     /// Continue at `target`.
     Jump { target: usize },
 }
@@ -165,6 +169,29 @@ impl Code {
         v
     }
 
+    /// Where execution goes on after it reaches position `i` by falling through: through jumps
+    /// without restarts (they do nothing but jump), and past the last step at 0. This is the
+    /// position every printer stores when a scan ends before `i`, so that no scan is spent on a
+    /// bare jump.
+    pub fn resume_at(&self, mut i: usize) -> usize {
+        let n = self.steps.len();
+        let mut hops = 0;
+        while i < n && hops <= n {
+            match self.steps[i].statement {
+                Statement::Jump { target } if self.steps[i].restarts.is_empty() => {
+                    i = target;
+                    hops += 1;
+                }
+                _ => break,
+            }
+        }
+        if i >= n {
+            0
+        } else {
+            i
+        }
+    }
+
     /// Whether any variable is wired to a signal outside the block.
     pub fn has_bindings(&self) -> bool {
         self.variables().any(|(v, _)| v.binding.is_some())
@@ -174,5 +201,246 @@ impl Code {
     pub fn variables(&self) -> impl Iterator<Item = (&Variable, Direction)> {
         let inputs = self.inputs.iter().map(|v| (v, Direction::Input));
         inputs.chain(self.outputs.iter().map(|o| (&o.variable, Direction::Output)))
+    }
+}
+
+/// What a lowering knows of the request an [`Statement::Act`] step sends, for
+/// [`chain_requests`].
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct RequestFacts {
+    /// The inputs whose level may change as soon as the request takes effect (its feedback).
+    pub feedback: Vec<usize>,
+    /// Tokens of what the request touches (parts of the machine, and rules over them), opaque
+    /// here: two requests whose tokens meet might not commute, and never share a scan.
+    pub footprint: Vec<u32>,
+}
+
+/// How far [`chain_requests`] looks ahead of a request within its scan; a scan that could run
+/// further ends after the request.
+const LOOK_AHEAD: usize = 256;
+
+/// Lets every request go on within its scan where that is sound, and ends the scan after the
+/// others: sets `ends_scan` of each [`Statement::Act`] step. `facts` holds per step the facts
+/// of the request it sends (`None`: unknown, the scan ends).
+///
+/// A scan reads its inputs once, at its start, and writes all outputs at its end, together. So
+/// a request may go on only if, on every way the scan can run on from it, no test reads one of
+/// its feedback inputs (the image still shows the machine before the request), no later
+/// request drives the same output (a pulse needs a FALSE write between two pulses, and a set
+/// and reset in one scan cancel out), and every later request commutes with it (the machine
+/// may take the requests of one write in any order). Within a scan the position only grows,
+/// so the steps are decided from the last to the first, each against the decisions after it.
+/// Timer tests need no care: a timer restarted by the request reads 0 for the rest of the
+/// scan, as its clock does; so a test that it has run a positive time is false, and the scan
+/// cannot pass it.
+pub fn chain_requests(code: &mut Code, facts: &[Option<RequestFacts>]) {
+    let n = code.steps.len();
+    for i in (0..n).rev() {
+        let Statement::Act { output, .. } = code.steps[i].statement else { continue };
+        let Some(mine) = facts.get(i).and_then(Option::as_ref) else { continue };
+        let goes_on = !scan_depends_on(code, facts, i, output, mine);
+        if let Statement::Act { ends_scan, .. } = &mut code.steps[i].statement {
+            *ends_scan = !goes_on;
+        }
+    }
+}
+
+/// Whether the rest of the scan after request `i` (to `output`, with `mine`) might depend on
+/// it, as [`chain_requests`] says; also when the scan could run on further than it looks.
+fn scan_depends_on(code: &Code, facts: &[Option<RequestFacts>], i: usize, output: usize, mine: &RequestFacts) -> bool {
+    let n = code.steps.len();
+    let reads_feedback = |test: &Test| matches!(*test, Test::Input { input, .. } if mine.feedback.contains(&input));
+    let restarted = &code.steps[i].restarts;
+    let false_now = |test: &Test| matches!(*test, Test::Elapsed { timer, ms, strict } if restarted.contains(&timer) && (ms > 0 || strict));
+    let mut seen = vec![false; n];
+    let mut todo = vec![i + 1];
+    let mut visited = 0;
+    while let Some(p) = todo.pop() {
+        if p >= n || std::mem::replace(&mut seen[p], true) {
+            continue;
+        }
+        visited += 1;
+        if visited > LOOK_AHEAD {
+            return true;
+        }
+        match code.steps[p].statement {
+            Statement::Wait { test } => {
+                if reads_feedback(&test) {
+                    return true;
+                }
+                if !false_now(&test) {
+                    todo.push(p + 1);
+                }
+            }
+            Statement::Branch { test, target } => {
+                if reads_feedback(&test) {
+                    return true;
+                }
+                todo.push(p + 1);
+                if target > p && !false_now(&test) {
+                    todo.push(target);
+                }
+            }
+            Statement::Act { output: other, ends_scan, .. } => {
+                let commutes = facts
+                    .get(p)
+                    .and_then(Option::as_ref)
+                    .is_some_and(|f| !f.footprint.iter().any(|t| mine.footprint.contains(t)));
+                if other == output || !commutes {
+                    return true;
+                }
+                if !ends_scan {
+                    todo.push(p + 1);
+                }
+            }
+            Statement::Jump { target } => {
+                if target > p {
+                    todo.push(target);
+                }
+            }
+        }
+    }
+    false
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn variable(symbol: &str) -> Variable {
+        Variable { symbol: symbol.into(), binding: None, comment: String::new(), span: None }
+    }
+
+    fn step(statement: Statement, restarts: Vec<usize>) -> Step {
+        Step { statement, restarts, comment: String::new() }
+    }
+
+    fn act(output: usize) -> Statement {
+        Statement::Act { output, effect: Effect::Pulse, ends_scan: true }
+    }
+
+    fn input(input: usize) -> Test {
+        Test::Input { input, negated: false }
+    }
+
+    /// Inputs `a_done`, `b_done`; outputs `a`, `b`; one timer restarted by `a`.
+    fn code(steps: Vec<Step>) -> Code {
+        let output = |s: &str| Output { variable: variable(s), pulsed: true, last: Some(format!("last_{s}")) };
+        Code {
+            name: "fb".into(),
+            program: "main".into(),
+            instance: "ctrl".into(),
+            gvl: "GVL_IO".into(),
+            header: Vec::new(),
+            inputs: vec![variable("a_done"), variable("b_done")],
+            outputs: vec![output("a"), output("b")],
+            timers: vec![Timer { symbol: "t".into(), comment: String::new(), preset_ms: 50 }],
+            steps,
+        }
+    }
+
+    fn facts(code: &Code, of: impl Fn(usize) -> RequestFacts) -> Vec<Option<RequestFacts>> {
+        code.steps
+            .iter()
+            .map(|s| match s.statement {
+                Statement::Act { output, .. } => Some(of(output)),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// Output k's request: feedback on input k, its own machine as footprint (or a shared one).
+    fn independent(k: usize) -> RequestFacts {
+        RequestFacts { feedback: vec![k], footprint: vec![k as u32] }
+    }
+
+    fn ends(code: &Code) -> Vec<bool> {
+        code.steps
+            .iter()
+            .filter_map(|s| match s.statement {
+                Statement::Act { ends_scan, .. } => Some(ends_scan),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn independent_requests_share_a_scan_and_feedback_ends_it() {
+        // DO a; DO b; WAIT a_done; WAIT b_done; GOTO 0: `a` goes on (b commutes with it, and
+        // the scan cannot read a_done before b ends it), `b` ends the scan (a_done is not its
+        // feedback, but b_done, read after it, is).
+        let steps = vec![
+            step(act(0), vec![]),
+            step(act(1), vec![]),
+            step(Statement::Wait { test: input(0) }, vec![]),
+            step(Statement::Wait { test: input(1) }, vec![]),
+            step(Statement::Jump { target: 0 }, vec![]),
+        ];
+        let mut c = code(steps);
+        let f = facts(&c, independent);
+        chain_requests(&mut c, &f);
+        assert_eq!(ends(&c), vec![false, true]);
+        // DO a; DO b; WAIT a_done: b goes on (nothing reads b_done), so a_done is read in the
+        // scan of `a`, which must end it.
+        let mut c = code(c.steps[..3].to_vec());
+        let f = facts(&c, independent);
+        chain_requests(&mut c, &f);
+        assert_eq!(ends(&c), vec![true, false]);
+        // Requests that do not commute (a rule over both machines) never share a scan.
+        let mut c = code(c.steps[..2].to_vec());
+        let shared = facts(&c, |k| RequestFacts { feedback: vec![k], footprint: vec![k as u32, 7] });
+        chain_requests(&mut c, &shared);
+        assert_eq!(ends(&c), vec![true, false]);
+        let f = facts(&c, independent);
+        chain_requests(&mut c, &f);
+        assert_eq!(ends(&c), vec![false, false]);
+    }
+
+    #[test]
+    fn the_same_output_twice_or_an_unknown_request_ends_the_scan() {
+        let steps = vec![step(act(0), vec![]), step(act(0), vec![]), step(Statement::Jump { target: 0 }, vec![])];
+        let mut c = code(steps);
+        let f = facts(&c, independent);
+        chain_requests(&mut c, &f);
+        // The second `a` goes on into the backward jump, which ends the scan; the first may not
+        // meet it in the same scan.
+        assert_eq!(ends(&c), vec![true, false]);
+        let mut c = code(vec![step(act(0), vec![]), step(act(1), vec![])]);
+        chain_requests(&mut c, &[Some(independent(0)), None]);
+        assert_eq!(ends(&c), vec![true, true], "a request without facts is not known to commute");
+    }
+
+    #[test]
+    fn a_timer_the_request_restarts_cuts_the_scan_short() {
+        // DO a (restarts t); WAIT t >= 30 ms; IF b_done ...: the wait cannot pass in the scan
+        // of the restart, so reading b_done behind it does not matter even if it were feedback.
+        let elapsed = Test::Elapsed { timer: 0, ms: 30, strict: false };
+        let steps = vec![
+            step(act(0), vec![0]),
+            step(Statement::Wait { test: elapsed }, vec![]),
+            step(Statement::Wait { test: input(0) }, vec![]),
+        ];
+        let mut c = code(steps);
+        let f = facts(&c, independent);
+        chain_requests(&mut c, &f);
+        assert_eq!(ends(&c), vec![false]);
+        // Without the restart the wait may pass and a_done is read: the scan ends.
+        c.steps[0].restarts.clear();
+        chain_requests(&mut c, &f);
+        assert_eq!(ends(&c), vec![true]);
+    }
+
+    #[test]
+    fn resume_at_follows_bare_jumps_only() {
+        let steps = vec![
+            step(Statement::Wait { test: input(0) }, vec![]),
+            step(Statement::Jump { target: 3 }, vec![]),
+            step(Statement::Jump { target: 0 }, vec![0]),
+            step(Statement::Jump { target: 2 }, vec![]),
+        ];
+        let c = code(steps);
+        assert_eq!(c.resume_at(1), 2, "through 1 and 3 to the jump with a restart");
+        assert_eq!(c.resume_at(0), 0);
+        assert_eq!(c.resume_at(4), 0, "past the end: the start");
     }
 }

@@ -7,9 +7,9 @@
 //! the output image at `t_k + e_k`, the execution time `e_k` in `[0, scan)` chosen by the
 //! adversary. Outputs are physical signals: a request reaches the plant on a rising edge of its
 //! output (a pulse repeated in the next scan stays TRUE and is no second request; a latched
-//! output sends its `set` request on FALSE→TRUE and its `reset` request on TRUE→FALSE); edges
-//! of one write reach the plant in the order of the outputs (the order in which the program
-//! first drives them). Inputs are levels (docs/plc-code.md, "The I/O contract").
+//! output sends its `set` request on FALSE→TRUE and its `reset` request on TRUE→FALSE); the
+//! edges of one write reach the plant in an order the adversary picks, since a real write
+//! has none. Inputs are levels (docs/plc-code.md, "The I/O contract").
 //!
 //! The plant decides after every change of its state which reaction fires when: random times
 //! within guards and invariants, the earliest and latest allowed instants, 1 µs after a scan
@@ -48,9 +48,9 @@ pub trait ScanController {
 /// a pulse right after a pulse waits a scan) and every timer is called with `IN := TRUE` at the start of each scan (so a timer's
 /// `ET` is measured at the scan instant, in whole milliseconds); a restart stops the timer
 /// (`IN := FALSE`: `ET` is 0 for the rest of the scan) and the next scan's call starts it
-/// again. `Target::Stl` follows `stl.rs` where it differs from the IEC targets: stored
-/// positions resolve through jumps without restarts ([`stl::resolve`]; the IEC code spends a
-/// scan on a stored backward jump) and a strict threshold waits for the next S5TIME value
+/// again. Every target stores the position a chain of bare jumps leads to
+/// ([`Code::resume_at`]). `Target::Stl` follows `stl.rs` where it differs from the IEC
+/// targets: a strict threshold waits for the next S5TIME value
 /// ([`stl::preset`]).
 pub struct Interpreter<'c> {
     code: &'c Code,
@@ -101,15 +101,6 @@ impl<'c> Interpreter<'c> {
             self.elapsed[t] = 0;
         }
     }
-
-    /// The position stored to continue at `p` in the next scan.
-    fn store(&self, p: usize) -> usize {
-        if self.stl {
-            stl::resolve(self.code, p)
-        } else {
-            p
-        }
-    }
 }
 
 impl ScanController for Interpreter<'_> {
@@ -151,7 +142,7 @@ impl ScanController for Interpreter<'_> {
                     if self.test(test, inputs) {
                         self.restart(i);
                         if target <= i {
-                            self.position = self.store(target);
+                            self.position = code.resume_at(target);
                             break;
                         }
                         i = target;
@@ -160,23 +151,26 @@ impl ScanController for Interpreter<'_> {
                     }
                 }
                 // ---- Act: the one place that executes a request. ----
-                // The output is driven, the step's timers restart, and the scan ends; a pulse of
-                // an output TRUE at the last write (with its memory, `Output::last`) only ends
-                // the scan and stays here, to pulse in the next one.
-                Statement::Act { output, effect } => {
+                // The output is driven, the step's timers restart, and the scan goes on or
+                // ends; a pulse of an output TRUE at the last write (with its memory,
+                // `Output::last`) only ends the scan and stays here, to pulse in the next one.
+                Statement::Act { output, effect, ends_scan } => {
                     if effect == Effect::Pulse && last[output] && code.outputs[output].gap().is_some() {
                         self.position = i;
                         break;
                     }
                     self.outputs[output] = effect != Effect::Reset;
                     self.restart(i);
-                    self.position = self.store(i + 1);
-                    break;
+                    if ends_scan {
+                        self.position = code.resume_at(i + 1);
+                        break;
+                    }
+                    i += 1;
                 }
                 Statement::Jump { target } => {
                     self.restart(i);
                     if target <= i {
-                        self.position = self.store(target);
+                        self.position = code.resume_at(target);
                         break;
                     }
                     i = target;
@@ -254,7 +248,9 @@ pub enum Stop {
 /// change a plant reaction (or guard) made; the feedback of the controller's own requests does
 /// not count — to the scan that issued it. Per plan cycle (from one plan progress to the next)
 /// the latencies add up, a chain of requests reacting to the same change counting once, by its
-/// last request: the scans the cycle waited for the controller.
+/// last request: the scans the cycle waited for the controller. A round is a plan's way from
+/// its initial location back to it (one production cycle); it adds up the latencies of its
+/// plan cycles.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Latency {
     pub requests: u64,
@@ -264,6 +260,10 @@ pub struct Latency {
     pub cycles: u64,
     pub cycle_sum: u64,
     pub cycle_max: u64,
+    /// Plan rounds closed, and the summed and the largest latency one of them added.
+    pub rounds: u64,
+    pub round_sum: u64,
+    pub round_max: u64,
 }
 
 impl Latency {
@@ -277,6 +277,11 @@ impl Latency {
         self.cycle_sum as f64 / self.cycles.max(1) as f64
     }
 
+    /// Mean scans of request latency per plan round.
+    pub fn round_mean(&self) -> f64 {
+        self.round_sum as f64 / self.rounds.max(1) as f64
+    }
+
     /// Adds another run's figures.
     pub fn merge(&mut self, other: &Latency) {
         self.requests += other.requests;
@@ -285,6 +290,9 @@ impl Latency {
         self.cycles += other.cycles;
         self.cycle_sum += other.cycle_sum;
         self.cycle_max = self.cycle_max.max(other.cycle_max);
+        self.rounds += other.rounds;
+        self.round_sum += other.round_sum;
+        self.round_max = self.round_max.max(other.round_max);
     }
 }
 
@@ -468,6 +476,8 @@ struct Run<'a> {
     /// current plan cycle has added so far.
     episode: Option<(u64, u64)>,
     cycle_latency: u64,
+    /// Per plan: the latency its current round has added so far.
+    round_latency: Vec<u64>,
     requests_since_progress: u64,
     stalled_scans: u64,
     trace: VecDeque<String>,
@@ -522,6 +532,7 @@ pub fn run(
         reacted: true,
         episode: None,
         cycle_latency: 0,
+        round_latency: vec![0; game.plans.len()],
         requests_since_progress: 0,
         stalled_scans: 0,
         trace: VecDeque::new(),
@@ -621,8 +632,9 @@ impl Run<'_> {
     /// plans, the instant transitions it enables; then checks the state.
     fn apply(&mut self, m: &Move, what: String) -> Option<Stop> {
         let before = self.inputs.image();
+        let closing = self.closing(m.message);
         if self.plant.apply(m) {
-            self.progressed();
+            self.progressed(&closing);
         }
         self.inputs.moved(self.game, m);
         self.decided = None;
@@ -649,8 +661,9 @@ impl Run<'_> {
             }
             let m = instants[self.rng.below(instants.len() as u64) as usize].clone();
             let before = self.inputs.image();
+            let closing = self.closing(m.message);
             if self.plant.apply(&m) {
-                self.progressed();
+                self.progressed(&closing);
             }
             self.inputs.moved(self.game, &m);
             self.reacted |= self.inputs.image() != before;
@@ -666,7 +679,20 @@ impl Run<'_> {
         Some(Stop::Timelock)
     }
 
-    fn progressed(&mut self) {
+    /// The plans whose round message `m` closes: it takes them back to their initial location.
+    fn closing(&self, m: MsgId) -> Vec<usize> {
+        let plans = self.game.plans.iter().enumerate();
+        plans
+            .filter(|(p, plan)| {
+                let at = self.plant.plan_locs[*p];
+                plan.edges.iter().find(|e| e.from == at && e.message == m).is_some_and(|e| e.to == plan.initial)
+            })
+            .map(|(p, _)| p)
+            .collect()
+    }
+
+    /// A plan progressed: a plan step closes, and so does the round of every plan in `closing`.
+    fn progressed(&mut self, closing: &[usize]) {
         self.report.progress += 1;
         self.requests_since_progress = 0;
         let l = &mut self.report.latency;
@@ -674,6 +700,12 @@ impl Run<'_> {
         l.cycle_sum += self.cycle_latency;
         l.cycle_max = l.cycle_max.max(self.cycle_latency);
         self.cycle_latency = 0;
+        for &p in closing {
+            l.rounds += 1;
+            l.round_sum += self.round_latency[p];
+            l.round_max = l.round_max.max(self.round_latency[p]);
+            self.round_latency[p] = 0;
+        }
     }
 
     /// A delay within `lo..=hi` (from now) by this run's timing strategies.
@@ -864,7 +896,12 @@ impl Run<'_> {
 
     /// The end of a scan's execution: the output image is written; edges send requests.
     fn output(&mut self, w: Write) -> Option<Stop> {
-        for k in 0..w.outputs.len() {
+        // The machine takes the edges of one write in an order of its choosing.
+        let mut order: Vec<usize> = (0..w.outputs.len()).collect();
+        for k in (1..order.len()).rev() {
+            order.swap(k, self.rng.below(k as u64 + 1) as usize);
+        }
+        for k in order {
             if w.outputs[k] == self.physical[k] {
                 if w.outputs[k] && self.code.outputs[k].pulsed {
                     self.report.repeated_pulses += 1;
@@ -923,10 +960,14 @@ impl Run<'_> {
             l.sum += latency;
             l.max = l.max.max(latency);
             // A chain of requests reacting to one change adds its last request's latency.
-            self.cycle_latency += match self.episode {
+            let added = match self.episode {
                 Some((trigger, before)) if trigger == self.last_change => latency.saturating_sub(before),
                 _ => latency,
             };
+            self.cycle_latency += added;
+            for r in &mut self.round_latency {
+                *r += added;
+            }
             self.episode = Some((self.last_change, latency));
             self.report.requests += 1;
             self.requests_since_progress += 1;
@@ -1010,7 +1051,7 @@ mod tests {
             timers: vec![Timer { symbol: "t_x".into(), comment: String::new(), preset_ms: 40 }],
             steps: vec![
                 step(Statement::Wait { test: Test::Elapsed { timer: 0, ms: 30, strict: false } }, vec![]),
-                step(Statement::Act { output: 0, effect: Effect::Pulse }, vec![0]),
+                step(Statement::Act { output: 0, effect: Effect::Pulse, ends_scan: true }, vec![0]),
                 step(Statement::Jump { target: 0 }, vec![]),
             ],
         }
@@ -1028,14 +1069,13 @@ mod tests {
         // 4, elapsed at scan 7; the position after the request resolves through the jump.
         let stl = outputs(Target::Stl, 12);
         assert_eq!(stl.iter().positions(), vec![3, 7, 11]);
-        // ST stores the jump and spends scan 4 on it: the same timer, the same requests.
         assert_eq!(outputs(Target::St, 12).iter().positions(), vec![3, 7, 11]);
     }
 
     #[test]
-    fn a_stored_backward_jump_costs_the_iec_code_a_scan() {
-        // Waiting for nothing, ST pulses in every other scan, spending a scan on `GOTO 0`;
-        // STL would pulse in every scan, but a pulse right after a pulse waits a scan.
+    fn a_stored_backward_jump_costs_no_scan() {
+        // Waiting for nothing, the code would pulse in every scan (the position after the
+        // request resolves through `GOTO 0`), but a pulse right after a pulse waits a scan.
         let mut c = code();
         c.steps[0].statement = Statement::Wait { test: Test::Input { input: 0, negated: true } };
         let run = |c: &Code, target| {
@@ -1045,11 +1085,30 @@ mod tests {
         };
         assert_eq!(run(&c, Target::St), vec![0, 2, 4]);
         assert_eq!(run(&c, Target::Stl), vec![0, 2, 4]);
-        // Without the memory of the last write STL pulses in every scan: one long TRUE, a
+        // Without the memory of the last write the code pulses in every scan: one long TRUE, a
         // single request for the plant.
         c.outputs[0].last = None;
         assert_eq!(run(&c, Target::Stl), vec![0, 1, 2, 3, 4, 5]);
-        assert_eq!(run(&c, Target::St), vec![0, 2, 4]);
+        assert_eq!(run(&c, Target::St), vec![0, 1, 2, 3, 4, 5]);
+    }
+
+    #[test]
+    fn a_request_that_goes_on_runs_the_next_test_in_its_scan() {
+        // `go` goes on to wait for `x`: with `x` TRUE the wait passes in the same scan and the
+        // jump back ends it; with `x` FALSE the scan ends at the wait.
+        let mut c = code();
+        c.steps[0].statement = Statement::Wait { test: Test::Elapsed { timer: 0, ms: 0, strict: false } };
+        c.steps[1].statement = Statement::Act { output: 0, effect: Effect::Pulse, ends_scan: false };
+        c.steps.insert(2, step(Statement::Wait { test: Test::Input { input: 0, negated: false } }, vec![]));
+        c.steps[3].statement = Statement::Jump { target: 0 };
+        for target in [Target::St, Target::Stl] {
+            let mut i = Interpreter::new(&c, target);
+            assert_eq!(i.scan(0, &[true]), vec![true]);
+            assert_eq!(i.position(), Some(0));
+            let mut i = Interpreter::new(&c, target);
+            assert_eq!(i.scan(0, &[false]), vec![true]);
+            assert_eq!(i.position(), Some(2));
+        }
     }
 
     #[test]

@@ -233,7 +233,7 @@ pub fn body(code: &Code, o: &mut impl Write) -> fmt::Result {
             .collect();
         let go = |target: usize| -> String {
             if target <= i {
-                format!("step := {target}; scan_done := TRUE;")
+                format!("step := {}; scan_done := TRUE;", code.resume_at(target))
             } else {
                 format!("step := {target};")
             }
@@ -252,21 +252,22 @@ pub fn body(code: &Code, o: &mut impl Write) -> fmt::Result {
                 go(target),
                 i + 1
             )?,
-            Statement::Act { output, effect } => {
+            Statement::Act { output, effect, ends_scan } => {
                 let value = if effect == Effect::Reset { "FALSE" } else { "TRUE" };
                 let symbol = &code.outputs[output].variable.symbol;
+                // Going on within the scan, or from where the next scan resumes.
+                let next = if ends_scan {
+                    format!("step := {}; scan_done := TRUE;", code.resume_at(i + 1))
+                } else {
+                    format!("step := {};", i + 1)
+                };
                 match code.outputs[output].gap().filter(|_| effect == Effect::Pulse) {
                     // Pulsed in the previous scan: wait here for one scan with the output FALSE.
                     Some(last) => write!(
                         o,
-                        "        IF NOT {last} THEN\n            {symbol} := {value};\n            {restarts}step := {};\n        END_IF;\n        scan_done := TRUE;\n",
-                        i + 1
+                        "        IF {last} THEN\n            scan_done := TRUE;\n        ELSE\n            {symbol} := {value};\n            {restarts}{next}\n        END_IF;\n"
                     )?,
-                    None => write!(
-                        o,
-                        "        {symbol} := {value};\n        {restarts}step := {};\n        scan_done := TRUE;\n",
-                        i + 1
-                    )?,
+                    None => write!(o, "        {symbol} := {value};\n        {restarts}{next}\n")?,
                 }
             }
             Statement::Jump { target } => writeln!(o, "        {restarts}{}", go(target))?,

@@ -6,9 +6,10 @@
 //! no backward jumps; requests `SET` / `S` / `R` outputs. Labels are four letters numbered by
 //! command position (`aaaa` is command 0, `aaac` command 2), as in the thesis's listing.
 //!
-//! Two choices beyond the thesis: the cycle also ends after every request, so that the next test
-//! reads inputs taken after the request was written out (the thesis continues into the next test,
-//! which then sees the input image from before the request); and clocks are S7 on-delay timers,
+//! Two choices beyond the thesis: the cycle also ends after a request that a later test or request
+//! of the cycle depends on ([`super::model::chain_requests`]), so that the next test reads inputs
+//! taken after the request was written out (the thesis always continues into the next test, which
+//! then sees the input image from before the request); and clocks are S7 on-delay timers,
 //! one per compared threshold, restarted by calling `SD` with RLO 0 (resolution 10 ms). Inputs
 //! and outputs without an io binding get memory bits from byte `marker_byte + 10` on (M 10.0),
 //! then each pulsed output a bit for its value at the last output write: a pulse while that bit
@@ -152,24 +153,9 @@ pub fn clashes(code: &Code, options: &Options) -> Vec<Clash> {
 }
 
 /// Where execution continues after step i when it falls through (through jumps without
-/// restarts; past the last step, at 0): the position STL stores.
-pub fn resolve(code: &Code, mut i: usize) -> usize {
-    let n = code.steps.len();
-    let mut hops = 0;
-    while i < n && hops <= n {
-        match code.steps[i].statement {
-            Statement::Jump { target } if code.steps[i].restarts.is_empty() => {
-                i = target;
-                hops += 1;
-            }
-            _ => break,
-        }
-    }
-    if i >= n {
-        0
-    } else {
-        i
-    }
+/// restarts; past the last step, at 0): the position STL stores ([`Code::resume_at`]).
+pub fn resolve(code: &Code, i: usize) -> usize {
+    code.resume_at(i)
 }
 
 /// Resumption points: the start, every wait, the continuation of every request, and the
@@ -180,8 +166,10 @@ fn resume_points(code: &Code) -> Vec<bool> {
     for (i, s) in code.steps.iter().enumerate() {
         match s.statement {
             Statement::Wait { .. } => resume[i] = true,
-            Statement::Act { output, effect } => {
-                resume[resolve(code, i + 1)] = true;
+            Statement::Act { output, effect, ends_scan } => {
+                if ends_scan {
+                    resume[resolve(code, i + 1)] = true;
+                }
                 // A pulse after a pulse waits here for the next scan.
                 if effect == Effect::Pulse && code.outputs[output].gap().is_some() {
                     resume[i] = true;
@@ -314,7 +302,7 @@ pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result 
         if !falls_in && !needs_label {
             continue;
         }
-        falls_in = !matches!(step.statement, Statement::Act { .. } | Statement::Jump { .. });
+        falls_in = !matches!(step.statement, Statement::Act { ends_scan: true, .. } | Statement::Jump { .. });
         let lbl = if needs_label { format!("{}:", label(i)) } else { String::new() };
         writeln!(o, "{lbl}\tNOP\t0\t// {}", step.comment)?;
         match step.statement {
@@ -331,7 +319,7 @@ pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result 
                     trampolines.push_str(&format!("{}\tJU\tend\n", store(index[resolve(target)])));
                 }
             }
-            Statement::Act { output, effect } => {
+            Statement::Act { output, effect, ends_scan } => {
                 let verb = match effect {
                     Effect::Pulse => "=",
                     Effect::Set => "S",
@@ -341,8 +329,11 @@ pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result 
                     // Pulsed in the previous scan: wait here for one scan with the output FALSE.
                     write!(o, "{}\tA\t{bit}\n\tJC\tend\n", store(index[i]))?;
                 }
-                write!(o, "\tSET\n\t{verb}\t{}\n", outputs[output])?;
-                writeln!(o, "{}{}\tJU\tend", restart(i), store(index[resolve(i + 1)]))?;
+                write!(o, "\tSET\n\t{verb}\t{}\n{}", outputs[output], restart(i))?;
+                // Going on within the scan falls through into the next step.
+                if ends_scan {
+                    writeln!(o, "{}\tJU\tend", store(index[resolve(i + 1)]))?;
+                }
             }
             Statement::Jump { target } => {
                 o.write_str(&restart(i))?;
