@@ -56,6 +56,13 @@ pub struct Variable {
     pub span: Option<Span>,
 }
 
+impl Variable {
+    /// A variable of the block's own interface, wired to nothing, without comment.
+    pub fn unbound(symbol: &str) -> Variable {
+        Variable { symbol: symbol.into(), binding: None, comment: String::new(), span: None }
+    }
+}
+
 /// An output variable.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Output {
@@ -133,6 +140,13 @@ pub struct Step {
     pub restarts: Vec<usize>,
     /// The source of the step (an intermediate command), printed beside it.
     pub comment: String,
+}
+
+impl Step {
+    /// A step without comment.
+    pub fn new(statement: Statement, restarts: Vec<usize>) -> Step {
+        Step { statement, restarts, comment: String::new() }
+    }
 }
 
 /// A function block: everything the printers need.
@@ -307,14 +321,6 @@ fn scan_depends_on(code: &Code, facts: &[Option<RequestFacts>], i: usize, output
 mod tests {
     use super::*;
 
-    fn variable(symbol: &str) -> Variable {
-        Variable { symbol: symbol.into(), binding: None, comment: String::new(), span: None }
-    }
-
-    fn step(statement: Statement, restarts: Vec<usize>) -> Step {
-        Step { statement, restarts, comment: String::new() }
-    }
-
     fn act(output: usize) -> Statement {
         Statement::Act { output, effect: Effect::Pulse, ends_scan: true }
     }
@@ -325,14 +331,14 @@ mod tests {
 
     /// Inputs `a_done`, `b_done`; outputs `a`, `b`; one timer restarted by `a`.
     fn code(steps: Vec<Step>) -> Code {
-        let output = |s: &str| Output { variable: variable(s), pulsed: true, last: Some(format!("last_{s}")) };
+        let output = |s: &str| Output { variable: Variable::unbound(s), pulsed: true, last: Some(format!("last_{s}")) };
         Code {
             name: "fb".into(),
             program: "main".into(),
             instance: "ctrl".into(),
             gvl: "GVL_IO".into(),
             header: Vec::new(),
-            inputs: vec![variable("a_done"), variable("b_done")],
+            inputs: vec![Variable::unbound("a_done"), Variable::unbound("b_done")],
             outputs: vec![output("a"), output("b")],
             timers: vec![Timer { symbol: "t".into(), comment: String::new(), preset_ms: 50 }],
             steps,
@@ -370,11 +376,11 @@ mod tests {
         // the scan cannot read a_done before b ends it), `b` ends the scan (a_done is not its
         // feedback, but b_done, read after it, is).
         let steps = vec![
-            step(act(0), vec![]),
-            step(act(1), vec![]),
-            step(Statement::Wait { test: input(0) }, vec![]),
-            step(Statement::Wait { test: input(1) }, vec![]),
-            step(Statement::Jump { target: 0 }, vec![]),
+            Step::new(act(0), vec![]),
+            Step::new(act(1), vec![]),
+            Step::new(Statement::Wait { test: input(0) }, vec![]),
+            Step::new(Statement::Wait { test: input(1) }, vec![]),
+            Step::new(Statement::Jump { target: 0 }, vec![]),
         ];
         let mut c = code(steps);
         let f = facts(&c, independent);
@@ -398,14 +404,18 @@ mod tests {
 
     #[test]
     fn the_same_output_twice_or_an_unknown_request_ends_the_scan() {
-        let steps = vec![step(act(0), vec![]), step(act(0), vec![]), step(Statement::Jump { target: 0 }, vec![])];
+        let steps = vec![
+            Step::new(act(0), vec![]),
+            Step::new(act(0), vec![]),
+            Step::new(Statement::Jump { target: 0 }, vec![]),
+        ];
         let mut c = code(steps);
         let f = facts(&c, independent);
         chain_requests(&mut c, &f);
         // The second `a` goes on into the backward jump, which ends the scan; the first may not
         // meet it in the same scan.
         assert_eq!(ends(&c), vec![true, false]);
-        let mut c = code(vec![step(act(0), vec![]), step(act(1), vec![])]);
+        let mut c = code(vec![Step::new(act(0), vec![]), Step::new(act(1), vec![])]);
         chain_requests(&mut c, &[Some(independent(0)), None]);
         assert_eq!(ends(&c), vec![true, true], "a request without facts is not known to commute");
     }
@@ -416,9 +426,9 @@ mod tests {
         // of the restart, so reading b_done behind it does not matter even if it were feedback.
         let elapsed = Test::Elapsed { timer: 0, ms: 30, strict: false };
         let steps = vec![
-            step(act(0), vec![0]),
-            step(Statement::Wait { test: elapsed }, vec![]),
-            step(Statement::Wait { test: input(0) }, vec![]),
+            Step::new(act(0), vec![0]),
+            Step::new(Statement::Wait { test: elapsed }, vec![]),
+            Step::new(Statement::Wait { test: input(0) }, vec![]),
         ];
         let mut c = code(steps);
         let f = facts(&c, independent);
@@ -433,10 +443,10 @@ mod tests {
     #[test]
     fn resume_at_follows_bare_jumps_only() {
         let steps = vec![
-            step(Statement::Wait { test: input(0) }, vec![]),
-            step(Statement::Jump { target: 3 }, vec![]),
-            step(Statement::Jump { target: 0 }, vec![0]),
-            step(Statement::Jump { target: 2 }, vec![]),
+            Step::new(Statement::Wait { test: input(0) }, vec![]),
+            Step::new(Statement::Jump { target: 3 }, vec![]),
+            Step::new(Statement::Jump { target: 0 }, vec![0]),
+            Step::new(Statement::Jump { target: 2 }, vec![]),
         ];
         let c = code(steps);
         assert_eq!(c.resume_at(1), 2, "through 1 and 3 to the jump with a restart");

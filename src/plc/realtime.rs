@@ -1030,14 +1030,6 @@ mod tests {
     use super::*;
     use crate::plc::model::{Output, Step, Timer, Variable};
 
-    fn variable(symbol: &str) -> Variable {
-        Variable { symbol: symbol.into(), binding: None, comment: String::new(), span: None }
-    }
-
-    fn step(statement: Statement, restarts: Vec<usize>) -> Step {
-        Step { statement, restarts, comment: String::new() }
-    }
-
     /// `0: WAIT t >= 30 ms; 1: DO go (restart t); 2: GOTO 0` with one input and a pulsed output.
     fn code() -> Code {
         Code {
@@ -1046,13 +1038,13 @@ mod tests {
             instance: "ctrl".into(),
             gvl: "GVL_IO".into(),
             header: Vec::new(),
-            inputs: vec![variable("x")],
-            outputs: vec![Output { variable: variable("go"), pulsed: true, last: Some("last_go".into()) }],
+            inputs: vec![Variable::unbound("x")],
+            outputs: vec![Output { variable: Variable::unbound("go"), pulsed: true, last: Some("last_go".into()) }],
             timers: vec![Timer { symbol: "t_x".into(), comment: String::new(), preset_ms: 40 }],
             steps: vec![
-                step(Statement::Wait { test: Test::Elapsed { timer: 0, ms: 30, strict: false } }, vec![]),
-                step(Statement::Act { output: 0, effect: Effect::Pulse, ends_scan: true }, vec![0]),
-                step(Statement::Jump { target: 0 }, vec![]),
+                Step::new(Statement::Wait { test: Test::Elapsed { timer: 0, ms: 30, strict: false } }, vec![]),
+                Step::new(Statement::Act { output: 0, effect: Effect::Pulse, ends_scan: true }, vec![0]),
+                Step::new(Statement::Jump { target: 0 }, vec![]),
             ],
         }
     }
@@ -1099,7 +1091,7 @@ mod tests {
         let mut c = code();
         c.steps[0].statement = Statement::Wait { test: Test::Elapsed { timer: 0, ms: 0, strict: false } };
         c.steps[1].statement = Statement::Act { output: 0, effect: Effect::Pulse, ends_scan: false };
-        c.steps.insert(2, step(Statement::Wait { test: Test::Input { input: 0, negated: false } }, vec![]));
+        c.steps.insert(2, Step::new(Statement::Wait { test: Test::Input { input: 0, negated: false } }, vec![]));
         c.steps[3].statement = Statement::Jump { target: 0 };
         for target in [Target::St, Target::Stl] {
             let mut i = Interpreter::new(&c, target);
