@@ -47,6 +47,11 @@ enum Command {
         output: Option<String>,
         #[command(flatten)]
         plc: cli::timed::PlcArgs,
+        /// At a scan time (declared or --scan): run the generated code this many times, 2000
+        /// scans each, against the specification's plant timed adversarially, before writing
+        /// it; a failure writes nothing and exits 1. 0 skips the check.
+        #[arg(long, value_name = "N", default_value_t = 20)]
+        check_runs: u64,
     },
     /// Synthesise one supervisor per specification of a `.sct` project (Göbe 2019). Exit status:
     /// 0 done, 2 input error, 3 state budget spent.
@@ -101,12 +106,12 @@ enum BenchEngine {
 fn main() -> ExitCode {
     match Cli::parse().command {
         Command::Solve { file, json, budget, scan, states } => cli::timed::solve(&file, json, &budget, &scan, states),
-        Command::Compile { file, budget, scan, target, output, plc } => {
+        Command::Compile { file, budget, scan, target, output, plc, check_runs } => {
             let target = match target {
                 Output::Program => None,
                 Output::Plc(t) => Some(t),
             };
-            cli::timed::compile(&file, &budget, &scan, target, output.as_deref(), &plc)
+            cli::timed::compile(&file, &budget, &scan, target, output.as_deref(), &plc, check_runs)
         }
         Command::Supervise(a) => cli::sct::supervise(&a),
         Command::Supcon(a) => cli::sct::supcon(&a),

@@ -342,4 +342,25 @@ fn compile_at_a_scan_time_writes_nothing_for_a_controller_no_plc_can_run() {
     let (code, out, err) = plcsynth(&["compile", "examples/timed/lamp_scan.tga", "--target", "st"]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("FUNCTION_BLOCK"), "{out}");
+    // At a scan time the code is run against the plant before it is written.
+    assert!(err.contains("checked at 10 ms: 20 runs of 2000 scans") && err.contains("no failure"), "{err}");
+}
+
+#[test]
+fn compile_at_a_scan_time_refuses_code_that_fails_in_real_time() {
+    // hardware_xyz is implementable up to 500 ms (tests/timed_scan.rs), but the code follows the
+    // zero-time strategy and its scans' latency: at 500 ms a plan misses its bound.
+    let args = ["compile", "examples/timed/hardware_xyz.tga", "--target", "stl", "--scan", "500ms"];
+    let (code, out, err) = plcsynth(&args);
+    assert_eq!(code, 1, "{err}");
+    assert!(out.is_empty(), "{out}");
+    assert!(err.contains("the generated code fails at 500 ms in real-time run"), "{err}");
+    assert!(err.contains("PlanFailed") && err.contains("scan "), "{err}");
+    // The check can be skipped; at 100 ms the code holds.
+    let (code, out, _) = plcsynth(&[&args[..], &["--check-runs", "0"]].concat());
+    assert_eq!(code, 0);
+    assert!(out.contains("ORGANIZATION_BLOCK"), "{out}");
+    let (code, _, err) = plcsynth(&["compile", "examples/timed/hardware_xyz.tga", "--scan", "100ms"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("checked at 100 ms"), "{err}");
 }

@@ -359,7 +359,8 @@ pub fn solve(file: &str, json: bool, budget: &BudgetArgs, scan: &ScanArgs, dump_
 /// `plcsynth compile FILE --target T`: the intermediate program (`target` = None) or PLC code.
 /// Unrealizable specifications exit 1 with the explanation and write nothing; a time constant
 /// the target cannot hold, or an STL option that clashes with the code, exits 2 with a located
-/// diagnostic and writes nothing.
+/// diagnostic and writes nothing. At a scan time the code must also pass `check_runs` runs of
+/// the real-time checker ([`plc::realtime::check`]; the intermediate program is checked as ST).
 pub fn compile(
     file: &str,
     budget: &BudgetArgs,
@@ -367,6 +368,7 @@ pub fn compile(
     target: Option<plc::Target>,
     out: Option<&str>,
     plc_args: &PlcArgs,
+    check_runs: u64,
 ) -> ExitCode {
     let options = match plc_args.options(target) {
         Ok(options) => options,
@@ -431,17 +433,56 @@ pub fn compile(
         }
     }
     let name = std::path::Path::new(file).file_stem().and_then(|s| s.to_str()).unwrap_or("controller");
-    let Some(t) = target else {
+    let check_at = scan.resolve(&game).filter(|_| check_runs > 0);
+    if target.is_none() && check_at.is_none() {
         return write_files(out, None, &[plc::OutputFile { name: String::new(), text: program.render(&game) }]);
-    };
-    let code = match plc::build(&game, &program, t, name, &source, &options) {
-        Ok(code) => code,
+    }
+    let built =
+        plc::lower_timed::build_wired(&game, &program, target.unwrap_or(plc::Target::St), name, &source, &options);
+    let (code, wiring) = match built {
+        Ok(built) => built,
         // A constant the target cannot hold is an input error, located in the spec.
-        Err(diags) => {
+        Err(diags) if target.is_some() => {
             eprint!("{}", render_plain(file, &source, &diags));
             eprintln!("{file}: nothing written");
             return ExitCode::from(2);
         }
+        // The intermediate program has no time type; only its check needed the ST code.
+        Err(_) => {
+            eprintln!("{file}: not checked in real time: the program does not lower to ST");
+            return write_files(out, None, &[plc::OutputFile { name: String::new(), text: program.render(&game) }]);
+        }
+    };
+    if let Some(ms) = check_at {
+        let check_target = target.unwrap_or(plc::Target::St);
+        let config = plc::realtime::Config { scan_us: ms.saturating_mul(1000), ..plc::realtime::Config::default() };
+        let report = plc::realtime::check(&game, &code, &wiring, check_target, &config, check_runs);
+        if let Some(r) = &report.failure {
+            eprintln!(
+                "{file}: the generated code fails at {ms} ms in real-time run {} of {check_runs} (seed {}), although \
+                 the scan game is implementable; nothing written\n  = note: the code follows the zero-time \
+                 strategy with the latency of its scans; a shorter scan time may hold\n{} at {:.3} ms\n{}",
+                report.runs,
+                r.seed,
+                r.failure.as_ref().map_or(String::new(), |f| format!("{f:?}")),
+                r.time_us as f64 / 1000.0,
+                r.trace.join("\n")
+            );
+            return ExitCode::from(1);
+        }
+        eprintln!(
+            "{file}: checked at {ms} ms: {} runs of {} scans against the plant timed adversarially, no failure \
+             ({} requests, {} plan steps; request latency per plan round: mean {:.2}, max {} scans)",
+            report.runs,
+            config.scans,
+            report.requests,
+            report.progress,
+            report.latency.round_mean(),
+            report.latency.round_max
+        );
+    }
+    let Some(t) = target else {
+        return write_files(out, None, &[plc::OutputFile { name: String::new(), text: program.render(&game) }]);
     };
     if let Some(path) = &plc_args.io_table {
         let text = if path.to_ascii_lowercase().ends_with(".sdf") {

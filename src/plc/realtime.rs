@@ -486,6 +486,51 @@ struct Run<'a> {
     report: RunReport,
 }
 
+/// What [`check`] found: the totals over its runs, and the first failure with its report.
+#[derive(Clone, Debug)]
+pub struct CheckReport {
+    pub runs: u64,
+    pub scans: u64,
+    pub requests: u64,
+    /// Plan progress events over all runs.
+    pub progress: u64,
+    pub latency: Latency,
+    /// Runs that ended in a timelock of the plant (the specification's, not a failure).
+    pub timelocks: u64,
+    pub failure: Option<RunReport>,
+}
+
+/// Runs the interpreter of `code` as `target` prints it against the plant of `game`, seeds
+/// `0..runs` (each a different manner of the adversary: timings, execution times, orders),
+/// `config.scans` scans each, and stops at the first failure. The gate of a compile at a
+/// declared scan time: evidence over many adversarial runs, not a proof.
+pub fn check(game: &Game, code: &Code, wiring: &Wiring, target: Target, config: &Config, runs: u64) -> CheckReport {
+    let mut report = CheckReport {
+        runs: 0,
+        scans: 0,
+        requests: 0,
+        progress: 0,
+        latency: Latency::default(),
+        timelocks: 0,
+        failure: None,
+    };
+    for seed in 0..runs {
+        let mut controller = Interpreter::new(code, target);
+        let r = run(game, code, wiring, &mut controller, config, seed);
+        report.runs += 1;
+        report.scans += r.scans;
+        report.requests += r.requests;
+        report.progress += r.progress;
+        report.latency.merge(&r.latency);
+        report.timelocks += u64::from(r.stop == Stop::Timelock);
+        if r.failure.is_some() {
+            report.failure = Some(r);
+            break;
+        }
+    }
+    report
+}
+
 /// Runs `controller`, whose code is `code` wired to `game` by `wiring`, against the plant of
 /// `game` for `config.scans` scans of `config.scan_us`; `seed` decides every choice of the
 /// plant.
