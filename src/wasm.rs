@@ -91,6 +91,9 @@ struct ScanSummary {
     explanation_text: Option<String>,
 }
 
+/// Runs of the real-time check of code at a declared scan time (each 2000 scans), as the CLI.
+const CHECK_RUNS: u64 = 20;
+
 /// A code target of the page's menu.
 #[derive(Serialize)]
 struct TargetInfo {
@@ -134,6 +137,20 @@ struct GeneratedCode {
     /// The I/O table as CSV and as a Siemens SDF symbol table (empty for `program`).
     io_csv: String,
     io_sdf: String,
+    /// At a declared scan time at which the specification is implementable: the real-time
+    /// check of the code (`plc::realtime::check`); when it failed, `files` is empty.
+    realtime: Option<RealtimeView>,
+}
+
+/// What the real-time check of generated code found.
+#[derive(Serialize)]
+struct RealtimeView {
+    scan_ms: u64,
+    runs: u64,
+    scans_per_run: u64,
+    /// The failure, with the seed of its run and the run's trace, or `null`.
+    failure: Option<String>,
+    trace: Vec<String>,
 }
 
 #[derive(Serialize)]
@@ -190,6 +207,9 @@ pub struct Session {
     incoming: OnceCell<Vec<Vec<StateId>>>,
     /// The optimised controller program, built on the first `program`/`code` call after a solve.
     program: OnceCell<Option<Program>>,
+    /// The declared scan time, when the last solve found the specification implementable there:
+    /// `code` then runs the code against the plant in real time first.
+    implementable_at: Option<u64>,
 }
 
 #[wasm_bindgen]
@@ -205,6 +225,7 @@ impl Session {
                 synthesis: None,
                 incoming: OnceCell::new(),
                 program: OnceCell::new(),
+                implementable_at: None,
             }),
             Err(errors) => Err(to_js(&CheckResult { ok: false, diagnostics: &errors })?),
         }
@@ -283,6 +304,7 @@ impl Session {
         self.synthesis = Some(synthesis);
         self.incoming = OnceCell::new();
         self.program = OnceCell::new();
+        self.implementable_at = summary.scan.as_ref().filter(|s| s.verdict == Verdict::Realizable).map(|s| s.scan_ms);
         to_js(&summary)
     }
 
@@ -425,51 +447,105 @@ impl Session {
 
     /// The controller as code for `target` (an id from `targets()`), the function block named
     /// after `name`, PLCopen's creation time `created_unix` (seconds since 1970, from the page's
-    /// clock): `{ target, extension, files, io, io_csv, io_sdf }`, or `null` when the game
-    /// is not realizable. Throws `{ ok: false, diagnostics }` when a time constant does not fit
+    /// clock): `{ target, extension, files, io, io_csv, io_sdf, realtime }`, or `null` when the
+    /// game is not realizable. At a declared scan time where the game is implementable the code is
+    /// first run against the plant (`realtime`); if a run fails, `files` is empty. Throws `{ ok: false, diagnostics }` when a time constant does not fit
     /// the target.
     pub fn code(&self, target: &str, name: &str, created_unix: Option<f64>) -> Result<JsValue, JsValue> {
         let Some(program) = self.controller()? else { return Ok(JsValue::NULL) };
-        let generated = if target == "program" {
-            let files = vec![FileView { name: format!("{name}.txt"), text: program.render(&self.game) }];
-            GeneratedCode {
-                target: target.to_string(),
-                extension: "txt",
-                files,
-                io: Vec::new(),
-                io_csv: String::new(),
-                io_sdf: String::new(),
+        let plc_target: Option<Target> = match target {
+            "program" => None,
+            t => Some(t.parse().map_err(|e: plc::UnknownTarget| JsValue::from_str(&e.to_string()))?),
+        };
+        let options = plc::Options { created_unix: created_unix.unwrap_or(0.0).max(0.0) as u64, ..Default::default() };
+        // The intermediate program is checked as ST; it needs the lowering only for the check.
+        let lowered = if plc_target.is_some() || self.implementable_at.is_some() {
+            let t = plc_target.unwrap_or(Target::St);
+            match plc::lower_timed::build_wired(&self.game, program, t, name, &self.source, &options) {
+                Ok(built) => Some(built),
+                Err(errors) if plc_target.is_some() => {
+                    return Err(to_js(&CheckResult { ok: false, diagnostics: &errors })?)
+                }
+                Err(_) => None,
             }
         } else {
-            let t: Target = target.parse().map_err(|e: plc::UnknownTarget| JsValue::from_str(&e.to_string()))?;
-            let options =
-                plc::Options { created_unix: created_unix.unwrap_or(0.0).max(0.0) as u64, ..Default::default() };
-            let code = match plc::build(&self.game, program, t, name, &self.source, &options) {
-                Ok(code) => code,
-                Err(errors) => return Err(to_js(&CheckResult { ok: false, diagnostics: &errors })?),
-            };
-            let files: Vec<FileView> = plc::render_files(&code, t, &options)
-                .into_iter()
-                .map(|f| FileView { name: f.name, text: f.text })
-                .collect();
-
-            let io = plc::io_table(&code)
-                .into_iter()
-                .map(|r| IoRowView {
-                    address: r.address,
-                    data_type: r.data_type,
-                    symbol: r.symbol,
-                    direction: r.direction.name(),
-                    meaning: r.meaning,
+            None
+        };
+        let realtime = match (self.implementable_at, &lowered) {
+            (Some(ms), Some((code, wiring))) => {
+                let config = plc::realtime::Config { scan_us: ms.saturating_mul(1000), ..Default::default() };
+                let report = plc::realtime::check(
+                    &self.game,
+                    code,
+                    wiring,
+                    plc_target.unwrap_or(Target::St),
+                    &config,
+                    CHECK_RUNS,
+                );
+                Some(RealtimeView {
+                    scan_ms: ms,
+                    runs: report.runs,
+                    scans_per_run: config.scans,
+                    failure: report.failure.as_ref().map(|r| {
+                        format!(
+                            "{} (run {}, seed {}, at {:.3} ms)",
+                            r.failure.as_ref().map_or(String::new(), |f| format!("{f:?}")),
+                            report.runs,
+                            r.seed,
+                            r.time_us as f64 / 1000.0
+                        )
+                    }),
+                    trace: report.failure.map(|r| r.trace).unwrap_or_default(),
                 })
-                .collect();
-            GeneratedCode {
-                target: target.to_string(),
-                extension: t.extension(),
-                files,
-                io,
-                io_csv: plc::io_table_csv(&code),
-                io_sdf: plc::tag_table_sdf(&code),
+            }
+            _ => None,
+        };
+        let failed = realtime.as_ref().is_some_and(|r| r.failure.is_some());
+        let generated = match (plc_target, lowered) {
+            (Some(t), Some((code, _))) => {
+                let files: Vec<FileView> = if failed {
+                    Vec::new()
+                } else {
+                    plc::render_files(&code, t, &options)
+                        .into_iter()
+                        .map(|f| FileView { name: f.name, text: f.text })
+                        .collect()
+                };
+                let io = plc::io_table(&code)
+                    .into_iter()
+                    .map(|r| IoRowView {
+                        address: r.address,
+                        data_type: r.data_type,
+                        symbol: r.symbol,
+                        direction: r.direction.name(),
+                        meaning: r.meaning,
+                    })
+                    .collect();
+                GeneratedCode {
+                    target: target.to_string(),
+                    extension: t.extension(),
+                    files,
+                    io,
+                    io_csv: plc::io_table_csv(&code),
+                    io_sdf: plc::tag_table_sdf(&code),
+                    realtime,
+                }
+            }
+            _ => {
+                let files = if failed {
+                    Vec::new()
+                } else {
+                    vec![FileView { name: format!("{name}.txt"), text: program.render(&self.game) }]
+                };
+                GeneratedCode {
+                    target: target.to_string(),
+                    extension: "txt",
+                    files,
+                    io: Vec::new(),
+                    io_csv: String::new(),
+                    io_sdf: String::new(),
+                    realtime,
+                }
             }
         };
         to_js(&generated)

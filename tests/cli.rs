@@ -349,12 +349,12 @@ fn compile_at_a_scan_time_writes_nothing_for_a_controller_no_plc_can_run() {
 #[test]
 fn compile_at_a_scan_time_refuses_code_that_fails_in_real_time() {
     // hardware_xyz is implementable up to 500 ms (tests/timed_scan.rs), but the code follows the
-    // zero-time strategy and its scans' latency: at 500 ms a plan misses its bound.
-    let args = ["compile", "examples/timed/hardware_xyz.tga", "--target", "stl", "--scan", "500ms"];
+    // zero-time strategy and its scans' latency: at 495 ms a plan misses its bound.
+    let args = ["compile", "examples/timed/hardware_xyz.tga", "--target", "stl", "--scan", "495ms"];
     let (code, out, err) = plcsynth(&args);
     assert_eq!(code, 1, "{err}");
     assert!(out.is_empty(), "{out}");
-    assert!(err.contains("the generated code fails at 500 ms in real-time run"), "{err}");
+    assert!(err.contains("the generated code fails at 495 ms in real-time run"), "{err}");
     assert!(err.contains("PlanFailed") && err.contains("scan "), "{err}");
     // The check can be skipped; at 100 ms the code holds.
     let (code, out, _) = plcsynth(&[&args[..], &["--check-runs", "0"]].concat());

@@ -613,11 +613,11 @@ fn the_differential_has_teeth_and_awlsim_timers_run_on_the_virtual_clock() {
     }
 }
 
-/// The code as generated against the same code with every request ending its scan (the
-/// lowering before requests went on within their scan; for STL, which always resolved stored
-/// jumps, exactly the earlier listing): the same seeds, the same plant, STL's semantics. The
-/// code as generated holds wherever it is expected to; two_machines holds only because its two
-/// starts share a scan.
+/// The code as generated against the same code with every request and every backward transfer
+/// ending its scan (the lowering before requests and loops went on within their scan; for STL,
+/// which always resolved stored jumps, exactly the earlier listing): the same seeds, the same
+/// plant, STL's semantics. The code as generated holds wherever it is expected to; two_machines
+/// holds only because its two starts share a scan.
 #[test]
 fn requests_going_on_within_their_scan_cut_latency_and_hold() {
     let mut table = Vec::new();
@@ -625,6 +625,7 @@ fn requests_going_on_within_their_scan_cut_latency_and_hold() {
         let code = &e.stl.0;
         let mut ending = code.clone();
         for s in &mut ending.steps {
+            s.back_in_scan = false;
             if let Statement::Act { ends_scan, .. } = &mut s.statement {
                 *ends_scan = true;
             }
@@ -669,7 +670,7 @@ fn requests_going_on_within_their_scan_cut_latency_and_hold() {
         ));
     }
     eprintln!(
-        "every request ending its scan -> as generated (STL, {} ms scan, the same seeds):\n{}",
+        "every request and backward transfer ending its scan -> as generated (STL, {} ms scan, the same seeds):\n{}",
         SCAN_US / 1000,
         table.join("\n")
     );

@@ -10,6 +10,8 @@ use wasm_bindgen_test::*;
 const LAMP: &str = include_str!("../examples/timed/lamp.tga");
 const LAMP_NAIVE: &str = include_str!("../examples/timed/lamp_naive.tga");
 const RT4: &str = include_str!("../examples/timed/round_table_4.tga");
+const LAMP_SCAN: &str = include_str!("../examples/timed/lamp_scan.tga");
+const HARDWARE_XYZ: &str = include_str!("../examples/timed/hardware_xyz.tga");
 
 fn get(v: &JsValue, key: &str) -> JsValue {
     Reflect::get(v, &JsValue::from_str(key)).unwrap()
@@ -280,6 +282,31 @@ fn a_constant_beyond_the_target_throws_located_diagnostics() {
     let d = diagnostics.get(0);
     assert_eq!((num(&d, "line"), num(&d, "column")), (3.0, 22.0));
     assert!(string(&d, "message").contains("exceeds S5TIME"), "{:?}", string(&d, "message"));
+}
+
+#[wasm_bindgen_test]
+fn code_at_a_declared_scan_time_is_run_against_the_plant_first() {
+    // Without a scan time there is no check.
+    let (s, _) = solved(LAMP);
+    assert!(get(&s.code("st", "lamp", None).unwrap(), "realtime").is_null());
+    // lamp_scan holds at its 10 ms.
+    let (s, _) = solved(LAMP_SCAN);
+    let code = s.code("stl", "lamp_scan", None).unwrap();
+    let realtime = get(&code, "realtime");
+    assert_eq!(num(&realtime, "scan_ms"), 10.0);
+    assert_eq!(num(&realtime, "runs"), 20.0);
+    assert!(get(&realtime, "failure").is_null());
+    assert_eq!(array(&get(&code, "files")).length(), 1);
+    // hardware_xyz is implementable at 495 ms, but its code fails a run there: no files.
+    let (s, summary) = solved(&format!("scan 495 ms;\n{HARDWARE_XYZ}"));
+    assert_eq!(string(&get(&summary, "scan"), "verdict"), "realizable");
+    for target in ["st", "program"] {
+        let code = s.code(target, "hardware_xyz", None).unwrap();
+        let realtime = get(&code, "realtime");
+        assert!(string(&realtime, "failure").contains("PlanFailed"), "{target}");
+        assert!(array(&get(&realtime, "trace")).length() > 2);
+        assert_eq!(array(&get(&code, "files")).length(), 0, "{target}");
+    }
 }
 
 #[wasm_bindgen_test]

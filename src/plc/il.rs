@@ -84,7 +84,7 @@ pub fn print(code: &Code, o: &mut impl Write) -> fmt::Result {
                 load(code, &test, o)?;
                 write!(o, "        JMPC B{i}\n        JMP S{}\n", i + 1)?;
                 write!(o, "B{i}:\n{restarts}")?;
-                if target > i {
+                if target > i || step.back_in_scan {
                     writeln!(o, "        JMP S{target}")?;
                 } else {
                     store(o, code.resume_at(target))?;
@@ -112,7 +112,7 @@ pub fn print(code: &Code, o: &mut impl Write) -> fmt::Result {
             }
             Statement::Jump { target } => {
                 o.write_str(&restarts)?;
-                if target > i {
+                if target > i || step.back_in_scan {
                     writeln!(o, "        JMP S{target}")?;
                 } else {
                     store(o, code.resume_at(target))?;

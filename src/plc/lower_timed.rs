@@ -268,7 +268,7 @@ pub fn build_wired(
             Instruction::Goto { target } => Statement::Jump { target: pos[target as usize] as usize },
         };
         // Timers are known only at the end; `restarts` holds the reset clocks until then.
-        steps.push((Step { statement, restarts: Vec::new(), comment }, c.resets));
+        steps.push((Step { statement, restarts: Vec::new(), comment, back_in_scan: false }, c.resets));
     }
     let mut code_timers = Vec::new();
     for &(clock, units) in &timers {

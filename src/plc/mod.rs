@@ -9,7 +9,8 @@
 //! All targets share the execution scheme of 6.7.2: the program position is kept in a step
 //! variable; every call (one PLC scan) jumps to the stored position and runs until the program
 //! waits. A scan ends when a wait condition is false, when the program jumps backwards (so no
-//! loop can run within one scan), and after a request unless nothing later in the scan depends
+//! loop can run within one scan; a jump back from which the scan cannot jump back again goes
+//! on, [`model::Step::back_in_scan`]), and after a request unless nothing later in the scan depends
 //! on it having taken effect ([`model::chain_requests`]: outputs are written and inputs read
 //! again before a test of its feedback or a request that might not commute with it). Inputs are levels read once per scan; a request
 //! either pulses its output for one scan or sets/resets a latched output (the `io` section).

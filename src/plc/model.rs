@@ -140,12 +140,26 @@ pub struct Step {
     pub restarts: Vec<usize>,
     /// The source of the step (an intermediate command), printed beside it.
     pub comment: String,
+    /// For a jump or branch to a position not after it (a backward transfer): whether the scan
+    /// goes on at the target instead of ending there. [`chain_requests`] allows it only where
+    /// the scan cannot come back again (nothing loops within a scan) and no request that goes
+    /// on can reach the step in its scan.
+    pub back_in_scan: bool,
 }
 
 impl Step {
     /// A step without comment.
     pub fn new(statement: Statement, restarts: Vec<usize>) -> Step {
-        Step { statement, restarts, comment: String::new() }
+        Step { statement, restarts, comment: String::new(), back_in_scan: false }
+    }
+
+    /// Where the step transfers control backwards (to a position not after `at`, its own),
+    /// when it is a jump or a branch taken.
+    pub fn backward_target(&self, at: usize) -> Option<usize> {
+        match self.statement {
+            Statement::Branch { target, .. } | Statement::Jump { target } if target <= at => Some(target),
+            _ => None,
+        }
     }
 }
 
@@ -247,74 +261,119 @@ const LOOK_AHEAD: usize = 256;
 /// Timer tests need no care: a timer restarted by the request reads 0 for the rest of the
 /// scan, as its clock does; so a test that it has run a positive time is false, and the scan
 /// cannot pass it.
+///
+/// Then the backward transfers: a jump or taken branch back to `t` goes on at `t` within the
+/// scan ([`Step::back_in_scan`]) when no way the scan can run on from `t` transfers control
+/// backwards again, so that it passes at most one backward transfer and still ends, and when no
+/// request that goes on can reach the transfer in its scan (its decision assumed the scan ends
+/// there). A backward transfer is a loop of the program's: it reads nothing new, so going on
+/// is the same as resuming at `t` in the next scan, a scan earlier.
 pub fn chain_requests(code: &mut Code, facts: &[Option<RequestFacts>]) {
     let n = code.steps.len();
     for i in (0..n).rev() {
         let Statement::Act { output, .. } = code.steps[i].statement else { continue };
-        let Some(mine) = facts.get(i).and_then(Option::as_ref) else { continue };
-        let goes_on = !scan_depends_on(code, facts, i, output, mine);
+        let goes_on =
+            facts.get(i).and_then(Option::as_ref).is_some_and(|mine| !scan_depends_on(code, facts, i, output, mine));
         if let Statement::Act { ends_scan, .. } = &mut code.steps[i].statement {
             *ends_scan = !goes_on;
         }
     }
+    // Positions a request that goes on may reach within its scan.
+    let mut after_request = vec![false; n];
+    let mut complete = true;
+    for i in 0..n {
+        if matches!(code.steps[i].statement, Statement::Act { ends_scan: false, .. }) {
+            complete &= walk_scan(code, i + 1, &code.steps[i].restarts, |p, _| {
+                after_request[p] = true;
+                true
+            });
+        }
+    }
+    // With a request's scan not followed to its end, no backward transfer is known safe.
+    let backs: Vec<bool> = (0..n)
+        .map(|j| {
+            complete
+                && !after_request[j]
+                && code.steps[j].backward_target(j).is_some_and(|t| {
+                    // Within the look-ahead, and no backward transfer on the way.
+                    walk_scan(code, t, &code.steps[j].restarts, |p, step| step.backward_target(p).is_none())
+                })
+        })
+        .collect();
+    for (step, back) in code.steps.iter_mut().zip(backs) {
+        step.back_in_scan = back;
+    }
+}
+
+/// Walks the positions a scan may run through from `start` on, when the timers in `restarted`
+/// were restarted earlier in the scan: forward only (backward transfers end the walk; the
+/// callers decide where they may not), a wait passes unless it tests that a timer restarted
+/// on the way has run a positive time (it reads 0 for the rest of the scan), a branch goes
+/// either way (not to its target on such a test), a request that goes on continues. Calls
+/// `visit` on each position; stops and returns false when `visit` does or the walk passes
+/// [`LOOK_AHEAD`] positions, else returns true. Positions are told apart by the timers
+/// restarted on the way to them, so the pruning is exact per path.
+fn walk_scan(code: &Code, start: usize, restarted: &[usize], mut visit: impl FnMut(usize, &Step) -> bool) -> bool {
+    let n = code.steps.len();
+    // Timers as a bit set; beyond 64 timers nothing is pruned.
+    let bits = |timers: &[usize]| timers.iter().filter(|&&t| t < 64).fold(0u64, |b, &t| b | 1 << t);
+    let false_now = |test: &Test, r: u64| matches!(*test, Test::Elapsed { timer, ms, strict } if timer < 64 && r >> timer & 1 == 1 && (ms > 0 || strict));
+    let mut seen = std::collections::HashSet::new();
+    let mut todo = vec![(start, bits(restarted))];
+    let mut visited = 0;
+    while let Some((p, r)) = todo.pop() {
+        if p >= n || !seen.insert((p, r)) {
+            continue;
+        }
+        visited += 1;
+        let step = &code.steps[p];
+        if visited > LOOK_AHEAD || !visit(p, step) {
+            return false;
+        }
+        let then = r | bits(&step.restarts);
+        match step.statement {
+            Statement::Wait { test } => {
+                if !false_now(&test, r) {
+                    todo.push((p + 1, then));
+                }
+            }
+            Statement::Branch { test, target } => {
+                todo.push((p + 1, r));
+                if target > p && !false_now(&test, r) {
+                    todo.push((target, then));
+                }
+            }
+            Statement::Act { ends_scan, .. } => {
+                if !ends_scan {
+                    todo.push((p + 1, then));
+                }
+            }
+            Statement::Jump { target } => {
+                if target > p {
+                    todo.push((target, then));
+                }
+            }
+        }
+    }
+    true
 }
 
 /// Whether the rest of the scan after request `i` (to `output`, with `mine`) might depend on
 /// it, as [`chain_requests`] says; also when the scan could run on further than it looks.
 fn scan_depends_on(code: &Code, facts: &[Option<RequestFacts>], i: usize, output: usize, mine: &RequestFacts) -> bool {
-    let n = code.steps.len();
     let reads_feedback = |test: &Test| matches!(*test, Test::Input { input, .. } if mine.feedback.contains(&input));
-    let restarted = &code.steps[i].restarts;
-    let false_now = |test: &Test| matches!(*test, Test::Elapsed { timer, ms, strict } if restarted.contains(&timer) && (ms > 0 || strict));
-    let mut seen = vec![false; n];
-    let mut todo = vec![i + 1];
-    let mut visited = 0;
-    while let Some(p) = todo.pop() {
-        if p >= n || std::mem::replace(&mut seen[p], true) {
-            continue;
+    let independent = walk_scan(code, i + 1, &code.steps[i].restarts, |p, step| match step.statement {
+        Statement::Wait { test } | Statement::Branch { test, .. } => !reads_feedback(&test),
+        Statement::Act { output: other, .. } => {
+            let commutes = facts
+                .get(p)
+                .and_then(Option::as_ref)
+                .is_some_and(|f| !f.footprint.iter().any(|t| mine.footprint.contains(t)));
+            other != output && commutes
         }
-        visited += 1;
-        if visited > LOOK_AHEAD {
-            return true;
-        }
-        match code.steps[p].statement {
-            Statement::Wait { test } => {
-                if reads_feedback(&test) {
-                    return true;
-                }
-                if !false_now(&test) {
-                    todo.push(p + 1);
-                }
-            }
-            Statement::Branch { test, target } => {
-                if reads_feedback(&test) {
-                    return true;
-                }
-                todo.push(p + 1);
-                if target > p && !false_now(&test) {
-                    todo.push(target);
-                }
-            }
-            Statement::Act { output: other, ends_scan, .. } => {
-                let commutes = facts
-                    .get(p)
-                    .and_then(Option::as_ref)
-                    .is_some_and(|f| !f.footprint.iter().any(|t| mine.footprint.contains(t)));
-                if other == output || !commutes {
-                    return true;
-                }
-                if !ends_scan {
-                    todo.push(p + 1);
-                }
-            }
-            Statement::Jump { target } => {
-                if target > p {
-                    todo.push(target);
-                }
-            }
-        }
-    }
-    false
+        Statement::Jump { .. } => true,
+    });
+    !independent
 }
 
 #[cfg(test)]
@@ -438,6 +497,51 @@ mod tests {
         c.steps[0].restarts.clear();
         chain_requests(&mut c, &f);
         assert_eq!(ends(&c), vec![true]);
+    }
+
+    fn backs(code: &Code) -> Vec<usize> {
+        (0..code.steps.len()).filter(|&i| code.steps[i].back_in_scan).collect()
+    }
+
+    #[test]
+    fn a_backward_jump_goes_on_only_where_the_scan_cannot_loop() {
+        // 0: WAIT a_done; 1: DO a (restarts t); 2: WAIT t >= 30 ms; 3: IF b_done THEN GOTO 0;
+        // 4: GOTO 2. The branch back to 0 goes on (from 0 the scan ends at the timer wait, the
+        // request's restart makes it false); the polling jump back to 2 may not (from 2 the
+        // scan may come back to 2).
+        let elapsed = Test::Elapsed { timer: 0, ms: 30, strict: false };
+        let steps = vec![
+            Step::new(Statement::Wait { test: input(0) }, vec![]),
+            Step::new(act(0), vec![0]),
+            Step::new(Statement::Wait { test: elapsed }, vec![]),
+            Step::new(Statement::Branch { test: input(1), target: 0 }, vec![]),
+            Step::new(Statement::Jump { target: 2 }, vec![]),
+        ];
+        let mut c = code(steps);
+        let f = facts(&c, independent);
+        chain_requests(&mut c, &f);
+        assert_eq!(ends(&c), vec![false]);
+        assert_eq!(backs(&c), vec![3]);
+        // 0: WAIT b_done; 1: DO a (restarts t); 2: WAIT t >= 30 ms; 3: DO b; 4: GOTO 0. From 0
+        // the scan cannot loop, but `b` goes on into the jump: its decision assumed the scan
+        // ends there, so the jump must end it. With `b` ending its scan, the jump goes on.
+        let steps = vec![
+            Step::new(Statement::Wait { test: input(1) }, vec![]),
+            Step::new(act(0), vec![0]),
+            Step::new(Statement::Wait { test: elapsed }, vec![]),
+            Step::new(act(1), vec![]),
+            Step::new(Statement::Jump { target: 0 }, vec![]),
+        ];
+        let mut c = code(steps);
+        let f = facts(&c, independent);
+        chain_requests(&mut c, &f);
+        assert_eq!(ends(&c), vec![false, false]);
+        assert_eq!(backs(&c), Vec::<usize>::new(), "the jump is in the scan of `b`");
+        let mut f = f;
+        f[3] = None;
+        chain_requests(&mut c, &f);
+        assert_eq!(ends(&c), vec![false, true]);
+        assert_eq!(backs(&c), vec![4]);
     }
 
     #[test]

@@ -121,11 +121,19 @@ impl ScanController for Interpreter<'_> {
             self.elapsed[t] = (now_us - start).min(cap);
         }
         let mut i = self.position;
-        // Within a scan control only moves forward, so it ends within `steps.len()` steps.
+        // Within a scan control moves forward but for at most one backward transfer
+        // (`Step::back_in_scan`), so it ends within twice `steps.len()` steps; code that breaks
+        // that rule (a mutant) stops there, where a PLC's watchdog would.
+        let mut budget = 2 * code.steps.len() + 2;
         loop {
             if i >= code.steps.len() {
                 // Falling off the end restarts the program in the next scan.
                 self.position = 0;
+                break;
+            }
+            budget -= 1;
+            if budget == 0 {
+                self.position = i;
                 break;
             }
             match code.steps[i].statement {
@@ -141,7 +149,7 @@ impl ScanController for Interpreter<'_> {
                 Statement::Branch { test, target } => {
                     if self.test(test, inputs) {
                         self.restart(i);
-                        if target <= i {
+                        if target <= i && !code.steps[i].back_in_scan {
                             self.position = code.resume_at(target);
                             break;
                         }
@@ -169,7 +177,7 @@ impl ScanController for Interpreter<'_> {
                 }
                 Statement::Jump { target } => {
                     self.restart(i);
-                    if target <= i {
+                    if target <= i && !code.steps[i].back_in_scan {
                         self.position = code.resume_at(target);
                         break;
                     }

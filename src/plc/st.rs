@@ -232,7 +232,7 @@ pub fn body(code: &Code, o: &mut impl Write) -> fmt::Result {
             .map(|&t| format!("{}(IN := FALSE, PT := {}); ", code.timers[t].symbol, preset_literal(code, t)))
             .collect();
         let go = |target: usize| -> String {
-            if target <= i {
+            if target <= i && !step.back_in_scan {
                 format!("step := {}; scan_done := TRUE;", code.resume_at(target))
             } else {
                 format!("step := {target};")

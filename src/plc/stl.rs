@@ -3,7 +3,8 @@
 //! position is kept in a marker byte (`MB 0` by default, [`Options::marker_byte`]) and entered
 //! through a `JL` jump list; a wait stores
 //! its position and ends the cycle (`JCN end`) while its condition is false, so the program has
-//! no backward jumps; requests `SET` / `S` / `R` outputs. Labels are four letters numbered by
+//! no backward jumps but the ones a scan may take once ([`super::model::Step::back_in_scan`]);
+//! requests `SET` / `S` / `R` outputs. Labels are four letters numbered by
 //! command position (`aaaa` is command 0, `aaac` command 2), as in the thesis's listing.
 //!
 //! Two choices beyond the thesis: the cycle also ends after a request that a later test or request
@@ -313,7 +314,7 @@ pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result 
                 let taken = format!("b{}", &label(i)[1..]);
                 writeln!(o, "{}\tJC\t{taken}", test(&t))?;
                 trampolines.push_str(&format!("{taken}:\tNOP\t0\n{}", restart(i)));
-                if target > i {
+                if target > i || step.back_in_scan {
                     trampolines.push_str(&format!("\tJU\t{}\n", label(target)));
                 } else {
                     trampolines.push_str(&format!("{}\tJU\tend\n", store(index[resolve(target)])));
@@ -337,7 +338,7 @@ pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result 
             }
             Statement::Jump { target } => {
                 o.write_str(&restart(i))?;
-                if target > i {
+                if target > i || step.back_in_scan {
                     writeln!(o, "\tJU\t{}", label(target))?;
                 } else {
                     writeln!(o, "{}\tJU\tend", store(index[resolve(target)]))?;

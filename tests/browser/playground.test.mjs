@@ -152,6 +152,14 @@ test('a spec with a scan time shows the verdict on the PLC, and a too slow scan 
   assert.equal(await page.getAttribute('#scan-verdict', 'data-verdict'), 'realizable');
   assert.match(await page.textContent('#scan-verdict'), /Implementable at 10 ms/);
   await shot(page, '07a-scan-implementable');
+  // Its code was run against the plant at 10 ms before it is shown.
+  await page.click('[data-tab=code]');
+  await page.selectOption('#target', 'stl');
+  await page.waitForSelector('#code[data-target="stl"][data-complete=true]');
+  assert.equal(await page.getAttribute('#code-note', 'data-realtime'), 'held');
+  assert.match(await page.textContent('#code-note'), /Checked at 10 ms: 20 runs of 2[ ,.]?000 scans/);
+  assert.match(await page.textContent('#code'), /ORGANIZATION_BLOCK/);
+  await page.click('[data-tab=summary]');
   // At 20 ms the button may settle before the lamp follows: the scan game's counter-play.
   await setEditorText(page, readExample('lamp_scan').replace('scan 10 ms;', 'scan 20 ms;'));
   assert.equal(await runAndWait(page), 'realizable');
@@ -160,6 +168,25 @@ test('a spec with a scan time shows the verdict on the PLC, and a too slow scan 
   assert.match(await page.textContent('#scan-explanation'), /plc\.read/);
   assert.match(await page.textContent('#scan-explanation'), /✗/);
   await shot(page, '07b-scan-not-implementable');
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
+test('code that fails a real-time run at the declared scan time is not offered', async () => {
+  // hardware_xyz is implementable at 495 ms, but its code (the zero-time strategy with the
+  // scans' latency) misses a plan bound there: the page shows the failing run, not the code.
+  const page = await newPage(browser, `${server.url}#example/hardware_xyz`);
+  await setEditorText(page, `scan 495 ms;\n${readExample('hardware_xyz')}`);
+  assert.equal(await runAndWait(page), 'realizable');
+  await page.waitForFunction(() => document.querySelector('#scan-verdict')?.dataset.verdict === 'realizable');
+  await page.click('[data-tab=code]');
+  await page.selectOption('#target', 'stl');
+  await page.waitForSelector('#code[data-target="stl"][data-complete=true]');
+  assert.equal(await page.getAttribute('#code-note', 'data-realtime'), 'failed');
+  assert.match(await page.textContent('#code-note'), /No code: it fails at 495 ms in a real-time run/);
+  assert.match(await page.textContent('#code'), /PlanFailed/);
+  assert.doesNotMatch(await page.textContent('#code'), /ORGANIZATION_BLOCK/);
+  await shot(page, '07c-scan-code-fails-in-real-time');
   assert.deepEqual(page.errors, []);
   await page.context().close();
 });

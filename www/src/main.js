@@ -294,6 +294,7 @@ async function refreshCode() {
   const started = performance.now();
   const target = $('#target').value;
   const note = $('#code-note');
+  note.dataset.realtime = '';
   app.code = '';
   app.extension = 'txt';
   app.suffix = '';
@@ -337,7 +338,14 @@ async function refreshCode() {
     if ($('#target').value !== target) return;
     const arrived = performance.timeOrigin + performance.now();
     window.plcsynth.codeTimings = { target, queryMs: performance.now() - started, engineMs: generated?.engineMs, transitMs: generated ? arrived - generated.postedAt : null, sentAfterMs: generated ? generated.postedAt - (performance.timeOrigin + started) : null };
-    if (generated) {
+    const realtime = generated?.realtime;
+    if (realtime?.failure) {
+      // The code failed a run against the plant at the declared scan time: no code, the trace.
+      app.code = `${realtime.failure}\n\n${realtime.trace.join('\n')}\n`;
+      app.suffix = '.realtime';
+      note.textContent = `No code: it fails at ${realtime.scan_ms} ms in a real-time run against the plant, although the scan game says implementable (the code follows the zero-time strategy; a shorter scan may hold). The trace:`;
+      note.dataset.realtime = 'failed';
+    } else if (generated) {
       const files = generated.files;
       app.code = files.length === 1 ? files[0].text : files.map((f) => `==> ${f.name} <==\n${f.text}`).join('');
       app.extension = generated.extension;
@@ -345,6 +353,8 @@ async function refreshCode() {
       renderIo(generated);
       renderFiles(generated.files);
       note.textContent = target === 'program' ? 'The optimised controller program (Peter 2005, chapter 6).' : 'Generated from the optimised controller program.';
+      if (realtime) note.textContent += ` Checked at ${realtime.scan_ms} ms: ${realtime.runs} runs of ${fmtInt(realtime.scans_per_run)} scans against the plant, timed adversarially, no failure.`;
+      note.dataset.realtime = realtime ? 'held' : '';
     } else {
       note.textContent = `No controller: the spec is ${app.result.verdict.replace('_', ' ')}.`;
     }
