@@ -31,7 +31,8 @@ enum Command {
         states: bool,
     },
     /// Synthesise the controller program of a timed-game specification. Exit status: 0 written,
-    /// 1 unrealizable, 2 input error, 3 budget exceeded.
+    /// 1 unrealizable (or, at a scan time, not implementable, or its code failed a real-time
+    /// run), 2 input error, 3 budget exceeded.
     Compile {
         file: String,
         #[command(flatten)]
