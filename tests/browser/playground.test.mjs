@@ -76,6 +76,13 @@ test('the lamp example runs: verdict, counts, automata, state space and zone', a
   assert.ok((await page.locator('#zone-constraints li').count()) > 0);
   assert.equal(await page.locator('#zone svg.zone-plot polygon.zone').count(), 1, 'the zone polygon is drawn');
   await shot(page, '05-lamp-zone');
+  // A winning state has no removal reason, and nothing stands in for it.
+  await page.click('[data-tab=space]');
+  await page.click('#state-list li[data-id="0"]');
+  await page.waitForFunction(() => /s0 winning/.test(document.querySelector('#selected-bar').textContent));
+  await page.click('#selected-bar a');
+  await page.waitForFunction(() => /State s0 .* winning/.test(document.querySelector('#zone-title')?.textContent ?? ''));
+  assert.doesNotMatch(await page.textContent('#zone'), /null|undefined/);
 
   // Code: Structured Text by default; Download gives `lamp.st` with the same text.
   await page.click('[data-tab=code]');
@@ -210,6 +217,9 @@ test('an unrealizable spec shows the explanation', async () => {
   await page.click('[data-tab=code]');
   await page.waitForFunction(() => /No controller: the spec is unrealizable/.test(document.querySelector('#code-note').textContent));
   assert.equal(await page.textContent('#code'), '');
+  // Download says why there is nothing, not "run the spec first".
+  await page.click('#download-code');
+  await page.waitForFunction(() => /Nothing to download: No controller: the spec is unrealizable/.test(document.querySelector('#toast').textContent));
   assert.deepEqual(page.errors, []);
   await page.context().close();
 });
@@ -257,6 +267,7 @@ test('a syntax error is shown at its line, in the editor and the list; Run repor
   await page.click('#run');
   await page.waitForSelector('#status[data-kind=error]');
   assert.match(await page.textContent('#status'), /error/);
+  assert.match(await page.textContent('#summary'), /No result: the spec has \d+ errors? \(see the editor\)/);
   assert.deepEqual(page.errors, []);
   await page.context().close();
 });
@@ -305,6 +316,8 @@ test('cancel in the same page restarts the worker without a reload', async () =>
   await page.waitForFunction(() => /Exploring…/.test(document.querySelector('#status').textContent), null, { timeout: 20000 });
   await page.click('#cancel');
   await page.waitForSelector('#status[data-kind=cancelled]', { timeout: 2000 });
+  assert.match(await page.textContent('#summary'), /Cancelled: no result/);
+  assert.doesNotMatch(await page.textContent('#summary'), /Running/);
   await setEditorText(page, readExample('lamp'));
   assert.equal(await runAndWait(page), 'realizable');
   assert.deepEqual(page.errors, []);
@@ -318,6 +331,8 @@ test('a budget-exceeded run shows the message and the statistics so far', async 
   assert.match(await page.textContent('#summary'), /more than 500 states/);
   assert.ok((await number(page, '#stat-visited')) >= 500);
   await shot(page, '15-budget-exceeded');
+  await page.click('[data-tab=code]');
+  await page.waitForFunction(() => /No controller: the search exceeded its budget before deciding\./.test(document.querySelector('#code-note').textContent));
   assert.deepEqual(page.errors, []);
   await page.context().close();
 });

@@ -356,7 +356,7 @@ async function refreshCode() {
       if (realtime) note.textContent += ` Checked at ${realtime.scan_ms} ms: ${realtime.runs} runs of ${fmtInt(realtime.scans_per_run)} scans against the plant, timed adversarially, no failure.`;
       note.dataset.realtime = realtime ? 'held' : '';
     } else {
-      note.textContent = `No controller: the spec is ${app.result.verdict.replace('_', ' ')}.`;
+      note.textContent = `No controller: ${verdictPhrase(app.result.verdict)}.`;
     }
   }
   if ($('#target').value !== target) return;
@@ -380,7 +380,7 @@ $('#copy-code').addEventListener('click', async () => {
   }
 });
 $('#download-code').addEventListener('click', () => {
-  if (!app.code) return toast('Nothing to download yet: run the spec first.');
+  if (!app.code) return toast(app.result ? `Nothing to download: ${$('#code-note').textContent}` : 'Nothing to download yet: run the spec first.');
   // A target's files under their own names (one download each for TwinCAT's three).
   if (app.files.length) app.files.forEach((f) => download(f.name, f.text));
   else download(`${fileStem()}${app.suffix}.${app.extension}`, app.code);
@@ -407,6 +407,18 @@ $('#share').addEventListener('click', async () => {
 });
 
 // ---- run and cancel ---------------------------------------------------------------------
+
+/** What a verdict says of the spec, as the end of a sentence. */
+function verdictPhrase(verdict) {
+  return (
+    {
+      realizable: 'the spec is realizable',
+      unrealizable: 'the spec is unrealizable',
+      budget_exceeded: 'the search exceeded its budget before deciding',
+      cancelled: 'the search was cancelled before deciding',
+    }[verdict] ?? `the verdict is ${verdict}`
+  );
+}
 
 function setStatus(text, kind = '') {
   const el = $('#status');
@@ -474,14 +486,19 @@ async function run() {
     if (currentTab === 'code') refreshCode();
   } catch (error) {
     setRunning(false);
+    // The summary says that this run has no result, instead of "Running…".
+    const noResult = (text) => $('#summary').replaceChildren(h('p', { class: 'muted', id: 'no-result' }, text));
     if (error === 'cancelled') {
       setStatus('Cancelled: the engine was stopped and restarted.', 'cancelled');
+      noResult('Cancelled: no result. Run again to solve the spec.');
     } else if (error && error.diagnostics) {
       const n = error.diagnostics.filter((d) => d.severity === 'error').length;
       setStatus(`The spec has ${n} error${n === 1 ? '' : 's'}: see the editor.`, 'error');
+      noResult(`No result: the spec has ${n} error${n === 1 ? '' : 's'} (see the editor).`);
       showDiagnostics(error.diagnostics);
     } else {
       setStatus(`Error: ${error?.message ?? error}`, 'error');
+      noResult(`No result: ${error?.message ?? error}`);
     }
   } finally {
     app.lastRunMs = performance.now() - started;

@@ -65,9 +65,13 @@ export class ZoneView {
       );
     } else plot.push(h('p', { class: 'muted' }, 'This game has no clocks.'));
     const units = meta.units;
+    // One wrapper: `replaceChildren` would print an absent reason as the text "null".
     this.root.replaceChildren(
-      h('div', { class: 'zone-head', id: 'zone-title' }, `State s${state.id} (${state.kind}) — ${state.winning ? 'winning' : 'removed'}`),
-      state.reason ? h('p', { class: 'reason' }, `Removed: ${state.reason}`) : null,
+      h(
+        'div',
+        {},
+        h('div', { class: 'zone-head', id: 'zone-title' }, `State s${state.id} (${state.kind}) — ${state.winning ? 'winning' : 'removed'}`),
+        state.reason ? h('p', { class: 'reason' }, `Removed: ${state.reason}`) : null,
       h(
         'div',
         { class: 'zone-grid' },
@@ -81,6 +85,7 @@ export class ZoneView {
           h('ul', { id: 'zone-constraints' }, state.constraints.length ? state.constraints.map((c) => h('li', {}, constraintText(c, names.map(short)))) : h('li', {}, 'none (every clock valuation)')),
         ),
         ...plot,
+        ),
       ),
     );
   }
