@@ -198,6 +198,25 @@ test('code that fails a real-time run at the declared scan time is not offered',
   await page.context().close();
 });
 
+test('an edit after a run marks the results as stale until the next run', async () => {
+  const page = await newPage(browser, `${server.url}#example/lamp`);
+  assert.equal(await runAndWait(page), 'realizable');
+  assert.match(await page.textContent('#summary'), /As the example expects \(realizable\)/);
+  assert.equal(await page.locator('#stale-note').count(), 0);
+  await page.click('.cm-content');
+  await page.keyboard.press('Control+End');
+  await page.keyboard.insertText('\n// an edit\n');
+  await page.waitForSelector('#stale-note');
+  assert.equal(await page.getAttribute('#summary', 'data-stale'), 'true');
+  assert.match(await page.textContent('#stale-note'), /changed since this run/);
+  await shot(page, '07d-stale-results');
+  assert.equal(await runAndWait(page), 'realizable');
+  assert.equal(await page.locator('#stale-note').count(), 0);
+  assert.equal(await page.getAttribute('#summary', 'data-stale'), 'false');
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
 test('an unrealizable spec shows the explanation', async () => {
   const page = await newPage(browser, `${server.url}#example/lamp_naive`);
   await page.click('.cm-content');

@@ -53,12 +53,27 @@ const editor = createEditor($('#editor'), {
     // An edit makes an #example/ or #share/ link stale: drop it, so a reload keeps the edit.
     if (!app.loading && location.hash) history.replaceState(null, '', location.pathname + location.search);
     if (!app.loading) showName(text);
+    markStale(text);
     clearTimeout(saveTimer);
     saveTimer = setTimeout(() => save(text, app.name), 300);
   },
   onRun: () => run(),
 });
 app.getText = () => editor.text;
+
+/** Marks the results on screen as belonging to another text than the editor's, or clears the
+ * mark when the text is the one that was run again. */
+function markStale(text) {
+  const stale = Boolean(app.result) && text !== app.ranText;
+  const summary = $('#summary');
+  if ((summary.dataset.stale === 'true') === stale) return;
+  summary.dataset.stale = String(stale);
+  $('#stale-note')?.remove();
+  if (stale) {
+    summary.prepend(h('p', { class: 'stale', id: 'stale-note', role: 'status' }, 'The spec has changed since this run: these results are for the earlier text. Run again to update them.'));
+  }
+  $('#status').classList.toggle('stale', stale);
+}
 
 function openSpec(text, name) {
   app.name = name;
@@ -441,6 +456,8 @@ async function run() {
   const source = editor.text;
   const maxStates = Math.max(10, Number($('#max-states').value) || 1000000);
   app.result = null;
+  app.ranText = source;
+  markStale(source);
   app.automata = null;
   app.automataDrawn = false;
   app.meta = null;
@@ -477,6 +494,8 @@ async function run() {
       },
     });
     setStatus(`${summary.verdict.replace('_', ' ')}: ${fmtInt(summary.stats.visited)} states visited, ${fmtInt(summary.stats.winning)} winning, ${fmtInt(summary.stats.removed)} removed in ${fmtMs(summary.ms)}`, 'done');
+    // Edited while it ran: the results are for the text that was run.
+    markStale(editor.text);
     setRunning(false);
     if (currentTab === 'automata') drawAutomata();
     app.meta = await query('space', [1]);
