@@ -153,12 +153,6 @@ pub fn clashes(code: &Code, options: &Options) -> Vec<Clash> {
     out
 }
 
-/// Where execution continues after step i when it falls through (through jumps without
-/// restarts; past the last step, at 0): the position STL stores ([`Code::resume_at`]).
-pub fn resolve(code: &Code, i: usize) -> usize {
-    code.resume_at(i)
-}
-
 /// Resumption points: the start, every wait, the continuation of every request, and the
 /// targets of backward jumps.
 fn resume_points(code: &Code) -> Vec<bool> {
@@ -169,7 +163,7 @@ fn resume_points(code: &Code) -> Vec<bool> {
             Statement::Wait { .. } => resume[i] = true,
             Statement::Act { output, effect, ends_scan } => {
                 if ends_scan {
-                    resume[resolve(code, i + 1)] = true;
+                    resume[code.resume_at(i + 1)] = true;
                 }
                 // A pulse after a pulse waits here for the next scan.
                 if effect == Effect::Pulse && code.outputs[output].gap().is_some() {
@@ -177,7 +171,7 @@ fn resume_points(code: &Code) -> Vec<bool> {
                 }
             }
             Statement::Branch { target, .. } | Statement::Jump { target } if target <= i => {
-                resume[resolve(code, target)] = true
+                resume[code.resume_at(target)] = true
             }
             _ => {}
         }
@@ -211,7 +205,7 @@ fn all_operands(code: &Code, options: &Options) -> (Vec<String>, Vec<String>, Ve
 
 /// Prints the organisation block (or the function block, its data block and the calling OB).
 pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result {
-    let resolve = |i: usize| resolve(code, i);
+    let resolve = |i: usize| code.resume_at(i);
     let resume = resume_points(code);
     let index: Vec<usize> = resume
         .iter()
