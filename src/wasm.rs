@@ -143,7 +143,7 @@ struct GeneratedCode {
 }
 
 /// What the real-time check of generated code found.
-#[derive(Serialize)]
+#[derive(Clone, Serialize)]
 struct RealtimeView {
     scan_ms: u64,
     runs: u64,
@@ -210,6 +210,9 @@ pub struct Session {
     /// The declared scan time, when the last solve found the specification implementable there:
     /// `code` then runs the code against the plant in real time first.
     implementable_at: Option<u64>,
+    /// That check, once per semantics (IEC targets, STL), built on the first `code` call after
+    /// a solve: the targets of one semantics run the same code.
+    checked: [OnceCell<RealtimeView>; 2],
 }
 
 #[wasm_bindgen]
@@ -226,6 +229,7 @@ impl Session {
                 incoming: OnceCell::new(),
                 program: OnceCell::new(),
                 implementable_at: None,
+                checked: Default::default(),
             }),
             Err(errors) => Err(to_js(&CheckResult { ok: false, diagnostics: &errors })?),
         }
@@ -304,6 +308,7 @@ impl Session {
         self.synthesis = Some(synthesis);
         self.incoming = OnceCell::new();
         self.program = OnceCell::new();
+        self.checked = Default::default();
         self.implementable_at = summary.scan.as_ref().filter(|s| s.verdict == Verdict::Realizable).map(|s| s.scan_ms);
         to_js(&summary)
     }
@@ -473,30 +478,30 @@ impl Session {
         };
         let realtime = match (self.implementable_at, &lowered) {
             (Some(ms), Some((code, wiring))) => {
-                let config = plc::realtime::Config { scan_us: ms.saturating_mul(1000), ..Default::default() };
-                let report = plc::realtime::check(
-                    &self.game,
-                    code,
-                    wiring,
-                    plc_target.unwrap_or(Target::St),
-                    &config,
-                    CHECK_RUNS,
-                );
-                Some(RealtimeView {
-                    scan_ms: ms,
-                    runs: report.runs,
-                    scans_per_run: config.scans,
-                    failure: report.failure.as_ref().map(|r| {
-                        format!(
-                            "{} (run {}, seed {}, at {:.3} ms)",
-                            r.failure.as_ref().map_or(String::new(), |f| format!("{f:?}")),
-                            report.runs,
-                            r.seed,
-                            r.time_us as f64 / 1000.0
-                        )
-                    }),
-                    trace: report.failure.map(|r| r.trace).unwrap_or_default(),
-                })
+                let check_target = plc_target.unwrap_or(Target::St);
+                let cell = &self.checked[usize::from(check_target == Target::Stl)];
+                Some(
+                    cell.get_or_init(|| {
+                        let config = plc::realtime::Config { scan_us: ms.saturating_mul(1000), ..Default::default() };
+                        let report = plc::realtime::check(&self.game, code, wiring, check_target, &config, CHECK_RUNS);
+                        RealtimeView {
+                            scan_ms: ms,
+                            runs: report.runs,
+                            scans_per_run: config.scans,
+                            failure: report.failure.as_ref().map(|r| {
+                                format!(
+                                    "{} (run {}, seed {}, at {:.3} ms)",
+                                    r.failure.as_ref().map_or(String::new(), |f| format!("{f:?}")),
+                                    report.runs,
+                                    r.seed,
+                                    r.time_us as f64 / 1000.0
+                                )
+                            }),
+                            trace: report.failure.map(|r| r.trace).unwrap_or_default(),
+                        }
+                    })
+                    .clone(),
+                )
             }
             _ => None,
         };
