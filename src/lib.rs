@@ -9,10 +9,12 @@
 //!
 //! [`benchmarks`] rebuilds published models for benchmarks and tests.
 //!
-//! [`diag`] holds the located diagnostics every front end reports.
+//! [`diag`] holds the located diagnostics every front end reports; [`dot`] the DOT documents
+//! of the drawings the engines export.
 
 pub mod benchmarks;
 pub mod diag;
+pub mod dot;
 pub mod ltl;
 pub mod plc;
 pub mod program;

@@ -1,9 +1,9 @@
-//! The wasm boundary (`src/wasm.rs`), run with wasm-bindgen-test in Node:
+//! The wasm boundary (`src/wasm/`), run with wasm-bindgen-test in Node:
 //! `cargo test --target wasm32-unknown-unknown --test wasm_api` (runner in `.cargo/config.toml`).
 #![cfg(target_arch = "wasm32")]
 
 use js_sys::{Array, Function, Reflect};
-use plcsynth::wasm::{check, parse, targets, version, Session};
+use plcsynth::wasm::{check, targets, version, LtlSession, SctSession, TimedSession as Session};
 use wasm_bindgen::{JsCast, JsValue};
 use wasm_bindgen_test::*;
 
@@ -41,22 +41,24 @@ fn version_is_the_crate_version() {
 }
 
 #[wasm_bindgen_test]
-fn parse_reports_located_syntax_errors() {
-    let diags = array(&parse("plant {\n  automaton a {\n    nodes x y;\n  }\n}\n").unwrap());
+fn check_reports_located_syntax_errors() {
+    let result = check("tga", "plant {\n  automaton a {\n    nodes x y;\n  }\n}\n").unwrap();
+    let diags = array(&get(&result, "diagnostics"));
     assert!(diags.length() >= 1);
     let d = diags.get(0);
     assert_eq!(string(&d, "severity"), "error");
     assert_eq!(num(&d, "line"), 3.0);
     assert!(num(&get(&d, "span"), "end") >= num(&get(&d, "span"), "start"));
     assert!(!string(&d, "message").is_empty());
-    assert_eq!(array(&parse(LAMP).unwrap()).length(), 0);
+    assert_eq!(array(&get(&check("tga", LAMP).unwrap(), "diagnostics")).length(), 0);
+    assert!(check("xyz", LAMP).is_err(), "an unknown kind is refused");
 }
 
 #[wasm_bindgen_test]
 fn check_separates_ok_from_errors() {
-    let ok = check(LAMP).unwrap();
+    let ok = check("tga", LAMP).unwrap();
     assert_eq!(get(&ok, "ok").as_bool(), Some(true));
-    let bad = check("plant { automaton a { nodes x; x -> y ?m; } }").unwrap();
+    let bad = check("tga", "plant { automaton a { nodes x; x -> y ?m; } }").unwrap();
     assert_eq!(get(&bad, "ok").as_bool(), Some(false));
     let diags = array(&get(&bad, "diagnostics"));
     assert!(diags.length() >= 1, "an unknown location is an error");
@@ -137,7 +139,7 @@ fn progress_is_reported_and_false_cancels() {
     let mut s = Session::new(RT4).map_err(|_| "compile").unwrap();
     let calls = Array::new();
     let log = Function::new_with_args("stats", "this.push(stats.visited); return this.length < 2;").bind0(&calls);
-    let options = js_sys::JSON::parse(r#"{"progressInterval": 10}"#).unwrap();
+    let options = js_sys::JSON::parse(r#"{"progressInterval": 10, "progressMs": 0}"#).unwrap();
     let summary = s.solve(options, Some(log)).unwrap();
     assert_eq!(string(&summary, "verdict"), "cancelled");
     assert_eq!(calls.length(), 2, "the run stops at the first false");
@@ -177,7 +179,7 @@ fn memory_and_work_budgets_are_options() {
 fn a_throwing_progress_callback_surfaces_as_an_error() {
     let mut s = Session::new(LAMP).map_err(|_| "compile").unwrap();
     let boom = Function::new_with_args("stats", "throw new Error('boom')");
-    let options = js_sys::JSON::parse(r#"{"progressInterval": 1}"#).unwrap();
+    let options = js_sys::JSON::parse(r#"{"progressInterval": 1, "progressMs": 0}"#).unwrap();
     assert!(s.solve(options, Some(boom)).is_err());
 }
 
@@ -347,4 +349,118 @@ fn strategy_requests_stay_among_winning_states() {
     assert!(num(&get(&summary, "stats"), "winning") >= choices.length() as f64);
     let (naive, _) = solved(LAMP_NAIVE);
     assert!(naive.strategy().unwrap().is_null());
+}
+
+const TANK_PREEMPTION: &str = include_str!("../examples/sct/tank_preemption.sct");
+const ENFORCEMENT_CONFLICT: &str = include_str!("../examples/sct/enforcement_conflict.sct");
+const ARBITER: &str = include_str!("../examples/ltl/arbiter.ltl");
+const ARBITER_SAME_SCAN: &str = include_str!("../examples/ltl/arbiter_same_scan.ltl");
+const DELAY_LINE: &str = include_str!("../examples/ltl/delay_line.tlsf");
+
+#[wasm_bindgen_test]
+fn check_reads_every_document_kind() {
+    for (kind, source) in [("sct", TANK_PREEMPTION), ("ltl", ARBITER), ("tlsf", DELAY_LINE)] {
+        let result = check(kind, source).unwrap();
+        assert_eq!(get(&result, "ok").as_bool(), Some(true), "{kind}");
+    }
+    let bad = check("sct", "event open : controllable;\nplant P { alphabet open, nope; state A { } }").unwrap();
+    assert_eq!(get(&bad, "ok").as_bool(), Some(false));
+    let d = array(&get(&bad, "diagnostics")).get(0);
+    assert_eq!((num(&d, "line"), string(&d, "severity")), (2.0, "error".to_string()));
+    let bad = check("ltl", "INPUT a\nOUTPUT b\nALWAYS (a -> \n").unwrap();
+    assert_eq!(get(&bad, "ok").as_bool(), Some(false));
+    let bad = check("tlsf", "INFO { TITLE: \"x\" }\nMAIN { INPUTS { a; } OUTPUTS { b; } GUARANTEES { G (a <-> ; } }")
+        .unwrap();
+    assert_eq!(get(&bad, "ok").as_bool(), Some(false));
+}
+
+#[wasm_bindgen_test]
+fn sct_session_draws_synthesises_and_generates_the_framework() {
+    assert!(SctSession::new("plant {", JsValue::UNDEFINED).is_err());
+    let mut s = SctSession::new(TANK_PREEMPTION, JsValue::UNDEFINED).map_err(|_| "compile").unwrap();
+    let models = array(&s.models().unwrap());
+    assert!(models.length() >= 2);
+    assert!(string(&models.get(0), "dot").starts_with("digraph"));
+    assert!(s.supervisors().is_err(), "no supervisors before solve");
+    let calls = Array::new();
+    let log = Function::new_with_args("p, ms", "this.push(p.built); return true;").bind0(&calls);
+    let summary = s.solve(js_sys::JSON::parse(r#"{"progressMs": 0}"#).unwrap(), Some(log)).unwrap();
+    assert!(get(&summary, "stopped").is_null());
+    let sups = array(&get(&summary, "supervisors"));
+    assert_eq!(sups.length(), 1);
+    let sup = sups.get(0);
+    assert_eq!(string(&sup, "name"), "Safety.NoOverflow");
+    assert_eq!(string(&sup, "module"), "Safety");
+    assert_eq!(get(&sup, "realizable").as_bool(), Some(true));
+    assert!(array(&get(&sup, "enforced_events")).length() >= 1, "preemption enforces closing the inlet");
+    let drawn = array(&s.supervisors().unwrap());
+    assert!(string(&drawn.get(0), "dot").contains("⇒"), "the enforced event is marked");
+    for target in ["st", "twincat", "codesys", "scl", "scl-1500", "stl", "plcopen"] {
+        let code = s.code(target, "", "", JsValue::UNDEFINED).unwrap();
+        let files = array(&get(&code, "files"));
+        assert!(files.length() >= 1, "{target}");
+        assert!(!string(&files.get(0), "text").is_empty(), "{target}");
+        assert!(array(&get(&code, "io")).length() >= 1, "{target}: the signal table");
+    }
+    assert!(s.code("no-such-target", "", "", JsValue::UNDEFINED).is_err());
+    // A budget too small for the products stops the run, reported and not thrown.
+    let summary = s.solve(js_sys::JSON::parse(r#"{"maxStates": 1}"#).unwrap(), None).unwrap();
+    assert_eq!(string(&summary, "stopped"), "budget");
+    assert!(s.code("st", "", "", JsValue::UNDEFINED).unwrap().is_null(), "no framework for an incomplete run");
+}
+
+#[wasm_bindgen_test]
+fn sct_conflicts_between_supervisors_are_located_warnings() {
+    // Without its product line the two requirements are synthesised apart, and conflict.
+    let apart: String =
+        ENFORCEMENT_CONFLICT.lines().filter(|l| !l.starts_with("spec Safety =")).collect::<Vec<_>>().join("\n");
+    let mut s = SctSession::new(&apart, JsValue::UNDEFINED).map_err(|_| "compile").unwrap();
+    let summary = s.solve(JsValue::UNDEFINED, None).unwrap();
+    assert_eq!(array(&get(&summary, "supervisors")).length(), 2);
+    let diags = array(&get(&summary, "diagnostics"));
+    let warning = (0..diags.length()).map(|i| diags.get(i)).find(|d| string(d, "severity") == "warning");
+    let warning = warning.expect("the 6.4.2 warning");
+    assert!(num(&warning, "line") > 1.0);
+    // Composing them (5.8.5) gives one supervisor and no warning.
+    let summary = s.solve(js_sys::JSON::parse(r#"{"compose": true}"#).unwrap(), None).unwrap();
+    let sups = array(&get(&summary, "supervisors"));
+    assert_eq!((sups.length(), string(&sups.get(0), "name")), (1, "Composed".to_string()));
+    assert_eq!(array(&get(&summary, "diagnostics")).length(), 0);
+    assert!(s.code("st", "", "", JsValue::UNDEFINED).unwrap().is_object(), "the framework of the composed supervisor");
+}
+
+#[wasm_bindgen_test]
+fn ltl_session_decides_draws_and_generates_code() {
+    assert!(LtlSession::new("ALWAYS (", "ltl").is_err());
+    let mut s = LtlSession::new(ARBITER, "ltl").map_err(|_| "compile").unwrap();
+    assert!(s.code("st", "", JsValue::UNDEFINED).is_err(), "code needs a solve first");
+    let summary = s.solve(JsValue::UNDEFINED, None).unwrap();
+    assert_eq!(string(&summary, "verdict"), "realizable");
+    assert!(string(&summary, "machine_dot").starts_with("digraph"));
+    assert!(string(&summary, "machine_text").contains(" / "));
+    assert!(get(&summary, "counter_tree").is_null());
+    for target in ["st", "twincat", "stl", "plcopen"] {
+        let code = s.code(target, "FB_Arbiter", JsValue::UNDEFINED).unwrap();
+        let text = string(&array(&get(&code, "files")).get(0), "text");
+        assert!(text.contains("FB_Arbiter"), "{target}: {text}");
+    }
+    let mut s = LtlSession::new(DELAY_LINE, "tlsf").map_err(|_| "compile").unwrap();
+    assert_eq!(string(&s.solve(JsValue::UNDEFINED, None).unwrap(), "verdict"), "realizable");
+}
+
+#[wasm_bindgen_test]
+fn ltl_unrealizable_has_a_counter_strategy_and_suggestions() {
+    let mut s = LtlSession::new(ARBITER_SAME_SCAN, "ltl").map_err(|_| "compile").unwrap();
+    let summary = s.solve(js_sys::JSON::parse(r#"{"suggest": true}"#).unwrap(), None).unwrap();
+    assert_eq!(string(&summary, "verdict"), "unrealizable");
+    assert!(string(&summary, "counter_tree").contains("s0"));
+    let found = array(&get(&get(&summary, "suggestions"), "found"));
+    assert!(found.length() >= 1, "an assumption makes it realizable");
+    let first = array(&get(&found.get(0), "assumptions"));
+    assert!(!first.get(0).as_string().unwrap().is_empty());
+    assert!(s.code("st", "", JsValue::UNDEFINED).unwrap().is_null(), "no controller, no code");
+    // Adding the first suggestion makes the specification realizable.
+    let added = format!("{ARBITER_SAME_SCAN}\nASSUME {}\n", first.get(0).as_string().unwrap());
+    let mut s = LtlSession::new(&added, "ltl").map_err(|_| "compile").unwrap();
+    assert_eq!(string(&s.solve(JsValue::UNDEFINED, None).unwrap(), "verdict"), "realizable");
 }

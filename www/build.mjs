@@ -1,12 +1,19 @@
 // Bundles the playground with esbuild: www/src/main.js (page) and www/src/worker.js (engine)
-// into www/dist, with every examples/timed/*.tga embedded as the virtual module `examples`.
+// into www/dist, with every example of every engine (examples/timed/*.tga, examples/sct/*.sct,
+// examples/ltl/*.ltl and *.tlsf) embedded as the virtual module `examples`.
 import * as esbuild from 'esbuild';
 import { readdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { basename, dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 
 const www = dirname(fileURLToPath(import.meta.url));
-const examplesDir = join(www, '..', 'examples', 'timed');
+const examplesRoot = join(www, '..', 'examples');
+/** The example folders, in the gallery's order, with the document kinds they hold. */
+const engines = [
+  { engine: 'timed', dir: 'timed', kinds: ['tga'] },
+  { engine: 'sct', dir: 'sct', kinds: ['sct'] },
+  { engine: 'ltl', dir: 'ltl', kinds: ['ltl', 'tlsf'] },
+];
 
 /** Title, description and expected verdict from the leading `//` lines of an example. */
 export function describeExample(id, source) {
@@ -18,19 +25,35 @@ export function describeExample(id, source) {
   const text = header.join(' ').replace(/\s+/g, ' ').trim();
   const sentence = (text.match(/^.*?[.!?](\s|$)/) || [text])[0].trim();
   const title = sentence.split(/[:(]/)[0].trim() || id;
-  const expected = (text.match(/Expected:\s*(realizable|unrealizable)/i) || [])[1]?.toLowerCase() ?? null;
+  let expected = (text.match(/Expected:\s*(realizable|unrealizable)/i) || [])[1]?.toLowerCase() ?? null;
+  // A supervisory-control example describes its supervisors ("Expected result: …"): every one of
+  // them exists unless it says otherwise.
+  const result = text.match(/Expected result:(.*)/i)?.[1];
+  if (!expected && result) expected = /unrealizable|not realizable|no supervisor/i.test(result) ? 'unrealizable' : 'realizable';
   return { id, title, description: sentence, expected };
 }
 
 function loadExamples() {
-  return readdirSync(examplesDir)
-    .filter((f) => f.endsWith('.tga'))
-    .map((f) => basename(f, '.tga'))
-    .sort((a, b) => a.localeCompare(b, 'en', { numeric: true }))
-    .map((id) => {
-      const source = readFileSync(join(examplesDir, `${id}.tga`), 'utf8');
-      return { ...describeExample(id, source), source };
-    });
+  const all = [];
+  for (const { engine, dir, kinds } of engines) {
+    const folder = join(examplesRoot, dir);
+    const files = readdirSync(folder)
+      .map((f) => ({ f, kind: kinds.find((k) => f.endsWith(`.${k}`)) }))
+      .filter(({ kind }) => kind)
+      .sort((a, b) => a.f.localeCompare(b.f, 'en', { numeric: true }));
+    for (const { f, kind } of files) {
+      const id = basename(f, `.${kind}`);
+      const source = readFileSync(join(folder, f), 'utf8');
+      all.push({ ...describeExample(id, source), engine, kind, source });
+    }
+  }
+  // `#example/<id>` names an example of any engine: ids must be unique across folders.
+  const seen = new Map();
+  for (const e of all) {
+    if (seen.has(e.id)) throw new Error(`examples/${seen.get(e.id)}/${e.id} and examples/${e.engine}/${e.id}: an example id must be unique`);
+    seen.set(e.id, e.engine);
+  }
+  return all;
 }
 
 const examplesPlugin = {
@@ -40,7 +63,7 @@ const examplesPlugin = {
     build.onLoad({ filter: /.*/, namespace: 'examples' }, () => ({
       contents: `export default ${JSON.stringify(loadExamples())};`,
       loader: 'js',
-      watchFiles: readdirSync(examplesDir).map((f) => join(examplesDir, f)),
+      watchFiles: engines.flatMap(({ dir }) => readdirSync(join(examplesRoot, dir)).map((f) => join(examplesRoot, dir, f))),
     }));
   },
 };

@@ -27,7 +27,8 @@ import { fileURLToPath } from 'node:url';
 
 const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 const seconds = Number(process.argv[2] ?? 60);
-const SHARE_LINK = /^share\/(v\d+)\/([^/]*)\/([A-Za-z0-9_-]*)$/;
+// A share link: its header (version 1: the target; version 2: kind, name and target), then the data.
+const SHARE_LINK = /^share\/(v1\/[^/]*|v2\/[^/]*\/[^/]*\/[^/]*)\/([A-Za-z0-9_-]*)$/;
 const TARGETS = ['st', 'scl', 'codesys', 'il', 'stl', 'plcopen', 'program', 'explanation'];
 
 // A deterministic xorshift, as src/rng.rs: a run is reproducible from its seed.
@@ -51,10 +52,12 @@ async function deflate(bytes) {
 
 async function seeds() {
   const links = [];
-  for (const dir of ['examples/timed', 'examples/sct']) {
+  const kinds = { tga: 'tga', sct: 'sct', ltl: 'ltl', tlsf: 'tlsf' };
+  for (const dir of ['examples/timed', 'examples/sct', 'examples/ltl']) {
     for (const name of fs.readdirSync(path.join(root, dir)).sort()) {
       const text = fs.readFileSync(path.join(root, dir, name), 'utf8');
-      links.push(await encodeShare(text, pick(TARGETS)));
+      const kind = kinds[path.extname(name).slice(1)] ?? 'tga';
+      links.push(await encodeShare(text, pick(TARGETS), kind, path.basename(name, path.extname(name))));
     }
   }
   const packed = async (bytes) => toBase64Url(await deflate(bytes));
@@ -64,7 +67,8 @@ async function seeds() {
   links.push(`share/v1/st/${await packed(lamp)}AAAA`); // junk after the data
   links.push(`share/v1/st/${await packed(new Uint8Array([0xff, 0xfe, 0xc3]))}`); // not UTF-8
   links.push(`share/v1/%E0%A4%A/${await packed(lamp)}`); // a bad percent escape
-  links.push(`share/v2/st/${await packed(lamp)}`, 'share/v1/st/', 'share/v1/st/A', 'example/lamp');
+  links.push(`share/v1/st/${await packed(lamp)}`); // version 1, still read
+  links.push(`share/v2/xyz/n/st/${await packed(lamp)}`, `share/v3/st/${await packed(lamp)}`, 'share/v1/st/', 'share/v1/st/A', 'example/lamp');
   return links;
 }
 
@@ -76,7 +80,7 @@ function mutate(link, corpus) {
     const op = below(10);
     if (m && op < 5) {
       // Mutate the compressed bytes and encode them again.
-      const bytes = Array.from(fromBase64Url(m[3]));
+      const bytes = Array.from(fromBase64Url(m[2]));
       const at = below(bytes.length + 1);
       switch (op) {
         case 0: if (bytes.length) bytes[at % bytes.length] ^= 1 << below(8); break;
@@ -85,10 +89,10 @@ function mutate(link, corpus) {
         case 3: bytes.splice(at, 1 + below(8)); break;
         default: {
           const other = pick(corpus).match(SHARE_LINK);
-          if (other) bytes.splice(at, bytes.length, ...fromBase64Url(other[3]).subarray(below(64)));
+          if (other) bytes.splice(at, bytes.length, ...fromBase64Url(other[2]).subarray(below(64)));
         }
       }
-      out = `share/${m[1]}/${m[2]}/${toBase64Url(Uint8Array.from(bytes))}`;
+      out = `share/${m[1]}/${toBase64Url(Uint8Array.from(bytes))}`;
     } else {
       const chars = 'ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_/%.vé=+ ';
       // Mostly after `share/v1/`: a damaged prefix only makes a link that is no share link.
@@ -133,8 +137,8 @@ async function check(link) {
   if (typeof result.spec !== 'string' || typeof result.target !== 'string') throw new Error('not two strings');
   const size = new TextEncoder().encode(result.spec).length;
   if (size > MAX_SPEC_BYTES) throw new Error(`a ${size}-byte specification passed the bound`);
-  const again = await decodeShare(await encodeShare(result.spec, result.target));
-  if (again.spec !== result.spec || again.target !== result.target) throw new Error('encoding again changed the result');
+  const again = await decodeShare(await encodeShare(result.spec, result.target, result.kind, result.name));
+  if (['spec', 'target', 'kind', 'name'].some((k) => again[k] !== result[k])) throw new Error('encoding again changed the result');
   return `ok:${Math.floor(Math.log2(size + 1))}`;
 }
 

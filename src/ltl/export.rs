@@ -72,39 +72,63 @@ pub fn report_json(spec: &Spec, outcome: &Outcome) -> Value {
     doc
 }
 
+/// The signals of `ids` whose bit is set in `care`, each with its value in `value`
+/// (`req & !ack`); every one of them when `all`; `true` for none.
+fn literals(spec: &Spec, ids: &[super::SignalId], care: u64, value: u64, all: bool) -> String {
+    let parts: Vec<String> = ids
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| all || care >> i & 1 == 1)
+        .map(|(i, &s)| format!("{}{}", if value >> i & 1 == 1 { "" } else { "!" }, spec.name(s)))
+        .collect();
+    if parts.is_empty() {
+        "true".to_string()
+    } else {
+        parts.join(" & ")
+    }
+}
+
+/// Every row of `machine` as (state, label, next): `req & !ack / grant` (reads, then the
+/// signals written, each with its value), written first for a machine that moves first.
+fn row_labels<'a>(spec: &'a Spec, machine: &'a Machine) -> impl Iterator<Item = (usize, String, usize)> + 'a {
+    machine.states.iter().enumerate().flat_map(move |(s, rows)| {
+        rows.iter().map(move |row| {
+            let read = literals(spec, &machine.reads, row.read.care, row.read.value, false);
+            let write = if machine.writes.is_empty() {
+                "-".to_string()
+            } else {
+                literals(spec, &machine.writes, u64::MAX, row.write, true)
+            };
+            let label = if machine.moves_first { format!("{write} / {read}") } else { format!("{read} / {write}") };
+            (s, label, row.next.index())
+        })
+    })
+}
+
 /// A strategy as text, one line per row:
 /// `s0: req & !ack / grant -> s1` (reads, then the signals written true, then the next state).
 pub fn render_machine(spec: &Spec, machine: &Machine) -> String {
-    let mut out = String::new();
-    let literals = |ids: &[super::SignalId], care: u64, value: u64, all: bool| -> String {
-        let parts: Vec<String> = ids
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| all || care >> i & 1 == 1)
-            .map(|(i, &s)| {
-                let on = value >> i & 1 == 1;
-                format!("{}{}", if on { "" } else { "!" }, spec.name(s))
-            })
-            .collect();
-        if parts.is_empty() {
-            "true".to_string()
-        } else {
-            parts.join(" & ")
-        }
-    };
-    for (s, rows) in machine.states.iter().enumerate() {
-        for row in rows {
-            let read = literals(&machine.reads, row.read.care, row.read.value, false);
-            let write = literals(&machine.writes, u64::MAX, row.write, true);
-            let write = if machine.writes.is_empty() { "-".to_string() } else { write };
-            if machine.moves_first {
-                out.push_str(&format!("s{s}: {write} / {read} -> s{}\n", row.next.0));
-            } else {
-                out.push_str(&format!("s{s}: {read} / {write} -> s{}\n", row.next.0));
-            }
-        }
+    row_labels(spec, machine).map(|(s, label, next)| format!("s{s}: {label} -> s{next}\n")).collect()
+}
+
+/// A strategy as a Mealy-machine drawing (DOT): one node per state, the initial one marked,
+/// one edge per pair of states with a line `inputs / outputs` per row between them.
+pub fn machine_dot(spec: &Spec, machine: &Machine) -> String {
+    use crate::dot::{document, Drawing, Edge, Node};
+    let mut g = Drawing::new();
+    let nodes: Vec<_> = (0..machine.states.len())
+        .map(|s| g.add_node(Node { label: format!("s{s}"), class: "state".into(), ..Node::default() }))
+        .collect();
+    let point = g.add_node(Node { class: "initial-point".into(), shape: Some("point"), ..Node::default() });
+    g.add_edge(point, nodes[machine.init.index()], Edge { class: "initial".into(), ..Edge::default() });
+    let mut merged: std::collections::BTreeMap<(usize, usize), Vec<String>> = Default::default();
+    for (s, label, next) in row_labels(spec, machine) {
+        merged.entry((s, next)).or_default().push(label);
     }
-    out
+    for ((s, next), labels) in merged {
+        g.add_edge(nodes[s], nodes[next], Edge { label: labels.join("\n"), class: "row".into(), style: "" });
+    }
+    document(&g)
 }
 
 /// The counter-strategy unfolded as a tree from its initial state: each state's inputs, then
@@ -119,16 +143,11 @@ pub fn render_machine(spec: &Spec, machine: &Machine) -> String {
 /// ```
 pub fn render_tree(spec: &Spec, machine: &Machine) -> String {
     let literals = |ids: &[super::SignalId], care: u64, value: u64| -> String {
-        let parts: Vec<String> = ids
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| care >> i & 1 == 1)
-            .map(|(i, &s)| format!("{}{}", if value >> i & 1 == 1 { "" } else { "!" }, spec.name(s)))
-            .collect();
-        if parts.is_empty() {
+        let text = literals(spec, ids, care, value, false);
+        if text == "true" {
             "nothing".to_string()
         } else {
-            parts.join(" & ")
+            text
         }
     };
     let all = u64::MAX >> (64 - machine.writes.len().max(1));
@@ -213,5 +232,30 @@ pub fn summary(outcome: &Outcome) -> String {
         Verdict::Unknown => {
             format!("unknown at k = {}: {}", outcome.k, outcome.limit.as_deref().unwrap_or("no player won"))
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::ltl::{compile_g4ltl, machine_dot, render_machine, synthesize, Config};
+
+    #[test]
+    fn the_mealy_drawing_has_every_row_of_the_text() {
+        let source = "ALWAYS (req -> (grant || NEXT grant))\nALWAYS (grant -> NEXT !grant)\nINPUT req\nOUTPUT grant\n";
+        let (spec, _) = compile_g4ltl(source).unwrap();
+        let outcome = synthesize(&spec, &Config::default(), &mut |_| true).unwrap();
+        let machine = outcome.controller.as_ref().unwrap();
+        let dot = machine_dot(&spec, machine);
+        let text = render_machine(&spec, machine);
+        assert!(dot.contains("initial-point"), "{dot}");
+        for line in text.lines() {
+            let (_, row) = line.split_once(": ").unwrap();
+            let (label, _) = row.rsplit_once(" -> ").unwrap();
+            assert!(dot.contains(label), "{label} is missing from {dot}");
+        }
+        // One drawn edge per pair of states with rows between them, and the initial arrow.
+        let pairs: std::collections::BTreeSet<(&str, &str)> =
+            text.lines().map(|line| (line.split_once(':').unwrap().0, line.rsplit_once(" -> ").unwrap().1)).collect();
+        assert_eq!(dot.matches(" -> ").count(), pairs.len() + 1, "{dot}");
     }
 }

@@ -32,7 +32,7 @@ mod tlsf;
 mod translate;
 
 pub use compose::{product, Group};
-pub use export::{render_machine, render_tree, report_json, summary};
+pub use export::{machine_dot, render_machine, render_tree, report_json, summary};
 pub use g4ltl::compile_g4ltl;
 pub use machine::{Cube, Machine, Row, StateId};
 pub use refine::{refined, Learned, Refinement};

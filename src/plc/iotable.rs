@@ -87,19 +87,27 @@ pub fn tag_table_sdf(code: &Code) -> String {
     out
 }
 
-/// The signal table of a structured unit as CSV (RFC 4180, CRLF): the address each signal of the
-/// user's project has in the STL form (IEC notation), its type, its symbol, its direction and
-/// the events whose triggers or actions use it; then the event constants (`EV_…`, with their
-/// values), which a controller passes to the framework and an HMI reads back.
-pub fn signal_table_csv(unit: &Unit) -> String {
-    let mut out = String::from("address,type,symbol,direction,events\r\n");
-    let mut row = |fields: [&str; 5]| {
-        let line: Vec<String> = fields.iter().map(|f| csv_field(f)).collect();
-        out.push_str(&line.join(","));
-        out.push_str("\r\n");
-    };
+/// One row of a structured unit's signal table.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SignalRow {
+    /// The address in the STL form, IEC notation (`%IX0.1`); for a constant, its value.
+    pub address: String,
+    pub data_type: &'static str,
+    pub symbol: String,
+    /// `input`, `output`, `memory` or `constant`.
+    pub direction: &'static str,
+    /// The events whose triggers or actions use it.
+    pub events: String,
+}
+
+/// The signal table of a structured unit: the address each signal of the user's project has in
+/// the STL form, its type, its symbol, its direction and the events whose triggers or actions
+/// use it; then the event constants (`EV_…`, with their values), which a controller passes to
+/// the framework and an HMI reads back.
+pub fn signal_rows(unit: &Unit) -> Vec<SignalRow> {
+    let mut rows = Vec::new();
     for s in &unit.signals {
-        let ty = match s.ty {
+        let data_type = match s.ty {
             super::unit::Type::Int => "INT",
             super::unit::Type::Dint => "DINT",
             super::unit::Type::Real => "REAL",
@@ -111,14 +119,38 @@ pub fn signal_table_csv(unit: &Unit) -> String {
             SignalKind::Output => "output",
             SignalKind::Memory => "memory",
         };
-        row([&format!("%{}", super::iec_address(&s.address)), ty, &s.symbol, direction, &s.comment]);
+        rows.push(SignalRow {
+            address: format!("%{}", super::iec_address(&s.address)),
+            data_type,
+            symbol: s.symbol.clone(),
+            direction,
+            events: s.comment.clone(),
+        });
     }
     for c in &unit.constants {
         let value = match c.init {
             Some(super::unit::Expr::Int(v)) => v.to_string(),
             _ => String::new(),
         };
-        row([&value, "INT", &c.name, "constant", &c.comment]);
+        rows.push(SignalRow {
+            address: value,
+            data_type: "INT",
+            symbol: c.name.clone(),
+            direction: "constant",
+            events: c.comment.clone(),
+        });
+    }
+    rows
+}
+
+/// [`signal_rows`] as CSV (RFC 4180, CRLF).
+pub fn signal_table_csv(unit: &Unit) -> String {
+    let mut out = String::from("address,type,symbol,direction,events\r\n");
+    for r in signal_rows(unit) {
+        let fields = [&r.address, r.data_type, &r.symbol, r.direction, &r.events];
+        let line: Vec<String> = fields.iter().map(|f| csv_field(f)).collect();
+        out.push_str(&line.join(","));
+        out.push_str("\r\n");
     }
     out
 }

@@ -36,7 +36,7 @@ pub mod unit_plcopen;
 pub mod unit_st;
 pub mod unit_stl;
 
-pub use iotable::{io_table, io_table_csv, signal_table_csv, tag_table_sdf, IoRow};
+pub use iotable::{io_table, io_table_csv, signal_rows, signal_table_csv, tag_table_sdf, IoRow, SignalRow};
 pub use lower_timed::{build, generate};
 pub use model::Code;
 

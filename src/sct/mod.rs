@@ -17,6 +17,8 @@
 //!   templates, timers, and every check that yields a located diagnostic.
 //! - `report` (private, re-exported here): synthesis of all specifications of a project with
 //!   per-supervisor reports.
+//! - [`export`]: drawings of plant models, specifications and supervisors (DOT), for the
+//!   playground.
 //! - `runtime` (private, re-exported here): the reference executor of the runtime framework —
 //!   supervisors stepped cycle by cycle ([`Runtime`]): accepted, denied, unexpected and
 //!   enforced events, timers.
@@ -40,6 +42,7 @@
 mod ast;
 mod check;
 pub mod classic;
+pub mod export;
 mod lexer;
 pub mod model;
 mod parser;

@@ -1,7 +1,7 @@
 //! JSON views of a game and of a solved state space, for the playground and `--json` output.
 //! Shapes are documented in `docs/timed-language.md` (section "JSON output").
 
-use super::explain::{describe_edge, removal_text};
+use super::explain::{describe_edge, describe_state, removal_text};
 use super::model::{ClockInterval, Game};
 use super::solve::{Removal, StateId, StateKind, Verdict};
 use super::Synthesis;
@@ -199,7 +199,6 @@ pub fn state_view(game: &Game, synthesis: &Synthesis, s: StateId) -> StateView {
 /// state (winning and removed alike), with the edges among them.
 pub fn space(game: &Game, synthesis: &Synthesis, limit: usize) -> SpaceView {
     let space = &synthesis.solution.space;
-    let split = &synthesis.split;
     let n = space.states.len();
     let mut index = vec![u32::MAX; n];
     let mut order = Vec::new();
@@ -219,10 +218,18 @@ pub fn space(game: &Game, synthesis: &Synthesis, limit: usize) -> SpaceView {
             }
         }
     }
+    let truncated = order.len() < n;
+    view_of(game, synthesis, &order, truncated)
+}
+
+/// The view of the states `order` (in that order) and of the edges among them; timeouts and
+/// zeno repetitions, which lead nowhere, are kept.
+fn view_of(game: &Game, synthesis: &Synthesis, order: &[StateId], truncated: bool) -> SpaceView {
+    let space = &synthesis.solution.space;
     let exported: std::collections::HashSet<StateId> = order.iter().copied().collect();
     let states = order.iter().map(|&s| state_view(game, synthesis, s)).collect();
     let mut edges = Vec::new();
-    for &s in &order {
+    for &s in order {
         for (_, e) in space.out_edges(s) {
             if e.to != u32::MAX && !exported.contains(&e.to) {
                 continue;
@@ -231,7 +238,7 @@ pub fn space(game: &Game, synthesis: &Synthesis, limit: usize) -> SpaceView {
                 from: s,
                 to: (e.to != u32::MAX).then_some(e.to),
                 kind: e.kind,
-                label: describe_edge(game, split, e),
+                label: describe_edge(game, &synthesis.split, e),
                 zeno: e.zeno,
                 progress: e.progress,
             });
@@ -241,10 +248,113 @@ pub fn space(game: &Game, synthesis: &Synthesis, limit: usize) -> SpaceView {
         verdict: synthesis.solution.verdict,
         initial: space.initial,
         clocks: game.clocks.iter().map(|c| c.name.clone()).collect(),
-        units: split.units.iter().map(|u| u.name.clone()).collect(),
+        units: synthesis.split.units.iter().map(|u| u.name.clone()).collect(),
         states,
         edges,
-        truncated: order.len() < n,
-        total_states: n,
+        truncated,
+        total_states: space.states.len(),
     }
+}
+
+/// The predecessors of every explored state, for [`neighbourhood`].
+pub fn incoming(synthesis: &Synthesis) -> Vec<Vec<StateId>> {
+    let space = &synthesis.solution.space;
+    let mut incoming = vec![Vec::new(); space.states.len()];
+    for e in &space.edges {
+        if e.to != u32::MAX {
+            incoming[e.to as usize].push(e.from);
+        }
+    }
+    incoming
+}
+
+/// The states within `k` steps of `state` (following edges both ways, breadth-first), at most
+/// `limit` of them, with the edges among them; `truncated` tells if `limit` cut it. `None` for a
+/// state that does not exist. `incoming` is [`incoming`] of the same synthesis.
+pub fn neighbourhood(
+    game: &Game,
+    synthesis: &Synthesis,
+    incoming: &[Vec<StateId>],
+    state: StateId,
+    k: u32,
+    limit: usize,
+) -> Option<SpaceView> {
+    let space = &synthesis.solution.space;
+    if state as usize >= space.states.len() {
+        return None;
+    }
+    let mut dist: std::collections::HashMap<StateId, u32> = std::collections::HashMap::from([(state, 0)]);
+    let mut order = vec![state];
+    let mut queue = VecDeque::from([state]);
+    let mut cut = false;
+    'bfs: while let Some(x) = queue.pop_front() {
+        let d = dist[&x];
+        if d >= k {
+            continue;
+        }
+        let succ = space.out_edges(x).map(|(_, e)| e.to).filter(|&t| t != u32::MAX);
+        let pred = incoming[x as usize].iter().copied();
+        for y in succ.chain(pred).collect::<Vec<_>>() {
+            if dist.contains_key(&y) {
+                continue;
+            }
+            if order.len() >= limit.max(1) {
+                cut = true;
+                break 'bfs;
+            }
+            dist.insert(y, d + 1);
+            order.push(y);
+            queue.push_back(y);
+        }
+    }
+    Some(view_of(game, synthesis, &order, cut))
+}
+
+/// One row of the state explorer.
+#[derive(Serialize)]
+pub struct StateRow {
+    pub id: StateId,
+    pub text: String,
+    pub winning: bool,
+    pub initial: bool,
+}
+
+/// The states that match a search, the first `limit` of them as rows.
+#[derive(Serialize)]
+pub struct StateSearch {
+    pub total: usize,
+    pub rows: Vec<StateRow>,
+}
+
+/// The states whose description (`s12 lamp.on x<3 …`) contains every word of `query`
+/// (case-insensitive); `filter` is `all`, `winning` or `removed`. Rows in state order.
+pub fn search_states(game: &Game, synthesis: &Synthesis, query: &str, filter: &str, limit: usize) -> StateSearch {
+    let space = &synthesis.solution.space;
+    let split = &synthesis.split;
+    let words: Vec<String> = query.split_whitespace().map(str::to_lowercase).collect();
+    let mut total = 0;
+    let mut rows = Vec::new();
+    for id in 0..space.states.len() as StateId {
+        let winning = space.is_winning(id);
+        if (filter == "winning" && !winning) || (filter == "removed" && winning) {
+            continue;
+        }
+        // Describing a state costs; without a query only the listed rows need it.
+        let text = if words.is_empty() {
+            None
+        } else {
+            let text = describe_state(game, split, space, id);
+            let lower = format!("s{id} {}", text.to_lowercase());
+            if !words.iter().all(|w| lower.contains(w.as_str())) {
+                continue;
+            }
+            Some(text)
+        };
+        total += 1;
+        if rows.len() < limit {
+            let text = text.unwrap_or_else(|| describe_state(game, split, space, id));
+            rows.push(StateRow { id, text, winning, initial: id == space.initial });
+        }
+    }
+    StateSearch { total, rows }
 }

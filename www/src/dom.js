@@ -15,9 +15,13 @@ export function h(tag, attrs = {}, ...children) {
 }
 
 let toastTimer = 0;
-export function toast(message, ms = 4000) {
+/** A message at the bottom; `action` ({ label, run }) adds a button that runs it and closes. */
+export function toast(message, ms = 4000, action = null) {
   const el = $('#toast');
-  el.textContent = message;
+  el.replaceChildren(message);
+  if (action) {
+    el.append(' ', h('button', { class: 'toast-action', onclick: () => ((el.hidden = true), action.run()) }, action.label));
+  }
   el.hidden = false;
   clearTimeout(toastTimer);
   toastTimer = setTimeout(() => (el.hidden = true), ms);

@@ -1,12 +1,16 @@
-// The CodeMirror 6 editor: `.tga` highlighting, line numbers, bracket matching, and lint
-// diagnostics from the engine (squiggles, gutter markers) refreshed as you type.
+// The CodeMirror 6 editor: highlighting and completion of the open document's language
+// (`.tga`, `.sct`, `.ltl`, `.tlsf`; switched with `setKind`), line numbers, bracket matching,
+// and lint diagnostics from the engine (squiggles, gutter markers) refreshed as you type.
 import { basicSetup } from 'codemirror';
 import { EditorView, keymap } from '@codemirror/view';
-import { EditorState, Prec } from '@codemirror/state';
+import { Compartment, EditorState, Prec } from '@codemirror/state';
 import { HighlightStyle, syntaxHighlighting } from '@codemirror/language';
 import { linter, lintGutter, forceLinting } from '@codemirror/lint';
 import { tags as t } from '@lezer/highlight';
-import { tga } from './tga.js';
+import { completions, languageOf } from './languages.js';
+
+/** The language and the completion of a document kind. */
+const languageFor = (kind) => [languageOf(kind), EditorState.languageData.of(() => [{ autocomplete: completions(kind) }])];
 
 /** Editor chrome in the page's colours, so that it follows the light/dark setting. */
 const chrome = EditorView.theme({
@@ -67,7 +71,8 @@ export function byteToCharMapper(text) {
  * `onDiagnostics(list, view)` receives them for the message list; `onChange(text)` on edits;
  * `onRun()` on Ctrl/Cmd+Enter.
  */
-export function createEditor(parent, { doc, check, onDiagnostics, onChange, onRun }) {
+export function createEditor(parent, { doc, kind = 'tga', check, onDiagnostics, onChange, onRun }) {
+  const language = new Compartment();
   const lint = linter(
     async (view) => {
       const text = view.state.doc.toString();
@@ -103,7 +108,7 @@ export function createEditor(parent, { doc, check, onDiagnostics, onChange, onRu
       extensions: [
         Prec.highest(keymap.of([{ key: 'Mod-Enter', run: () => (onRun(), true) }])),
         basicSetup,
-        tga,
+        language.of(languageFor(kind)),
         chrome,
         EditorView.lineWrapping,
         syntaxHighlighting(highlight),
@@ -123,6 +128,10 @@ export function createEditor(parent, { doc, check, onDiagnostics, onChange, onRu
       view.scrollDOM.scrollTop = 0;
     },
     relint: () => forceLinting(view),
+    /** Switches the highlighting and completion to another document kind. */
+    setKind(kind) {
+      view.dispatch({ effects: language.reconfigure(languageFor(kind)) });
+    },
     goto(line, column) {
       const l = view.state.doc.line(Math.min(Math.max(line, 1), view.state.doc.lines));
       const pos = Math.min(l.from + Math.max(column - 1, 0), l.to);

@@ -30,7 +30,7 @@ export class Engine {
     const call = this.pending.get(data.id);
     if (!call) return;
     if ('progress' in data) return call.onProgress?.(data.progress, data.elapsed);
-    if ('automata' in data) return call.onCompiled?.(data.automata, data.warnings);
+    if ('compiled' in data) return call.onCompiled?.(data.compiled.automata, data.compiled.warnings);
     this.pending.delete(data.id);
     if (data.ok) call.resolve(data.value);
     else {

@@ -1,4 +1,6 @@
-// The playground page: wires the editor, the engine workers and the views together.
+// The playground page: wires the editor, the engine workers and the views together. The mode
+// follows the open document: its kind (`tga`, `sct`, `ltl`, `tlsf`) picks the engine, the
+// editor's language, the tabs and the views.
 import examples from 'examples';
 import { $, h, toast, fmtInt, fmtMs } from './dom.js';
 import { Engine } from './engine.js';
@@ -8,13 +10,20 @@ import { renderSummary } from './summary.js';
 import { SpaceView } from './space.js';
 import { ZoneView } from './zoneview.js';
 import { automatonDot, render, preload } from './graphs.js';
+import { engineOf, engineLabel, kindLabel } from './languages.js';
+import { templates } from './templates.js';
+import { renderSctSummary, sctVerdict, SctAutomataView } from './sctview.js';
+import { addAssumption, drawMachine, renderLtlSummary } from './ltlview.js';
 
-const STORAGE_KEY = 'plcsynth.playground.v1';
+/** Autosave: the current kind, and per kind the last document with where it came from. */
+const STORAGE_KEY = 'plcsynth.playground.v2';
+const OLD_STORAGE_KEY = 'plcsynth.playground.v1';
 const byId = new Map(examples.map((e) => [e.id, e]));
 
 const checker = new Engine('checker');
 const solver = new Engine('solver');
-const app = { running: false, name: 'spec', result: null, automata: null, automataDrawn: false, meta: null, code: '', files: [], io: null };
+const app = { running: false, kind: 'tga', name: 'spec', origin: '', result: null, automata: null, automataDrawn: false, meta: null, code: '', files: [], io: null };
+app.engine = () => engineOf(app.kind);
 window.plcsynth = app; // for the console and the browser tests
 app.engines = { checker, solver };
 
@@ -35,10 +44,27 @@ function showDiagnostics(list) {
   );
 }
 
-/** Autosave; a full or disabled localStorage only costs the autosave. */
-function save(text, name) {
+/** The autosaved documents: `{ current, docs: { [kind]: { text, name, origin, previous? } } }`. */
+function loadSaved() {
   try {
-    localStorage.setItem(STORAGE_KEY, JSON.stringify({ text, name }));
+    const saved = JSON.parse(localStorage.getItem(STORAGE_KEY) ?? 'null');
+    if (saved?.docs) return saved;
+    // The first version kept one timed-game document.
+    const old = JSON.parse(localStorage.getItem(OLD_STORAGE_KEY) ?? 'null');
+    if (old?.text) return { current: 'tga', docs: { tga: { text: old.text, name: old.name ?? 'spec', origin: '' } } };
+  } catch {
+    // unreadable: start afresh
+  }
+  return { current: 'tga', docs: {} };
+}
+const saved = loadSaved();
+
+/** Autosave; a full or disabled localStorage only costs the autosave. */
+function save() {
+  saved.current = app.kind;
+  saved.docs[app.kind] = { ...saved.docs[app.kind], text: editor.text, name: app.name, origin: app.origin };
+  try {
+    localStorage.setItem(STORAGE_KEY, JSON.stringify(saved));
   } catch {
     // nothing to do: the edit stays in the editor
   }
@@ -47,15 +73,15 @@ function save(text, name) {
 let saveTimer = 0;
 const editor = createEditor($('#editor'), {
   doc: '',
-  check: async (text) => (await checker.call('check', { source: text })).diagnostics,
+  check: async (text) => (await checker.call('check', { kind: app.kind, source: text })).diagnostics,
   onDiagnostics: showDiagnostics,
   onChange: (text) => {
-    // An edit makes an #example/ or #share/ link stale: drop it, so a reload keeps the edit.
-    if (!app.loading && location.hash) history.replaceState(null, '', location.pathname + location.search);
+    // The link in the address bar stays: a reload finds this edit in the autosave, saved with
+    // the link it came from, and reopens the edit rather than the link's text.
     if (!app.loading) showName(text);
     markStale(text);
     clearTimeout(saveTimer);
-    saveTimer = setTimeout(() => save(text, app.name), 300);
+    saveTimer = setTimeout(save, 300);
   },
   onRun: () => run(),
 });
@@ -75,12 +101,38 @@ function markStale(text) {
   $('#status').classList.toggle('stale', stale);
 }
 
-function openSpec(text, name) {
+/** Whether the autosaved document of `kind` holds work of the user's own: an edited example or
+ * link, or a text of their own. */
+function isOwnWork(doc) {
+  if (!doc?.text?.trim()) return false;
+  const ex = byId.get(doc.name);
+  if (ex && ex.source === doc.text) return false;
+  return !Object.values(templates).includes(doc.text);
+}
+
+/**
+ * Opens `text` as a document of `kind` named `name`, which came from `origin` (`example/<id>`,
+ * a share link, or '' for the user's own). An edit of the same kind it replaces is kept, and a
+ * toast offers it back.
+ */
+function openSpec(text, name, kind = 'tga', origin = '') {
+  clearTimeout(saveTimer);
+  // The open document first goes to the autosave (its last keystrokes may not be there yet).
+  if (editor.text) saved.docs[app.kind] = { ...saved.docs[app.kind], text: editor.text, name: app.name, origin: app.origin };
+  const replaced = saved.docs[kind];
+  if (isOwnWork(replaced) && replaced.text !== text) {
+    saved.docs[kind] = { ...saved.docs[kind], previous: replaced };
+    toast(`Your earlier ${kindLabel[kind]} text “${replaced.name}” was kept.`, 8000, { label: 'Restore it', run: () => openSpec(replaced.text, replaced.name, kind, replaced.origin) });
+  }
+  const switching = kind !== app.kind;
+  app.kind = kind;
   app.name = name;
+  app.origin = origin;
   app.loading = true;
+  if (switching) setMode(kind);
   editor.text = text;
   app.loading = false;
-  save(text, name);
+  save();
   showName(text);
 }
 
@@ -91,27 +143,107 @@ function showName(text) {
   $('#spec-name').textContent = ex ? `${ex.id}${edited}: ${ex.title}` : app.name;
 }
 
+/** Shows the tabs, settings and menus of the engine of `kind`, and forgets the last results. */
+function setMode(kind) {
+  const engine = engineOf(kind);
+  document.body.dataset.mode = engine;
+  $('#mode-badge').textContent = engineLabel[engine];
+  document.querySelectorAll('[data-modes]').forEach((el) => (el.hidden = !el.dataset.modes.split(' ').includes(engine)));
+  const automataTab = $('[data-tab=automata]');
+  automataTab.textContent = automataTab.dataset[`label${engine[0].toUpperCase()}${engine.slice(1)}`] ?? 'Automata';
+  editor.setKind(kind);
+  clearResults('Press Run (or Ctrl+Enter) to synthesise a controller for the spec on the left.');
+  if (app.targets) fillTargets(app.targets);
+  if (!['summary', 'automata', 'code'].includes(currentTab) && engine !== 'timed') showTab('summary');
+}
+
+/** Forgets the results on screen (another engine, or a new run). */
+function clearResults(message) {
+  app.result = null;
+  app.ranText = null;
+  app.automata = null;
+  app.automataDrawn = false;
+  app.meta = null;
+  spaceView.reset(null);
+  sctAutomata.clear('The automata appear here once the spec compiles and runs.');
+  $('#automata').replaceChildren(h('p', { class: 'muted' }, 'The automata appear here once the spec compiles and runs.'));
+  $('#summary').replaceChildren(h('p', { class: 'muted' }, message));
+  markStale(editor.text);
+}
+
 // ---- examples gallery -------------------------------------------------------------------
 
-$('#gallery-list').replaceChildren(
-  ...examples.map((e) =>
+const galleryItem = (e) =>
+  h(
+    'li',
+    {},
     h(
-      'li',
-      {},
-      h(
-        'a',
-        { href: `#example/${e.id}`, 'data-example': e.id, onclick: () => $('#gallery').close() },
-        h('span', { class: 'id' }, e.id),
-        h('span', { class: 'title' }, ` ${e.title}`),
-        e.expected ? h('span', { class: `badge ${e.expected}` }, e.expected) : null,
-        h('span', { class: 'desc', title: e.description }, e.description),
-      ),
+      'a',
+      {
+        href: `#example/${e.id}`,
+        'data-example': e.id,
+        onclick: (event) => {
+          $('#gallery').close();
+          // The address already names it (an edit keeps the link): no hashchange comes, so
+          // open the example's own text here.
+          if (location.hash === `#example/${e.id}`) {
+            event.preventDefault();
+            openSpec(e.source, e.id, e.kind, `example/${e.id}`);
+          }
+        },
+      },
+      h('span', { class: 'id' }, e.id),
+      h('span', { class: 'title' }, ` ${e.title}`),
+      e.kind === 'tlsf' ? h('span', { class: 'badge' }, 'TLSF') : null,
+      e.expected ? h('span', { class: `badge ${e.expected}` }, e.expected) : null,
+      h('span', { class: 'desc', title: e.description }, e.description),
+    ),
+  );
+$('#gallery-list').replaceChildren(
+  ...['timed', 'sct', 'ltl'].map((engine) =>
+    h(
+      'section',
+      { class: 'gallery-section', 'data-engine': engine },
+      h('h2', {}, engineLabel[engine]),
+      h('ul', {}, examples.filter((e) => e.engine === engine).map(galleryItem)),
     ),
   ),
 );
 $('#examples-button').addEventListener('click', () => $('#gallery').showModal());
 
+// ---- the "New" menu: an empty document of any kind ---------------------------------------
+
+$('#new-list').replaceChildren(
+  ...Object.keys(templates).map((kind) =>
+    h(
+      'li',
+      {},
+      h(
+        'button',
+        {
+          'data-new': kind,
+          onclick: () => {
+            $('#new-menu').close();
+            history.replaceState(null, '', location.pathname + location.search);
+            openSpec(templates[kind], `untitled.${kind}`, kind, '');
+          },
+        },
+        kindLabel[kind],
+      ),
+    ),
+  ),
+);
+$('#new-button').addEventListener('click', () => $('#new-menu').showModal());
+
 // ---- routing: #example/<id>, #share/v1/<target>/<data> ------------------------------------
+
+/** Opens what the address names; an autosaved edit of the same link is opened instead of the
+ * link's own text, so that a reload keeps the edit. */
+function openRouted(text, name, kind, origin) {
+  const doc = saved.docs[kind];
+  if (doc?.origin === origin && doc.text !== text && doc.text) return openSpec(doc.text, doc.name, kind, origin);
+  return openSpec(text, name, kind, origin);
+}
 
 async function route() {
   let hash = location.hash.slice(1);
@@ -122,13 +254,16 @@ async function route() {
   }
   if (hash.startsWith('example/')) {
     const ex = byId.get(hash.slice(8));
-    if (ex) return openSpec(ex.source, ex.id), true;
+    if (ex) {
+      openRouted(ex.source, ex.id, ex.kind, hash);
+      return true;
+    }
     toast(`No example called "${hash.slice(8)}".`);
   } else if (hash.startsWith('share/')) {
     try {
       const shared = await decodeShare(location.hash.slice(1));
       if (shared) {
-        openSpec(shared.spec, 'shared spec');
+        openRouted(shared.spec, shared.name || 'shared spec', shared.kind, location.hash.slice(1));
         setTarget(shared.target);
         return true;
       }
@@ -145,16 +280,39 @@ window.addEventListener('hashchange', route);
 let currentTab = 'summary';
 function showTab(name) {
   currentTab = name;
-  document.querySelectorAll('.tabs [role=tab]').forEach((b) => b.setAttribute('aria-selected', String(b.dataset.tab === name)));
+  document.querySelectorAll('.tabs [role=tab]').forEach((b) => {
+    b.setAttribute('aria-selected', String(b.dataset.tab === name));
+    // One tab stop for the bar; the arrow keys move within it.
+    b.tabIndex = b.dataset.tab === name ? 0 : -1;
+  });
   document.querySelectorAll('.panel').forEach((p) => (p.hidden = p.dataset.panel !== name));
   if (name === 'automata') drawAutomata();
   if (name === 'code') refreshCode();
 }
 document.querySelectorAll('.tabs [role=tab]').forEach((b) => b.addEventListener('click', () => showTab(b.dataset.tab)));
+// The WAI-ARIA tabs pattern: Left/Right move to the neighbouring tab, Home/End to the ends.
+$('.tabs').addEventListener('keydown', (event) => {
+  const tabs = [...document.querySelectorAll('.tabs [role=tab]')].filter((b) => !b.hidden);
+  const at = tabs.findIndex((b) => b.dataset.tab === currentTab);
+  const next = { ArrowRight: at + 1, ArrowLeft: at - 1, Home: 0, End: tabs.length - 1 }[event.key];
+  if (next === undefined) return;
+  event.preventDefault();
+  const tab = tabs[(next + tabs.length) % tabs.length];
+  showTab(tab.dataset.tab);
+  tab.focus();
+});
 
 // ---- automata ---------------------------------------------------------------------------
 
+const sctAutomata = new SctAutomataView($('#automata'));
+
 async function drawAutomata() {
+  if (app.engine() === 'sct') return sctAutomata.draw();
+  if (app.engine() === 'ltl') {
+    if (app.automataDrawn) return;
+    app.automataDrawn = true;
+    return drawMachine($('#automata'), app.result);
+  }
   if (!app.automata || app.automataDrawn) return;
   app.automataDrawn = true;
   const list = app.automata;
@@ -215,16 +373,23 @@ const spaceView = new SpaceView({
 const DUMP_LINES = 4000;
 const fileStem = () => app.name.replace(/[^A-Za-z0-9_-]+/g, '_');
 
-/** Fills the target menu from the engine's list (controller targets), then the text views. */
+/** Fills the target menu from the engine's list: for timed games the intermediate program, every
+ * PLC target and the text views; for the other engines every PLC target. */
 function fillTargets(list) {
+  app.targets = list;
   const select = $('#target');
+  const previous = select.value;
   const option = (value, label) => h('option', { value }, label);
+  const timed = app.engine() === 'timed';
+  const plc = list.filter((t) => timed || t.id !== 'program');
+  const controller = { timed: 'Controller', sct: 'Runtime framework (Göbe 2019, 6.3)', ltl: 'Controller function block' }[app.engine()];
   select.replaceChildren(
-    h('optgroup', { label: 'Controller' }, list.map((t) => option(t.id, t.multi_file ? t.label : `${t.label} (.${t.extension})`))),
-    h('optgroup', { label: 'Analysis (text)' }, option('space', 'State space dump (.txt)'), option('explanation', 'Explanation (.txt)')),
+    h('optgroup', { label: controller }, plc.map((t) => option(t.id, t.multi_file ? t.label : `${t.label} (.${t.extension})`))),
+    timed ? h('optgroup', { label: 'Analysis (text)' }, option('space', 'State space dump (.txt)'), option('explanation', 'Explanation (.txt)')) : null,
   );
-  select.value = app.pendingTarget ?? 'st';
+  select.value = app.pendingTarget ?? previous;
   if (!select.value) select.value = 'st';
+  app.pendingTarget = null;
 }
 
 function setTarget(target) {
@@ -367,11 +532,15 @@ async function refreshCode() {
       app.files = generated.files;
       renderIo(generated);
       renderFiles(generated.files);
-      note.textContent = target === 'program' ? 'The optimised controller program (Peter 2005, chapter 6).' : 'Generated from the optimised controller program.';
+      note.textContent = {
+        timed: target === 'program' ? 'The optimised controller program (Peter 2005, chapter 6).' : 'Generated from the optimised controller program.',
+        sct: 'The runtime framework: it detects the events, asks every supervisor, resets denied outputs and executes enforced events around the existing controller (FB “Controller”).',
+        ltl: 'The controller as a function block: call it once per scan.',
+      }[app.engine()];
       if (realtime) note.textContent += ` Checked at ${realtime.scan_ms} ms: ${realtime.runs} runs of ${fmtInt(realtime.scans_per_run)} scans against the plant, timed adversarially, no failure.`;
       note.dataset.realtime = realtime ? 'held' : '';
     } else {
-      note.textContent = `No controller: ${verdictPhrase(app.result.verdict)}.`;
+      note.textContent = app.engine() === 'sct' ? `No framework: ${verdictPhrase(app.result.verdict)}.` : `No controller: ${verdictPhrase(app.result.verdict)}.`;
     }
   }
   if ($('#target').value !== target) return;
@@ -408,11 +577,14 @@ $('#download-io-sdf').addEventListener('click', () => app.io && download(`${file
 $('#share').addEventListener('click', async () => {
   let hash;
   try {
-    hash = await encodeShare(editor.text, $('#target').value);
+    hash = await encodeShare(editor.text, $('#target').value, app.kind, app.name);
   } catch (error) {
     return toast(`This specification cannot be shared: ${error.message ?? error}`);
   }
   history.replaceState(null, '', `#${hash}`);
+  // The document now comes from this link: a reload reopens it (with later edits).
+  app.origin = hash;
+  save();
   try {
     await navigator.clipboard.writeText(location.href);
     toast('Link copied to the clipboard.');
@@ -431,6 +603,8 @@ function verdictPhrase(verdict) {
       unrealizable: 'the spec is unrealizable',
       budget_exceeded: 'the search exceeded its budget before deciding',
       cancelled: 'the search was cancelled before deciding',
+      unknown: 'the verdict is unknown (no player won within the bound or the budget)',
+      error: 'synthesis found errors in the project',
     }[verdict] ?? `the verdict is ${verdict}`
   );
 }
@@ -454,6 +628,8 @@ async function run() {
   setRunning(true);
   const started = performance.now();
   const source = editor.text;
+  const kind = app.kind;
+  const engine = app.engine();
   const maxStates = Math.max(10, Number($('#max-states').value) || 1000000);
   app.result = null;
   app.ranText = source;
@@ -464,44 +640,67 @@ async function run() {
   spaceView.reset(null);
   $('#summary').replaceChildren(h('p', { class: 'muted' }, 'Running…'));
   setStatus('Compiling…', 'running');
+  const options = {
+    timed: { maxStates, progressInterval: 256 },
+    sct: { method: $('#sct-method').value, compose: $('#sct-compose').checked },
+    ltl: { suggest: $('#ltl-suggest').checked },
+  }[engine];
+  const progressText = {
+    timed: (p) => `Exploring… ${fmtInt(p.visited)} states visited, ${fmtInt(p.removed)} removed`,
+    sct: (p) => `Synthesising… ${fmtInt(p.built)} product states built`,
+    ltl: (p) => `Solving… k = ${p.k}, ${fmtInt(p.positions)} game positions`,
+  }[engine];
   try {
     const summary = await solver.call(
       'run',
-      { source, options: { maxStates, progressInterval: 256 } },
+      { kind, source, options },
       {
         onCompiled: (automata) => {
           app.automata = automata;
-          setStatus('Exploring…', 'running');
+          if (engine === 'sct') sctAutomata.load(automata);
+          setStatus({ timed: 'Exploring…', sct: 'Synthesising…', ltl: 'Solving…' }[engine], 'running');
           if (currentTab === 'automata') drawAutomata();
         },
-        onProgress: (stats, elapsed) =>
-          setStatus(`Exploring… ${fmtInt(stats.visited)} states visited, ${fmtInt(stats.removed)} removed (${fmtMs(elapsed)})`, 'running'),
+        onProgress: (progress, elapsed) => setStatus(`${progressText(progress)} (${fmtMs(elapsed)})`, 'running'),
       },
     );
     const ms = performance.now() - started;
-    app.result = summary;
     const ex = byId.get(app.name);
     const expected = ex && ex.source === source ? ex.expected : null;
-    renderSummary($('#summary'), {
-      summary,
-      ms,
-      expected,
-      maxStates,
-      onState: async (id) => {
-        showTab('space');
-        await spaceReady;
-        await spaceView.select(id);
-      },
-    });
-    setStatus(`${summary.verdict.replace('_', ' ')}: ${fmtInt(summary.stats.visited)} states visited, ${fmtInt(summary.stats.winning)} winning, ${fmtInt(summary.stats.removed)} removed in ${fmtMs(summary.ms)}`, 'done');
+    if (engine === 'sct') summary.verdict = sctVerdict(summary);
+    app.result = summary;
+    if (engine === 'timed') {
+      renderSummary($('#summary'), {
+        summary,
+        ms,
+        expected,
+        maxStates,
+        onState: async (id) => {
+          showTab('space');
+          await spaceReady;
+          await spaceView.select(id);
+        },
+      });
+      setStatus(`${summary.verdict.replace('_', ' ')}: ${fmtInt(summary.stats.visited)} states visited, ${fmtInt(summary.stats.winning)} winning, ${fmtInt(summary.stats.removed)} removed in ${fmtMs(summary.ms)}`, 'done');
+    } else if (engine === 'sct') {
+      renderSctSummary($('#summary'), { summary, ms, expected, onLocate: (line, column) => editor.goto(line, column) });
+      const n = summary.supervisors.length;
+      setStatus(`${verdictPhrase(summary.verdict).replace(/^the spec is /, '')}: ${n} supervisor${n === 1 ? '' : 's'}, ${fmtInt(summary.supervisors.reduce((a, x) => a + x.states, 0))} states in ${fmtMs(summary.ms)}`, 'done');
+    } else {
+      renderLtlSummary($('#summary'), { summary, ms, expected, onAddAssumption: (list) => addAssumptions(kind, list) });
+      setStatus(`${summary.summary} (${fmtMs(summary.ms)})`, 'done');
+    }
     // Edited while it ran: the results are for the text that was run.
     markStale(editor.text);
     setRunning(false);
+    if (engine === 'sct' && !summary.stopped) sctAutomata.load(app.automata, await query('supervisors', []));
     if (currentTab === 'automata') drawAutomata();
-    app.meta = await query('space', [1]);
-    const strategy = summary.verdict === 'realizable' ? await query('strategy', []) : null;
-    spaceReady = spaceView.load(app.meta, strategy);
-    await spaceReady;
+    if (engine === 'timed') {
+      app.meta = await query('space', [1]);
+      const strategy = summary.verdict === 'realizable' ? await query('strategy', []) : null;
+      spaceReady = spaceView.load(app.meta, strategy);
+      await spaceReady;
+    }
     if (currentTab === 'code') refreshCode();
   } catch (error) {
     setRunning(false);
@@ -524,6 +723,24 @@ async function run() {
   }
 }
 
+/** Adds suggested assumptions to the open LTL specification and runs it again. */
+function addAssumptions(kind, list) {
+  if (app.kind !== kind) return;
+  let text = editor.text;
+  try {
+    for (const a of list) text = addAssumption(text, kind, a);
+  } catch (error) {
+    return toast(`The assumption cannot be added: ${error.message ?? error}`);
+  }
+  app.loading = true;
+  editor.text = text;
+  app.loading = false;
+  save();
+  showName(text);
+  toast(`Added ${list.map((a) => `ASSUME ${a}`).join(' and ')}; running again.`);
+  run();
+}
+
 $('#run').addEventListener('click', () => run());
 $('#cancel').addEventListener('click', () => {
   solver.cancel();
@@ -538,15 +755,12 @@ window.addEventListener('unhandledrejection', (e) => {
 });
 
 (async () => {
+  app.kind = saved.docs[saved.current] ? saved.current : 'tga';
+  setMode(app.kind);
   if (!(await route())) {
-    let saved = null;
-    try {
-      saved = JSON.parse(localStorage.getItem(STORAGE_KEY) ?? 'null');
-    } catch {
-      saved = null;
-    }
-    if (saved?.text) openSpec(saved.text, saved.name ?? 'spec');
-    else openSpec(byId.get('lamp')?.source ?? '', 'lamp');
+    const doc = saved.docs[app.kind];
+    if (doc?.text) openSpec(doc.text, doc.name ?? 'spec', app.kind, doc.origin ?? '');
+    else openSpec(byId.get('lamp')?.source ?? '', 'lamp', 'tga', 'example/lamp');
   }
   try {
     const { version, targets } = await solver.call('version');

@@ -1,12 +1,16 @@
-// Share links: `#share/v1/<target>/<spec>` where <spec> is the text deflate-compressed with
-// the browser's CompressionStream ('deflate-raw') and base64url-encoded (no padding).
+// Share links: `#share/v2/<kind>/<name>/<target>/<spec>` where <kind> is the document kind
+// (`tga`, `sct`, `ltl`, `tlsf`), <name> the document's name (an example id or the user's),
+// <target> the code target shown, and <spec> the text deflate-compressed with the browser's
+// CompressionStream ('deflate-raw') and base64url-encoded (no padding). Links of version 1
+// (`#share/v1/<target>/<spec>`, timed games only) are still read.
 //
 // A link comes from anywhere, so decoding is defensive (fuzzed by fuzz/share/fuzz.mjs, see
 // docs/fuzzing.md): the inflated text is bounded by MAX_SPEC_BYTES, read chunk by chunk and
 // cancelled past it, so that a deflate bomb cannot freeze the tab; every malformed link is
 // rejected with an Error that says what is wrong.
 
-const VERSION = 'v1';
+const VERSION = 'v2';
+const KINDS = ['tga', 'sct', 'ltl', 'tlsf'];
 
 /** Largest specification a link may carry, in UTF-8 bytes (the largest example has 16 KB). */
 export const MAX_SPEC_BYTES = 1 << 20;
@@ -67,36 +71,59 @@ function fromBase64Url(text) {
   return Uint8Array.from(s, (c) => c.charCodeAt(0));
 }
 
-export async function encodeShare(spec, target) {
+export async function encodeShare(spec, target, kind = 'tga', name = '') {
   const text = new TextEncoder().encode(spec);
   if (text.length > MAX_SPEC_BYTES) {
     throw new ShareError(`the specification is larger than ${MAX_SPEC_BYTES} bytes`);
   }
-  return `share/${VERSION}/${encodeURIComponent(target)}/${toBase64Url(await compress(text))}`;
+  if (!KINDS.includes(kind)) throw new ShareError(`unknown document kind ${kind}`);
+  const part = (s) => encodeURIComponent(s).replace(/%20/g, '+');
+  return `share/${VERSION}/${kind}/${part(name)}/${part(target)}/${toBase64Url(await compress(text))}`;
+}
+
+/** A URI component of a link; `what` names it in the error. */
+function component(text, what) {
+  try {
+    return decodeURIComponent(text.replace(/\+/g, '%20'));
+  } catch {
+    throw new ShareError(`the ${what} is not a valid URI component`);
+  }
 }
 
 /**
- * Decodes a hash (without `#`); returns `{ spec, target }`, or null if it is not a share link.
- * Throws a ShareError for a share link that cannot be read.
+ * Decodes a hash (without `#`); returns `{ spec, target, kind, name }`, or null if it is not a
+ * share link. Throws a ShareError for a share link that cannot be read.
  */
 export async function decodeShare(hash) {
-  const m = hash.match(/^share\/(v\d+)\/([^/]*)\/([A-Za-z0-9_-]*)$/);
-  if (!m) return null;
-  if (m[1] !== VERSION) throw new ShareError(`version ${m[1]} is not supported (this page reads ${VERSION})`);
+  if (!hash.startsWith('share/')) return null;
+  let kind = 'tga';
+  let name = '';
   let target;
-  try {
-    target = decodeURIComponent(m[2]);
-  } catch {
-    throw new ShareError('the target is not a valid URI component');
+  let data;
+  const v1 = hash.match(/^share\/v1\/([^/]*)\/([A-Za-z0-9_-]*)$/);
+  const v2 = hash.match(/^share\/v2\/([^/]*)\/([^/]*)\/([^/]*)\/([A-Za-z0-9_-]*)$/);
+  if (v1) {
+    target = component(v1[1], 'target');
+    data = v1[2];
+  } else if (v2) {
+    kind = component(v2[1], 'document kind');
+    if (!KINDS.includes(kind)) throw new ShareError(`the document kind ${JSON.stringify(kind.slice(0, 20))} is unknown (${KINDS.join(', ')})`);
+    name = component(v2[2], 'name').slice(0, 200);
+    target = component(v2[3], 'target');
+    data = v2[4];
+  } else {
+    const version = hash.match(/^share\/(v\d+)\//)?.[1];
+    if (version && version !== 'v1' && version !== VERSION) throw new ShareError(`version ${version} is not supported (this page reads v1 and ${VERSION})`);
+    throw new ShareError('the link is malformed (expected #share/v2/<kind>/<name>/<target>/<data>)');
   }
   // The packed text is at most as long as the text it inflates to, plus a little.
-  if (m[3].length > (MAX_SPEC_BYTES / 3) * 4 + 1024) throw new ShareError('the link is too long');
-  const bytes = await inflateBounded(fromBase64Url(m[3]), MAX_SPEC_BYTES);
+  if (data.length > (MAX_SPEC_BYTES / 3) * 4 + 1024) throw new ShareError('the link is too long');
+  const bytes = await inflateBounded(fromBase64Url(data), MAX_SPEC_BYTES);
   let spec;
   try {
     spec = new TextDecoder('utf-8', { fatal: true }).decode(bytes);
   } catch {
     throw new ShareError('the specification is not UTF-8 text');
   }
-  return { spec, target };
+  return { spec, target, kind, name };
 }

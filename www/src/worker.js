@@ -1,13 +1,17 @@
-// The engine's Web Worker: owns the wasm module and the current Session. Two instances run:
-// one checks the editor text as you type, the other solves (and is terminated to cancel).
+// The engines' Web Worker: owns the wasm module and the current session of one engine. Two
+// instances run: one checks the editor text as you type, the other solves (and is terminated to
+// cancel).
 //
-// Requests  {id, op, ...}: check {source} | run {source, options} | query {method, args}
+// Requests  {id, op, ...}: check {kind, source} | run {kind, source, options} | query {method, args}
 // Replies   {id, ok: true, value} | {id, ok: false, error}; during `run` also
-//           {id, progress: Stats} and {id, automata} as soon as the spec compiles.
+//           {id, progress, elapsed} (at most every 50 ms, timed by the engine) and
+//           {id, compiled: {automata, warnings}} as soon as the spec compiles.
 //           `version` answers {version, targets}.
-import init, { check, Session, targets, version } from '../pkg/plcsynth.js';
+// `kind` is the document kind: `tga` (timed games), `sct` (supervisory control), `ltl` or `tlsf`.
+import init, { check, LtlSession, SctSession, TimedSession, targets, version } from '../pkg/plcsynth.js';
 
 let session = null;
+let engine = null;
 let lastConsoleError = '';
 const consoleError = console.error.bind(console);
 console.error = (...args) => {
@@ -28,35 +32,67 @@ function describe(error) {
   return error;
 }
 
+/** Per engine: how a run compiles and solves, and which queries its session answers. */
+const engines = {
+  timed: {
+    run(id, source, options, progress) {
+      const s = new TimedSession(source);
+      postMessage({ id, compiled: { automata: s.automata(), warnings: s.warnings() } });
+      return [s, () => {
+        const summary = s.solve(options, progress);
+        summary.explanation = s.explanation();
+        summary.explanationText = s.explanationText() ?? null;
+        return summary;
+      }];
+    },
+    queries: ['space', 'states', 'neighbourhood', 'state', 'dump', 'program', 'code', 'strategy'],
+    code: (s, target, name, created) => s.code(target, name, created),
+  },
+  sct: {
+    run(id, source, options, progress) {
+      const s = new SctSession(source, options);
+      postMessage({ id, compiled: { automata: s.models(), warnings: s.warnings() } });
+      return [s, () => s.solve(options, progress)];
+    },
+    queries: ['supervisors', 'models', 'events', 'code'],
+    code: (s, target, name, created) => s.code(target, '', '', { createdUnix: created }),
+  },
+  ltl: {
+    run(id, source, options, progress, kind) {
+      const s = new LtlSession(source, kind);
+      postMessage({ id, compiled: { automata: [], warnings: s.warnings() } });
+      return [s, () => s.solve(options, progress)];
+    },
+    queries: ['signals', 'code'],
+    code: (s, target, name, created) => s.code(target, name ? `FB_${name}` : '', { createdUnix: created }),
+  },
+};
+const engineOf = (kind) => ({ sct: 'sct', ltl: 'ltl', tlsf: 'ltl' })[kind] ?? 'timed';
+
 const ops = {
   version: () => ({ version: version(), targets: targets() }),
-  check: ({ source }) => check(source),
-  run({ id, source, options }) {
+  check: ({ kind, source }) => check(kind ?? 'tga', source),
+  run({ id, kind, source, options }) {
     session?.free();
     session = null;
-    const compiled = new Session(source);
-    session = compiled;
-    postMessage({ id, automata: compiled.automata(), warnings: compiled.warnings() });
-    let last = 0;
-    const started = performance.now();
-    const summary = compiled.solve(options ?? {}, (stats) => {
-      const now = performance.now();
-      if (now - last > 50) {
-        last = now;
-        postMessage({ id, progress: stats, elapsed: now - started });
-      }
+    engine = engines[engineOf(kind)];
+    // The engine calls back at most every `progressMs` (its own clock): post each call.
+    const progress = (value, elapsed) => {
+      postMessage({ id, progress: value, elapsed });
       return true;
-    });
-    summary.ms = performance.now() - started;
-    summary.explanation = compiled.explanation();
-    summary.explanationText = compiled.explanationText() ?? null;
+    };
+    const [compiled, solve] = engine.run(id, source, options ?? {}, progress, kind);
+    session = compiled;
+    const started = performance.now();
+    const summary = solve();
+    summary.ms ??= performance.now() - started;
     return summary;
   },
   query({ method, args }) {
     if (!session) throw new Error('nothing solved yet');
-    if (!['space', 'states', 'neighbourhood', 'state', 'dump', 'program', 'code', 'strategy'].includes(method)) throw new Error(`unknown query ${method}`);
+    if (!engine.queries.includes(method)) throw new Error(`unknown query ${method}`);
     const started = performance.now();
-    const value = session[method](...(args ?? []));
+    const value = method === 'code' ? engine.code(session, ...(args ?? [])) : session[method](...(args ?? []));
     // The engine's share of a code query, for the page's measurements.
     if (method === 'code' && value) {
       value.engineMs = performance.now() - started;
@@ -72,7 +108,7 @@ onmessage = async ({ data }) => {
     await ready;
     const value = ops[op](data);
     postMessage({ id, ok: true, value });
-    if (op === 'run' && value?.verdict === 'realizable') {
+    if (op === 'run' && value?.verdict === 'realizable' && engine === engines.timed) {
       // Build the controller program while the user reads the verdict (0.4 s for round table
       // 8/8), so that the first code view shows at once; queries that come first go first.
       const solved = session;

@@ -1,63 +1,20 @@
-//! The WebAssembly boundary of the playground: the only module that knows wasm-bindgen.
-//!
-//! Everything crosses as plain JS values made by serde-wasm-bindgen (JSON-compatible: `None`
-//! becomes `null`). Shapes are documented in `docs/playground.md`. Engines stay free of I/O and
-//! of the browser; this module only adapts their results. Nothing here reads a clock
-//! (`std::time::Instant` panics on `wasm32-unknown-unknown`): the page measures time.
+//! The timed-game engine in the page: [`TimedSession`] compiles a `.tga` text, solves the game
+//! and answers the state explorer's and the code pane's queries.
 
+use super::{diagnostics_error, plc_target, to_js, FileView, GeneratedCode, IoRowView, Progress};
 use crate::diag::Diagnostic;
 use crate::plc::{self, Target};
 use crate::program::{self, Program};
-use crate::timed::explain::{describe_edge, describe_state, dump};
-use crate::timed::export::{self, SpaceView, StateView, TransitionView};
+use crate::timed::explain::{describe_edge, dump};
+use crate::timed::export::{self, StateView};
 use crate::timed::model::Game;
 use crate::timed::solve::{BudgetStop, SolveOptions, StateId, Stats, Verdict};
 use crate::timed::{self, Synthesis};
 use serde::{Deserialize, Serialize};
 use std::cell::OnceCell;
-use std::collections::{HashMap, VecDeque};
 use wasm_bindgen::prelude::*;
 
-const NONE: u32 = u32::MAX;
-
-fn to_js<T: Serialize + ?Sized>(value: &T) -> Result<JsValue, JsValue> {
-    value.serialize(&serde_wasm_bindgen::Serializer::json_compatible()).map_err(|e| JsValue::from_str(&e.to_string()))
-}
-
-/// Installs the panic hook, so that a panic reaches the console with its message.
-#[wasm_bindgen(start)]
-pub fn start() {
-    console_error_panic_hook::set_once();
-}
-
-/// The crate version, shown in the page footer.
-#[wasm_bindgen]
-pub fn version() -> String {
-    env!("CARGO_PKG_VERSION").to_string()
-}
-
-/// Syntax diagnostics only: `Diagnostic[]`.
-#[wasm_bindgen]
-pub fn parse(source: &str) -> Result<JsValue, JsValue> {
-    to_js(&timed::parse(source).diagnostics)
-}
-
-#[derive(Serialize)]
-struct CheckResult<'a> {
-    ok: bool,
-    diagnostics: &'a [Diagnostic],
-}
-
-/// Syntax and semantic check: `{ ok, diagnostics }` (warnings included when `ok`).
-#[wasm_bindgen]
-pub fn check(source: &str) -> Result<JsValue, JsValue> {
-    match timed::compile(source) {
-        Ok((_, warnings)) => to_js(&CheckResult { ok: true, diagnostics: &warnings }),
-        Err(errors) => to_js(&CheckResult { ok: false, diagnostics: &errors }),
-    }
-}
-
-/// Options of [`Session::solve`]; every field is optional.
+/// Options of [`TimedSession::solve`]; every field is optional.
 #[derive(Deserialize, Default)]
 #[serde(rename_all = "camelCase", default)]
 struct JsSolveOptions {
@@ -65,6 +22,8 @@ struct JsSolveOptions {
     max_memory_mib: Option<usize>,
     max_work: Option<u64>,
     progress_interval: Option<usize>,
+    /// Milliseconds between two progress calls (default 50).
+    progress_ms: Option<f64>,
 }
 
 #[derive(Serialize)]
@@ -94,79 +53,15 @@ struct ScanSummary {
 /// Runs of the real-time check of code at a declared scan time (each 2000 scans), as the CLI.
 const CHECK_RUNS: u64 = 20;
 
-/// A code target of the page's menu.
-#[derive(Serialize)]
-struct TargetInfo {
-    /// `program` (the intermediate language) or a [`Target`] name.
-    id: &'static str,
-    label: &'static str,
-    extension: &'static str,
-    /// Whether the target writes several files (TwinCAT).
-    multi_file: bool,
-}
-
-/// The code targets: the intermediate program first, then every PLC back end.
-#[wasm_bindgen]
-pub fn targets() -> Result<JsValue, JsValue> {
-    let mut list = vec![TargetInfo {
-        id: "program",
-        label: "Intermediate program (thesis notation)",
-        extension: "txt",
-        multi_file: false,
-    }];
-    for target in Target::ALL {
-        list.push(TargetInfo {
-            id: target.name(),
-            label: target.label(),
-            extension: target.extension(),
-            multi_file: target.multi_file(),
-        });
-    }
-    to_js(&list)
-}
-
-#[derive(Serialize)]
-struct GeneratedCode {
-    target: String,
-    extension: &'static str,
-    /// The files, each `{ name, text }` (TwinCAT: three; the others one). The page shows them
-    /// as one text, each after a line `==> NAME <==` when there are several.
-    files: Vec<FileView>,
-    /// The I/O table, `{ address, type, symbol, direction, meaning }[]` (empty for `program`).
-    io: Vec<IoRowView>,
-    /// The I/O table as CSV and as a Siemens SDF symbol table (empty for `program`).
-    io_csv: String,
-    io_sdf: String,
-    /// At a declared scan time at which the specification is implementable: the real-time
-    /// check of the code (`plc::realtime::check`); when it failed, `files` is empty.
-    realtime: Option<RealtimeView>,
-}
-
 /// What the real-time check of generated code found.
 #[derive(Clone, Serialize)]
-struct RealtimeView {
+pub(crate) struct RealtimeView {
     scan_ms: u64,
     runs: u64,
     scans_per_run: u64,
     /// The failure, with the seed of its run and the run's trace, or `null`.
     failure: Option<String>,
     trace: Vec<String>,
-}
-
-#[derive(Serialize)]
-struct FileView {
-    name: String,
-    text: String,
-}
-
-#[derive(Serialize)]
-struct IoRowView {
-    address: String,
-    #[serde(rename = "type")]
-    data_type: &'static str,
-    symbol: String,
-    direction: &'static str,
-    meaning: String,
 }
 
 /// What the winning strategy does in one of its states.
@@ -180,25 +75,9 @@ struct StrategyChoice {
     label: Option<String>,
 }
 
-/// One row of the state explorer.
-#[derive(Serialize)]
-struct StateRow {
-    id: StateId,
-    text: String,
-    winning: bool,
-    initial: bool,
-}
-
-#[derive(Serialize)]
-struct StateSearch {
-    /// How many states match (the rows are the first `limit` of them).
-    total: usize,
-    rows: Vec<StateRow>,
-}
-
 /// A compiled specification and, once solved, its synthesis.
 #[wasm_bindgen]
-pub struct Session {
+pub struct TimedSession {
     source: String,
     game: Game,
     warnings: Vec<Diagnostic>,
@@ -216,12 +95,12 @@ pub struct Session {
 }
 
 #[wasm_bindgen]
-impl Session {
+impl TimedSession {
     /// Compiles `source`; throws `{ diagnostics: Diagnostic[] }` when it has errors.
     #[wasm_bindgen(constructor)]
-    pub fn new(source: &str) -> Result<Session, JsValue> {
+    pub fn new(source: &str) -> Result<TimedSession, JsValue> {
         match timed::compile(source) {
-            Ok((game, warnings)) => Ok(Session {
+            Ok((game, warnings)) => Ok(TimedSession {
                 source: source.to_string(),
                 game,
                 warnings,
@@ -231,7 +110,7 @@ impl Session {
                 implementable_at: None,
                 checked: Default::default(),
             }),
-            Err(errors) => Err(to_js(&CheckResult { ok: false, diagnostics: &errors })?),
+            Err(errors) => Err(diagnostics_error(&errors)),
         }
     }
 
@@ -250,12 +129,7 @@ impl Session {
     /// during long work on one state), and a return value of `false` cancels the run. Returns
     /// `{ verdict, stats, budget, explanation_depth }`.
     pub fn solve(&mut self, options: JsValue, progress: Option<js_sys::Function>) -> Result<JsValue, JsValue> {
-        let opts: JsSolveOptions = if options.is_undefined() || options.is_null() {
-            JsSolveOptions::default()
-        } else {
-            serde_wasm_bindgen::from_value(options)
-                .map_err(|e| JsValue::from_str(&format!("bad solve options: {e}")))?
-        };
+        let opts: JsSolveOptions = super::options(options)?;
         let defaults = SolveOptions::default();
         let options = SolveOptions {
             max_states: opts.max_states.unwrap_or(defaults.max_states),
@@ -263,24 +137,8 @@ impl Session {
             max_work: opts.max_work.unwrap_or(defaults.max_work),
             progress_interval: opts.progress_interval.unwrap_or(defaults.progress_interval).max(1),
         };
-        let mut callback_error = None;
-        let mut report = |stats: &Stats| -> bool {
-            let Some(f) = &progress else { return true };
-            let value = match to_js(stats) {
-                Ok(v) => v,
-                Err(e) => {
-                    callback_error = Some(e);
-                    return false;
-                }
-            };
-            match f.call1(&JsValue::NULL, &value) {
-                Ok(answer) => answer.as_bool() != Some(false),
-                Err(e) => {
-                    callback_error = Some(e);
-                    false
-                }
-            }
-        };
+        let mut progress = Progress::new(progress, opts.progress_ms);
+        let mut report = |stats: &Stats| progress.report(|| *stats);
         let synthesis = timed::synthesize(&self.game, &options, &mut report);
         let scan = match self.game.scan_ms {
             // A callback error cancels the run, so a realizable verdict means none occurred.
@@ -295,9 +153,7 @@ impl Session {
             }
             _ => None,
         };
-        if let Some(e) = callback_error {
-            return Err(e);
-        }
+        progress.finish()?;
         let summary = SolveSummary {
             verdict: synthesis.solution.verdict,
             stats: synthesis.solution.stats,
@@ -343,105 +199,18 @@ impl Session {
     /// `filter`: `all`, `winning` or `removed`. Returns `{ total, rows: StateRow[] }` with at
     /// most `limit` rows, in state order.
     pub fn states(&self, query: &str, filter: &str, limit: usize) -> Result<JsValue, JsValue> {
-        let s = self.synthesis()?;
-        let space = &s.solution.space;
-        let words: Vec<String> = query.split_whitespace().map(str::to_lowercase).collect();
-        let mut total = 0;
-        let mut rows = Vec::new();
-        for id in 0..space.states.len() as StateId {
-            let winning = space.is_winning(id);
-            if (filter == "winning" && !winning) || (filter == "removed" && winning) {
-                continue;
-            }
-            // Describing a state costs; without a query only the listed rows need it.
-            let text = if words.is_empty() {
-                None
-            } else {
-                let text = describe_state(&self.game, &s.split, space, id);
-                let lower = format!("s{id} {}", text.to_lowercase());
-                if !words.iter().all(|w| lower.contains(w.as_str())) {
-                    continue;
-                }
-                Some(text)
-            };
-            total += 1;
-            if rows.len() < limit {
-                let text = text.unwrap_or_else(|| describe_state(&self.game, &s.split, space, id));
-                rows.push(StateRow { id, text, winning, initial: id == space.initial });
-            }
-        }
-        to_js(&StateSearch { total, rows })
+        to_js(&export::search_states(&self.game, self.synthesis()?, query, filter, limit))
     }
 
     /// The states within `k` steps of `state` (following edges both ways), at most `limit` of
     /// them, with the edges among them: a `SpaceView` whose `truncated` tells if `limit` cut it.
     pub fn neighbourhood(&self, state: StateId, k: u32, limit: usize) -> Result<JsValue, JsValue> {
         let s = self.synthesis()?;
-        let space = &s.solution.space;
-        let n = space.states.len();
-        if state as usize >= n {
-            return Err(JsValue::from_str(&format!("no state s{state}")));
+        let incoming = self.incoming.get_or_init(|| export::incoming(s));
+        match export::neighbourhood(&self.game, s, incoming, state, k, limit) {
+            Some(view) => to_js(&view),
+            None => Err(JsValue::from_str(&format!("no state s{state}"))),
         }
-        let incoming = self.incoming.get_or_init(|| {
-            let mut incoming = vec![Vec::new(); n];
-            for e in &space.edges {
-                if e.to != NONE {
-                    incoming[e.to as usize].push(e.from);
-                }
-            }
-            incoming
-        });
-        let mut dist: HashMap<StateId, u32> = HashMap::from([(state, 0)]);
-        let mut order = vec![state];
-        let mut queue = VecDeque::from([state]);
-        let mut cut = false;
-        'bfs: while let Some(x) = queue.pop_front() {
-            let d = dist[&x];
-            if d >= k {
-                continue;
-            }
-            let succ = space.out_edges(x).map(|(_, e)| e.to).filter(|&t| t != NONE);
-            let pred = incoming[x as usize].iter().copied();
-            for y in succ.chain(pred).collect::<Vec<_>>() {
-                if dist.contains_key(&y) {
-                    continue;
-                }
-                if order.len() >= limit {
-                    cut = true;
-                    break 'bfs;
-                }
-                dist.insert(y, d + 1);
-                order.push(y);
-                queue.push_back(y);
-            }
-        }
-        let states: Vec<StateView> = order.iter().map(|&x| self.state_view(s, x)).collect();
-        let mut edges = Vec::new();
-        for &x in &order {
-            for (_, e) in space.out_edges(x) {
-                if e.to != NONE && !dist.contains_key(&e.to) {
-                    continue;
-                }
-                edges.push(TransitionView {
-                    from: x,
-                    to: (e.to != NONE).then_some(e.to),
-                    kind: e.kind,
-                    label: describe_edge(&self.game, &s.split, e),
-                    zeno: e.zeno,
-                    progress: e.progress,
-                });
-            }
-        }
-        to_js(&SpaceView {
-            verdict: s.solution.verdict,
-            initial: space.initial,
-            clocks: self.game.clocks.iter().map(|c| c.name.clone()).collect(),
-            units: s.split.units.iter().map(|u| u.name.clone()).collect(),
-            states,
-            edges,
-            truncated: cut,
-            total_states: n,
-        })
     }
 
     /// The controller program in the thesis's notation, or `undefined` when the game is not
@@ -460,7 +229,7 @@ impl Session {
         let Some(program) = self.controller()? else { return Ok(JsValue::NULL) };
         let plc_target: Option<Target> = match target {
             "program" => None,
-            t => Some(t.parse().map_err(|e: plc::UnknownTarget| JsValue::from_str(&e.to_string()))?),
+            t => Some(plc_target(t)?),
         };
         let options = plc::Options { created_unix: created_unix.unwrap_or(0.0).max(0.0) as u64, ..Default::default() };
         // The intermediate program is checked as ST; it needs the lowering only for the check.
@@ -468,9 +237,7 @@ impl Session {
             let t = plc_target.unwrap_or(Target::St);
             match plc::lower_timed::build_wired(&self.game, program, t, name, &self.source, &options) {
                 Ok(built) => Some(built),
-                Err(errors) if plc_target.is_some() => {
-                    return Err(to_js(&CheckResult { ok: false, diagnostics: &errors })?)
-                }
+                Err(errors) if plc_target.is_some() => return Err(diagnostics_error(&errors)),
                 Err(_) => None,
             }
         } else {
@@ -595,7 +362,7 @@ impl Session {
     }
 }
 
-impl Session {
+impl TimedSession {
     fn controller(&self) -> Result<Option<&Program>, JsValue> {
         let s = self.synthesis()?;
         Ok(self.program.get_or_init(|| program::controller(&self.game, s)).as_ref())

@@ -1,0 +1,295 @@
+//! LTL synthesis in the page: [`LtlSession`] compiles a G4LTL or TLSF text, decides it
+//! (Cheng et al. 2014), draws the controller or the environment's counter-strategy as a Mealy
+//! machine, suggests assumptions for an unrealizable specification and generates the controller
+//! as a function block for every PLC target.
+
+use super::{diagnostics_error, to_js, unit_code, Progress, UnitCodeOptions};
+use crate::diag::Diagnostic;
+use crate::ltl::{self, Config, Format, Outcome, Spec, Stop, SuggestConfig, Suggestions, Verdict};
+use crate::plc;
+use serde::{Deserialize, Serialize};
+use wasm_bindgen::prelude::*;
+
+/// The format of a document kind: `tlsf`, else G4LTL's lines.
+pub(crate) fn format(kind: &str) -> Format {
+    if kind == "tlsf" {
+        Format::Tlsf
+    } else {
+        Format::G4ltl
+    }
+}
+
+/// Options of [`LtlSession::solve`]; every field is optional.
+#[derive(Deserialize, Default)]
+#[serde(rename_all = "camelCase", default)]
+struct LtlOptions {
+    max_k: Option<u32>,
+    max_states: Option<usize>,
+    max_work: Option<u64>,
+    /// `explicit` (the default) or `antichain`.
+    solver: Option<String>,
+    /// Solve the whole specification at once (default: groups of guarantees first).
+    monolithic: bool,
+    /// Decide the Boolean abstraction only (no refinement from counter-strategies).
+    no_refine: bool,
+    /// After an unrealizable verdict, search assumptions that make it realizable.
+    suggest: bool,
+    /// With `suggest`: at most this many assumptions in one suggestion (default 3).
+    suggest_max: Option<usize>,
+    /// Milliseconds between two progress calls (default 50).
+    progress_ms: Option<f64>,
+}
+
+/// One assumption suggestion: the assumptions to add (in the specification's notation) and the
+/// controller they allow.
+#[derive(Serialize)]
+struct SuggestionView {
+    assumptions: Vec<String>,
+    template: String,
+    k: u32,
+    states: usize,
+    rows: usize,
+    machine_text: String,
+}
+
+#[derive(Serialize)]
+struct SuggestionsView {
+    found: Vec<SuggestionView>,
+    /// The longest play the counter-strategy forces, in words.
+    play: Option<String>,
+    candidates: usize,
+    tried: usize,
+    /// When nothing was found: why the search stopped.
+    limit: Option<String>,
+}
+
+/// A group of guarantees with its own outputs, solved alone (compositional synthesis).
+#[derive(Serialize)]
+struct GroupView {
+    /// Guarantee numbers, from 1 in the order of the specification.
+    guarantees: Vec<usize>,
+    outputs: Vec<String>,
+    k: u32,
+    states: usize,
+    verdict: Verdict,
+}
+
+#[derive(Serialize)]
+struct LtlSummary {
+    verdict: Verdict,
+    /// `realizable at k = 1: a controller of 2 states, 3 rows`.
+    summary: String,
+    /// The report of `plcsynth ltl --json` (docs/ltl-language.md).
+    report: serde_json::Value,
+    /// The controller (realizable) or the environment's counter-strategy (unrealizable) as a
+    /// Mealy-machine drawing, and as text (one line per row).
+    machine_dot: Option<String>,
+    machine_text: Option<String>,
+    /// The counter-strategy unfolded as a tree (a plain sequence of inputs reads as a lasso).
+    counter_tree: Option<String>,
+    groups: Vec<GroupView>,
+    suggestions: Option<SuggestionsView>,
+    /// Why suggestions stopped early (a budget), if they did.
+    suggest_stopped: Option<String>,
+    ms: f64,
+}
+
+/// Progress of a run: the bound tried, positions built and work spent.
+#[derive(Serialize)]
+struct LtlProgress {
+    k: u32,
+    positions: usize,
+    work: u64,
+}
+
+/// A checked LTL specification and, once decided, the outcome.
+#[wasm_bindgen]
+pub struct LtlSession {
+    source: String,
+    spec: Spec,
+    warnings: Vec<Diagnostic>,
+    outcome: Option<Outcome>,
+    /// Whether `solve` ran (an outcome-less run was stopped by a budget).
+    solved: bool,
+}
+
+#[wasm_bindgen]
+impl LtlSession {
+    /// Compiles `source` of `kind` (`ltl` for G4LTL's lines, `tlsf`); throws
+    /// `{ diagnostics: Diagnostic[] }` when it has errors.
+    #[wasm_bindgen(constructor)]
+    pub fn new(source: &str, kind: &str) -> Result<LtlSession, JsValue> {
+        match ltl::compile(source, format(kind), &[]) {
+            Ok((spec, warnings)) => {
+                Ok(LtlSession { source: source.to_string(), spec, warnings, outcome: None, solved: false })
+            }
+            Err(errors) => Err(diagnostics_error(&errors)),
+        }
+    }
+
+    /// The warnings of the compilation: `Diagnostic[]`.
+    pub fn warnings(&self) -> Result<JsValue, JsValue> {
+        to_js(&self.warnings)
+    }
+
+    /// The inputs and outputs: `{ inputs: string[], outputs: string[] }`.
+    pub fn signals(&self) -> Result<JsValue, JsValue> {
+        let names =
+            |ids: Vec<ltl::SignalId>| ids.into_iter().map(|s| self.spec.name(s).to_string()).collect::<Vec<_>>();
+        to_js(&serde_json::json!({ "inputs": names(self.spec.inputs()), "outputs": names(self.spec.outputs()) }))
+    }
+
+    /// Decides the specification. `options`: `{ maxK?, maxStates?, maxWork?, solver?,
+    /// monolithic?, noRefine?, suggest?, suggestMax?, progressMs? }`; `progress(value,
+    /// elapsedMs)` is called with `{ k, positions, work }`, and its `false` cancels. A run that
+    /// a budget stops has the verdict `unknown`; a cancelled one throws `cancelled`.
+    pub fn solve(&mut self, options: JsValue, progress: Option<js_sys::Function>) -> Result<JsValue, JsValue> {
+        let opts: LtlOptions = super::options(options)?;
+        let defaults = Config::default();
+        let solver = match opts.solver.as_deref() {
+            None | Some("explicit") => ltl::Solver::Explicit,
+            Some("antichain") => ltl::Solver::Antichain,
+            Some(other) => return Err(JsValue::from_str(&format!("unknown solver `{other}` (explicit, antichain)"))),
+        };
+        let cfg = Config {
+            max_k: opts.max_k.unwrap_or(defaults.max_k),
+            max_states: opts.max_states.unwrap_or(defaults.max_states),
+            max_work: opts.max_work.unwrap_or(defaults.max_work),
+            solver,
+            compositional: !opts.monolithic,
+            refine: !opts.no_refine,
+            ..defaults
+        };
+        let mut progress = Progress::new(progress, opts.progress_ms);
+        let started = super::now_ms();
+        let mut report =
+            |p: ltl::Progress| progress.report(|| LtlProgress { k: p.k, positions: p.positions, work: p.work });
+        let outcome = match ltl::synthesize(&self.spec, &cfg, &mut report) {
+            Ok(outcome) => outcome,
+            Err(Stop::Cancelled) => {
+                progress.finish()?;
+                return Err(JsValue::from_str("cancelled"));
+            }
+            Err(Stop::Budget(message)) => {
+                // No verdict and no machine: the budget ended the run first.
+                progress.finish()?;
+                self.outcome = None;
+                self.solved = true;
+                return to_js(&LtlSummary {
+                    verdict: Verdict::Unknown,
+                    summary: format!("unknown: {message}"),
+                    report: serde_json::json!({ "verdict": Verdict::Unknown, "limit": message }),
+                    machine_dot: None,
+                    machine_text: None,
+                    counter_tree: None,
+                    groups: Vec::new(),
+                    suggestions: None,
+                    suggest_stopped: None,
+                    ms: progress_ms(started),
+                });
+            }
+        };
+        let (suggestions, suggest_stopped) = if opts.suggest && outcome.verdict == Verdict::Unrealizable {
+            let scfg = SuggestConfig {
+                max_assumptions: opts.suggest_max.unwrap_or(3).clamp(1, 10),
+                ..SuggestConfig::default()
+            };
+            let mut report =
+                |p: ltl::Progress| progress.report(|| LtlProgress { k: p.k, positions: p.positions, work: p.work });
+            match ltl::suggest(&self.spec, &outcome, &cfg, &scfg, &mut report) {
+                Ok(s) => (Some(self.suggestions_view(&s)), None),
+                Err(Stop::Cancelled) => {
+                    progress.finish()?;
+                    return Err(JsValue::from_str("cancelled"));
+                }
+                Err(Stop::Budget(message)) => (None, Some(message)),
+            }
+        } else {
+            (None, None)
+        };
+        let ms = progress_ms(started);
+        progress.finish()?;
+        let refined = ltl::refined(&self.spec, &outcome.refinement);
+        let machine = outcome.controller.as_ref().or(outcome.counter_strategy.as_ref());
+        let summary = LtlSummary {
+            verdict: outcome.verdict,
+            summary: ltl::summary(&outcome),
+            report: ltl::report_json(&self.spec, &outcome),
+            machine_dot: machine.map(|m| ltl::machine_dot(&refined, m)),
+            machine_text: machine.map(|m| ltl::render_machine(&refined, m)),
+            counter_tree: outcome.counter_strategy.as_ref().map(|m| ltl::render_tree(&refined, m)),
+            groups: if outcome.groups.len() > 1 {
+                outcome
+                    .groups
+                    .iter()
+                    .map(|g| GroupView {
+                        guarantees: g.guarantees.iter().map(|i| i + 1).collect(),
+                        outputs: g.outputs.iter().map(|&s| self.spec.name(s).to_string()).collect(),
+                        k: g.k,
+                        states: g.controller.as_ref().map_or(0, |m| m.states.len()),
+                        verdict: g.verdict,
+                    })
+                    .collect()
+            } else {
+                Vec::new()
+            },
+            suggestions,
+            suggest_stopped,
+            ms,
+        };
+        self.outcome = Some(outcome);
+        self.solved = true;
+        to_js(&summary)
+    }
+
+    /// The controller as a function block for `target`, named `name` (default `FB_` and the
+    /// TLSF title, or `FB_Controller`): `{ target, extension, files, io, io_csv }`, or `null`
+    /// when there is no controller. Throws `{ diagnostics }` when the specification does not
+    /// fit the target.
+    pub fn code(&self, target: &str, name: &str, options: JsValue) -> Result<JsValue, JsValue> {
+        if !self.solved {
+            return Err(JsValue::from_str("not solved yet: call solve() first"));
+        }
+        let Some(outcome) = &self.outcome else { return Ok(JsValue::NULL) };
+        let opts: UnitCodeOptions = super::options(options)?;
+        let lower = plc::lower_ltl::LowerOptions { name: (!name.is_empty()).then(|| name.to_string()) };
+        let Some(unit) = plc::lower_ltl::lower_outcome(&self.source, &self.spec, outcome, &lower) else {
+            return Ok(JsValue::NULL);
+        };
+        let unit = unit.map_err(|diagnostics| diagnostics_error(&diagnostics))?;
+        let plc_options =
+            plc::Options { created_unix: opts.created_unix.unwrap_or(0.0).max(0.0) as u64, ..plc::Options::default() };
+        to_js(&unit_code(&unit, target, &plc_options)?)
+    }
+}
+
+/// Milliseconds since `started` on the page's clock.
+fn progress_ms(started: f64) -> f64 {
+    super::now_ms() - started
+}
+
+impl LtlSession {
+    fn suggestions_view(&self, s: &Suggestions) -> SuggestionsView {
+        SuggestionsView {
+            found: s
+                .found
+                .iter()
+                .map(|f| {
+                    let m = f.controller();
+                    SuggestionView {
+                        assumptions: f.texts(),
+                        template: f.templates.iter().map(|t| t.pattern()).collect::<Vec<_>>().join(" + "),
+                        k: f.outcome.k,
+                        states: m.states.len(),
+                        rows: m.rows(),
+                        machine_text: ltl::render_machine(&f.spec, m),
+                    }
+                })
+                .collect(),
+            play: s.play.as_ref().map(|p| p.describe(&self.spec)),
+            candidates: s.candidates,
+            tried: s.tried,
+            limit: s.limit.clone(),
+        }
+    }
+}

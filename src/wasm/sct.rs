@@ -1,0 +1,237 @@
+//! Supervisory control in the page: [`SctSession`] compiles a `.sct` project, draws its plant
+//! models and specifications, synthesises the supervisors (Göbe 2019) and generates the runtime
+//! framework for every PLC target.
+
+use super::{diagnostics_error, to_js, unit_code, Progress, UnitCodeOptions};
+use crate::diag::Diagnostic;
+use crate::plc;
+use crate::sct::export::{self, module_of};
+use crate::sct::model::{Budget, Config, Method, Stop, DEFAULT_MAX_STATES};
+use crate::sct::{compile_within, synthesize_all_within, Loaded, SupervisorReport};
+use serde::{Deserialize, Serialize};
+use wasm_bindgen::prelude::*;
+
+/// Options of [`SctSession::new`] and [`SctSession::solve`]; every field is optional.
+#[derive(Deserialize, Default)]
+#[serde(rename_all = "camelCase", default)]
+struct SctOptions {
+    /// Product states one run may build (specification products and synthesis together).
+    max_states: Option<usize>,
+    /// `incremental` (the default) or `monolithic`.
+    method: Option<String>,
+    /// Use enforceable events to preempt uncontrollable ones (default true).
+    preempt: Option<bool>,
+    /// Minimise the supervisors (default true).
+    minimize: Option<bool>,
+    /// Compose all specifications into one supervisor `Composed` (5.8.5).
+    compose: bool,
+    /// Milliseconds between two progress calls (default 50).
+    progress_ms: Option<f64>,
+}
+
+/// One supervisor of the synthesis report (its drawing comes from `supervisors()`).
+#[derive(Serialize)]
+struct SupervisorSummary<'a> {
+    name: &'a str,
+    module: &'a str,
+    realizable: bool,
+    states: usize,
+    transitions: usize,
+    prohibitions: usize,
+    prohibited_events: &'a [String],
+    enforced_events: &'a [String],
+    plants_used: &'a [String],
+    millis: f64,
+}
+
+#[derive(Serialize)]
+struct SctSummary<'a> {
+    method: &'static str,
+    supervisors: Vec<SupervisorSummary<'a>>,
+    /// Errors and warnings of synthesis (conflicts of 6.4.4, enforcement cycles, the warning of
+    /// 6.4.2 when one supervisor enforces what another prohibits), located in the source.
+    diagnostics: &'a [Diagnostic],
+    /// `budget` or `cancelled` when the run stopped before every specification was synthesised.
+    stopped: Option<&'static str>,
+    /// Product states built.
+    states_built: usize,
+    ms: f64,
+}
+
+/// Progress of a synthesis: product states built so far.
+#[derive(Serialize)]
+struct SctProgress {
+    built: usize,
+}
+
+/// A checked `.sct` project and, once synthesised, its supervisors.
+#[wasm_bindgen]
+pub struct SctSession {
+    source: String,
+    loaded: Loaded,
+    warnings: Vec<Diagnostic>,
+    reports: Option<Vec<SupervisorReport>>,
+    /// The project with its specifications composed into one, when the last synthesis composed.
+    composed: Option<Loaded>,
+    /// Whether the last synthesis ran to its end without an input error: only then is there a
+    /// framework to generate.
+    complete: bool,
+}
+
+#[wasm_bindgen]
+impl SctSession {
+    /// Compiles `source`; throws `{ diagnostics: Diagnostic[] }` when it has errors.
+    /// `options.maxStates` bounds the specification products the file writes.
+    #[wasm_bindgen(constructor)]
+    pub fn new(source: &str, options: JsValue) -> Result<SctSession, JsValue> {
+        let opts: SctOptions = super::options(options)?;
+        let mut go_on = |_| true;
+        let mut budget = Budget::new(opts.max_states.unwrap_or(DEFAULT_MAX_STATES), &mut go_on);
+        let (loaded, diagnostics, _) = compile_within(source, &mut budget);
+        match loaded {
+            Some(loaded) if !diagnostics.iter().any(Diagnostic::is_error) => Ok(SctSession {
+                source: source.to_string(),
+                loaded,
+                warnings: diagnostics,
+                reports: None,
+                composed: None,
+                complete: false,
+            }),
+            _ => Err(diagnostics_error(&diagnostics)),
+        }
+    }
+
+    /// The warnings of the compilation: `Diagnostic[]`.
+    pub fn warnings(&self) -> Result<JsValue, JsValue> {
+        to_js(&self.warnings)
+    }
+
+    /// The plant models and specifications as drawings, plants first:
+    /// `{ name, module, kind, states, transitions, dot }[]`.
+    pub fn models(&self) -> Result<JsValue, JsValue> {
+        to_js(&export::models(&self.loaded.project))
+    }
+
+    /// Every event with its kind: `{ name, kind }[]`.
+    pub fn events(&self) -> Result<JsValue, JsValue> {
+        to_js(&self.loaded.project.events)
+    }
+
+    /// Synthesises one supervisor per specification. `options`: `{ maxStates?, method?,
+    /// preempt?, minimize?, compose?, progressMs? }`; `progress(value, elapsedMs)` is called
+    /// with `{ built }` while product states are built, and its `false` cancels.
+    pub fn solve(&mut self, options: JsValue, progress: Option<js_sys::Function>) -> Result<JsValue, JsValue> {
+        let opts: SctOptions = super::options(options)?;
+        let method = match opts.method.as_deref() {
+            None | Some("incremental") => Method::Incremental,
+            Some("monolithic") => Method::Monolithic,
+            Some(other) => {
+                return Err(JsValue::from_str(&format!("unknown method `{other}` (incremental, monolithic)")))
+            }
+        };
+        let cfg = Config {
+            method,
+            preempt: opts.preempt.unwrap_or(true),
+            minimize: opts.minimize.unwrap_or(true),
+            max_states: opts.max_states.unwrap_or(DEFAULT_MAX_STATES),
+        };
+        let mut progress = Progress::new(progress, opts.progress_ms);
+        let started = progress.elapsed();
+        let clock = super::now_ms;
+        let (reports, diagnostics, stop, built) = {
+            let mut report = |built: usize| progress.report(|| SctProgress { built });
+            let mut budget = Budget::new(cfg.max_states, &mut report);
+            self.composed = None;
+            if opts.compose {
+                match self.loaded.composed("Composed", &mut budget) {
+                    Ok(l) => self.composed = Some(l),
+                    Err((_, error)) => {
+                        let stop = Stop::of(&error);
+                        let message = match stop {
+                            Some(Stop::Cancelled) => "cancelled while composing the specifications".to_string(),
+                            _ => format!(
+                                "composing the specifications spent the state budget of {} states",
+                                cfg.max_states
+                            ),
+                        };
+                        return Err(JsValue::from_str(&message));
+                    }
+                }
+            }
+            let loaded = self.composed.as_ref().unwrap_or(&self.loaded);
+            let (reports, diagnostics, stop) =
+                synthesize_all_within(&self.source, loaded, &cfg, Some(&clock), &mut budget);
+            (reports, diagnostics, stop, budget.built())
+        };
+        let ms = progress.elapsed() - started;
+        progress.finish()?;
+        let input_errors = diagnostics.iter().filter(|d| d.is_error()).count() > usize::from(stop.is_some());
+        self.complete = stop.is_none() && !input_errors;
+        let summary = SctSummary {
+            method: if method == Method::Monolithic { "monolithic" } else { "incremental" },
+            supervisors: reports.iter().map(summary_of).collect(),
+            diagnostics: &diagnostics,
+            stopped: stop.map(|s| match s {
+                Stop::BudgetExceeded { .. } => "budget",
+                Stop::Cancelled => "cancelled",
+            }),
+            states_built: built,
+            ms,
+        };
+        let value = to_js(&summary);
+        self.reports = Some(reports);
+        value
+    }
+
+    /// The synthesised supervisors as drawings: `{ name, module, kind, states, transitions,
+    /// dot }[]`.
+    pub fn supervisors(&self) -> Result<JsValue, JsValue> {
+        let reports = self.reports()?;
+        let project = &self.composed.as_ref().unwrap_or(&self.loaded).project;
+        to_js(&reports.iter().map(|r| export::supervisor(project, &r.supervisor)).collect::<Vec<_>>())
+    }
+
+    /// The runtime framework (Göbe 2019, 6.3) for `target`, its program's names prefixed with
+    /// `name` (`SyRF`), calling the existing controller function block `controller`:
+    /// `{ target, extension, files, io, io_csv }`, or `null` when synthesis did not complete.
+    /// Throws `{ diagnostics }` when the project's fragments do not fit the target.
+    pub fn code(&self, target: &str, name: &str, controller: &str, options: JsValue) -> Result<JsValue, JsValue> {
+        let reports = self.reports()?;
+        if !self.complete {
+            return Ok(JsValue::NULL);
+        }
+        let opts: UnitCodeOptions = super::options(options)?;
+        let supervisors: Vec<_> = reports.iter().map(|r| &r.supervisor).collect();
+        let framework = plc::lower_sct::FrameworkOptions {
+            name: if name.is_empty() { "SyRF".into() } else { name.into() },
+            controller: if controller.is_empty() { "Controller".into() } else { controller.into() },
+        };
+        let loaded = self.composed.as_ref().unwrap_or(&self.loaded);
+        let unit = plc::lower_sct::lower(&self.source, loaded, &supervisors, &framework)
+            .map_err(|diagnostics| diagnostics_error(&diagnostics))?;
+        let plc_options =
+            plc::Options { created_unix: opts.created_unix.unwrap_or(0.0).max(0.0) as u64, ..plc::Options::default() };
+        to_js(&unit_code(&unit, target, &plc_options)?)
+    }
+}
+
+impl SctSession {
+    fn reports(&self) -> Result<&[SupervisorReport], JsValue> {
+        self.reports.as_deref().ok_or_else(|| JsValue::from_str("not synthesised yet: call solve() first"))
+    }
+}
+
+fn summary_of(r: &SupervisorReport) -> SupervisorSummary<'_> {
+    SupervisorSummary {
+        name: &r.name,
+        module: module_of(&r.name),
+        realizable: r.realizable,
+        states: r.states,
+        transitions: r.transitions,
+        prohibitions: r.prohibitions,
+        prohibited_events: &r.prohibited_events,
+        enforced_events: &r.enforced_events,
+        plants_used: &r.plants_used,
+        millis: r.millis,
+    }
+}
