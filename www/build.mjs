@@ -1,5 +1,5 @@
-// Bundles the playground with esbuild: www/src/main.js (page) and www/src/worker.js (engine)
-// into www/dist, with every examples/timed/*.tga embedded as the virtual module `examples`.
+// Bundles the playground with esbuild: www/src/main.js (page), www/src/worker.js (engine) and
+// www/src/graphviz-worker.js (Graphviz layouts) into www/dist, with every examples/timed/*.tga embedded as the virtual module `examples`.
 import * as esbuild from 'esbuild';
 import { readdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { basename, dirname, join } from 'node:path';
@@ -47,7 +47,7 @@ const examplesPlugin = {
 
 rmSync(join(www, 'dist'), { recursive: true, force: true });
 const result = await esbuild.build({
-  entryPoints: { main: join(www, 'src', 'main.js'), worker: join(www, 'src', 'worker.js') },
+  entryPoints: { main: join(www, 'src', 'main.js'), worker: join(www, 'src', 'worker.js'), 'graphviz-worker': join(www, 'src', 'graphviz-worker.js') },
   outdir: join(www, 'dist'),
   bundle: true,
   splitting: true,
