@@ -32,6 +32,102 @@ const outOfView = (page, selector) =>
 const svgWidth = (page) => page.$eval('#space-graph svg', (svg) => svg.getBoundingClientRect().width);
 const scroll = (page) => page.$eval('#space-graph', (b) => ({ left: b.scrollLeft, top: b.scrollTop }));
 
+test('state-space graph: the selected state is in view; zoom with buttons and Ctrl+wheel, pan by dragging, fit', async () => {
+  const page = await newPage(browser, `${server.url}#example/robot_arm`);
+  assert.equal(await runAndWait(page), 'realizable');
+  // robot_arm draws about 2 000 × 2 100 px at 100 %; its initial state sits near the right edge.
+  await page.click('[data-tab=space]');
+  await page.waitForSelector('#space-graph svg g.state.selected');
+  await page.waitForFunction(() => document.querySelector('#space-graph').dataset.zoom);
+  assert.equal(await page.isChecked('#fit-graph'), false, 'too big to fit legibly');
+  assert.equal(await outOfView(page, '#space-graph svg g.state.selected'), 0, 'the initial state is in view when the tab opens');
+  await shot(page, '20-space-selected-in-view');
+
+  // Scrollbars: the box scrolls both ways at 100 %.
+  const sizes = await page.$eval('#space-graph', (b) => ({ sw: b.scrollWidth, cw: b.clientWidth, sh: b.scrollHeight, ch: b.clientHeight, overflow: getComputedStyle(b).overflow }));
+  assert.ok(sizes.sw > sizes.cw && sizes.sh > sizes.ch, JSON.stringify(sizes));
+  assert.equal(sizes.overflow, 'auto');
+
+  // Buttons: + and − by a factor 1.25; the level is shown on the reset button.
+  const w100 = await svgWidth(page);
+  await page.click('#zoom-in');
+  assert.ok(Math.abs((await svgWidth(page)) / w100 - 1.25) < 0.01, 'zoom in by 1.25');
+  assert.equal(await page.textContent('#zoom-reset'), '125%');
+  await page.click('#zoom-out');
+  await page.click('#zoom-out');
+  assert.ok(Math.abs((await svgWidth(page)) / w100 - 0.8) < 0.01, 'zoom out by 1.25');
+  await page.click('#zoom-reset');
+  assert.ok(Math.abs((await svgWidth(page)) / w100 - 1) < 0.01, 'back to 100 %');
+  assert.equal(await page.textContent('#zoom-reset'), '100%');
+
+  // Ctrl+wheel zooms the graph (not the page), about the pointer.
+  const box = await page.locator('#space-graph').boundingBox();
+  await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+  await page.keyboard.down('Control');
+  await page.mouse.wheel(0, -300);
+  await page.keyboard.up('Control');
+  await page.waitForFunction((w) => document.querySelector('#space-graph svg').getBoundingClientRect().width > w * 1.1, w100);
+  await page.keyboard.down('Control');
+  await page.mouse.wheel(0, 300);
+  await page.keyboard.up('Control');
+  await page.waitForFunction((w) => Math.abs(document.querySelector('#space-graph svg').getBoundingClientRect().width - w) < 2, w100);
+  // A plain wheel still scrolls.
+  const before = await scroll(page);
+  await page.mouse.wheel(0, 200);
+  await page.waitForFunction((t) => document.querySelector('#space-graph').scrollTop !== t, before.top);
+
+  // Dragging pans, also when it starts on a state, and that state is not selected by the drag.
+  const selected = await page.getAttribute('#space-graph svg g.state.selected', 'id');
+  // A state scrolled to the middle of the box with room to pan 200 px left and 160 px down.
+  const other = await page.evaluate(() => {
+    const box = document.querySelector('#space-graph');
+    for (const g of document.querySelectorAll('#space-graph svg g.state:not(.selected)')) {
+      const [b, r] = [box.getBoundingClientRect(), g.getBoundingClientRect()];
+      box.scrollLeft += r.left + r.width / 2 - (b.left + b.width / 2);
+      box.scrollTop += r.top + r.height / 2 - (b.top + b.height / 2);
+      if (box.scrollLeft < 200 || box.scrollTop > box.scrollHeight - box.clientHeight - 160) continue;
+      const c = g.getBoundingClientRect();
+      return { id: g.id, x: c.left + c.width / 2, y: c.top + c.height / 2 };
+    }
+    return null;
+  });
+  assert.ok(other, 'a state to start the drag on');
+  const start = await scroll(page);
+  await page.mouse.move(other.x, other.y);
+  await page.mouse.down();
+  // Rightwards and upwards: the view moves left (the initial state is near the right edge) and down.
+  await page.mouse.move(other.x + 100, other.y - 80, { steps: 5 });
+  await page.mouse.move(other.x + 200, other.y - 160, { steps: 5 });
+  await page.mouse.up();
+  const end = await scroll(page);
+  assert.ok(Math.abs(start.left - end.left - 200) <= 2 && Math.abs(end.top - start.top - 160) <= 2, `panned ${JSON.stringify([start, end])}`);
+  await page.waitForTimeout(100);
+  assert.equal(await page.getAttribute('#space-graph svg g.state.selected', 'id'), selected, 'a drag is not a click');
+  assert.equal(await page.$eval('#space-graph', (b) => getComputedStyle(b).cursor), 'grab');
+
+  // Selecting a state that is off-screen from the list scrolls the graph to it.
+  const far = await page.evaluate(() => {
+    const box = document.querySelector('#space-graph').getBoundingClientRect();
+    const g = [...document.querySelectorAll('#space-graph svg g.state')].find((g) => g.getBoundingClientRect().left > box.right + 300 || g.getBoundingClientRect().top > box.bottom + 300);
+    return g && g.id.replace('st-', '');
+  });
+  assert.ok(far, 'a state out of view');
+  await page.click(`#state-list li[data-id="${far}"]`);
+  await page.waitForSelector(`#space-graph svg #st-${far}.selected`);
+  await page.waitForFunction((id) => document.querySelector('#selected-bar').textContent.includes(`s${id} `), far);
+  assert.equal(await outOfView(page, `#space-graph svg #st-${far}`), 0, 'the state selected in the list is scrolled into view');
+  await shot(page, '21-space-zoom-pan');
+
+  // Fit: the whole graph in its box; zooming turns fit off.
+  await page.check('#fit-graph');
+  assert.equal(await outOfView(page, '#space-graph svg'), 0, 'fit shows the whole graph');
+  await shot(page, '22-space-fit');
+  await page.click('#zoom-in');
+  assert.equal(await page.isChecked('#fit-graph'), false);
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
 test('Graphviz lays out in a worker: drawing the 26 automata of round_table_8 makes no main-thread task over 50 ms', async () => {
   const page = await newPage(browser, `${server.url}#example/round_table_8`);
   // A budget of 500 states ends the run at once; the automata come from compiling.
