@@ -128,6 +128,69 @@ test('state-space graph: the selected state is in view; zoom with buttons and Ct
   await page.context().close();
 });
 
+test('keyboard: states in the list and in the graph are reached with Tab and selected with Enter or Space', async () => {
+  const page = await newPage(browser, `${server.url}#example/lamp`);
+  assert.equal(await runAndWait(page), 'realizable');
+  await page.click('[data-tab=space]');
+  await page.waitForSelector('#space-graph svg g.state');
+  await page.focus('#state-search');
+  const active = () => page.evaluate(() => {
+    const el = document.activeElement;
+    return { list: el.closest('#state-list') ? el.dataset.id : null, graph: el.matches('#space-graph g.state') ? el.id : null, label: el.getAttribute('aria-label') };
+  });
+  let at = await active();
+  for (let i = 0; i < 15 && at.list == null; i++) {
+    await page.keyboard.press('Tab');
+    at = await active();
+  }
+  assert.equal(at.list, '0', 'Tab reaches the first state of the list');
+  await page.keyboard.press('Tab');
+  at = await active();
+  assert.equal(at.list, '1', 'Tab moves to the next state');
+  assert.match(at.label, /^s1 (winning|removed)/);
+  await page.keyboard.press('Enter');
+  await page.waitForFunction(() => /^s1 /.test(document.querySelector('#selected-bar').textContent));
+  assert.equal(await page.getAttribute('#state-list li[data-id="1"]', 'aria-selected'), 'true');
+  assert.equal(await page.getAttribute('#state-list', 'role'), 'listbox');
+  await shot(page, '27-keyboard-list');
+
+  // From the last state of the list Tab goes on into the graph.
+  await page.focus('#state-list li[data-id]:last-of-type');
+  for (let i = 0; i < 5 && at.graph == null; i++) {
+    await page.keyboard.press('Tab');
+    at = await active();
+  }
+  assert.ok(at.graph, 'Tab reaches a state of the graph');
+  assert.match(at.label, /^s\d+ (winning|removed), (entry|waiting|interval|guard) state/);
+  await page.keyboard.press('Tab');
+  at = await active();
+  const id = at.graph.replace('st-', '');
+  await page.keyboard.press(' ');
+  await page.waitForSelector(`#space-graph svg #st-${id}.selected`);
+  await page.waitForFunction((id) => document.querySelector('#selected-bar').textContent.startsWith(`s${id} `), id);
+  assert.equal(await page.getAttribute(`#space-graph svg #st-${id}`, 'role'), 'button');
+  assert.equal(await page.evaluate(() => document.activeElement.id), `st-${id}`, 'the focus stays on the state');
+  await shot(page, '28-keyboard-graph');
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
+test('keyboard: in a large space the focus stays on the selected state when the neighbourhood is redrawn', async () => {
+  const page = await newPage(browser, `${server.url}#example/two_machines`);
+  assert.equal(await runAndWait(page), 'realizable');
+  await page.click('[data-tab=space]');
+  await page.waitForSelector('#space-graph svg g.state.selected');
+  await page.focus('#space-graph svg g.state.selected');
+  await page.keyboard.press('Tab');
+  const id = await page.evaluate(() => document.activeElement.id);
+  assert.match(id, /^st-\d+$/);
+  await page.keyboard.press('Enter');
+  await page.waitForSelector(`#space-graph svg #${id}.selected`);
+  await page.waitForFunction((id) => document.activeElement?.id === id, id);
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
 test('Graphviz lays out in a worker: drawing the 26 automata of round_table_8 makes no main-thread task over 50 ms', async () => {
   const page = await newPage(browser, `${server.url}#example/round_table_8`);
   // A budget of 500 states ends the run at once; the automata come from compiling.

@@ -4,6 +4,10 @@
 //
 // The graph zooms (buttons, Ctrl/⌘+wheel, or *fit*: the whole drawing in its box) and pans
 // (scrollbars, or dragging); the selected state is scrolled into view.
+//
+// Keyboard: every state of the list and of the graph is a Tab stop (a listbox option, an SVG
+// button) with a spoken name; Enter or Space selects it; in the list the arrows, Home and End
+// move between states.
 import { $, h, fmtInt } from './dom.js';
 import { spaceDot, render } from './graphs.js';
 
@@ -18,6 +22,13 @@ const LEGIBLE = 0.55;
 /** A press that moves less than this (pixels) is a click, not a drag. */
 const DRAG_SLOP = 4;
 
+/** Enter and Space act as a click on an element that is not a native button. */
+const onActivate = (action) => (e) => {
+  if (e.key !== 'Enter' && e.key !== ' ') return;
+  e.preventDefault(); // Space would scroll
+  action();
+};
+
 export class SpaceView {
   constructor({ query, onSelect }) {
     this.query = query;
@@ -29,6 +40,14 @@ export class SpaceView {
       timer = setTimeout(() => this.refreshList(), 200);
     });
     $('#state-filter').addEventListener('change', () => this.refreshList());
+    $('#state-list').addEventListener('keydown', (e) => {
+      const items = [...document.querySelectorAll('#state-list li[data-id]')];
+      const at = items.indexOf(document.activeElement);
+      const to = { ArrowDown: at + 1, ArrowUp: at - 1, Home: 0, End: items.length - 1 }[e.key];
+      if (at < 0 || to === undefined || !items[to]) return;
+      e.preventDefault();
+      items[to].focus();
+    });
     $('#hood-k').addEventListener('change', () => this.drawGraph());
     this.zoom = 1;
     this.wirePanZoom();
@@ -148,14 +167,19 @@ export class SpaceView {
         {
           class: r.winning ? 'winning' : 'removed',
           'data-id': r.id,
+          role: 'option',
+          tabindex: 0,
           'aria-selected': String(r.id === this.selected),
+          // Said aloud: winning or removed is otherwise only the colour of the border.
+          'aria-label': `s${r.id} ${r.winning ? 'winning' : 'removed'}${r.initial ? ', initial' : ''}: ${r.text}`,
           title: r.text,
           onclick: () => this.select(r.id),
+          onkeydown: onActivate(() => this.select(r.id)),
         },
         `s${r.id}${r.initial ? ' (initial)' : ''}: ${r.text}`,
       ),
     );
-    if (found.total > found.rows.length) items.push(h('li', { class: 'more' }, `… ${fmtInt(found.total - found.rows.length)} more: refine the search`));
+    if (found.total > found.rows.length) items.push(h('li', { class: 'more', role: 'option', 'aria-disabled': 'true' }, `… ${fmtInt(found.total - found.rows.length)} more: refine the search`));
     $('#state-list').replaceChildren(...items);
     const what = this.big ? `neighbourhood of the selected state (${fmtInt(this.meta.total_states)} states in all)` : `all ${fmtInt(this.meta.total_states)} states`;
     $('#space-note').textContent = `${fmtInt(found.total)} match · graph: ${what}`;
@@ -178,10 +202,19 @@ export class SpaceView {
       return;
     }
     if (token !== this.token) return;
+    const byId = new Map(view.states.map((s) => [s.id, s]));
     svg.querySelectorAll('g.state').forEach((g) => {
       const id = Number(g.id.replace('st-', ''));
+      const s = byId.get(id);
+      g.setAttribute('tabindex', '0');
+      g.setAttribute('role', 'button');
+      g.setAttribute('aria-label', `s${id} ${s.winning ? 'winning' : 'removed'}, ${s.kind} state${id === view.initial ? ', initial' : ''}: ${s.locations.join(', ')}${s.reason ? `; ${s.reason}` : ''}`);
       g.addEventListener('click', () => this.select(id));
+      g.addEventListener('keydown', onActivate(() => this.select(id)));
     });
+    // A redraw (the neighbourhood of a newly selected state) replaces the focused state: the
+    // focus goes to the same state in the new drawing, else to the selected one.
+    const focused = box.contains(document.activeElement) ? document.activeElement.id : null;
     // Graphviz gives the size in points; the zoom scales it in CSS pixels.
     this.natural = { width: svg.width.baseVal.value, height: svg.height.baseVal.value };
     this.drawn = svg;
@@ -190,6 +223,7 @@ export class SpaceView {
     box.replaceChildren(svg);
     this.markSelected();
     this.layout();
+    if (focused) (svg.querySelector(`[id="${focused}"]`) ?? svg.querySelector(`#st-${this.selected}`))?.focus();
   }
 
   /** Sizes a new drawing (fit, or the current zoom) and scrolls to the selected state; waits
@@ -252,7 +286,11 @@ export class SpaceView {
 
   markSelected() {
     document.querySelectorAll('#state-list li').forEach((li) => li.setAttribute('aria-selected', String(Number(li.dataset.id) === this.selected)));
-    this.drawn?.querySelectorAll('g.state').forEach((g) => g.classList.toggle('selected', g.id === `st-${this.selected}`));
+    this.drawn?.querySelectorAll('g.state').forEach((g) => {
+      const on = g.id === `st-${this.selected}`;
+      g.classList.toggle('selected', on);
+      g.setAttribute('aria-current', String(on));
+    });
     this.reveal();
   }
 
