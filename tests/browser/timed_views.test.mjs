@@ -128,6 +128,46 @@ test('state-space graph: the selected state is in view; zoom with buttons and Ct
   await page.context().close();
 });
 
+test('legends: state kinds, D and T edges, % guards and sink dots in the State space tab; the Automata legend', async () => {
+  const page = await newPage(browser, `${server.url}#example/gripper_guard`);
+  assert.equal(await runAndWait(page), 'realizable');
+  await page.click('[data-tab=space]');
+  await page.waitForSelector('#space-graph svg g.state');
+  // Compact: the swatches are on one line; the key opens on request.
+  const legend = page.locator('[data-panel=space] #space-legend');
+  assert.equal(await legend.count(), 1);
+  assert.equal(await page.isVisible('#space-legend dl'), false, 'collapsed at first');
+  await page.click('#space-legend summary');
+  const text = await page.innerText('#space-legend');
+  for (const [what, pattern] of [
+    ['entry', /entry\b[^.]*reached by a message[^.]*may act at once/],
+    ['waiting', /waiting\b[^.]*only the plant and time/],
+    ['interval', /interval\b[^.]*reached by a delay[^.]*act, or wait/],
+    ['guard state', /guard\b[^.]*state guard/],
+    ['D', /D\b[^.]*time passes/],
+    ['T', /T\b[^.]*timeout[^.]*invariant/],
+    ['%', /%[^.]*guard/],
+    ['sink dot', /dot[^.]*(leads nowhere|no state)/],
+    ['zeno', /zeno/i],
+  ]) {
+    assert.match(text, pattern, `the legend explains ${what}`);
+  }
+  assert.equal(await page.isVisible('#space-legend dl'), true);
+  // Every kind of state and edge in this graph has its swatch.
+  for (const cls of ['l-guard', 'l-timeout', 'l-sink', 'l-delay', 'l-win', 'l-lose', 'l-initial', 'l-selected']) {
+    assert.equal(await page.locator(`#space-legend summary .${cls}`).count(), 1, `swatch ${cls}`);
+  }
+  await shot(page, '23-space-legend');
+
+  await page.click('[data-tab=automata]');
+  await page.waitForSelector('#automata svg');
+  const automata = await page.textContent('#automata .legend');
+  for (const pattern of [/\?request/, /!reaction/, /\$plan step/, /initial/, /failed/, /invariant/, /reset/, /instant/]) assert.match(automata, pattern);
+  await shot(page, '24-automata-legend');
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
 test('keyboard: states in the list and in the graph are reached with Tab and selected with Enter or Space', async () => {
   const page = await newPage(browser, `${server.url}#example/lamp`);
   assert.equal(await runAndWait(page), 'realizable');

@@ -166,6 +166,10 @@ async function drawAutomata() {
       h('span', { class: 'l-request' }, '?request (controller)'),
       h('span', { class: 'l-reaction' }, '!reaction (plant)'),
       h('span', { class: 'l-plan' }, '$plan step'),
+      h('span', { class: 'l-init' }, '→ initial location'),
+      h('span', { class: 'l-location' }, 'location: name, then its invariant (clock in interval)'),
+      h('span', { class: 'l-failed' }, 'failed: the plan has failed'),
+      h('span', { class: 'l-text' }, 'edge: message, guard, reset{clocks}; (instant): taken before any time passes'),
     ),
   );
   for (const a of list) {
