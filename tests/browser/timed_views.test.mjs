@@ -168,6 +168,45 @@ test('legends: state kinds, D and T edges, % guards and sink dots in the State s
   await page.context().close();
 });
 
+test('zone plot: a point zone is drawn as a dot, a one-dimensional zone as a segment, each labelled', async () => {
+  // two_machines starts with both plan clocks at 0: a point.
+  const page = await newPage(browser, `${server.url}#example/two_machines`);
+  assert.equal(await runAndWait(page), 'realizable');
+  await page.click('[data-tab=space]');
+  await page.waitForSelector('#state-list li[data-id="0"]');
+  await page.click('#state-list li[data-id="0"]');
+  await page.waitForFunction(() => /s0 winning/.test(document.querySelector('#selected-bar').textContent));
+  await page.click('#selected-bar a');
+  await page.waitForSelector('#zone svg.zone-plot');
+  assert.match(await page.textContent('#zone-text'), /plan1\.timeout = 0 ∧ plan2\.timeout = 0/);
+  assert.equal(await page.locator('#zone svg circle.zone-point').count(), 1, 'a dot for the point');
+  assert.equal(await page.textContent('#zone svg .zone-label'), '(0, 0)');
+  const dot = await page.$eval('#zone svg circle.zone-point', (c) => {
+    const r = c.getBoundingClientRect();
+    return { w: r.width, fill: getComputedStyle(c).fill };
+  });
+  assert.ok(dot.w >= 6, `the dot is visible: ${JSON.stringify(dot)}`);
+  await shot(page, '25-zone-point');
+  // Another clock on the y axis: still the point (plan1.timeout = 0, the other one unbounded: a ray).
+  await page.selectOption('#zone-y', { label: 'A.c' });
+  assert.equal(await page.locator('#zone svg line.zone-segment').count(), 1, 'a segment for a one-dimensional projection');
+  assert.match(await page.textContent('#zone svg .zone-label'), /^plan1\.timeout = 0$/);
+  assert.equal(await page.getAttribute('#zone svg line.zone-segment', 'class'), 'zone zone-segment unbounded');
+  await shot(page, '26-zone-segment');
+  // A two-dimensional zone is still a polygon.
+  await page.click('[data-tab=space]');
+  const wide = page.locator('#state-list li.winning', { hasText: 'A.c' }).first();
+  const id = await wide.getAttribute('data-id');
+  await wide.click();
+  await page.waitForFunction((id) => document.querySelector('#selected-bar').textContent.includes(`s${id} `), id);
+  await page.click('#selected-bar a');
+  await page.waitForFunction((id) => document.querySelector('#zone-title')?.textContent.includes(`s${id} `), id);
+  const shapes = await page.$$eval('#zone svg .zone', (els) => els.map((e) => e.tagName));
+  assert.equal(shapes.length, 1, `one shape: ${shapes}`);
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
 test('keyboard: states in the list and in the graph are reached with Tab and selected with Enter or Space', async () => {
   const page = await newPage(browser, `${server.url}#example/lamp`);
   assert.equal(await runAndWait(page), 'realizable');
