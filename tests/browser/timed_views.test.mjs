@@ -270,6 +270,28 @@ test('keyboard: in a large space the focus stays on the selected state when the 
   await page.context().close();
 });
 
+test('a Docs link in the header opens the playground guide, shipped with the page with the language references', async () => {
+  const page = await newPage(browser, server.url);
+  assert.equal(await page.getAttribute('#docs-link', 'href'), 'dist/docs/playground.md');
+  const docs = await page.evaluate(async () => {
+    const get = async (name) => {
+      const r = await fetch(`dist/docs/${name}`);
+      return { status: r.status, text: await r.text() };
+    };
+    return { playground: await get('playground.md'), timed: await get('timed-language.md') };
+  });
+  assert.equal(docs.playground.status, 200);
+  assert.equal(docs.playground.text, readFileSync(join(root, 'docs', 'playground.md'), 'utf8'));
+  assert.equal(docs.timed.status, 200);
+  assert.equal(docs.timed.text, readFileSync(join(root, 'docs', 'timed-language.md'), 'utf8'));
+  const [tab] = await Promise.all([page.context().waitForEvent('page'), page.click('#docs-link')]);
+  await tab.waitForLoadState();
+  assert.match(await tab.textContent('body'), /# The browser playground/);
+  await tab.close();
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
 test('Graphviz lays out in a worker: drawing the 26 automata of round_table_8 makes no main-thread task over 50 ms', async () => {
   const page = await newPage(browser, `${server.url}#example/round_table_8`);
   // A budget of 500 states ends the run at once; the automata come from compiling.
