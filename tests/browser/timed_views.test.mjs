@@ -270,6 +270,37 @@ test('keyboard: in a large space the focus stays on the selected state when the 
   await page.context().close();
 });
 
+test('header at 800 × 800: Run, Cancel, Share and Docs are inside the window and clickable; 1280 unchanged', async () => {
+  const page = await newPage(browser, null);
+  await page.setViewportSize({ width: 800, height: 800 });
+  await open(page, `${server.url}#example/round_table_8`);
+  const inside = async (selector) => {
+    const b = await page.locator(selector).boundingBox();
+    assert.ok(b && b.x >= 0 && b.y >= 0 && b.x + b.width <= 800 && b.y + b.height <= 800, `${selector} at ${JSON.stringify(b)}`);
+    // Nothing covers its middle.
+    const hit = await page.evaluate(([s, x, y]) => document.elementFromPoint(x, y)?.closest(s) != null, [selector, b.x + b.width / 2, b.y + b.height / 2]);
+    assert.ok(hit, `${selector} is not covered`);
+  };
+  for (const s of ['#run', '#cancel', '#share', '#docs-link', '#examples-button', '#max-states']) await inside(s);
+  assert.ok(await page.evaluate(() => document.documentElement.scrollWidth <= 800), 'no horizontal scrolling');
+  await shot(page, '29-header-800');
+  await page.click('#run');
+  await page.waitForSelector('#cancel:not([disabled])');
+  await inside('#cancel');
+  await page.click('#cancel');
+  await page.waitForSelector('#status[data-kind=cancelled]');
+  await page.click('[data-tab=space]');
+  await shot(page, '30-space-800');
+  // At 1280 the header is one line, as before.
+  await page.setViewportSize({ width: 1280, height: 800 });
+  const tops = await page.$$eval('.bar > *', (els) => els.filter((e) => e.offsetParent).map((e) => e.getBoundingClientRect().top + e.getBoundingClientRect().height / 2));
+  assert.ok(Math.max(...tops) - Math.min(...tops) < 6, `one line at 1280: ${tops}`);
+  await page.click('[data-tab=summary]');
+  await shot(page, '31-header-1280');
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
 test('a Docs link in the header opens the playground guide, shipped with the page with the language references', async () => {
   const page = await newPage(browser, server.url);
   assert.equal(await page.getAttribute('#docs-link', 'href'), 'dist/docs/playground.md');

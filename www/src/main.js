@@ -89,6 +89,8 @@ function showName(text) {
   const ex = byId.get(app.name);
   const edited = ex && ex.source !== text ? ' (edited)' : '';
   $('#spec-name').textContent = ex ? `${ex.id}${edited}: ${ex.title}` : app.name;
+  // The header cuts a long name short with an ellipsis: the whole of it on hover.
+  $('#spec-name').title = $('#spec-name').textContent;
 }
 
 // ---- examples gallery -------------------------------------------------------------------
