@@ -55,14 +55,22 @@ export class SpaceView {
 
   wirePanZoom() {
     const box = $('#space-graph');
-    const byButton = (factor) => () => ((this.fitChosen = true), ($('#fit-graph').checked = false), this.setZoom(factor === 1 ? 1 : this.zoom * factor));
-    $('#zoom-in').addEventListener('click', byButton(ZOOM_STEP));
-    $('#zoom-out').addEventListener('click', byButton(1 / ZOOM_STEP));
-    $('#zoom-reset').addEventListener('click', byButton(1));
+    // Zooming by hand ends fitting: the user has chosen a scale.
+    const zoomTo = (zoom, at) => {
+      this.fitChosen = true;
+      $('#fit-graph').checked = false;
+      this.setZoom(zoom, at);
+    };
+    $('#zoom-in').addEventListener('click', () => zoomTo(this.zoom * ZOOM_STEP));
+    $('#zoom-out').addEventListener('click', () => zoomTo(this.zoom / ZOOM_STEP));
+    $('#zoom-reset').addEventListener('click', () => zoomTo(1));
     $('#fit-graph').addEventListener('change', () => {
       this.fitChosen = true;
       if ($('#fit-graph').checked) this.setZoom(this.fitZoom());
-      else (this.setZoom(1), this.reveal());
+      else {
+        this.setZoom(1);
+        this.reveal();
+      }
     });
     // Ctrl+wheel (and a trackpad's pinch, which Chromium and Firefox send as one) zooms about
     // the pointer instead of zooming the page; a plain wheel scrolls as usual.
@@ -73,9 +81,7 @@ export class SpaceView {
         e.preventDefault();
         const pixels = e.deltaY * (e.deltaMode === 1 ? 16 : e.deltaMode === 2 ? box.clientHeight : 1);
         const r = box.getBoundingClientRect();
-        this.fitChosen = true;
-        $('#fit-graph').checked = false;
-        this.setZoom(this.zoom * Math.exp(-pixels * 0.002), { x: e.clientX - r.left - box.clientLeft, y: e.clientY - r.top - box.clientTop });
+        zoomTo(this.zoom * Math.exp(-pixels * 0.002), { x: e.clientX - r.left - box.clientLeft, y: e.clientY - r.top - box.clientTop });
       },
       { passive: false },
     );
@@ -86,6 +92,9 @@ export class SpaceView {
       this.dragged = false;
       // Touch and pen pan natively (the box scrolls).
       if (e.button !== 0 || e.pointerType !== 'mouse' || !this.drawn) return;
+      // A press on a scrollbar moves it, as usual (it is outside the client area).
+      const r = box.getBoundingClientRect();
+      if (e.clientX - r.left - box.clientLeft >= box.clientWidth || e.clientY - r.top - box.clientTop >= box.clientHeight) return;
       drag = { id: e.pointerId, x: e.clientX, y: e.clientY, left: box.scrollLeft, top: box.scrollTop, moving: false };
     });
     box.addEventListener('pointermove', (e) => {
@@ -198,6 +207,7 @@ export class SpaceView {
     try {
       svg = await render(spaceDot(view, { selected: this.selected, strategy: this.strategy }));
     } catch (error) {
+      this.drawn = null;
       box.replaceChildren(h('p', { class: 'reason' }, `Graphviz could not draw the graph: ${error.message ?? error}`));
       return;
     }
@@ -256,7 +266,10 @@ export class SpaceView {
     const svg = this.drawn;
     zoom = Math.min(MAX_ZOOM, Math.max(MIN_ZOOM, zoom));
     $('#zoom-reset').textContent = `${Math.round(zoom * 100)}%`;
-    if (!svg) return void (this.zoom = zoom);
+    if (!svg) {
+      this.zoom = zoom;
+      return;
+    }
     const { x, y } = at ?? { x: box.clientWidth / 2, y: box.clientHeight / 2 };
     const [px, py] = [(box.scrollLeft + x) / this.zoom, (box.scrollTop + y) / this.zoom];
     const sized = svg.style.width !== '';
@@ -291,12 +304,12 @@ export class SpaceView {
       g.classList.toggle('selected', on);
       g.setAttribute('aria-current', String(on));
     });
-    this.reveal();
   }
 
   async select(id) {
     this.selected = id;
     this.markSelected();
+    this.reveal();
     await this.onSelect(id);
     if (this.big) await this.drawGraph();
   }
