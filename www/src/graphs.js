@@ -7,6 +7,15 @@ let worker = null;
 let nextId = 1;
 const pending = new Map();
 
+/** A worker that cannot start, dies, or whose Graphviz aborted: fail what waits; the next call
+ * starts a fresh one. */
+function restart(reason) {
+  for (const p of pending.values()) p.reject(new Error(reason));
+  pending.clear();
+  worker?.terminate();
+  worker = null;
+}
+
 function call(dot) {
   if (!worker) {
     worker = new Worker(new URL('./graphviz-worker.js', import.meta.url), { type: 'module', name: 'graphviz' });
@@ -15,15 +24,11 @@ function call(dot) {
       pending.delete(data.id);
       if (data.ok) p?.resolve(data.svg);
       else p?.reject(new Error(data.error));
+      if (data.poisoned) restart(data.error);
     };
-    // A worker that cannot start or dies (out of memory on a huge graph): fail what waits and
-    // start a fresh one on the next call.
     worker.onerror = (event) => {
       event.preventDefault();
-      for (const p of pending.values()) p.reject(new Error(event.message || 'the Graphviz worker failed'));
-      pending.clear();
-      worker.terminate();
-      worker = null;
+      restart(event.message || 'the Graphviz worker failed');
     };
   }
   const id = nextId++;

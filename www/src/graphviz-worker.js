@@ -4,7 +4,7 @@
 // The page parses the SVG text (DOMParser is not available in workers).
 //
 // Requests {id, dot} (a `dot` of null only loads Graphviz); replies {id, ok: true, svg} or
-// {id, ok: false, error}. One layout at a time, in the order asked.
+// {id, ok: false, error, poisoned}. One layout at a time, in the order asked.
 import { instance } from '@viz-js/viz';
 
 const viz = instance();
@@ -15,6 +15,8 @@ onmessage = async ({ data }) => {
     const v = await viz;
     postMessage({ id, ok: true, svg: dot === null ? null : v.renderString(dot, { format: 'svg' }) });
   } catch (error) {
-    postMessage({ id, ok: false, error: error?.message ?? String(error) });
+    // An abort inside Graphviz (out of memory on a huge graph) leaves its module unusable: the
+    // page then replaces this worker.
+    postMessage({ id, ok: false, error: error?.message ?? String(error), poisoned: error instanceof WebAssembly.RuntimeError });
   }
 };
