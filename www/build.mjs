@@ -1,8 +1,10 @@
-// Bundles the playground with esbuild: www/src/main.js (page) and www/src/worker.js (engine)
-// into www/dist, with every example of every engine (examples/timed/*.tga, examples/sct/*.sct,
-// examples/ltl/*.ltl and *.tlsf) embedded as the virtual module `examples`.
+// Bundles the playground with esbuild: www/src/main.js (page), www/src/worker.js (engine) and
+// www/src/graphviz-worker.js (Graphviz layouts) into www/dist, with every example of every
+// engine (examples/timed/*.tga, examples/sct/*.sct, examples/ltl/*.ltl and *.tlsf) embedded as
+// the virtual module `examples`; copies the Markdown docs (docs/*.md: this playground's guide
+// and the language references) as they are into www/dist/docs, for the page's Docs link.
 import * as esbuild from 'esbuild';
-import { readdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { copyFileSync, mkdirSync, readdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { basename, dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 
@@ -14,6 +16,7 @@ const engines = [
   { engine: 'sct', dir: 'sct', kinds: ['sct'] },
   { engine: 'ltl', dir: 'ltl', kinds: ['ltl', 'tlsf'] },
 ];
+const docsDir = join(www, '..', 'docs');
 
 /** Title, description and expected verdict from the leading `//` lines of an example. */
 export function describeExample(id, source) {
@@ -70,7 +73,7 @@ const examplesPlugin = {
 
 rmSync(join(www, 'dist'), { recursive: true, force: true });
 const result = await esbuild.build({
-  entryPoints: { main: join(www, 'src', 'main.js'), worker: join(www, 'src', 'worker.js') },
+  entryPoints: { main: join(www, 'src', 'main.js'), worker: join(www, 'src', 'worker.js'), 'graphviz-worker': join(www, 'src', 'graphviz-worker.js') },
   outdir: join(www, 'dist'),
   bundle: true,
   splitting: true,
@@ -82,11 +85,16 @@ const result = await esbuild.build({
   metafile: true,
   logLevel: 'warning',
 });
-// The bundles a first start needs, for the service worker (www/sw.js) to fetch on install.
+// The docs as they are: Markdown is plain text a browser shows as such.
+const docs = readdirSync(docsDir).filter((f) => f.endsWith('.md'));
+mkdirSync(join(www, 'dist', 'docs'));
+for (const f of docs) copyFileSync(join(docsDir, f), join(www, 'dist', 'docs', f));
+// The bundles a first start needs, and the docs, for the service worker (www/sw.js) to fetch on
+// install.
 const bundles = Object.keys(result.metafile.outputs)
   .filter((f) => f.endsWith('.js'))
   .map((f) => basename(f));
-writeFileSync(join(www, 'dist', 'assets.json'), JSON.stringify(bundles));
+writeFileSync(join(www, 'dist', 'assets.json'), JSON.stringify([...bundles, ...docs.map((f) => `docs/${f}`)]));
 const sizes = Object.entries(result.metafile.outputs)
   .filter(([f]) => f.endsWith('.js'))
   .map(([f, o]) => `${basename(f)} ${(o.bytes / 1024).toFixed(0)} KiB`);

@@ -2,7 +2,7 @@
 // Network first, so that a rebuilt page is always picked up while online; every successful
 // same-origin GET refreshes the cache, which answers when the network fails. On install it
 // fetches what a first start needs (dist/assets.json, written by www/build.mjs, lists the
-// bundles), so that the page also works offline before every view has been opened.
+// bundles and the docs), so that the page also works offline before every view has been opened.
 const CACHE = 'plcsynth';
 const SHELL = ['./', 'index.html', 'style.css', 'pkg/plcsynth.js', 'pkg/plcsynth_bg.wasm'];
 

@@ -1,10 +1,41 @@
-// Graphs drawn by Graphviz (compiled to wasm, @viz-js/viz, loaded on first use): component
-// automata and (parts of) the explored state space, as DOT with CSS classes for styling.
+// Graphs drawn by Graphviz (compiled to wasm, @viz-js/viz, in its own worker started on first
+// use: www/src/graphviz-worker.js): component automata and (parts of) the explored state space,
+// as DOT with CSS classes for styling.
 
-let vizPromise = null;
-function viz() {
-  vizPromise ??= import('@viz-js/viz').then((m) => m.instance());
-  return vizPromise;
+/** The Graphviz worker and its calls waiting for an answer (id → { resolve, reject }). */
+let worker = null;
+let nextId = 1;
+const pending = new Map();
+
+/** A worker that cannot start, dies, or whose Graphviz aborted: fail what waits; the next call
+ * starts a fresh one. */
+function restart(reason) {
+  for (const p of pending.values()) p.reject(new Error(reason));
+  pending.clear();
+  worker?.terminate();
+  worker = null;
+}
+
+function call(dot) {
+  if (!worker) {
+    worker = new Worker(new URL('./graphviz-worker.js', import.meta.url), { type: 'module', name: 'graphviz' });
+    worker.onmessage = ({ data }) => {
+      const p = pending.get(data.id);
+      pending.delete(data.id);
+      if (data.ok) p?.resolve(data.svg);
+      else p?.reject(new Error(data.error));
+      if (data.poisoned) restart(data.error);
+    };
+    worker.onerror = (event) => {
+      event.preventDefault();
+      restart(event.message || 'the Graphviz worker failed');
+    };
+  }
+  const id = nextId++;
+  return new Promise((resolve, reject) => {
+    pending.set(id, { resolve, reject });
+    worker.postMessage({ id, dot });
+  });
 }
 
 const q = (s) => `"${String(s).replace(/\\/g, '\\\\').replace(/"/g, '\\"').replace(/\n/g, '\\n')}"`;
@@ -92,13 +123,15 @@ export function spaceDot(view, { selected = null, strategy = null, maxLabel = 30
   return lines.join('\n');
 }
 
-/** Loads Graphviz's module ahead of use, so that the page works offline once loaded. */
+/** Starts the worker and loads Graphviz ahead of use, so that the first graph comes sooner
+ * and the page works offline once loaded. */
 export function preload() {
-  import('@viz-js/viz').catch(() => {});
+  call(null).catch(() => {});
 }
 
-/** Renders DOT into an SVG element (throws with Graphviz's message on failure). */
+/** Renders DOT into an SVG element (throws with Graphviz's message on failure). The layout runs
+ * in the worker; only parsing its SVG text is left to the page. */
 export async function render(dot) {
-  const v = await viz();
-  return v.renderSVGElement(dot);
+  const svg = await call(dot);
+  return new DOMParser().parseFromString(svg, 'image/svg+xml').documentElement;
 }

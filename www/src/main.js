@@ -141,6 +141,8 @@ function showName(text) {
   const ex = byId.get(app.name);
   const edited = ex && ex.source !== text ? ' (edited)' : '';
   $('#spec-name').textContent = ex ? `${ex.id}${edited}: ${ex.title}` : app.name;
+  // The header cuts a long name short with an ellipsis: the whole of it on hover.
+  $('#spec-name').title = $('#spec-name').textContent;
 }
 
 /** Shows the tabs, settings and menus of the engine of `kind`, and forgets the last results. */
@@ -324,6 +326,10 @@ async function drawAutomata() {
       h('span', { class: 'l-request' }, '?request (controller)'),
       h('span', { class: 'l-reaction' }, '!reaction (plant)'),
       h('span', { class: 'l-plan' }, '$plan step'),
+      h('span', { class: 'l-init' }, '→ initial location'),
+      h('span', { class: 'l-location' }, 'location: name, then its invariant (clock in interval)'),
+      h('span', { class: 'l-failed' }, 'failed: the plan has failed'),
+      h('span', { class: 'l-text' }, 'edge: message, guard, reset{clocks}; (instant): taken before any time passes'),
     ),
   );
   for (const a of list) {
