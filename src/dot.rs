@@ -100,7 +100,7 @@ mod tests {
     #[test]
     fn labels_and_attributes_are_escaped() {
         let mut g = Drawing::new();
-        let a = g.add_node(Node { label: "say \"hi\"\nnow".into(), class: "state".into(), ..Node::default() });
+        let a = g.add_node(Node { label: "say \"hi\"\nnow".into(), class: "location".into(), ..Node::default() });
         let b = g.add_node(Node {
             label: String::new(),
             class: "initial-point".into(),

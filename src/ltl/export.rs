@@ -117,7 +117,7 @@ pub fn machine_dot(spec: &Spec, machine: &Machine) -> String {
     use crate::dot::{document, Drawing, Edge, Node};
     let mut g = Drawing::new();
     let nodes: Vec<_> = (0..machine.states.len())
-        .map(|s| g.add_node(Node { label: format!("s{s}"), class: "state".into(), ..Node::default() }))
+        .map(|s| g.add_node(Node { label: format!("s{s}"), class: "location".into(), ..Node::default() }))
         .collect();
     let point = g.add_node(Node { class: "initial-point".into(), shape: Some("point"), ..Node::default() });
     g.add_edge(point, nodes[machine.init.index()], Edge { class: "initial".into(), ..Edge::default() });

@@ -140,7 +140,7 @@ fn transitions<'a>(
 pub fn plant(project: &Project, index: usize) -> AutomatonDrawing {
     let plant = &project.plants[index];
     let mut g = Drawing::new();
-    let states = plant.states.iter().map(|s| Node { label: s.clone(), class: "state".into(), ..Node::default() });
+    let states = plant.states.iter().map(|s| Node { label: s.clone(), class: "location".into(), ..Node::default() });
     let nodes = add_states(&mut g, states, Some(plant.init));
     add_edges(&mut g, &nodes, transitions(project, &plant.trans));
     AutomatonDrawing {
@@ -165,11 +165,11 @@ pub fn spec(project: &Project, index: usize) -> AutomatonDrawing {
             .map(|p| format!("✕ {}", guarded(project, p.event, &p.cond)))
             .collect();
         if forbidden.is_empty() {
-            Node { label: name.clone(), class: "state".into(), ..Node::default() }
+            Node { label: name.clone(), class: "location".into(), ..Node::default() }
         } else {
             Node {
                 label: format!("{name}\n{}", forbidden.join("\n")),
-                class: "state prohibits".into(),
+                class: "location prohibits".into(),
                 tooltip: format!("{name}: prohibits {}", forbidden.join(", ").replace("✕ ", "")),
                 ..Node::default()
             }
@@ -193,7 +193,7 @@ pub fn supervisor(project: &Project, sup: &Supervisor) -> AutomatonDrawing {
     let mut g = Drawing::new();
     let states = sup.states.iter().map(|st| {
         let mut lines = vec![st.label.clone()];
-        let mut class = String::from("state");
+        let mut class = String::from("location");
         if !st.prohibited.is_empty() {
             let names: Vec<&str> = st.prohibited.iter().map(|&e| project.event_name(e)).collect();
             lines.push(format!("✕ {}", names.join(", ")));
@@ -255,7 +255,7 @@ mod tests {
         assert!(drawn[0].dot.contains("label = \"open\" class = \"ev-controllable\""), "{}", drawn[0].dot);
         assert!(drawn[0].dot.contains("class = \"ev-uncontrollable\", style = dashed"), "{}", drawn[0].dot);
         assert!(drawn[1].dot.contains("✕ spill"), "{}", drawn[1].dot);
-        assert!(drawn[1].dot.contains("class = \"state prohibits\""), "{}", drawn[1].dot);
+        assert!(drawn[1].dot.contains("class = \"location prohibits\""), "{}", drawn[1].dot);
 
         let (reports, _) = synthesize_all(TANK, &loaded, &Config::default(), None);
         let sup = supervisor(&loaded.project, &reports[0].supervisor);

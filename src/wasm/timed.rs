@@ -238,7 +238,12 @@ impl TimedSession {
             match plc::lower_timed::build_wired(&self.game, program, t, name, &self.source, &options) {
                 Ok(built) => Some(built),
                 Err(errors) if plc_target.is_some() => return Err(diagnostics_error(&errors)),
-                Err(_) => None,
+                Err(errors) => {
+                    // The intermediate program itself is still shown; say why it went unchecked.
+                    let why = errors.first().map_or(String::new(), |d| d.message.clone());
+                    web_sys::console::warn_1(&format!("the real-time check of the program was skipped: {why}").into());
+                    None
+                }
             }
         } else {
             None

@@ -251,20 +251,30 @@ test('share: the link restores the spec and the target in a fresh page', async (
   await page.click('[data-tab=code]');
   await page.selectOption('#target', 'explanation');
   await page.click('#share');
-  await page.waitForFunction(() => location.hash.startsWith('#share/v1/'));
+  await page.waitForFunction(() => location.hash.startsWith('#share/v2/'));
   const link = await page.evaluate(() => navigator.clipboard.readText());
   assert.equal(link, await page.evaluate(() => location.href));
-  assert.match(link, /#share\/v1\/explanation\/[A-Za-z0-9_-]+$/);
+  assert.match(link, /#share\/v2\/tga\/robot_arm\/explanation\/[A-Za-z0-9_-]+$/);
   assert.ok(link.length < spec.length, 'the spec is compressed');
   await page.context().close();
 
   const fresh = await newPage(browser, link);
   assert.equal(await editorText(fresh), spec);
+  // The link carries the name: shown (edited, since the text differs from the example).
+  assert.match(await fresh.textContent('#spec-name'), /^robot_arm \(edited\)/);
   await fresh.click('[data-tab=code]');
   assert.equal(await fresh.inputValue('#target'), 'explanation');
   await shot(fresh, '08-shared-link');
   assert.deepEqual(fresh.errors, []);
   await fresh.context().close();
+
+  // A link of the first version (timed games, no kind or name) still opens.
+  const v1 = link.replace(/#share\/v2\/tga\/robot_arm\//, '#share/v1/');
+  const old = await newPage(browser, v1);
+  assert.equal(await editorText(old), spec);
+  assert.match(await old.textContent('#spec-name'), /^shared spec/);
+  assert.deepEqual(old.errors, []);
+  await old.context().close();
 });
 
 test('a syntax error is shown at its line, in the editor and the list; Run reports it', async () => {
@@ -389,11 +399,13 @@ test('a reload keeps the edit (localStorage autosave)', async () => {
   await page.click('.cm-content');
   await page.keyboard.press('Control+End');
   await page.keyboard.insertText('\n// my edit survives a reload\n');
-  await page.waitForFunction(() => !location.hash, null, { timeout: 2000 });
   await page.waitForTimeout(600);
+  // The link stays in the address bar: the reload finds the edit saved with it.
+  assert.equal(await page.evaluate(() => location.hash), '#example/gripper_guard');
   await page.reload();
   await page.waitForSelector('body[data-engine=ready]');
   assert.match(await editorText(page), /gripper[\s\S]*my edit survives a reload\n$/);
+  assert.match(await page.textContent('#spec-name'), /^gripper_guard \(edited\)/);
   assert.deepEqual(page.errors, []);
   await page.context().close();
 });

@@ -121,7 +121,7 @@ export class SctAutomataView {
         h('span', { class: 'l-enforceable' }, 'enforceable'),
         h('span', { class: 'l-enforced' }, 'enforced by the supervisor (bold, ⇒)'),
         h('span', { class: 'l-prohibits' }, '✕ prohibited in this state'),
-        h('span', {}, '[condition] on plant states'),
+        h('span', { class: 'l-plain' }, '[condition] on plant states'),
       ),
     );
     for (const a of shown) {
