@@ -464,3 +464,33 @@ fn ltl_unrealizable_has_a_counter_strategy_and_suggestions() {
     let mut s = LtlSession::new(&added, "ltl").map_err(|_| "compile").unwrap();
     assert_eq!(string(&s.solve(JsValue::UNDEFINED, None).unwrap(), "verdict"), "realizable");
 }
+
+#[wasm_bindgen_test]
+fn sct_stepper_and_runtime_cycles() {
+    let mut s = SctSession::new(TANK_PREEMPTION, JsValue::UNDEFINED).map_err(|_| "compile").unwrap();
+    assert!(s.step(JsValue::UNDEFINED).is_err(), "the stepper needs supervisors");
+    s.solve(JsValue::UNDEFINED, None).unwrap();
+    let at = |trace: &str| s.step(js_sys::JSON::parse(trace).unwrap());
+    let view = at(r#"["Tank.openInlet", "Tank.levelAlarm"]"#).unwrap();
+    let events = array(&get(&view, "events"));
+    let close = (0..events.length()).map(|i| events.get(i)).find(|e| string(e, "name") == "Tank.closeInlNow").unwrap();
+    assert_eq!(string(&close, "status"), "enforced");
+    assert_eq!(string(&close, "by"), "Safety.NoOverflow");
+    let err = at(r#"["Tank.overflow"]"#).unwrap_err().as_string().unwrap();
+    assert!(err.contains("rules it out"), "{err}");
+
+    let cycles = js_sys::JSON::parse(
+        r#"[{"elapsed_ms": 10, "controller": {"Q_Inlet": 1}},
+            {"elapsed_ms": 10, "inputs": {"I_LevelHigh": 1}, "controller": {"Q_Inlet": 1}}]"#,
+    )
+    .unwrap();
+    let run = s.cycles(cycles).unwrap();
+    let cycles = array(&get(&run, "cycles"));
+    assert_eq!(cycles.length(), 2);
+    let second = cycles.get(1);
+    let events = array(&get(&second, "events"));
+    let what: Vec<String> = (0..events.length()).map(|i| string(&events.get(i), "what")).collect();
+    assert!(what.contains(&"enforced".to_string()), "{what:?}");
+    assert_eq!(num(&second, "time_ms"), 20.0);
+    assert!(s.cycles(js_sys::JSON::parse(r#"[{"inputs": {"Nope": 1}}]"#).unwrap()).is_err());
+}

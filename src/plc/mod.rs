@@ -16,8 +16,12 @@
 //! either pulses its output for one scan or sets/resets a latched output (the `io` section).
 //! Clocks read by delay conditions are IEC `TON` timers (S7 timers in STL), restarted where the
 //! program resets the clock.
+//!
+//! [`framework_sim`] runs the runtime framework of supervisory control cycle by cycle in the
+//! reference interpreter ([`unit_exec`]), for the playground's cycle simulator.
 
 pub mod fragment;
+pub mod framework_sim;
 pub mod il;
 pub mod iotable;
 pub mod lower_ltl;

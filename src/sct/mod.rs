@@ -17,6 +17,8 @@
 //!   templates, timers, and every check that yields a located diagnostic.
 //! - `report` (private, re-exported here): synthesis of all specifications of a project with
 //!   per-supervisor reports.
+//! - [`stepper`]: the closed loop of plants and supervisors stepped event by event (which
+//!   events are enabled, disabled by whom, enforced), for the playground.
 //! - [`export`]: drawings of plant models, specifications and supervisors (DOT), for the
 //!   playground.
 //! - `runtime` (private, re-exported here): the reference executor of the runtime framework —
@@ -49,6 +51,7 @@ mod parser;
 mod partition;
 mod report;
 mod runtime;
+pub mod stepper;
 
 pub use ast::EdgeKind;
 pub use check::{compile, compile_within, EventMeta, EventSpans, Loaded, TimerInfo, Trigger};

@@ -9,6 +9,7 @@ use crate::sct::export::{self, module_of};
 use crate::sct::model::{Budget, Config, Method, Stop, DEFAULT_MAX_STATES};
 use crate::sct::{compile_within, synthesize_all_within, Loaded, SupervisorReport};
 use serde::{Deserialize, Serialize};
+use std::cell::OnceCell;
 use wasm_bindgen::prelude::*;
 
 /// Options of [`SctSession::new`] and [`SctSession::solve`]; every field is optional.
@@ -76,6 +77,16 @@ pub struct SctSession {
     /// Whether the last synthesis ran to its end without an input error: only then is there a
     /// framework to generate.
     complete: bool,
+    /// The runtime framework with the default names and its map, for the cycle simulator: built
+    /// on its first cycle after a solve.
+    framework: OnceCell<Result<(plc::unit::Unit, plc::lower_sct::FrameworkMap), Vec<Diagnostic>>>,
+}
+
+/// The views of a cycle simulation: before the first cycle, then one per cycle.
+#[derive(Serialize)]
+struct CyclesView {
+    initial: plc::framework_sim::CycleView,
+    cycles: Vec<plc::framework_sim::CycleView>,
 }
 
 #[wasm_bindgen]
@@ -96,6 +107,7 @@ impl SctSession {
                 reports: None,
                 composed: None,
                 complete: false,
+                framework: OnceCell::new(),
             }),
             _ => Err(diagnostics_error(&diagnostics)),
         }
@@ -180,6 +192,7 @@ impl SctSession {
         };
         let value = to_js(&summary);
         self.reports = Some(reports);
+        self.framework = OnceCell::new();
         value
     }
 
@@ -212,6 +225,45 @@ impl SctSession {
         let plc_options =
             plc::Options { created_unix: opts.created_unix.unwrap_or(0.0).max(0.0) as u64, ..plc::Options::default() };
         to_js(&unit_code(&unit, target, &plc_options)?)
+    }
+}
+
+#[wasm_bindgen]
+impl SctSession {
+    /// The stepper: the closed loop of plants and supervisors after firing `trace` (event
+    /// names) from the initial states: `{ plants, supervisors, events: { name, kind, status,
+    /// by? }[], trace }`, `status` one of `enabled`, `impossible`, `disabled`, `unexpected`,
+    /// `enforced`, `not_enforced`. Throws the reason when an event of the trace cannot happen.
+    pub fn step(&self, trace: JsValue) -> Result<JsValue, JsValue> {
+        let trace: Vec<String> = super::options(trace)?;
+        let reports = self.reports()?;
+        let project = &self.composed.as_ref().unwrap_or(&self.loaded).project;
+        let sups: Vec<_> = reports.iter().map(|r| &r.supervisor).collect();
+        let view = crate::sct::stepper::step(project, &sups, &trace).map_err(|e| JsValue::from_str(&e))?;
+        to_js(&view)
+    }
+
+    /// The runtime-cycle simulator: the generated framework run from a cold start through
+    /// `cycles` (`{ elapsed_ms, inputs: { SYMBOL: value }, controller: { SYMBOL: value } }[]`)
+    /// in the reference interpreter of the code model: `{ initial, cycles }`, each a
+    /// `{ cycle, time_ms, signals, events, supervisors, timers }`. `null` when synthesis did
+    /// not complete; throws `{ diagnostics }` when the framework cannot be generated.
+    pub fn cycles(&self, cycles: JsValue) -> Result<JsValue, JsValue> {
+        let cycles: Vec<plc::framework_sim::CycleInput> = super::options(cycles)?;
+        let reports = self.reports()?;
+        if !self.complete {
+            return Ok(JsValue::NULL);
+        }
+        let loaded = self.composed.as_ref().unwrap_or(&self.loaded);
+        let sups: Vec<_> = reports.iter().map(|r| &r.supervisor).collect();
+        let built = self.framework.get_or_init(|| {
+            plc::lower_sct::lower_mapped(&self.source, loaded, &sups, &plc::lower_sct::FrameworkOptions::default())
+        });
+        let (unit, map) = built.as_ref().map_err(|diagnostics| diagnostics_error(diagnostics))?;
+        let project = &loaded.project;
+        let initial = plc::framework_sim::initial(unit, map, project, &sups).map_err(|e| JsValue::from_str(&e))?;
+        let cycles = plc::framework_sim::run(unit, map, project, &sups, &cycles).map_err(|e| JsValue::from_str(&e))?;
+        to_js(&CyclesView { initial, cycles })
     }
 }
 

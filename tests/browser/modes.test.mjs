@@ -198,3 +198,57 @@ test('New: a document of each kind that runs; autosave per kind with an edit kep
   assert.equal(await page.evaluate(() => document.activeElement.dataset.tab), 'code');
   assert.deepEqual(page.errors, []);
 });
+
+test('SCT stepper: fire events until a prohibited event is disabled, step back; a runtime cycle resets a denied output', async () => {
+  const page = await newPage(browser, `${server.url}#example/tank_interlock`);
+  await page.click('[data-tab=step]');
+  assert.match(await page.textContent('#sct-stepper'), /Run the project first/);
+  await page.click('[data-tab=summary]');
+  assert.equal(await runAndWait(page), 'realizable');
+  await page.click('[data-tab=step]');
+  await page.waitForSelector('#step-events');
+  // Figure 5.7: the interlock prohibits opening the inlet; closing it is enabled.
+  assert.equal(await page.getAttribute('[data-event="Tank.openInlet"]', 'data-status'), 'disabled');
+  assert.equal(await page.isDisabled('[data-event="Tank.openInlet"]'), true);
+  assert.match(await page.getAttribute('[data-event="Tank.openInlet"]', 'title'), /disabled by Safety\.NoOverflow/);
+  await page.click('[data-event="Tank.closeInlet"]');
+  await page.waitForSelector('#step-trace li');
+  assert.equal(await page.locator('#step-trace li').count(), 1);
+  await shot(page, '48-sct-stepper');
+  await page.click('#step-back');
+  await page.waitForSelector('p#step-trace');
+
+  // Preemption: open, the alarm, and the supervisor enforces closing.
+  await page.evaluate(() => (location.hash = '#example/tank_preemption'));
+  await page.waitForFunction(() => window.plcsynth.name === 'tank_preemption');
+  await page.click('[data-tab=summary]');
+  assert.equal(await runAndWait(page), 'realizable');
+  await page.click('[data-tab=step]');
+  await page.click('[data-event="Tank.openInlet"]');
+  await page.waitForSelector('[data-event="Tank.levelAlarm"][data-status=enabled]');
+  await page.click('[data-event="Tank.levelAlarm"]');
+  await page.waitForSelector('[data-event="Tank.closeInlNow"][data-status=enforced]');
+  assert.match(await page.textContent('#step-plants'), /Tank\.Inlet\s*C/);
+  await page.click('[data-event="Tank.closeInlNow"]');
+  await page.waitForFunction(() => /Tank\.Inlet\s*A/.test(document.querySelector('#step-plants').textContent));
+  await shot(page, '49-sct-stepper-enforced');
+
+  // The cycle simulator on the generated framework: the controller opens, the alarm comes,
+  // the framework enforces closing; a controller that still writes TRUE is overridden.
+  await page.click('[data-tab=cycles]');
+  await page.waitForSelector('#cycle-run');
+  await page.check('input[data-into=controller][data-signal=Q_Inlet]');
+  await page.click('#cycle-run');
+  await page.waitForSelector('#cycle-table tr[data-cycle="1"]');
+  assert.match(await page.textContent('#cycle-table tr[data-cycle="1"]'), /✓ Tank\.openInlet accepted/);
+  await page.check('input[data-into=inputs][data-signal=I_LevelHigh]');
+  await page.click('#cycle-run');
+  await page.waitForSelector('#cycle-table tr[data-cycle="2"]');
+  const second = await page.textContent('#cycle-table tr[data-cycle="2"]');
+  assert.match(second, /⇒ Tank\.closeInlNow enforced/);
+  assert.equal(await page.getAttribute('#cycle-table tr[data-cycle="2"] [data-output=Q_Inlet]', 'data-reset'), 'true');
+  await shot(page, '50-sct-cycles');
+  await page.click('#cycle-back');
+  await page.waitForFunction(() => !document.querySelector('#cycle-table tr[data-cycle="2"]'));
+  assert.deepEqual(page.errors, []);
+});

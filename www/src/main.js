@@ -14,6 +14,7 @@ import { engineOf, engineLabel, kindLabel } from './languages.js';
 import { templates } from './templates.js';
 import { renderSctSummary, sctVerdict, SctAutomataView } from './sctview.js';
 import { addAssumption, drawMachine, renderLtlSummary } from './ltlview.js';
+import { SctSimulator } from './sctsim.js';
 
 /** Autosave: the current kind, and per kind the last document with where it came from. */
 const STORAGE_KEY = 'plcsynth.playground.v2';
@@ -156,7 +157,7 @@ function setMode(kind) {
   editor.setKind(kind);
   clearResults('Press Run (or Ctrl+Enter) to synthesise a controller for the spec on the left.');
   if (app.targets) fillTargets(app.targets);
-  if (!['summary', 'automata', 'code'].includes(currentTab) && engine !== 'timed') showTab('summary');
+  if ($(`.tabs [data-tab=${currentTab}]`).hidden) showTab('summary');
 }
 
 /** Forgets the results on screen (another engine, or a new run). */
@@ -168,6 +169,7 @@ function clearResults(message) {
   app.meta = null;
   spaceView.reset(null);
   sctAutomata.clear('The automata appear here once the spec compiles and runs.');
+  sctSim.reset();
   $('#automata').replaceChildren(h('p', { class: 'muted' }, 'The automata appear here once the spec compiles and runs.'));
   $('#summary').replaceChildren(h('p', { class: 'muted' }, message));
   markStale(editor.text);
@@ -290,6 +292,8 @@ function showTab(name) {
   document.querySelectorAll('.panel').forEach((p) => (p.hidden = p.dataset.panel !== name));
   if (name === 'automata') drawAutomata();
   if (name === 'code') refreshCode();
+  if (name === 'step') sctSim.showStepper();
+  if (name === 'cycles') sctSim.showCycles();
 }
 document.querySelectorAll('.tabs [role=tab]').forEach((b) => b.addEventListener('click', () => showTab(b.dataset.tab)));
 // The WAI-ARIA tabs pattern: Left/Right move to the neighbouring tab, Home/End to the ends.
@@ -307,6 +311,7 @@ $('.tabs').addEventListener('keydown', (event) => {
 // ---- automata ---------------------------------------------------------------------------
 
 const sctAutomata = new SctAutomataView($('#automata'));
+const sctSim = new SctSimulator({ query: (method, args) => query(method, args), stepBox: $('#sct-stepper'), cyclesBox: $('#sct-cycles') });
 
 async function drawAutomata() {
   if (app.engine() === 'sct') return sctAutomata.draw();
@@ -644,6 +649,7 @@ async function run() {
   app.automataDrawn = false;
   app.meta = null;
   spaceView.reset(null);
+  sctSim.reset();
   $('#summary').replaceChildren(h('p', { class: 'muted' }, 'Running…'));
   setStatus('Compiling…', 'running');
   const options = {
@@ -700,6 +706,12 @@ async function run() {
     markStale(editor.text);
     setRunning(false);
     if (engine === 'sct' && !summary.stopped) sctAutomata.load(app.automata, await query('supervisors', []));
+    if (engine === 'sct') {
+      // Both simulations need every supervisor to exist.
+      sctSim.reset(summary.verdict === 'realizable', `Nothing to simulate: ${verdictPhrase(summary.verdict)}.`);
+      if (currentTab === 'step') sctSim.showStepper();
+      if (currentTab === 'cycles') sctSim.showCycles();
+    }
     if (currentTab === 'automata') drawAutomata();
     if (engine === 'timed') {
       app.meta = await query('space', [1]);

@@ -54,7 +54,7 @@ const engines = {
       postMessage({ id, compiled: { automata: s.models(), warnings: s.warnings() } });
       return [s, () => s.solve(options, progress)];
     },
-    queries: ['supervisors', 'models', 'events', 'code'],
+    queries: ['supervisors', 'models', 'events', 'step', 'cycles', 'code'],
     code: (s, target, name, created) => s.code(target, '', '', { createdUnix: created }),
   },
   ltl: {
