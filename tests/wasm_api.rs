@@ -88,6 +88,12 @@ fn automata_have_locations_and_typed_edges() {
     for sigil in ["?", "!", "$"] {
         assert!(sigils.iter().any(|x| x == sigil), "no {sigil} edge in {sigils:?}");
     }
+    // Each comes with its drawing: the edges classed by sigil, the invariant in its location.
+    let dot = string(&button, "dot");
+    assert!(dot.starts_with("digraph"), "{dot}");
+    assert!(dot.contains("class = \"edge-reaction\", style = dashed"), "{dot}");
+    assert!(dot.contains("c in [0,1)"), "{dot}");
+    assert!(string(&automata.get(0), "dot").contains("edge-request"));
 }
 
 #[wasm_bindgen_test]

@@ -18,6 +18,53 @@ pub struct AutomatonView {
     pub edges: Vec<EdgeView>,
 }
 
+impl AutomatonView {
+    /// The automaton as a drawing (DOT, [`crate::dot`]): locations with their invariants, the
+    /// initial one marked, a plan's fail location classed `failed`; edges labelled with message,
+    /// guard and resets, classed by sigil (`edge-request` solid, `edge-reaction` dashed,
+    /// `edge-plan` bold).
+    pub fn dot(&self) -> String {
+        use crate::dot::{document, Drawing, Edge, Node};
+        let mut g = Drawing::new();
+        let nodes: Vec<_> = self
+            .locations
+            .iter()
+            .map(|l| {
+                g.add_node(Node {
+                    label: if l.invariant.is_empty() { l.name.clone() } else { format!("{}\n{}", l.name, l.invariant) },
+                    class: if l.failed { "location failed".into() } else { "location".into() },
+                    tooltip: if l.failed { "the plan has failed".into() } else { l.name.clone() },
+                    shape: None,
+                })
+            })
+            .collect();
+        if let Some(&first) = nodes.get(self.initial as usize) {
+            let point = g.add_node(Node { class: "initial-point".into(), shape: Some("point"), ..Node::default() });
+            g.add_edge(point, first, Edge { class: "initial".into(), ..Edge::default() });
+        }
+        for e in &self.edges {
+            let mut parts = vec![format!("{}{}{}", e.sigil, e.message, if e.instant { " (instant)" } else { "" })];
+            if !e.guard.is_empty() {
+                parts.push(e.guard.clone());
+            }
+            if !e.resets.is_empty() {
+                parts.push(format!("reset{{{}}}", e.resets.join(", ")));
+            }
+            let (class, style) = match e.sigil {
+                '?' => ("edge-request", ""),
+                '!' => ("edge-reaction", "dashed"),
+                _ => ("edge-plan", "bold"),
+            };
+            g.add_edge(
+                nodes[e.from as usize],
+                nodes[e.to as usize],
+                Edge { label: parts.join("\n"), class: class.into(), style },
+            );
+        }
+        document(&g)
+    }
+}
+
 #[derive(Serialize)]
 pub struct LocationView {
     pub name: String,

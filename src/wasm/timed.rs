@@ -119,9 +119,23 @@ impl TimedSession {
         to_js(&self.warnings)
     }
 
-    /// Plant units and plans: `AutomatonView[]`.
+    /// Plant units and plans: `AutomatonView[]`, each with `dot`, its drawing.
     pub fn automata(&self) -> Result<JsValue, JsValue> {
-        to_js(&export::automata(&self.game))
+        /// A component with its drawing.
+        #[derive(Serialize)]
+        struct Drawn {
+            #[serde(flatten)]
+            view: export::AutomatonView,
+            dot: String,
+        }
+        let drawn: Vec<Drawn> = export::automata(&self.game)
+            .into_iter()
+            .map(|view| {
+                let dot = view.dot();
+                Drawn { view, dot }
+            })
+            .collect();
+        to_js(&drawn)
     }
 
     /// Solves the game. `options`: `{ maxStates?, maxMemoryMib?, maxWork?, progressInterval? }`;

@@ -5,7 +5,7 @@ import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { startServer, launch, newPage, open, shot, editorText, setEditorText, runAndWait, root } from './harness.mjs';
+import { startServer, launch, newPage, open, shot, editorText, setEditorText, runAndWait, root, record } from './harness.mjs';
 
 let server;
 let browser;
@@ -250,5 +250,52 @@ test('SCT stepper: fire events until a prohibited event is disabled, step back; 
   await shot(page, '50-sct-cycles');
   await page.click('#cycle-back');
   await page.waitForFunction(() => !document.querySelector('#cycle-table tr[data-cycle="2"]'));
+  assert.deepEqual(page.errors, []);
+});
+
+test('a damaged share link of any form says what is wrong, never "Failed to fetch"', async () => {
+  const page = await newPage(browser, `${server.url}#example/delay_line`);
+  const good = await share(page);
+  const data = good.split('/').at(-1);
+  const broken = [
+    good.slice(0, -7), // cut off
+    good.replace(/\/[A-Za-z0-9_-]+$/, '/!!!'), // not base64url
+    good.replace('/v2/tlsf/', '/v2/xyz/'), // an unknown kind
+    good.replace('/v2/', '/v9/'), // an unknown version
+    `${server.url}#share/v2/tlsf/a%E0%A4%A/st/${data}`, // a bad percent escape
+    `${server.url}#share/v2/tlsf`, // no data at all
+    `${server.url}#share/v1/st/${data.slice(0, 20)}`,
+  ];
+  for (const link of broken) {
+    const fresh = await newPage(browser, link);
+    await fresh.waitForSelector('#toast:not([hidden])');
+    const text = await fresh.textContent('#toast');
+    assert.match(text, /This share link cannot be read: /, link);
+    assert.doesNotMatch(text, /Failed to fetch/i, link);
+    assert.deepEqual(fresh.errors, [], link);
+    await fresh.context().close();
+  }
+});
+
+test('measurements: SCT and LTL runs in the page (reported, not asserted)', async () => {
+  const page = await newPage(browser, server.url);
+  await page.evaluate(() => {
+    window.longTasks = [];
+    new PerformanceObserver((list) => window.longTasks.push(...list.getEntries().map((e) => e.duration))).observe({ type: 'longtask' });
+  });
+  const result = {};
+  for (const id of ['three_tanks', 'transfer_line_2x2', 'ex4_muting', 'fig1', 'mutex', 'arbiter_same_scan']) {
+    await page.evaluate((id) => {
+      window.longTasks = [];
+      location.hash = `#example/${id}`;
+    }, id);
+    await page.waitForFunction((id) => window.plcsynth.name === id, id);
+    const verdict = await runAndWait(page, 120000);
+    await page.waitForSelector('#run:not([disabled])');
+    result[id] = await page.evaluate(() => ({ verdict: document.querySelector('#verdict').dataset.verdict, engine_ms: Math.round(window.plcsynth.result.ms), round_trip_ms: Math.round(window.plcsynth.lastRunMs), long_tasks_ms: window.longTasks }));
+    assert.ok(['realizable', 'unrealizable'].includes(verdict), `${id}: ${verdict}`);
+  }
+  record('modes', result);
+  console.log(`# measurements: ${JSON.stringify(result)}`);
   assert.deepEqual(page.errors, []);
 });

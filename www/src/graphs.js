@@ -1,6 +1,7 @@
 // Graphs drawn by Graphviz (compiled to wasm, @viz-js/viz, in its own worker started on first
-// use: www/src/graphviz-worker.js): component automata and (parts of) the explored state space,
-// as DOT with CSS classes for styling.
+// use: www/src/graphviz-worker.js). The engines write the DOT of automata, supervisors and Mealy
+// machines (src/dot.rs); the state-space views are assembled here from the engine's SpaceView,
+// with the page's selection and strategy.
 
 /** The Graphviz worker and its calls waiting for an answer (id → { resolve, reject }). */
 let worker = null;
@@ -39,35 +40,6 @@ function call(dot) {
 }
 
 const q = (s) => `"${String(s).replace(/\\/g, '\\\\').replace(/"/g, '\\"').replace(/\n/g, '\\n')}"`;
-
-/** `?` request (controller), `!` reaction (plant), `$` plan step. */
-const sigilClass = { '?': 'edge-request', '!': 'edge-reaction', $: 'edge-plan' };
-
-export function automatonDot(a) {
-  const lines = [
-    'digraph automaton {',
-    '  graph [rankdir=LR, bgcolor="transparent", nodesep=0.35, ranksep=0.5, fontname="sans-serif"];',
-    '  node [shape=box, style="rounded", fontname="sans-serif", fontsize=11, margin="0.12,0.05"];',
-    '  edge [fontname="sans-serif", fontsize=10, arrowsize=0.7];',
-    '  init [shape=point, width=0.08, class="init"];',
-  ];
-  a.locations.forEach((l, i) => {
-    const label = l.invariant ? `${l.name}\n${l.invariant}` : l.name;
-    const cls = l.failed ? 'location failed' : 'location';
-    lines.push(`  l${i} [label=${q(label)}, class=${q(cls)}, tooltip=${q(l.failed ? 'the plan has failed' : l.name)}];`);
-  });
-  lines.push(`  init -> l${a.initial} [class="init"];`);
-  for (const e of a.edges) {
-    const parts = [`${e.sigil}${e.message}${e.instant ? ' (instant)' : ''}`];
-    if (e.guard) parts.push(e.guard);
-    if (e.resets.length) parts.push(`reset{${e.resets.join(', ')}}`);
-    const cls = sigilClass[e.sigil] ?? 'edge-plan';
-    const style = e.sigil === '!' ? 'dashed' : e.sigil === '$' ? 'bold' : 'solid';
-    lines.push(`  l${e.from} -> l${e.to} [label=${q(parts.join('\n'))}, class=${q(cls)}, style=${style}];`);
-  }
-  lines.push('}');
-  return lines.join('\n');
-}
 
 /** Location names joined in lines of about `width` characters, at most three lines. */
 function wrap(names, width) {

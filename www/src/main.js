@@ -9,7 +9,7 @@ import { encodeShare, decodeShare } from './share.js';
 import { renderSummary } from './summary.js';
 import { SpaceView } from './space.js';
 import { ZoneView } from './zoneview.js';
-import { automatonDot, render, preload } from './graphs.js';
+import { render, preload } from './graphs.js';
 import { engineOf, engineLabel, kindLabel } from './languages.js';
 import { templates } from './templates.js';
 import { renderSctSummary, sctVerdict, SctAutomataView } from './sctview.js';
@@ -341,7 +341,7 @@ async function drawAutomata() {
     const section = h('section', { class: 'automaton', 'data-name': a.name }, h('h3', {}, a.name, ' ', h('span', { class: 'muted' }, a.kind)));
     box.append(section);
     try {
-      section.append(await render(automatonDot(a)));
+      section.append(await render(a.dot));
     } catch (error) {
       section.append(h('p', { class: 'reason' }, `Graphviz could not draw ${a.name}: ${error.message ?? error}`));
     }
