@@ -299,3 +299,21 @@ test('measurements: SCT and LTL runs in the page (reported, not asserted)', asyn
   console.log(`# measurements: ${JSON.stringify(result)}`);
   assert.deepEqual(page.errors, []);
 });
+
+test('completion offers the names the document declares, in each language', async () => {
+  const page = await newPage(browser, server.url);
+  for (const [id, prefix, name] of [['tank_preemption', 'closeI', 'closeInlNow'], ['arbiter', 'gra', 'grant1'], ['delay_line', 'GUAR', 'GUARANTEES'], ['lamp', 'turn_o', 'turn_off']]) {
+    await page.evaluate((id) => (location.hash = `#example/${id}`), id);
+    await page.waitForFunction((id) => window.plcsynth.name === id, id);
+    await page.click('.cm-content');
+    await page.keyboard.press('Control+End');
+    await page.keyboard.insertText(`\n${prefix}`);
+    await page.keyboard.press('Control+Space');
+    await page.waitForSelector('.cm-tooltip-autocomplete');
+    const offered = await page.locator('.cm-tooltip-autocomplete li').allTextContents();
+    assert.ok(offered.some((o) => o.startsWith(name)), `${id}: ${name} not in ${offered.join(', ')}`);
+    await page.keyboard.press('Escape');
+  }
+  await shot(page, '51-completion');
+  assert.deepEqual(page.errors, []);
+});

@@ -9,8 +9,15 @@ import { linter, lintGutter, forceLinting } from '@codemirror/lint';
 import { tags as t } from '@lezer/highlight';
 import { completions, languageOf } from './languages.js';
 
-/** The language and the completion of a document kind. */
-const languageFor = (kind) => [languageOf(kind), EditorState.languageData.of(() => [{ autocomplete: completions(kind) }])];
+/** The language and the completion of a document kind. The completion source is made once per
+ * kind: the autocompletion extension tells sources apart by identity, and a new function on
+ * every lookup restarts its query forever. */
+const sources = new Map();
+const languageFor = (kind) => {
+  if (!sources.has(kind)) sources.set(kind, [{ autocomplete: completions(kind) }]);
+  const data = sources.get(kind);
+  return [languageOf(kind), EditorState.languageData.of(() => data)];
+};
 
 /** Editor chrome in the page's colours, so that it follows the light/dark setting. */
 const chrome = EditorView.theme({

@@ -89,6 +89,8 @@ const declarations = {
 
 export function declaredNames(kind, text) {
   const names = new Set();
+  // Comments declare nothing (a header saying "the event offers…" names no event `offers`).
+  text = text.replace(/\/\*[\s\S]*?\*\//g, ' ').replace(/\/\/[^\n]*/g, ' ');
   for (const re of declarations[kind] ?? []) {
     for (const m of text.matchAll(re)) {
       for (const word of m[1].matchAll(/[A-Za-z_][A-Za-z0-9_]*/g)) names.add(word[0]);

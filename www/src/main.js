@@ -87,6 +87,7 @@ const editor = createEditor($('#editor'), {
   onRun: () => run(),
 });
 app.getText = () => editor.text;
+app.editorView = editor.view; // for the console and the browser tests
 
 /** Marks the results on screen as belonging to another text than the editor's, or clears the
  * mark when the text is the one that was run again. */
