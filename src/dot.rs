@@ -19,6 +19,8 @@ pub struct Node {
     pub tooltip: String,
     /// A Graphviz shape other than the default rounded box (`point`, `doublecircle`).
     pub shape: Option<&'static str>,
+    /// The `id` of its SVG group, for the page to find it.
+    pub id: Option<String>,
 }
 
 /// An edge of a drawing.
@@ -26,8 +28,10 @@ pub struct Node {
 pub struct Edge {
     pub label: String,
     pub class: String,
-    /// `dashed`, `bold`, or empty for a solid line.
+    /// `dashed`, `dotted`, `bold`, or empty for a solid line.
     pub style: &'static str,
+    /// Hover text; none when empty.
+    pub tooltip: String,
 }
 
 impl fmt::Display for Node {
@@ -63,8 +67,28 @@ pub fn quote(text: &str) -> String {
     out
 }
 
+/// The look of a drawing: its direction and the default attributes of the graph, its nodes and
+/// its edges (DOT attribute lists without brackets).
+pub struct Layout {
+    pub graph: &'static str,
+    pub node: &'static str,
+    pub edge: &'static str,
+}
+
+/// Automata, supervisors and Mealy machines: left to right, rounded boxes.
+pub const AUTOMATON: Layout = Layout {
+    graph: "rankdir = LR, bgcolor = \"transparent\", nodesep = 0.35, ranksep = 0.5, fontname = \"sans-serif\"",
+    node: "shape = box, style = rounded, fontname = \"sans-serif\", fontsize = 11, margin = \"0.12,0.05\"",
+    edge: "fontname = \"sans-serif\", fontsize = 10, arrowsize = 0.7",
+};
+
 /// The DOT document of `graph`, laid out left to right.
 pub fn document(graph: &Drawing) -> String {
+    document_with(graph, &AUTOMATON)
+}
+
+/// The DOT document of `graph` in `layout`.
+pub fn document_with(graph: &Drawing, layout: &Layout) -> String {
     let node_attrs = |_: &Drawing, (_, node): (petgraph::graph::NodeIndex, &Node)| {
         let mut attrs = format!("class = {}", quote(&node.class));
         let tooltip = if node.tooltip.is_empty() { &node.label } else { &node.tooltip };
@@ -75,6 +99,9 @@ pub fn document(graph: &Drawing) -> String {
                 attrs.push_str(", width = 0.08");
             }
         }
+        if let Some(id) = &node.id {
+            attrs.push_str(&format!(", id = {}", quote(id)));
+        }
         attrs
     };
     let edge_attrs = |_: &Drawing, edge: petgraph::graph::EdgeReference<'_, Edge>| {
@@ -83,13 +110,15 @@ pub fn document(graph: &Drawing) -> String {
         if !e.style.is_empty() {
             attrs.push_str(&format!(", style = {}", e.style));
         }
+        if !e.tooltip.is_empty() {
+            attrs.push_str(&format!(", tooltip = {}", quote(&e.tooltip)));
+        }
         attrs
     };
     let body = Dot::with_attr_getters(graph, &[Config::GraphContentOnly], &edge_attrs, &node_attrs);
     format!(
-        "digraph {{\n    graph [rankdir = LR, bgcolor = \"transparent\", nodesep = 0.35, ranksep = 0.5, fontname = \"sans-serif\"];\n    \
-         node [shape = box, style = rounded, fontname = \"sans-serif\", fontsize = 11, margin = \"0.12,0.05\"];\n    \
-         edge [fontname = \"sans-serif\", fontsize = 10, arrowsize = 0.7];\n{body}}}\n"
+        "digraph {{\n    graph [{}];\n    node [{}];\n    edge [{}];\n{body}}}\n",
+        layout.graph, layout.node, layout.edge
     )
 }
 
@@ -107,7 +136,11 @@ mod tests {
             shape: Some("point"),
             ..Node::default()
         });
-        g.add_edge(b, a, Edge { label: "a\\b".into(), class: "edge-x".into(), style: "dashed" });
+        g.add_edge(
+            b,
+            a,
+            Edge { label: "a\\b".into(), class: "edge-x".into(), style: "dashed", tooltip: String::new() },
+        );
         let dot = document(&g);
         assert!(dot.starts_with("digraph {"), "{dot}");
         assert!(dot.contains(r#"label = "say \"hi\"\lnow""#), "{dot}");

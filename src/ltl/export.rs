@@ -126,7 +126,7 @@ pub fn machine_dot(spec: &Spec, machine: &Machine) -> String {
         merged.entry((s, next)).or_default().push(label);
     }
     for ((s, next), labels) in merged {
-        g.add_edge(nodes[s], nodes[next], Edge { label: labels.join("\n"), class: "row".into(), style: "" });
+        g.add_edge(nodes[s], nodes[next], Edge { label: labels.join("\n"), class: "row".into(), ..Edge::default() });
     }
     document(&g)
 }

@@ -125,7 +125,11 @@ fn add_edges(
             ""
         };
         let class = if bold { format!("{class} enforced") } else { class.to_string() };
-        g.add_edge(nodes[from as usize], nodes[to as usize], Edge { label: labels.join("\n"), class, style });
+        g.add_edge(
+            nodes[from as usize],
+            nodes[to as usize],
+            Edge { label: labels.join("\n"), class, style, ..Edge::default() },
+        );
     }
 }
 

@@ -34,7 +34,7 @@ impl AutomatonView {
                     label: if l.invariant.is_empty() { l.name.clone() } else { format!("{}\n{}", l.name, l.invariant) },
                     class: if l.failed { "location failed".into() } else { "location".into() },
                     tooltip: if l.failed { "the plan has failed".into() } else { l.name.clone() },
-                    shape: None,
+                    ..Node::default()
                 })
             })
             .collect();
@@ -58,7 +58,7 @@ impl AutomatonView {
             g.add_edge(
                 nodes[e.from as usize],
                 nodes[e.to as usize],
-                Edge { label: parts.join("\n"), class: class.into(), style },
+                Edge { label: parts.join("\n"), class: class.into(), style, ..Edge::default() },
             );
         }
         document(&g)
@@ -404,4 +404,198 @@ pub fn search_states(game: &Game, synthesis: &Synthesis, query: &str, filter: &s
         }
     }
     StateSearch { total, rows }
+}
+
+/// What the winning strategy does in one of its states.
+#[derive(Clone, Serialize)]
+pub struct StrategyChoice {
+    pub state: StateId,
+    /// `request` or `wait`.
+    pub choice: &'static str,
+    /// For a request: its target state and its label (as in [`TransitionView::label`]).
+    pub to: Option<StateId>,
+    pub label: Option<String>,
+}
+
+/// The strategy the controller program follows (request selection, Peter 2005, 6.3): for each
+/// state it reaches, the request it makes or `wait`, initial state first; `None` when the game
+/// is not realizable.
+pub fn strategy(game: &Game, synthesis: &Synthesis) -> Option<Vec<StrategyChoice>> {
+    if synthesis.solution.verdict != Verdict::Realizable {
+        return None;
+    }
+    let space = &synthesis.solution.space;
+    let strategy = crate::program::select::select(game, space);
+    Some(
+        strategy
+            .states
+            .iter()
+            .map(|&st| match strategy.choice[st as usize] {
+                crate::program::select::Choice::Request(e) => {
+                    let edge = &space.edges[e as usize];
+                    StrategyChoice {
+                        state: st,
+                        choice: "request",
+                        to: Some(edge.to),
+                        label: Some(describe_edge(game, &synthesis.split, edge)),
+                    }
+                }
+                crate::program::select::Choice::Wait => {
+                    StrategyChoice { state: st, choice: "wait", to: None, label: None }
+                }
+            })
+            .collect(),
+    )
+}
+
+/// The state space's drawing: top to bottom in a monospace font.
+const SPACE_LAYOUT: crate::dot::Layout = crate::dot::Layout {
+    graph: "rankdir = TB, bgcolor = \"transparent\", nodesep = 0.25, ranksep = 0.35, fontname = \"sans-serif\"",
+    node: "shape = box, style = \"rounded,filled\", fontname = \"Courier\", fontsize = 10, margin = \"0.08,0.03\"",
+    edge: "fontname = \"Courier\", fontsize = 8, arrowsize = 0.6",
+};
+
+/// Location names joined in lines of about `width` characters, at most three lines.
+fn wrap(names: &[String], width: usize) -> String {
+    let mut lines: Vec<String> = vec![String::new()];
+    for n in names {
+        let last = lines.last_mut().expect("one line at least");
+        if !last.is_empty() && last.chars().count() + n.chars().count() + 2 > width {
+            lines.push(n.clone());
+        } else if last.is_empty() {
+            last.push_str(n);
+        } else {
+            last.push_str(", ");
+            last.push_str(n);
+        }
+    }
+    if lines.len() > 3 {
+        return format!("{}…", lines[..3].join("\n"));
+    }
+    lines.join("\n")
+}
+
+/// A view of the state space as a drawing (DOT): winning and removed states classed for their
+/// colours (`state winning|removed`, `initial`, `selected`; the SVG group of state `n` has the id
+/// `st-n`), edges classed by kind (`edge-request`, `edge-reaction`, `edge-guard`, `edge-delay`,
+/// `edge-timeout`), the requests the strategy chooses classed `chosen`, zeno repetitions `zeno`,
+/// and edges to no state (timeouts, cut repetitions) ending in a point.
+pub fn space_dot(view: &SpaceView, selected: Option<StateId>, strategy: Option<&[StrategyChoice]>) -> String {
+    use super::solve::EdgeKind;
+    use crate::dot::{document_with, Drawing, Edge, Node};
+    let plan: std::collections::HashMap<StateId, &StrategyChoice> =
+        strategy.unwrap_or_default().iter().map(|c| (c.state, c)).collect();
+    let mut g = Drawing::new();
+    let mut nodes = std::collections::HashMap::new();
+    for s in &view.states {
+        let mut class = vec!["state", if s.winning { "winning" } else { "removed" }];
+        if s.id == view.initial {
+            class.push("initial");
+        }
+        if Some(s.id) == selected {
+            class.push("selected");
+        }
+        let kind = serde_json::to_value(s.kind).ok().and_then(|v| v.as_str().map(str::to_string)).unwrap_or_default();
+        let tooltip = if s.winning {
+            let doing = match plan.get(&s.id) {
+                Some(c) if c.choice == "wait" => "; strategy: wait".to_string(),
+                Some(c) => format!("; strategy: {}", c.label.as_deref().unwrap_or("")),
+                None => String::new(),
+            };
+            format!("s{}: winning{doing}", s.id)
+        } else {
+            format!("s{}: removed: {}", s.id, s.reason.as_deref().unwrap_or(""))
+        };
+        let node = g.add_node(Node {
+            label: format!("s{} {kind}\n{}", s.id, wrap(&s.locations, 30)),
+            class: class.join(" "),
+            tooltip,
+            id: Some(format!("st-{}", s.id)),
+            ..Node::default()
+        });
+        nodes.insert(s.id, node);
+    }
+    for e in &view.edges {
+        let Some(&from) = nodes.get(&e.from) else { continue };
+        let to = match e.to.and_then(|t| nodes.get(&t).copied()) {
+            Some(to) => to,
+            None => g.add_node(Node {
+                class: "dangling".into(),
+                shape: Some("point"),
+                tooltip: " ".into(),
+                ..Node::default()
+            }),
+        };
+        let chosen = plan
+            .get(&e.from)
+            .is_some_and(|c| c.choice == "request" && c.to == e.to && c.label.as_deref() == Some(e.label.as_str()));
+        let (kind_class, sigil, style) = match e.kind {
+            EdgeKind::Request => ("edge-request", '?', ""),
+            EdgeKind::Reaction => ("edge-reaction", '!', "dashed"),
+            EdgeKind::Guard => ("edge-guard", '%', ""),
+            EdgeKind::Delay => ("edge-delay", 'D', "dotted"),
+            EdgeKind::Timeout => ("edge-timeout", 'T', "dotted"),
+        };
+        let mut class = kind_class.to_string();
+        if chosen {
+            class.push_str(" chosen");
+        }
+        if e.zeno {
+            class.push_str(" zeno");
+        }
+        let label = if e.kind == EdgeKind::Delay {
+            "D".to_string()
+        } else if e.label.chars().count() > 28 {
+            format!("{}…", e.label.chars().take(27).collect::<String>())
+        } else {
+            e.label.clone()
+        };
+        g.add_edge(from, to, Edge { label, class, style, tooltip: format!("{sigil} {}", e.label) });
+    }
+    document_with(&g, &SPACE_LAYOUT)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::timed::{compile, solve::SolveOptions, synthesize};
+
+    fn lamp() -> (Game, Synthesis) {
+        let (game, _) = compile(include_str!("../../examples/timed/lamp.tga")).unwrap();
+        let synthesis = synthesize(&game, &SolveOptions::default(), &mut |_| true);
+        (game, synthesis)
+    }
+
+    #[test]
+    fn searches_neighbourhoods_and_drawings_of_the_lamp_space() {
+        let (game, s) = lamp();
+        let all = search_states(&game, &s, "", "all", 3);
+        assert_eq!(all.total, s.solution.space.states.len());
+        assert_eq!(all.rows.len(), 3);
+        assert!(all.rows[0].initial);
+        let on = search_states(&game, &s, "LAMP.ON pressing", "all", 100);
+        assert!(on.total > 0 && on.rows.iter().all(|r| r.text.contains("lamp.on") && r.text.contains("pressing")));
+        let removed = search_states(&game, &s, "", "removed", 100);
+        assert!(removed.rows.iter().all(|r| !r.winning));
+
+        let incoming = incoming(&s);
+        let hood = neighbourhood(&game, &s, &incoming, 0, 1, 100).unwrap();
+        let succ: Vec<StateId> = s.solution.space.out_edges(0).map(|(_, e)| e.to).filter(|&t| t != u32::MAX).collect();
+        assert!(succ.iter().all(|t| hood.states.iter().any(|v| v.id == *t)), "one step reaches every successor");
+        assert!(!neighbourhood(&game, &s, &incoming, 0, 3, 2).unwrap().states.is_empty());
+        assert!(neighbourhood(&game, &s, &incoming, 0, 3, 2).unwrap().truncated);
+        assert!(neighbourhood(&game, &s, &incoming, 10_000, 1, 10).is_none());
+
+        let choices = strategy(&game, &s).unwrap();
+        let view = space(&game, &s, 1000);
+        let dot = space_dot(&view, Some(0), Some(&choices));
+        assert!(dot.contains(r#"id = "st-0""#), "{dot}");
+        assert!(
+            dot.contains("state winning initial selected") || dot.contains("state removed initial selected"),
+            "{dot}"
+        );
+        let chosen = choices.iter().filter(|c| c.choice == "request").count();
+        assert_eq!(dot.matches(" chosen\"").count(), chosen, "every chosen request is marked once: {dot}");
+        assert!(dot.contains("edge-delay"), "{dot}");
+    }
 }

@@ -5,7 +5,7 @@ use super::{diagnostics_error, plc_target, to_js, FileView, GeneratedCode, IoRow
 use crate::diag::Diagnostic;
 use crate::plc::{self, Target};
 use crate::program::{self, Program};
-use crate::timed::explain::{describe_edge, dump};
+use crate::timed::explain::dump;
 use crate::timed::export::{self, StateView};
 use crate::timed::model::Game;
 use crate::timed::solve::{BudgetStop, SolveOptions, StateId, Stats, Verdict};
@@ -64,17 +64,6 @@ pub(crate) struct RealtimeView {
     trace: Vec<String>,
 }
 
-/// What the winning strategy does in one of its states.
-#[derive(Serialize)]
-struct StrategyChoice {
-    state: StateId,
-    /// `request` or `wait`.
-    choice: &'static str,
-    /// For a request: its target state and its label (as in `TransitionView::label`).
-    to: Option<StateId>,
-    label: Option<String>,
-}
-
 /// A compiled specification and, once solved, its synthesis.
 #[wasm_bindgen]
 pub struct TimedSession {
@@ -86,6 +75,8 @@ pub struct TimedSession {
     incoming: OnceCell<Vec<Vec<StateId>>>,
     /// The optimised controller program, built on the first `program`/`code` call after a solve.
     program: OnceCell<Option<Program>>,
+    /// The strategy's choice in every state it reaches, built on first use after a solve.
+    strategy: OnceCell<Option<Vec<export::StrategyChoice>>>,
     /// The declared scan time, when the last solve found the specification implementable there:
     /// `code` then runs the code against the plant in real time first.
     implementable_at: Option<u64>,
@@ -107,6 +98,7 @@ impl TimedSession {
                 synthesis: None,
                 incoming: OnceCell::new(),
                 program: OnceCell::new(),
+                strategy: OnceCell::new(),
                 implementable_at: None,
                 checked: Default::default(),
             }),
@@ -178,6 +170,7 @@ impl TimedSession {
         self.synthesis = Some(synthesis);
         self.incoming = OnceCell::new();
         self.program = OnceCell::new();
+        self.strategy = OnceCell::new();
         self.checked = Default::default();
         self.implementable_at = summary.scan.as_ref().filter(|s| s.verdict == Verdict::Realizable).map(|s| s.scan_ms);
         to_js(&summary)
@@ -189,7 +182,8 @@ impl TimedSession {
 
     /// The explored space, at most `limit` states breadth-first from the initial one: `SpaceView`.
     pub fn space(&self, limit: usize) -> Result<JsValue, JsValue> {
-        to_js(&export::space(&self.game, self.synthesis()?, limit))
+        let view = export::space(&self.game, self.synthesis()?, limit);
+        to_js(&self.drawn(view, None)?)
     }
 
     /// Why the initial state is lost, as a tree: `Explanation | null`.
@@ -222,7 +216,7 @@ impl TimedSession {
         let s = self.synthesis()?;
         let incoming = self.incoming.get_or_init(|| export::incoming(s));
         match export::neighbourhood(&self.game, s, incoming, state, k, limit) {
-            Some(view) => to_js(&view),
+            Some(view) => to_js(&self.drawn(view, Some(state))?),
             None => Err(JsValue::from_str(&format!("no state s{state}"))),
         }
     }
@@ -346,29 +340,7 @@ impl TimedSession {
     /// each state it reaches, the request it makes or `wait`. `{ state, choice, to, label }[]`,
     /// initial state first, or `null` when the game is not realizable.
     pub fn strategy(&self) -> Result<JsValue, JsValue> {
-        let s = self.synthesis()?;
-        if s.solution.verdict != Verdict::Realizable {
-            return Ok(JsValue::NULL);
-        }
-        let space = &s.solution.space;
-        let strategy = program::select::select(&self.game, space);
-        let choices: Vec<StrategyChoice> = strategy
-            .states
-            .iter()
-            .map(|&st| match strategy.choice[st as usize] {
-                program::select::Choice::Request(e) => {
-                    let edge = &space.edges[e as usize];
-                    StrategyChoice {
-                        state: st,
-                        choice: "request",
-                        to: Some(edge.to),
-                        label: Some(describe_edge(&self.game, &s.split, edge)),
-                    }
-                }
-                program::select::Choice::Wait => StrategyChoice { state: st, choice: "wait", to: None, label: None },
-            })
-            .collect();
-        to_js(&choices)
+        to_js(self.strategy_choices()?)
     }
 
     /// One state: `StateView`.
@@ -381,7 +353,27 @@ impl TimedSession {
     }
 }
 
+/// A view of the state space with its drawing.
+#[derive(Serialize)]
+struct DrawnSpace {
+    #[serde(flatten)]
+    view: export::SpaceView,
+    dot: String,
+}
+
 impl TimedSession {
+    /// The strategy's choices (built once per solve), or `None` without a controller.
+    fn strategy_choices(&self) -> Result<&Option<Vec<export::StrategyChoice>>, JsValue> {
+        let s = self.synthesis()?;
+        Ok(self.strategy.get_or_init(|| export::strategy(&self.game, s)))
+    }
+
+    /// `view` with its drawing, the strategy's requests marked and `selected` highlighted.
+    fn drawn(&self, view: export::SpaceView, selected: Option<StateId>) -> Result<DrawnSpace, JsValue> {
+        let dot = export::space_dot(&view, selected, self.strategy_choices()?.as_deref());
+        Ok(DrawnSpace { view, dot })
+    }
+
     fn controller(&self) -> Result<Option<&Program>, JsValue> {
         let s = self.synthesis()?;
         Ok(self.program.get_or_init(|| program::controller(&self.game, s)).as_ref())

@@ -9,7 +9,7 @@
 // button) with a spoken name; Enter or Space selects it; in the list the arrows, Home and End
 // move between states.
 import { $, h, fmtInt } from './dom.js';
-import { spaceDot, render } from './graphs.js';
+import { render } from './graphs.js';
 
 export const FULL_LIMIT = 300;
 const LIST_LIMIT = 500;
@@ -205,7 +205,9 @@ export class SpaceView {
     }
     let svg;
     try {
-      svg = await render(spaceDot(view, { selected: this.selected, strategy: this.strategy }));
+      // The engine draws the view (`timed::export::space_dot`): classes, the strategy's
+      // requests, the ids `st-<n>` the handlers below look up.
+      svg = await render(view.dot);
     } catch (error) {
       this.drawn = null;
       box.replaceChildren(h('p', { class: 'reason' }, `Graphviz could not draw the graph: ${error.message ?? error}`));
