@@ -9,10 +9,12 @@
 //!
 //! [`benchmarks`] rebuilds published models for benchmarks and tests.
 //!
-//! [`diag`] holds the located diagnostics every front end reports.
+//! [`diag`] holds the located diagnostics every front end reports; `graph` lends the engines'
+//! tables to petgraph's searches.
 
 pub mod benchmarks;
 pub mod diag;
+pub(crate) mod graph;
 pub mod ltl;
 pub mod plc;
 pub mod program;

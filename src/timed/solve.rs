@@ -30,6 +30,7 @@ use super::arena::SliceArena;
 use super::model::*;
 use super::precompute::{SplitGame, SplitTooLarge, SubLocId, STAY};
 use crate::diag::Span;
+use crate::graph::{Predecessors, Successors, View};
 use crate::zone::{Bound, Dbm};
 use serde::Serialize;
 use std::collections::VecDeque;
@@ -790,33 +791,21 @@ impl<'g, 'p> Solver<'g, 'p> {
     /// Removals are propagated and the search for cycles repeated until none is left, so that
     /// on every play of a winning strategy the plans progress infinitely often.
     fn remove_zeno_cycles(&mut self) {
-        let cuttable = |space: &StateSpace, e: &Edge| {
-            matches!(e.class, Class::Option | Class::Forced | Class::Wait)
-                && !e.zeno
-                && !e.progress
-                && e.to != NONE
-                && space.is_winning(e.to)
-        };
         loop {
             let n = self.space.states.len();
-            let live_state = |space: &StateSpace, s: StateId| {
-                let st = &space.states[s as usize];
-                st.removal.is_none() && st.expanded
-            };
-            let component = strongly_connected(n, |s| {
-                if live_state(&self.space, s) {
-                    self.space.out_edges(s).filter(|(_, e)| cuttable(&self.space, e)).map(|(_, e)| e.to).collect()
-                } else {
-                    Vec::new()
+            let graph = ZenoGraph { space: &self.space };
+            // Kosaraju rather than petgraph's Tarjan: it is iterative, and a chain of
+            // non-progress moves can be longer than the stack is deep.
+            let mut component = vec![0u32; n];
+            for (c, scc) in petgraph::algo::kosaraju_scc(View(&graph)).iter().enumerate() {
+                for &s in scc {
+                    component[s as usize] = c as u32;
                 }
-            });
+            }
             let mut cut: Vec<EdgeId> = Vec::new();
             for s in 0..n as StateId {
-                if !live_state(&self.space, s) {
-                    continue;
-                }
                 for (id, e) in self.space.out_edges(s) {
-                    if cuttable(&self.space, e) && component[s as usize] == component[e.to as usize] {
+                    if graph.counts(e) && component[s as usize] == component[e.to as usize] {
                         cut.push(id);
                     }
                 }
@@ -1495,61 +1484,76 @@ fn clock_bits(clocks: &[ClockId]) -> u64 {
     clocks.iter().fold(0, |bits, &c| bits | 1 << c)
 }
 
-/// Tarjan's algorithm without recursion: the component number of every node.
-fn strongly_connected(n: usize, successors: impl Fn(StateId) -> Vec<StateId>) -> Vec<u32> {
-    const UNSEEN: u32 = u32::MAX;
-    let mut index = vec![UNSEEN; n];
-    let mut low = vec![0u32; n];
-    let mut on_stack = vec![false; n];
-    let mut component = vec![UNSEEN; n];
-    let mut stack: Vec<StateId> = Vec::new();
-    let mut next_index = 0u32;
-    let mut next_component = 0u32;
-    for root in 0..n as StateId {
-        if index[root as usize] != UNSEEN {
-            continue;
-        }
-        // Frames: (node, its successors, position in them).
-        let mut frames: Vec<(StateId, Vec<StateId>, usize)> = vec![(root, successors(root), 0)];
-        index[root as usize] = next_index;
-        low[root as usize] = next_index;
-        next_index += 1;
-        stack.push(root);
-        on_stack[root as usize] = true;
-        while let Some(frame) = frames.last_mut() {
-            let v = frame.0;
-            if frame.2 < frame.1.len() {
-                let w = frame.1[frame.2];
-                frame.2 += 1;
-                if index[w as usize] == UNSEEN {
-                    index[w as usize] = next_index;
-                    low[w as usize] = next_index;
-                    next_index += 1;
-                    stack.push(w);
-                    on_stack[w as usize] = true;
-                    frames.push((w, successors(w), 0));
-                } else if on_stack[w as usize] {
-                    low[v as usize] = low[v as usize].min(index[w as usize]);
-                }
-            } else {
-                frames.pop();
-                if let Some(parent) = frames.last() {
-                    low[parent.0 as usize] = low[parent.0 as usize].min(low[v as usize]);
-                }
-                if low[v as usize] == index[v as usize] {
-                    while let Some(w) = stack.pop() {
-                        on_stack[w as usize] = false;
-                        component[w as usize] = next_component;
-                        if w == v {
-                            break;
-                        }
-                    }
-                    next_component += 1;
-                }
+/// The winning graph under live edges without plan progress, from live (winning, expanded)
+/// states: the graph whose cycles [`Solver::remove_zeno_cycles`] cuts.
+struct ZenoGraph<'a> {
+    space: &'a StateSpace,
+}
+
+impl ZenoGraph<'_> {
+    /// True if `e` is an edge of the graph.
+    fn counts(&self, e: &Edge) -> bool {
+        let from = &self.space.states[e.from as usize];
+        matches!(e.class, Class::Option | Class::Forced | Class::Wait)
+            && !e.zeno
+            && !e.progress
+            && e.to != NONE
+            && self.space.is_winning(e.to)
+            && from.removal.is_none()
+            && from.expanded
+    }
+}
+
+/// The edges of a [`ZenoGraph`] out of a state (its edge range) or into it (its incoming list).
+struct ZenoEdges<'a> {
+    graph: &'a ZenoGraph<'a>,
+    out: std::ops::Range<EdgeId>,
+    incoming: EdgeId,
+}
+
+impl Iterator for ZenoEdges<'_> {
+    type Item = StateId;
+    fn next(&mut self) -> Option<StateId> {
+        let edges = &self.graph.space.edges;
+        for id in self.out.by_ref() {
+            let e = &edges[id as usize];
+            if self.graph.counts(e) {
+                return Some(e.to);
             }
         }
+        while self.incoming != NONE {
+            let e = &edges[self.incoming as usize];
+            self.incoming = e.next_in;
+            if self.graph.counts(e) {
+                return Some(e.from);
+            }
+        }
+        None
     }
-    component
+}
+
+impl<'g> Successors for ZenoGraph<'g> {
+    type Iter<'a>
+        = ZenoEdges<'a>
+    where
+        Self: 'a;
+    fn node_bound(&self) -> usize {
+        self.space.states.len()
+    }
+    fn successors(&self, s: StateId) -> ZenoEdges<'_> {
+        let st = &self.space.states[s as usize];
+        ZenoEdges { graph: self, out: st.out_start..st.out_end, incoming: NONE }
+    }
+}
+
+impl<'g> Predecessors for ZenoGraph<'g> {
+    type PredIter<'a>
+        = ZenoEdges<'a>
+    where
+        Self: 'a;
+    fn predecessors(&self, s: StateId) -> ZenoEdges<'_> {
+        ZenoEdges { graph: self, out: 0..0, incoming: self.space.states[s as usize].first_in }
+    }
 }
 
 #[cfg(test)]
