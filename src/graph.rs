@@ -120,3 +120,8 @@ impl<T: Successors> Visitable for View<'_, T> {
         map.grow(self.0.node_bound());
     }
 }
+
+/// A visit map as one flag per node.
+pub fn flags(map: &FixedBitSet, n: usize) -> Vec<bool> {
+    (0..n).map(|s| map.contains(s)).collect()
+}
