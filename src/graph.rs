@@ -125,3 +125,16 @@ impl<T: Successors> Visitable for View<'_, T> {
 pub fn flags(map: &FixedBitSet, n: usize) -> Vec<bool> {
     (0..n).map(|s| map.contains(s)).collect()
 }
+
+/// A small graph as successor lists, for searches on a graph built on the spot.
+pub struct Lists(pub Vec<Vec<u32>>);
+
+impl Successors for Lists {
+    type Iter<'a> = std::iter::Copied<std::slice::Iter<'a, u32>>;
+    fn node_bound(&self) -> usize {
+        self.0.len()
+    }
+    fn successors(&self, s: u32) -> Self::Iter<'_> {
+        self.0[s as usize].iter().copied()
+    }
+}
