@@ -138,3 +138,59 @@ impl Successors for Lists {
         self.0[s as usize].iter().copied()
     }
 }
+
+/// A graph on `0..n` as compressed sparse rows of successors, with those of predecessors: a
+/// compact copy of a filtered part of a large table, so that a search in both directions reads
+/// contiguous memory instead of chasing the table's lists.
+pub struct Csr {
+    offsets: Vec<u32>,
+    targets: Vec<u32>,
+    rev_offsets: Vec<u32>,
+    sources: Vec<u32>,
+}
+
+impl Csr {
+    /// The graph whose successors of `s`, in order, are what `successors(s, out)` pushes.
+    pub fn new(n: usize, mut successors: impl FnMut(u32, &mut Vec<u32>)) -> Csr {
+        let mut offsets = Vec::with_capacity(n + 1);
+        let mut targets = Vec::new();
+        offsets.push(0);
+        for s in 0..n as u32 {
+            successors(s, &mut targets);
+            offsets.push(targets.len() as u32);
+        }
+        let mut rev_offsets = vec![0u32; n + 1];
+        for &t in &targets {
+            rev_offsets[t as usize + 1] += 1;
+        }
+        for i in 0..n {
+            rev_offsets[i + 1] += rev_offsets[i];
+        }
+        let mut fill = rev_offsets[..n].to_vec();
+        let mut sources = vec![0; targets.len()];
+        for s in 0..n {
+            for &t in &targets[offsets[s] as usize..offsets[s + 1] as usize] {
+                sources[fill[t as usize] as usize] = s as u32;
+                fill[t as usize] += 1;
+            }
+        }
+        Csr { offsets, targets, rev_offsets, sources }
+    }
+}
+
+impl Successors for Csr {
+    type Iter<'a> = std::iter::Copied<std::slice::Iter<'a, u32>>;
+    fn node_bound(&self) -> usize {
+        self.offsets.len() - 1
+    }
+    fn successors(&self, s: u32) -> Self::Iter<'_> {
+        self.targets[self.offsets[s as usize] as usize..self.offsets[s as usize + 1] as usize].iter().copied()
+    }
+}
+
+impl Predecessors for Csr {
+    type PredIter<'a> = std::iter::Copied<std::slice::Iter<'a, u32>>;
+    fn predecessors(&self, s: u32) -> Self::PredIter<'_> {
+        self.sources[self.rev_offsets[s as usize] as usize..self.rev_offsets[s as usize + 1] as usize].iter().copied()
+    }
+}

@@ -30,7 +30,7 @@ use super::arena::SliceArena;
 use super::model::*;
 use super::precompute::{SplitGame, SplitTooLarge, SubLocId, STAY};
 use crate::diag::Span;
-use crate::graph::{Predecessors, Successors, View};
+use crate::graph::{Csr, View};
 use crate::zone::{Bound, Dbm};
 use serde::Serialize;
 use std::collections::VecDeque;
@@ -791,21 +791,53 @@ impl<'g, 'p> Solver<'g, 'p> {
     /// Removals are propagated and the search for cycles repeated until none is left, so that
     /// on every play of a winning strategy the plans progress infinitely often.
     fn remove_zeno_cycles(&mut self) {
+        let cuttable = |space: &StateSpace, e: &Edge| {
+            matches!(e.class, Class::Option | Class::Forced | Class::Wait)
+                && !e.zeno
+                && !e.progress
+                && e.to != NONE
+                && space.is_winning(e.to)
+        };
+        let live_state = |space: &StateSpace, s: StateId| {
+            let st = &space.states[s as usize];
+            st.removal.is_none() && st.expanded
+        };
         loop {
             let n = self.space.states.len();
-            let graph = ZenoGraph { space: &self.space };
-            // Kosaraju rather than petgraph's Tarjan: it is iterative, and a chain of
-            // non-progress moves can be longer than the stack is deep.
-            let mut component = vec![0u32; n];
+            let space = &self.space;
+            // Cycles run through winning states only: the graph is built on them, numbered
+            // compactly (a few per cent of the visited states), so that the search costs
+            // nothing for the removed ones. It is copied compactly (Kosaraju reads it forwards
+            // and backwards), and Kosaraju rather than petgraph's Tarjan: it is iterative, and a
+            // chain of non-progress moves can be longer than the stack is deep.
+            let nodes: Vec<StateId> = (0..n as StateId).filter(|&s| space.is_winning(s)).collect();
+            let mut local = vec![NONE; n];
+            for (i, &s) in nodes.iter().enumerate() {
+                local[s as usize] = i as u32;
+            }
+            let graph = Csr::new(nodes.len(), |i, out| {
+                let s = nodes[i as usize];
+                if live_state(space, s) {
+                    out.extend(
+                        space.out_edges(s).filter(|(_, e)| cuttable(space, e)).map(|(_, e)| local[e.to as usize]),
+                    );
+                }
+            });
+            let mut component = vec![0u32; nodes.len()];
             for (c, scc) in petgraph::algo::kosaraju_scc(View(&graph)).iter().enumerate() {
-                for &s in scc {
-                    component[s as usize] = c as u32;
+                for &i in scc {
+                    component[i as usize] = c as u32;
                 }
             }
+            drop(graph);
             let mut cut: Vec<EdgeId> = Vec::new();
-            for s in 0..n as StateId {
+            for &s in &nodes {
+                if !live_state(&self.space, s) {
+                    continue;
+                }
+                let c = component[local[s as usize] as usize];
                 for (id, e) in self.space.out_edges(s) {
-                    if graph.counts(e) && component[s as usize] == component[e.to as usize] {
+                    if cuttable(&self.space, e) && c == component[local[e.to as usize] as usize] {
                         cut.push(id);
                     }
                 }
@@ -1482,78 +1514,6 @@ fn guard_edge(from: StateId, to: StateId, message: MsgId, instant: bool) -> Edge
 
 fn clock_bits(clocks: &[ClockId]) -> u64 {
     clocks.iter().fold(0, |bits, &c| bits | 1 << c)
-}
-
-/// The winning graph under live edges without plan progress, from live (winning, expanded)
-/// states: the graph whose cycles [`Solver::remove_zeno_cycles`] cuts.
-struct ZenoGraph<'a> {
-    space: &'a StateSpace,
-}
-
-impl ZenoGraph<'_> {
-    /// True if `e` is an edge of the graph.
-    fn counts(&self, e: &Edge) -> bool {
-        let from = &self.space.states[e.from as usize];
-        matches!(e.class, Class::Option | Class::Forced | Class::Wait)
-            && !e.zeno
-            && !e.progress
-            && e.to != NONE
-            && self.space.is_winning(e.to)
-            && from.removal.is_none()
-            && from.expanded
-    }
-}
-
-/// The edges of a [`ZenoGraph`] out of a state (its edge range) or into it (its incoming list).
-struct ZenoEdges<'a> {
-    graph: &'a ZenoGraph<'a>,
-    out: std::ops::Range<EdgeId>,
-    incoming: EdgeId,
-}
-
-impl Iterator for ZenoEdges<'_> {
-    type Item = StateId;
-    fn next(&mut self) -> Option<StateId> {
-        let edges = &self.graph.space.edges;
-        for id in self.out.by_ref() {
-            let e = &edges[id as usize];
-            if self.graph.counts(e) {
-                return Some(e.to);
-            }
-        }
-        while self.incoming != NONE {
-            let e = &edges[self.incoming as usize];
-            self.incoming = e.next_in;
-            if self.graph.counts(e) {
-                return Some(e.from);
-            }
-        }
-        None
-    }
-}
-
-impl<'g> Successors for ZenoGraph<'g> {
-    type Iter<'a>
-        = ZenoEdges<'a>
-    where
-        Self: 'a;
-    fn node_bound(&self) -> usize {
-        self.space.states.len()
-    }
-    fn successors(&self, s: StateId) -> ZenoEdges<'_> {
-        let st = &self.space.states[s as usize];
-        ZenoEdges { graph: self, out: st.out_start..st.out_end, incoming: NONE }
-    }
-}
-
-impl<'g> Predecessors for ZenoGraph<'g> {
-    type PredIter<'a>
-        = ZenoEdges<'a>
-    where
-        Self: 'a;
-    fn predecessors(&self, s: StateId) -> ZenoEdges<'_> {
-        ZenoEdges { graph: self, out: 0..0, incoming: self.space.states[s as usize].first_in }
-    }
 }
 
 #[cfg(test)]
