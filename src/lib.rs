@@ -10,11 +10,12 @@
 //! [`benchmarks`] rebuilds published models for benchmarks and tests.
 //!
 //! [`diag`] holds the located diagnostics every front end reports; [`dot`] the DOT documents
-//! of the drawings the engines export.
+//! of the drawings the engines export; `graph` lends the engines' tables to petgraph's searches.
 
 pub mod benchmarks;
 pub mod diag;
 pub mod dot;
+pub(crate) mod graph;
 pub mod ltl;
 pub mod plc;
 pub mod program;

@@ -11,8 +11,10 @@ use super::ast::{self, AutDecl, AutKind, CondExpr, EdgeKind, EventItem, Item, Pa
 use super::model::{self, Budget, Cond, EventId, EventKind, Prohibition, Stop, SynthError, Transition};
 use super::parser::{self, raw_offset};
 use crate::diag::{Diagnostic, Diagnostics, Span};
+use crate::graph::{Lists, View};
 use crate::plc::fragment::{parse_expr, parse_statements, ExprKind, FragmentError};
 use hashbrown::HashMap;
+use petgraph::visit::{depth_first_search, Control, DfsEvent};
 use serde::Serialize;
 
 /// How the runtime framework detects or executes an event (5.3.2, 6.3.1).
@@ -961,50 +963,39 @@ impl<'s, 'a> Ctx<'s, 'a> {
         for (k, t) in enf.iter().enumerate() {
             adj[t.src as usize].push(k);
         }
-        let mut color = vec![0u8; n];
-        let mut stack_edges: Vec<usize> = Vec::new();
-        fn dfs(
-            s: usize,
-            adj: &[Vec<usize>],
-            enf: &[&Transition],
-            color: &mut [u8],
-            path: &mut Vec<usize>,
-        ) -> Option<Vec<usize>> {
-            color[s] = 1;
-            for &k in &adj[s] {
-                let t = enf[k].dst as usize;
-                path.push(k);
-                if color[t] == 1 {
-                    let start = path.iter().position(|&x| enf[x].src as usize == t).unwrap_or(0);
-                    return Some(path[start..].to_vec());
-                }
-                if color[t] == 0 {
-                    if let Some(c) = dfs(t, adj, enf, color, path) {
-                        return Some(c);
-                    }
-                }
-                path.pop();
+        let graph = Lists(adj.iter().map(|ks| ks.iter().map(|&k| enf[k].dst).collect()).collect());
+        // The first back edge of a depth-first search closes a cycle: back from its source up
+        // the search tree to its target.
+        let mut parent = vec![u32::MAX; n];
+        let found = depth_first_search(View(&graph), 0..n as u32, |event| match event {
+            DfsEvent::TreeEdge(u, v) => {
+                parent[v as usize] = u;
+                Control::Continue
             }
-            color[s] = 2;
-            None
-        }
-        for s in 0..n {
-            if color[s] == 0 {
-                if let Some(cycle) = dfs(s, &adj, &enf, &mut color, &mut stack_edges) {
-                    let first = self.origins.get(enf[cycle[0]].origin as usize).copied().unwrap_or_default();
-                    let notes: Vec<String> = cycle[1..]
-                        .iter()
-                        .filter_map(|&k| self.origins.get(enf[k].origin as usize).copied())
-                        .map(|sp| format!("continues at {}", self.loc(sp)))
-                        .collect();
-                    let d = self.diags.warning(first, format!("plant `{name}` has a cycle of enforceable transitions"));
-                    for nt in notes {
-                        d.with_note(nt);
-                    }
-                    d.with_note("if synthesis enforces them all, the supervisor would enforce events forever (5.5.5)");
-                    return;
-                }
+            DfsEvent::BackEdge(u, v) => Control::Break((u, v)),
+            _ => Control::Continue,
+        });
+        if let Some((last, entry)) = found.break_value() {
+            let mut states = vec![last];
+            while states[states.len() - 1] != entry {
+                states.push(parent[states[states.len() - 1] as usize]);
             }
+            states.reverse();
+            states.push(entry);
+            // Between two states the search took the first enforceable transition listed.
+            let step = |w: &[u32]| adj[w[0] as usize].iter().copied().find(|&k| enf[k].dst == w[1]);
+            let cycle: Vec<usize> = states.windows(2).filter_map(step).collect();
+            let first = self.origins.get(enf[cycle[0]].origin as usize).copied().unwrap_or_default();
+            let notes: Vec<String> = cycle[1..]
+                .iter()
+                .filter_map(|&k| self.origins.get(enf[k].origin as usize).copied())
+                .map(|sp| format!("continues at {}", self.loc(sp)))
+                .collect();
+            let d = self.diags.warning(first, format!("plant `{name}` has a cycle of enforceable transitions"));
+            for nt in notes {
+                d.with_note(nt);
+            }
+            d.with_note("if synthesis enforces them all, the supervisor would enforce events forever (5.5.5)");
         }
     }
 

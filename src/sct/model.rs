@@ -11,6 +11,8 @@
 //! three-valuedly while composing and disappear once every referenced plant is part of the
 //! synthesis automaton.
 
+use crate::graph::{Successors, View};
+use petgraph::visit::{Bfs, NodeFiltered};
 use serde::Serialize;
 
 /// Event id: an index into [`Project::events`].
@@ -316,18 +318,12 @@ impl SynthAut {
         };
         let Some(i) = self.init.filter(|&i| keep[i as usize]) else { return out };
         let mut map = vec![u32::MAX; self.num_states()];
-        let mut order = vec![i];
-        map[i as usize] = 0;
-        let mut k = 0;
-        while k < order.len() {
-            let s = order[k];
-            for t in &self.trans[s as usize] {
-                if keep[t.dst as usize] && t.cond != Cond::False && map[t.dst as usize] == u32::MAX {
-                    map[t.dst as usize] = order.len() as u32;
-                    order.push(t.dst);
-                }
-            }
-            k += 1;
+        let mut order = Vec::new();
+        let graph = NodeFiltered(View(self), |s: u32| keep[s as usize]);
+        let mut bfs = Bfs::new(&graph, i);
+        while let Some(s) = bfs.next(&graph) {
+            map[s as usize] = order.len() as u32;
+            order.push(s);
         }
         for &s in &order {
             out.tuples.extend_from_slice(&self.tuples[s as usize * w..(s as usize + 1) * w]);
@@ -361,6 +357,17 @@ impl SynthAut {
         v.sort_unstable();
         v.dedup();
         v
+    }
+}
+
+/// The transitions whose condition is not false.
+impl Successors for SynthAut {
+    type Iter<'a> = std::iter::FilterMap<std::slice::Iter<'a, STrans>, fn(&STrans) -> Option<u32>>;
+    fn node_bound(&self) -> usize {
+        self.num_states()
+    }
+    fn successors(&self, s: u32) -> Self::Iter<'_> {
+        self.trans[s as usize].iter().filter_map(|t| (t.cond != Cond::False).then_some(t.dst))
     }
 }
 
@@ -929,6 +936,11 @@ impl Supervisor {
     }
 
     /// A cycle of enforced transitions (5.5.5), as the list of states on it.
+    ///
+    /// Kept by hand rather than petgraph's `depth_first_search`: every state has at most one
+    /// enforced successor, so the search is a walk along it, and the walk is a loop where
+    /// petgraph's search recurses once per state on a path (a long enforced chain would exhaust
+    /// the stack, in the browser first).
     pub fn enforcement_cycle(&self) -> Option<Vec<u32>> {
         let n = self.states.len();
         let next = |s: usize| -> Option<usize> {

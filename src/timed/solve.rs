@@ -30,6 +30,7 @@ use super::arena::SliceArena;
 use super::model::*;
 use super::precompute::{SplitGame, SplitTooLarge, SubLocId, STAY};
 use crate::diag::Span;
+use crate::graph::{Csr, View};
 use crate::zone::{Bound, Dbm};
 use serde::Serialize;
 use std::collections::VecDeque;
@@ -797,26 +798,46 @@ impl<'g, 'p> Solver<'g, 'p> {
                 && e.to != NONE
                 && space.is_winning(e.to)
         };
+        let live_state = |space: &StateSpace, s: StateId| {
+            let st = &space.states[s as usize];
+            st.removal.is_none() && st.expanded
+        };
         loop {
             let n = self.space.states.len();
-            let live_state = |space: &StateSpace, s: StateId| {
-                let st = &space.states[s as usize];
-                st.removal.is_none() && st.expanded
-            };
-            let component = strongly_connected(n, |s| {
-                if live_state(&self.space, s) {
-                    self.space.out_edges(s).filter(|(_, e)| cuttable(&self.space, e)).map(|(_, e)| e.to).collect()
-                } else {
-                    Vec::new()
+            let space = &self.space;
+            // Cycles run through winning states only: the graph is built on them, numbered
+            // compactly (a few per cent of the visited states), so that the search costs
+            // nothing for the removed ones. It is copied compactly (Kosaraju reads it forwards
+            // and backwards), and Kosaraju rather than petgraph's Tarjan: it is iterative, and a
+            // chain of non-progress moves can be longer than the stack is deep.
+            let nodes: Vec<StateId> = (0..n as StateId).filter(|&s| space.is_winning(s)).collect();
+            let mut local = vec![NONE; n];
+            for (i, &s) in nodes.iter().enumerate() {
+                local[s as usize] = i as u32;
+            }
+            let graph = Csr::new(nodes.len(), |i, out| {
+                let s = nodes[i as usize];
+                if live_state(space, s) {
+                    out.extend(
+                        space.out_edges(s).filter(|(_, e)| cuttable(space, e)).map(|(_, e)| local[e.to as usize]),
+                    );
                 }
             });
+            let mut component = vec![0u32; nodes.len()];
+            for (c, scc) in petgraph::algo::kosaraju_scc(View(&graph)).iter().enumerate() {
+                for &i in scc {
+                    component[i as usize] = c as u32;
+                }
+            }
+            drop(graph);
             let mut cut: Vec<EdgeId> = Vec::new();
-            for s in 0..n as StateId {
+            for &s in &nodes {
                 if !live_state(&self.space, s) {
                     continue;
                 }
+                let c = component[local[s as usize] as usize];
                 for (id, e) in self.space.out_edges(s) {
-                    if cuttable(&self.space, e) && component[s as usize] == component[e.to as usize] {
+                    if cuttable(&self.space, e) && c == component[local[e.to as usize] as usize] {
                         cut.push(id);
                     }
                 }
@@ -1493,63 +1514,6 @@ fn guard_edge(from: StateId, to: StateId, message: MsgId, instant: bool) -> Edge
 
 fn clock_bits(clocks: &[ClockId]) -> u64 {
     clocks.iter().fold(0, |bits, &c| bits | 1 << c)
-}
-
-/// Tarjan's algorithm without recursion: the component number of every node.
-fn strongly_connected(n: usize, successors: impl Fn(StateId) -> Vec<StateId>) -> Vec<u32> {
-    const UNSEEN: u32 = u32::MAX;
-    let mut index = vec![UNSEEN; n];
-    let mut low = vec![0u32; n];
-    let mut on_stack = vec![false; n];
-    let mut component = vec![UNSEEN; n];
-    let mut stack: Vec<StateId> = Vec::new();
-    let mut next_index = 0u32;
-    let mut next_component = 0u32;
-    for root in 0..n as StateId {
-        if index[root as usize] != UNSEEN {
-            continue;
-        }
-        // Frames: (node, its successors, position in them).
-        let mut frames: Vec<(StateId, Vec<StateId>, usize)> = vec![(root, successors(root), 0)];
-        index[root as usize] = next_index;
-        low[root as usize] = next_index;
-        next_index += 1;
-        stack.push(root);
-        on_stack[root as usize] = true;
-        while let Some(frame) = frames.last_mut() {
-            let v = frame.0;
-            if frame.2 < frame.1.len() {
-                let w = frame.1[frame.2];
-                frame.2 += 1;
-                if index[w as usize] == UNSEEN {
-                    index[w as usize] = next_index;
-                    low[w as usize] = next_index;
-                    next_index += 1;
-                    stack.push(w);
-                    on_stack[w as usize] = true;
-                    frames.push((w, successors(w), 0));
-                } else if on_stack[w as usize] {
-                    low[v as usize] = low[v as usize].min(index[w as usize]);
-                }
-            } else {
-                frames.pop();
-                if let Some(parent) = frames.last() {
-                    low[parent.0 as usize] = low[parent.0 as usize].min(low[v as usize]);
-                }
-                if low[v as usize] == index[v as usize] {
-                    while let Some(w) = stack.pop() {
-                        on_stack[w as usize] = false;
-                        component[w as usize] = next_component;
-                        if w == v {
-                            break;
-                        }
-                    }
-                    next_component += 1;
-                }
-            }
-        }
-    }
-    component
 }
 
 #[cfg(test)]

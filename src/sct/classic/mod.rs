@@ -9,7 +9,9 @@
 
 pub mod gen;
 
+use crate::graph::{flags, Successors, View};
 use hashbrown::HashMap;
+use petgraph::visit::{Dfs, NodeFiltered, Visitable};
 
 /// A compact event id: an index into [`Events`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -316,19 +318,10 @@ impl Automaton {
 
     /// States reachable from the initial state.
     pub fn reachable(&self) -> Vec<bool> {
-        let mut seen = vec![false; self.num_states()];
-        let Some(i) = self.init else { return seen };
-        let mut stack = vec![i];
-        seen[i as usize] = true;
-        while let Some(s) = stack.pop() {
-            for e in self.edges(s) {
-                if !seen[e.target as usize] {
-                    seen[e.target as usize] = true;
-                    stack.push(e.target);
-                }
-            }
-        }
-        seen
+        let graph = View(self);
+        let mut dfs = Dfs::from_parts(self.init.into_iter().collect(), graph.visit_map());
+        while dfs.next(graph).is_some() {}
+        flags(&dfs.discovered, self.num_states())
     }
 
     /// States from which a marked state can be reached.
@@ -397,24 +390,32 @@ impl Reverse {
 
 /// States among `alive` that reach a marked alive state through alive states only.
 fn coreachable_within(a: &Automaton, rev: &Reverse, alive: &[bool]) -> Vec<bool> {
-    let n = a.num_states();
-    let mut co = vec![false; n];
-    let mut stack = Vec::new();
-    for s in 0..n {
-        if alive[s] && a.marked[s] {
-            co[s] = true;
-            stack.push(s as StateId);
-        }
+    let graph = NodeFiltered(View(rev), |s: StateId| alive[s as usize]);
+    let marked = (0..a.num_states() as StateId).filter(|&s| alive[s as usize] && a.marked[s as usize]);
+    let mut dfs = Dfs::from_parts(marked.collect(), graph.visit_map());
+    while dfs.next(&graph).is_some() {}
+    flags(&dfs.discovered, a.num_states())
+}
+
+impl Successors for Automaton {
+    type Iter<'a> = std::iter::Map<std::slice::Iter<'a, Edge>, fn(&Edge) -> StateId>;
+    fn node_bound(&self) -> usize {
+        self.num_states()
     }
-    while let Some(s) = stack.pop() {
-        for &p in rev.preds(s) {
-            if alive[p as usize] && !co[p as usize] {
-                co[p as usize] = true;
-                stack.push(p);
-            }
-        }
+    fn successors(&self, s: StateId) -> Self::Iter<'_> {
+        self.edges(s).iter().map(|e| e.target)
     }
-    co
+}
+
+/// The reversed automaton: successors are the sources of the accepted edges into a state.
+impl Successors for Reverse {
+    type Iter<'a> = std::iter::Copied<std::slice::Iter<'a, StateId>>;
+    fn node_bound(&self) -> usize {
+        self.offsets.len() - 1
+    }
+    fn successors(&self, s: StateId) -> Self::Iter<'_> {
+        self.preds(s).iter().copied()
+    }
 }
 
 /// A synchronous product together with the pair of component states behind each state.
@@ -557,7 +558,10 @@ pub fn supcon_within(
     let rev_u = Reverse::new(p, |e| !controllable(e));
     let rev_all = if nonblocking { Some(Reverse::new(p, |_| true)) } else { None };
     loop {
-        // Propagate badness backwards over uncontrollable transitions.
+        // Propagate badness backwards over uncontrollable transitions. Kept by hand: the search
+        // kills states in `alive` as it reaches them, which a petgraph search filtered by
+        // `alive` cannot do while it borrows it (it would need a copy of its visit map per
+        // round of SupCon's loop).
         while let Some(s) = work.pop() {
             for &q in rev_u.preds(s) {
                 if alive[q as usize] {
