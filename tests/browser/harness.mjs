@@ -4,6 +4,7 @@ import { spawn } from 'node:child_process';
 import { mkdirSync, writeFileSync, readFileSync, existsSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
+import { before, after } from 'node:test';
 import { chromium } from 'playwright-core';
 
 export const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
@@ -32,6 +33,23 @@ export async function startServer() {
   });
   proc.stderr.resume();
   return { url: `http://127.0.0.1:${port}/`, stop: () => proc.kill() };
+}
+
+/** The static server and the browser of a test file, set by [`useBrowser`] (live bindings:
+ * `node --test` runs each file in a process of its own). */
+export let server = null;
+export let browser = null;
+
+/** Starts the server and the browser before the file's tests and stops them after. */
+export function useBrowser() {
+  before(async () => {
+    server = await startServer();
+    browser = await launch();
+  });
+  after(async () => {
+    await browser?.close();
+    server?.stop();
+  });
 }
 
 export async function launch() {

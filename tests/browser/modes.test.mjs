@@ -1,22 +1,13 @@
 // The playground's three modes in headless Chromium: supervisory control and LTL beside timed
 // games, as a user meets them (gallery, run, verdict, drawings, code, share links, autosave,
 // errors). `node --test tests/browser/` after `make web`.
-import { test, before, after } from 'node:test';
+import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { startServer, launch, newPage, open, shot, editorText, setEditorText, runAndWait, root, record } from './harness.mjs';
+import { server, browser, useBrowser, newPage, open, shot, editorText, setEditorText, runAndWait, root, record } from './harness.mjs';
 
-let server;
-let browser;
-before(async () => {
-  server = await startServer();
-  browser = await launch();
-});
-after(async () => {
-  await browser?.close();
-  server?.stop();
-});
+useBrowser();
 
 const example = (path) => readFileSync(join(root, 'examples', path), 'utf8');
 

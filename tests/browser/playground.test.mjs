@@ -1,19 +1,10 @@
 // The playground in headless Chromium: `node --test tests/browser/` (after `make web`).
-import { test, before, after } from 'node:test';
+import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
-import { startServer, launch, newPage, open, shot, editorText, setEditorText, runAndWait, readExample, record } from './harness.mjs';
+import { server, browser, useBrowser, startServer, newPage, open, shot, editorText, setEditorText, runAndWait, readExample, record } from './harness.mjs';
 
-let server;
-let browser;
-before(async () => {
-  server = await startServer();
-  browser = await launch();
-});
-after(async () => {
-  await browser?.close();
-  server?.stop();
-});
+useBrowser();
 
 const number = async (page, selector) => Number((await page.textContent(selector)).replace(/[^0-9]/g, ''));
 

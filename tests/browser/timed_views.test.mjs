@@ -1,22 +1,13 @@
 // The timed-game views after a teacher's review: pan and zoom of the state-space graph, the
 // legends, point and segment zones, keyboard access to states, the header at 800 px, the
 // docs link, and Graphviz off the main thread. `node --test tests/browser/` (after `make web`).
-import { test, before, after } from 'node:test';
+import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { startServer, launch, newPage, open, shot, runAndWait, root } from './harness.mjs';
+import { server, browser, useBrowser, newPage, open, shot, runAndWait, root } from './harness.mjs';
 
-let server;
-let browser;
-before(async () => {
-  server = await startServer();
-  browser = await launch();
-});
-after(async () => {
-  await browser?.close();
-  server?.stop();
-});
+useBrowser();
 
 /** The part of `selector` outside the visible area of its graph box, in pixels (0: in view). */
 const outOfView = (page, selector) =>

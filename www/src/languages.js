@@ -1,8 +1,7 @@
 // The editor's languages, one per document kind: `.tga` (timed games), `.sct` (supervisory
 // control), `.ltl` (G4LTL's lines) and `.tlsf` (SYNTCOMP). Small stream tokenizers mirroring the
-// engines' lexers, and completion of the names the document declares.
+// engines' lexers over one C-like base, and completion of the names the document declares.
 import { StreamLanguage } from '@codemirror/language';
-import { tga } from './tga.js';
 
 // A C-like tokenizer: line and block comments, strings, numbers with units, and words classed
 // by `classify(word, stream)`.
@@ -32,7 +31,7 @@ function cLike(name, classify, { extra } = {}) {
       if (stream.match(/^"([^"\\\n]|\\.)*"?/)) return 'string';
       if (stream.match(/^[0-9]+(\.[0-9]+)?([eE][+-]?[0-9]+)?(ms|s|m|h)?/)) return 'number';
       if (stream.match(/^[A-Za-z_][A-Za-z0-9_]*/)) return classify(stream.current(), stream) ?? 'variableName';
-      if (stream.match(/^(->|<->|&&|\|\||<=|>=|==|!=|\[\]|<>)/)) return 'operator';
+      if (stream.match(/^(<->|->|<-|→|&&|\|\||<=|>=|==|!=|\[\]|<>)/)) return 'operator';
       if (stream.match(/^[{}()[\]]/)) return 'bracket';
       stream.next();
       return 'punctuation';
@@ -40,6 +39,35 @@ function cLike(name, classify, { extra } = {}) {
     languageData: { commentTokens: { line: '//', block: { open: '/*', close: '*/' } }, closeBrackets: { brackets: ['(', '[', '{', '"'] } },
   });
 }
+
+// `.tga` (src/timed/lexer.rs): sections, keywords, `?` requests, `!` reactions, `$` plan steps,
+// `%` state guards and PLC addresses.
+const tgaSections = new Set(['plant', 'assertions', 'dependencies', 'guards', 'plans', 'timeunit', 'io']);
+const tgaKeywords = new Set([
+  'automaton', 'hardware', 'operator', 'plan', 'nodes', 'states', 'clocks', 'reset', 'instant',
+  'never', 'always', 'waitfor', 'takes', 'time', 'depends', 'dependson', 'on', 'onlyif',
+  'guardedby', 'min', 'ms', 'scan', 'set',
+]);
+const tgaOperators = new Set(['and', 'or', 'not', 'in']);
+const sigilTag = { '?': 'controlKeyword', '!': 'definitionKeyword', $: 'labelName', '%': 'macroName' };
+
+export const tga = cLike(
+  'tga',
+  (word) => {
+    if (tgaSections.has(word)) return 'heading';
+    if (tgaKeywords.has(word)) return 'keyword';
+    if (tgaOperators.has(word)) return 'operatorKeyword';
+    if (word === 'true' || word === 'false' || word === 'inf') return 'atom';
+    return null;
+  },
+  {
+    extra(stream) {
+      if (stream.match(/^%[IQM][XBWDL]?[0-9]+(\.[0-9]+)?/)) return 'string';
+      if (stream.match(/^[?!$%][A-Za-z_][A-Za-z0-9_]*/)) return sigilTag[stream.current()[0]];
+      return null;
+    },
+  },
+);
 
 const sctItems = new Set(['module', 'event', 'timer', 'plant', 'spec', 'template', 'instance']);
 const sctKeywords = new Set([
