@@ -209,6 +209,18 @@ test('SCT stepper: fire events until a prohibited event is disabled, step back; 
   await page.click('#step-back');
   await page.waitForSelector('p#step-trace');
 
+  // A runtime cycle in which the framework denies the controller's event and resets its output:
+  // the controller opens the inlet, the interlock denies `openInlet` (`reset on denial`).
+  await page.click('[data-tab=cycles]');
+  await page.waitForSelector('#cycle-run');
+  await page.check('input[data-into=controller][data-signal=Q_Inlet]');
+  await page.click('#cycle-run');
+  await page.waitForSelector('#cycle-table tr[data-cycle="1"]');
+  assert.match(await page.textContent('#cycle-table tr[data-cycle="1"]'), /✗ Tank\.openInlet denied/);
+  assert.equal(await page.getAttribute('#cycle-table tr[data-cycle="1"] [data-output=Q_Inlet]', 'data-reset'), 'true');
+  assert.match(await page.textContent('#cycle-table tr[data-cycle="1"] [data-output=Q_Inlet]'), /Q_Inlet = 0 \(the controller wrote 1/);
+  await shot(page, '50a-sct-cycle-denied');
+
   // Preemption: open, the alarm, and the supervisor enforces closing.
   await page.evaluate(() => (location.hash = '#example/tank_preemption'));
   await page.waitForFunction(() => window.plcsynth.name === 'tank_preemption');
