@@ -50,6 +50,9 @@ pub struct EventState {
     /// `accepted`, `denied` (controllable), `occurred` (uncontrollable or a timeout),
     /// `enforced`.
     pub what: &'static str,
+    /// For a denied event: the supervisor that denied it (the framework keeps the last denial
+    /// of a cycle, so with several denials only the last one's).
+    pub by: Option<String>,
 }
 
 /// A supervisor after a cycle.
@@ -163,11 +166,22 @@ fn view(
             events: s.comment.clone(),
         })
         .collect();
+    let int = |name: &str| machine.global(name).map_or(0, Value::as_int);
+    let (denied_event, denied_by) = (int(&map.last_denied.0), int(&map.last_denied.1));
     let events = map
         .event_flags
         .iter()
         .filter(|(_, _, g)| flag(g))
-        .map(|&(e, what, _)| EventState { event: project.event_name(e).to_string(), what })
+        .map(|&(e, what, _)| EventState {
+            event: project.event_name(e).to_string(),
+            what,
+            by: match usize::try_from(denied_by) {
+                Ok(k) if k >= 1 && what == "denied" && denied_event == i64::from(e.0) + 1 => {
+                    supervisors.get(k - 1).map(|s| s.name.clone())
+                }
+                _ => None,
+            },
+        })
         .collect();
     let supervisors = supervisors
         .iter()
@@ -207,6 +221,23 @@ mod tests {
             inputs: inputs.iter().map(|&(s, v)| (s.to_string(), v)).collect(),
             controller: controller.iter().map(|&(s, v)| (s.to_string(), v)).collect(),
         }
+    }
+
+    /// The interlock denies opening the inlet, says which supervisor did, and resets the output.
+    #[test]
+    fn a_denied_event_names_its_supervisor_and_its_output_is_reset() {
+        let src = include_str!("../../examples/sct/tank_interlock.sct");
+        let (loaded, _) = compile(src);
+        let loaded = loaded.unwrap();
+        let (reports, _) = synthesize_all(src, &loaded, &Config::default(), None);
+        let sups: Vec<&Supervisor> = reports.iter().map(|r| &r.supervisor).collect();
+        let (unit, map) = lower_mapped(src, &loaded, &sups, &FrameworkOptions::default()).unwrap();
+        let views = run(&unit, &map, &loaded.project, &sups, &[cycle(10, &[], &[("Q_Inlet", 1)])]).unwrap();
+        let denied = &views[0].events[0];
+        assert_eq!((denied.what, denied.event.as_str()), ("denied", "Tank.openInlet"));
+        assert_eq!(denied.by.as_deref(), Some("Safety.NoOverflow"));
+        let q = views[0].signals.iter().find(|s| s.symbol == "Q_Inlet").unwrap();
+        assert_eq!((q.written, q.value), (Some(1), 0));
     }
 
     /// The tank: the controller opens the inlet, the level alarm comes, the supervisor enforces
@@ -259,6 +290,7 @@ mod tests {
         // Stepping back is running fewer cycles: the same views.
         assert_eq!(run(&unit, &map, p, &sups, &cycles[..2]).unwrap(), views[..2]);
         assert!(run(&unit, &map, p, &sups, &[cycle(1, &[("Nope", 1)], &[])]).unwrap_err().contains("Nope"));
+        assert!(views.iter().flat_map(|v| &v.events).all(|e| e.by.is_none()), "nothing denied here");
         assert!(run(&unit, &map, p, &sups, &[cycle(1, &[("Q_Inlet", 1)], &[])]).unwrap_err().contains("not an input"));
     }
 }

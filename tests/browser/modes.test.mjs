@@ -216,7 +216,7 @@ test('SCT stepper: fire events until a prohibited event is disabled, step back; 
   await page.check('input[data-into=controller][data-signal=Q_Inlet]');
   await page.click('#cycle-run');
   await page.waitForSelector('#cycle-table tr[data-cycle="1"]');
-  assert.match(await page.textContent('#cycle-table tr[data-cycle="1"]'), /✗ Tank\.openInlet denied/);
+  assert.match(await page.textContent('#cycle-table tr[data-cycle="1"]'), /✗ Tank\.openInlet denied by Safety\.NoOverflow/);
   assert.equal(await page.getAttribute('#cycle-table tr[data-cycle="1"] [data-output=Q_Inlet]', 'data-reset'), 'true');
   assert.match(await page.textContent('#cycle-table tr[data-cycle="1"] [data-output=Q_Inlet]'), /Q_Inlet = 0 \(the controller wrote 1/);
   await shot(page, '50a-sct-cycle-denied');

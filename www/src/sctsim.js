@@ -148,7 +148,7 @@ export class SctSimulator {
         : h('label', { class: 'sim-signal' }, `${s.symbol} `, h('input', { type: 'number', 'data-signal': s.symbol, 'data-into': into, value: String(value), onchange: (ev) => set(Number(ev.target.value) || 0) }));
     };
     const signalNow = (symbol) => last.signals.find((s) => s.symbol === symbol)?.value ?? 0;
-    const eventText = (e) => `${{ accepted: '✓', denied: '✗', occurred: '•', enforced: '⇒' }[e.what]} ${e.event} ${e.what}`;
+    const eventText = (e) => `${{ accepted: '✓', denied: '✗', occurred: '•', enforced: '⇒' }[e.what]} ${e.event} ${e.what}${e.by ? ` by ${e.by}` : ''}`;
     this.cyclesBox.replaceChildren(
       h('p', { class: 'muted' }, 'The generated runtime framework, run cycle by cycle (the code you download, in the reference interpreter): set the plant’s inputs and what the existing controller writes, then run a cycle. A denied event’s outputs are reset; an enforced event’s action runs.'),
       h(
