@@ -30,9 +30,17 @@ pub const TICKS: i64 = 8;
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Failure {
-    Assertion { text: String },
-    PlanFailed { plan: String },
-    RequestRefused { request: String },
+    Assertion {
+        text: String,
+    },
+    /// `timeout`: a timeout clock exceeded its bound; else a message the plan forbids occurred.
+    PlanFailed {
+        plan: String,
+        timeout: bool,
+    },
+    RequestRefused {
+        request: String,
+    },
     ControllerLoops,
     NoProgress,
 }
@@ -88,7 +96,8 @@ pub struct Event {
     pub progress: bool,
     /// A delay's length in time units.
     pub duration: Option<f64>,
-    /// The number of the step (1-based) that produced it; 0 is the start.
+    /// The number of the step (1-based) that produced it (for a delay: that began it); 0 is
+    /// the start.
     pub step: usize,
 }
 
@@ -110,7 +119,8 @@ pub struct UnitLocation {
     pub location: String,
 }
 
-/// Where a plan stands: its location, the `index`-th of `count` (the failed one included).
+/// Where a plan stands: its location, the `index`-th (0-based) of its `count` steps (the
+/// locations other than the failed one, in declaration order).
 #[derive(Clone, Debug, Serialize)]
 pub struct PlanView {
     pub name: String,
@@ -199,7 +209,10 @@ impl World<'_> {
         let game = self.plant.game;
         self.plant.violation().map(|v| match v {
             Violation::Assertion(k) => Failure::Assertion { text: game.assertions[k].text.clone() },
-            Violation::Plan(k) => Failure::PlanFailed { plan: game.plans[k].name.clone() },
+            Violation::Plan(k) => Failure::PlanFailed {
+                plan: game.plans[k].name.clone(),
+                timeout: self.plant.plan_locs[k] != game.plans[k].failed,
+            },
         })
     }
 }
@@ -351,14 +364,15 @@ impl<'g> Simulation<'g> {
         }
     }
 
-    /// One tick of time: extends the trace's last delay when nothing happened since.
+    /// One tick of time: extends the trace's last delay when nothing happened since (also
+    /// across steps: consecutive delays read as one in the trace).
     fn tick(&mut self) {
         self.w.delay(1);
         if !self.record {
             return;
         }
         match self.events.last_mut() {
-            Some(e) if e.kind == "delay" && e.step == self.steps => {
+            Some(e) if e.kind == "delay" => {
                 let d = e.duration.unwrap_or(0.0) + 1.0 / TICKS as f64;
                 e.duration = Some(d);
                 e.text = format!("time passes: {}", units(d));
@@ -755,8 +769,8 @@ impl<'g> Simulation<'g> {
                     PlanView {
                         name: plan.name.clone(),
                         location: plan.locations[at as usize].name.clone(),
-                        index: at as usize,
-                        count: plan.locations.len(),
+                        index: (at as usize).saturating_sub(usize::from(at > plan.failed)),
+                        count: plan.locations.len() - 1,
                         failed: at == plan.failed,
                     }
                 })
@@ -797,9 +811,8 @@ fn units(v: f64) -> String {
 pub fn failure_text(f: &Failure) -> String {
     match f {
         Failure::Assertion { text } => format!("assertion violated: {text}"),
-        Failure::PlanFailed { plan } => {
-            format!("{plan} failed (a forbidden message, or its timeout clock exceeded its bound)")
-        }
+        Failure::PlanFailed { plan, timeout: true } => format!("{plan} failed: a timeout clock exceeded its bound"),
+        Failure::PlanFailed { plan, timeout: false } => format!("{plan} failed: a message it forbids occurred"),
         Failure::RequestRefused { request } => format!("request {request} refused: the plant cannot take it now"),
         Failure::ControllerLoops => "the controller loops at one instant without plan progress".into(),
         Failure::NoProgress => "no plan progress after 1000 requests".into(),
@@ -941,7 +954,7 @@ mod tests {
         let view = sim.view();
         assert_eq!(view.mode, "program");
         assert_eq!(view.moves.iter().map(|m| m.message.as_str()).collect::<Vec<_>>(), ["press"]);
-        assert_eq!(view.plans[0].index, view.plans[0].index); // the plan's initial step
+        assert_eq!((view.plans[0].index, view.plans[0].count), (0, 2), "waiting for the press, of two steps");
         let start_plan = view.plans[0].location.clone();
         // The user presses: the controller turns the lamp on in the same instant.
         sim.apply(&pick(&sim, "press")).unwrap();
@@ -949,6 +962,7 @@ mod tests {
         assert_eq!(view.sent, ["turn_on"]);
         assert!(view.locations.iter().any(|l| l.unit == "lamp" && l.location == "on"));
         assert_ne!(view.plans[0].location, start_plan, "the plan took its first step");
+        assert_eq!(view.plans[0].index, 1);
         assert_eq!(view.progress, 1);
         // The button needs less than a time unit to settle: the invariant bounds the delay.
         assert_eq!(view.max_delay, Some(0.875));
