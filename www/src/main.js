@@ -14,6 +14,7 @@ import { engineOf, engineLabel, kindLabel } from './languages.js';
 import { templates } from './templates.js';
 import { renderSctSummary, sctVerdict, SctAutomataView } from './sctview.js';
 import { addAssumption, drawMachine, renderLtlSummary } from './ltlview.js';
+import { Simulator } from './simulator.js';
 
 /** Autosave: the current kind, and per kind the last document with where it came from. */
 const STORAGE_KEY = 'plcsynth.playground.v2';
@@ -167,6 +168,7 @@ function clearResults(message) {
   app.automataDrawn = false;
   app.meta = null;
   spaceView.reset(null);
+  simulator.clear('Run a timed spec to simulate its controller against the plant.');
   sctAutomata.clear('The automata appear here once the spec compiles and runs.');
   $('#automata').replaceChildren(h('p', { class: 'muted' }, 'The automata appear here once the spec compiles and runs.'));
   $('#summary').replaceChildren(h('p', { class: 'muted' }, message));
@@ -290,6 +292,7 @@ function showTab(name) {
   document.querySelectorAll('.panel').forEach((p) => (p.hidden = p.dataset.panel !== name));
   if (name === 'automata') drawAutomata();
   if (name === 'code') refreshCode();
+  if (name === 'simulate') simulator.open();
 }
 document.querySelectorAll('.tabs [role=tab]').forEach((b) => b.addEventListener('click', () => showTab(b.dataset.tab)));
 // The WAI-ARIA tabs pattern: Left/Right move to the neighbouring tab, Home/End to the ends.
@@ -373,6 +376,22 @@ const spaceView = new SpaceView({
     );
   },
 });
+
+// ---- simulator ----------------------------------------------------------------------------
+
+/** Selects state `id` in the State space tab (from the summary, the explanation, the simulator). */
+async function showState(id) {
+  showTab('space');
+  await spaceReady;
+  await spaceView.select(id);
+}
+
+const simulator = new Simulator($('#simulator'), {
+  query,
+  onLocate: showState,
+  onTab: () => showTab('simulate'),
+});
+app.simulator = simulator;
 
 // ---- code pane ----------------------------------------------------------------------------
 
@@ -644,6 +663,7 @@ async function run() {
   app.automataDrawn = false;
   app.meta = null;
   spaceView.reset(null);
+  simulator.clear('Running…');
   $('#summary').replaceChildren(h('p', { class: 'muted' }, 'Running…'));
   setStatus('Compiling…', 'running');
   const options = {
@@ -681,11 +701,8 @@ async function run() {
         ms,
         expected,
         maxStates,
-        onState: async (id) => {
-          showTab('space');
-          await spaceReady;
-          await spaceView.select(id);
-        },
+        onState: showState,
+        onReplay: () => simulator.replay(),
       });
       setStatus(`${summary.verdict.replace('_', ' ')}: ${fmtInt(summary.stats.visited)} states visited, ${fmtInt(summary.stats.winning)} winning, ${fmtInt(summary.stats.removed)} removed in ${fmtMs(summary.ms)}`, 'done');
     } else if (engine === 'sct') {
@@ -705,6 +722,8 @@ async function run() {
       app.meta = await query('space', [1]);
       const strategy = summary.verdict === 'realizable' ? await query('strategy', []) : null;
       spaceReady = spaceView.load(app.meta, strategy);
+      simulator.load(summary);
+      if (currentTab === 'simulate') simulator.open();
       await spaceReady;
     }
     if (currentTab === 'code') refreshCode();
