@@ -79,22 +79,38 @@ fn ranks(space: &StateSpace) -> Ranks {
     let mut wait_done = vec![false; n];
     let mut preds: Vec<Vec<u32>> = vec![Vec::new(); n];
     let mut queue = VecDeque::new();
+    // States of rank 1 from the start go behind those of rank 0: the queue must hold ranks in
+    // order, so that a state lost by its last controller choice gets one more than the largest.
+    let mut ones = Vec::new();
     for (s, st) in space.states.iter().enumerate() {
         let Some(removal) = st.removal else { continue };
         let mut options = 0;
+        let mut cut = 0;
         let mut waits = false;
         let mut forced = false;
         for (id, e) in space.out_edges(s as StateId) {
-            if e.to != NONE {
+            if e.to != NONE && !(e.zeno && is_option(e)) {
                 preds[e.to as usize].push(id);
             }
-            options += u32::from(is_option(e));
+            // A request cut as a zeno repetition leads nowhere: the controller loses with it at
+            // once, so it is not waited for (it would otherwise leave the state unranked).
+            if is_option(e) && e.zeno {
+                cut += 1;
+            } else {
+                options += u32::from(is_option(e));
+            }
             waits |= is_wait(e);
             forced |= e.kind == EdgeKind::Reaction;
         }
         // Waiting fails once a delay target is lost; without delays it stays possible while the
         // plant has a move, so only a lost forced target can then decide the state.
         pending[s] = options + u32::from(waits || forced);
+        if removal == Removal::NoMove && pending[s] == 0 && cut > 0 {
+            // Every move the controller has is a zeno repetition: lost in one move.
+            rank[s] = 1;
+            ones.push(s as StateId);
+            continue;
+        }
         match removal {
             Removal::Assertion { .. } | Removal::PlanFailed { .. } | Removal::Deadlock => {
                 rank[s] = 0;
@@ -103,11 +119,12 @@ fn ranks(space: &StateSpace) -> Ranks {
             Removal::ZenoLoop { edge } => {
                 rank[s] = 1;
                 witness[s] = edge;
-                queue.push_back(s as StateId);
+                ones.push(s as StateId);
             }
             Removal::Forced { .. } | Removal::NoMove => {}
         }
     }
+    queue.extend(ones);
     while let Some(y) = queue.pop_front() {
         let r = rank[y as usize];
         for &id in &preds[y as usize] {
@@ -239,6 +256,21 @@ pub fn counter_play(game: &Game, split: &SplitGame, space: &StateSpace) -> Optio
         let wait = (w != NONE && is_wait(&space.edges[w as usize])).then(|| (w, rank(space.edges[w as usize].to)));
         let next = if forced {
             play(w, Mover::Plant, 1)
+        } else if options.is_empty() && wait.is_none() {
+            // Every request is a zeno repetition (the ranks count it lost at once): the line
+            // ends with the controller taking one.
+            let cut: Vec<EdgeId> =
+                space.out_edges(s).filter(|(_, e)| is_option(e) && e.zeno).map(|(id, _)| id).collect();
+            let &edge = cut.first()?;
+            play(edge, Mover::Controller, cut.len() as u32);
+            let end = format!(
+                "zeno loop: every request ({}) returns to a plant state visited since the last plan progress",
+                cut.iter()
+                    .map(|&e| describe_edge(game, split, &space.edges[e as usize]))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+            return Some(CounterPlay { moves, end, end_state: s });
         } else if options.is_empty() {
             let (w, _) = wait?;
             play(w, Mover::Plant, 1) // only time can pass: the plant's move
