@@ -22,6 +22,7 @@ use crate::timed::model::{Game, Interval, MessageKind, MessageRole, MsgId};
 use crate::timed::plant::{Move as PlantMove, Plant, Violation};
 use crate::timed::precompute::SplitGame;
 use crate::timed::solve::{EdgeId, EdgeKind, Label, StateSpace};
+use crate::zone::{Bound, Dbm};
 use serde::{Deserialize, Serialize};
 
 /// Clock values are counted in `1 / TICKS` time units.
@@ -838,7 +839,12 @@ pub fn run(game: &Game, program: &Program, observable: &[bool], seed: u64, steps
 /// edge's target, each delay edge the shortest delay that brings the clocks into the target
 /// (none when they are there already; time in eighths, as in the simulation). Guard checks have
 /// no concrete move and are skipped. Returns the steps that could be played and, if the line
-/// could not be followed to its end, why (the `k`-th edge, 0-based, and its target).
+/// could not be followed to its end, why.
+///
+/// A zone holds valuations from which the rest of the line is not possible (the shortest delay
+/// into one state may put the clocks out of reach of the next one), so the targets are first
+/// narrowed backwards along the line ([`feasible_sets`]) to the valuations from which the rest
+/// of the line can still be played.
 pub fn replay_line(
     game: &Game,
     split: &SplitGame,
@@ -847,11 +853,15 @@ pub fn replay_line(
 ) -> (Vec<Choice>, Option<String>) {
     let mut sim = Simulation::build(game, None, &[], 0, false);
     let mut choices = Vec::new();
+    let feasible = feasible_sets(split, space, line);
     if !sim.plant().is_in(split, space, space.initial) {
         return (choices, Some("the initial state of the plant is not the explored initial state".into()));
     }
-    // Beyond the largest constant every further delay looks the same to the zones.
-    let horizon = (split.max_constant.iter().copied().max().unwrap_or(0).max(0) as i64 + 2) * TICKS;
+    // Beyond the largest constant (of guards, invariants and plan bounds) every further delay
+    // looks the same to the zones.
+    let bounds = game.plans.iter().flat_map(|p| p.clocks.iter().map(|&(_, b)| b as i64));
+    let largest = split.max_constant.iter().map(|&c| c as i64).chain(bounds).max().unwrap_or(0).max(0);
+    let horizon = (largest + 2) * TICKS;
     let take = |sim: &mut Simulation, choice: Choice, choices: &mut Vec<Choice>| {
         let ok = sim.apply(&choice).is_ok();
         choices.push(choice);
@@ -860,7 +870,9 @@ pub fn replay_line(
     for (k, &id) in line.iter().enumerate() {
         let e = &space.edges[id as usize];
         let target = e.to;
-        let in_target = |p: &Plant| target == u32::MAX || p.is_in(split, space, target);
+        let in_target = |p: &Plant| {
+            target == u32::MAX || (p.is_in(split, space, target) && feasible[k + 1].contains_point(&p.clocks, p.ticks))
+        };
         let limit = sim.delay_room().map_or(0, |room| room.unwrap_or(horizon).min(horizon));
         let stuck = |why: &str| {
             Some(format!(
@@ -872,13 +884,25 @@ pub fn replay_line(
         match (e.kind, e.label) {
             (EdgeKind::Guard, _) => continue,
             (EdgeKind::Timeout, _) => return (choices, stuck("it is a timeout, which leads to no state")),
-            (EdgeKind::Delay, _) => {
-                let Some(d) = (0..=limit).find(|&d| {
-                    let mut p = sim.plant().clone();
-                    p.delay(d);
-                    in_target(&p)
-                }) else {
+            (EdgeKind::Delay, label) => {
+                let fits: Vec<i64> = (0..=limit)
+                    .filter(|&d| {
+                        let mut p = sim.plant().clone();
+                        p.delay(d);
+                        in_target(&p)
+                    })
+                    .collect();
+                let (Some(&lo), Some(&hi)) = (fits.first(), fits.last()) else {
                     return (choices, stuck("no delay brings the clocks into its target"));
+                };
+                // Waiting in the same locations takes no time of its own (the pieces' delays
+                // do). A delay into a piece goes to the middle of its window, or half a unit
+                // into an unbounded one: a point on the edge of a strict bound leaves the next
+                // steps no room in eighths.
+                let d = match label {
+                    Label::Wait => lo,
+                    _ if hi == limit => lo + ((hi - lo) / 2).min(TICKS / 2),
+                    _ => lo + (hi - lo) / 2,
                 };
                 if d > 0 && !take(&mut sim, Choice::Delay { ticks: d }, &mut choices) {
                     return (choices, stuck("the delay was refused"));
@@ -921,6 +945,60 @@ pub fn replay_line(
         }
     }
     (choices, None)
+}
+
+/// For each state along `line` (the initial state, then each edge's target), the valuations of
+/// its zone from which the rest of the line can be played: backwards from the last state, the
+/// past of the next set for a delay edge, the valuations whose reset lands in it for a message
+/// edge, the same set for a guard check. The sets are taken within each state's zone and pieces;
+/// where a set would be empty (the zones' extrapolation), the state's zone stands in for it.
+pub fn feasible_sets(split: &SplitGame, space: &StateSpace, line: &[EdgeId]) -> Vec<Dbm> {
+    let mut states = vec![space.initial];
+    states.extend(line.iter().map(|&e| space.edges[e as usize].to));
+    let own = |s: u32| -> Dbm {
+        if s == u32::MAX {
+            return Dbm::unconstrained(space.dim);
+        }
+        let mut z = space.zone(s);
+        let base = split.plant_count;
+        let units =
+            space.env(s).iter().enumerate().chain(space.plan(s).iter().enumerate().map(|(p, sub)| (base + p, sub)));
+        for (u, &sub) in units {
+            for &(c, piece) in &split.units[u].sublocs[sub as usize].pieces {
+                let iv = &split.pieces[c as usize][piece as usize];
+                let lower = if iv.lower_closed { Bound::le(-(iv.lower as i32)) } else { Bound::lt(-(iv.lower as i32)) };
+                let upper = match iv.upper {
+                    Some(u) if iv.upper_closed => Bound::le(u as i32),
+                    Some(u) => Bound::lt(u as i32),
+                    None => Bound::INFINITY,
+                };
+                z.constrain_interval(c as usize, lower, upper);
+            }
+        }
+        z
+    };
+    let mut sets: Vec<Dbm> = states.iter().map(|&s| own(s)).collect();
+    for k in (0..line.len()).rev() {
+        let e = &space.edges[line[k] as usize];
+        let mut pre = sets[k + 1].clone();
+        match e.kind {
+            EdgeKind::Delay => pre.down(),
+            EdgeKind::Request | EdgeKind::Reaction => {
+                for c in 1..space.dim {
+                    if e.resets >> c & 1 == 1 {
+                        pre.constrain(c, 0, Bound::LE_ZERO);
+                        pre.free(c);
+                    }
+                }
+            }
+            EdgeKind::Guard | EdgeKind::Timeout => {}
+        }
+        let mut narrowed = sets[k].clone();
+        if e.to != u32::MAX && narrowed.intersect(&pre) {
+            sets[k] = narrowed;
+        }
+    }
+    sets
 }
 
 #[cfg(test)]
