@@ -104,7 +104,9 @@ function whyPart(summary, onState, onReplay) {
   return h(
     'section',
     {},
-    h('h3', {}, `Why: the plant can force a failure within ${summary.explanation_depth} moves`),
+    // Without a bound (u32::MAX) the plant wins by a cycle without plan progress, not by a
+    // finite line of moves, and there is no counter-play.
+    h('h3', {}, summary.explanation_depth >= 4294967295 ? 'Why: every controller choice fails; the plant can keep the plans from progressing' : `Why: the plant can force a failure within ${summary.explanation_depth} moves`),
     play
       ? [
           h('p', { class: 'muted' }, 'One line of play: at each choice the controller takes the move that fails last, and the plant its winning answer. Click a state to inspect it.'),
