@@ -92,6 +92,22 @@ test('lamp: the controller follows one plan cycle step by step; back and reset',
   assert.equal(await location(page, 'lamp'), 'off');
   assert.match(await text(page, '#sim-trace'), /Nothing has happened yet/);
   assert.equal(await page.isDisabled('#sim-back'), true);
+  // Playing the controller too: the requests are moves, and a wrong one fails at once.
+  await page.check('#sim-free');
+  await settled(page);
+  assert.match(await text(page, '#sim-mode'), /You play the controller too/);
+  assert.equal(await page.locator('#sim-program').count(), 0, 'no program runs');
+  await press(page, 'press');
+  await page.fill('#sim-delay-value', '0.5');
+  await page.click('#sim-delay');
+  await settled(page);
+  await press(page, 'press_settled');
+  assert.equal(await page.getAttribute('#sim-failure', 'data-kind'), 'assertion');
+  assert.match(await text(page, '#sim-failure'), /never lamp\.off and button\.pressed/);
+  await shot(page, '49-sim-lamp-free-failure');
+  await page.uncheck('#sim-free');
+  await settled(page);
+  assert.match(await text(page, '#sim-mode'), /controller program runs/);
   assert.deepEqual(page.errors, []);
   await page.context().close();
 });

@@ -36,6 +36,8 @@ export class Simulator {
         button('sim-delay', 'Wait', 'let time pass (rounded to eighths of a time unit); the controller may act meanwhile', () => this.query('simDelay', [Number($('#sim-delay-value', this.root).value)])),
         h('input', { id: 'sim-delay-value', type: 'number', min: 0.125, step: 0.125, value: 0.5, 'aria-label': 'delay in time units' }), h('span', { id: 'sim-room', class: 'muted' })),
       h('label', { class: 'muted', title: 'drives the random steps and the sensor (guard) inputs' }, 'seed ', h('input', { id: 'sim-seed', type: 'number', min: 0, step: 1, value: 1 })),
+      h('label', { class: 'muted', title: 'without the controller program: you pick the requests too (starts again)' },
+        h('input', { id: 'sim-free', type: 'checkbox', onchange: () => this.act(() => this.start()) }), ' play the controller'),
       h('button', { id: 'sim-locate', title: 'select the explored state that holds this concrete state', onclick: () => this.locate() }, 'Show in state space'),
     );
     this.clear('Run a timed spec to simulate its controller against the plant.');
@@ -67,8 +69,8 @@ export class Simulator {
   }
 
   start() {
-    const seed = Math.max(0, Math.floor(Number($('#sim-seed', this.root)?.value ?? 1) || 0));
-    return this.query('simStart', [seed, {}]);
+    const seed = Math.max(0, Math.floor(Number($('#sim-seed', this.toolbar).value) || 0));
+    return this.query('simStart', [seed, { free: $('#sim-free', this.toolbar).checked }]);
   }
 
   /** Plays the counter-play of an unrealizable spec in a free simulation. */
@@ -120,7 +122,9 @@ export class Simulator {
     const ended = Boolean(state.failure) || state.stuck;
     const headline = state.replay
       ? h('p', { class: 'muted', id: 'sim-mode' }, 'Replaying the counter-play: no controller exists, so the plant’s winning line is played with the controller choices it assumes (', h('strong', {}, 'free mode'), ': you pick requests too). Step back to see it unfold.')
-      : free
+      : free && $('#sim-free', this.toolbar).checked
+        ? h('p', { class: 'muted', id: 'sim-mode' }, 'You play the controller too (free mode): pick its requests as well as the plant’s reactions, and see what fails.')
+        : free
         ? h('p', { class: 'muted', id: 'sim-mode' }, 'No controller program (the spec is not realizable): free mode, you pick the controller’s requests as well as the plant’s reactions.')
         : h('p', { class: 'muted', id: 'sim-mode' }, 'The controller program runs in zero time after every plant step (the scan model of Peter 2005, 6.3); you play the plant.');
     const failure = state.failure || state.stuck
@@ -150,6 +154,9 @@ export class Simulator {
     $('#sim-delay', this.root).disabled = ended || !state.can_delay;
     $('#sim-room', this.root).textContent = state.can_delay ? ` (at most ${state.max_delay === null ? '∞' : t(state.max_delay)})` : ' (no time may pass now)';
     $('#sim-seed', this.root).value = state.seed;
+    // Free without a program whatever the box says; the box is for realizable specs.
+    $('#sim-free', this.root).checked = free && !state.replay && $('#sim-free', this.root).checked;
+    $('#sim-free', this.root).disabled = free && !$('#sim-free', this.root).checked;
     this.root.querySelector('.sim-program li.current')?.scrollIntoView({ block: 'nearest' });
     const trace = this.root.querySelector('.sim-trace-box');
     if (trace) trace.scrollTop = trace.scrollHeight;
@@ -166,7 +173,7 @@ export class Simulator {
       h('h4', {}, 'Next plant reaction'),
       reactions.length ? h('div', { class: 'sim-moves' }, reactions.map(button)) : h('p', { class: 'muted' }, ended ? '—' : 'none enabled now: let time pass'),
       state.mode === 'free' ? [h('h4', {}, 'Controller request'), requests.length ? h('div', { class: 'sim-moves' }, requests.map(button)) : h('p', { class: 'muted' }, '—')] : null,
-      state.sent.length ? h('p', { id: 'sim-sent' }, 'The controller sent ', state.sent.flatMap((m, i) => [i ? ', ' : '', h('strong', {}, `?${m}`)]), ' after the last step.') : h('p', { id: 'sim-sent', class: 'muted' }, 'No request after the last step.'),
+      state.mode === 'free' ? null : state.sent.length ? h('p', { id: 'sim-sent' }, 'The controller sent ', state.sent.flatMap((m, i) => [i ? ', ' : '', h('strong', {}, `?${m}`)]), ' after the last step.') : h('p', { id: 'sim-sent', class: 'muted' }, 'No request after the last step.'),
     );
   }
 
