@@ -836,8 +836,8 @@ pub fn run(game: &Game, program: &Program, observable: &[bool], seed: u64, steps
 /// The steps that play `line`, a path of edges of the explored `space` from its initial state
 /// (a counter-play), on the concrete plant without a program (the caller plays the
 /// controller): each message edge becomes the move of its message whose result lies in the
-/// edge's target, each delay edge the shortest delay that brings the clocks into the target
-/// (none when they are there already; time in eighths, as in the simulation). Guard checks have
+/// edge's target, each delay edge a delay into the middle of those that bring the clocks into
+/// the target (none for waiting in the same locations; time in eighths, as in the simulation). Guard checks have
 /// no concrete move and are skipped. Returns the steps that could be played and, if the line
 /// could not be followed to its end, why.
 ///
@@ -862,9 +862,12 @@ pub fn replay_line(
     let bounds = game.plans.iter().flat_map(|p| p.clocks.iter().map(|&(_, b)| b as i64));
     let largest = split.max_constant.iter().map(|&c| c as i64).chain(bounds).max().unwrap_or(0).max(0);
     let horizon = (largest + 2) * TICKS;
+    // Only steps the simulation took are returned: the caller plays them again.
     let take = |sim: &mut Simulation, choice: Choice, choices: &mut Vec<Choice>| {
         let ok = sim.apply(&choice).is_ok();
-        choices.push(choice);
+        if ok {
+            choices.push(choice);
+        }
         ok
     };
     for (k, &id) in line.iter().enumerate() {
