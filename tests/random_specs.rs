@@ -157,3 +157,85 @@ fn realizable_random_specs_yield_programs_that_keep_the_plant_safe() {
     assert!(checked * 4 > count * 3, "only {checked} of {count} random specs compiled");
     assert!(realizable * 10 > checked, "only {realizable} of {checked} random specs were realizable");
 }
+
+/// For random unrealizable specifications, the counter-play (`explain::counter_play`) is a path
+/// of the explored space from the initial state, as long as the explanation is deep, into a
+/// state that violates something (or a zeno loop); and played on the concrete plant
+/// (`simulate::replay_line`) it ends in the same failure.
+#[test]
+fn unrealizable_random_specs_have_a_counter_play_the_plant_replays() {
+    use plcsynth::timed::explain::counter_play;
+    use plcsynth::timed::solve::Removal;
+    let (mut unrealizable, mut cyclic, mut replayed, mut concrete) = (0, 0, 0, 0);
+    for seed in 0..spec_count() / 2 {
+        let source = spec(seed);
+        let Ok((game, _)) = compile(&source) else { continue };
+        let s = synthesize(&game, &SolveOptions { max_states: 50_000, ..SolveOptions::default() }, &mut |_| true);
+        if s.solution.verdict != Verdict::Unrealizable {
+            continue;
+        }
+        unrealizable += 1;
+        let space = &s.solution.space;
+        let depth = s.explanation.as_ref().unwrap().depth;
+        let Some(play) = counter_play(&game, &s.split, space) else {
+            // The ranks decide no finite line: the plant wins by a cycle without plan progress
+            // (the solver's cut), which the explanation shows without a bound.
+            assert_eq!(depth, u32::MAX, "seed {seed}: ranked, yet no counter-play\n{source}");
+            cyclic += 1;
+            continue;
+        };
+        assert_eq!(
+            play.moves.len(),
+            depth as usize,
+            "seed {seed}: as long as the explanation is deep\n{play:#?}\n{source}"
+        );
+        let mut at = space.initial;
+        for m in &play.moves {
+            assert!(space.out_edges(at).any(|(id, e)| id == m.edge && e.to == m.to), "seed {seed}: {m:?} from s{at}");
+            at = m.to;
+        }
+        // A zeno loop ends on the looping move, in the state it leaves.
+        let zeno = play.end.starts_with("zeno loop");
+        if !zeno {
+            assert_eq!(at, play.end_state, "seed {seed}");
+            assert!(
+                matches!(
+                    space.states[at as usize].removal,
+                    Some(Removal::Assertion { .. } | Removal::PlanFailed { .. } | Removal::Deadlock)
+                ),
+                "seed {seed}: ends in {:?}",
+                space.states[at as usize].removal
+            );
+        }
+        let line: Vec<_> = play.moves.iter().map(|m| m.edge).collect();
+        let (choices, stopped) = simulate::replay_line(&game, &s.split, space, &line);
+        if let Some(why) = &stopped {
+            eprintln!("seed {seed}: the replay stopped: {why}\n{play:#?}\n{source}");
+            continue;
+        }
+        replayed += 1;
+        let mut sim = simulate::Simulation::new(&game, None, &[], 0);
+        choices.iter().for_each(|c| sim.apply(c).unwrap());
+        let violation = matches!(
+            space.states[play.end_state as usize].removal,
+            Some(Removal::Assertion { .. } | Removal::PlanFailed { .. })
+        );
+        if violation {
+            assert!(
+                sim.failure().is_some(),
+                "seed {seed}: the replay ends without the failure of {}\n{source}",
+                play.end
+            );
+            concrete += 1;
+        }
+    }
+    eprintln!("{unrealizable} unrealizable, {cyclic} lost by a cycle, {replayed} replayed to the end, {concrete} into a concrete failure");
+    assert!(unrealizable > 10, "only {unrealizable} unrealizable random specs");
+    // Clock values are eighths of a time unit: a line whose strict bounds leave less room than
+    // an eighth cannot be played concretely (7 of 964 lines at 3000 seeds).
+    assert!(
+        replayed * 20 >= (unrealizable - cyclic) * 19,
+        "only {replayed} of {} lines replayed",
+        unrealizable - cyclic
+    );
+}

@@ -500,3 +500,89 @@ fn sct_stepper_and_runtime_cycles() {
     assert_eq!(num(&second, "time_ms"), 20.0);
     assert!(s.cycles(js_sys::JSON::parse(r#"[{"inputs": {"Nope": 1}}]"#).unwrap()).is_err());
 }
+
+const TWO_ROBOTS_13: &str = include_str!("../examples/timed/two_robots_13.tga");
+
+/// The index of the offered move of `message` in a `SimState`.
+fn sim_move(state: &JsValue, message: &str) -> usize {
+    let moves = array(&get(state, "moves"));
+    let m =
+        moves.iter().find(|m| string(m, "message") == message).unwrap_or_else(|| panic!("{message} is not offered"));
+    num(&m, "index") as usize
+}
+
+fn location(state: &JsValue, unit: &str) -> String {
+    let l = array(&get(state, "locations")).iter().find(|l| string(l, "unit") == unit).unwrap();
+    string(&l, "location")
+}
+
+#[wasm_bindgen_test]
+fn the_simulator_steps_the_program_against_the_plant() {
+    let (mut s, _) = solved(LAMP);
+    assert!(s.sim_state().is_err(), "not started");
+    let start = s.sim_start(1.0, JsValue::UNDEFINED).unwrap();
+    assert_eq!(string(&start, "mode"), "program");
+    assert!(array(&get(&start, "listing")).length() > 2, "the program's listing");
+    assert_eq!(num(&start, "history"), 0.0);
+    let pc = num(&start, "pc");
+    let pressed = s.sim_step(sim_move(&start, "press")).unwrap();
+    assert_eq!(array(&get(&pressed, "sent")).get(0).as_string().as_deref(), Some("turn_on"));
+    assert_eq!(location(&pressed, "lamp"), "on");
+    assert_eq!(num(&pressed, "progress"), 1.0);
+    assert_ne!(num(&pressed, "pc"), pc, "the program moved on");
+    assert!(get(&pressed, "listing").is_null(), "the listing comes with simStart only");
+    assert_eq!(num(&pressed, "max_delay"), 0.875);
+    assert!(s.sim_delay(2.0).is_err(), "beyond the invariant");
+    let waited = s.sim_delay(0.5).unwrap();
+    assert_eq!(num(&waited, "time"), 0.5);
+    let events = array(&get(&waited, "events"));
+    assert_eq!(events.length(), 3, "press, turn_on, the delay");
+    assert_eq!(string(&events.get(2), "kind"), "delay");
+    let located = array(&s.sim_locate().unwrap());
+    assert!(located.length() >= 1);
+    let first = located.get(0).as_f64().unwrap() as u32;
+    assert_eq!(get(&s.state(first).unwrap(), "winning").as_bool(), Some(true));
+    let back = s.sim_back().unwrap();
+    assert_eq!(num(&back, "history"), 1.0);
+    assert_eq!(num(&back, "time"), 0.0);
+    let random = s.sim_random(40).unwrap();
+    assert!(get(&random, "failure").is_null());
+    assert_eq!(num(&random, "history"), 41.0);
+    let restarted = s.sim_start(1.0, JsValue::UNDEFINED).unwrap();
+    assert_eq!(num(&restarted, "history"), 0.0);
+    // Started free, the requests are the user's.
+    let free = s.sim_start(0.0, to_options(&[("free", JsValue::TRUE)])).unwrap();
+    assert_eq!(string(&free, "mode"), "free");
+    assert!(array(&get(&free, "moves")).iter().any(|m| string(&m, "kind") == "request"));
+}
+
+fn to_options(pairs: &[(&str, JsValue)]) -> JsValue {
+    let o = js_sys::Object::new();
+    for (k, v) in pairs {
+        Reflect::set(&o, &JsValue::from_str(k), v).unwrap();
+    }
+    o.into()
+}
+
+#[wasm_bindgen_test]
+fn an_unrealizable_spec_has_a_counter_play_the_simulator_replays() {
+    let (mut s, summary) = solved(TWO_ROBOTS_13);
+    assert_eq!(string(&summary, "verdict"), "unrealizable");
+    let play = s.counter_play().unwrap();
+    let moves = array(&get(&play, "moves"));
+    assert_eq!(moves.length() as f64, num(&summary, "explanation_depth"));
+    assert!(string(&play, "end").contains("fails"));
+    let replayed = s.sim_replay().unwrap();
+    assert_eq!(string(&replayed, "mode"), "free");
+    let replay = get(&replayed, "replay");
+    assert!(get(&replay, "stopped").is_null(), "the whole line is played");
+    assert_eq!(num(&replay, "steps"), num(&replayed, "history"));
+    assert_eq!(string(&get(&replayed, "failure"), "kind"), "plan_failed");
+    assert!(s.sim_step(0).is_err(), "the simulation has ended");
+    let back = s.sim_back().unwrap();
+    assert!(get(&back, "failure").is_null());
+    // A realizable spec has none.
+    let (mut lamp, _) = solved(LAMP);
+    assert!(lamp.counter_play().unwrap().is_null());
+    assert!(lamp.sim_replay().is_err());
+}

@@ -9,7 +9,7 @@
 
 use super::model::Game;
 use super::precompute::SplitGame;
-use super::solve::{Edge, EdgeKind, Label, Removal, StateId, StateKind, StateSpace};
+use super::solve::{Edge, EdgeId, EdgeKind, Label, Removal, StateId, StateKind, StateSpace};
 use serde::Serialize;
 use std::collections::VecDeque;
 
@@ -79,22 +79,38 @@ fn ranks(space: &StateSpace) -> Ranks {
     let mut wait_done = vec![false; n];
     let mut preds: Vec<Vec<u32>> = vec![Vec::new(); n];
     let mut queue = VecDeque::new();
+    // States of rank 1 from the start go behind those of rank 0: the queue must hold ranks in
+    // order, so that a state lost by its last controller choice gets one more than the largest.
+    let mut ones = Vec::new();
     for (s, st) in space.states.iter().enumerate() {
         let Some(removal) = st.removal else { continue };
         let mut options = 0;
+        let mut cut = 0;
         let mut waits = false;
         let mut forced = false;
         for (id, e) in space.out_edges(s as StateId) {
-            if e.to != NONE {
+            if e.to != NONE && !(e.zeno && is_option(e)) {
                 preds[e.to as usize].push(id);
             }
-            options += u32::from(is_option(e));
+            // A request cut as a zeno repetition leads nowhere: the controller loses with it at
+            // once, so it is not waited for (it would otherwise leave the state unranked).
+            if is_option(e) && e.zeno {
+                cut += 1;
+            } else {
+                options += u32::from(is_option(e));
+            }
             waits |= is_wait(e);
             forced |= e.kind == EdgeKind::Reaction;
         }
         // Waiting fails once a delay target is lost; without delays it stays possible while the
         // plant has a move, so only a lost forced target can then decide the state.
         pending[s] = options + u32::from(waits || forced);
+        if removal == Removal::NoMove && pending[s] == 0 && cut > 0 {
+            // Every move the controller has is a zeno repetition: lost in one move.
+            rank[s] = 1;
+            ones.push(s as StateId);
+            continue;
+        }
         match removal {
             Removal::Assertion { .. } | Removal::PlanFailed { .. } | Removal::Deadlock => {
                 rank[s] = 0;
@@ -103,11 +119,12 @@ fn ranks(space: &StateSpace) -> Ranks {
             Removal::ZenoLoop { edge } => {
                 rank[s] = 1;
                 witness[s] = edge;
-                queue.push_back(s as StateId);
+                ones.push(s as StateId);
             }
             Removal::Forced { .. } | Removal::NoMove => {}
         }
     }
+    queue.extend(ones);
     while let Some(y) = queue.pop_front() {
         let r = rank[y as usize];
         for &id in &preds[y as usize] {
@@ -144,6 +161,131 @@ fn ranks(space: &StateSpace) -> Ranks {
         }
     }
     Ranks { rank, witness }
+}
+
+/// Who makes a move of a counter-play.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Mover {
+    /// A reaction, or time passing where the controller has no say.
+    Plant,
+    /// A request or a guard check: the controller's choice.
+    Controller,
+    /// The controller waits and the plant lets time pass.
+    Wait,
+}
+
+/// One move of a counter-play: an edge of the explored space.
+#[derive(Clone, Debug, Serialize)]
+pub struct PlayMove {
+    pub edge: EdgeId,
+    pub from: StateId,
+    /// The state reached (`NONE`, `u32::MAX`, for a zeno repetition, which leads nowhere).
+    pub to: StateId,
+    pub mover: Mover,
+    /// The move in words, as in the explanation.
+    pub label: String,
+    /// For the controller's moves: how many choices it had (waiting included); 1 otherwise.
+    pub choices: u32,
+    /// Moves within which the plant can still force the failure after this one.
+    pub left: u32,
+}
+
+/// One line of play from the initial state into a failure: the plant's winning line against
+/// the controller that holds out longest.
+#[derive(Clone, Debug, Serialize)]
+pub struct CounterPlay {
+    pub moves: Vec<PlayMove>,
+    /// The failure it ends in, in words.
+    pub end: String,
+    /// The state of the failure (for a zeno loop: the state the loop starts from).
+    pub end_state: StateId,
+}
+
+/// The counter-play of a lost initial state: along the attractor ranks, the plant takes its
+/// best move (the one that fails soonest) and the controller the choice that fails last (the
+/// largest rank; the first such one in edge order), so the line is the longest the best
+/// controller can make it, and ends in a violation after `depth` moves. `None` when the initial
+/// state is not lost, or lost in a way the ranks do not decide (cut cycles).
+pub fn counter_play(game: &Game, split: &SplitGame, space: &StateSpace) -> Option<CounterPlay> {
+    let from = space.initial;
+    space.states.get(from as usize)?.removal?;
+    let ranks = ranks(space);
+    let rank = |s: StateId| if s == NONE { 0 } else { ranks.rank[s as usize] };
+    if rank(from) == UNRANKED {
+        return None;
+    }
+    let mut moves = Vec::new();
+    let mut s = from;
+    // Ranks fall by one with every move, so the line has `rank(from)` moves; the bound only
+    // guards against a rank table that would not.
+    for _ in 0..=ranks.rank[from as usize] {
+        if let Some(end) = violation(game, split, space, s) {
+            return Some(CounterPlay { moves, end, end_state: s });
+        }
+        let mut play = |edge: EdgeId, mover: Mover, choices: u32| {
+            let e = &space.edges[edge as usize];
+            moves.push(PlayMove {
+                edge,
+                from: e.from,
+                to: e.to,
+                mover,
+                label: describe_edge(game, split, e),
+                choices,
+                left: if e.zeno { 0 } else { rank(e.to) },
+            });
+            e.to
+        };
+        if let Some(Removal::ZenoLoop { edge }) = space.states[s as usize].removal {
+            play(edge, Mover::Plant, 1);
+            let end = format!(
+                "zeno loop: the plant can send {} and come back without plan progress, forever",
+                describe_edge(game, split, &space.edges[edge as usize])
+            );
+            return Some(CounterPlay { moves, end, end_state: s });
+        }
+        let w = ranks.witness[s as usize];
+        let forced = w != NONE && space.edges[w as usize].kind == EdgeKind::Reaction;
+        // The controller's alternatives: its live options and, if the plant can make waiting
+        // fail, waiting. A zeno-cut option leads nowhere and loses at once.
+        let options: Vec<(EdgeId, u32)> = space
+            .out_edges(s)
+            .filter(|(_, e)| is_option(e) && e.to != NONE && !e.zeno)
+            .map(|(id, e)| (id, rank(e.to)))
+            .collect();
+        let wait = (w != NONE && is_wait(&space.edges[w as usize])).then(|| (w, rank(space.edges[w as usize].to)));
+        let next = if forced {
+            play(w, Mover::Plant, 1)
+        } else if options.is_empty() && wait.is_none() {
+            // Every request is a zeno repetition (the ranks count it lost at once): the line
+            // ends with the controller taking one.
+            let cut: Vec<EdgeId> =
+                space.out_edges(s).filter(|(_, e)| is_option(e) && e.zeno).map(|(id, _)| id).collect();
+            let &edge = cut.first()?;
+            play(edge, Mover::Controller, cut.len() as u32);
+            let end = format!(
+                "zeno loop: every request ({}) returns to a plant state visited since the last plan progress",
+                cut.iter()
+                    .map(|&e| describe_edge(game, split, &space.edges[e as usize]))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+            return Some(CounterPlay { moves, end, end_state: s });
+        } else if options.is_empty() {
+            let (w, _) = wait?;
+            play(w, Mover::Plant, 1) // only time can pass: the plant's move
+        } else {
+            let choices = options.len() as u32 + u32::from(wait.is_some());
+            let best = options.iter().chain(wait.iter()).copied().max_by_key(|&(id, r)| (r, std::cmp::Reverse(id)))?;
+            let mover = if Some(best) == wait { Mover::Wait } else { Mover::Controller };
+            play(best.0, mover, choices)
+        };
+        if next == NONE || space.states[next as usize].removal.is_none() {
+            return None; // the ranks promised a lost state
+        }
+        s = next;
+    }
+    None
 }
 
 /// `unit.location` names of a state, the plan locations and the zone.
@@ -392,5 +534,92 @@ pub fn removal_text(game: &Game, split: &SplitGame, space: &StateSpace, s: State
         Removal::ZenoLoop { edge } => format!("zeno loop: {}", describe_edge(game, split, &space.edges[edge as usize])),
         Removal::NoMove => "every controller move fails and waiting is not possible".to_string(),
         _ => violation(game, split, space, s).unwrap_or_default(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::program::simulate::{replay_line, Simulation};
+    use crate::timed::{compile, synthesize, Synthesis};
+
+    fn solved(source: &str) -> (Game, Synthesis) {
+        let (game, _) = compile(source).unwrap();
+        let s = synthesize(&game, &Default::default(), &mut |_| true);
+        (game, s)
+    }
+
+    /// The line is a path of the explored space from the initial state, ranks falling by one per
+    /// move, into a state that violates something.
+    fn check_line(game: &Game, s: &Synthesis) -> CounterPlay {
+        let space = &s.solution.space;
+        let play = counter_play(game, &s.split, space).expect("a counter-play");
+        let mut at = space.initial;
+        for m in &play.moves {
+            let e = &space.edges[m.edge as usize];
+            assert_eq!((e.from, e.to), (m.from, m.to), "{m:?} is the edge it names");
+            assert_eq!(m.from, at, "{m:?} leaves the state the line is in");
+            assert!(space.out_edges(at).any(|(id, _)| id == m.edge));
+            at = m.to;
+        }
+        assert_eq!(at, play.end_state);
+        assert!(
+            matches!(
+                space.states[at as usize].removal,
+                Some(Removal::Assertion { .. } | Removal::PlanFailed { .. } | Removal::Deadlock)
+            ),
+            "ends in {:?}",
+            space.states[at as usize].removal
+        );
+        let depth = s.explanation.as_ref().unwrap().depth as usize;
+        assert_eq!(play.moves.len(), depth, "the line is as long as the explanation is deep");
+        let left: Vec<u32> = play.moves.iter().map(|m| m.left).collect();
+        assert!(left.windows(2).all(|w| w[0] == w[1] + 1) && left.last() == Some(&0), "{left:?}");
+        play
+    }
+
+    #[test]
+    fn the_two_robots_in_13_seconds_lose_on_one_line_that_the_plant_replays() {
+        let (game, s) = solved(include_str!("../../examples/timed/two_robots_13.tga"));
+        let play = check_line(&game, &s);
+        assert!(play.end.contains("fails"), "{}", play.end);
+        assert!(play.moves.iter().any(|m| m.mover == Mover::Controller && m.choices > 1), "the controller chooses");
+        // Far shorter than the explanation's tree, which repeats subtrees.
+        assert!(play.moves.len() < 40 && s.explanation.as_ref().unwrap().render().lines().count() > 100);
+        // Played on the concrete plant (both sides, no program), it ends in the plan's failure.
+        let line: Vec<EdgeId> = play.moves.iter().map(|m| m.edge).collect();
+        let (choices, stopped) = replay_line(&game, &s.split, &s.solution.space, &line);
+        assert_eq!(stopped, None);
+        let mut sim = Simulation::new(&game, None, &[], 0);
+        for c in &choices {
+            sim.apply(c).unwrap();
+        }
+        let view = sim.view();
+        assert!(
+            matches!(view.failure, Some(crate::program::simulate::Failure::PlanFailed { .. })),
+            "{:?}\n{:#?}",
+            view.failure,
+            view.events
+        );
+    }
+
+    #[test]
+    fn the_naive_lamp_loses_on_a_press() {
+        let (game, s) = solved(include_str!("../../examples/timed/lamp_naive.tga"));
+        let play = check_line(&game, &s);
+        assert!(play.moves.iter().any(|m| m.label == "!press"), "{play:?}");
+        assert!(play.end.contains("assertion"), "{}", play.end);
+        let line: Vec<EdgeId> = play.moves.iter().map(|m| m.edge).collect();
+        let (choices, stopped) = replay_line(&game, &s.split, &s.solution.space, &line);
+        assert_eq!(stopped, None);
+        let mut sim = Simulation::new(&game, None, &[], 0);
+        choices.iter().for_each(|c| sim.apply(c).unwrap());
+        assert!(sim.failure().is_some());
+    }
+
+    #[test]
+    fn a_realizable_spec_has_no_counter_play() {
+        let (game, s) = solved(include_str!("../../examples/timed/lamp.tga"));
+        assert!(counter_play(&game, &s.split, &s.solution.space).is_none());
     }
 }

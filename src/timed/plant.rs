@@ -5,6 +5,8 @@
 //! `plc::realtime` in microseconds against a PLC with a real scan period.
 
 use super::model::{Game, Interval, LocId, MessageKind, MsgId};
+use super::precompute::SplitGame;
+use super::solve::{StateId, StateKind, StateSpace};
 
 /// One plant move: a sending transition and one `$` transition of every unit that
 /// synchronises on its message (algorithm 3).
@@ -245,6 +247,44 @@ impl<'g> Plant<'g> {
             .flat_map(|plan| plan.clocks.iter())
             .map(|&(c, bound)| (self.ticks_of(bound) + 1 - self.clocks[c as usize]).max(0))
             .min()
+    }
+
+    /// Whether this concrete state lies in the explored state `s`: the same location of every
+    /// unit and plan, every clock in the piece of `s`'s sub-locations, and the clock valuation
+    /// in `s`'s zone. The zone is exact in the pieces and extrapolated beyond the largest
+    /// constants (a superset), so membership is what the solver decided about this point.
+    pub fn is_in(&self, split: &SplitGame, space: &StateSpace, s: StateId) -> bool {
+        let base = split.plant_count;
+        let units = space.env(s).iter().enumerate().map(|(u, &sub)| (u, sub, self.locs[u]));
+        let plans = space.plan(s).iter().enumerate().map(|(p, &sub)| (base + p, sub, self.plan_locs[p]));
+        let located = units.chain(plans).all(|(u, sub, at)| {
+            let sub = &split.units[u].sublocs[sub as usize];
+            sub.location == at
+                && sub
+                    .pieces
+                    .iter()
+                    .all(|&(c, piece)| self.holds(&split.pieces[c as usize][piece as usize], self.clocks[c as usize]))
+        });
+        located && space.zone(s).contains_point(&self.clocks, self.ticks)
+    }
+
+    /// The explored states this concrete state lies in: winning ones first, then by kind
+    /// (entry, interval, waiting, guard: where the controller decides first), then by id. A
+    /// point lies in several states when the zeno memory or the kinds tell them apart.
+    pub fn locate(&self, split: &SplitGame, space: &StateSpace) -> Vec<StateId> {
+        let mut found: Vec<StateId> =
+            (0..space.states.len() as StateId).filter(|&s| self.is_in(split, space, s)).collect();
+        let kind_order = |k: StateKind| match k {
+            StateKind::Entry => 0,
+            StateKind::Interval => 1,
+            StateKind::Waiting => 2,
+            StateKind::Guard => 3,
+        };
+        found.sort_by_key(|&s| {
+            let st = &space.states[s as usize];
+            (st.removal.is_some(), kind_order(st.kind), s)
+        });
+        found
     }
 }
 

@@ -4,8 +4,9 @@
 use super::{diagnostics_error, plc_target, to_js, FileView, GeneratedCode, IoRowView, Progress};
 use crate::diag::Diagnostic;
 use crate::plc::{self, Target};
+use crate::program::simulate::{self, Choice, SimView, Simulation};
 use crate::program::{self, Program};
-use crate::timed::explain::dump;
+use crate::timed::explain::{self as explain, dump, CounterPlay};
 use crate::timed::export::{self, StateView};
 use crate::timed::model::Game;
 use crate::timed::solve::{BudgetStop, SolveOptions, StateId, Stats, Verdict};
@@ -64,6 +65,45 @@ pub(crate) struct RealtimeView {
     trace: Vec<String>,
 }
 
+/// The simulator's script: how it started and every step since. The simulation is rebuilt from
+/// it on every call (it is deterministic from its seed, and a step takes microseconds), so the
+/// session keeps no borrowed state and stepping back is dropping the last step.
+struct SimScript {
+    seed: u64,
+    /// Without the controller program: the user (or the replay) picks the requests too.
+    free: bool,
+    choices: Vec<Choice>,
+    replay: Option<ReplayView>,
+}
+
+/// Steps kept at most (a step back per step).
+const SIM_STEPS: usize = 20_000;
+
+/// The counter-play a free simulation replays.
+#[derive(Clone, Serialize)]
+struct ReplayView {
+    /// The symbolic line (`CounterPlay`).
+    line: CounterPlay,
+    /// Concrete steps it became.
+    steps: usize,
+    /// Why the line could not be followed to its end, if it could not.
+    stopped: Option<String>,
+}
+
+/// What every simulator method returns.
+#[derive(Serialize)]
+struct SimState<'a> {
+    #[serde(flatten)]
+    view: SimView,
+    /// Steps that `simBack` can take back.
+    history: usize,
+    seed: u64,
+    replay: Option<&'a ReplayView>,
+    /// The program's commands, as in `program()` (`simStart` and `simReplay` only; `null`
+    /// without a program).
+    listing: Option<Vec<String>>,
+}
+
 /// A compiled specification and, once solved, its synthesis.
 #[wasm_bindgen]
 pub struct TimedSession {
@@ -83,6 +123,8 @@ pub struct TimedSession {
     /// That check, once per semantics (IEC targets, STL), built on the first `code` call after
     /// a solve: the targets of one semantics run the same code.
     checked: [OnceCell<RealtimeView>; 2],
+    /// The simulator, once started after a solve.
+    sim: Option<SimScript>,
 }
 
 #[wasm_bindgen]
@@ -101,6 +143,7 @@ impl TimedSession {
                 strategy: OnceCell::new(),
                 implementable_at: None,
                 checked: Default::default(),
+                sim: None,
             }),
             Err(errors) => Err(diagnostics_error(&errors)),
         }
@@ -172,6 +215,7 @@ impl TimedSession {
         self.program = OnceCell::new();
         self.strategy = OnceCell::new();
         self.checked = Default::default();
+        self.sim = None;
         self.implementable_at = summary.scan.as_ref().filter(|s| s.verdict == Verdict::Realizable).map(|s| s.scan_ms);
         to_js(&summary)
     }
@@ -343,6 +387,104 @@ impl TimedSession {
         to_js(self.strategy_choices()?)
     }
 
+    /// The plant's winning line against the controller that holds out longest, for an
+    /// unrealizable spec: `CounterPlay | null`.
+    #[wasm_bindgen(js_name = counterPlay)]
+    pub fn counter_play(&self) -> Result<JsValue, JsValue> {
+        let s = self.synthesis()?;
+        to_js(&explain::counter_play(&self.game, &s.split, &s.solution.space))
+    }
+
+    /// Starts the simulator from the initial state: the controller program against the plant
+    /// when there is one (and `options.free` is not set), else free (the user picks requests
+    /// too). `seed` drives the random steps and the sensor inputs. Returns `SimState` with the
+    /// program's `listing`.
+    #[wasm_bindgen(js_name = simStart)]
+    pub fn sim_start(&mut self, seed: f64, options: JsValue) -> Result<JsValue, JsValue> {
+        #[derive(Deserialize, Default)]
+        #[serde(default)]
+        struct Options {
+            free: bool,
+        }
+        let opts: Options = super::options(options)?;
+        let free = opts.free || self.controller()?.is_none();
+        self.sim = Some(SimScript { seed: seed.max(0.0) as u64, free, choices: Vec::new(), replay: None });
+        self.sim_result(true, |_| Ok(Vec::new()))
+    }
+
+    /// Replays the counter-play (`counterPlay()`) in a free simulation: the steps are taken and
+    /// can be stepped back. `SimState` with `replay` set; throws without a counter-play.
+    #[wasm_bindgen(js_name = simReplay)]
+    pub fn sim_replay(&mut self) -> Result<JsValue, JsValue> {
+        let s = self.synthesis()?;
+        let line = explain::counter_play(&self.game, &s.split, &s.solution.space)
+            .ok_or_else(|| JsValue::from_str("no counter-play: the spec is not unrealizable"))?;
+        let edges: Vec<_> = line.moves.iter().map(|m| m.edge).collect();
+        let (choices, stopped) = simulate::replay_line(&self.game, &s.split, &s.solution.space, &edges);
+        let replay = ReplayView { line, steps: choices.len(), stopped };
+        self.sim = Some(SimScript { seed: 0, free: true, choices, replay: Some(replay) });
+        self.sim_result(true, |_| Ok(Vec::new()))
+    }
+
+    /// Where the simulator stands: `SimState`.
+    #[wasm_bindgen(js_name = simState)]
+    pub fn sim_state(&self) -> Result<JsValue, JsValue> {
+        let view = self.simulation()?.view();
+        self.state_of(view, false)
+    }
+
+    /// Takes the `index`-th move of `SimState.moves`: `SimState`.
+    #[wasm_bindgen(js_name = simStep)]
+    pub fn sim_step(&mut self, index: usize) -> Result<JsValue, JsValue> {
+        self.sim_result(false, |sim| sim.apply(&Choice::Move { index }).map(|_| vec![Choice::Move { index }]))
+    }
+
+    /// Lets `units` time units pass (rounded to eighths, within `max_delay`); the controller
+    /// scans all along and the delay ends where it acts. `SimState`.
+    #[wasm_bindgen(js_name = simDelay)]
+    pub fn sim_delay(&mut self, units: f64) -> Result<JsValue, JsValue> {
+        if !units.is_finite() {
+            return Err(JsValue::from_str("a delay must be a number"));
+        }
+        let ticks = (units * simulate::TICKS as f64).round() as i64;
+        self.sim_result(false, |sim| sim.apply(&Choice::Delay { ticks }).map(|_| vec![Choice::Delay { ticks }]))
+    }
+
+    /// Takes up to `n` random plant steps (as the closed-loop check does), stopping at a
+    /// failure: `SimState`.
+    #[wasm_bindgen(js_name = simRandom)]
+    pub fn sim_random(&mut self, n: usize) -> Result<JsValue, JsValue> {
+        self.sim_result(false, |sim| {
+            let mut taken = Vec::new();
+            for _ in 0..n.min(SIM_STEPS) {
+                if sim.finished() {
+                    break;
+                }
+                sim.apply(&Choice::Random)?;
+                taken.push(Choice::Random);
+            }
+            Ok(taken)
+        })
+    }
+
+    /// Takes back the last step: `SimState`.
+    #[wasm_bindgen(js_name = simBack)]
+    pub fn sim_back(&mut self) -> Result<JsValue, JsValue> {
+        let script = self.sim.as_mut().ok_or_else(not_started)?;
+        script.choices.pop();
+        let view = self.simulation()?.view();
+        self.state_of(view, false)
+    }
+
+    /// The explored states the simulation's concrete state lies in (locations, pieces and
+    /// zone): `StateId[]`, winning ones first.
+    #[wasm_bindgen(js_name = simLocate)]
+    pub fn sim_locate(&self) -> Result<JsValue, JsValue> {
+        let s = self.synthesis()?;
+        let sim = self.simulation()?;
+        to_js(&sim.plant().locate(&s.split, &s.solution.space))
+    }
+
     /// One state: `StateView`.
     pub fn state(&self, state: StateId) -> Result<JsValue, JsValue> {
         let s = self.synthesis()?;
@@ -351,6 +493,10 @@ impl TimedSession {
         }
         to_js(&self.state_view(s, state))
     }
+}
+
+fn not_started() -> JsValue {
+    JsValue::from_str("the simulator has not started: call simStart() first")
 }
 
 /// A view of the state space with its drawing.
@@ -372,6 +518,53 @@ impl TimedSession {
     fn drawn(&self, view: export::SpaceView, selected: Option<StateId>) -> Result<DrawnSpace, JsValue> {
         let dot = export::space_dot(&view, selected, self.strategy_choices()?.as_deref());
         Ok(DrawnSpace { view, dot })
+    }
+
+    /// The simulation the script describes, rebuilt from its start.
+    fn simulation(&self) -> Result<Simulation<'_>, JsValue> {
+        let script = self.sim.as_ref().ok_or_else(not_started)?;
+        let program = if script.free { None } else { self.controller()? };
+        let observable = program::optimize::Context::from_game(&self.game).observable;
+        let mut sim = Simulation::new(&self.game, program, &observable, script.seed);
+        for c in &script.choices {
+            sim.apply(c).map_err(|e| JsValue::from_str(&format!("the simulator's script does not replay: {e}")))?;
+        }
+        Ok(sim)
+    }
+
+    fn state_of(&self, view: SimView, listing: bool) -> Result<JsValue, JsValue> {
+        let script = self.sim.as_ref().ok_or_else(not_started)?;
+        let listing = match (listing, script.free) {
+            (true, false) => self.controller()?.map(|p| p.command_texts(&self.game)),
+            _ => None,
+        };
+        to_js(&SimState {
+            view,
+            history: script.choices.len(),
+            seed: script.seed,
+            replay: script.replay.as_ref(),
+            listing,
+        })
+    }
+
+    /// Rebuilds the simulation, takes the steps `step` takes (an error leaves the script as it
+    /// was), records them and returns the new `SimState`.
+    fn sim_result(
+        &mut self,
+        listing: bool,
+        step: impl FnOnce(&mut Simulation) -> Result<Vec<Choice>, String>,
+    ) -> Result<JsValue, JsValue> {
+        let (taken, view) = {
+            let mut sim = self.simulation()?;
+            let taken = step(&mut sim).map_err(|e| JsValue::from_str(&e))?;
+            (taken, sim.view())
+        };
+        let script = self.sim.as_mut().ok_or_else(not_started)?;
+        if script.choices.len() + taken.len() > SIM_STEPS {
+            return Err(JsValue::from_str(&format!("the simulator keeps at most {SIM_STEPS} steps: reset it")));
+        }
+        script.choices.extend(taken);
+        self.state_of(view, listing)
     }
 
     fn controller(&self) -> Result<Option<&Program>, JsValue> {

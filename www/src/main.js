@@ -15,6 +15,7 @@ import { templates } from './templates.js';
 import { renderSctSummary, sctVerdict, SctAutomataView } from './sctview.js';
 import { addAssumption, drawMachine, renderLtlSummary } from './ltlview.js';
 import { SctSimulator } from './sctsim.js';
+import { Simulator } from './simulator.js';
 
 /** Autosave: the current kind, and per kind the last document with where it came from. */
 const STORAGE_KEY = 'plcsynth.playground.v2';
@@ -169,6 +170,7 @@ function clearResults(message) {
   app.automataDrawn = false;
   app.meta = null;
   spaceView.reset(null);
+  simulator.clear('Run a timed spec to simulate its controller against the plant.');
   sctAutomata.clear('The automata appear here once the spec compiles and runs.');
   sctSim.reset();
   $('#automata').replaceChildren(h('p', { class: 'muted' }, 'The automata appear here once the spec compiles and runs.'));
@@ -295,6 +297,7 @@ function showTab(name) {
   if (name === 'code') refreshCode();
   if (name === 'step') sctSim.showStepper();
   if (name === 'cycles') sctSim.showCycles();
+  if (name === 'simulate') simulator.open();
 }
 document.querySelectorAll('.tabs [role=tab]').forEach((b) => b.addEventListener('click', () => showTab(b.dataset.tab)));
 // The WAI-ARIA tabs pattern: Left/Right move to the neighbouring tab, Home/End to the ends.
@@ -379,6 +382,22 @@ const spaceView = new SpaceView({
     );
   },
 });
+
+// ---- simulator ----------------------------------------------------------------------------
+
+/** Selects state `id` in the State space tab (from the summary, the explanation, the simulator). */
+async function showState(id) {
+  showTab('space');
+  await spaceReady;
+  await spaceView.select(id);
+}
+
+const simulator = new Simulator($('#simulator'), {
+  query,
+  onLocate: showState,
+  onTab: () => showTab('simulate'),
+});
+app.simulator = simulator;
 
 // ---- code pane ----------------------------------------------------------------------------
 
@@ -651,6 +670,7 @@ async function run() {
   app.meta = null;
   spaceView.reset(null);
   sctSim.reset();
+  simulator.clear('Running…');
   $('#summary').replaceChildren(h('p', { class: 'muted' }, 'Running…'));
   setStatus('Compiling…', 'running');
   const options = {
@@ -688,11 +708,8 @@ async function run() {
         ms,
         expected,
         maxStates,
-        onState: async (id) => {
-          showTab('space');
-          await spaceReady;
-          await spaceView.select(id);
-        },
+        onState: showState,
+        onReplay: () => simulator.replay(),
       });
       setStatus(`${summary.verdict.replace('_', ' ')}: ${fmtInt(summary.stats.visited)} states visited, ${fmtInt(summary.stats.winning)} winning, ${fmtInt(summary.stats.removed)} removed in ${fmtMs(summary.ms)}`, 'done');
     } else if (engine === 'sct') {
@@ -718,6 +735,8 @@ async function run() {
       app.meta = await query('space', [1]);
       const strategy = summary.verdict === 'realizable' ? await query('strategy', []) : null;
       spaceReady = spaceView.load(app.meta, strategy);
+      simulator.load(summary);
+      if (currentTab === 'simulate') simulator.open();
       await spaceReady;
     }
     if (currentTab === 'code') refreshCode();

@@ -48,14 +48,14 @@ export class SctSimulator {
       this.trace.pop();
       return toast(`${error.message ?? error}`);
     }
-    const row = (name, state, extra = null) => h('tr', {}, h('th', {}, name), h('td', { class: 'sim-state' }, state), extra ? h('td', { class: 'muted' }, extra) : null);
+    const row = (name, state, extra = null) => h('tr', {}, h('th', {}, name), h('td', { class: 'sct-state' }, state), extra ? h('td', { class: 'muted' }, extra) : null);
     const events = view.events.filter((e) => this.showImpossible || e.status !== 'impossible');
     const hidden = view.events.length - events.length;
     this.stepBox.replaceChildren(
       h('p', { class: 'muted' }, 'The plants and supervisors in closed loop, event by event. Click an event to fire it; controllable events a supervisor prohibits are disabled, enforceable events fire where a supervisor enforces them.'),
       h(
         'div',
-        { class: 'sim-columns' },
+        { class: 'sct-columns' },
         h(
           'section',
           {},
@@ -74,7 +74,7 @@ export class SctSimulator {
           h('h3', {}, 'Events'),
           h(
             'ul',
-            { class: 'sim-events', id: 'step-events' },
+            { class: 'sct-events', id: 'step-events' },
             events.map((e) =>
               h(
                 'li',
@@ -82,7 +82,7 @@ export class SctSimulator {
                 h(
                   'button',
                   {
-                    class: `sim-event ${e.status} ev-${e.kind}`,
+                    class: `sct-event ${e.status} ev-${e.kind}`,
                     'data-event': e.name,
                     'data-status': e.status,
                     disabled: !fireable.has(e.status),
@@ -110,7 +110,7 @@ export class SctSimulator {
           this.trace.length
             ? h(
                 'ol',
-                { class: 'sim-trace', id: 'step-trace' },
+                { class: 'sct-trace', id: 'step-trace' },
                 this.trace.map((e, i) => h('li', {}, h('a', { href: '#', title: 'go back to after this event', onclick: (ev) => (ev.preventDefault(), (this.trace = this.trace.slice(0, i + 1)), this.showStepper()) }, e))),
               )
             : h('p', { class: 'muted', id: 'step-trace' }, 'Nothing fired yet: every automaton is in its initial state.'),
@@ -144,8 +144,8 @@ export class SctSimulator {
       const value = this.next[into][s.symbol] ?? current;
       const set = (v) => (this.next[into][s.symbol] = v);
       return s.data_type === 'BOOL'
-        ? h('label', { class: 'sim-signal' }, h('input', { type: 'checkbox', 'data-signal': s.symbol, 'data-into': into, checked: Boolean(value), onchange: (ev) => set(ev.target.checked ? 1 : 0) }), ` ${s.symbol}`)
-        : h('label', { class: 'sim-signal' }, `${s.symbol} `, h('input', { type: 'number', 'data-signal': s.symbol, 'data-into': into, value: String(value), onchange: (ev) => set(Number(ev.target.value) || 0) }));
+        ? h('label', { class: 'sct-signal' }, h('input', { type: 'checkbox', 'data-signal': s.symbol, 'data-into': into, checked: Boolean(value), onchange: (ev) => set(ev.target.checked ? 1 : 0) }), ` ${s.symbol}`)
+        : h('label', { class: 'sct-signal' }, `${s.symbol} `, h('input', { type: 'number', 'data-signal': s.symbol, 'data-into': into, value: String(value), onchange: (ev) => set(Number(ev.target.value) || 0) }));
     };
     const signalNow = (symbol) => last.signals.find((s) => s.symbol === symbol)?.value ?? 0;
     const eventText = (e) => `${{ accepted: '✓', denied: '✗', occurred: '•', enforced: '⇒' }[e.what]} ${e.event} ${e.what}${e.by ? ` by ${e.by}` : ''}`;
@@ -153,7 +153,7 @@ export class SctSimulator {
       h('p', { class: 'muted' }, 'The generated runtime framework, run cycle by cycle (the code you download, in the reference interpreter): set the plant’s inputs and what the existing controller writes, then run a cycle. A denied event’s outputs are reset; an enforced event’s action runs.'),
       h(
         'div',
-        { class: 'sim-columns' },
+        { class: 'sct-columns' },
         h('section', {}, h('h3', {}, 'Plant inputs'), inputs.length ? inputs.map((s) => field(s, 'inputs', signalNow(s.symbol))) : h('p', { class: 'muted' }, 'none')),
         h('section', {}, h('h3', {}, 'The controller writes'), outputs.length ? outputs.map((s) => field(s, 'controller', this.cycles.at(-1)?.controller[s.symbol] ?? 0)) : h('p', { class: 'muted' }, 'none')),
         h(
@@ -183,7 +183,7 @@ export class SctSimulator {
               { 'data-cycle': c.cycle },
               h('td', { class: 'num' }, c.cycle === 0 ? 'start' : String(c.cycle)),
               h('td', { class: 'num' }, `${c.time_ms} ms`),
-              h('td', {}, c.events.length ? c.events.map((e) => h('div', { class: `sim-outcome ${e.what}` }, eventText(e))) : '—'),
+              h('td', {}, c.events.length ? c.events.map((e) => h('div', { class: `sct-outcome ${e.what}` }, eventText(e))) : '—'),
               h('td', {}, c.supervisors.map((s) => h('div', {}, `${s.name}: `, h('strong', {}, s.state), s.prohibits.length ? h('span', { class: 'muted' }, ` ✕ ${s.prohibits.join(', ')}`) : ''))),
               h(
                 'td',
@@ -192,7 +192,7 @@ export class SctSimulator {
                   .filter((s) => s.kind === 'output')
                   .map((s) => {
                     const reset = s.written !== null && s.written !== s.value;
-                    return h('div', { class: reset ? 'sim-reset' : '', 'data-output': s.symbol, 'data-reset': String(reset) }, `${s.symbol} = ${s.value}`, reset ? h('span', { class: 'reason' }, ` (the controller wrote ${s.written}: changed by the framework)`) : '');
+                    return h('div', { class: reset ? 'sct-reset' : '', 'data-output': s.symbol, 'data-reset': String(reset) }, `${s.symbol} = ${s.value}`, reset ? h('span', { class: 'reason' }, ` (the controller wrote ${s.written}: changed by the framework)`) : '');
                   }),
               ),
               h('td', {}, c.timers.length ? c.timers.map((t) => h('div', {}, `${t.name}: ${t.expired ? 'expired' : t.running ? 'running' : 'idle'}`)) : '—'),

@@ -1,5 +1,6 @@
 // The Summary tab: verdict, statistics, time, and the explanation of an unrealizable spec.
 import { h, fmtInt, fmtMs } from './dom.js';
+import { counterPlayList } from './simulator.js';
 
 const verdictText = {
   realizable: 'Realizable: a controller exists',
@@ -62,7 +63,7 @@ function budgetText(budget, maxStates) {
   return `Budget exceeded: ${budget.message} (the ${what} budget of the page). The statistics so far:`;
 }
 
-export function renderSummary(root, { summary, ms, expected, maxStates, onState }) {
+export function renderSummary(root, { summary, ms, expected, maxStates, onState, onReplay }) {
   const s = summary.stats;
   const row = (label, value, id) => h('tr', {}, h('th', {}, label), h('td', { id }, value));
   const parts = [
@@ -72,6 +73,8 @@ export function renderSummary(root, { summary, ms, expected, maxStates, onState 
       : null,
     summary.verdict === 'budget_exceeded' ? h('p', {}, budgetText(summary.budget, maxStates)) : null,
     scanPart(summary),
+    // Why an unrealizable spec is lost comes before the statistics: it is what the user reads.
+    summary.explanationText ? whyPart(summary, onState, onReplay) : null,
     h(
       'table',
       { class: 'stats' },
@@ -86,15 +89,38 @@ export function renderSummary(root, { summary, ms, expected, maxStates, onState 
       row('solve time', fmtMs(summary.ms), 'stat-solve-ms'),
       row('round trip', fmtMs(ms), 'stat-total-ms'),
     ),
-    summary.explanationText
-      ? h(
-          'section',
-          {},
-          h('h3', {}, `Why: the plant can force a failure within ${summary.explanation_depth} moves`),
-          h('p', { class: 'muted' }, 'Each line is a move from the initial state; where the controller has choices, every one of them is shown failing. Click a state to inspect it.'),
-          h('div', { class: 'explanation', id: 'explanation' }, stepTree(summary.explanation.root, onState)),
-        )
-      : null,
   ];
   root.replaceChildren(...parts.filter(Boolean));
+}
+
+/** Why an unrealizable spec is lost: one counter-play first (the plant's winning line against
+ * the controller that holds out longest: short, and replayable in the simulator), then the
+ * whole tree of the explanation, folded (it repeats subtrees and runs to hundreds of lines). */
+const TREE_LINES_OPEN = 30;
+
+function whyPart(summary, onState, onReplay) {
+  const play = summary.counterPlay;
+  const tree = h('div', { class: 'explanation', id: 'explanation' }, stepTree(summary.explanation.root, onState));
+  return h(
+    'section',
+    {},
+    // Without a bound (u32::MAX) the plant wins by a cycle without plan progress, not by a
+    // finite line of moves, and there is no counter-play.
+    h('h3', {}, summary.explanation_depth >= 4294967295 ? 'Why: every controller choice fails; the plant can keep the plans from progressing' : `Why: the plant can force a failure within ${summary.explanation_depth} moves`),
+    play
+      ? [
+          h('p', { class: 'muted' }, 'One line of play: at each choice the controller takes the move that fails last, and the plant its winning answer. Click a state to inspect it.'),
+          h('div', { class: 'explanation' }, counterPlayList(play, onState)),
+          h('p', {}, h('button', { id: 'replay-counter-play', onclick: () => onReplay?.() }, '▶ Replay in the simulator')),
+        ]
+      : null,
+    h(
+      'details',
+      // A short tree stays open; a long one (two robots in 13 s: over 300 lines) is folded.
+      { id: 'explanation-tree', open: !play || summary.explanationText.split('\n').length <= TREE_LINES_OPEN },
+      h('summary', {}, 'The whole tree: every controller choice, each shown failing'),
+      h('p', { class: 'muted' }, 'Each line is a move from the initial state; where the controller has choices, every one of them is shown failing. Click a state to inspect it.'),
+      tree,
+    ),
+  );
 }

@@ -42,10 +42,13 @@ const engines = {
         const summary = s.solve(options, progress);
         summary.explanation = s.explanation();
         summary.explanationText = s.explanationText() ?? null;
+        summary.counterPlay = s.counterPlay();
         return summary;
       }];
     },
-    queries: ['space', 'states', 'neighbourhood', 'state', 'dump', 'program', 'code', 'strategy'],
+    queries: ['space', 'states', 'neighbourhood', 'state', 'dump', 'program', 'code', 'strategy',
+      // The simulator (www/src/simulator.js): each returns a SimState, simLocate state ids.
+      'counterPlay', 'simStart', 'simReplay', 'simState', 'simStep', 'simDelay', 'simRandom', 'simBack', 'simLocate'],
     code: (s, target, name, created) => s.code(target, name, created),
   },
   sct: {
