@@ -495,7 +495,7 @@ pub fn space_dot(view: &SpaceView, selected: Option<StateId>, strategy: Option<&
         if Some(s.id) == selected {
             class.push("selected");
         }
-        let kind = serde_json::to_value(s.kind).ok().and_then(|v| v.as_str().map(str::to_string)).unwrap_or_default();
+        let kind = s.kind.name();
         let tooltip = if s.winning {
             let doing = match plan.get(&s.id) {
                 Some(c) if c.choice == "wait" => "; strategy: wait".to_string(),

@@ -293,6 +293,18 @@ pub enum StateKind {
     Guard,
 }
 
+impl StateKind {
+    /// The name the JSON views use.
+    pub fn name(self) -> &'static str {
+        match self {
+            StateKind::Entry => "entry",
+            StateKind::Waiting => "waiting",
+            StateKind::Interval => "interval",
+            StateKind::Guard => "guard",
+        }
+    }
+}
+
 #[derive(Clone, Debug)]
 pub struct State {
     pub env: u32,

@@ -79,8 +79,8 @@ struct LtlSummary {
     verdict: Verdict,
     /// `realizable at k = 1: a controller of 2 states, 3 rows`.
     summary: String,
-    /// The report of `plcsynth ltl --json` (docs/ltl-language.md).
-    report: serde_json::Value,
+    /// What the page shows of the specification as decided (with what refinement learned).
+    report: ReportView,
     /// The controller (realizable) or the environment's counter-strategy (unrealizable) as a
     /// Mealy-machine drawing, and as text (one line per row).
     machine_dot: Option<String>,
@@ -92,6 +92,31 @@ struct LtlSummary {
     /// Why suggestions stopped early (a budget), if they did.
     suggest_stopped: Option<String>,
     ms: f64,
+}
+
+/// The specification as decided: the LTL text, the signals, the turn order, and the
+/// assumptions refinement learned (`{ formula, reason }`). Typed rather than `report_json`'s
+/// `serde_json::Value`, which would put a JSON tree library into the page's wasm.
+#[derive(Serialize, Default)]
+struct ReportView {
+    ltl: String,
+    inputs: Vec<String>,
+    outputs: Vec<String>,
+    semantics: Option<&'static str>,
+    learned: Vec<LearnedView>,
+    limit: Option<String>,
+}
+
+#[derive(Serialize)]
+struct LearnedView {
+    formula: String,
+    reason: String,
+}
+
+#[derive(Serialize)]
+struct Signals {
+    inputs: Vec<String>,
+    outputs: Vec<String>,
 }
 
 /// Progress of a run: the bound tried, positions built and work spent.
@@ -136,7 +161,7 @@ impl LtlSession {
     pub fn signals(&self) -> Result<JsValue, JsValue> {
         let names =
             |ids: Vec<ltl::SignalId>| ids.into_iter().map(|s| self.spec.name(s).to_string()).collect::<Vec<_>>();
-        to_js(&serde_json::json!({ "inputs": names(self.spec.inputs()), "outputs": names(self.spec.outputs()) }))
+        to_js(&Signals { inputs: names(self.spec.inputs()), outputs: names(self.spec.outputs()) })
     }
 
     /// Decides the specification. `options`: `{ maxK?, maxStates?, maxWork?, solver?,
@@ -178,7 +203,7 @@ impl LtlSession {
                 return to_js(&LtlSummary {
                     verdict: Verdict::Unknown,
                     summary: format!("unknown: {message}"),
-                    report: serde_json::json!({ "verdict": Verdict::Unknown, "limit": message }),
+                    report: ReportView { limit: Some(message.clone()), ..ReportView::default() },
                     machine_dot: None,
                     machine_text: None,
                     counter_tree: None,
@@ -214,7 +239,7 @@ impl LtlSession {
         let summary = LtlSummary {
             verdict: outcome.verdict,
             summary: ltl::summary(&outcome),
-            report: ltl::report_json(&self.spec, &outcome),
+            report: self.report_view(&refined, &outcome),
             machine_dot: machine.map(|m| ltl::machine_dot(&refined, m)),
             machine_text: machine.map(|m| ltl::render_machine(&refined, m)),
             counter_tree: outcome.counter_strategy.as_ref().map(|m| ltl::render_tree(&refined, m)),
@@ -269,6 +294,27 @@ fn progress_ms(started: f64) -> f64 {
 }
 
 impl LtlSession {
+    /// What the summary shows of `refined`, the specification with what refinement learned.
+    fn report_view(&self, refined: &Spec, outcome: &Outcome) -> ReportView {
+        let names = |ids: Vec<ltl::SignalId>| ids.into_iter().map(|s| refined.name(s).to_string()).collect();
+        ReportView {
+            ltl: refined.formula_text(),
+            inputs: names(refined.inputs()),
+            outputs: names(refined.outputs()),
+            semantics: Some(match refined.semantics {
+                ltl::Semantics::Mealy => "mealy",
+                ltl::Semantics::Moore => "moore",
+            }),
+            learned: outcome
+                .refinement
+                .learned
+                .iter()
+                .map(|l| LearnedView { formula: l.formula.clone(), reason: l.reason.clone() })
+                .collect(),
+            limit: outcome.limit.clone(),
+        }
+    }
+
     fn suggestions_view(&self, s: &Suggestions) -> SuggestionsView {
         SuggestionsView {
             found: s
