@@ -586,3 +586,26 @@ fn an_unrealizable_spec_has_a_counter_play_the_simulator_replays() {
     assert!(lamp.counter_play().unwrap().is_null());
     assert!(lamp.sim_replay().is_err());
 }
+
+#[wasm_bindgen_test]
+fn the_editor_check_of_a_large_sct_product_stops_early_with_a_warning() {
+    // Six independent cycles of eight states: a product of 262 144 states, over the check's
+    // budget of 200 000.
+    let mut text = String::new();
+    for i in 0..6 {
+        text.push_str(&format!("event e{i} : controllable;\nspec S{i} {{\n"));
+        for j in 0..8 {
+            text.push_str(&format!("  state A{j} {{ e{i} -> A{}; }}\n", (j + 1) % 8));
+        }
+        text.push_str("}\n");
+    }
+    text.push_str("spec P = S0 | S1 | S2 | S3 | S4 | S5;\n");
+    let result = check("sct", &text).unwrap();
+    assert_eq!(get(&result, "ok").as_bool(), Some(true), "a large product is no mistake");
+    let diags = array(&get(&result, "diagnostics"));
+    assert_eq!(diags.length(), 1);
+    let d = diags.get(0);
+    assert_eq!(string(&d, "severity"), "warning");
+    assert!(string(&d, "message").contains("Run builds it"));
+    assert_eq!(num(&d, "line"), 67.0, "located at the product");
+}

@@ -215,7 +215,8 @@ pub fn render_tree(spec: &Spec, machine: &Machine) -> String {
 
 /// A one-line summary: `realizable at k = 1: controller of 2 states, 3 rows`.
 pub fn summary(outcome: &Outcome) -> String {
-    let size = |m: &Machine| format!("{} states, {} rows", m.states.len(), m.rows());
+    let count = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
+    let size = |m: &Machine| format!("{}, {}", count(m.states.len(), "state"), count(m.rows(), "row"));
     match outcome.verdict {
         Verdict::Realizable => {
             format!(

@@ -70,6 +70,9 @@ pub(crate) fn diagnostics_error(diagnostics: &[Diagnostic]) -> JsValue {
     to_js(&CheckResult { ok: false, diagnostics }).unwrap_or_else(|e| e)
 }
 
+/// Product states the editor's check of a `.sct` text may build (the run has its own budget).
+const CHECK_PRODUCT_STATES: usize = 200_000;
+
 /// Syntax and semantic check of a document of `kind` (`tga`, `sct`, `ltl` or `tlsf`):
 /// `{ ok, diagnostics }` (warnings included when `ok`). The editor calls it as you type.
 #[wasm_bindgen]
@@ -79,10 +82,33 @@ pub fn check(kind: &str, source: &str) -> Result<JsValue, JsValue> {
             Ok((_, warnings)) => (true, warnings),
             Err(errors) => (false, errors),
         },
-        // The state budget bounds specification products written in the file.
+        // The editor checks as you type: specification products written in the file are built
+        // only up to a small budget here, so a large one cannot keep the checker busy; past it
+        // the text is not wrong, and Run builds the products with the run's budget.
         "sct" => {
-            let (loaded, diagnostics) = crate::sct::compile(source);
-            (loaded.is_some() && !diagnostics.iter().any(Diagnostic::is_error), diagnostics)
+            let mut go_on = |_| true;
+            let mut budget = crate::sct::model::Budget::new(CHECK_PRODUCT_STATES, &mut go_on);
+            let (loaded, diagnostics, stop) = crate::sct::compile_within(source, &mut budget);
+            if stop.is_some() {
+                // Products are built only when nothing else is wrong: the one error is the
+                // budget's, which here is a note on the product, not a mistake.
+                let diagnostics = diagnostics
+                    .into_iter()
+                    .map(|mut d| {
+                        if d.is_error() {
+                            d.severity = crate::diag::Severity::Warning;
+                            d.message = format!(
+                                "the editor checks products up to {CHECK_PRODUCT_STATES} states and this one is larger: Run builds it"
+                            );
+                            d.notes.clear();
+                        }
+                        d
+                    })
+                    .collect();
+                (true, diagnostics)
+            } else {
+                (loaded.is_some() && !diagnostics.iter().any(Diagnostic::is_error), diagnostics)
+            }
         }
         "ltl" | "tlsf" => match crate::ltl::compile(source, ltl::format(kind), &[]) {
             Ok((_, warnings)) => (true, warnings),
