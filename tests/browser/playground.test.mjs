@@ -220,11 +220,20 @@ test('an unrealizable spec shows the explanation', async () => {
   assert.match(await page.textContent('#summary'), /As the example expects \(unrealizable\)/);
   await shot(page, '07-unrealizable-explanation');
   // A state in the explanation opens in the state space, with its removal reason.
+  // The keyboard reaches it (a real link) and Enter follows it, as does "show the zone".
   const link = page.locator('#explanation .state-link').last();
   const id = await link.getAttribute('data-state');
-  await link.click();
+  assert.equal(await link.evaluate((a) => a.tabIndex), 0, 'a state link is a Tab stop');
+  await link.focus();
+  await page.keyboard.press('Enter');
   await page.waitForSelector(`#space-graph svg #st-${id}.selected`);
-  assert.match(await page.textContent('#selected-bar'), new RegExp(`s${id} removed — `));
+  // The bar fills in when the engine has answered for the state.
+  await page.waitForFunction((id) => new RegExp(`s${id} removed — `).test(document.querySelector('#selected-bar').textContent), id);
+  assert.equal(await page.evaluate(() => location.hash), '#example/lamp_naive', 'following it does not navigate');
+  await page.focus('#show-zone');
+  await page.keyboard.press('Enter');
+  await page.waitForSelector('[data-tab=zone][aria-selected=true]');
+  await page.click('[data-tab=space]');
   await page.click('[data-tab=code]');
   await page.waitForFunction(() => /No controller: the spec is unrealizable/.test(document.querySelector('#code-note').textContent));
   assert.equal(await page.textContent('#code'), '');

@@ -29,3 +29,9 @@ export function toast(message, ms = 4000, action = null) {
 
 export const fmtInt = (n) => Number(n).toLocaleString('en');
 export const fmtMs = (ms) => (ms < 1000 ? `${ms.toFixed(0)} ms` : `${(ms / 1000).toFixed(2)} s`);
+
+/** A link that acts in the page: a real `href`, so that Tab reaches it and Enter follows it,
+ * with the navigation replaced by `act()`. */
+export function actionLink(text, act, attrs = {}) {
+  return h('a', { href: '#', ...attrs, onclick: (event) => (event.preventDefault(), act()) }, text);
+}

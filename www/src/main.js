@@ -2,7 +2,7 @@
 // follows the open document: its kind (`tga`, `sct`, `ltl`, `tlsf`) picks the engine, the
 // editor's language, the tabs and the views.
 import examples from 'examples';
-import { $, h, toast, fmtInt, fmtMs } from './dom.js';
+import { $, actionLink, h, toast, fmtInt, fmtMs } from './dom.js';
 import { Engine } from './engine.js';
 import { createEditor } from './editor.js';
 import { encodeShare, decodeShare } from './share.js';
@@ -378,7 +378,7 @@ const spaceView = new SpaceView({
       state.reason ? h('span', { class: 'reason' }, ` — ${state.reason}`) : '',
       h('span', { id: 'selected-strategy' }, doing),
       ` · zone: ${state.zone} · `,
-      h('a', { onclick: () => showTab('zone') }, 'show the zone'),
+      actionLink('show the zone', () => showTab('zone'), { id: 'show-zone' }),
     );
   },
 });

@@ -4,7 +4,7 @@
 // this module only shows a `SimState` and sends the user's choices: a plant reaction, a delay, a
 // random step or N of them, a step back, a reset. For an unrealizable spec there is no program:
 // the simulation is free (the user, or the replay of the counter-play, picks the requests too).
-import { $, h, fmtInt } from './dom.js';
+import { $, actionLink, h, fmtInt } from './dom.js';
 
 /** A time in time units, without trailing zeros. */
 const t = (v) => (Number.isInteger(v) ? String(v) : v.toFixed(3).replace(/0+$/, ''));
@@ -238,7 +238,7 @@ export function counterPlayList(play, onState) {
     if (m.mover === 'controller') return ['controller ', h('strong', {}, m.label), m.choices > 1 ? h('span', { class: 'muted' }, ` (best of ${m.choices} choices)`) : null];
     return [/^[!]/.test(m.label) ? 'plant ' : '', h('strong', {}, m.label)];
   };
-  const link = (id) => (onState && id !== 4294967295 ? [' ', h('a', { class: 'state-link', 'data-state': id, onclick: () => onState(id) }, `→ s${id}`)] : null);
+  const link = (id) => (onState && id !== 4294967295 ? [' ', actionLink(`→ s${id}`, () => onState(id), { class: 'state-link', 'data-state': id })] : null);
   return h('ol', { class: 'counter-play', id: onState ? 'counter-play' : null },
     play.moves.map((m) => h('li', { class: `mover-${m.mover}` }, who(m), link(m.to))),
     h('li', { class: 'violation' }, `✗ ${play.end}`));

@@ -1,5 +1,5 @@
 // The Summary tab: verdict, statistics, time, and the explanation of an unrealizable spec.
-import { h, fmtInt, fmtMs } from './dom.js';
+import { actionLink, h, fmtInt, fmtMs } from './dom.js';
 import { counterPlayList } from './simulator.js';
 
 const verdictText = {
@@ -11,7 +11,7 @@ const verdictText = {
 
 /** The explanation tree: one item per move; state ids link to the state space. */
 function stepTree(step, onState) {
-  const link = h('a', { class: 'state-link', 'data-state': step.state, onclick: () => onState(step.state) }, `s${step.state}`);
+  const link = actionLink(`s${step.state}`, () => onState(step.state), { class: 'state-link', 'data-state': step.state });
   const head = h('div', { class: 'step' }, step.event ? [h('strong', {}, step.event), ' → '] : 'initially ', step.locations, ' ', link);
   const o = step.outcome;
   if (o.kind === 'violation') return [head, h('div', { class: 'violation' }, `✗ ${o.reason}`)];
