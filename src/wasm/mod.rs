@@ -127,7 +127,7 @@ pub(crate) struct Progress {
     interval_ms: f64,
     started: f64,
     last: f64,
-    pub error: Option<JsValue>,
+    error: Option<JsValue>,
 }
 
 /// The page's default: about twenty updates a second.

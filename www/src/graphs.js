@@ -3,6 +3,8 @@
 // petgraph: automata, state spaces, supervisors, Mealy machines); the page only lays it out and
 // styles it by the classes the DOT carries.
 
+import { h } from './dom.js';
+
 /** The Graphviz worker and its calls waiting for an answer (id → { resolve, reject }). */
 let worker = null;
 let nextId = 1;
@@ -50,4 +52,14 @@ export function preload() {
 export async function render(dot) {
   const svg = await call(dot);
   return new DOMParser().parseFromString(svg, 'image/svg+xml').documentElement;
+}
+
+/** Appends the drawing of `dot` to `section`, or, when Graphviz fails, a line saying so about
+ * `what`: a failed drawing never stops the ones after it. */
+export async function drawInto(section, dot, what) {
+  try {
+    section.append(await render(dot));
+  } catch (error) {
+    section.append(h('p', { class: 'reason' }, `Graphviz could not draw ${what}: ${error.message ?? error}`));
+  }
 }

@@ -151,8 +151,7 @@ export function languageOf(kind) {
   return { tga, sct, ltl: g4ltl, tlsf }[kind] ?? tga;
 }
 
-/** The engine of a document kind. */
-export const engineOf = (kind) => ({ tga: 'timed', sct: 'sct', ltl: 'ltl', tlsf: 'ltl' })[kind] ?? 'timed';
+export { engineOf } from './kinds.js';
 
 /** What a kind is called in menus. */
 export const kindLabel = { tga: 'Timed game (.tga)', sct: 'Supervisory control (.sct)', ltl: 'LTL, G4LTL lines (.ltl)', tlsf: 'LTL, TLSF (.tlsf)' };

@@ -3,7 +3,7 @@
 // specification (each can be added to the text), the counter-strategy as a tree, and the
 // controller or counter-strategy as a Mealy machine (Automata tab).
 import { h, fmtInt, fmtMs } from './dom.js';
-import { render } from './graphs.js';
+import { drawInto } from './graphs.js';
 
 const verdictText = {
   realizable: 'Realizable: a controller exists',
@@ -125,9 +125,5 @@ export async function drawMachine(root, summary) {
   const note = summary.verdict === 'realizable' ? 'Each edge: the inputs read / the outputs written in that step.' : 'Each edge: one step, the signals of the side that moves first before the slash.';
   const section = h('section', { class: 'automaton', 'data-name': 'machine' }, h('h3', {}, title), h('p', { class: 'muted' }, note));
   root.replaceChildren(section);
-  try {
-    section.append(await render(summary.machine_dot));
-  } catch (error) {
-    section.append(h('p', { class: 'reason' }, `Graphviz could not draw it: ${error.message ?? error}`));
-  }
+  await drawInto(section, summary.machine_dot, 'it');
 }

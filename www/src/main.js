@@ -9,7 +9,7 @@ import { encodeShare, decodeShare } from './share.js';
 import { renderSummary } from './summary.js';
 import { SpaceView } from './space.js';
 import { ZoneView } from './zoneview.js';
-import { render, preload } from './graphs.js';
+import { drawInto, preload } from './graphs.js';
 import { engineOf, engineLabel, kindLabel } from './languages.js';
 import { templates } from './templates.js';
 import { renderSctSummary, sctVerdict, SctAutomataView } from './sctview.js';
@@ -121,7 +121,7 @@ function isOwnWork(doc) {
 function openSpec(text, name, kind = 'tga', origin = '') {
   clearTimeout(saveTimer);
   // The open document first goes to the autosave (its last keystrokes may not be there yet).
-  if (editor.text) saved.docs[app.kind] = { ...saved.docs[app.kind], text: editor.text, name: app.name, origin: app.origin };
+  if (editor.text) save();
   const replaced = saved.docs[kind];
   if (isOwnWork(replaced) && replaced.text !== text) {
     saved.docs[kind] = { ...saved.docs[kind], previous: replaced };
@@ -344,11 +344,7 @@ async function drawAutomata() {
   for (const a of list) {
     const section = h('section', { class: 'automaton', 'data-name': a.name }, h('h3', {}, a.name, ' ', h('span', { class: 'muted' }, a.kind)));
     box.append(section);
-    try {
-      section.append(await render(a.dot));
-    } catch (error) {
-      section.append(h('p', { class: 'reason' }, `Graphviz could not draw ${a.name}: ${error.message ?? error}`));
-    }
+    await drawInto(section, a.dot, a.name);
     if (app.automata !== list) return;
   }
 }

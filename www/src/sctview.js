@@ -1,7 +1,7 @@
 // Supervisory control in the page: the synthesis report (Summary tab) and the drawings of plant
 // models, specifications and supervisors per module (Automata tab).
 import { h, fmtInt, fmtMs } from './dom.js';
-import { render } from './graphs.js';
+import { drawInto } from './graphs.js';
 
 /** The overall verdict of a synthesis: every supervisor realizable, one not, or stopped. */
 export function sctVerdict(summary) {
@@ -135,11 +135,7 @@ export class SctAutomataView {
         section.append(h('p', { class: 'muted' }, 'Too large to draw; the Code tab and the report list it.'));
         continue;
       }
-      try {
-        section.append(await render(a.dot));
-      } catch (error) {
-        section.append(h('p', { class: 'reason' }, `Graphviz could not draw ${a.name}: ${error.message ?? error}`));
-      }
+      await drawInto(section, a.dot, a.name);
       if (token !== this.token) return;
     }
   }

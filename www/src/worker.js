@@ -8,6 +8,7 @@
 //           {id, compiled: {automata, warnings}} as soon as the spec compiles.
 //           `version` answers {version, targets}.
 // `kind` is the document kind: `tga` (timed games), `sct` (supervisory control), `ltl` or `tlsf`.
+import { engineOf } from './kinds.js';
 import init, { check, LtlSession, SctSession, TimedSession, targets, version } from '../pkg/plcsynth.js';
 
 let session = null;
@@ -70,7 +71,6 @@ const engines = {
     code: (s, target, name, created) => s.code(target, name ? `FB_${name}` : '', { createdUnix: created }),
   },
 };
-const engineOf = (kind) => ({ sct: 'sct', ltl: 'ltl', tlsf: 'ltl' })[kind] ?? 'timed';
 
 const ops = {
   version: () => ({ version: version(), targets: targets() }),
