@@ -5,6 +5,9 @@ use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpac
 use plcsynth::timed::{compile, model::Game, synthesize, Synthesis};
 use std::path::PathBuf;
 
+#[path = "common/reference.rs"]
+mod reference;
+
 const NONE: u32 = u32::MAX;
 
 fn examples() -> Vec<(String, String)> {
@@ -364,4 +367,28 @@ fn examples_with_a_scan_time_have_their_expected_verdict_there() {
         assert_eq!(result.synthesis.solution.verdict, expected, "{name} at {ms} ms");
     }
     assert!(declared > 0, "no example declares a scan time");
+}
+
+/// The strategy-directed search against the exhaustive reference on every example, in the
+/// zero-time semantics and at a PLC scan time (the declared one, else 10 ms): same verdict, and
+/// its winning states are winning in the reference and closed under the plant's moves.
+#[test]
+fn strategy_search_agrees_with_the_exhaustive_reference() {
+    let mut scan_compared = 0;
+    for (name, source) in examples() {
+        let (game, _) = compile(&source).unwrap();
+        let compared = reference::compare_with_reference(&game, 2_000_000).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let (visited, reference_visited) = compared.unwrap_or_else(|| panic!("{name}: over budget"));
+        assert!(visited <= reference_visited, "{name}: {visited} visited, the reference {reference_visited}");
+        let scan_ms = game.scan_ms.map_or(10, |(ms, _)| ms);
+        let scan_game = plcsynth::timed::scan::scan_game(&game, scan_ms).unwrap();
+        // Scan games can be far larger: compared where both searches fit a small budget.
+        if reference::compare_with_reference(&scan_game, 100_000)
+            .unwrap_or_else(|e| panic!("{name} at {scan_ms} ms: {e}"))
+            .is_some()
+        {
+            scan_compared += 1;
+        }
+    }
+    assert!(scan_compared >= 8, "only {scan_compared} scan games compared");
 }

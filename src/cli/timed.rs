@@ -21,6 +21,10 @@ pub struct BudgetArgs {
     /// each): bounds the time of games whose states are few but expensive.
     #[arg(long, value_name = "N", default_value_t = solve::DEFAULT_MAX_WORK)]
     pub max_work: u64,
+    /// Explore the whole reachable game (the thesis's breadth-first algorithm, the reference)
+    /// instead of only the strategy being built.
+    #[arg(long)]
+    pub exhaustive: bool,
 }
 
 /// The PLC's cycle time.
@@ -186,6 +190,7 @@ impl BudgetArgs {
             max_states: self.max_states,
             max_bytes: self.max_memory.saturating_mul(1 << 20),
             max_work: self.max_work,
+            exhaustive: self.exhaustive,
             ..SolveOptions::default()
         }
     }

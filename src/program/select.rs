@@ -68,7 +68,8 @@ fn edge_distance(space: &StateSpace, dist: &[u32], e: EdgeId) -> u32 {
     if edge.progress {
         1
     } else {
-        dist[edge.to as usize].saturating_add(1)
+        // An unexplored wait edge (strategy-directed search) leads nowhere known.
+        dist.get(edge.to as usize).map_or(u32::MAX, |d| d.saturating_add(1))
     }
 }
 

@@ -121,7 +121,7 @@ fn ranks(space: &StateSpace) -> Ranks {
                 witness[s] = edge;
                 ones.push(s as StateId);
             }
-            Removal::Forced { .. } | Removal::NoMove => {}
+            Removal::Forced { .. } | Removal::NoMove | Removal::Unexplored => {}
         }
     }
     queue.extend(ones);
@@ -514,6 +514,7 @@ pub fn dump(game: &Game, split: &SplitGame, space: &StateSpace) -> String {
         out.push_str(&format!("s{s}{initial} [{status}] {}\n", describe_state(game, split, space, s)));
         for (_, e) in space.out_edges(s) {
             let target = match (e.to == NONE, e.zeno) {
+                _ if e.is_unexplored() => "not explored".to_string(),
                 (true, true) => "zeno".to_string(),
                 (true, false) => "timeout".to_string(),
                 (false, true) => format!("s{} (cut: a zero-time cycle of requests)", e.to),
@@ -533,6 +534,7 @@ pub fn removal_text(game: &Game, split: &SplitGame, space: &StateSpace, s: State
         }
         Removal::ZenoLoop { edge } => format!("zeno loop: {}", describe_edge(game, split, &space.edges[edge as usize])),
         Removal::NoMove => "every controller move fails and waiting is not possible".to_string(),
+        Removal::Unexplored => "not explored: the strategy found does not pass through this state".to_string(),
         _ => violation(game, split, space, s).unwrap_or_default(),
     }
 }

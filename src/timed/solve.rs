@@ -22,7 +22,7 @@
 //! Zeno avoidance (5.1): every search item remembers the plant states visited since the last
 //! plan progress; a message that returns to one of them without progress leads nowhere. That
 //! memory depends on the path that found a state first, so after the search every remaining
-//! cycle of the winning graph without plan progress is cut as well (`remove_zeno_cycles`).
+//! cycle of the winning graph without plan progress is cut as well (`cut_zeno_cycles`).
 //! Transitions marked `instant` are urgent: while one is enabled, no other transition and no
 //! delay is possible; an instant reaction goes before an instant request.
 
@@ -39,6 +39,8 @@ pub type StateId = u32;
 pub type EdgeId = u32;
 
 const NONE: u32 = u32::MAX;
+/// The strategy's alternative of a state that lets time pass (or the plant move).
+const WAIT: u32 = u32::MAX - 1;
 
 /// Limits and switches of one solver run.
 #[derive(Clone, Debug)]
@@ -53,6 +55,9 @@ pub struct SolveOptions {
     /// How many expansions between two calls of the progress callback (it is also called
     /// during long work on one state).
     pub progress_interval: usize,
+    /// Explore the whole reachable game before deciding (the thesis's algorithm 5, breadth
+    /// first), instead of only the strategy being built. Slower; kept as the reference.
+    pub exhaustive: bool,
 }
 
 /// Default state budget: round table 8/8, the largest example, stores 824 640 states.
@@ -76,6 +81,7 @@ impl Default for SolveOptions {
             max_bytes: DEFAULT_MAX_BYTES,
             max_work: DEFAULT_MAX_WORK,
             progress_interval: 4096,
+            exhaustive: false,
         }
     }
 }
@@ -260,6 +266,16 @@ pub struct Edge {
     pub progress: bool,
     class: Class,
     next_in: EdgeId,
+    /// A controller option whose target is not generated yet: its index in the solver's
+    /// deferred targets (strategy-directed search); `NONE` once generated or in the reference.
+    deferred: u32,
+}
+
+impl Edge {
+    /// A controller option the strategy-directed search never needed to try: `to` is `NONE`.
+    pub fn is_unexplored(&self) -> bool {
+        self.deferred != NONE
+    }
 }
 
 /// Why a state was removed.
@@ -278,6 +294,9 @@ pub enum Removal {
     ZenoLoop { edge: EdgeId },
     /// Every controller move leads to a removed state and waiting is not possible.
     NoMove,
+    /// Not lost, but never explored: the strategy found does not pass through this state, so
+    /// nothing is known about what follows it (strategy-directed search only).
+    Unexplored,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
@@ -319,6 +338,10 @@ pub struct State {
     options_alive: u32,
     wait_viable: bool,
     vis: u32,
+    /// Strategy-directed search: the alternative (option edge id, or `WAIT`) the strategy takes
+    /// here, and how many alternatives were tried and lost before it.
+    choice: u32,
+    tried: u32,
 }
 
 impl State {
@@ -336,6 +359,8 @@ impl State {
             options_alive: 0,
             wait_viable: false,
             vis,
+            choice: NONE,
+            tried: 0,
         }
     }
 }
@@ -555,6 +580,18 @@ struct Move {
     resets: u64,
 }
 
+/// The target of a controller option not generated yet (strategy-directed search): the state's
+/// key, how its zeno memory is formed, the request edge, and the guards checked before it.
+struct Deferred {
+    env: u32,
+    plan: u32,
+    zone: u32,
+    kind: StateKind,
+    vis: Vis,
+    request: Edge,
+    guards: Vec<MsgId>,
+}
+
 /// How the zeno memory of a new state is formed.
 #[derive(Clone, Copy)]
 enum Vis {
@@ -573,7 +610,17 @@ struct Solver<'g, 'p> {
     progress: &'p mut dyn FnMut(&Stats) -> bool,
     space: StateSpace,
     state_index: hashbrown::HashMap<(u32, u32, u32, StateKind), StateId>,
+    /// States to expand: all reachable ones in the reference (breadth first), those the strategy
+    /// needs in the strategy-directed search (depth first).
     queue: VecDeque<StateId>,
+    /// Strategy-directed search rather than the exhaustive reference.
+    lazy: bool,
+    deferred: Vec<Option<Deferred>>,
+    expansions: usize,
+    /// Per message with a sender: per location of the sender, how many transitions it needs at
+    /// least before it can send the message (`u16::MAX` if never); the search's sense of
+    /// direction towards the plans' goals.
+    send_distance: Vec<Vec<u16>>,
     zeno: ZenoSets,
     /// Per env id: 1 + index of the first violated assertion, or 0.
     env_violation: Vec<u32>,
@@ -657,6 +704,10 @@ impl<'g, 'p> Solver<'g, 'p> {
             space: StateSpace::empty(dim, plant_count, split.units.len() - plant_count),
             state_index: hashbrown::HashMap::new(),
             queue: VecDeque::new(),
+            lazy: !options.exhaustive,
+            deferred: Vec::new(),
+            expansions: 0,
+            send_distance: if options.exhaustive { Vec::new() } else { send_distances(game) },
             zeno: ZenoSets { nodes: Vec::new() },
             env_violation: Vec::new(),
             plan_failure: Vec::new(),
@@ -757,37 +808,73 @@ impl<'g, 'p> Solver<'g, 'p> {
         self.normalise(env_id, plan_id, &mut zone);
         let kind = if self.is_closed(&env, &plan, &zone) { StateKind::Interval } else { StateKind::Entry };
         self.space.initial = self.find_or_add(env_id, plan_id, &zone, kind, Vis::Fresh).0;
-        let mut expansions = 0usize;
-        while let Some(s) = self.queue.pop_front() {
-            if !self.space.is_winning(self.space.initial) {
-                return Verdict::Unrealizable;
+        if self.lazy {
+            self.demand(self.space.initial);
+        }
+        // Explore, then cut the zeno cycles of what survived; in the strategy-directed search a
+        // cut can make a state choose again, which needs more exploration.
+        let verdict = loop {
+            if let Some(stop) = self.explore() {
+                break stop;
             }
+            if !self.cut_zeno_cycles() {
+                break if self.space.is_winning(self.space.initial) {
+                    Verdict::Realizable
+                } else {
+                    Verdict::Unrealizable
+                };
+            }
+        };
+        if self.lazy && matches!(verdict, Verdict::Realizable | Verdict::Unrealizable) {
+            self.mark_unexplored();
+        }
+        verdict
+    }
+
+    /// Expands queued states until none is left (`None`), the initial state is lost, or a budget
+    /// or the caller stops the search.
+    fn explore(&mut self) -> Option<Verdict> {
+        loop {
+            if !self.space.is_winning(self.space.initial) {
+                return Some(Verdict::Unrealizable);
+            }
+            // The reference goes breadth first (algorithm 5); the strategy-directed search
+            // depth first, so that a chosen line of play is followed to its end before others.
+            let next = if self.lazy { self.queue.pop_back() } else { self.queue.pop_front() };
+            let s = next?;
             let st = &self.space.states[s as usize];
             if st.removal.is_some() || st.expanded {
                 continue;
             }
             if let Some(budget) = self.exceeded() {
                 self.halt = Some(Halt::Budget(budget));
-                return Verdict::BudgetExceeded;
+                return Some(Verdict::BudgetExceeded);
             }
-            expansions += 1;
-            if self.options.progress_interval > 0 && expansions % self.options.progress_interval == 0 && !self.report()
+            self.expansions += 1;
+            if self.options.progress_interval > 0
+                && self.expansions % self.options.progress_interval == 0
+                && !self.report()
             {
                 self.halt = Some(Halt::Cancelled);
-                return Verdict::Cancelled;
+                return Some(Verdict::Cancelled);
             }
             self.expand(s);
             match self.halt {
-                Some(Halt::Budget(_)) => return Verdict::BudgetExceeded,
-                Some(Halt::Cancelled) => return Verdict::Cancelled,
+                Some(Halt::Budget(_)) => return Some(Verdict::BudgetExceeded),
+                Some(Halt::Cancelled) => return Some(Verdict::Cancelled),
                 None => {}
             }
         }
-        self.remove_zeno_cycles();
-        if self.space.is_winning(self.space.initial) {
-            Verdict::Realizable
-        } else {
-            Verdict::Unrealizable
+    }
+
+    /// Strategy-directed search: states that were created but never needed are marked, so that
+    /// the surviving states are exactly those whose every continuation under the strategy was
+    /// explored.
+    fn mark_unexplored(&mut self) {
+        for st in &mut self.space.states {
+            if st.removal.is_none() && !st.expanded {
+                st.removal = Some(Removal::Unexplored);
+            }
         }
     }
 
@@ -802,7 +889,8 @@ impl<'g, 'p> Solver<'g, 'p> {
     /// guard check or wait is dropped; a reaction removes its source (the plant can loop).
     /// Removals are propagated and the search for cycles repeated until none is left, so that
     /// on every play of a winning strategy the plans progress infinitely often.
-    fn remove_zeno_cycles(&mut self) {
+    /// One round: returns whether anything was cut.
+    fn cut_zeno_cycles(&mut self) -> bool {
         let cuttable = |space: &StateSpace, e: &Edge| {
             matches!(e.class, Class::Option | Class::Forced | Class::Wait)
                 && !e.zeno
@@ -814,7 +902,7 @@ impl<'g, 'p> Solver<'g, 'p> {
             let st = &space.states[s as usize];
             st.removal.is_none() && st.expanded
         };
-        loop {
+        {
             let n = self.space.states.len();
             let space = &self.space;
             // Cycles run through winning states only: the graph is built on them, numbered
@@ -855,7 +943,7 @@ impl<'g, 'p> Solver<'g, 'p> {
                 }
             }
             if cut.is_empty() {
-                return;
+                return false;
             }
             for id in cut {
                 let e = &mut self.space.edges[id as usize];
@@ -864,27 +952,15 @@ impl<'g, 'p> Solver<'g, 'p> {
                     continue;
                 }
                 e.zeno = true;
-                let st = &mut self.space.states[s as usize];
                 match class {
                     Class::Forced => self.remove(s, Removal::ZenoLoop { edge: id }),
-                    Class::Option => {
-                        st.options_alive -= 1;
-                        if st.options_alive == 0 && !st.wait_viable {
-                            self.remove(s, Removal::NoMove);
-                        }
-                    }
-                    Class::Wait => {
-                        if st.wait_viable {
-                            st.wait_viable = false;
-                            if st.options_alive == 0 {
-                                self.remove(s, Removal::NoMove);
-                            }
-                        }
-                    }
+                    Class::Option => self.option_lost(s, id),
+                    Class::Wait => self.wait_lost(s),
                     Class::Inert => {}
                 }
             }
             self.propagate();
+            true
         }
     }
 
@@ -975,6 +1051,12 @@ impl<'g, 'p> Solver<'g, 'p> {
     /// stored as removed; any other new state is queued for expansion.
     fn find_or_add(&mut self, env_id: u32, plan_id: u32, zone: &Dbm, kind: StateKind, vis: Vis) -> (StateId, bool) {
         let (zone_id, _) = self.space.zones.intern(zone.as_slice());
+        self.add_interned(env_id, plan_id, zone_id, kind, vis)
+    }
+
+    /// [`Self::find_or_add`] with the zone interned. Only the reference queues new states: the
+    /// strategy-directed search expands what its strategy needs (`demand`).
+    fn add_interned(&mut self, env_id: u32, plan_id: u32, zone_id: u32, kind: StateKind, vis: Vis) -> (StateId, bool) {
         let key = (env_id, plan_id, zone_id, kind);
         if let Some(&id) = self.state_index.get(&key) {
             return (id, false);
@@ -994,7 +1076,7 @@ impl<'g, 'p> Solver<'g, 'p> {
         self.state_index.insert(key, id);
         if removal.is_some() {
             self.removed += 1;
-        } else if kind != StateKind::Guard {
+        } else if kind != StateKind::Guard && !self.lazy {
             self.queue.push_back(id);
         }
         (id, true)
@@ -1111,12 +1193,11 @@ impl<'g, 'p> Solver<'g, 'p> {
             let class = if m.kind == MessageKind::Controllable { Class::Option } else { Class::Forced };
             let label = Label::Message { message: m.message };
             let zeno = !progress && self.visited(st.vis, env_id);
-            let to = if zeno && self.env_violation[env_id as usize] == 0 && self.plan_failure[plan_id as usize] == 0 {
-                NONE
-            } else {
-                let vis = if progress { Vis::Fresh } else { Vis::Extend(st.vis) };
-                self.find_or_add(env_id, plan_id, &z, kind, vis).0
-            };
+            let cut = zeno && self.env_violation[env_id as usize] == 0 && self.plan_failure[plan_id as usize] == 0;
+            let vis = if progress { Vis::Fresh } else { Vis::Extend(st.vis) };
+            // The strategy-directed search generates an option's target only once it tries it.
+            let defer = self.lazy && m.kind == MessageKind::Controllable && !cut;
+            let to = if cut || defer { NONE } else { self.find_or_add(env_id, plan_id, &z, kind, vis).0 };
             let edge = Edge {
                 from: s,
                 to,
@@ -1124,12 +1205,13 @@ impl<'g, 'p> Solver<'g, 'p> {
                 label,
                 resets,
                 instant: m.instant,
-                zeno: to == NONE,
+                zeno: cut,
                 progress,
                 class,
                 next_in: NONE,
+                deferred: NONE,
             };
-            if m.kind == MessageKind::Controllable && to != NONE {
+            if m.kind == MessageKind::Controllable && !cut {
                 let before = self.locations_of(st.env).to_vec();
                 let after = self.locations_of(env_id).to_vec();
                 let guards: Vec<MsgId> = self
@@ -1139,6 +1221,17 @@ impl<'g, 'p> Solver<'g, 'p> {
                     .filter(|g| g.cond.eval(&after) && !g.cond.eval(&before))
                     .map(|g| g.message)
                     .collect();
+                if defer {
+                    let (zone, _) = self.space.zones.intern(z.as_slice());
+                    let first = match guards.first() {
+                        Some(&g) => guard_edge(s, NONE, g, m.instant),
+                        None => edge,
+                    };
+                    self.pending_edges.push(Edge { deferred: self.deferred.len() as u32, ..first });
+                    let (env, plan) = (env_id, plan_id);
+                    self.deferred.push(Some(Deferred { env, plan, zone, kind, vis, request: edge, guards }));
+                    continue;
+                }
                 if !guards.is_empty() {
                     guard_chains.push((self.pending_edges.len(), guards));
                 }
@@ -1157,10 +1250,9 @@ impl<'g, 'p> Solver<'g, 'p> {
                 if let Some(closed) = self.time_closure(&env, &plan, &zone) {
                     let mut closed = closed;
                     self.normalise(st.env, st.plan, &mut closed);
-                    let to = self.find_or_add(st.env, st.plan, &closed, StateKind::Waiting, Vis::Same(st.vis)).0;
-                    self.pending_edges.push(Edge {
+                    let edge = Edge {
                         from: s,
-                        to,
+                        to: NONE,
                         kind: EdgeKind::Delay,
                         label: Label::Wait,
                         resets: 0,
@@ -1169,7 +1261,9 @@ impl<'g, 'p> Solver<'g, 'p> {
                         progress: false,
                         class: Class::Wait,
                         next_in: NONE,
-                    });
+                        deferred: NONE,
+                    };
+                    self.add_wait_edge(edge, st.env, st.plan, &closed, StateKind::Waiting, Vis::Same(st.vis));
                 }
             } else {
                 self.delay_edges(s, &st, &env, &plan, &zone);
@@ -1198,8 +1292,31 @@ impl<'g, 'p> Solver<'g, 'p> {
             }
             own[index] = guard_edge(s, chain[0], guards[0], request.instant);
         }
-        self.commit_edges(s, own);
-        self.evaluate(s);
+        if self.lazy {
+            // Alternatives in the order the strategy tries them (see `alternative`).
+            // Among options: plan progress first, then the nearer to the plans' goals.
+            let keys: Vec<(u8, u32)> = own
+                .iter()
+                .map(|e| match e.class {
+                    Class::Forced => (0, 0),
+                    Class::Option if e.is_unexplored() => {
+                        let d = self.deferred[e.deferred as usize].as_ref().expect("a deferred target");
+                        (2 - u8::from(e.progress), self.goal_distance(d.env, d.plan))
+                    }
+                    Class::Option => (3, 0),
+                    Class::Wait => (4, 0),
+                    Class::Inert => (5, 0),
+                })
+                .collect();
+            let mut order: Vec<usize> = (0..own.len()).collect();
+            order.sort_by_key(|&i| keys[i]);
+            let own: Vec<Edge> = order.into_iter().map(|i| own[i]).collect();
+            self.commit_edges(s, own);
+            self.evaluate_lazy(s);
+        } else {
+            self.commit_edges(s, own);
+            self.evaluate(s);
+        }
         self.propagate();
     }
 
@@ -1324,6 +1441,7 @@ impl<'g, 'p> Solver<'g, 'p> {
                     progress: false,
                     class: Class::Inert,
                     next_in: NONE,
+                    deferred: NONE,
                 });
             }
             return;
@@ -1359,12 +1477,11 @@ impl<'g, 'p> Solver<'g, 'p> {
         let (env_id, plan_id) = self.intern_discrete(&env2, &plan2);
         self.normalise(env_id, plan_id, &mut zone);
         // Time moved some clock into its next piece: a new plant state for the zeno memory.
-        let to = self.find_or_add(env_id, plan_id, &zone, StateKind::Interval, Vis::Extend(st.vis)).0;
         let first = &exits[set[0]];
         let clocks = set.iter().fold(0u64, |bits, &k| bits | 1 << exits[k].clock);
-        self.pending_edges.push(Edge {
+        let edge = Edge {
             from: s,
-            to,
+            to: NONE,
             kind: EdgeKind::Delay,
             label: Label::Piece { clock: first.clock, piece: first.next_piece, clocks },
             resets: 0,
@@ -1373,7 +1490,22 @@ impl<'g, 'p> Solver<'g, 'p> {
             progress: false,
             class: Class::Wait,
             next_in: NONE,
-        });
+            deferred: NONE,
+        };
+        self.add_wait_edge(edge, env_id, plan_id, &zone, StateKind::Interval, Vis::Extend(st.vis));
+    }
+
+    /// Adds a wait edge into the given state: generated at once in the reference, deferred in the
+    /// strategy-directed search until the strategy tries waiting.
+    fn add_wait_edge(&mut self, edge: Edge, env: u32, plan: u32, zone: &Dbm, kind: StateKind, vis: Vis) {
+        if self.lazy {
+            let (zone, _) = self.space.zones.intern(zone.as_slice());
+            self.pending_edges.push(Edge { deferred: self.deferred.len() as u32, ..edge });
+            self.deferred.push(Some(Deferred { env, plan, zone, kind, vis, request: edge, guards: Vec::new() }));
+        } else {
+            let to = self.find_or_add(env, plan, zone, kind, vis).0;
+            self.pending_edges.push(Edge { to, ..edge });
+        }
     }
 
     fn commit_edges(&mut self, s: StateId, edges: Vec<Edge>) {
@@ -1464,31 +1596,277 @@ impl<'g, 'p> Solver<'g, 'p> {
                 let e = self.space.edges[id as usize];
                 id = e.next_in;
                 let x = e.from;
-                let xs = &mut self.space.states[x as usize];
+                let xs = &self.space.states[x as usize];
                 if xs.removal.is_some() || !xs.expanded || e.zeno {
                     continue; // a zeno edge was already discounted when it was cut
                 }
                 match e.class {
                     Class::Forced => self.remove(x, Removal::Forced { edge: edge_id }),
-                    Class::Option => {
-                        xs.options_alive -= 1;
-                        if xs.options_alive == 0 && !xs.wait_viable {
-                            self.remove(x, Removal::NoMove);
-                        }
-                    }
-                    Class::Wait => {
-                        if xs.wait_viable {
-                            xs.wait_viable = false;
-                            if xs.options_alive == 0 {
-                                self.remove(x, Removal::NoMove);
-                            }
-                        }
-                    }
+                    Class::Option => self.option_lost(x, edge_id),
+                    Class::Wait => self.wait_lost(x),
                     Class::Inert => {}
                 }
             }
         }
     }
+
+    /// The option `edge` of the live state `x` leads to a removed state (or was cut).
+    fn option_lost(&mut self, x: StateId, edge: EdgeId) {
+        let xs = &mut self.space.states[x as usize];
+        if self.lazy {
+            if xs.choice == edge {
+                xs.tried += 1;
+                self.choose(x);
+            }
+        } else {
+            xs.options_alive -= 1;
+            if xs.options_alive == 0 && !xs.wait_viable {
+                self.remove(x, Removal::NoMove);
+            }
+        }
+    }
+
+    /// Waiting in the live state `x` leads to a removed state (or was cut).
+    fn wait_lost(&mut self, x: StateId) {
+        let xs = &mut self.space.states[x as usize];
+        if !xs.wait_viable {
+            return;
+        }
+        xs.wait_viable = false;
+        if self.lazy {
+            if xs.choice == WAIT {
+                xs.tried += 1;
+                self.choose(x);
+            }
+        } else if xs.options_alive == 0 {
+            self.remove(x, Removal::NoMove);
+        }
+    }
+
+    // ----- strategy-directed search ----------------------------------------------------------
+
+    /// How far the plant state `env_id` is from the goals of the plans in `plan_id`: per plan,
+    /// the fewest transitions before some sender can send a message that takes the plan to its
+    /// next goal, summed over the plans.
+    fn goal_distance(&self, env_id: u32, plan_id: u32) -> u32 {
+        let locations = self.locations_of(env_id);
+        let base = self.split.plant_count;
+        let messages = self.split.message_count;
+        let mut total = 0u32;
+        for (p, &sub) in self.space.plans.get(plan_id).iter().enumerate() {
+            let unit = &self.split.units[base + p];
+            let next = &self.split.plan_next[p][sub as usize * messages..(sub as usize + 1) * messages];
+            let nearest = next
+                .iter()
+                .enumerate()
+                .filter(|&(_, &to)| to != STAY && !unit.sublocs[to as usize].failed)
+                .filter_map(|(m, _)| {
+                    let sender = self.game.messages[m].sender? as usize;
+                    self.send_distance[m].get(locations[sender] as usize).copied()
+                })
+                .min()
+                .unwrap_or(u16::MAX);
+            total += u32::from(nearest);
+        }
+        total
+    }
+
+    /// Queues `s` for expansion if it still needs it.
+    fn demand(&mut self, s: StateId) {
+        let st = &self.space.states[s as usize];
+        if st.removal.is_none() && !st.expanded {
+            self.queue.push_back(s);
+        }
+    }
+
+    /// Decides a freshly expanded state of the strategy-directed search: lost if a forced move
+    /// is; otherwise its forced successors are needed and it chooses its first alternative.
+    fn evaluate_lazy(&mut self, s: StateId) {
+        let (start, end) = {
+            let st = &self.space.states[s as usize];
+            (st.out_start, st.out_end)
+        };
+        let mut forced_any = false;
+        let mut wait_edges = 0u32;
+        let mut wait_ok = true;
+        for id in start..end {
+            let e = &self.space.edges[id as usize];
+            let alive = e.to != NONE && self.space.states[e.to as usize].removal.is_none();
+            match e.class {
+                Class::Forced => {
+                    forced_any = true;
+                    if !alive {
+                        let removal =
+                            if e.zeno { Removal::ZenoLoop { edge: id } } else { Removal::Forced { edge: id } };
+                        self.remove(s, removal);
+                        return;
+                    }
+                }
+                Class::Wait => {
+                    wait_edges += 1;
+                    wait_ok &= alive || e.is_unexplored();
+                }
+                Class::Option | Class::Inert => {}
+            }
+        }
+        self.space.states[s as usize].wait_viable = if wait_edges > 0 { wait_ok } else { forced_any };
+        for id in start..end {
+            let e = self.space.edges[id as usize];
+            if e.class == Class::Forced {
+                self.demand(e.to);
+            }
+        }
+        self.choose(s);
+    }
+
+    /// The `k`-th alternative of the expanded state `s` in the order the strategy tries them:
+    /// an option edge, `WAIT`, or `None` when all are tried. Options are stored with those that
+    /// make plan progress first, then by distance to the plans' goals. Waiting comes first where
+    /// it costs nothing (no delay edge, so only the forced moves, needed anyway, follow it), else
+    /// after every option (measured: fewest states on the examples).
+    fn alternative(&self, s: StateId, k: u32) -> Option<u32> {
+        let st = &self.space.states[s as usize];
+        let (mut first_option, mut options, mut waits, mut forced) = (NONE, 0, 0, false);
+        for id in st.out_start..st.out_end {
+            let e = &self.space.edges[id as usize];
+            match e.class {
+                Class::Option => {
+                    first_option = first_option.min(id);
+                    options += 1;
+                }
+                Class::Wait => waits += 1,
+                Class::Forced => forced = true,
+                Class::Inert => {}
+            }
+        }
+        let wait_at = match (waits, forced) {
+            (0, true) => Some(0),
+            (0, false) => None,
+            _ => Some(options),
+        };
+        let option = match wait_at {
+            Some(w) if k == w => return Some(WAIT),
+            Some(w) if k > w => k - 1,
+            _ => k,
+        };
+        (option < options).then(|| first_option + option)
+    }
+
+    /// Picks the first alternative of `s`, from the `tried`-th on, that is not lost yet,
+    /// generating an option's target when it is tried the first time, and queues what it needs.
+    /// Without one, `s` is lost.
+    fn choose(&mut self, s: StateId) {
+        loop {
+            let k = self.space.states[s as usize].tried;
+            match self.alternative(s, k) {
+                None => {
+                    let st = &mut self.space.states[s as usize];
+                    st.choice = NONE;
+                    let inert =
+                        (st.out_start..st.out_end).all(|id| self.space.edges[id as usize].class == Class::Inert);
+                    self.remove(s, if inert { Removal::Deadlock } else { Removal::NoMove });
+                    return;
+                }
+                Some(WAIT) => {
+                    let (start, end) = (self.space.states[s as usize].out_start, self.space.states[s as usize].out_end);
+                    let waits: Vec<EdgeId> =
+                        (start..end).filter(|&id| self.space.edges[id as usize].class == Class::Wait).collect();
+                    for &id in &waits {
+                        if self.space.edges[id as usize].is_unexplored() {
+                            self.generate(id);
+                        }
+                    }
+                    let st = &self.space.states[s as usize];
+                    let viable = if waits.is_empty() {
+                        st.wait_viable
+                    } else {
+                        st.wait_viable && waits.iter().all(|&id| self.space.is_live(&self.space.edges[id as usize]))
+                    };
+                    if viable {
+                        self.space.states[s as usize].choice = WAIT;
+                        for &id in &waits {
+                            self.demand(self.space.edges[id as usize].to);
+                        }
+                        return;
+                    }
+                    self.space.states[s as usize].wait_viable = false;
+                }
+                Some(edge) => {
+                    if self.space.edges[edge as usize].is_unexplored() {
+                        self.generate(edge);
+                    }
+                    let e = self.space.edges[edge as usize];
+                    if self.space.is_live(&e) {
+                        self.space.states[s as usize].choice = edge;
+                        self.demand(e.to);
+                        return;
+                    }
+                }
+            }
+            self.space.states[s as usize].tried += 1;
+        }
+    }
+
+    /// Generates the target of a deferred option (with its chain of guard states) and links the
+    /// edge to it.
+    fn generate(&mut self, edge: EdgeId) {
+        let index = std::mem::replace(&mut self.space.edges[edge as usize].deferred, NONE);
+        let Some(d) = self.deferred[index as usize].take() else { return };
+        let from = self.space.edges[edge as usize].from;
+        let target = self.add_interned(d.env, d.plan, d.zone, d.kind, d.vis).0;
+        let first = if d.guards.is_empty() {
+            target
+        } else {
+            let st = self.space.states[from as usize].clone();
+            let chain: Vec<StateId> = d.guards.iter().map(|_| self.add_guard_state(&st)).collect();
+            for k in (0..chain.len()).rev() {
+                let next = match chain.get(k + 1) {
+                    Some(&next) => guard_edge(chain[k], next, d.guards[k + 1], d.request.instant),
+                    None => Edge { from: chain[k], to: target, ..d.request },
+                };
+                self.commit_edges(chain[k], vec![next]);
+                self.evaluate_lazy(chain[k]);
+            }
+            chain[0]
+        };
+        let target_state = &mut self.space.states[first as usize];
+        let e = &mut self.space.edges[edge as usize];
+        e.to = first;
+        e.next_in = target_state.first_in;
+        target_state.first_in = edge;
+    }
+}
+
+/// For every message with a sender, per location of the sender: the fewest transitions before
+/// the message can be sent (1 where it is enabled), by a backward breadth-first search over the
+/// sender's automaton (guards, clocks and synchronisation ignored: a lower bound).
+fn send_distances(game: &Game) -> Vec<Vec<u16>> {
+    game.messages
+        .iter()
+        .enumerate()
+        .map(|(m, message)| {
+            let Some(sender) = message.sender else { return Vec::new() };
+            let automaton = &game.components[sender as usize];
+            let mut distance = vec![u16::MAX; automaton.locations.len()];
+            let mut queue = VecDeque::new();
+            for e in &automaton.edges {
+                if e.message as usize == m && e.kind != MessageKind::Synchronised && distance[e.from as usize] != 1 {
+                    distance[e.from as usize] = 1;
+                    queue.push_back(e.from);
+                }
+            }
+            while let Some(loc) = queue.pop_front() {
+                let d = distance[loc as usize] + 1;
+                for e in automaton.edges.iter().filter(|e| e.to == loc) {
+                    if distance[e.from as usize] == u16::MAX {
+                        distance[e.from as usize] = d;
+                        queue.push_back(e.from);
+                    }
+                }
+            }
+            distance
+        })
+        .collect()
 }
 
 /// A clock that time can move out of its current piece.
@@ -1521,6 +1899,7 @@ fn guard_edge(from: StateId, to: StateId, message: MsgId, instant: bool) -> Edge
         progress: false,
         class: Class::Option,
         next_in: NONE,
+        deferred: NONE,
     }
 }
 
