@@ -19,6 +19,8 @@ const THESIS: &[(&str, &str, Published)] = &[
     ("round_table_6", "RT 6/8", None),
     ("round_table_7", "RT 7/8", None),
     ("round_table_8", "RT 8/8", None),
+    ("round_table_10_of_10", "RT 10/10", None),
+    ("round_table_12_of_12", "RT 12/12", None),
     ("two_robots_14", "Robots 14 s", None),
 ];
 
@@ -26,8 +28,11 @@ const THESIS: &[(&str, &str, Published)] = &[
 pub fn timed(examples_dir: &Path, runs: usize) -> std::process::ExitCode {
     outln!("Timed-game synthesis: plcsynth (median of {runs} runs) beside Peter 2005, table 7.3 (Pentium III 1.2 GHz)");
     outln!();
-    outln!("| example | verdict | visited | winning | code lines | time [ms] | state space [MiB] | thesis visited | thesis winning | thesis code | thesis time [s] |");
-    outln!("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    outln!("The search expands only the strategy it builds; the reference (`--exhaustive`, the thesis's");
+    outln!("breadth-first algorithm) explores the whole reachable game, run once, in the same process.");
+    outln!();
+    outln!("| example | verdict | visited | winning | visited/winning | code lines | time [ms] | state space [MiB] | reference visited | reference time [ms] | speed-up | thesis visited | thesis winning | thesis code | thesis time [s] |");
+    outln!("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for (file, label, thesis) in THESIS {
         let path = examples_dir.join(format!("{file}.tga"));
         let Ok(source) = std::fs::read_to_string(&path) else {
@@ -66,8 +71,20 @@ pub fn timed(examples_dir: &Path, runs: usize) -> std::process::ExitCode {
             None => ("–".into(), "–".into(), "–".into(), "–".into()),
         };
         let lines = plcsynth::program::controller(&game, &s).map_or("–".to_string(), |p| p.len().to_string());
+        let started = Instant::now();
+        let reference = synthesize(&game, &SolveOptions { exhaustive: true, ..SolveOptions::default() }, &mut |_| true);
+        let reference_ms = started.elapsed().as_secs_f64() * 1000.0;
+        let (rv, rt, speedup) = match reference.solution.verdict {
+            Verdict::BudgetExceeded => ("budget exceeded".to_string(), format!("{reference_ms:.1}"), "–".to_string()),
+            _ => (
+                reference.solution.stats.visited.to_string(),
+                format!("{reference_ms:.1}"),
+                format!("{:.0}×", reference_ms / median.max(0.001)),
+            ),
+        };
+        let ratio = st.visited as f64 / st.winning.max(1) as f64;
         outln!(
-            "| {label} | {verdict} | {} | {} | {lines} | {median:.1} | {:.1} | {tv} | {tw} | {tc} | {tt} |",
+            "| {label} | {verdict} | {} | {} | {ratio:.1} | {lines} | {median:.1} | {:.1} | {rv} | {rt} | {speedup} | {tv} | {tw} | {tc} | {tt} |",
             st.visited,
             st.winning,
             st.bytes as f64 / (1024.0 * 1024.0)
@@ -99,6 +116,9 @@ fn scan_table(examples_dir: &Path, runs: usize) {
             d.filter_map(|e| e.ok()).map(|e| e.path()).filter(|p| p.extension().is_some_and(|x| x == "tga")).collect()
         })
         .unwrap_or_default();
+    // The larger round tables (`round_table_P_of_P`) exceed the default budget at a scan time
+    // after seconds each: left out of this table.
+    files.retain(|p: &std::path::PathBuf| !p.to_string_lossy().contains("_of_"));
     files.sort();
     let median = |mut times: Vec<f64>| {
         times.sort_by(f64::total_cmp);

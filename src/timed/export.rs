@@ -212,6 +212,8 @@ pub struct TransitionView {
     pub kind: super::solve::EdgeKind,
     pub label: String,
     pub zeno: bool,
+    /// An option or delay the strategy-directed search never needed to try (`to` is absent).
+    pub unexplored: bool,
     pub progress: bool,
 }
 
@@ -288,6 +290,7 @@ fn view_of(game: &Game, synthesis: &Synthesis, order: &[StateId], truncated: boo
                 label: describe_edge(game, &synthesis.split, e),
                 zeno: e.zeno,
                 progress: e.progress,
+                unexplored: e.is_unexplored(),
             });
         }
     }

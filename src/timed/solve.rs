@@ -1,6 +1,11 @@
-//! Solving the timed safety game (Peter 2005, 5.3): on-the-fly forward exploration of the
-//! combined state space (algorithm 5) with incremental reverse removal of losing states
-//! (algorithm 6).
+//! Solving the timed safety game (Peter 2005, 5.3). The reference (`exhaustive`) is the thesis's
+//! on-the-fly forward exploration of the combined state space (algorithm 5, breadth first) with
+//! incremental reverse removal of losing states (algorithm 6). The default search builds one
+//! strategy instead: forced successors are always explored, the controller's alternatives one
+//! at a time (`alternative` gives the order), the next only when the chosen one is lost, which
+//! the reverse removal reports through the same in-edge lists (a local fixpoint computation in
+//! the manner of Liu and Smolka, as UPPAAL TIGA's on-the-fly algorithm). Targets of untried
+//! options and delays are not generated (`Edge::is_unexplored`).
 //!
 //! A state is a vector of sub-locations (one per plant unit and per plan) and a clock zone.
 //! Its outgoing edges fall in three classes:
@@ -60,9 +65,10 @@ pub struct SolveOptions {
     pub exhaustive: bool,
 }
 
-/// Default state budget: round table 8/8, the largest example, stores 824 640 states.
+/// Default state budget: the exhaustive reference stores 824 640 states for round table 8/8
+/// (the strategy-directed search 286).
 pub const DEFAULT_MAX_STATES: usize = 1_000_000;
-/// Default memory budget, 512 MiB: round table 8/8 needs about 311 MiB.
+/// Default memory budget, 512 MiB: the reference needs about 311 MiB for round table 8/8.
 pub const DEFAULT_MAX_BYTES: usize = 512 << 20;
 /// Default work budget: a few seconds of solving natively; round table 8/8 needs about 82 million.
 pub const DEFAULT_MAX_WORK: u64 = 250_000_000;
