@@ -637,7 +637,11 @@ fn assert_on_the_fly_equals_fixpoint(source: &str, space: &StateSpace, verdict: 
     let mut lost: Vec<bool> = space
         .states
         .iter()
-        .map(|st| matches!(st.removal, Some(Removal::Assertion { .. }) | Some(Removal::PlanFailed { .. })))
+        // States the strategy-directed search never needed count as lost: nothing is known of
+        // what follows them, so no winning state may rely on them.
+        .map(|st| {
+            matches!(st.removal, Some(Removal::Assertion { .. } | Removal::PlanFailed { .. } | Removal::Unexplored))
+        })
         .collect();
     // The losing rule of one state, given the current `lost` set.
     let loses = |s: usize, lost: &[bool]| {

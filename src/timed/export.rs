@@ -482,7 +482,9 @@ fn wrap(names: &[String], width: usize) -> String {
 /// colours (`state winning|removed`, `initial`, `selected`; the SVG group of state `n` has the id
 /// `st-n`), edges classed by kind (`edge-request`, `edge-reaction`, `edge-guard`, `edge-delay`,
 /// `edge-timeout`), the requests the strategy chooses classed `chosen`, zeno repetitions `zeno`,
-/// and edges to no state (timeouts, cut repetitions) ending in a point.
+/// options and delays the search never tried `unexplored` (their states, if created, are
+/// `state unexplored`), and edges to no state (timeouts, cut repetitions, untried moves) ending
+/// in a point.
 pub fn space_dot(view: &SpaceView, selected: Option<StateId>, strategy: Option<&[StrategyChoice]>) -> String {
     use super::solve::EdgeKind;
     use crate::dot::{document_with, Drawing, Edge, Node};
@@ -491,7 +493,12 @@ pub fn space_dot(view: &SpaceView, selected: Option<StateId>, strategy: Option<&
     let mut g = Drawing::new();
     let mut nodes = std::collections::HashMap::new();
     for s in &view.states {
-        let mut class = vec!["state", if s.winning { "winning" } else { "removed" }];
+        let status = match s.removal {
+            None => "winning",
+            Some(Removal::Unexplored) => "unexplored",
+            Some(_) => "removed",
+        };
+        let mut class = vec!["state", status];
         if s.id == view.initial {
             class.push("initial");
         }
@@ -545,6 +552,9 @@ pub fn space_dot(view: &SpaceView, selected: Option<StateId>, strategy: Option<&
         }
         if e.zeno {
             class.push_str(" zeno");
+        }
+        if e.unexplored {
+            class.push_str(" unexplored");
         }
         let label = if e.kind == EdgeKind::Delay {
             "D".to_string()

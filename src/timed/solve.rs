@@ -748,6 +748,7 @@ impl<'g, 'p> Solver<'g, 'p> {
             + s.zones.heap_bytes()
             + self.state_index.capacity() * (std::mem::size_of::<((u32, u32, u32, StateKind), StateId)>() + 1)
             + self.queue.capacity() * std::mem::size_of::<StateId>()
+            + self.deferred.capacity() * std::mem::size_of::<Option<Deferred>>()
             + self.zeno.nodes.capacity() * std::mem::size_of::<(u32, u32, u32)>()
             + self.env_locations.capacity() * std::mem::size_of::<LocId>()
             + (self.env_violation.capacity() + self.plan_failure.capacity()) * std::mem::size_of::<u32>()

@@ -25,6 +25,8 @@ struct JsSolveOptions {
     progress_interval: Option<usize>,
     /// Milliseconds between two progress calls (default 50).
     progress_ms: Option<f64>,
+    /// Explore the whole reachable game (the reference) instead of only the strategy.
+    exhaustive: bool,
 }
 
 #[derive(Serialize)]
@@ -185,6 +187,7 @@ impl TimedSession {
             max_bytes: opts.max_memory_mib.map_or(defaults.max_bytes, |mib| mib.saturating_mul(1 << 20)),
             max_work: opts.max_work.unwrap_or(defaults.max_work),
             progress_interval: opts.progress_interval.unwrap_or(defaults.progress_interval).max(1),
+            exhaustive: opts.exhaustive,
         };
         let mut progress = Progress::new(progress, opts.progress_ms);
         let mut report = |stats: &Stats| progress.report(|| *stats);

@@ -17,6 +17,8 @@ test('the lamp example runs: verdict, counts, automata, state space and zone', a
   await open(page, `${server.url}#example/lamp`);
   assert.equal(await editorText(page), readExample('lamp'));
   await shot(page, '01-lamp-editor');
+  // Explore all: the whole game, so that the State space tab has lost states to show.
+  await page.check('#exhaustive');
   assert.equal(await runAndWait(page), 'realizable');
   const visited = await number(page, '#stat-visited');
   const winning = await number(page, '#stat-winning');
@@ -309,9 +311,11 @@ test('round_table_8 can be cancelled: the UI stays responsive, the worker restar
     new PerformanceObserver((list) => window.longTasks.push(...list.getEntries().map((e) => e.duration))).observe({ type: 'longtask' });
   });
   const generation = await page.evaluate(() => window.plcsynth.engines.solver.generation);
+  // The whole game ('explore all', the reference) of RT 8/8 takes seconds here: cancel well
+  // before it could finish.
+  await page.check('#exhaustive');
   await page.click('#run');
   await page.waitForFunction(() => /Exploring… [1-9]/.test(document.querySelector('#status').textContent), null, { timeout: 20000 });
-  // RT 8/8 takes about 3 s here: cancel well before it could finish.
   const progress = await page.textContent('#status');
   await shot(page, '10-rt8-running');
   // Responsive while the search runs: the editor takes input at once.
@@ -340,8 +344,32 @@ test('round_table_8 can be cancelled: the UI stays responsive, the worker restar
   await page.context().close();
 });
 
+test('round_table_8 solves at once by default; explore all runs the reference and agrees', async () => {
+  const page = await newPage(browser, `${server.url}#example/round_table_8`);
+  const t0 = Date.now();
+  assert.equal(await runAndWait(page), 'realizable');
+  const clickToVerdictMs = Date.now() - t0;
+  const engineMs = await page.evaluate(() => window.plcsynth.result.ms);
+  const visited = await number(page, '#stat-visited');
+  assert.ok(visited < 1000, `${visited} states visited`);
+  await shot(page, '16-rt8-strategy');
+  await page.click('[data-tab=space]');
+  await page.waitForSelector('#space-graph svg g.state');
+  await shot(page, '17-rt8-strategy-space');
+  await page.click('[data-tab=summary]');
+  await page.check('#exhaustive');
+  assert.equal(await runAndWait(page, 60000), 'realizable');
+  const referenceMs = await page.evaluate(() => window.plcsynth.result.ms);
+  const referenceVisited = await number(page, '#stat-visited');
+  assert.equal(referenceVisited, 824640);
+  record('rt8_page_ms', { engineMs, clickToVerdictMs, visited, referenceMs, referenceVisited });
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
 test('cancel in the same page restarts the worker without a reload', async () => {
   const page = await newPage(browser, `${server.url}#example/round_table_8`);
+  await page.check('#exhaustive');
   await page.click('#run');
   await page.waitForFunction(() => /Exploring…/.test(document.querySelector('#status').textContent), null, { timeout: 20000 });
   await page.click('#cancel');
@@ -356,10 +384,11 @@ test('cancel in the same page restarts the worker without a reload', async () =>
 
 test('a budget-exceeded run shows the message and the statistics so far', async () => {
   const page = await newPage(browser, `${server.url}#example/round_table_8`);
-  await page.fill('#max-states', '500');
+  // The strategy-directed search stores 286 states for RT 8/8.
+  await page.fill('#max-states', '100');
   assert.equal(await runAndWait(page), 'budget_exceeded');
-  assert.match(await page.textContent('#summary'), /more than 500 states/);
-  assert.ok((await number(page, '#stat-visited')) >= 500);
+  assert.match(await page.textContent('#summary'), /more than 100 states/);
+  assert.ok((await number(page, '#stat-visited')) >= 100);
   await shot(page, '15-budget-exceeded');
   await page.click('[data-tab=code]');
   await page.waitForFunction(() => /No controller: the search exceeded its budget before deciding\./.test(document.querySelector('#code-note').textContent));
@@ -444,8 +473,12 @@ test('measurements: time to interactive, RT 4/8 and 8/8 solve time (reported, no
   await page.waitForFunction(() => window.plcsynth.name === 'round_table_8');
   assert.equal(await runAndWait(page, 120000), 'realizable');
   const rt8 = await page.evaluate(() => ({ ms: window.plcsynth.result.ms, visited: window.plcsynth.result.stats.visited, longTasks: window.longTasks }));
-  // The code pane on RT 8/8 (about 55 000 lines of ST): time to the first screen and to the
-  // whole text, measured in the page from the target change (generation in the worker included).
+  // The reference's winning space of RT 8/8 gives a large program: the code pane on it (about
+  // 55 000 lines of ST), time to the first screen and to the whole text, measured in the page
+  // from the target change (generation in the worker included).
+  await page.check('#exhaustive');
+  assert.equal(await runAndWait(page, 120000), 'realizable');
+  const rt8Reference = await page.evaluate(() => ({ ms: window.plcsynth.result.ms, visited: window.plcsynth.result.stats.visited }));
   await page.click('[data-tab=code]');
   const codeTimes = [];
   for (const target of ['il', 'st', 'stl', 'plcopen', 'st']) {
@@ -459,7 +492,7 @@ test('measurements: time to interactive, RT 4/8 and 8/8 solve time (reported, no
   await shot(page, '15-rt8-code');
   const median = (xs) => [...xs].sort((a, b) => a - b)[Math.floor(xs.length / 2)];
   const wasmBytes = await page.evaluate(async () => (await (await fetch('pkg/plcsynth_bg.wasm')).arrayBuffer()).byteLength);
-  const result = { tti_ms_median: median(ttis), tti_ms: ttis, rt4_solve_ms_median: median(solves), rt4_solve_ms: solves, rt8_solve_ms: rt8.ms, rt8_visited: rt8.visited, rt8_long_tasks_ms: rt8.longTasks, rt8_code: codeTimes, rt8_code_lines: rt8Lines, rt8_queries: queries, wasm_bytes: wasmBytes };
+  const result = { tti_ms_median: median(ttis), tti_ms: ttis, rt4_solve_ms_median: median(solves), rt4_solve_ms: solves, rt8_solve_ms: rt8.ms, rt8_visited: rt8.visited, rt8_long_tasks_ms: rt8.longTasks, rt8_reference: rt8Reference, rt8_code: codeTimes, rt8_code_lines: rt8Lines, rt8_queries: queries, wasm_bytes: wasmBytes };
   record('page', result);
   console.log(`# measurements: ${JSON.stringify(result)}`);
   await shot(page, '13-rt4-summary');

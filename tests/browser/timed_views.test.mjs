@@ -247,6 +247,8 @@ test('keyboard: states in the list and in the graph are reached with Tab and sel
 
 test('keyboard: in a large space the focus stays on the selected state when the neighbourhood is redrawn', async () => {
   const page = await newPage(browser, `${server.url}#example/two_machines`);
+  // Explore all: a space of thousands of states, drawn as neighbourhoods.
+  await page.check('#exhaustive');
   assert.equal(await runAndWait(page), 'realizable');
   await page.click('[data-tab=space]');
   await page.waitForSelector('#space-graph svg g.state.selected');
@@ -272,9 +274,11 @@ test('header at 800 × 800: Run, Cancel, Share and Docs are inside the window an
     const hit = await page.evaluate(([s, x, y]) => document.elementFromPoint(x, y)?.closest(s) != null, [selector, b.x + b.width / 2, b.y + b.height / 2]);
     assert.ok(hit, `${selector} is not covered`);
   };
-  for (const s of ['#run', '#cancel', '#share', '#docs-link', '#examples-button', '#max-states']) await inside(s);
+  for (const s of ['#run', '#cancel', '#share', '#docs-link', '#examples-button', '#max-states', '#exhaustive']) await inside(s);
   assert.ok(await page.evaluate(() => document.documentElement.scrollWidth <= 800), 'no horizontal scrolling');
   await shot(page, '29-header-800');
+  // The whole game takes seconds: long enough to cancel.
+  await page.check('#exhaustive');
   await page.click('#run');
   await page.waitForSelector('#cancel:not([disabled])');
   await inside('#cancel');
@@ -316,8 +320,8 @@ test('a Docs link in the header opens the playground guide, shipped with the pag
 
 test('Graphviz lays out in a worker: drawing the 26 automata of round_table_8 makes no main-thread task over 50 ms', async () => {
   const page = await newPage(browser, `${server.url}#example/round_table_8`);
-  // A budget of 500 states ends the run at once; the automata come from compiling.
-  await page.fill('#max-states', '500');
+  // A budget of 100 states ends the run at once; the automata come from compiling.
+  await page.fill('#max-states', '100');
   assert.equal(await runAndWait(page), 'budget_exceeded');
   const count = await page.evaluate(() => window.plcsynth.automata.length);
   assert.ok(count >= 20, `${count} automata`);

@@ -670,7 +670,7 @@ async function run() {
   $('#summary').replaceChildren(h('p', { class: 'muted' }, 'Running…'));
   setStatus('Compiling…', 'running');
   const options = {
-    timed: { maxStates, progressInterval: 256 },
+    timed: { maxStates, progressInterval: 256, exhaustive: $('#exhaustive').checked },
     sct: { method: $('#sct-method').value, compose: $('#sct-compose').checked },
     ltl: { suggest: $('#ltl-suggest').checked },
   }[engine];
