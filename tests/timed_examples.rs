@@ -289,9 +289,15 @@ fn the_two_robots_need_at_least_fourteen_seconds() {
 fn the_budget_stops_a_large_search_with_statistics() {
     let source =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/timed/round_table_8.tga")).unwrap();
-    let (_, s) = solve(&source, 1000);
+    // The reference explores the whole game, 824 640 states (the default search needs 286).
+    let (game, _) = compile(&source).unwrap();
+    let options = SolveOptions { max_states: 1000, exhaustive: true, ..SolveOptions::default() };
+    let s = synthesize(&game, &options, &mut |_| true);
     assert_eq!(s.solution.verdict, Verdict::BudgetExceeded);
     assert!(s.solution.stats.visited > 1000 && s.solution.stats.visited < 1200, "{:?}", s.solution.stats);
+    let (_, s) = solve(&source, 100);
+    assert_eq!(s.solution.verdict, Verdict::BudgetExceeded);
+    assert!(s.solution.stats.visited > 100 && s.solution.stats.visited < 200, "{:?}", s.solution.stats);
 }
 
 #[test]
@@ -300,7 +306,8 @@ fn the_progress_callback_can_cancel() {
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/timed/round_table_8.tga")).unwrap();
     let (game, _) = compile(&source).unwrap();
     let mut calls = 0;
-    let options = SolveOptions { max_states: 10_000_000, progress_interval: 100, ..SolveOptions::default() };
+    let options =
+        SolveOptions { max_states: 10_000_000, progress_interval: 100, exhaustive: true, ..SolveOptions::default() };
     let s = synthesize(&game, &options, &mut |stats| {
         calls += 1;
         assert!(stats.visited > 0);
@@ -327,7 +334,9 @@ fn both_forms_of_the_robot_arm_assertion_are_equivalent() {
 fn json_views_describe_automata_and_the_state_space() {
     use plcsynth::timed::export;
     let source = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/timed/lamp.tga")).unwrap();
-    let (game, s) = solve(&source, 1000);
+    let (game, _) = compile(&source).unwrap();
+    // The reference's space, with the lost states; the default search's below.
+    let s = synthesize(&game, &SolveOptions { exhaustive: true, ..SolveOptions::default() }, &mut |_| true);
     let automata = serde_json::to_value(export::automata(&game)).unwrap();
     assert_eq!(automata[1]["name"], "button");
     assert_eq!(automata[1]["locations"][1]["invariant"], "c in [0,1)");
@@ -347,6 +356,11 @@ fn json_views_describe_automata_and_the_state_space() {
     let small = serde_json::to_value(export::space(&game, &s, 3)).unwrap();
     assert_eq!(small["states"].as_array().unwrap().len(), 3);
     assert_eq!(small["truncated"], true);
+    let (_, s) = solve(&source, 1000);
+    let view = serde_json::to_value(export::space(&game, &s, 1000)).unwrap();
+    let edges = view["edges"].as_array().unwrap();
+    assert!(edges.iter().any(|e| e["unexplored"] == true && e["to"].is_null() && e["kind"] == "request"));
+    assert!(edges.iter().all(|e| e["unexplored"] == false || e["to"].is_null()));
 }
 
 /// An example that declares its PLC's scan time states the verdict there too

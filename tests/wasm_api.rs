@@ -168,12 +168,13 @@ fn budget_exceeded_keeps_statistics() {
 #[wasm_bindgen_test]
 fn memory_and_work_budgets_are_options() {
     let mut s = Session::new(RT4).map_err(|_| "compile").unwrap();
-    let options = js_sys::JSON::parse(r#"{"maxWork": 10000}"#).unwrap();
+    // The reference explores the whole game: enough work and memory to hit small budgets.
+    let options = js_sys::JSON::parse(r#"{"maxWork": 10000, "exhaustive": true}"#).unwrap();
     let summary = s.solve(options, None).unwrap();
     assert_eq!(string(&summary, "verdict"), "budget_exceeded");
     assert_eq!(string(&get(&summary, "budget"), "budget"), "work");
     assert!(num(&get(&summary, "stats"), "work") > 10000.0);
-    let options = js_sys::JSON::parse(r#"{"maxMemoryMib": 1}"#).unwrap();
+    let options = js_sys::JSON::parse(r#"{"maxMemoryMib": 1, "exhaustive": true}"#).unwrap();
     let summary = s.solve(options, None).unwrap();
     assert_eq!(string(&get(&summary, "budget"), "budget"), "memory");
     let summary = s.solve(JsValue::UNDEFINED, None).unwrap();

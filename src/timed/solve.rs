@@ -627,6 +627,9 @@ struct Solver<'g, 'p> {
     /// least before it can send the message (`u16::MAX` if never); the search's sense of
     /// direction towards the plans' goals.
     send_distance: Vec<Vec<u16>>,
+    /// Per plan and sub-location: the messages that take the plan to its next goal (not to
+    /// failure).
+    plan_goals: Vec<Vec<Vec<MsgId>>>,
     zeno: ZenoSets,
     /// Per env id: 1 + index of the first violated assertion, or 0.
     env_violation: Vec<u32>,
@@ -702,6 +705,7 @@ impl<'g, 'p> Solver<'g, 'p> {
     ) -> Solver<'g, 'p> {
         let dim = game.dim();
         let plant_count = split.plant_count;
+        let goals = if options.exhaustive { Vec::new() } else { plan_goals(split) };
         Solver {
             game,
             split,
@@ -713,7 +717,8 @@ impl<'g, 'p> Solver<'g, 'p> {
             lazy: !options.exhaustive,
             deferred: Vec::new(),
             expansions: 0,
-            send_distance: if options.exhaustive { Vec::new() } else { send_distances(game) },
+            send_distance: if options.exhaustive { Vec::new() } else { send_distances(game, &goals) },
+            plan_goals: goals,
             zeno: ZenoSets { nodes: Vec::new() },
             env_violation: Vec::new(),
             plan_failure: Vec::new(),
@@ -1657,19 +1662,13 @@ impl<'g, 'p> Solver<'g, 'p> {
     /// next goal, summed over the plans.
     fn goal_distance(&self, env_id: u32, plan_id: u32) -> u32 {
         let locations = self.locations_of(env_id);
-        let base = self.split.plant_count;
-        let messages = self.split.message_count;
         let mut total = 0u32;
         for (p, &sub) in self.space.plans.get(plan_id).iter().enumerate() {
-            let unit = &self.split.units[base + p];
-            let next = &self.split.plan_next[p][sub as usize * messages..(sub as usize + 1) * messages];
-            let nearest = next
+            let nearest = self.plan_goals[p][sub as usize]
                 .iter()
-                .enumerate()
-                .filter(|&(_, &to)| to != STAY && !unit.sublocs[to as usize].failed)
-                .filter_map(|(m, _)| {
-                    let sender = self.game.messages[m].sender? as usize;
-                    self.send_distance[m].get(locations[sender] as usize).copied()
+                .filter_map(|&m| {
+                    let sender = self.game.messages[m as usize].sender? as usize;
+                    self.send_distance[m as usize].get(locations[sender] as usize).copied()
                 })
                 .min()
                 .unwrap_or(u16::MAX);
@@ -1844,16 +1843,49 @@ impl<'g, 'p> Solver<'g, 'p> {
     }
 }
 
-/// For every message with a sender, per location of the sender: the fewest transitions before
-/// the message can be sent (1 where it is enabled), by a backward breadth-first search over the
-/// sender's automaton (guards, clocks and synchronisation ignored: a lower bound).
-fn send_distances(game: &Game) -> Vec<Vec<u16>> {
+/// Per plan and sub-location: the messages that take the plan to a goal rather than to failure.
+fn plan_goals(split: &SplitGame) -> Vec<Vec<Vec<MsgId>>> {
+    let messages = split.message_count;
+    (0..split.units.len() - split.plant_count)
+        .map(|p| {
+            let unit = &split.units[split.plant_count + p];
+            (0..unit.sublocs.len())
+                .map(|sub| {
+                    let next = &split.plan_next[p][sub * messages..(sub + 1) * messages];
+                    (0..messages)
+                        .filter(|&m| next[m] != STAY && !unit.sublocs[next[m] as usize].failed)
+                        .map(|m| m as MsgId)
+                        .collect()
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// For every message that is some plan's goal and has a sender, per location of the sender: the
+/// fewest transitions before the message can be sent (1 where it is enabled), by a backward
+/// breadth-first search over the sender's automaton (guards, clocks and synchronisation
+/// ignored: a lower bound). Other messages get an empty table.
+fn send_distances(game: &Game, plan_goals: &[Vec<Vec<MsgId>>]) -> Vec<Vec<u16>> {
+    let mut goal = vec![false; game.messages.len()];
+    for &m in plan_goals.iter().flatten().flatten() {
+        goal[m as usize] = true;
+    }
+    // Incoming edges per location, per automaton, built once for the automata that send a goal.
+    let mut incoming: Vec<Option<Vec<Vec<LocId>>>> = vec![None; game.components.len()];
     game.messages
         .iter()
         .enumerate()
         .map(|(m, message)| {
-            let Some(sender) = message.sender else { return Vec::new() };
+            let Some(sender) = message.sender.filter(|_| goal[m]) else { return Vec::new() };
             let automaton = &game.components[sender as usize];
+            let incoming = incoming[sender as usize].get_or_insert_with(|| {
+                let mut lists = vec![Vec::new(); automaton.locations.len()];
+                for e in &automaton.edges {
+                    lists[e.to as usize].push(e.from);
+                }
+                lists
+            });
             let mut distance = vec![u16::MAX; automaton.locations.len()];
             let mut queue = VecDeque::new();
             for e in &automaton.edges {
@@ -1863,11 +1895,11 @@ fn send_distances(game: &Game) -> Vec<Vec<u16>> {
                 }
             }
             while let Some(loc) = queue.pop_front() {
-                let d = distance[loc as usize] + 1;
-                for e in automaton.edges.iter().filter(|e| e.to == loc) {
-                    if distance[e.from as usize] == u16::MAX {
-                        distance[e.from as usize] = d;
-                        queue.push_back(e.from);
+                let d = distance[loc as usize].saturating_add(1);
+                for &from in &incoming[loc as usize] {
+                    if distance[from as usize] == u16::MAX {
+                        distance[from as usize] = d;
+                        queue.push_back(from);
                     }
                 }
             }
