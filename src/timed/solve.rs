@@ -1539,49 +1539,45 @@ impl<'g, 'p> Solver<'g, 'p> {
         self.expanded += 1;
     }
 
-    /// Decides a freshly expanded state from its edges (the local rule of the module doc).
-    fn evaluate(&mut self, s: StateId) {
-        let (start, end) = {
-            let st = &self.space.states[s as usize];
-            (st.out_start, st.out_end)
-        };
-        let mut forced_any = false;
-        let mut options_alive = 0u32;
-        let mut wait_edges = 0u32;
-        let mut wait_ok = true;
-        let mut dead_forced: Option<(EdgeId, bool)> = None;
-        let mut instant_forced = false;
-        for id in start..end {
+    /// One pass over the edges of an expanded state: what the local rule of the module doc needs.
+    fn survey(&self, s: StateId) -> Survey {
+        let st = &self.space.states[s as usize];
+        let mut survey = Survey { wait_ok: true, all_inert: true, ..Survey::default() };
+        for id in st.out_start..st.out_end {
             let e = &self.space.edges[id as usize];
             let alive = e.to != NONE && self.space.states[e.to as usize].removal.is_none();
+            survey.all_inert &= e.class == Class::Inert;
             match e.class {
                 Class::Forced => {
-                    forced_any = true;
-                    instant_forced |= e.instant;
-                    if !alive && dead_forced.is_none() {
-                        dead_forced = Some((id, e.zeno));
+                    survey.forced_any = true;
+                    if !alive && survey.dead_forced.is_none() {
+                        let removal =
+                            if e.zeno { Removal::ZenoLoop { edge: id } } else { Removal::Forced { edge: id } };
+                        survey.dead_forced = Some(removal);
                     }
                 }
-                Class::Option => options_alive += u32::from(alive),
+                Class::Option => survey.options_alive += u32::from(alive),
                 Class::Wait => {
-                    wait_edges += 1;
-                    wait_ok &= alive;
+                    survey.wait_edges += 1;
+                    // A delay not generated yet (strategy-directed search) is not lost yet.
+                    survey.wait_ok &= alive || e.is_unexplored();
                 }
                 Class::Inert => {}
             }
         }
+        survey
+    }
+
+    /// Decides a freshly expanded state from its edges (the local rule of the module doc).
+    fn evaluate(&mut self, s: StateId) {
+        let survey = self.survey(s);
         let st = &mut self.space.states[s as usize];
-        st.options_alive = options_alive;
-        st.wait_viable = if wait_edges > 0 { wait_ok } else { forced_any || instant_forced };
-        let removal = match dead_forced {
-            Some((edge, true)) => Some(Removal::ZenoLoop { edge }),
-            Some((edge, false)) => Some(Removal::Forced { edge }),
-            None if options_alive == 0 && !st.wait_viable => {
-                if end == start || (start..end).all(|id| self.space.edges[id as usize].class == Class::Inert) {
-                    Some(Removal::Deadlock)
-                } else {
-                    Some(Removal::NoMove)
-                }
+        st.options_alive = survey.options_alive;
+        st.wait_viable = survey.wait_viable();
+        let removal = match survey.dead_forced {
+            Some(removal) => Some(removal),
+            None if survey.options_alive == 0 && !st.wait_viable => {
+                Some(if survey.all_inert { Removal::Deadlock } else { Removal::NoMove })
             }
             None => None,
         };
@@ -1688,35 +1684,14 @@ impl<'g, 'p> Solver<'g, 'p> {
     /// Decides a freshly expanded state of the strategy-directed search: lost if a forced move
     /// is; otherwise its forced successors are needed and it chooses its first alternative.
     fn evaluate_lazy(&mut self, s: StateId) {
-        let (start, end) = {
-            let st = &self.space.states[s as usize];
-            (st.out_start, st.out_end)
-        };
-        let mut forced_any = false;
-        let mut wait_edges = 0u32;
-        let mut wait_ok = true;
-        for id in start..end {
-            let e = &self.space.edges[id as usize];
-            let alive = e.to != NONE && self.space.states[e.to as usize].removal.is_none();
-            match e.class {
-                Class::Forced => {
-                    forced_any = true;
-                    if !alive {
-                        let removal =
-                            if e.zeno { Removal::ZenoLoop { edge: id } } else { Removal::Forced { edge: id } };
-                        self.remove(s, removal);
-                        return;
-                    }
-                }
-                Class::Wait => {
-                    wait_edges += 1;
-                    wait_ok &= alive || e.is_unexplored();
-                }
-                Class::Option | Class::Inert => {}
-            }
+        let survey = self.survey(s);
+        if let Some(removal) = survey.dead_forced {
+            self.remove(s, removal);
+            return;
         }
-        self.space.states[s as usize].wait_viable = if wait_edges > 0 { wait_ok } else { forced_any };
-        for id in start..end {
+        self.space.states[s as usize].wait_viable = survey.wait_viable();
+        let st = &self.space.states[s as usize];
+        for id in st.out_start..st.out_end {
             let e = self.space.edges[id as usize];
             if e.class == Class::Forced {
                 self.demand(e.to);
@@ -1906,6 +1881,30 @@ fn send_distances(game: &Game, plan_goals: &[Vec<Vec<MsgId>>]) -> Vec<Vec<u16>> 
             distance
         })
         .collect()
+}
+
+/// What one pass over a state's edges finds (`Solver::survey`).
+#[derive(Default)]
+struct Survey {
+    forced_any: bool,
+    /// The removal a lost forced move causes (the first such move).
+    dead_forced: Option<Removal>,
+    options_alive: u32,
+    wait_edges: u32,
+    wait_ok: bool,
+    /// No edge, or only timeouts.
+    all_inert: bool,
+}
+
+impl Survey {
+    /// Waiting is possible if all its targets survive, or, without delays, if the plant must act.
+    fn wait_viable(&self) -> bool {
+        if self.wait_edges > 0 {
+            self.wait_ok
+        } else {
+            self.forced_any
+        }
+    }
 }
 
 /// A clock that time can move out of its current piece.
