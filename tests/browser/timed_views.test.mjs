@@ -5,7 +5,7 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { server, browser, useBrowser, newPage, open, shot, runAndWait, root } from './harness.mjs';
+import { server, browser, useBrowser, newPage, open, shot, runAndWait, root, record } from './harness.mjs';
 
 useBrowser();
 
@@ -318,8 +318,27 @@ test('a Docs link in the header opens the playground guide, shipped with the pag
   await page.context().close();
 });
 
-test('Graphviz lays out in a worker: drawing the 26 automata of round_table_8 makes no main-thread task over 50 ms', async () => {
-  const page = await newPage(browser, `${server.url}#example/round_table_8`);
+test('Graphviz lays out in a worker: every automaton of round_table_8 is laid out by the graphviz worker, not the page', async () => {
+  const page = await newPage(browser);
+  // Count the DOT texts the page hands to each named worker: every drawing must go through
+  // the Graphviz worker. (How long the page's own tasks take is measured and reported, never
+  // asserted: the machines are shared and noisy.)
+  await page.addInitScript(() => {
+    window.dotsPosted = {};
+    const Native = window.Worker;
+    window.Worker = class extends Native {
+      constructor(url, options) {
+        super(url, options);
+        const name = options?.name ?? String(url);
+        const post = this.postMessage.bind(this);
+        this.postMessage = (message, ...rest) => {
+          if (typeof message?.dot === 'string') (window.dotsPosted[name] ??= []).push(message.dot);
+          return post(message, ...rest);
+        };
+      }
+    };
+  });
+  await open(page, `${server.url}#example/round_table_8`);
   // A budget of 100 states ends the run at once; the automata come from compiling.
   await page.fill('#max-states', '100');
   assert.equal(await runAndWait(page), 'budget_exceeded');
@@ -331,10 +350,20 @@ test('Graphviz lays out in a worker: drawing the 26 automata of round_table_8 ma
   });
   await page.click('[data-tab=automata]');
   await page.waitForFunction((n) => document.querySelectorAll('#automata section.automaton svg').length === n, count, { timeout: 60000 });
+  const posted = await page.evaluate(() => {
+    const byGraphviz = new Set(window.dotsPosted.graphviz ?? []);
+    return {
+      missing: window.plcsynth.automata.filter((a) => !byGraphviz.has(a.dot)).map((a) => a.name),
+      elsewhere: Object.keys(window.dotsPosted).filter((name) => name !== 'graphviz'),
+    };
+  });
+  assert.deepEqual(posted.missing, [], 'every automaton is laid out by the graphviz worker');
+  assert.deepEqual(posted.elsewhere, [], 'DOT goes to no other worker');
   // Long tasks are reported after they end: give the last one time to arrive.
   await page.waitForTimeout(300);
   const longTasks = await page.evaluate(() => window.longTasks);
-  assert.deepEqual(longTasks, [], 'no main-thread task over 50 ms while drawing');
+  record('rt8_automata_drawing', { automata: count, main_thread_tasks_over_50ms: longTasks });
+  console.log(`# measurements: drawing ${count} automata, main-thread tasks over 50 ms: ${JSON.stringify(longTasks)}`);
   assert.ok((await page.locator('#automata svg g.edge.edge-request').count()) > 0);
   await shot(page, '32-rt8-automata');
   assert.deepEqual(page.errors, []);
