@@ -103,6 +103,23 @@ fn states_flag_lists_removal_reasons() {
 }
 
 #[test]
+fn no_zeno_memory_searches_exactly_at_once() {
+    // The thesis's memory makes the gear checking machine's search small (thesis: 1 660 states);
+    // without it the same verdict needs more states.
+    let visited = |extra: &[&str]| {
+        let mut args = vec!["solve", "examples/timed/gear_checking.tga", "--json"];
+        args.extend_from_slice(extra);
+        let (code, out, err) = plcsynth(&args);
+        assert_eq!(code, 0, "{err}");
+        let json: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(json["verdict"], "realizable");
+        json["visited"].as_u64().unwrap()
+    };
+    let (with, without) = (visited(&[]), visited(&["--no-zeno-memory"]));
+    assert!(with <= 1660 && without > with, "with the memory {with} states, without {without}");
+}
+
+#[test]
 fn compile_writes_every_target_and_refuses_unrealizable_specs() {
     let dir = std::env::temp_dir().join(format!("plcsynth-compile-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

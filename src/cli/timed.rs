@@ -25,6 +25,10 @@ pub struct BudgetArgs {
     /// instead of only the strategy being built.
     #[arg(long)]
     pub exhaustive: bool,
+    /// Search without the thesis's zeno memory (5.1) at once, rather than first with it: the
+    /// exact search, which may store more states.
+    #[arg(long)]
+    pub no_zeno_memory: bool,
 }
 
 /// The PLC's cycle time.
@@ -191,6 +195,7 @@ impl BudgetArgs {
             max_bytes: self.max_memory.saturating_mul(1 << 20),
             max_work: self.max_work,
             exhaustive: self.exhaustive,
+            zeno_memory: !self.no_zeno_memory,
             ..SolveOptions::default()
         }
     }

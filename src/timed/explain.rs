@@ -87,24 +87,29 @@ fn ranks(space: &StateSpace) -> Ranks {
         let mut options = 0;
         let mut cut = 0;
         let mut waits = false;
+        let mut wait_cut = false;
         let mut forced = false;
         for (id, e) in space.out_edges(s as StateId) {
-            if e.to != NONE && !(e.zeno && is_option(e)) {
+            let controller_cut = e.zeno && (is_option(e) || is_wait(e));
+            if e.to != NONE && !controller_cut {
                 preds[e.to as usize].push(id);
             }
-            // A request cut as a zeno repetition leads nowhere: the controller loses with it at
-            // once, so it is not waited for (it would otherwise leave the state unranked).
+            // A request or wait cut as a zeno move (a return without progress, or a move on a
+            // cycle without progress) leads nowhere: the controller loses with it at once, so it
+            // is not waited for (it would otherwise leave the state unranked).
             if is_option(e) && e.zeno {
                 cut += 1;
             } else {
                 options += u32::from(is_option(e));
             }
             waits |= is_wait(e);
+            wait_cut |= is_wait(e) && e.zeno;
             forced |= e.kind == EdgeKind::Reaction;
         }
+        cut += u32::from(wait_cut);
         // Waiting fails once a delay target is lost; without delays it stays possible while the
         // plant has a move, so only a lost forced target can then decide the state.
-        pending[s] = options + u32::from(waits || forced);
+        pending[s] = options + u32::from((waits || forced) && !wait_cut);
         if removal == Removal::NoMove && pending[s] == 0 && cut > 0 {
             // Every move the controller has is a zeno repetition: lost in one move.
             rank[s] = 1;
@@ -257,14 +262,15 @@ pub fn counter_play(game: &Game, split: &SplitGame, space: &StateSpace) -> Optio
         let next = if forced {
             play(w, Mover::Plant, 1)
         } else if options.is_empty() && wait.is_none() {
-            // Every request is a zeno repetition (the ranks count it lost at once): the line
-            // ends with the controller taking one.
+            // Every move of the controller is a zeno move (the ranks count it lost at once): the
+            // line ends with the controller taking one.
             let cut: Vec<EdgeId> =
-                space.out_edges(s).filter(|(_, e)| is_option(e) && e.zeno).map(|(id, _)| id).collect();
+                space.out_edges(s).filter(|(_, e)| (is_option(e) || is_wait(e)) && e.zeno).map(|(id, _)| id).collect();
             let &edge = cut.first()?;
-            play(edge, Mover::Controller, cut.len() as u32);
+            let mover = if is_wait(&space.edges[edge as usize]) { Mover::Wait } else { Mover::Controller };
+            play(edge, mover, cut.len() as u32);
             let end = format!(
-                "zeno loop: every request ({}) returns to a plant state visited since the last plan progress",
+                "zeno loop: every move of the controller ({}) returns to a plant state visited since the last plan progress or goes round without progress",
                 cut.iter()
                     .map(|&e| describe_edge(game, split, &space.edges[e as usize]))
                     .collect::<Vec<_>>()
@@ -392,7 +398,7 @@ fn step(
         Some(Removal::ZenoLoop { edge }) => {
             let e = &space.edges[edge as usize];
             Outcome::Violation {
-                reason: format!("the plant can send {} and return to a plant state it visited since the last plan progress, or cycle back without progress (zeno loop)", describe_edge(game, split, e)),
+                reason: format!("the plant can send {} and return to a plant state it visited since the last plan progress, or keep the plays from progress forever (zeno loop)", describe_edge(game, split, e)),
             }
         }
         Some(Removal::Forced { .. }) | Some(Removal::NoMove) if is_forced_state(space, ranks, s) => {
@@ -421,7 +427,7 @@ fn step(
                         event: Some(describe_edge(game, split, e)),
                         locations: String::new(),
                         outcome: Outcome::Violation {
-                            reason: "returns to a plant state visited since the last plan progress (zeno loop)".into(),
+                            reason: "returns to a plant state visited since the last plan progress, or goes round without progress (zeno loop)".into(),
                         },
                     });
                 }
