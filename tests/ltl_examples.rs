@@ -298,8 +298,8 @@ fn synthesised_controllers_become_code_for_every_target() {
     for ((path, params, _), spec, outcome) in decided() {
         let source = std::fs::read_to_string(path).unwrap();
         let name = label(path, params);
-        let options_ltl = plc::lower_ltl::LowerOptions::default();
-        let Some(unit) = plc::lower_ltl::lower_outcome(&source, spec, outcome, &options_ltl) else { continue };
+        let options_ltl = plc::lower::ltl::LowerOptions::default();
+        let Some(unit) = plc::lower::ltl::lower_outcome(&source, spec, outcome, &options_ltl) else { continue };
         let unit = unit.unwrap_or_else(|d| panic!("{name}: {d:?}"));
         let file = path.file_name().unwrap().to_string_lossy().to_string();
         for target in Target::ALL {

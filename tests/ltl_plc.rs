@@ -1,6 +1,6 @@
-//! `plc::lower_ltl` checked against the machines it lowers: random controllers (Mealy and
+//! `plc::lower::ltl` checked against the machines it lowers: random controllers (Mealy and
 //! Moore, with and without a timer) built directly as `ltl::Machine` values are lowered to a
-//! `Unit`, which `plc::unit_exec` runs scan by scan on random inputs and a virtual clock; every
+//! `Unit`, which `plc::model::exec` runs scan by scan on random inputs and a virtual clock; every
 //! scan's outputs and state must be the machine's step (`Machine::row`, `first_write`), with the
 //! timer's expiry computed from when the controller started it. A corrupted branch must be
 //! caught. The printed code goes to the independent tools: blark parses the Structured Text
@@ -12,10 +12,10 @@ mod common;
 
 use plcsynth::diag::Span;
 use plcsynth::ltl::{Cube, Machine, Row, Semantics, Signal, SignalId, SignalKind, Spec, StateId, Timer};
-use plcsynth::plc::lower_ltl::{self, LowerOptions};
-use plcsynth::plc::unit::{Expr, Place, PouKind, Stmt, Unit};
-use plcsynth::plc::unit_exec::{self, Value};
-use plcsynth::plc::{self, unit_stl, Target};
+use plcsynth::plc::lower::ltl::{self as lower_ltl, LowerOptions};
+use plcsynth::plc::model::exec::{self as unit_exec, Value};
+use plcsynth::plc::model::unit::{Expr, Place, PouKind, Stmt, Unit};
+use plcsynth::plc::{self, print::stl::unit as unit_stl, Target};
 use plcsynth::rng::Rng;
 use std::path::PathBuf;
 use std::process::Command;
@@ -202,7 +202,7 @@ fn run_exec(unit: &Unit, scans: &[Scan]) -> Vec<Observed> {
     let state = &fb.locals[0].name;
     let mut plc = unit_exec::Machine::new(unit).unwrap();
     let input_signals: Vec<usize> =
-        (0..unit.signals.len()).filter(|&k| unit.signals[k].kind == plc::unit::SignalKind::Input).collect();
+        (0..unit.signals.len()).filter(|&k| unit.signals[k].kind == plc::model::unit::SignalKind::Input).collect();
     let mut out = Vec::new();
     for scan in scans {
         plc.advance(scan.dt);
@@ -217,7 +217,7 @@ fn run_exec(unit: &Unit, scans: &[Scan]) -> Vec<Observed> {
         }
         // The program copies every output but the timer's start to a signal, in order.
         let wired: Vec<bool> = (0..unit.signals.len())
-            .filter(|&k| unit.signals[k].kind == plc::unit::SignalKind::Output)
+            .filter(|&k| unit.signals[k].kind == plc::model::unit::SignalKind::Output)
             .map(|k| plc.signal(k).as_bool())
             .collect();
         let expected: Vec<bool> = fb

@@ -1,6 +1,6 @@
 //! The timed controllers in a closed loop: every specification with a timer among
 //! `examples/ltl/*.ltl`, G4LTL's `sample.g4ltl` and a specification with the `UNTIL` pattern is
-//! synthesised, lowered (`plc::lower_ltl::lower_outcome`), printed as S7 STL and run in awlsim
+//! synthesised, lowered (`plc::lower::ltl::lower_outcome`), printed as S7 STL and run in awlsim
 //! (SFB 4 timers on a virtual clock, `tests/checkers/timed_run.py`) for hundreds of cycles with
 //! random inputs held for random stretches and random scan times scaled to the timer's preset.
 //! From each run a timestamped trace (inputs, outputs, the timers' `Q` read from the instance
@@ -23,8 +23,8 @@ mod common;
 
 use common::root;
 use plcsynth::ltl::{self, Config, Format, Ltl, Machine, NumExpr, Relation, SignalId, Spec, Verdict};
-use plcsynth::plc::unit::{Expr, Place, PouKind, Stmt, Type, Unit};
-use plcsynth::plc::{self, lower_ltl, Target};
+use plcsynth::plc::model::unit::{Expr, Place, PouKind, Stmt, Type, Unit};
+use plcsynth::plc::{self, lower::ltl as lower_ltl, Target};
 use plcsynth::rng::Rng;
 
 /// A specification with the `UNTIL` pattern (no example has one).
@@ -108,8 +108,8 @@ enum Input {
 fn io(case: &Case) -> Io {
     let fb = &case.unit.pous[0];
     let spec = &case.spec;
-    let signals: Vec<&plc::unit::Signal> =
-        case.unit.signals.iter().filter(|s| s.kind == plc::unit::SignalKind::Input).collect();
+    let signals: Vec<&plc::model::unit::Signal> =
+        case.unit.signals.iter().filter(|s| s.kind == plc::model::unit::SignalKind::Input).collect();
     assert_eq!(signals.len(), fb.inputs.len(), "{}: one program input per block input", case.name);
     let inputs = fb
         .inputs
@@ -345,7 +345,7 @@ fn run(case: &Case, unit: &Unit, drives: &[Drive], tag: &str) -> Vec<Scan> {
     let path = common::scratch("ltl-timed-loop", &format!("{}_{tag}.awl", case.name), text);
     let options = plc::unit_stl_options(&plc::Options::default());
     let program = unit.pous.iter().find(|p| p.kind == PouKind::Program).unwrap();
-    let db = plc::unit_stl::instance_locations(unit, &options, &program.locals[0].name)[0].db;
+    let db = plc::print::stl::unit::instance_locations(unit, &options, &program.locals[0].name)[0].db;
     let mut fields: Vec<String> = io.outputs.iter().map(|(name, _)| name.clone()).collect();
     for t in &io.timers {
         fields.push(format!("{t}_Q"));

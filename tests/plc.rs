@@ -471,7 +471,7 @@ fn stl_refuses_markers_on_user_bits_and_more_thresholds_than_timers_located() {
     assert!(build(&source, "lamp", Target::St, &Options::default()).is_ok());
     // Two robots compare several thresholds; a CPU with one timer cannot run them.
     let source = example("two_robots_14");
-    let needed = plc::stl::s7_timers(&build(&source, "r", Target::Stl, &Options::default()).unwrap()).len();
+    let needed = plc::print::stl::s7_timers(&build(&source, "r", Target::Stl, &Options::default()).unwrap()).len();
     assert!(needed >= 2, "{needed}");
     let diags =
         build(&source, "r", Target::Stl, &Options { cpu_timers: 1, ..Options::default() }).expect_err("one timer");

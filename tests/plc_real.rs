@@ -3,16 +3,16 @@
 //! `p1 := x*x + y*y < 3.5;` evaluated once per scan). blark parses the Structured Text
 //! dialects, xmllint validates PLCopen against the TC6 schema (and TwinCAT's files as XML),
 //! Instruction List is refused, and awlsim runs the STL form over a grid of (x, y) whose
-//! results must equal `f32` evaluation in Rust bit for bit, as must `plc::unit_exec`'s.
+//! results must equal `f32` evaluation in Rust bit for bit, as must `plc::model::exec`'s.
 
 mod common;
 
 use common::{check, venv_tool};
-use plcsynth::plc::unit::{
+use plcsynth::plc::model::exec::{Machine, Value};
+use plcsynth::plc::model::unit::{
     direct_addresses, BinOp, Expr, Place, Pou, PouKind, Signal, SignalKind, Stmt, Type, Unit, Var,
 };
-use plcsynth::plc::unit_exec::{Machine, Value};
-use plcsynth::plc::{self, unit_stl, Target};
+use plcsynth::plc::{self, print::stl::unit as unit_stl, Target};
 use std::path::PathBuf;
 use std::process::Command;
 

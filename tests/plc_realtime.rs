@@ -1,4 +1,4 @@
-//! The timed controllers' PLC code in real time (`plc::realtime`): every realizable example of
+//! The timed controllers' PLC code in real time (`plc::lower::timed::realtime`): every realizable example of
 //! `examples/timed/` scanned every 10 ms against its plant automata in continuous time, the
 //! plant picking its timings adversarially within the specification (interval ends, 1 µs after
 //! a scan, random execution times). Some examples are known not to be implementable at 10 ms
@@ -12,9 +12,11 @@
 mod common;
 
 use common::{root, venv_tool};
-use plcsynth::plc::lower_timed::{self, Wiring};
-use plcsynth::plc::model::{Code, Effect, Statement, Test};
-use plcsynth::plc::realtime::{self, Config, Failure, Interpreter, Latency, RunReport, ScanController, Stop};
+use plcsynth::plc::lower::timed::realtime::{
+    self, Config, Failure, Interpreter, Latency, RunReport, ScanController, Stop,
+};
+use plcsynth::plc::lower::timed::{self as lower_timed, Wiring};
+use plcsynth::plc::model::code::{Code, Effect, Statement, Test};
 use plcsynth::plc::{self, Options, Target};
 use plcsynth::program;
 use plcsynth::timed::model::Game;
@@ -239,7 +241,7 @@ fn realizable_examples_hold_at_10_ms_unless_listed_and_the_listed_fail() {
         let going_on = acts.iter().filter(|&&g| g).count();
         table.push(format!("{}  requests going on {going_on}/{}", tally.line(&e.name), acts.len()));
     }
-    eprintln!("plc::realtime at a {} ms scan (Rust interpreter):\n{}", SCAN_US / 1000, table.join("\n"));
+    eprintln!("plc::lower::timed::realtime at a {} ms scan (Rust interpreter):\n{}", SCAN_US / 1000, table.join("\n"));
 }
 
 #[test]
@@ -393,7 +395,7 @@ impl Awlsim {
         let options = Options::default();
         let path =
             common::scratch("plcsynth-realtime", &format!("{name}.awl"), &plc::render(code, Target::Stl, &options));
-        let (inputs, outputs) = plc::stl::operands(code, &options);
+        let (inputs, outputs) = plc::print::stl::operands(code, &options);
         let mut child = Command::new(venv_tool("python"))
             .arg(root().join("tests/checkers/scan_loop.py"))
             .arg(&path)
@@ -581,7 +583,7 @@ fn awlsim_agrees_with_the_interpreter_scan_by_scan_and_gives_the_same_verdicts()
     });
     let mut lines = lines.into_inner().unwrap();
     lines.sort();
-    eprintln!("plc::realtime at a {} ms scan (awlsim):\n{}", SCAN_US / 1000, lines.join("\n"));
+    eprintln!("plc::lower::timed::realtime at a {} ms scan (awlsim):\n{}", SCAN_US / 1000, lines.join("\n"));
 }
 
 #[test]
@@ -676,7 +678,7 @@ fn requests_going_on_within_their_scan_cut_latency_and_hold() {
     );
 }
 
-/// The rules of `plc::model::chain_requests` matter: the same code with every request going on
+/// The rules of `plc::model::code::chain_requests` matter: the same code with every request going on
 /// within its scan fails. The round table's `DO (cycle); WAITUNTIL (cycle_end)` then reads the
 /// `cycle_end` of the previous cycle, and `DO (store_class_0); DO (cycle)` reach the table in
 /// either order, cycling while the marble is still validating.

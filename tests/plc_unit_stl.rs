@@ -1,14 +1,14 @@
-//! `plc::unit_stl` checked by running its output in awlsim (an independent S7 implementation):
+//! `plc::print::stl::unit` checked by running its output in awlsim (an independent S7 implementation):
 //! random units (Boolean logic, INT/DINT arithmetic, REAL arithmetic and comparisons, nested IF,
-//! dense and sparse CASE, function calls) against a reference interpreter of `plc::unit` written
+//! dense and sparse CASE, function calls) against a reference interpreter of `plc::model::unit` written
 //! here, cycle by cycle on random inputs; TON timers in real time; a controller FB written in STL that calls
 //! one of the unit's FCs. awlsim comes from `scripts/python-checkers.sh` (`make test` runs it);
 //! without it these tests fail and say so.
 
 mod common;
 
-use plcsynth::plc::unit::{BinOp, Expr, Place, Pou, PouKind, Signal, SignalKind, Stmt, Type, Unit, Var};
-use plcsynth::plc::unit_stl::{self, StlUnitOptions};
+use plcsynth::plc::model::unit::{BinOp, Expr, Place, Pou, PouKind, Signal, SignalKind, Stmt, Type, Unit, Var};
+use plcsynth::plc::print::stl::unit::{self as unit_stl, StlUnitOptions};
 use std::collections::HashMap;
 
 /// Runs `awl` in awlsim with one script line per cycle; the reads of each cycle, as bytes.
@@ -24,7 +24,7 @@ fn awlsim(name: &str, awl: &str, script: &[String]) -> Vec<Vec<Vec<u8>>> {
 }
 
 // ---------------------------------------------------------------------------------------------
-// A reference interpreter of `plc::unit` (IEC semantics; INT wraps at 16 bits, DINT at 32).
+// A reference interpreter of `plc::model::unit` (IEC semantics; INT wraps at 16 bits, DINT at 32).
 // A REAL is held as the bits of its `f32` in an `i64`; every REAL operation is computed in
 // `f32` (as an S7 CPU does; awlsim rounds each result to `f32`), so REAL results and
 // comparisons are compared exactly, bit for bit. The random units keep REAL values within

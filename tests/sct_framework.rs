@@ -1,6 +1,6 @@
 //! The SynTACS runtime framework (`supervise --target`, docs/syrf.md) checked two ways:
 //! - by meaning: the lowered code, run by the reference interpreter of the code model
-//!   (`plc::unit_exec`) in closed loop against a random plant and a random, often misbehaving
+//!   (`plc::model::exec`) in closed loop against a random plant and a random, often misbehaving
 //!   controller, cycle by cycle, against `sct::Runtime` stepping the synthesised supervisors on
 //!   the same events, with triggers, resets and actions modelled here from 6.3.4 on their own;
 //! - by form: every Structured Text output parsed by blark, every PLCopen output validated
@@ -10,10 +10,10 @@ mod common;
 
 use plcsynth::benchmarks::transfer::transfer_lines;
 use plcsynth::plc::fragment::{self, BinOp, ExprKind, UnOp};
-use plcsynth::plc::lower_sct::{lower, FrameworkOptions};
-use plcsynth::plc::unit::{SignalKind, Unit};
-use plcsynth::plc::unit_exec::{Machine, Value};
-use plcsynth::plc::unit_stl::{self, StlUnitOptions};
+use plcsynth::plc::lower::sct::{lower, FrameworkOptions};
+use plcsynth::plc::model::exec::{Machine, Value};
+use plcsynth::plc::model::unit::{SignalKind, Unit};
+use plcsynth::plc::print::stl::unit::{self as unit_stl, StlUnitOptions};
 use plcsynth::plc::{self, Target};
 use plcsynth::rng::Rng;
 use plcsynth::sct::model::{Config, EventId, EventKind, Supervisor};
@@ -215,7 +215,7 @@ fn scenario(
         // The plant flips inputs.
         for &k in &inputs {
             if rng.chance(15) {
-                let bool_signal = unit.signals[k].ty == plc::unit::Type::Bool;
+                let bool_signal = unit.signals[k].ty == plc::model::unit::Type::Bool;
                 let v = if bool_signal { 1 - signals[&unit.signals[k].symbol] } else { rng.below(5) as i64 };
                 signals.insert(unit.signals[k].symbol.clone(), v);
             }
@@ -224,7 +224,7 @@ fn scenario(
         let mut writes: Vec<(usize, i64)> = Vec::new();
         for &k in &outputs {
             if rng.chance(20) {
-                let bool_signal = unit.signals[k].ty == plc::unit::Type::Bool;
+                let bool_signal = unit.signals[k].ty == plc::model::unit::Type::Bool;
                 writes.push((k, if bool_signal { rng.below(2) as i64 } else { rng.below(3) as i64 - 1 }));
             }
         }
@@ -437,7 +437,7 @@ fn puppet_controller(
     for (j, &k) in writable.iter().enumerate() {
         let s = &unit.signals[k];
         o.push_str(&format!("\tA\tM {}.0\n\tJCN\tw{j}\n", CMD_BYTES + j));
-        if s.ty == plc::unit::Type::Bool {
+        if s.ty == plc::model::unit::Type::Bool {
             o.push_str(&format!("\tA\tM {}.1\n\t=\t{}\n", CMD_BYTES + j, stl_operand(&s.address)));
         } else {
             o.push_str(&format!("\tL\tMW {}\n\tT\t{}\n", CMD_WORDS + 2 * j, stl_operand(&s.address)));
@@ -464,8 +464,8 @@ fn run_awlsim(p: &Project, unit: &Unit, actions: &[CycleActions]) -> Vec<Observe
     let options = plc::unit_stl_options(&plc::Options::default());
     assert_eq!(unit_stl::check(unit, &options), Vec::<String>::new());
     let writable: Vec<usize> = (0..unit.signals.len()).filter(|&k| unit.signals[k].kind != SignalKind::Input).collect();
-    let functions: Vec<&plc::unit::Pou> =
-        unit.pous.iter().filter(|p| matches!(p.kind, plc::unit::PouKind::Function { .. })).collect();
+    let functions: Vec<&plc::model::unit::Pou> =
+        unit.pous.iter().filter(|p| matches!(p.kind, plc::model::unit::PouKind::Function { .. })).collect();
     let execute = functions.iter().position(|p| p.name.ends_with("_Execute")).unwrap();
     let ev_param = &functions[execute].inputs[0].name;
     let program = format!(
@@ -498,7 +498,7 @@ fn run_awlsim(p: &Project, unit: &Unit, actions: &[CycleActions]) -> Vec<Observe
         for (j, &k) in writable.iter().enumerate() {
             let write = a.writes.iter().find(|(x, _)| *x == k).map(|&(_, v)| v);
             let cmd = match write {
-                Some(v) if unit.signals[k].ty == plc::unit::Type::Bool => 1 | ((v as u8 & 1) << 1),
+                Some(v) if unit.signals[k].ty == plc::model::unit::Type::Bool => 1 | ((v as u8 & 1) << 1),
                 Some(v) => {
                     words.push(format!(
                         "M{}={} M{}={}",
@@ -531,8 +531,8 @@ fn run_awlsim(p: &Project, unit: &Unit, actions: &[CycleActions]) -> Vec<Observe
             let l = locations.iter().find(|l| l.name == name).unwrap_or_else(|| panic!("no location of {name}"));
             let b = l.byte as usize;
             match l.ty {
-                plc::unit::Type::Bool => i64::from(dbm[b] >> l.bit & 1),
-                plc::unit::Type::Int => i64::from(i16::from_be_bytes([dbm[b], dbm[b + 1]])),
+                plc::model::unit::Type::Bool => i64::from(dbm[b] >> l.bit & 1),
+                plc::model::unit::Type::Int => i64::from(i16::from_be_bytes([dbm[b], dbm[b + 1]])),
                 _ => i64::from(i32::from_be_bytes([dbm[b], dbm[b + 1], dbm[b + 2], dbm[b + 3]])),
             }
         };
@@ -705,7 +705,7 @@ fn the_tank_story_denied_without_preemption_and_overridden_with_it() {
 
 fn m_constant(unit: &Unit, name: &str) -> i64 {
     match unit.constants.iter().find(|c| c.name == name).and_then(|c| c.init.clone()) {
-        Some(plc::unit::Expr::Int(v)) => v,
+        Some(plc::model::unit::Expr::Int(v)) => v,
         _ => panic!("no constant {name}"),
     }
 }
@@ -855,9 +855,9 @@ fn every_trigger_and_action_form_steps_like_the_reference() {
     let p = project(EVERY_FORM);
     let unit = unit_of(&p);
     let ty = |s: &str| unit.signals.iter().find(|x| x.symbol == s).map(|x| (x.kind, x.ty.clone()));
-    assert_eq!(ty("Level"), Some((SignalKind::Input, plc::unit::Type::Int)));
-    assert_eq!(ty("mode"), Some((SignalKind::Memory, plc::unit::Type::Int)));
-    assert_eq!(ty("QX4.1"), Some((SignalKind::Output, plc::unit::Type::Bool)));
+    assert_eq!(ty("Level"), Some((SignalKind::Input, plc::model::unit::Type::Int)));
+    assert_eq!(ty("mode"), Some((SignalKind::Memory, plc::model::unit::Type::Int)));
+    assert_eq!(ty("QX4.1"), Some((SignalKind::Output, plc::model::unit::Type::Bool)));
     let mut total: BTreeMap<&str, usize> = BTreeMap::new();
     for seed in 1..=4 {
         for (k, v) in closed_loop("every form", &p, seed, 1500) {

@@ -114,8 +114,9 @@ pub fn check_g4ltl(source: &str) {
             for group in &outcome.groups {
                 group.controller.as_ref().expect("a compositional group has its controller").validate().expect("valid");
             }
-            let options = plcsynth::plc::lower_ltl::LowerOptions::default();
-            if let Some(Err(diagnostics)) = plcsynth::plc::lower_ltl::lower_outcome(source, &spec, &outcome, &options) {
+            let options = plcsynth::plc::lower::ltl::LowerOptions::default();
+            if let Some(Err(diagnostics)) = plcsynth::plc::lower::ltl::lower_outcome(source, &spec, &outcome, &options)
+            {
                 // Only a timer too long for the PLC's TIME, or a predicate IEC cannot compute
                 // as written (INT and REAL mixed, INT overflow or division), may refuse one.
                 assert!(

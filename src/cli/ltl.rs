@@ -245,10 +245,10 @@ fn exit_code(verdict: Verdict) -> ExitCode {
     })
 }
 
-/// Lowers the controller into a function block (`plc::lower_ltl`) and writes it for `target`.
+/// Lowers the controller into a function block (`plc::lower::ltl`) and writes it for `target`.
 fn write_code(a: &LtlArgs, target: plc::Target, source: &str, spec: &ltl::Spec, outcome: &ltl::Outcome) -> ExitCode {
-    let options = plc::lower_ltl::LowerOptions { name: a.name.clone() };
-    let unit = match plc::lower_ltl::lower_outcome(source, spec, outcome, &options).expect("a controller") {
+    let options = plc::lower::ltl::LowerOptions { name: a.name.clone() };
+    let unit = match plc::lower::ltl::lower_outcome(source, spec, outcome, &options).expect("a controller") {
         Ok(unit) => unit,
         Err(diags) => {
             eprint!("{}", render_plain(&a.file, source, &diags));
@@ -419,7 +419,7 @@ fn measure(
     let outcome = last.expect("at least one run");
     let lines = outcome.controller.as_ref().and_then(|_| {
         let unit =
-            plc::lower_ltl::lower_outcome(source, &spec, &outcome, &plc::lower_ltl::LowerOptions::default())?.ok()?;
+            plc::lower::ltl::lower_outcome(source, &spec, &outcome, &plc::lower::ltl::LowerOptions::default())?.ok()?;
         let files = plc::render_unit_files(&unit, plc::Target::St, &plc::Options::default()).ok()?;
         Some(files.iter().map(|f| f.text.lines().count()).sum())
     });

@@ -19,7 +19,7 @@ pub mod timed;
 /// `SOURCE_DATE_EPOCH` or the clock) and writes it to `output` or standard output, and the
 /// signal table to `io_table`: the last step of `supervise --target` and `ltl --target`.
 pub fn write_unit(
-    unit: &plcsynth::plc::unit::Unit,
+    unit: &plcsynth::plc::model::unit::Unit,
     target: plcsynth::plc::Target,
     options: plcsynth::plc::Options,
     io_table: Option<&str>,

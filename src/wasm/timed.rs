@@ -291,7 +291,7 @@ impl TimedSession {
         // The intermediate program is checked as ST; it needs the lowering only for the check.
         let lowered = if plc_target.is_some() || self.implementable_at.is_some() {
             let t = plc_target.unwrap_or(Target::St);
-            match plc::lower_timed::build_wired(&self.game, program, t, name, &self.source, &options) {
+            match plc::lower::timed::build_wired(&self.game, program, t, name, &self.source, &options) {
                 Ok(built) => Some(built),
                 Err(errors) if plc_target.is_some() => return Err(diagnostics_error(&errors)),
                 Err(errors) => {
@@ -310,8 +310,18 @@ impl TimedSession {
                 let cell = &self.checked[usize::from(check_target == Target::Stl)];
                 Some(
                     cell.get_or_init(|| {
-                        let config = plc::realtime::Config { scan_us: ms.saturating_mul(1000), ..Default::default() };
-                        let report = plc::realtime::check(&self.game, code, wiring, check_target, &config, CHECK_RUNS);
+                        let config = plc::lower::timed::realtime::Config {
+                            scan_us: ms.saturating_mul(1000),
+                            ..Default::default()
+                        };
+                        let report = plc::lower::timed::realtime::check(
+                            &self.game,
+                            code,
+                            wiring,
+                            check_target,
+                            &config,
+                            CHECK_RUNS,
+                        );
                         RealtimeView {
                             scan_ms: ms,
                             runs: report.runs,

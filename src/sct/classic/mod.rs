@@ -606,7 +606,7 @@ pub fn is_controllable(plant: &Automaton, sup: &Automaton, events: &Events) -> b
 /// (e.g. prohibitions of a supervisor); states with different keys are never merged.
 ///
 /// The reachable part is completed with a sink state (for missing transitions) and refined
-/// with Hopcroft's algorithm ([`super::partition`]). Returns the quotient and, for every
+/// with Hopcroft's algorithm (`sct::partition`). Returns the quotient and, for every
 /// original state, its quotient state (`u32::MAX` for unreachable ones).
 pub fn minimize_with_key(a: &Automaton, key: &[u64]) -> (Automaton, Vec<StateId>) {
     let reach = a.reachable();

@@ -3,7 +3,7 @@
 //! microseconds, with a plant that picks its timings adversarially within the specification.
 //!
 //! The PLC scans at `t_k = k · scan`: it latches the input image from the plant's state, runs
-//! the code from its stored position (the [`super::model::Statement`] semantics), and writes
+//! the code from its stored position (the [`crate::plc::model::code::Statement`] semantics), and writes
 //! the output image at `t_k + e_k`, the execution time `e_k` in `[0, scan)` chosen by the
 //! adversary. Outputs are physical signals: a request reaches the plant on a rising edge of its
 //! output (a pulse repeated in the next scan stays TRUE and is no second request; a latched
@@ -22,9 +22,9 @@
 //! running. The controller is a [`ScanController`]: [`Interpreter`] runs the code in Rust; a
 //! test plugs in a PLC emulator. No I/O, no clock: a run is a function of its seed.
 
-use super::lower_timed::Wiring;
-use super::model::{Code, Effect, Statement, Test};
-use super::{stl, Target};
+use crate::plc::lower::timed::Wiring;
+use crate::plc::model::code::{Code, Effect, Statement, Test};
+use crate::plc::{print::stl, Target};
 use crate::rng::Rng;
 use crate::timed::model::{Game, MessageKind, MessageRole, MsgId};
 use crate::timed::plant::{Move, Plant, Violation};
@@ -44,7 +44,7 @@ pub trait ScanController {
 }
 
 /// The reference interpreter of a [`Code`], as the printers execute it: pulsed outputs are
-/// cleared (their value as last written kept for [`Output::last`](super::model::Output::last):
+/// cleared (their value as last written kept for [`Output::last`](crate::plc::model::code::Output::last):
 /// a pulse right after a pulse waits a scan) and every timer is called with `IN := TRUE` at the start of each scan (so a timer's
 /// `ET` is measured at the scan instant, in whole milliseconds); a restart stops the timer
 /// (`IN := FALSE`: `ET` is 0 for the rest of the scan) and the next scan's call starts it
@@ -1081,7 +1081,7 @@ impl Run<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plc::model::{Output, Step, Timer, Variable};
+    use crate::plc::model::code::{Output, Step, Timer, Variable};
 
     /// `0: WAIT t >= 30 ms; 1: DO go (restart t); 2: GOTO 0` with one input and a pulsed output.
     fn code() -> Code {

@@ -2,9 +2,9 @@
 //! symbol), type, symbol, direction and meaning; as CSV for any tool, and as a Siemens symbol
 //! table (SDF, the "System Data Format" of STEP 7 that TIA Portal's PLC tag tables import too).
 
-use super::model::{Binding, Code, Direction};
-use super::siemens_address;
-use super::unit::{SignalKind, Unit};
+use crate::plc::model::code::{Binding, Code, Direction};
+use crate::plc::model::unit::{SignalKind, Unit};
+use crate::plc::siemens_address;
 
 /// One row of the I/O table.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -108,10 +108,10 @@ pub fn signal_rows(unit: &Unit) -> Vec<SignalRow> {
     let mut rows = Vec::new();
     for s in &unit.signals {
         let data_type = match s.ty {
-            super::unit::Type::Int => "INT",
-            super::unit::Type::Dint => "DINT",
-            super::unit::Type::Real => "REAL",
-            super::unit::Type::Time => "TIME",
+            crate::plc::model::unit::Type::Int => "INT",
+            crate::plc::model::unit::Type::Dint => "DINT",
+            crate::plc::model::unit::Type::Real => "REAL",
+            crate::plc::model::unit::Type::Time => "TIME",
             _ => "BOOL",
         };
         let direction = match s.kind {
@@ -120,7 +120,7 @@ pub fn signal_rows(unit: &Unit) -> Vec<SignalRow> {
             SignalKind::Memory => "memory",
         };
         rows.push(SignalRow {
-            address: format!("%{}", super::iec_address(&s.address)),
+            address: format!("%{}", crate::plc::iec_address(&s.address)),
             data_type,
             symbol: s.symbol.clone(),
             direction,
@@ -129,7 +129,7 @@ pub fn signal_rows(unit: &Unit) -> Vec<SignalRow> {
     }
     for c in &unit.constants {
         let value = match c.init {
-            Some(super::unit::Expr::Int(v)) => v.to_string(),
+            Some(crate::plc::model::unit::Expr::Int(v)) => v.to_string(),
             _ => String::new(),
         };
         rows.push(SignalRow {

@@ -2,11 +2,11 @@
 //! body as IEC Structured Text; a configuration whose resource runs the program in a cyclic
 //! task and holds the unit's globals and constants (`globalVars`, `constant="true"`).
 
-use super::plcopen::{escape, project_head, st_body, variable};
-use super::st::Dialect;
-use super::unit::{Pou, PouKind, Type, Unit, Var};
-use super::unit_st::{pou_body, Writer};
-use super::Options;
+use crate::plc::files::plcopen::{escape, project_head, st_body, variable};
+use crate::plc::model::unit::{Pou, PouKind, Type, Unit, Var};
+use crate::plc::print::st::unit::{pou_body, Writer};
+use crate::plc::print::st::Dialect;
+use crate::plc::Options;
 use std::fmt::{self, Write};
 
 /// The type as a TC6 `<type>` content.

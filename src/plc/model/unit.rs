@@ -1,8 +1,8 @@
 //! The structured half of the neutral code model: program organisation units (functions,
 //! function blocks, a program) over typed variables, with expressions, `IF` and `CASE` — what a
-//! framework of cooperating blocks needs, where [`super::model::Code`] is one step machine.
-//! It names no engine: a lowering (such as `lower_sct`) builds a [`Unit`]; printers (`unit_st`
-//! for the Structured Text dialects, PLCopen and TwinCAT, `unit_stl` for S7 AWL) turn it into
+//! framework of cooperating blocks needs, where [`crate::plc::model::code::Code`] is one step machine.
+//! It names no engine: a lowering (such as `lower::sct`) builds a [`Unit`]; printers (`print::st::unit`
+//! for the Structured Text dialects, PLCopen and TwinCAT, `print::stl::unit` for S7 AWL) turn it into
 //! text.
 //!
 //! Three kinds of names meet here, and printers write each as its dialect wants:
@@ -13,7 +13,7 @@
 //!   controller variables, declared elsewhere, listed in [`Unit::signals`] with an address a
 //!   printer may use when the dialect cannot write the symbol (STL).
 
-pub use super::fragment::BinOp;
+pub use crate::plc::fragment::BinOp;
 
 /// Elementary and block types the unit uses.
 #[derive(Clone, Debug, PartialEq, Eq)]

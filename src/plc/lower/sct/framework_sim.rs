@@ -1,5 +1,5 @@
-//! The runtime framework of supervisory control ([`super::lower_sct`]) run cycle by cycle in the
-//! reference interpreter of the code model ([`super::unit_exec`]), for the playground's cycle
+//! The runtime framework of supervisory control ([`crate::plc::lower::sct`]) run cycle by cycle in the
+//! reference interpreter of the code model ([`crate::plc::model::exec`]), for the playground's cycle
 //! simulator: the user sets the plant's inputs and the outputs the existing controller writes,
 //! lets time pass, and reads per cycle what the framework did — the events it detected, each
 //! supervisor's answer, the outputs it reset, the events it enforced, its timers.
@@ -8,9 +8,9 @@
 //! does. A run is a pure function of its inputs ([`run`]): stepping back is running one cycle
 //! fewer.
 
-use super::lower_sct::FrameworkMap;
-use super::unit::{SignalKind, Type, Unit};
-use super::unit_exec::{Machine, Value};
+use crate::plc::lower::sct::FrameworkMap;
+use crate::plc::model::exec::{Machine, Value};
+use crate::plc::model::unit::{SignalKind, Type, Unit};
 use crate::sct::model::{Project, Supervisor};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -210,10 +210,10 @@ fn view(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plc::lower_sct::{lower_mapped, FrameworkOptions};
+    use crate::plc::lower::sct::{lower_mapped, FrameworkOptions};
     use crate::sct::{compile, model::Config, synthesize_all, Outcome, Runtime};
 
-    const TANK: &str = include_str!("../../examples/sct/tank_preemption.sct");
+    const TANK: &str = include_str!("../../../../examples/sct/tank_preemption.sct");
 
     fn cycle(elapsed_ms: u64, inputs: &[(&str, i64)], controller: &[(&str, i64)]) -> CycleInput {
         CycleInput {
@@ -226,7 +226,7 @@ mod tests {
     /// The interlock denies opening the inlet, says which supervisor did, and resets the output.
     #[test]
     fn a_denied_event_names_its_supervisor_and_its_output_is_reset() {
-        let src = include_str!("../../examples/sct/tank_interlock.sct");
+        let src = include_str!("../../../../examples/sct/tank_interlock.sct");
         let (loaded, _) = compile(src);
         let loaded = loaded.unwrap();
         let (reports, _) = synthesize_all(src, &loaded, &Config::default(), None);

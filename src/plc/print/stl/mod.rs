@@ -3,12 +3,12 @@
 //! position is kept in a marker byte (`MB 0` by default, [`Options::marker_byte`]) and entered
 //! through a `JL` jump list; a wait stores
 //! its position and ends the cycle (`JCN end`) while its condition is false, so the program has
-//! no backward jumps but the ones a scan may take once ([`super::model::Step::back_in_scan`]);
+//! no backward jumps but the ones a scan may take once ([`crate::plc::model::code::Step::back_in_scan`]);
 //! requests `SET` / `S` / `R` outputs. Labels are four letters numbered by
 //! command position (`aaaa` is command 0, `aaac` command 2), as in the thesis's listing.
 //!
 //! Two choices beyond the thesis: the cycle also ends after a request that a later test or request
-//! of the cycle depends on ([`super::model::chain_requests`]), so that the next test reads inputs
+//! of the cycle depends on ([`crate::plc::model::code::chain_requests`]), so that the next test reads inputs
 //! taken after the request was written out (the thesis always continues into the next test, which
 //! then sees the input image from before the request); and clocks are S7 on-delay timers,
 //! one per compared threshold, restarted by calling `SD` with RLO 0 (resolution 10 ms). Inputs
@@ -17,9 +17,11 @@
 //! is set stores its own position and ends the cycle (`A M …`, `JC end`), to pulse in the next.
 //! [`clashes`] finds user `%M` bindings on those bytes and thresholds beyond the CPU's timers.
 
-use super::model::{Binding, Code, Effect, Statement, Test};
-use super::target::TimeType;
-use super::{siemens_address, Options};
+pub mod unit;
+
+use crate::plc::model::code::{Binding, Code, Effect, Statement, Test};
+use crate::plc::target::TimeType;
+use crate::plc::{siemens_address, Options};
 use std::fmt::{self, Write};
 
 /// Four-letter label of command `i`: aaaa, aaab, …
@@ -188,7 +190,7 @@ pub fn operands(code: &Code, options: &Options) -> (Vec<String>, Vec<String>) {
 }
 
 /// [`operands`], and per output the memory bit of its value at the last output write
-/// ([`super::model::Output::last`]), after the bits of the unbound signals.
+/// ([`crate::plc::model::code::Output::last`]), after the bits of the unbound signals.
 fn all_operands(code: &Code, options: &Options) -> (Vec<String>, Vec<String>, Vec<Option<String>>) {
     let (_, bit_bytes) = marker_bytes(code, options);
     let mut next_bit = bit_bytes.start as usize * 8;

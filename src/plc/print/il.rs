@@ -2,8 +2,8 @@
 //! structure of 6.7.2 — a jump list on the step variable at the top, each wait storing its
 //! position and ending the scan while its condition is false.
 
-use super::model::{Binding, Code, Effect, Statement, Test};
-use super::{preset_literal, st, time_literal};
+use crate::plc::model::code::{Binding, Code, Effect, Statement, Test};
+use crate::plc::{preset_literal, print::st, time_literal};
 use std::fmt::{self, Write};
 
 fn load(code: &Code, test: &Test, o: &mut impl Write) -> fmt::Result {

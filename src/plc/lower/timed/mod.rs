@@ -3,11 +3,15 @@
 //! the signals of the `io` section), clocks read by delay conditions become timers, and each
 //! command becomes one step.
 
-use super::model::{
+pub mod realtime;
+
+use crate::diag::{Diagnostic, Diagnostics, Span};
+use crate::plc::model::code::{
     chain_requests, Binding, Code, Effect, Output, RequestFacts, Statement, Step, Test, Timer, Variable,
 };
-use super::{iec_address, is_identifier_path, render, source_hash, stl, Namespace, Options, Target, TimeType};
-use crate::diag::{Diagnostic, Diagnostics, Span};
+use crate::plc::{
+    iec_address, is_identifier_path, print::stl, render, source_hash, Namespace, Options, Target, TimeType,
+};
 use crate::program::{Condition, Instruction, Program};
 use crate::timed::model::{
     ClockId, ClockOwner, CompId, Game, IoBinding, IoMode, IoTarget, MessageKind, MessageRole, MsgId, Pred,
@@ -112,7 +116,7 @@ pub fn build(
 }
 
 /// Which messages of the game each variable of a [`Code`] stands for: what a closed-loop
-/// checker needs to drive the code from the plant ([`super::realtime`]).
+/// checker needs to drive the code from the plant ([`crate::plc::lower::timed::realtime`]).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Wiring {
     /// Per input: every message bound to its signal, with whether it reads the signal negated

@@ -4,19 +4,21 @@
 //! resource's global variables (located with `address` where the specification binds one). The
 //! bodies are the ST target's; variables are declared in the XML interfaces.
 
-use super::model::{Binding, Code};
-use super::{iso_datetime, st, Options};
+pub mod unit;
+
+use crate::plc::model::code::{Binding, Code};
+use crate::plc::{iso_datetime, print::st, Options};
 use std::fmt::{self, Write};
 
-pub(super) fn escape(text: &str) -> String {
+pub(in crate::plc) fn escape(text: &str) -> String {
     text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
 
-pub(super) fn variable(o: &mut impl Write, name: &str, ty: &str, init: Option<&str>, doc: &str) -> fmt::Result {
+pub(in crate::plc) fn variable(o: &mut impl Write, name: &str, ty: &str, init: Option<&str>, doc: &str) -> fmt::Result {
     located(o, name, None, ty, init, doc)
 }
 
-pub(super) fn located(
+pub(in crate::plc) fn located(
     o: &mut impl Write,
     name: &str,
     address: Option<&str>,
@@ -36,14 +38,19 @@ pub(super) fn located(
 }
 
 /// The ST text inside `<xhtml:p>`.
-pub(super) fn st_body(o: &mut impl Write, text: &str) -> fmt::Result {
+pub(in crate::plc) fn st_body(o: &mut impl Write, text: &str) -> fmt::Result {
     o.write_str("        <body>\n          <ST>\n            <xhtml:p><![CDATA[")?;
     o.write_str(&text.replace("]]>", "]]]]><![CDATA[>"))?;
     o.write_str("]]></xhtml:p>\n          </ST>\n        </body>\n")
 }
 
 /// The XML declaration, the provenance, `<project>`, `<fileHeader>` and `<contentHeader>`.
-pub(super) fn project_head(name: &str, header: &[String], options: &Options, o: &mut impl Write) -> fmt::Result {
+pub(in crate::plc) fn project_head(
+    name: &str,
+    header: &[String],
+    options: &Options,
+    o: &mut impl Write,
+) -> fmt::Result {
     let created = iso_datetime(options.created_unix);
     o.write_str("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n")?;
     for line in header {

@@ -15,8 +15,8 @@
 //! (`ctrl.grant`); an instance of a block the unit does not define is the user's controller.
 //! Division by zero and unknown names are errors, not panics.
 
-use super::fragment::BinOp;
-use super::unit::{Expr, Place, Pou, PouKind, Stmt, Type, Unit, Var};
+use crate::plc::fragment::BinOp;
+use crate::plc::model::unit::{Expr, Place, Pou, PouKind, Stmt, Type, Unit, Var};
 use std::collections::HashMap;
 
 /// A value of the model's elementary types.

@@ -6,10 +6,12 @@
 //! module doc of `plc`). When variables are bound to signals, a program instantiates the block
 //! and wires it; addresses appear only there: IEC declares located variables (`AT %IX0.0`) in
 //! the program, CODESYS and TwinCAT in a global variable list, SCL reads PLC tags (`"press"`)
-//! that the tag table ([`super::tag_table_sdf`]) defines.
+//! that the tag table ([`crate::plc::tag_table_sdf`]) defines.
 
-use super::model::{Binding, Code, Direction, Effect, Statement, Test};
-use super::{preset_literal, time_literal};
+pub mod unit;
+
+use crate::plc::model::code::{Binding, Code, Direction, Effect, Statement, Test};
+use crate::plc::{preset_literal, time_literal};
 use std::fmt::{self, Write};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -16,9 +16,9 @@
 //! - **Timers** are `TON`, on S7-1200/1500 `TON_TIME`; the program is an FB on Siemens targets,
 //!   called from an organisation block the user adds.
 
-use super::st::Dialect;
-use super::unit::{Expr, Place, Pou, PouKind, SignalKind, Stmt, Type, Unit, Var};
-use super::{iec_address, siemens_address, time_literal, OutputFile};
+use crate::plc::model::unit::{Expr, Place, Pou, PouKind, SignalKind, Stmt, Type, Unit, Var};
+use crate::plc::print::st::Dialect;
+use crate::plc::{iec_address, siemens_address, time_literal, OutputFile};
 use std::collections::BTreeSet;
 use std::fmt::{self, Write};
 
@@ -46,13 +46,13 @@ pub fn type_name(ty: &Type, dialect: Dialect) -> String {
 }
 
 /// How one POU's code names things in `dialect`.
-pub(super) struct Writer<'u> {
+pub(in crate::plc) struct Writer<'u> {
     unit: &'u Unit,
     dialect: Dialect,
 }
 
 impl<'u> Writer<'u> {
-    pub(super) fn new(unit: &'u Unit, dialect: Dialect) -> Writer<'u> {
+    pub(in crate::plc) fn new(unit: &'u Unit, dialect: Dialect) -> Writer<'u> {
         Writer { unit, dialect }
     }
 
@@ -86,7 +86,7 @@ impl<'u> Writer<'u> {
         }
     }
 
-    pub(super) fn expr(&self, e: &Expr) -> String {
+    pub(in crate::plc) fn expr(&self, e: &Expr) -> String {
         let mut out = String::new();
         self.write_expr(e, 0, &mut out);
         out
@@ -136,7 +136,7 @@ impl<'u> Writer<'u> {
     }
 
     /// An initial value: a negative literal without the parentheses an operand needs.
-    pub(super) fn init(&self, e: &Expr) -> String {
+    pub(in crate::plc) fn init(&self, e: &Expr) -> String {
         match e {
             Expr::Int(v) => v.to_string(),
             Expr::Real(r) => r.iec_text(),
@@ -480,12 +480,12 @@ pub fn files(unit: &Unit) -> Vec<OutputFile> {
         pou_declaration(unit, pou, Dialect::Twincat, &mut declaration);
         let mut body = String::new();
         pou_body(unit, pou, Dialect::Twincat, &mut body);
-        out.push(super::twincat::pou_file(&unit.header, &pou.name, &declaration, &body));
+        out.push(crate::plc::files::twincat::pou_file(&unit.header, &pou.name, &declaration, &body));
     }
     if !unit.constants.is_empty() || !unit.globals.is_empty() {
         let mut declaration = header;
         gvl(unit, Dialect::Twincat, &mut declaration);
-        out.push(super::twincat::gvl_file(&unit.header, &unit.gvl, &declaration));
+        out.push(crate::plc::files::twincat::gvl_file(&unit.header, &unit.gvl, &declaration));
     }
     out
 }

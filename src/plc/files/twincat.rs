@@ -3,12 +3,12 @@
 //! with the I/O's variables, located at their addresses or, when unbound, `AT %I*`/`AT %Q*` for
 //! linking in the System Manager. Each is a `TcPlcObject` (format version 1.1.0.1)
 //! whose declaration and implementation are the CODESYS dialect's Structured Text in CDATA.
-//! Object ids are name-based GUIDs ([`super::stable_guid`]), so the files depend on the input
+//! Object ids are name-based GUIDs ([`crate::plc::stable_guid`]), so the files depend on the input
 //! only.
 
-use super::model::Code;
-use super::st::{self, Dialect};
-use super::{stable_guid, OutputFile};
+use crate::plc::model::code::Code;
+use crate::plc::print::st::{self, Dialect};
+use crate::plc::{stable_guid, OutputFile};
 use std::fmt::Write;
 
 fn escape(text: &str) -> String {

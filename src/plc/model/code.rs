@@ -1,6 +1,6 @@
 //! The neutral code model every printer reads: a function block with BOOL inputs and outputs,
 //! timers, and a list of steps (statements over tests). It names no engine; a lowering (such as
-//! [`super::lower_timed`]) builds it, and printers turn it into text.
+//! [`crate::plc::lower::timed`]) builds it, and printers turn it into text.
 
 use crate::diag::Span;
 
@@ -19,7 +19,7 @@ impl Binding {
     /// The binding as Siemens code writes it: `%I0.0`, `GVL.lamp`, `"Lamp On"`.
     pub fn siemens_text(&self) -> String {
         match self {
-            Binding::Address(text) => format!("%{}", super::siemens_address(text)),
+            Binding::Address(text) => format!("%{}", crate::plc::siemens_address(text)),
             Binding::Symbol(text) => text.clone(),
             Binding::Quoted(text) => format!("\"{text}\""),
         }
@@ -29,7 +29,7 @@ impl Binding {
     /// only accepted by the lowering for Siemens targets, see `Target::quotes_tags`).
     pub fn iec_text(&self) -> String {
         match self {
-            Binding::Address(text) => format!("%{}", super::iec_address(text)),
+            Binding::Address(text) => format!("%{}", crate::plc::iec_address(text)),
             Binding::Symbol(text) => text.clone(),
             Binding::Quoted(text) => format!("\"{text}\""),
         }
@@ -46,7 +46,7 @@ pub enum Direction {
 /// A BOOL variable of the block's interface.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Variable {
-    /// A valid IEC identifier (see [`super::identifier`]).
+    /// A valid IEC identifier (see [`crate::plc::identifier`]).
     pub symbol: String,
     /// The signal it is wired to, if any; unbound variables are the block's own inputs/outputs.
     pub binding: Option<Binding>,
@@ -91,7 +91,7 @@ pub struct Timer {
     pub symbol: String,
     /// What it measures, printed beside its declaration.
     pub comment: String,
-    /// The preset: above the largest threshold compared (see [`super::TimeType`]).
+    /// The preset: above the largest threshold compared (see [`crate::plc::TimeType`]).
     pub preset_ms: u64,
 }
 

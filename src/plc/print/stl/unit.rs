@@ -58,8 +58,8 @@
 //! - Comments of the unit, its POUs, variables and statements are printed as `//` comments, and
 //!   every statement is preceded by its Structured Text form.
 
-use super::siemens_address;
-use super::unit::{BinOp, Expr, Place, Pou, PouKind, RealLit, Stmt, Type, Unit, Var};
+use crate::plc::model::unit::{BinOp, Expr, Place, Pou, PouKind, RealLit, Stmt, Type, Unit, Var};
+use crate::plc::siemens_address;
 use std::collections::HashMap;
 use std::fmt::{self, Write};
 
@@ -1832,7 +1832,7 @@ pub fn print(unit: &Unit, options: &StlUnitOptions, o: &mut impl Write) -> fmt::
     Ok(())
 }
 
-/// [`print`] into a string.
+/// [`print()`] into a string.
 pub fn render(unit: &Unit, options: &StlUnitOptions) -> String {
     let mut text = String::new();
     print(unit, options, &mut text).expect("writing to a String cannot fail");

@@ -14,10 +14,12 @@
 //!   `N_Enforce` (preemption, 5.5);
 //! - the program `N_Main`, which the PLC task calls instead of the controller: the cycle of 6.3.4.
 
-use super::fragment::{self, BinOp, ExprKind, UnOp};
-use super::unit::{Expr, Place, Pou, PouKind, Signal, SignalKind, Stmt, Type, Unit, Var};
-use super::{identifier, source_hash, Namespace};
+pub mod framework_sim;
+
 use crate::diag::{Diagnostic, Diagnostics, Span};
+use crate::plc::fragment::{self, BinOp, ExprKind, UnOp};
+use crate::plc::model::unit::{Expr, Place, Pou, PouKind, Signal, SignalKind, Stmt, Type, Unit, Var};
+use crate::plc::{identifier, source_hash, Namespace};
 use crate::sct::model::{EventId, EventKind, Supervisor};
 use crate::sct::{EdgeKind, EventMeta, Loaded, Trigger};
 use std::collections::BTreeMap;

@@ -1,6 +1,6 @@
 //! An LTL controller (a finite-state [`Machine`] of `crate::ltl`) lowered into a [`Unit`]: one
 //! function block that is the machine, and a program that wires it to the PLC's I/O.
-//! `docs/ltl-plc.md` shows the generated code; `plc::unit_exec` runs it against
+//! `docs/ltl-plc.md` shows the generated code; `plc::model::exec` runs it against
 //! [`Machine::row`] in `tests/ltl_plc.rs`, so the two must keep one semantics.
 //!
 //! What is generated (the block `FB_<title>`, `FB_Controller` without a title):
@@ -11,7 +11,7 @@
 //!   A branch first assigns the outputs that every row of the state writes alike (all of them
 //!   for a Moore machine), then decides the rest with `IF`/`ELSIF`/`ELSE` over the state's rows
 //!   grouped by what they do (next state and outputs), each group's condition a small cover of
-//!   its valuations (see [`cover`]);
+//!   its valuations (see `cover`);
 //! - the program `<block>_main`: calls an instance `ctrl` with the inputs `%IX0.0`, `%IX0.1`, …
 //!   and copies its outputs to `%QX0.0`, `%QX0.1`, … (in the order of the machine's signals).
 //!
@@ -25,13 +25,13 @@
 //! takes effect from the next scan on: within the scan that starts it, `t1.Q` is still the value
 //! read at the scan's start.
 
-use super::unit::{BinOp, Expr, Place, Pou, PouKind, Signal, SignalKind, Stmt, Type, Unit, Var};
-use super::{identifier, source_hash, Namespace};
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use crate::ltl::{
     Cube, Machine, NumExpr, NumberKind, NumericId, Outcome, Relation, Row, SignalId, SignalKind as Direction, Spec,
     StateId,
 };
+use crate::plc::model::unit::{BinOp, Expr, Place, Pou, PouKind, Signal, SignalKind, Stmt, Type, Unit, Var};
+use crate::plc::{identifier, source_hash, Namespace};
 use std::collections::BTreeSet;
 
 /// Choices of the lowering beyond the machine.
@@ -344,7 +344,7 @@ pub fn lower_machines(
     let mut signals = Vec::new();
     let mut args = Vec::new();
     let input_types: Vec<Type> = fb.inputs.iter().map(|v| v.ty.clone()).collect();
-    let addresses = super::unit::direct_addresses('I', &input_types);
+    let addresses = crate::plc::model::unit::direct_addresses('I', &input_types);
     for (var, address) in fb.inputs.iter().zip(addresses) {
         let address = address.expect("inputs are BOOL, INT or REAL");
         let k = signals.len();
