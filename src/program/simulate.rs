@@ -60,6 +60,30 @@ pub struct RunReport {
 
 pub use crate::rng::Rng;
 
+/// How many of the last steps [`RunReport::trace`] keeps.
+const TRACE_LINES: usize = 40;
+
+/// What a step of the trace was.
+#[derive(Clone, Debug)]
+enum TraceLine {
+    /// The controller's request (`DO (m)`).
+    Request(MsgId),
+    /// A plant message: `!` a reaction, `?` a request.
+    Message { sigil: &'static str, message: MsgId },
+    Text(&'static str),
+}
+
+/// A step of the trace with the numbers it shows, formatted when the run ends.
+#[derive(Clone, Debug)]
+struct TraceEntry {
+    line: TraceLine,
+    ticks: i64,
+    pc: usize,
+    clocks: Vec<i64>,
+    timers: Vec<i64>,
+    plan_locs: Vec<u32>,
+}
+
 /// One step of a [`Simulation`].
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
@@ -231,6 +255,11 @@ pub struct Simulation<'g> {
     guard_values: Vec<bool>,
     rng: Rng,
     report: RunReport,
+    /// The last steps, formatted into [`RunReport::trace`] when [`run`] ends.
+    trace: std::collections::VecDeque<TraceEntry>,
+    /// Per command, the stamp of the scan segment that last ran it (see `scan`).
+    visited: Vec<u32>,
+    stamp: u32,
     requests_since_progress: usize,
     /// Whether [`Simulation::events`] are kept ([`run`] only needs its short text trace).
     record: bool,
@@ -274,6 +303,9 @@ impl<'g> Simulation<'g> {
             guards,
             rng: Rng::new(seed),
             report: RunReport { steps: 0, progress: 0, requests: 0, time: 0.0, failure: None, trace: Vec::new() },
+            trace: std::collections::VecDeque::with_capacity(TRACE_LINES),
+            visited: Vec::new(),
+            stamp: 0,
             requests_since_progress: 0,
             record,
             events: Vec::new(),
@@ -306,55 +338,70 @@ impl<'g> Simulation<'g> {
         self.w.plant.game
     }
 
-    fn trace(&mut self, line: String) {
-        let plans: Vec<String> = self
-            .w
-            .plant
-            .game
-            .plans
+    /// Keeps the last [`TRACE_LINES`] steps for [`RunReport::trace`]: a snapshot of the numbers,
+    /// formatted only when the run ends (a run may take millions of requests; formatting each
+    /// step's clocks was most of its time).
+    fn trace(&mut self, line: TraceLine) {
+        let p = &self.w.plant;
+        let entry = if self.trace.len() == TRACE_LINES {
+            // The oldest entry's buffers take the new snapshot.
+            let mut e = self.trace.pop_front().expect("the trace is full");
+            e.clocks.clone_from(&p.clocks);
+            e.timers.clone_from(&self.w.timers);
+            e.plan_locs.clone_from(&p.plan_locs);
+            TraceEntry { line, ticks: self.w.time, pc: self.pc, ..e }
+        } else {
+            TraceEntry {
+                line,
+                ticks: self.w.time,
+                pc: self.pc,
+                clocks: p.clocks.clone(),
+                timers: self.w.timers.clone(),
+                plan_locs: p.plan_locs.clone(),
+            }
+        };
+        self.trace.push_back(entry);
+    }
+
+    /// The kept steps as text: `time: line   [pc; clock/timer …; plan location and clocks]`.
+    fn trace_text(&self) -> Vec<String> {
+        let game = self.game();
+        let units = |ticks: i64| ticks as f64 / TICKS as f64;
+        self.trace
             .iter()
-            .enumerate()
-            .map(|(p, plan)| {
-                let clocks: Vec<String> = plan
-                    .clocks
+            .map(|e| {
+                let line = match &e.line {
+                    TraceLine::Request(m) => format!("{:.3}: DO ({})", units(e.ticks), self.name(*m)),
+                    TraceLine::Message { sigil, message } => {
+                        format!("{:.3}: {sigil}{}", units(e.ticks), self.name(*message))
+                    }
+                    TraceLine::Text(text) => text.to_string(),
+                };
+                let plans: Vec<String> = game
+                    .plans
                     .iter()
-                    .map(|&(c, _)| {
-                        format!(
-                            "{}={:.3}",
-                            self.w.plant.game.clocks[c as usize].name,
-                            self.w.plant.clocks[c as usize] as f64 / TICKS as f64
-                        )
+                    .enumerate()
+                    .map(|(p, plan)| {
+                        let clocks: Vec<String> = plan
+                            .clocks
+                            .iter()
+                            .map(|&(c, _)| format!("{}={:.3}", game.clocks[c as usize].name, units(e.clocks[c as usize])))
+                            .collect();
+                        format!("{}.{} {}", plan.name, plan.locations[e.plan_locs[p] as usize].name, clocks.join(" "))
                     })
                     .collect();
+                let clocks: Vec<String> = (1..e.clocks.len())
+                    .map(|c| format!("{}={:.3}/{:.3}", game.clocks[c].name, units(e.clocks[c]), units(e.timers[c])))
+                    .collect();
                 format!(
-                    "{}.{} {}",
-                    plan.name,
-                    plan.locations[self.w.plant.plan_locs[p] as usize].name,
-                    clocks.join(" ")
+                    "{line}   [pc {}; clock/timer {}{}{}]",
+                    e.pc,
+                    clocks.join(" "),
+                    if plans.is_empty() { "" } else { "; " },
+                    plans.join("; ")
                 )
             })
-            .collect();
-        let clocks: Vec<String> = (1..self.w.plant.clocks.len())
-            .map(|c| {
-                format!(
-                    "{}={:.3}/{:.3}",
-                    self.w.plant.game.clocks[c].name,
-                    self.w.plant.clocks[c] as f64 / TICKS as f64,
-                    self.w.timers[c] as f64 / TICKS as f64
-                )
-            })
-            .collect();
-        let line = format!(
-            "{line}   [pc {}; clock/timer {}{}{}]",
-            self.pc,
-            clocks.join(" "),
-            if plans.is_empty() { "" } else { "; " },
-            plans.join("; ")
-        );
-        self.report.trace.push(line);
-        if self.report.trace.len() > 40 {
-            self.report.trace.remove(0);
-        }
+            .collect()
     }
 
     /// Adds a line to the trace of [`Simulation::view`].
@@ -425,7 +472,16 @@ impl<'g> Simulation<'g> {
         let mut executed = 0usize;
         // A scan ends when control comes back to a command it already ran (a wait loop); it
         // then resumes at that command, the head of the loop, as the generated PLC code does.
-        let mut seen = std::collections::HashSet::from([self.pc]);
+        // Commands run in this scan (since its last request), by stamp: no set to clear.
+        if self.visited.len() <= program.len() {
+            self.visited = vec![0; program.len() + 1];
+        }
+        self.stamp = self.stamp.wrapping_add(1);
+        if self.stamp == 0 {
+            self.visited.fill(0);
+            self.stamp = 1;
+        }
+        self.visited[self.pc.min(program.len())] = self.stamp;
         loop {
             executed += 1;
             if self.pc >= program.len() {
@@ -475,14 +531,17 @@ impl<'g> Simulation<'g> {
                     self.report.requests += 1;
                     self.requests_since_progress += 1;
                     acted = true;
-                    let line = format!("{:.3}: DO ({})", self.w.time as f64 / TICKS as f64, self.name(request));
-                    self.trace(line);
+                    self.trace(TraceLine::Request(request));
                     if self.record {
                         let text = format!("?{} {}", self.name(request), self.move_text(&candidates[k]));
                         self.event(Actor::Controller, "request", text, progress);
                         self.sent.push(request);
                     }
-                    seen.clear();
+                    self.stamp = self.stamp.wrapping_add(1);
+                    if self.stamp == 0 {
+                        self.visited.fill(0);
+                        self.stamp = 1;
+                    }
                     self.pc += 1;
                     if let Some(f) = self.w.failure() {
                         self.report.failure = Some(f);
@@ -511,7 +570,8 @@ impl<'g> Simulation<'g> {
                     }
                 }
             }
-            if !seen.insert(self.pc) {
+            let at = self.pc.min(program.len());
+            if std::mem::replace(&mut self.visited[at], self.stamp) == self.stamp {
                 return acted; // a wait loop: back at a command of this scan without acting
             }
         }
@@ -639,8 +699,7 @@ impl<'g> Simulation<'g> {
         }
         let reaction = self.is_reaction(m);
         let sigil = if reaction { "!" } else { "?" };
-        let line = format!("{:.3}: {sigil}{}", self.w.time as f64 / TICKS as f64, self.name(m.message));
-        self.trace(line);
+        self.trace(TraceLine::Message { sigil, message: m.message });
         if self.record {
             let text = format!("{sigil}{} {}", self.name(m.message), self.move_text(m));
             let actor = if reaction { Actor::Plant } else { Actor::Controller };
@@ -676,7 +735,7 @@ impl<'g> Simulation<'g> {
             None => {
                 let limit = max.unwrap_or(4 * TICKS).min(4 * TICKS);
                 if limit == 0 {
-                    self.trace("the plant can neither move nor wait (timeout)".into());
+                    self.trace(TraceLine::Text("the plant can neither move nor wait (timeout)"));
                     return false; // an exceptional timeout ends the run; not the controller's fault
                 }
                 let d = 1 + self.rng.below(limit as u64) as i64;
@@ -830,6 +889,7 @@ pub fn run(game: &Game, program: &Program, observable: &[bool], seed: u64, steps
         }
     }
     sim.report.time = sim.w.time as f64 / TICKS as f64;
+    sim.report.trace = sim.trace_text();
     sim.report
 }
 
