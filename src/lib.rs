@@ -10,7 +10,8 @@
 //! [`benchmarks`] rebuilds published models for benchmarks and tests.
 //!
 //! [`diag`] holds the located diagnostics every front end reports; [`dot`] the DOT documents
-//! of the drawings the engines export; `graph` lends the engines' tables to petgraph's searches.
+//! of the drawings the engines export; `graph` lends the engines' tables to petgraph's searches;
+//! `syntax` holds the token cursor of the recursive-descent parsers.
 
 pub mod benchmarks;
 pub mod diag;
@@ -21,6 +22,7 @@ pub mod plc;
 pub mod program;
 pub mod rng;
 pub mod sct;
+pub(crate) mod syntax;
 pub mod timed;
 #[cfg(target_arch = "wasm32")]
 pub mod wasm;

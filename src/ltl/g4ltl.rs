@@ -13,6 +13,7 @@ use super::spec::{
     Timer, MAX_FORMULA_DEPTH,
 };
 use crate::diag::{Diagnostic, Diagnostics, Span};
+use crate::syntax::Cursor;
 use logos::Logos;
 use std::collections::HashMap;
 
@@ -79,6 +80,8 @@ enum Tok {
     RParen,
     #[token(",")]
     Comma,
+    /// The end of a line (or of a part of one), after its last token; never lexed.
+    Eof,
 }
 
 /// An operator spelled as a word, and the words that may not name a signal.
@@ -149,43 +152,36 @@ const MAX_NESTING: usize = 128;
 
 struct Parser<'s, 'd> {
     src: &'s str,
-    toks: &'s [(Tok, Span)],
-    pos: usize,
+    /// The tokens of a line or of a part of one, then [`Tok::Eof`] where the last one ends.
+    cur: Cursor<Tok>,
     diags: &'d mut Diagnostics<'s>,
 }
 
+impl<'s, 'd> Parser<'s, 'd> {
+    fn new(src: &'s str, toks: &[(Tok, Span)], diags: &'d mut Diagnostics<'s>) -> Self {
+        Parser { src, cur: Cursor::with_end(toks, Tok::Eof), diags }
+    }
+}
+
 impl<'s> Parser<'s, '_> {
-    fn peek(&self) -> Option<Tok> {
-        self.toks.get(self.pos).map(|t| t.0)
-    }
-    fn span(&self) -> Span {
-        self.toks.get(self.pos).map(|t| t.1).unwrap_or_else(|| {
-            self.toks.last().map_or(Span::new(0, 0), |t| Span::new(t.1.end as usize, t.1.end as usize))
-        })
-    }
     fn text(&self, span: Span) -> &'s str {
         &self.src[span.range()]
     }
-    fn bump(&mut self) -> Span {
-        let span = self.span();
-        self.pos += 1;
-        span
-    }
     fn at_word(&self) -> Option<&'s str> {
-        (self.peek() == Some(Tok::Ident)).then(|| self.text(self.span()))
+        self.cur.at(Tok::Ident).then(|| self.text(self.cur.span()))
     }
 
     /// After an item of a declaration list: `Some(true)` past a `,`, `Some(false)` at the end
     /// of the line, `None` (reported) on anything else.
     fn another_item(&mut self) -> Option<bool> {
-        match self.peek() {
-            None => Some(false),
-            Some(Tok::Comma) => {
-                self.bump();
+        match self.cur.peek() {
+            Tok::Eof => Some(false),
+            Tok::Comma => {
+                self.cur.bump();
                 Some(true)
             }
-            Some(_) => {
-                let span = self.span();
+            _ => {
+                let span = self.cur.span();
                 self.diags.error(span, "expected `,` or the end of the line");
                 None
             }
@@ -196,13 +192,13 @@ impl<'s> Parser<'s, '_> {
     fn iff(&mut self, depth: usize) -> Option<(Expr, Span)> {
         let (mut lhs, mut span) = self.implies(depth)?;
         let mut operands = 1;
-        while self.peek() == Some(Tok::Iff) {
+        while self.cur.at(Tok::Iff) {
             operands += 1;
             if depth + operands > MAX_NESTING {
-                self.diags.error(self.span(), format!("more than {MAX_NESTING} operands of `<->` in a row"));
+                self.diags.error(self.cur.span(), format!("more than {MAX_NESTING} operands of `<->` in a row"));
                 return None;
             }
-            self.bump();
+            self.cur.bump();
             let (rhs, rspan) = self.implies(depth + operands)?;
             lhs = Expr::Binary(Bin::Iff, Box::new(lhs), Box::new(rhs));
             span = span.to(rspan);
@@ -213,12 +209,12 @@ impl<'s> Parser<'s, '_> {
     /// `->`, right-associative; parsed as a list and folded from the right, without recursion.
     fn implies(&mut self, depth: usize) -> Option<(Expr, Span)> {
         let mut parts = vec![self.or(depth)?];
-        while self.peek() == Some(Tok::Implies) {
+        while self.cur.at(Tok::Implies) {
             if depth + parts.len() >= MAX_NESTING {
-                self.diags.error(self.span(), format!("more than {MAX_NESTING} operands of `->` in a row"));
+                self.diags.error(self.cur.span(), format!("more than {MAX_NESTING} operands of `->` in a row"));
                 return None;
             }
-            self.bump();
+            self.cur.bump();
             parts.push(self.or(depth + parts.len())?);
         }
         Some(fold_right(parts, |_| Bin::Implies))
@@ -242,8 +238,8 @@ impl<'s> Parser<'s, '_> {
     ) -> Option<(Expr, Span)> {
         let (first, mut span) = operand(self, depth + 1)?;
         let mut parts = vec![first];
-        while self.peek() == Some(tok) {
-            self.bump();
+        while self.cur.at(tok) {
+            self.cur.bump();
             let (rhs, rspan) = operand(self, depth + 1)?;
             parts.push(rhs);
             span = span.to(rspan);
@@ -259,10 +255,10 @@ impl<'s> Parser<'s, '_> {
             self.at_word().and_then(word_operator).filter(|op| matches!(op, Op::Until | Op::Release | Op::WeakUntil))
         {
             if depth + parts.len() >= MAX_NESTING {
-                self.diags.error(self.span(), format!("more than {MAX_NESTING} temporal operators in a row"));
+                self.diags.error(self.cur.span(), format!("more than {MAX_NESTING} temporal operators in a row"));
                 return None;
             }
-            self.bump();
+            self.cur.bump();
             ops.push(op);
             parts.push(self.compare(depth + parts.len())?);
         }
@@ -272,16 +268,16 @@ impl<'s> Parser<'s, '_> {
     /// `sum REL sum` or just a sum: a comparison binds tighter than every logical operator.
     fn compare(&mut self, depth: usize) -> Option<(Expr, Span)> {
         let (lhs, span) = self.sum(depth)?;
-        let relation = match self.peek() {
-            Some(Tok::Lt) => Relation::Lt,
-            Some(Tok::Le) => Relation::Le,
-            Some(Tok::Gt) => Relation::Gt,
-            Some(Tok::Ge) => Relation::Ge,
-            Some(Tok::Eq) => Relation::Eq,
-            Some(Tok::Ne) => Relation::Ne,
+        let relation = match self.cur.peek() {
+            Tok::Lt => Relation::Lt,
+            Tok::Le => Relation::Le,
+            Tok::Gt => Relation::Gt,
+            Tok::Ge => Relation::Ge,
+            Tok::Eq => Relation::Eq,
+            Tok::Ne => Relation::Ne,
             _ => return Some((lhs, span)),
         };
-        self.bump();
+        self.cur.bump();
         let (rhs, rspan) = self.sum(depth + 1)?;
         let span = span.to(rspan);
         Some((Expr::Compare(relation, Box::new(lhs), Box::new(rhs), span), span))
@@ -304,13 +300,13 @@ impl<'s> Parser<'s, '_> {
     ) -> Option<(Expr, Span)> {
         let (mut lhs, mut span) = operand(self, depth + 1)?;
         let mut count = 1;
-        while let Some(&(_, op)) = ops.iter().find(|(t, _)| Some(*t) == self.peek()) {
+        while let Some(&(_, op)) = ops.iter().find(|(t, _)| *t == self.cur.peek()) {
             count += 1;
             if depth + count >= MAX_NESTING {
-                self.diags.error(self.span(), format!("more than {MAX_NESTING} arithmetic operands in a row"));
+                self.diags.error(self.cur.span(), format!("more than {MAX_NESTING} arithmetic operands in a row"));
                 return None;
             }
-            self.bump();
+            self.cur.bump();
             let (rhs, rspan) = operand(self, depth + count)?;
             lhs = Expr::Arith(op, Box::new(lhs), Box::new(rhs));
             span = span.to(rspan);
@@ -320,24 +316,24 @@ impl<'s> Parser<'s, '_> {
 
     fn power(&mut self, depth: usize) -> Option<(Expr, Span)> {
         let (base, span) = self.signed(depth)?;
-        if self.peek() != Some(Tok::Caret) {
+        if !self.cur.at(Tok::Caret) {
             return Some((base, span));
         }
-        self.bump();
-        let exponent = self.span();
-        if self.peek() != Some(Tok::Number) || !self.text(exponent).bytes().all(|b| b.is_ascii_digit()) {
+        self.cur.bump();
+        let exponent = self.cur.span();
+        if !self.cur.at(Tok::Number) || !self.text(exponent).bytes().all(|b| b.is_ascii_digit()) {
             self.diags.error(exponent, "expected a whole number as the exponent, as in `x^2`");
             return None;
         }
-        self.bump();
+        self.cur.bump();
         Some((Expr::Pow(Box::new(base), exponent), span.to(exponent)))
     }
 
     fn signed(&mut self, depth: usize) -> Option<(Expr, Span)> {
-        if self.peek() != Some(Tok::Minus) {
+        if !self.cur.at(Tok::Minus) {
             return self.unary(depth);
         }
-        let start = self.bump();
+        let start = self.cur.bump().1;
         if depth >= MAX_NESTING {
             self.diags.error(start, format!("the formula nests deeper than {MAX_NESTING} levels"));
             return None;
@@ -347,16 +343,16 @@ impl<'s> Parser<'s, '_> {
     }
 
     fn unary(&mut self, depth: usize) -> Option<(Expr, Span)> {
-        let start = self.span();
+        let start = self.cur.span();
         if depth >= MAX_NESTING {
             self.diags.error(start, format!("the formula nests deeper than {MAX_NESTING} levels"));
             return None;
         }
-        let op = match self.peek() {
-            Some(Tok::Not) => None,
-            Some(Tok::Box_) => Some(Op::Globally),
-            Some(Tok::Diamond) => Some(Op::Finally),
-            Some(Tok::Ident) => match self.at_word().and_then(word_operator) {
+        let op = match self.cur.peek() {
+            Tok::Not => None,
+            Tok::Box_ => Some(Op::Globally),
+            Tok::Diamond => Some(Op::Finally),
+            Tok::Ident => match self.at_word().and_then(word_operator) {
                 Some(op @ (Op::Globally | Op::Finally | Op::Next)) => Some(op),
                 Some(_) => {
                     let word = self.text(start);
@@ -367,7 +363,7 @@ impl<'s> Parser<'s, '_> {
             },
             _ => return self.atom(depth),
         };
-        self.bump();
+        self.cur.bump();
         let (inner, span) = self.compare(depth + 1)?;
         let span = start.to(span);
         Some(match op {
@@ -377,10 +373,10 @@ impl<'s> Parser<'s, '_> {
     }
 
     fn atom(&mut self, depth: usize) -> Option<(Expr, Span)> {
-        let span = self.span();
-        match self.peek() {
-            Some(Tok::Ident) => {
-                self.bump();
+        let span = self.cur.span();
+        match self.cur.peek() {
+            Tok::Ident => {
+                self.cur.bump();
                 let word = self.text(span);
                 if KEYWORDS.contains(&word) {
                     self.diags.error(span, format!("`{word}` starts a line; it cannot stand inside a formula"));
@@ -392,29 +388,29 @@ impl<'s> Parser<'s, '_> {
                     _ => (Expr::Name(span), span),
                 })
             }
-            Some(Tok::LParen) => {
-                self.bump();
+            Tok::LParen => {
+                self.cur.bump();
                 let (inner, _) = self.iff(depth + 1)?;
-                if self.peek() == Some(Tok::RParen) {
-                    let close = self.bump();
+                if self.cur.at(Tok::RParen) {
+                    let close = self.cur.bump().1;
                     Some((inner, span.to(close)))
                 } else {
                     let (line, column) = self.diags.line_col(span.start as usize);
-                    let here = self.span();
+                    let here = self.cur.span();
                     self.diags.error(here, "expected `)`").with_note(format!("to close the `(` at {line}:{column}"));
                     None
                 }
             }
-            Some(Tok::Number | Tok::Decimal) => {
-                self.bump();
+            Tok::Number | Tok::Decimal => {
+                self.cur.bump();
                 Some((Expr::Number(span), span))
             }
-            None => {
+            Tok::Eof => {
                 self.diags
                     .error(span, "the formula ends here; expected a signal, `true`, `false`, `(` or a unary operator");
                 None
             }
-            Some(_) => {
+            _ => {
                 self.diags.error(
                     span,
                     format!(
@@ -504,20 +500,20 @@ fn lex<'s>(src: &'s str, diags: &mut Diagnostics<'s>) -> Vec<(Tok, Span)> {
 }
 
 fn parse_line<'s>(src: &'s str, toks: &'s [(Tok, Span)], diags: &mut Diagnostics<'s>) -> Option<Line> {
-    let mut p = Parser { src, toks, pos: 0, diags };
+    let mut p = Parser::new(src, toks, diags);
     let first = p.at_word();
     match first {
         Some(kw @ ("INPUT" | "OUTPUT")) => {
-            p.bump();
+            p.cur.bump();
             let kind = if kw == "INPUT" { SignalKind::Input } else { SignalKind::Output };
             let mut names = Vec::new();
             loop {
-                let span = p.span();
-                match p.peek() {
-                    Some(Tok::Ident) => {
-                        p.bump();
-                        let ty = if p.peek() == Some(Tok::Colon) {
-                            p.bump();
+                let span = p.cur.span();
+                match p.cur.peek() {
+                    Tok::Ident => {
+                        p.cur.bump();
+                        let ty = if p.cur.at(Tok::Colon) {
+                            p.cur.bump();
                             Some(number_type(&mut p, kind)?)
                         } else {
                             None
@@ -536,27 +532,27 @@ fn parse_line<'s>(src: &'s str, toks: &'s [(Tok, Span)], diags: &mut Diagnostics
             Some(Line::Declare { kind, names })
         }
         Some("TIMER") => {
-            p.bump();
+            p.cur.bump();
             let mut timers = Vec::new();
             loop {
-                let name = p.span();
-                if p.peek() != Some(Tok::Ident) {
+                let name = p.cur.span();
+                if !p.cur.at(Tok::Ident) {
                     p.diags.error(name, "expected a timer name, as in `TIMER t1(10s)`");
                     return None;
                 }
-                p.bump();
-                if p.peek() != Some(Tok::LParen) {
-                    let span = p.span();
+                p.cur.bump();
+                if !p.cur.at(Tok::LParen) {
+                    let span = p.cur.span();
                     p.diags.error(span, "expected `(` and the timer's preset, as in `t1(10s)`");
                     return None;
                 }
-                p.bump();
-                let preset = p.span();
-                if p.peek() != Some(Tok::Number) {
+                p.cur.bump();
+                let preset = p.cur.span();
+                if !p.cur.at(Tok::Number) {
                     p.diags.error(preset, "expected a duration such as `10s`, `500ms`, `2min` or `1h`");
                     return None;
                 }
-                p.bump();
+                p.cur.bump();
                 let ms = duration_ms(p.text(preset)).or_else(|| {
                     p.diags.error(
                         preset,
@@ -564,12 +560,12 @@ fn parse_line<'s>(src: &'s str, toks: &'s [(Tok, Span)], diags: &mut Diagnostics
                     );
                     None
                 })?;
-                if p.peek() != Some(Tok::RParen) {
-                    let span = p.span();
+                if !p.cur.at(Tok::RParen) {
+                    let span = p.cur.span();
                     p.diags.error(span, "expected `)`");
                     return None;
                 }
-                p.bump();
+                p.cur.bump();
                 timers.push((name, ms));
                 if !p.another_item()? {
                     break;
@@ -581,11 +577,11 @@ fn parse_line<'s>(src: &'s str, toks: &'s [(Tok, Span)], diags: &mut Diagnostics
         _ => {
             let assume = first == Some("ASSUME");
             if assume {
-                p.bump();
+                p.cur.bump();
             }
             let (expr, span) = p.iff(0)?;
-            if p.peek().is_some() {
-                let extra = p.span();
+            if !p.cur.at_end() {
+                let extra = p.cur.span();
                 p.diags
                     .error(extra, format!("unexpected `{}` after the formula", p.text(extra)))
                     .with_note("write one formula per line; combine formulas with `&&`");
@@ -598,7 +594,7 @@ fn parse_line<'s>(src: &'s str, toks: &'s [(Tok, Span)], diags: &mut Diagnostics
 
 /// `REAL[lo, hi]` or `INT[lo, hi]` after `name:` in an `INPUT` line.
 fn number_type(p: &mut Parser, kind: SignalKind) -> Option<NumberType> {
-    let start = p.span();
+    let start = p.cur.span();
     let word = p.at_word();
     let number = match word {
         Some("REAL") => NumberKind::Real,
@@ -614,13 +610,13 @@ fn number_type(p: &mut Parser, kind: SignalKind) -> Option<NumberType> {
             .with_note("the paper's engine, like this one, abstracts predicates on inputs only");
         return None;
     }
-    p.bump();
+    p.cur.bump();
     let expect = |p: &mut Parser, tok: Tok, what: &str| {
-        if p.peek() == Some(tok) {
-            p.bump();
+        if p.cur.at(tok) {
+            p.cur.bump();
             Some(())
         } else {
-            let span = p.span();
+            let span = p.cur.span();
             p.diags.error(span, format!("expected {what}, as in `x: REAL[0, 4]`"));
             None
         }
@@ -629,23 +625,23 @@ fn number_type(p: &mut Parser, kind: SignalKind) -> Option<NumberType> {
     let lo = bound(p)?;
     expect(p, Tok::Comma, "`,` between the bounds")?;
     let hi = bound(p)?;
-    let end = p.span();
+    let end = p.cur.span();
     expect(p, Tok::RBracket, "`]` after the bounds")?;
     Some(NumberType { kind: number, lo, hi, span: start.to(end) })
 }
 
 /// A bound: an optionally negative decimal literal, checked later.
 fn bound(p: &mut Parser) -> Option<String> {
-    let negative = p.peek() == Some(Tok::Minus);
+    let negative = p.cur.at(Tok::Minus);
     if negative {
-        p.bump();
+        p.cur.bump();
     }
-    let span = p.span();
-    if !matches!(p.peek(), Some(Tok::Number | Tok::Decimal)) {
+    let span = p.cur.span();
+    if !matches!(p.cur.peek(), Tok::Number | Tok::Decimal) {
         p.diags.error(span, "expected a number as a bound");
         return None;
     }
-    p.bump();
+    p.cur.bump();
     Some(format!("{}{}", if negative { "-" } else { "" }, p.text(span)))
 }
 
@@ -715,10 +711,10 @@ fn parse_pattern<'s>(src: &'s str, toks: &'s [(Tok, Span)], diags: &mut Diagnost
             diags.error(at, format!("expected {what} here")).with_note(usage);
             return None;
         }
-        let mut p = Parser { src, toks: &toks[from..to], pos: 0, diags };
+        let mut p = Parser::new(src, &toks[from..to], diags);
         let (expr, _) = p.iff(0)?;
-        if p.peek().is_some() {
-            let extra = p.span();
+        if !p.cur.at_end() {
+            let extra = p.cur.span();
             p.diags.error(extra, format!("unexpected `{}` in {what}", p.text(extra))).with_note(usage);
             return None;
         }

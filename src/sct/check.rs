@@ -12,7 +12,7 @@ use super::model::{self, Budget, Cond, EventId, EventKind, Prohibition, Stop, Sy
 use super::parser::{self, raw_offset};
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use crate::graph::{Lists, View};
-use crate::plc::fragment::{parse_expr, parse_statements, ExprKind, FragmentError};
+use crate::plc::fragment::{self, parse_expr, parse_statements, ExprKind, FragmentError};
 use hashbrown::HashMap;
 use petgraph::visit::{depth_first_search, Control, DfsEvent};
 use serde::Serialize;
@@ -28,6 +28,23 @@ pub struct EventMeta {
     /// string literals), for diagnostics of code generation.
     #[serde(skip)]
     pub spans: EventSpans,
+    /// The fragments as the checker parsed them, for code generation.
+    #[serde(skip)]
+    pub fragments: EventFragments,
+}
+
+/// An event's Structured Text fragments, parsed once by the checker. What does not parse is
+/// left out: the checker reported it, and a file with errors does not reach code generation.
+#[derive(Clone, Debug, Default)]
+pub struct EventFragments {
+    /// The trigger condition of a detected event.
+    pub trigger: Option<fragment::Expr>,
+    /// The signals reset on denial.
+    pub resets: Vec<fragment::Expr>,
+    /// The code on accept.
+    pub accept: Vec<fragment::Stmt>,
+    /// The code on denial.
+    pub denial: Vec<fragment::Stmt>,
 }
 
 /// Source locations of an event's declaration and fragments.
@@ -288,7 +305,7 @@ fn qualify(prefix: &str, name: &str) -> String {
 impl<'s, 'a> Ctx<'s, 'a> {
     /// Reports a mistake in a Structured Text fragment at its place inside the string literal
     /// `literal` (quotes included) of the source.
-    fn check_fragment(&mut self, parsed: Result<(), FragmentError>, literal: Span, what: &str) {
+    fn check_fragment<T>(&mut self, parsed: &Result<T, FragmentError>, literal: Span, what: &str) {
         let Err(e) = parsed else { return };
         let (start, end) = (literal.start as usize + 1, (literal.end as usize).saturating_sub(1));
         let raw = &self.diags.source()[start..end.max(start)];
@@ -360,6 +377,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                         code_on_accept: None,
                         code_on_denial: None,
                         spans: EventSpans::default(),
+                        fragments: EventFragments::default(),
                     };
                     self.new_event(
                         module,
@@ -379,6 +397,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                         code_on_accept: None,
                         code_on_denial: None,
                         spans: EventSpans::default(),
+                        fragments: EventFragments::default(),
                     };
                     let id = self.new_event(m, "timeout", EventKind::Uncontrollable, meta, None, t.name_span);
                     self.timers.push((t, module, id));
@@ -503,6 +522,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                 code_on_accept: None,
                 code_on_denial: None,
                 spans: EventSpans::default(),
+                fragments: EventFragments::default(),
             };
             let mut trigger_span: Option<Span> = None;
             for it in &d.items {
@@ -514,7 +534,9 @@ impl<'s, 'a> Ctx<'s, 'a> {
                             .with_note(format!("first trigger at {at}"));
                     }
                     EventItem::Detect { edge, expr, expr_span, span } => {
-                        self.check_fragment(parse_expr(expr).map(|_| ()), *expr_span, "in the trigger");
+                        let parsed = parse_expr(expr);
+                        self.check_fragment(&parsed, *expr_span, "in the trigger");
+                        meta.fragments.trigger = parsed.ok();
                         trigger_span = Some(*span);
                         if kind == EventKind::Enforceable {
                             self.diags
@@ -554,14 +576,19 @@ impl<'s, 'a> Ctx<'s, 'a> {
                     }
                     EventItem::ResetOnDenial { addrs, span } => {
                         for (addr, at) in addrs {
-                            let signal = parse_expr(addr).and_then(|e| match e.kind {
-                                ExprKind::Var(_) | ExprKind::Address(_) => Ok(()),
-                                _ => Err(FragmentError {
-                                    span: e.span,
-                                    message: "expected a variable or an address to reset".into(),
-                                }),
-                            });
-                            self.check_fragment(signal, *at, "in `reset on denial`");
+                            let parsed = parse_expr(addr);
+                            let signal = match &parsed {
+                                Ok(e) if !matches!(e.kind, ExprKind::Var(_) | ExprKind::Address(_)) => {
+                                    Err(FragmentError {
+                                        span: e.span,
+                                        message: "expected a variable or an address to reset".into(),
+                                    })
+                                }
+                                Ok(_) => Ok(()),
+                                Err(e) => Err(e.clone()),
+                            };
+                            self.check_fragment(&signal, *at, "in `reset on denial`");
+                            meta.fragments.resets.extend(parsed.ok());
                         }
                         if kind != EventKind::Controllable {
                             self.diags.error(
@@ -573,19 +600,23 @@ impl<'s, 'a> Ctx<'s, 'a> {
                         meta.spans.reset_on_denial.extend(addrs.iter().map(|(_, at)| *at));
                     }
                     EventItem::OnAccept { code, code_span, span } => {
-                        self.check_fragment(parse_statements(code).map(|_| ()), *code_span, "in the code");
+                        let parsed = parse_statements(code);
+                        self.check_fragment(&parsed, *code_span, "in the code");
                         if kind == EventKind::Uncontrollable {
                             self.diags.error(*span, format!("uncontrollable event `{}` cannot have actions", d.name));
                         }
                         meta.code_on_accept = Some(code.clone());
+                        meta.fragments.accept = parsed.unwrap_or_default();
                         meta.spans.code_on_accept = Some(*code_span);
                     }
                     EventItem::OnDenial { code, code_span, span } => {
-                        self.check_fragment(parse_statements(code).map(|_| ()), *code_span, "in the code");
+                        let parsed = parse_statements(code);
+                        self.check_fragment(&parsed, *code_span, "in the code");
                         if kind == EventKind::Uncontrollable {
                             self.diags.error(*span, format!("uncontrollable event `{}` cannot have actions", d.name));
                         }
                         meta.code_on_denial = Some(code.clone());
+                        meta.fragments.denial = parsed.unwrap_or_default();
                         meta.spans.code_on_denial = Some(*code_span);
                     }
                 }

@@ -54,7 +54,7 @@ mod runtime;
 pub mod stepper;
 
 pub use ast::EdgeKind;
-pub use check::{compile, compile_within, EventMeta, EventSpans, Loaded, TimerInfo, Trigger};
+pub use check::{compile, compile_within, EventFragments, EventMeta, EventSpans, Loaded, TimerInfo, Trigger};
 pub use report::{
     synthesize_all, synthesize_all_with_progress, synthesize_all_within, JsonState, JsonTransition, SupervisorReport,
 };

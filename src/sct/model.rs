@@ -890,7 +890,35 @@ pub struct SupState {
     pub enforced_origin: Vec<u32>,
 }
 
+impl SupState {
+    /// The explicit transition on `e`, if any.
+    pub fn next(&self, e: EventId) -> Option<u32> {
+        self.transitions.iter().find(|(x, _)| *x == e).map(|&(_, t)| t)
+    }
+
+    /// Whether this state prohibits `e`.
+    pub fn prohibits(&self, e: EventId) -> bool {
+        self.prohibited.contains(&e)
+    }
+}
+
 impl Supervisor {
+    /// The successor of `state` on `e`: its transition on `e`, else `state` itself (an event
+    /// without a transition loops).
+    pub fn successor(&self, state: u32, e: EventId) -> u32 {
+        self.states[state as usize].next(e).unwrap_or(state)
+    }
+
+    /// Whether `state` prohibits `e`.
+    pub fn prohibits(&self, state: u32, e: EventId) -> bool {
+        self.states[state as usize].prohibits(e)
+    }
+
+    /// The first of `supervisors`, each in its state of `states`, that prohibits `e`.
+    pub fn first_prohibiting(supervisors: &[&Supervisor], states: &[u32], e: EventId) -> Option<usize> {
+        (0..supervisors.len()).find(|&k| supervisors[k].prohibits(states[k], e))
+    }
+
     pub fn realizable(&self) -> bool {
         self.init.is_some()
     }
@@ -923,14 +951,11 @@ impl Supervisor {
     /// transition); `None` if a prohibited event occurs or the supervisor is void.
     pub fn run(&self, word: &[EventId]) -> Option<u32> {
         let mut s = self.init?;
-        for e in word {
-            let st = &self.states[s as usize];
-            if st.prohibited.contains(e) {
+        for &e in word {
+            if self.prohibits(s, e) {
                 return None;
             }
-            if let Some(&(_, t)) = st.transitions.iter().find(|(x, _)| x == e) {
-                s = t;
-            }
+            s = self.successor(s, e);
         }
         Some(s)
     }
@@ -945,7 +970,7 @@ impl Supervisor {
         let n = self.states.len();
         let next = |s: usize| -> Option<usize> {
             let f = self.states[s].enforced?;
-            self.states[s].transitions.iter().find(|(e, _)| *e == f).map(|&(_, t)| t as usize)
+            self.states[s].next(f).map(|t| t as usize)
         };
         let mut color = vec![0u8; n];
         for start in 0..n {
@@ -1247,11 +1272,7 @@ pub fn minimize_supervisor(sup: &Supervisor) -> Supervisor {
     let mut delta = vec![0u32; (n + 1) * k];
     for (s, st) in sup.states.iter().enumerate() {
         for (a, e) in events.iter().enumerate() {
-            delta[s * k + a] = if st.prohibited.contains(e) {
-                sink
-            } else {
-                st.transitions.iter().find(|t| t.0 == *e).map_or(s as u32, |t| t.1)
-            };
+            delta[s * k + a] = if st.prohibits(*e) { sink } else { st.next(*e).unwrap_or(s as u32) };
         }
     }
     for a in 0..k {

@@ -4,6 +4,7 @@
 use super::ast::*;
 use super::lexer::{lex, Tok};
 use crate::diag::{Diagnostics, Span};
+use crate::syntax::Cursor;
 
 /// Words that start an item; error recovery stops in front of them.
 const ITEM_KEYWORDS: &[&str] = &[
@@ -23,8 +24,7 @@ const ITEM_KEYWORDS: &[&str] = &[
 
 struct Parser<'s, 'd> {
     src: &'s str,
-    toks: Vec<(Tok, Span)>,
-    pos: usize,
+    cur: Cursor<Tok>,
     diags: &'d mut Diagnostics<'s>,
     /// Modules currently open around the parse position.
     module_depth: usize,
@@ -39,20 +39,20 @@ const MAX_MODULE_NESTING: usize = 64;
 /// Parses a `.sct` file. Returns the items that could be parsed; errors go to `diags`.
 pub fn parse<'s>(src: &'s str, diags: &mut Diagnostics<'s>) -> Vec<Item> {
     let toks = lex(src, diags);
-    let mut p = Parser { src, toks, pos: 0, diags, module_depth: 0 };
+    let mut p = Parser { src, cur: Cursor::new(toks), diags, module_depth: 0 };
     let mut items = Vec::new();
-    while p.peek() != Tok::Eof {
-        let before = p.pos;
+    while !p.cur.at(Tok::Eof) {
+        let before = p.cur.pos();
         match p.item() {
             Ok(Some(i)) => items.push(i),
             Ok(None) => {}
             Err(()) => {
-                if p.pos == before {
-                    p.bump();
+                if p.cur.pos() == before {
+                    p.cur.bump();
                 }
                 p.recover_item();
-                if p.peek() == Tok::RBrace {
-                    let sp = p.bump().1;
+                if p.cur.at(Tok::RBrace) {
+                    let sp = p.cur.bump().1;
                     p.diags.error(sp, "unmatched `}`");
                 }
             }
@@ -62,52 +62,31 @@ pub fn parse<'s>(src: &'s str, diags: &mut Diagnostics<'s>) -> Vec<Item> {
 }
 
 impl<'s> Parser<'s, '_> {
-    fn peek(&self) -> Tok {
-        self.toks[self.pos].0
-    }
-
-    fn peek_at(&self, k: usize) -> Tok {
-        self.toks.get(self.pos + k).map_or(Tok::Eof, |t| t.0)
-    }
-
-    fn span(&self) -> Span {
-        self.toks[self.pos].1
-    }
-
     fn text(&self) -> &'s str {
-        let s = self.toks[self.pos].1;
-        &self.src[s.range()]
-    }
-
-    fn bump(&mut self) -> (Tok, Span) {
-        let t = self.toks[self.pos];
-        if t.0 != Tok::Eof {
-            self.pos += 1;
-        }
-        t
+        &self.src[self.cur.span().range()]
     }
 
     fn is_kw(&self, kw: &str) -> bool {
-        self.peek() == Tok::Ident && self.text() == kw
+        self.cur.at(Tok::Ident) && self.text() == kw
     }
 
     fn describe(&self) -> String {
-        match self.peek() {
+        match self.cur.peek() {
             Tok::Eof => "end of file".into(),
             _ => format!("`{}`", self.text()),
         }
     }
 
     fn err<T>(&mut self, expected: &str) -> PResult<T> {
-        let span = self.span();
+        let span = self.cur.span();
         let found = self.describe();
         self.diags.error(span, format!("expected {expected}, found {found}"));
         Err(())
     }
 
     fn expect(&mut self, t: Tok, what: &str) -> PResult<Span> {
-        if self.peek() == t {
-            Ok(self.bump().1)
+        if self.cur.at(t) {
+            Ok(self.cur.bump().1)
         } else {
             self.err(what)
         }
@@ -115,16 +94,16 @@ impl<'s> Parser<'s, '_> {
 
     fn expect_kw(&mut self, kw: &str) -> PResult<Span> {
         if self.is_kw(kw) {
-            Ok(self.bump().1)
+            Ok(self.cur.bump().1)
         } else {
             self.err(&format!("`{kw}`"))
         }
     }
 
     fn ident(&mut self, what: &str) -> PResult<(String, Span)> {
-        if self.peek() == Tok::Ident {
+        if self.cur.at(Tok::Ident) {
             let s = self.text().to_string();
-            Ok((s, self.bump().1))
+            Ok((s, self.cur.bump().1))
         } else {
             self.err(what)
         }
@@ -132,9 +111,9 @@ impl<'s> Parser<'s, '_> {
 
     /// A string literal's text and the span of the literal (quotes included).
     fn string_at(&mut self, what: &str) -> PResult<(String, Span)> {
-        if self.peek() == Tok::Str {
+        if self.cur.at(Tok::Str) {
             let t = self.text();
-            let span = self.bump().1;
+            let span = self.cur.bump().1;
             Ok((unescape(&t[1..t.len() - 1]), span))
         } else {
             self.err(what)
@@ -144,8 +123,8 @@ impl<'s> Parser<'s, '_> {
     fn path(&mut self, what: &str) -> PResult<Path> {
         let (first, mut span) = self.ident(what)?;
         let mut parts = vec![first];
-        while self.peek() == Tok::Dot && self.peek_at(1) == Tok::Ident {
-            self.bump();
+        while self.cur.at(Tok::Dot) && self.cur.peek_at(1) == Tok::Ident {
+            self.cur.bump();
             let (p, s) = self.ident("a name")?;
             parts.push(p);
             span = span.to(s);
@@ -155,8 +134,8 @@ impl<'s> Parser<'s, '_> {
 
     fn path_list(&mut self, what: &str) -> PResult<Vec<Path>> {
         let mut v = vec![self.path(what)?];
-        while self.peek() == Tok::Comma {
-            self.bump();
+        while self.cur.at(Tok::Comma) {
+            self.cur.bump();
             v.push(self.path(what)?);
         }
         Ok(v)
@@ -167,11 +146,11 @@ impl<'s> Parser<'s, '_> {
     fn recover_item(&mut self) {
         let mut depth = 0usize;
         loop {
-            match self.peek() {
+            match self.cur.peek() {
                 Tok::Eof => return,
                 Tok::Ident if depth == 0 && ITEM_KEYWORDS.contains(&self.text()) => return,
                 Tok::Semi if depth == 0 => {
-                    self.bump();
+                    self.cur.bump();
                     return;
                 }
                 Tok::LBrace => depth += 1,
@@ -181,13 +160,13 @@ impl<'s> Parser<'s, '_> {
                     }
                     depth -= 1;
                     if depth == 0 {
-                        self.bump();
+                        self.cur.bump();
                         return;
                     }
                 }
                 _ => {}
             }
-            self.bump();
+            self.cur.bump();
         }
     }
 
@@ -195,16 +174,16 @@ impl<'s> Parser<'s, '_> {
     fn block(&mut self, mut inner: impl FnMut(&mut Self) -> PResult<()>) -> PResult<Span> {
         self.expect(Tok::LBrace, "`{`")?;
         loop {
-            match self.peek() {
-                Tok::RBrace => return Ok(self.bump().1),
+            match self.cur.peek() {
+                Tok::RBrace => return Ok(self.cur.bump().1),
                 Tok::Eof => {
                     return self.err("`}`");
                 }
                 _ => {
-                    let before = self.pos;
+                    let before = self.cur.pos();
                     if inner(self).is_err() {
-                        if self.pos == before {
-                            self.bump();
+                        if self.cur.pos() == before {
+                            self.cur.bump();
                         }
                         self.recover_item();
                     }
@@ -214,17 +193,17 @@ impl<'s> Parser<'s, '_> {
     }
 
     fn item(&mut self) -> PResult<Option<Item>> {
-        if self.peek() != Tok::Ident {
+        if !self.cur.at(Tok::Ident) {
             self.err("an item (`module`, `event`, `timer`, `plant`, `spec`, `template` or `instance`)")?;
         }
         match self.text() {
             "module" => {
                 if self.module_depth >= MAX_MODULE_NESTING {
-                    let span = self.span();
+                    let span = self.cur.span();
                     self.diags.error(span, format!("module nested too deeply: at most {MAX_MODULE_NESTING} levels"));
                     return Err(());
                 }
-                self.bump();
+                self.cur.bump();
                 let (name, name_span) = self.ident("a module name")?;
                 let mut items = Vec::new();
                 self.module_depth += 1;
@@ -240,13 +219,13 @@ impl<'s> Parser<'s, '_> {
             }
             "event" => self.event().map(|e| Some(Item::Event(e))),
             "timer" => self.timer().map(|t| Some(Item::Timer(t))),
-            "spec" if self.peek_at(1) == Tok::Ident && self.peek_at(2) == Tok::Eq => {
-                self.bump();
+            "spec" if self.cur.peek_at(1) == Tok::Ident && self.cur.peek_at(2) == Tok::Eq => {
+                self.cur.bump();
                 let (name, name_span) = self.ident("a specification name")?;
-                self.bump();
+                self.cur.bump();
                 let mut operands = vec![self.path("a specification")?];
-                while self.peek() == Tok::Bar {
-                    self.bump();
+                while self.cur.at(Tok::Bar) {
+                    self.cur.bump();
                     operands.push(self.path("a specification")?);
                 }
                 if operands.len() < 2 {
@@ -257,11 +236,11 @@ impl<'s> Parser<'s, '_> {
             }
             "plant" | "spec" => {
                 let kind = if self.text() == "plant" { AutKind::Plant } else { AutKind::Spec };
-                self.bump();
+                self.cur.bump();
                 self.automaton(kind, false).map(|a| Some(Item::Automaton(a)))
             }
             "template" => {
-                self.bump();
+                self.cur.bump();
                 let kind = if self.is_kw("plant") {
                     AutKind::Plant
                 } else if self.is_kw("spec") {
@@ -269,7 +248,7 @@ impl<'s> Parser<'s, '_> {
                 } else {
                     return self.err("`plant` or `spec` after `template`");
                 };
-                self.bump();
+                self.cur.bump();
                 self.automaton(kind, true).map(|a| Some(Item::Template(a)))
             }
             "instance" => self.instance().map(|i| Some(Item::Instance(i))),
@@ -279,10 +258,10 @@ impl<'s> Parser<'s, '_> {
 
     fn event(&mut self) -> PResult<EventDecl> {
         use crate::sct::model::EventKind;
-        self.bump();
+        self.cur.bump();
         let (name, name_span) = self.ident("an event name")?;
         self.expect(Tok::Colon, "`:` and the event type")?;
-        let kind_span = self.span();
+        let kind_span = self.cur.span();
         let kind = match self.ident("an event type")?.0.as_str() {
             "controllable" => Some(EventKind::Controllable),
             "uncontrollable" => Some(EventKind::Uncontrollable),
@@ -295,11 +274,11 @@ impl<'s> Parser<'s, '_> {
             }
         };
         let mut items = Vec::new();
-        if self.peek() == Tok::Semi {
-            self.bump();
+        if self.cur.at(Tok::Semi) {
+            self.cur.bump();
         } else {
             self.block(|p| {
-                let start = p.span();
+                let start = p.cur.span();
                 let kw = p.ident("an event property")?.0;
                 let item = match kw.as_str() {
                     "detect" => {
@@ -324,8 +303,8 @@ impl<'s> Parser<'s, '_> {
                         p.expect_kw("on")?;
                         p.expect_kw("denial")?;
                         let mut addrs = vec![p.string_at("an address string")?];
-                        while p.peek() == Tok::Comma {
-                            p.bump();
+                        while p.cur.at(Tok::Comma) {
+                            p.cur.bump();
                             addrs.push(p.string_at("an address string")?);
                         }
                         EventItem::ResetOnDenial { addrs, span: start }
@@ -358,7 +337,7 @@ impl<'s> Parser<'s, '_> {
     }
 
     fn timer(&mut self) -> PResult<TimerDecl> {
-        self.bump();
+        self.cur.bump();
         let (name, name_span) = self.ident("a timer name")?;
         let mut t = TimerDecl { name, name_span, duration_ms: None, start: None, stops: Vec::new() };
         self.block(|p| {
@@ -367,7 +346,7 @@ impl<'s> Parser<'s, '_> {
                 "duration" => {
                     let mut total: u64 = 0;
                     let mut any = false;
-                    while p.peek() == Tok::Duration {
+                    while p.cur.at(Tok::Duration) {
                         let txt = p.text();
                         let split = txt.find(|c: char| !c.is_ascii_digit()).unwrap_or(txt.len());
                         let n: u64 = txt[..split].parse().unwrap_or(u64::MAX / 4_000_000);
@@ -379,7 +358,7 @@ impl<'s> Parser<'s, '_> {
                         };
                         total = total.saturating_add(n.saturating_mul(unit));
                         any = true;
-                        p.bump();
+                        p.cur.bump();
                     }
                     if !any {
                         return p.err("a duration such as `15s` or `1m 30s`");
@@ -437,8 +416,8 @@ impl<'s> Parser<'s, '_> {
                 }
                 "bind" if template => {
                     a.binds.push(p.ident("a binding event")?);
-                    while p.peek() == Tok::Comma {
-                        p.bump();
+                    while p.cur.at(Tok::Comma) {
+                        p.cur.bump();
                         a.binds.push(p.ident("a binding event")?);
                     }
                     p.expect(Tok::Semi, "`;`")?;
@@ -447,10 +426,10 @@ impl<'s> Parser<'s, '_> {
                     let (ns, nss) = p.ident("a namespace name")?;
                     let mut evs = Vec::new();
                     p.expect(Tok::LBrace, "`{`")?;
-                    while p.peek() == Tok::Ident {
+                    while p.cur.at(Tok::Ident) {
                         evs.push(p.ident("a binding event")?);
-                        if p.peek() == Tok::Comma {
-                            p.bump();
+                        if p.cur.at(Tok::Comma) {
+                            p.cur.bump();
                         } else {
                             break;
                         }
@@ -475,23 +454,23 @@ impl<'s> Parser<'s, '_> {
         let (name, span) = self.ident("a state name")?;
         let mut st = StateDecl { name, span, initial: false, items: Vec::new() };
         if self.is_kw("initial") {
-            self.bump();
+            self.cur.bump();
             st.initial = true;
         }
-        if self.peek() == Tok::Semi {
-            self.bump();
+        if self.cur.at(Tok::Semi) {
+            self.cur.bump();
             return Ok(st);
         }
         self.block(|p| {
-            let start = p.span();
-            if p.is_kw("forbid") && p.peek_at(1) != Tok::Arrow && p.peek_at(1) != Tok::Dot {
-                p.bump();
+            let start = p.cur.span();
+            if p.is_kw("forbid") && p.cur.peek_at(1) != Tok::Arrow && p.cur.peek_at(1) != Tok::Dot {
+                p.cur.bump();
                 let events = p.path_list("an event to forbid")?;
                 let cond = p.opt_cond()?;
                 p.expect(Tok::Semi, "`;`")?;
                 st.items.push(StateItem::Forbid { events, cond, span: start });
-            } else if p.is_kw("impossible") && p.peek_at(1) != Tok::Arrow && p.peek_at(1) != Tok::Dot {
-                p.bump();
+            } else if p.is_kw("impossible") && p.cur.peek_at(1) != Tok::Arrow && p.cur.peek_at(1) != Tok::Dot {
+                p.cur.bump();
                 let events = p.path_list("an event")?;
                 p.expect(Tok::Semi, "`;`")?;
                 st.items.push(StateItem::Impossible { events, span: start });
@@ -513,7 +492,7 @@ impl<'s> Parser<'s, '_> {
         if !self.is_kw("if") {
             return Ok(None);
         }
-        self.bump();
+        self.cur.bump();
         self.expect(Tok::LBracket, "`[` to open the condition")?;
         let c = self.cond_or(0)?;
         self.expect(Tok::RBracket, "`]` to close the condition")?;
@@ -523,7 +502,7 @@ impl<'s> Parser<'s, '_> {
     fn cond_or(&mut self, depth: usize) -> PResult<CondExpr> {
         let mut operands = vec![self.cond_and(depth)?];
         while self.is_kw("or") {
-            self.bump();
+            self.cur.bump();
             operands.push(self.cond_and(depth)?);
         }
         Ok(if operands.len() == 1 { operands.pop().expect("one operand") } else { CondExpr::Or(operands) })
@@ -532,7 +511,7 @@ impl<'s> Parser<'s, '_> {
     fn cond_and(&mut self, depth: usize) -> PResult<CondExpr> {
         let mut operands = vec![self.cond_unary(depth)?];
         while self.is_kw("and") {
-            self.bump();
+            self.cur.bump();
             operands.push(self.cond_unary(depth)?);
         }
         Ok(if operands.len() == 1 { operands.pop().expect("one operand") } else { CondExpr::And(operands) })
@@ -543,34 +522,34 @@ impl<'s> Parser<'s, '_> {
             return self.err("a shallower condition (nesting limit 64)");
         }
         if self.is_kw("not") {
-            self.bump();
+            self.cur.bump();
             return Ok(CondExpr::Not(Box::new(self.cond_unary(depth + 1)?)));
         }
-        if self.peek() == Tok::LParen {
-            self.bump();
+        if self.cur.at(Tok::LParen) {
+            self.cur.bump();
             let c = self.cond_or(depth + 1)?;
             self.expect(Tok::RParen, "`)`")?;
             return Ok(c);
         }
         if self.is_kw("true") {
-            self.bump();
+            self.cur.bump();
             return Ok(CondExpr::True);
         }
         if self.is_kw("false") {
-            self.bump();
+            self.cur.bump();
             return Ok(CondExpr::False);
         }
         Ok(CondExpr::State(self.path("a state such as `Heater.on`")?))
     }
 
     fn instance(&mut self) -> PResult<InstanceDecl> {
-        self.bump();
+        self.cur.bump();
         let (name, name_span) = self.ident("an instance name")?;
         self.expect(Tok::Colon, "`:` and the template name")?;
         let template = self.path("a template name")?;
         let mut inst = InstanceDecl { name, name_span, template, bindings: Vec::new() };
-        if self.peek() == Tok::Semi {
-            self.bump();
+        if self.cur.at(Tok::Semi) {
+            self.cur.bump();
             return Ok(inst);
         }
         self.block(|p| {

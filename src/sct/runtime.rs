@@ -178,14 +178,12 @@ impl<'a> Runtime<'a> {
 
     /// The first supervisor that prohibits `e` in its current state, if any.
     pub fn prohibited_by(&self, e: EventId) -> Option<usize> {
-        (0..self.supervisors.len())
-            .find(|&k| self.supervisors[k].states[self.states[k] as usize].prohibited.contains(&e))
+        Supervisor::first_prohibiting(&self.supervisors, &self.states, e)
     }
 
     /// Supervisor `k`'s successor on `e` (an event without a transition loops).
     fn successor(&self, k: usize, e: EventId) -> u32 {
-        let state = &self.supervisors[k].states[self.states[k] as usize];
-        state.transitions.iter().find(|(x, _)| *x == e).map_or(self.states[k], |&(_, t)| t)
+        self.supervisors[k].successor(self.states[k], e)
     }
 
     /// `e` occurred: every supervisor but `skip` tracks it, and the timers react.

@@ -103,7 +103,7 @@ impl Position<'_> {
         if let Some(p) = (0..self.plants.len()).find(|&p| self.plant_move(p, e).is_none()) {
             return EventStatus::Impossible { plant: self.project.plants[p].name.clone() };
         }
-        let prohibiting = (0..self.sups.len()).find(|&k| self.state(k).prohibited.contains(&e));
+        let prohibiting = Supervisor::first_prohibiting(self.supervisors, &self.sups, e);
         match self.project.kind(e) {
             EventKind::Controllable => {
                 prohibiting.map_or(EventStatus::Enabled, |k| EventStatus::Disabled { by: name(k) })
@@ -143,13 +143,11 @@ impl Position<'_> {
                 // Only the supervisors that enforce it take an enforced event (6.4.2).
                 EventStatus::Enforced { .. } => st.enforced == Some(e),
                 // The supervisor whose assumption broke keeps its state (`Runtime`).
-                EventStatus::Unexpected { .. } => !st.prohibited.contains(&e),
+                EventStatus::Unexpected { .. } => !st.prohibits(e),
                 _ => true,
             };
             if tracks {
-                if let Some(&(_, t)) = st.transitions.iter().find(|(x, _)| *x == e) {
-                    self.sups[k] = t;
-                }
+                self.sups[k] = self.supervisors[k].successor(self.sups[k], e);
             }
         }
         Ok(())

@@ -5,22 +5,40 @@
 //! independent error of a file. Every loop consumes a token or stops, so no input can hang it.
 
 use super::ast::*;
-use super::lexer::{tokenize, Tok, Token};
+use super::lexer::{self, tokenize, Tok};
 use crate::diag::{Diagnostics, Span};
+use crate::syntax::Cursor;
 
 /// Parses `source`, appending every syntax diagnostic to `diags`. The returned tree holds
 /// everything that could be recovered.
 pub fn parse(source: &str, diags: &mut Diagnostics) -> Spec {
-    let mut parser = Parser { source, tokens: tokenize(source), pos: 0, diags, spec: Spec::default() };
-    parser.report_lexical_errors();
+    let tokens = report_lexical_errors(source, tokenize(source), diags);
+    let mut parser = Parser { source, cur: Cursor::new(tokens), diags, spec: Spec::default() };
     parser.spec();
     parser.spec
 }
 
+/// Reports the lexer's error tokens and returns the others.
+fn report_lexical_errors(source: &str, tokens: Vec<lexer::Token>, diags: &mut Diagnostics) -> Vec<Token> {
+    let mut kept = Vec::with_capacity(tokens.len());
+    for t in tokens {
+        match t.tok {
+            Tok::Error => {
+                let text = &source[t.span.range()];
+                diags.error(t.span, format!("unexpected character `{}`", text.escape_debug()));
+            }
+            Tok::UnterminatedComment => {
+                diags.error(t.span, "block comment is never closed").with_note("add `*/` to close it");
+            }
+            _ => kept.push((t.tok, t.span)),
+        }
+    }
+    kept
+}
+
 struct Parser<'s, 'd, 'a> {
     source: &'s str,
-    tokens: Vec<Token>,
-    pos: usize,
+    cur: Cursor<Tok>,
     diags: &'d mut Diagnostics<'a>,
     spec: Spec,
 }
@@ -35,68 +53,25 @@ struct Reported;
 
 type PResult<T> = Result<T, Reported>;
 
+/// A token and its span.
+type Token = (Tok, Span);
+
 impl Parser<'_, '_, '_> {
     // ----- token access -------------------------------------------------------------------
 
-    fn report_lexical_errors(&mut self) {
-        let mut kept = Vec::with_capacity(self.tokens.len());
-        for t in std::mem::take(&mut self.tokens) {
-            match t.tok {
-                Tok::Error => {
-                    let text = &self.source[t.span.range()];
-                    self.diags.error(t.span, format!("unexpected character `{}`", text.escape_debug()));
-                }
-                Tok::UnterminatedComment => {
-                    self.diags.error(t.span, "block comment is never closed").with_note("add `*/` to close it");
-                }
-                _ => kept.push(t),
-            }
-        }
-        self.tokens = kept;
-    }
-
-    fn peek(&self) -> Token {
-        self.tokens[self.pos.min(self.tokens.len() - 1)]
-    }
-
-    fn peek_at(&self, ahead: usize) -> Token {
-        self.tokens[(self.pos + ahead).min(self.tokens.len() - 1)]
-    }
-
     fn text(&self, t: Token) -> &str {
-        &self.source[t.span.range()]
-    }
-
-    fn at(&self, tok: Tok) -> bool {
-        self.peek().tok == tok
+        &self.source[t.1.range()]
     }
 
     /// True if the next token is the identifier `word`.
     fn at_word(&self, word: &str) -> bool {
-        let t = self.peek();
-        t.tok == Tok::Ident && self.text(t) == word
-    }
-
-    fn bump(&mut self) -> Token {
-        let t = self.peek();
-        if t.tok != Tok::Eof {
-            self.pos += 1;
-        }
-        t
-    }
-
-    fn eat(&mut self, tok: Tok) -> bool {
-        if self.at(tok) {
-            self.bump();
-            true
-        } else {
-            false
-        }
+        let t = self.cur.token();
+        t.0 == Tok::Ident && self.text(t) == word
     }
 
     fn eat_word(&mut self, word: &str) -> bool {
         if self.at_word(word) {
-            self.bump();
+            self.cur.bump();
             true
         } else {
             false
@@ -104,7 +79,7 @@ impl Parser<'_, '_, '_> {
     }
 
     fn describe(&self, t: Token) -> String {
-        match t.tok {
+        match t.0 {
             Tok::Eof => "end of file".to_string(),
             Tok::Ident => format!("`{}`", self.text(t)),
             Tok::Int => format!("number `{}`", self.text(t)),
@@ -113,15 +88,15 @@ impl Parser<'_, '_, '_> {
     }
 
     fn error_expected(&mut self, what: &str) -> Reported {
-        let t = self.peek();
+        let t = self.cur.token();
         let found = self.describe(t);
-        self.diags.error(t.span, format!("expected {what}, found {found}"));
+        self.diags.error(t.1, format!("expected {what}, found {found}"));
         Reported
     }
 
     fn expect(&mut self, tok: Tok, what: &str) -> PResult<Token> {
-        if self.at(tok) {
-            Ok(self.bump())
+        if self.cur.at(tok) {
+            Ok(self.cur.bump())
         } else {
             Err(self.error_expected(what))
         }
@@ -129,7 +104,7 @@ impl Parser<'_, '_, '_> {
 
     fn expect_word(&mut self, word: &str) -> PResult<Token> {
         if self.at_word(word) {
-            Ok(self.bump())
+            Ok(self.cur.bump())
         } else {
             Err(self.error_expected(&format!("`{word}`")))
         }
@@ -137,7 +112,7 @@ impl Parser<'_, '_, '_> {
 
     fn ident(&mut self, what: &str) -> PResult<Ident> {
         let t = self.expect(Tok::Ident, what)?;
-        Ok(Ident { name: self.text(t).to_string(), span: t.span })
+        Ok(Ident { name: self.text(t).to_string(), span: t.1 })
     }
 
     fn int(&mut self, what: &str) -> PResult<u32> {
@@ -145,22 +120,14 @@ impl Parser<'_, '_, '_> {
         match self.text(t).parse::<u32>() {
             Ok(v) if v <= MAX_CONSTANT => Ok(v),
             _ => {
-                self.diags.error(t.span, format!("number is too large (at most {MAX_CONSTANT})"));
+                self.diags.error(t.1, format!("number is too large (at most {MAX_CONSTANT})"));
                 Err(Reported)
             }
         }
     }
 
-    fn prev_end(&self) -> usize {
-        if self.pos == 0 {
-            0
-        } else {
-            self.tokens[self.pos - 1].span.end as usize
-        }
-    }
-
     fn span_from(&self, start: Span) -> Span {
-        Span::new(start.start as usize, self.prev_end())
+        Span::new(start.start as usize, self.cur.prev_end())
     }
 
     // ----- recovery -----------------------------------------------------------------------
@@ -170,10 +137,10 @@ impl Parser<'_, '_, '_> {
     fn recover_statement(&mut self) {
         let mut depth = 0usize;
         loop {
-            match self.peek().tok {
+            match self.cur.peek() {
                 Tok::Eof => return,
                 Tok::Semi if depth == 0 => {
-                    self.bump();
+                    self.cur.bump();
                     return;
                 }
                 Tok::RBrace if depth == 0 => return,
@@ -181,7 +148,7 @@ impl Parser<'_, '_, '_> {
                 Tok::RBrace => depth -= 1,
                 _ => {}
             }
-            self.bump();
+            self.cur.bump();
         }
     }
 
@@ -190,23 +157,23 @@ impl Parser<'_, '_, '_> {
     fn block(&mut self, what: &str, mut item: impl FnMut(&mut Self) -> PResult<()>) -> PResult<()> {
         self.expect(Tok::LBrace, &format!("`{{` to open the {what}"))?;
         loop {
-            if self.eat(Tok::RBrace) {
+            if self.cur.eat(Tok::RBrace) {
                 return Ok(());
             }
-            if self.at(Tok::Eof) {
+            if self.cur.at(Tok::Eof) {
                 self.error_expected(&format!("`}}` to close the {what}"));
                 return Err(Reported);
             }
-            let before = self.pos;
+            let before = self.cur.pos();
             if item(self).is_err() {
                 self.recover_statement();
             }
-            if self.pos == before {
+            if self.cur.pos() == before {
                 // Nothing consumed: report once and skip the token to guarantee progress.
-                let t = self.bump();
-                if !matches!(t.tok, Tok::Semi) {
+                let t = self.cur.bump();
+                if !matches!(t.0, Tok::Semi) {
                     let found = self.describe(t);
-                    self.diags.error(t.span, format!("unexpected {found} in the {what}"));
+                    self.diags.error(t.1, format!("unexpected {found} in the {what}"));
                 }
             }
         }
@@ -215,13 +182,13 @@ impl Parser<'_, '_, '_> {
     // ----- top level ----------------------------------------------------------------------
 
     fn spec(&mut self) {
-        while !self.at(Tok::Eof) {
-            let before = self.pos;
+        while !self.cur.at(Tok::Eof) {
+            let before = self.cur.pos();
             if self.section().is_err() {
                 self.recover_section();
             }
-            if self.pos == before {
-                self.bump();
+            if self.cur.pos() == before {
+                self.cur.bump();
             }
         }
     }
@@ -230,63 +197,63 @@ impl Parser<'_, '_, '_> {
     fn recover_section(&mut self) {
         let mut depth = 0usize;
         loop {
-            let t = self.peek();
-            match t.tok {
+            let t = self.cur.token();
+            match t.0 {
                 Tok::Eof => return,
                 Tok::LBrace => depth += 1,
                 Tok::RBrace => {
                     depth = depth.saturating_sub(1);
                     if depth == 0 {
-                        self.bump();
+                        self.cur.bump();
                         return;
                     }
                 }
                 Tok::Ident if depth == 0 && SECTION_WORDS.contains(&self.text(t)) => return,
                 _ => {}
             }
-            self.bump();
+            self.cur.bump();
         }
     }
 
     fn section(&mut self) -> PResult<()> {
-        let t = self.peek();
-        if t.tok == Tok::Semi {
-            self.bump();
+        let t = self.cur.token();
+        if t.0 == Tok::Semi {
+            self.cur.bump();
             return Ok(());
         }
-        if t.tok == Tok::RBrace {
-            self.bump();
-            self.diags.warning(t.span, "unmatched `}` at the top level is ignored");
+        if t.0 == Tok::RBrace {
+            self.cur.bump();
+            self.diags.warning(t.1, "unmatched `}` at the top level is ignored");
             return Ok(());
         }
-        if t.tok != Tok::Ident {
+        if t.0 != Tok::Ident {
             return Err(self.error_expected(
                 "a section (`plant`, `assertions`, `dependencies`, `guards`, `plans`, `timeunit`, `scan` or `io`)",
             ));
         }
         match self.text(t) {
             "plant" => {
-                self.bump();
+                self.cur.bump();
                 self.block("plant", |p| p.component())
             }
             "assertions" => {
-                self.bump();
+                self.cur.bump();
                 self.block("assertions", |p| p.assertion())
             }
             "dependencies" => {
-                self.bump();
+                self.cur.bump();
                 self.block("dependencies", |p| p.dependency())
             }
             "guards" => {
-                self.bump();
+                self.cur.bump();
                 self.block("guards", |p| p.guard())
             }
             "plans" => {
-                self.bump();
+                self.cur.bump();
                 self.block("plans", |p| p.plan())
             }
             "io" => {
-                self.bump();
+                self.cur.bump();
                 self.block("io section", |p| p.io_entry())
             }
             "timeunit" => self.timeunit(),
@@ -311,8 +278,8 @@ impl Parser<'_, '_, '_> {
 
     /// `KEYWORD INT unit ;` for `timeunit` and `scan`.
     fn duration(&mut self, what: &str) -> PResult<TimeUnitDecl> {
-        let start = self.bump().span;
-        let value_tok = self.peek();
+        let start = self.cur.bump().1;
+        let value_tok = self.cur.token();
         let value = self.int("a duration such as `100ms`")?;
         let unit = self.ident("a time unit (`ms`, `s`, `min` or `h`)")?;
         let factor = match unit.name.as_str() {
@@ -328,7 +295,7 @@ impl Parser<'_, '_, '_> {
             }
         };
         if value == 0 {
-            self.diags.error(value_tok.span, format!("{what} must be longer than zero"));
+            self.diags.error(value_tok.1, format!("{what} must be longer than zero"));
         }
         self.expect(Tok::Semi, &format!("`;` after {what}"))?;
         // At most 2^24 h, about 6·10^13 ms: no overflow. Each PLC target checks its own limits.
@@ -338,15 +305,15 @@ impl Parser<'_, '_, '_> {
     // ----- plant components ---------------------------------------------------------------
 
     fn component(&mut self) -> PResult<()> {
-        if self.eat(Tok::Semi) {
+        if self.cur.eat(Tok::Semi) {
             return Ok(());
         }
-        let start = self.peek().span;
-        let kind = self.peek();
-        let word = if kind.tok == Tok::Ident { self.text(kind).to_string() } else { String::new() };
+        let start = self.cur.span();
+        let kind = self.cur.token();
+        let word = if kind.0 == Tok::Ident { self.text(kind).to_string() } else { String::new() };
         match word.as_str() {
             "automaton" => {
-                self.bump();
+                self.cur.bump();
                 let name = self.ident("the automaton's name")?;
                 let mut decl =
                     AutomatonDecl { name, clocks: Vec::new(), nodes: Vec::new(), transitions: Vec::new(), span: start };
@@ -356,7 +323,7 @@ impl Parser<'_, '_, '_> {
                 res
             }
             "hardware" | "operator" => {
-                self.bump();
+                self.cur.bump();
                 let name = self.ident(&format!("the {word}'s name"))?;
                 let mut states = Vec::new();
                 let mut moves = Vec::new();
@@ -374,19 +341,19 @@ impl Parser<'_, '_, '_> {
     }
 
     fn automaton_item(&mut self, decl: &mut AutomatonDecl) -> PResult<()> {
-        if self.at_word("clocks") && self.peek_at(1).tok == Tok::Ident {
-            self.bump();
+        if self.at_word("clocks") && self.cur.peek_at(1) == Tok::Ident {
+            self.cur.bump();
             decl.clocks.extend(self.ident_list("a clock name")?);
             self.expect(Tok::Semi, "`;` after the clock list")?;
             return Ok(());
         }
-        if self.at_word("nodes") && self.peek_at(1).tok == Tok::Ident && !self.is_arrow(self.peek_at(1).tok) {
-            self.bump();
+        if self.at_word("nodes") && self.cur.peek_at(1) == Tok::Ident && !self.is_arrow(self.cur.peek_at(1)) {
+            self.cur.bump();
             loop {
                 let name = self.ident("a node name")?;
-                let invariant = if self.at(Tok::LBrace) { self.constraint_block()? } else { Vec::new() };
+                let invariant = if self.cur.at(Tok::LBrace) { self.constraint_block()? } else { Vec::new() };
                 decl.nodes.push(NodeDecl { name, invariant });
-                if !self.eat(Tok::Comma) {
+                if !self.cur.eat(Tok::Comma) {
                     break;
                 }
             }
@@ -401,33 +368,33 @@ impl Parser<'_, '_, '_> {
     }
 
     fn transition(&mut self, decl: &mut AutomatonDecl) -> PResult<()> {
-        let start = self.peek().span;
+        let start = self.cur.span();
         let from = self.ident("a transition (`from -> to ?message`), `clocks` or `nodes`")?;
-        if !(self.eat(Tok::Arrow) || self.eat(Tok::UnicodeArrow)) {
+        if !(self.cur.eat(Tok::Arrow) || self.cur.eat(Tok::UnicodeArrow)) {
             return Err(self.error_expected("`->`"));
         }
         let to = self.ident("the target node")?;
-        let kind = match self.peek().tok {
+        let kind = match self.cur.peek() {
             Tok::Question => MessageKind::Controllable,
             Tok::Bang => MessageKind::Uncontrollable,
             Tok::Dollar => MessageKind::Synchronised,
             _ => return Err(self.error_expected("a message type `?`, `!` or `$`")),
         };
-        self.bump();
+        self.cur.bump();
         let message = self.ident("a message name")?;
         let mut guard = Vec::new();
         let mut resets = Vec::new();
         let mut instant = false;
         loop {
-            if self.at(Tok::LBrace) {
+            if self.cur.at(Tok::LBrace) {
                 guard.extend(self.constraint_block()?);
             } else if self.at_word("reset") {
-                self.bump();
+                self.cur.bump();
                 self.expect(Tok::LBrace, "`{` before the clocks to reset")?;
                 resets.extend(self.ident_list("a clock name")?);
                 self.expect(Tok::RBrace, "`}` after the clocks to reset")?;
             } else if self.at_word("instant") {
-                self.bump();
+                self.cur.bump();
                 instant = true;
             } else {
                 break;
@@ -449,7 +416,7 @@ impl Parser<'_, '_, '_> {
 
     fn ident_list(&mut self, what: &str) -> PResult<Vec<Ident>> {
         let mut list = vec![self.ident(what)?];
-        while self.eat(Tok::Comma) {
+        while self.cur.eat(Tok::Comma) {
             list.push(self.ident(what)?);
         }
         Ok(list)
@@ -459,7 +426,7 @@ impl Parser<'_, '_, '_> {
     fn constraint_block(&mut self) -> PResult<Vec<ClockConstraint>> {
         self.expect(Tok::LBrace, "`{`")?;
         let mut list = Vec::new();
-        if self.eat(Tok::RBrace) {
+        if self.cur.eat(Tok::RBrace) {
             return Ok(list);
         }
         loop {
@@ -468,7 +435,7 @@ impl Parser<'_, '_, '_> {
             let interval = self.interval()?;
             let span = clock.span.to(interval.span);
             list.push(ClockConstraint { clock, interval, span });
-            if !(self.eat_word("and") || self.eat(Tok::Comma)) {
+            if !(self.eat_word("and") || self.cur.eat(Tok::Comma)) {
                 break;
             }
         }
@@ -477,62 +444,62 @@ impl Parser<'_, '_, '_> {
     }
 
     fn interval(&mut self) -> PResult<Interval> {
-        let open = self.peek();
-        let lower_closed = match open.tok {
+        let open = self.cur.token();
+        let lower_closed = match open.0 {
             Tok::LBracket => true,
             Tok::LParen => false,
             _ => return Err(self.error_expected("an interval such as `[2,4]` or `(0,inf)`")),
         };
-        self.bump();
+        self.cur.bump();
         let lower = self.int("the interval's lower bound")?;
         self.expect(Tok::Comma, "`,` between the interval's bounds")?;
         let upper = if self.at_word("inf") {
-            self.bump();
+            self.cur.bump();
             None
         } else {
             Some(self.int("the interval's upper bound or `inf`")?)
         };
-        let close = self.peek();
-        let upper_closed = match close.tok {
+        let close = self.cur.token();
+        let upper_closed = match close.0 {
             Tok::RBracket => true,
             Tok::RParen => false,
             _ => return Err(self.error_expected("`]` or `)` to close the interval")),
         };
-        self.bump();
-        let span = self.span_from(open.span);
+        self.cur.bump();
+        let span = self.span_from(open.1);
         if upper.is_none() && upper_closed {
             self.diags
-                .error(close.span, "an interval unbounded above must end with `)`")
+                .error(close.1, "an interval unbounded above must end with `)`")
                 .with_note("write `[3,inf)`: no clock value equals infinity");
         }
         Ok(Interval { lower, lower_closed, upper, upper_closed, span })
     }
 
     fn move_item(&mut self, states: &mut Vec<Ident>, moves: &mut Vec<MoveDecl>) -> PResult<()> {
-        if self.at_word("states") && self.peek_at(1).tok == Tok::Ident {
-            self.bump();
+        if self.at_word("states") && self.cur.peek_at(1) == Tok::Ident {
+            self.cur.bump();
             states.extend(self.ident_list("a state name")?);
             self.expect(Tok::Semi, "`,` or `;` in the state list")?;
             return Ok(());
         }
-        let start = self.peek().span;
+        let start = self.cur.span();
         let first = self.ident("a move (`A -> B`, `A <- B`, `A <-> B` or `A, B`) or `states`")?;
-        let (shape, states_of_move) = match self.peek().tok {
+        let (shape, states_of_move) = match self.cur.peek() {
             Tok::Arrow | Tok::UnicodeArrow => {
-                self.bump();
+                self.cur.bump();
                 (MoveShape::Forward, vec![first, self.ident("the target state")?])
             }
             Tok::BackArrow => {
-                self.bump();
+                self.cur.bump();
                 (MoveShape::Backward, vec![first, self.ident("the source state")?])
             }
             Tok::BothArrow => {
-                self.bump();
+                self.cur.bump();
                 (MoveShape::Both, vec![first, self.ident("the other state")?])
             }
             Tok::Comma => {
                 let mut list = vec![first];
-                while self.eat(Tok::Comma) {
+                while self.cur.eat(Tok::Comma) {
                     list.push(self.ident("a state name")?);
                 }
                 (MoveShape::All, list)
@@ -548,14 +515,14 @@ impl Parser<'_, '_, '_> {
     // ----- assertions, dependencies, guards ---------------------------------------------
 
     fn assertion(&mut self) -> PResult<()> {
-        let start = self.peek().span;
-        let not_unit = self.peek_at(1).tok != Tok::Dot;
+        let start = self.cur.span();
+        let not_unit = self.cur.peek_at(1) != Tok::Dot;
         let assertion = if self.at_word("never") && not_unit {
-            self.bump();
+            self.cur.bump();
             let cond = self.cond(0)?;
             Assertion::Never { cond, span: self.span_from(start) }
         } else if self.at_word("always") && not_unit {
-            self.bump();
+            self.cur.bump();
             let cond = self.cond(0)?;
             Assertion::Always { cond, span: self.span_from(start) }
         } else {
@@ -563,7 +530,7 @@ impl Parser<'_, '_, '_> {
             if self.eat_word("onlyif") {
                 let requires = self.cond(0)?;
                 Assertion::OnlyIf { cond, requires, span: self.span_from(start) }
-            } else if self.at(Tok::Semi) {
+            } else if self.cur.at(Tok::Semi) {
                 // A bare condition describes undesired states: the thesis (4.1.4) calls
                 // `x onlyif y` equivalent to `x and not y`.
                 Assertion::Never { cond, span: self.span_from(start) }
@@ -606,33 +573,33 @@ impl Parser<'_, '_, '_> {
     }
 
     fn cond_unary(&mut self, depth: usize) -> PResult<Cond> {
-        let t = self.peek();
+        let t = self.cur.token();
         let nests =
-            t.tok == Tok::LParen || (t.tok == Tok::Ident && self.text(t) == "not" && self.peek_at(1).tok != Tok::Dot);
+            t.0 == Tok::LParen || (t.0 == Tok::Ident && self.text(t) == "not" && self.cur.peek_at(1) != Tok::Dot);
         if nests && depth >= MAX_COND_NESTING {
             self.diags.error(
-                t.span,
+                t.1,
                 format!("condition nested too deeply: at most {MAX_COND_NESTING} levels of parentheses and `not`"),
             );
             return Err(Reported);
         }
-        if t.tok == Tok::LParen {
-            self.bump();
+        if t.0 == Tok::LParen {
+            self.cur.bump();
             let inner = self.cond(depth + 1)?;
             self.expect(Tok::RParen, "`)` to close the parenthesis")?;
             return Ok(inner);
         }
-        if t.tok == Tok::Ident && self.peek_at(1).tok != Tok::Dot {
+        if t.0 == Tok::Ident && self.cur.peek_at(1) != Tok::Dot {
             match self.text(t) {
                 "not" => {
-                    self.bump();
+                    self.cur.bump();
                     let operand = self.cond_unary(depth + 1)?;
-                    let span = self.span_from(t.span);
+                    let span = self.span_from(t.1);
                     return Ok(Cond::Not { operand: Box::new(operand), span });
                 }
                 "true" | "false" => {
-                    self.bump();
-                    return Ok(Cond::Const { value: self.text(t) == "true", span: t.span });
+                    self.cur.bump();
+                    return Ok(Cond::Const { value: self.text(t) == "true", span: t.1 });
                 }
                 _ => {}
             }
@@ -640,32 +607,32 @@ impl Parser<'_, '_, '_> {
         let unit = self.ident("a condition (`unit.node`, `not`, `(`, `true` or `false`)")?;
         self.expect(Tok::Dot, "`.` between unit and node (`unit.node`)")?;
         let node = self.ident("a node name")?;
-        let prefix = self.eat(Tok::Star);
+        let prefix = self.cur.eat(Tok::Star);
         let span = self.span_from(unit.span);
         Ok(Cond::State { unit, node, prefix, span })
     }
 
     fn dependency(&mut self) -> PResult<()> {
-        let start = self.peek().span;
+        let start = self.cur.span();
         let message = self.ident("a message name")?;
         if !self.eat_word("dependson") {
-            if self.at_word("depends") && self.peek_at(1).tok == Tok::Ident && self.text(self.peek_at(1)) == "on" {
-                self.bump();
-                self.bump();
+            if self.at_word("depends") && self.cur.peek_at(1) == Tok::Ident && self.text(self.cur.token_at(1)) == "on" {
+                self.cur.bump();
+                self.cur.bump();
             } else {
                 return Err(self.error_expected("`dependson`"));
             }
         }
         let mut targets = Vec::new();
         loop {
-            let t = self.peek();
-            if t.tok == Tok::Ident && self.text(t) == "time" {
-                self.bump();
-                targets.push(DependencyTarget::Time { span: t.span });
+            let t = self.cur.token();
+            if t.0 == Tok::Ident && self.text(t) == "time" {
+                self.cur.bump();
+                targets.push(DependencyTarget::Time { span: t.1 });
             } else {
                 targets.push(DependencyTarget::Message { name: self.ident("`time` or a message name")? });
             }
-            if !self.eat(Tok::Comma) {
+            if !self.cur.eat(Tok::Comma) {
                 break;
             }
         }
@@ -675,7 +642,7 @@ impl Parser<'_, '_, '_> {
     }
 
     fn guard(&mut self) -> PResult<()> {
-        let start = self.peek().span;
+        let start = self.cur.span();
         let cond = self.cond(0)?;
         self.expect_word("guardedby")?;
         let message = self.ident("the guarding message")?;
@@ -687,10 +654,10 @@ impl Parser<'_, '_, '_> {
     // ----- plans --------------------------------------------------------------------------
 
     fn plan(&mut self) -> PResult<()> {
-        if self.eat(Tok::Semi) {
+        if self.cur.eat(Tok::Semi) {
             return Ok(());
         }
-        let start = self.expect_word("plan")?.span;
+        let start = self.expect_word("plan")?.1;
         let mut plan = Plan { clocks: Vec::new(), commands: Vec::new(), span: start };
         let res = self.block("plan", |p| p.plan_item(&mut plan));
         plan.span = self.span_from(start);
@@ -699,24 +666,24 @@ impl Parser<'_, '_, '_> {
     }
 
     fn plan_item(&mut self, plan: &mut Plan) -> PResult<()> {
-        if self.at_word("clocks") && self.peek_at(1).tok == Tok::Ident && self.peek_at(2).tok == Tok::Int {
-            self.bump();
+        if self.at_word("clocks") && self.cur.peek_at(1) == Tok::Ident && self.cur.peek_at(2) == Tok::Int {
+            self.cur.bump();
             loop {
                 let name = self.ident("a timeout clock name")?;
                 let bound = self.int("the clock's timeout bound")?;
                 let span = self.span_from(name.span);
                 plan.clocks.push(PlanClock { name, bound, span });
-                if !self.eat(Tok::Comma) {
+                if !self.cur.eat(Tok::Comma) {
                     break;
                 }
             }
             self.expect(Tok::Semi, "`,` or `;` in the clock list")?;
             return Ok(());
         }
-        let start = self.peek().span;
-        let label = if self.peek().tok == Tok::Ident && self.peek_at(1).tok == Tok::Colon {
+        let start = self.cur.span();
+        let label = if self.cur.peek() == Tok::Ident && self.cur.peek_at(1) == Tok::Colon {
             let l = self.ident("a label")?;
-            self.bump();
+            self.cur.bump();
             Some(l)
         } else {
             None
@@ -727,13 +694,13 @@ impl Parser<'_, '_, '_> {
             let mut items = Vec::new();
             loop {
                 let message = self.ident("a message name")?;
-                let target = if self.eat(Tok::Arrow) || self.eat(Tok::UnicodeArrow) {
+                let target = if self.cur.eat(Tok::Arrow) || self.cur.eat(Tok::UnicodeArrow) {
                     Some(self.ident("a label or `failed`")?)
                 } else {
                     None
                 };
                 items.push(WaitItem { message, target });
-                if !self.eat(Tok::Comma) {
+                if !self.cur.eat(Tok::Comma) {
                     break;
                 }
             }
@@ -749,11 +716,11 @@ impl Parser<'_, '_, '_> {
     // ----- io -----------------------------------------------------------------------------
 
     fn io_entry(&mut self) -> PResult<()> {
-        let start = self.peek().span;
+        let start = self.cur.span();
         let message = self.ident("a message name")?;
         self.expect(Tok::Eq, "`=`")?;
-        let mode = match self.peek() {
-            t if t.tok == Tok::Ident && matches!(self.peek_at(1).tok, Tok::Address | Tok::Str | Tok::Ident) => {
+        let mode = match self.cur.token() {
+            t if t.0 == Tok::Ident && matches!(self.cur.peek_at(1), Tok::Address | Tok::Str | Tok::Ident) => {
                 let mode = match self.text(t) {
                     "not" => Some(IoMode::Negated),
                     "set" => Some(IoMode::Set),
@@ -762,30 +729,30 @@ impl Parser<'_, '_, '_> {
                     _ => None,
                 };
                 if mode.is_some() {
-                    self.bump();
+                    self.cur.bump();
                 }
                 mode.unwrap_or(IoMode::Default)
             }
             _ => IoMode::Default,
         };
-        let t = self.peek();
-        let target = match t.tok {
+        let t = self.cur.token();
+        let target = match t.0 {
             Tok::Address => {
-                self.bump();
-                IoTarget::Address { text: self.text(t)[1..].to_string(), span: t.span }
+                self.cur.bump();
+                IoTarget::Address { text: self.text(t)[1..].to_string(), span: t.1 }
             }
             Tok::Str => {
-                self.bump();
+                self.cur.bump();
                 let text = self.text(t);
-                IoTarget::Symbol { text: text[1..text.len() - 1].to_string(), span: t.span, quoted: true }
+                IoTarget::Symbol { text: text[1..text.len() - 1].to_string(), span: t.1, quoted: true }
             }
             Tok::Ident => {
                 let mut text = self.ident("a symbol")?.name;
-                while self.eat(Tok::Dot) {
+                while self.cur.eat(Tok::Dot) {
                     text.push('.');
                     text.push_str(&self.ident("a name after `.`")?.name);
                 }
-                IoTarget::Symbol { text, span: self.span_from(t.span), quoted: false }
+                IoTarget::Symbol { text, span: self.span_from(t.1), quoted: false }
             }
             _ => return Err(self.error_expected("a PLC address such as `%I0.0` or a symbol")),
         };

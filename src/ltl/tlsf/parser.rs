@@ -9,6 +9,7 @@
 
 use super::lexer::{lex, Tok};
 use crate::diag::{Diagnostics, Span};
+use crate::syntax::Cursor;
 
 /// Nesting of parentheses, prefix operators and right operands an expression may have. Deeper
 /// input is reported instead of recursing further: the parser, the name check and the
@@ -215,8 +216,7 @@ pub struct Tlsf {
 
 struct Parser<'s, 'd> {
     src: &'s str,
-    toks: Vec<(Tok, Span)>,
-    pos: usize,
+    cur: Cursor<Tok>,
     diags: &'d mut Diagnostics<'s>,
     /// Expression nesting at the parse position; see [`MAX_NESTING`].
     nesting: usize,
@@ -227,16 +227,16 @@ type PResult<T> = Result<T, ()>;
 /// Parses a TLSF file; errors go to `diags`.
 pub fn parse<'s>(src: &'s str, diags: &mut Diagnostics<'s>) -> Tlsf {
     let toks = lex(src, diags);
-    let mut p = Parser { src, toks, pos: 0, diags, nesting: 0 };
+    let mut p = Parser { src, cur: Cursor::new(toks), diags, nesting: 0 };
     let mut tlsf = Tlsf::default();
     let mut seen: Vec<&str> = Vec::new();
     // One error per stretch of junk between blocks, not one per token.
     let mut in_junk = false;
-    while p.peek() != Tok::Eof {
-        let word = if p.peek() == Tok::Ident { p.text() } else { "" };
+    while !p.cur.at(Tok::Eof) {
+        let word = if p.cur.at(Tok::Ident) { p.text() } else { "" };
         if matches!(word, "INFO" | "GLOBAL" | "MAIN") {
             in_junk = false;
-            let span = p.bump().1;
+            let span = p.cur.bump().1;
             if seen.contains(&word) {
                 p.diags.error(span, format!("a second `{word}` block"));
             }
@@ -253,14 +253,14 @@ pub fn parse<'s>(src: &'s str, diags: &mut Diagnostics<'s>) -> Tlsf {
         }
         if !in_junk {
             let found = p.describe();
-            let span = p.span();
+            let span = p.cur.span();
             p.diags.error(span, format!("expected `INFO`, `GLOBAL` or `MAIN`, found {found}"));
             in_junk = true;
         }
-        if p.peek() == Tok::LBrace {
+        if p.cur.at(Tok::LBrace) {
             p.skip_block();
         } else {
-            p.bump();
+            p.cur.bump();
         }
     }
     if !seen.contains(&"MAIN") && !p.diags.has_errors() {
@@ -271,66 +271,40 @@ pub fn parse<'s>(src: &'s str, diags: &mut Diagnostics<'s>) -> Tlsf {
 }
 
 impl<'s> Parser<'s, '_> {
-    fn peek(&self) -> Tok {
-        self.toks[self.pos].0
-    }
-
-    fn peek_at(&self, k: usize) -> Tok {
-        self.toks.get(self.pos + k).map_or(Tok::Eof, |t| t.0)
-    }
-
-    fn span(&self) -> Span {
-        self.toks[self.pos].1
-    }
-
     fn text(&self) -> &'s str {
-        &self.src[self.toks[self.pos].1.range()]
-    }
-
-    fn bump(&mut self) -> (Tok, Span) {
-        let t = self.toks[self.pos];
-        if t.0 != Tok::Eof {
-            self.pos += 1;
-        }
-        t
+        &self.src[self.cur.span().range()]
     }
 
     fn is_word(&self, word: &str) -> bool {
-        self.peek() == Tok::Ident && self.text() == word
-    }
-
-    /// The previous token's end: where a missing `;` belongs.
-    fn prev_end(&self) -> Span {
-        let end = if self.pos == 0 { 0 } else { self.toks[self.pos - 1].1.end as usize };
-        Span::new(end, end)
+        self.cur.at(Tok::Ident) && self.text() == word
     }
 
     fn describe(&self) -> String {
-        match self.peek() {
+        match self.cur.peek() {
             Tok::Eof => "end of file".into(),
             _ => format!("`{}`", self.text()),
         }
     }
 
     fn err<T>(&mut self, expected: &str) -> PResult<T> {
-        let span = self.span();
+        let span = self.cur.span();
         let found = self.describe();
         self.diags.error(span, format!("expected {expected}, found {found}"));
         Err(())
     }
 
     fn expect(&mut self, tok: Tok, what: &str) -> PResult<Span> {
-        if self.peek() == tok {
-            Ok(self.bump().1)
+        if self.cur.at(tok) {
+            Ok(self.cur.bump().1)
         } else {
             self.err(what)
         }
     }
 
     fn ident(&mut self, what: &str) -> PResult<(String, Span)> {
-        if self.peek() == Tok::Ident {
+        if self.cur.at(Tok::Ident) {
             let name = self.text().to_string();
-            Ok((name, self.bump().1))
+            Ok((name, self.cur.bump().1))
         } else {
             self.err(what)
         }
@@ -340,7 +314,7 @@ impl<'s> Parser<'s, '_> {
     fn skip_block(&mut self) {
         let mut depth = 0usize;
         loop {
-            match self.bump().0 {
+            match self.cur.bump().0 {
                 Tok::Eof => return,
                 Tok::LBrace => depth += 1,
                 Tok::RBrace => {
@@ -359,10 +333,10 @@ impl<'s> Parser<'s, '_> {
     fn skip_entry(&mut self) {
         let mut depth = 0usize;
         loop {
-            match self.peek() {
+            match self.cur.peek() {
                 Tok::Eof => return,
                 Tok::Semi if depth == 0 => {
-                    self.bump();
+                    self.cur.bump();
                     return;
                 }
                 Tok::RBrace if depth == 0 => return,
@@ -370,7 +344,7 @@ impl<'s> Parser<'s, '_> {
                 Tok::RBrace | Tok::RParen | Tok::RBracket => depth = depth.saturating_sub(1),
                 _ => {}
             }
-            self.bump();
+            self.cur.bump();
         }
     }
 
@@ -379,9 +353,9 @@ impl<'s> Parser<'s, '_> {
     fn block(&mut self, mut entry: impl FnMut(&mut Self) -> PResult<()>) -> PResult<()> {
         let open = self.expect(Tok::LBrace, "`{`")?;
         loop {
-            match self.peek() {
+            match self.cur.peek() {
                 Tok::RBrace => {
-                    self.bump();
+                    self.cur.bump();
                     return Ok(());
                 }
                 Tok::Eof => {
@@ -390,10 +364,10 @@ impl<'s> Parser<'s, '_> {
                 }
                 _ => {}
             }
-            let before = self.pos;
+            let before = self.cur.pos();
             if entry(self).is_err() {
-                if self.pos == before && self.peek() != Tok::RBrace {
-                    self.bump();
+                if self.cur.pos() == before && !self.cur.at(Tok::RBrace) {
+                    self.cur.bump();
                 }
                 self.skip_entry();
             }
@@ -403,20 +377,21 @@ impl<'s> Parser<'s, '_> {
     /// `;`-separated entries (the last `;` may be left out), as SyfCo reads sections.
     fn entries(&mut self, mut entry: impl FnMut(&mut Self) -> PResult<()>) -> PResult<()> {
         self.block(|p| {
-            if p.peek() == Tok::Semi {
-                p.bump();
+            if p.cur.at(Tok::Semi) {
+                p.cur.bump();
                 return Ok(());
             }
             entry(p)?;
-            match p.peek() {
+            match p.cur.peek() {
                 Tok::Semi => {
-                    p.bump();
+                    p.cur.bump();
                     Ok(())
                 }
                 Tok::RBrace => Ok(()),
                 _ => {
                     let found = p.describe();
-                    let at = p.prev_end();
+                    let end = p.cur.prev_end();
+                    let at = Span::new(end, end);
                     p.diags.error(at, format!("expected `;` after this entry, found {found}"));
                     Err(())
                 }
@@ -442,18 +417,18 @@ impl<'s> Parser<'s, '_> {
                 }
                 "TAGS" => {
                     p.string("a tag in quotes")?;
-                    while p.peek() == Tok::Comma {
-                        p.bump();
+                    while p.cur.at(Tok::Comma) {
+                        p.cur.bump();
                         p.string("a tag in quotes")?;
                     }
                 }
                 _ => {
                     p.diags.warning(span, format!("unknown INFO field `{field}` is ignored"));
                     // Its value runs up to the next `FIELD:` or the end of the block.
-                    while !(matches!(p.peek(), Tok::RBrace | Tok::Eof)
-                        || p.peek() == Tok::Ident && p.peek_at(1) == Tok::Colon)
+                    while !(matches!(p.cur.peek(), Tok::RBrace | Tok::Eof)
+                        || p.cur.at(Tok::Ident) && p.cur.peek_at(1) == Tok::Colon)
                     {
-                        p.bump();
+                        p.cur.bump();
                     }
                 }
             }
@@ -462,19 +437,19 @@ impl<'s> Parser<'s, '_> {
     }
 
     fn string(&mut self, what: &str) -> PResult<String> {
-        if self.peek() != Tok::Str {
+        if !self.cur.at(Tok::Str) {
             return self.err(what);
         }
         let text = self.text();
-        self.bump();
+        self.cur.bump();
         Ok(text[1..text.len() - 1].replace("\\\"", "\"").replace("\\\\", "\\"))
     }
 
     /// `Mealy`, `Moore`, optionally with `Strict` before or after, separated by a comma.
     fn semantics(&mut self) -> PResult<SemanticsDecl> {
         let mut words = vec![self.ident("`Mealy` or `Moore`")?];
-        if self.peek() == Tok::Comma {
-            self.bump();
+        if self.cur.at(Tok::Comma) {
+            self.cur.bump();
             words.push(self.ident("`Strict`")?);
         }
         let turns: Vec<&(String, Span)> = words.iter().filter(|(w, _)| w == "Mealy" || w == "Moore").collect();
@@ -520,7 +495,7 @@ impl<'s> Parser<'s, '_> {
                 }),
                 _ => {
                     p.diags.error(span, format!("expected `PARAMETERS` or `DEFINITIONS`, found `{word}`"));
-                    if p.peek() == Tok::LBrace {
+                    if p.cur.at(Tok::LBrace) {
                         p.skip_block();
                     }
                     Ok(())
@@ -531,18 +506,18 @@ impl<'s> Parser<'s, '_> {
 
     fn definition(&mut self) -> PResult<Definition> {
         if self.is_word("enum") {
-            let span = self.span();
+            let span = self.cur.span();
             self.diags.error(span, "`enum` definitions are not supported");
             return Err(());
         }
         let (name, span) = self.ident("a definition name")?;
         let mut params = Vec::new();
-        if self.peek() == Tok::LParen {
-            self.bump();
-            if self.peek() != Tok::RParen {
+        if self.cur.at(Tok::LParen) {
+            self.cur.bump();
+            if !self.cur.at(Tok::RParen) {
                 params.push(self.ident("a parameter name")?);
-                while self.peek() == Tok::Comma {
-                    self.bump();
+                while self.cur.at(Tok::Comma) {
+                    self.cur.bump();
                     params.push(self.ident("a parameter name")?);
                 }
             }
@@ -551,7 +526,7 @@ impl<'s> Parser<'s, '_> {
         self.expect(Tok::Assign, "`=`")?;
         let mut cases = vec![self.case()?];
         // Guarded alternatives follow each other without separator, up to the `;`.
-        while !matches!(self.peek(), Tok::Semi | Tok::RBrace | Tok::Eof) {
+        while !matches!(self.cur.peek(), Tok::Semi | Tok::RBrace | Tok::Eof) {
             if cases[0].guard.is_none() {
                 return self.err("`;`");
             }
@@ -568,10 +543,10 @@ impl<'s> Parser<'s, '_> {
     /// `guard : value` or a plain value.
     fn case(&mut self) -> PResult<Case> {
         let first = self.expr()?;
-        if self.peek() != Tok::Colon {
+        if !self.cur.at(Tok::Colon) {
             return Ok(Case { guard: None, value: first });
         }
-        self.bump();
+        self.cur.bump();
         let value = self.expr()?;
         Ok(Case { guard: Some(first), value })
     }
@@ -599,7 +574,7 @@ impl<'s> Parser<'s, '_> {
                         "MAIN holds INPUTS, OUTPUTS, INITIALLY, PRESET, REQUIRE, ASSUME (ASSUMPTIONS), \
                          ASSERT (INVARIANTS) and GUARANTEE (GUARANTEES)",
                     );
-                    if p.peek() == Tok::LBrace {
+                    if p.cur.at(Tok::LBrace) {
                         p.skip_block();
                     }
                     return Ok(());
@@ -616,8 +591,8 @@ impl<'s> Parser<'s, '_> {
     fn signal(&mut self) -> PResult<SignalDecl> {
         let (name, span) = self.ident("a signal name")?;
         let mut width = None;
-        if self.peek() == Tok::LBracket {
-            self.bump();
+        if self.cur.at(Tok::LBracket) {
+            self.cur.bump();
             width = Some(self.expr()?);
             self.expect(Tok::RBracket, "`]`")?;
         }
@@ -632,7 +607,7 @@ impl<'s> Parser<'s, '_> {
     /// Enters one level of expression nesting, or reports that the limit is reached.
     fn nest(&mut self) -> PResult<()> {
         if self.nesting >= MAX_NESTING {
-            let span = self.span();
+            let span = self.cur.span();
             self.diags.error(span, format!("expression nested more than {MAX_NESTING} levels deep"));
             // Skip the rest, so that each enclosing level does not report it again.
             self.skip_entry_inside();
@@ -645,14 +620,14 @@ impl<'s> Parser<'s, '_> {
     /// Skips to the end of the current entry without consuming its `;` (the entry loop does).
     fn skip_entry_inside(&mut self) {
         let mut depth = 0usize;
-        while !matches!(self.peek(), Tok::Eof) {
-            match self.peek() {
+        while !matches!(self.cur.peek(), Tok::Eof) {
+            match self.cur.peek() {
                 Tok::Semi | Tok::RBrace if depth == 0 => return,
                 Tok::LBrace | Tok::LParen | Tok::LBracket => depth += 1,
                 Tok::RBrace | Tok::RParen | Tok::RBracket => depth = depth.saturating_sub(1),
                 _ => {}
             }
-            self.bump();
+            self.cur.bump();
         }
     }
 
@@ -672,7 +647,7 @@ impl<'s> Parser<'s, '_> {
             if power < min {
                 break;
             }
-            self.bump();
+            self.cur.bump();
             let rhs = self.climb(if right_assoc { power } else { power + 1 })?;
             let span = lhs.span.to(rhs.span);
             lhs = match op {
@@ -703,7 +678,7 @@ impl<'s> Parser<'s, '_> {
     fn infix(&self) -> Option<(Infix, u8, bool)> {
         use Binary::*;
         let bin = |op, power, right| Some((Infix::Binary(op), power, right));
-        match self.peek() {
+        match self.cur.peek() {
             Tok::Star => bin(Mul, 20, false),
             Tok::Slash => bin(Div, 19, true),
             Tok::Percent => bin(Mod, 19, true),
@@ -754,9 +729,9 @@ impl<'s> Parser<'s, '_> {
         // Numeric prefixes take a primary; temporal ones everything above `&&` (SyfCo's levels).
         const NUMERIC_OPERAND: u8 = 21;
         const TEMPORAL_OPERAND: u8 = 13;
-        let start = self.span();
-        let bracket_follows = self.peek_at(1) == Tok::LBracket;
-        let unary = match self.peek() {
+        let start = self.cur.span();
+        let bracket_follows = self.cur.peek_at(1) == Tok::LBracket;
+        let unary = match self.cur.peek() {
             Tok::Bang => Some((Unary::Not, TEMPORAL_OPERAND)),
             Tok::Ident if !bracket_follows => match self.text() {
                 "NOT" => Some((Unary::Not, TEMPORAL_OPERAND)),
@@ -772,13 +747,13 @@ impl<'s> Parser<'s, '_> {
             _ => None,
         };
         if let Some((op, operand_power)) = unary {
-            self.bump();
+            self.cur.bump();
             let operand = self.climb(operand_power)?;
             let span = start.to(operand.span);
             return Ok(Expr { kind: ExprKind::Unary(op, Box::new(operand)), span });
         }
         if bracket_follows {
-            let big = match (self.peek(), self.text()) {
+            let big = match (self.cur.peek(), self.text()) {
                 (Tok::AndAnd, _) | (Tok::Ident, "AND" | "FORALL") => Some((BigOp::And, TEMPORAL_OPERAND)),
                 (Tok::OrOr, _) | (Tok::Ident, "OR" | "EXISTS") => Some((BigOp::Or, TEMPORAL_OPERAND)),
                 (Tok::Plus, _) | (Tok::Ident, "SUM") => Some((BigOp::Sum, NUMERIC_OPERAND)),
@@ -786,15 +761,15 @@ impl<'s> Parser<'s, '_> {
                 _ => None,
             };
             if let Some((op, operand_power)) = big {
-                self.bump();
-                self.bump();
+                self.cur.bump();
+                self.cur.bump();
                 let binders = self.binders()?;
                 self.expect(Tok::RBracket, "`,` or `]`")?;
                 let body = self.climb(operand_power)?;
                 let span = start.to(body.span);
                 return Ok(Expr { kind: ExprKind::Big { op, binders, body: Box::new(body) }, span });
             }
-            if self.peek() == Tok::Ident && matches!(self.text(), "X" | "F" | "G") {
+            if self.cur.at(Tok::Ident) && matches!(self.text(), "X" | "F" | "G") {
                 return self.bounded_temporal(start);
             }
         }
@@ -804,10 +779,10 @@ impl<'s> Parser<'s, '_> {
     /// `X[n] φ`, `F[a:b] φ`, `G[a:b] φ`; the parse position is at the operator.
     fn bounded_temporal(&mut self, start: Span) -> PResult<Expr> {
         let op = self.text();
-        self.bump();
-        self.bump();
-        if self.peek() == Tok::Bang {
-            let span = self.span();
+        self.cur.bump();
+        self.cur.bump();
+        if self.cur.at(Tok::Bang) {
+            let span = self.cur.span();
             self.diags
                 .error(span, "strong operators (`X[!]`, …) belong to finite-trace semantics, which is not supported");
             return Err(());
@@ -835,8 +810,8 @@ impl<'s> Parser<'s, '_> {
     /// `0 <= i < n, j IN s, …`: each binder is an expression of one of the two shapes.
     fn binders(&mut self) -> PResult<Vec<Binder>> {
         let mut binders = vec![self.binder()?];
-        while self.peek() == Tok::Comma {
-            self.bump();
+        while self.cur.at(Tok::Comma) {
+            self.cur.bump();
             binders.push(self.binder()?);
         }
         Ok(binders)
@@ -875,11 +850,11 @@ impl<'s> Parser<'s, '_> {
     }
 
     fn primary(&mut self) -> PResult<Expr> {
-        let start = self.span();
-        match self.peek() {
+        let start = self.cur.span();
+        match self.cur.peek() {
             Tok::Number => {
                 let text = self.text();
-                self.bump();
+                self.cur.bump();
                 match text.parse::<i64>() {
                     Ok(n) => Ok(Expr { kind: ExprKind::Number(n), span: start }),
                     Err(_) => {
@@ -889,18 +864,18 @@ impl<'s> Parser<'s, '_> {
                 }
             }
             Tok::LParen => {
-                self.bump();
+                self.cur.bump();
                 let inner = self.expr()?;
                 let end = self.expect(Tok::RParen, "`)`")?;
                 Ok(Expr { span: start.to(end), ..inner })
             }
             Tok::LBrace => {
-                self.bump();
+                self.cur.bump();
                 let mut elements = Vec::new();
-                if self.peek() != Tok::RBrace {
+                if !self.cur.at(Tok::RBrace) {
                     elements.push(self.expr()?);
-                    while self.peek() == Tok::Comma {
-                        self.bump();
+                    while self.cur.at(Tok::Comma) {
+                        self.cur.bump();
                         elements.push(self.expr()?);
                     }
                 }
@@ -929,21 +904,21 @@ impl<'s> Parser<'s, '_> {
             self.diags.error(span, format!("expected an expression, found the operator `{name}`"));
             return Err(());
         }
-        match self.peek() {
+        match self.cur.peek() {
             Tok::LBracket => {
-                self.bump();
+                self.cur.bump();
                 let index = self.expr()?;
                 let end = self.expect(Tok::RBracket, "`]`")?;
                 let kind = ExprKind::Index { bus: name, bus_span: span, index: Box::new(index) };
                 Ok(Expr { kind, span: span.to(end) })
             }
             Tok::LParen => {
-                self.bump();
+                self.cur.bump();
                 let mut args = Vec::new();
-                if self.peek() != Tok::RParen {
+                if !self.cur.at(Tok::RParen) {
                     args.push(self.expr()?);
-                    while self.peek() == Tok::Comma {
-                        self.bump();
+                    while self.cur.at(Tok::Comma) {
+                        self.cur.bump();
                         args.push(self.expr()?);
                     }
                 }

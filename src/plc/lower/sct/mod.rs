@@ -367,27 +367,8 @@ fn is_comparison(op: BinOp) -> bool {
     matches!(op, BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge)
 }
 
-/// The parsed fragments of one event.
-struct Fragments {
-    trigger: Option<fragment::Expr>,
-    resets: Vec<fragment::Expr>,
-    accept: Vec<fragment::Stmt>,
-    denial: Vec<fragment::Stmt>,
-}
-
-fn parse_fragments(meta: &EventMeta) -> Fragments {
-    // The checker parsed them already and reported any mistake; what does not parse here is
-    // left out (compile refused such a file before it reaches code generation).
-    Fragments {
-        trigger: match &meta.trigger {
-            Trigger::Detected { expr, .. } => fragment::parse_expr(expr).ok(),
-            _ => None,
-        },
-        resets: meta.reset_on_denial.iter().filter_map(|a| fragment::parse_expr(a).ok()).collect(),
-        accept: meta.code_on_accept.as_deref().and_then(|c| fragment::parse_statements(c).ok()).unwrap_or_default(),
-        denial: meta.code_on_denial.as_deref().and_then(|c| fragment::parse_statements(c).ok()).unwrap_or_default(),
-    }
-}
+/// The parsed fragments of one event: parsed once, by the checker (`sct::check`).
+type Fragments = crate::sct::EventFragments;
 
 /// `a = x OR a = y …` for the events `list` (by their constants).
 fn any_of(selector: &str, list: &[&str]) -> Expr {
@@ -481,7 +462,7 @@ pub fn lower_mapped(
         diags: Diagnostics::new(source),
         types: Vec::new(),
     };
-    let fragments: Vec<Fragments> = loaded.events.iter().map(parse_fragments).collect();
+    let fragments: Vec<&Fragments> = loaded.events.iter().map(|m| &m.fragments).collect();
 
     // Supervisors that cannot run.
     for s in supervisors {
@@ -841,7 +822,7 @@ struct Functions {
 struct Framework<'a> {
     loaded: &'a Loaded,
     supervisors: &'a [&'a Supervisor],
-    fragments: Vec<Fragments>,
+    fragments: Vec<&'a Fragments>,
     lv: Locals,
     fun: Functions,
     controller: String,
