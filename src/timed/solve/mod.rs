@@ -1,0 +1,356 @@
+//! Solving the timed safety game (Peter 2005, 5.3). The reference (`exhaustive`) is the thesis's
+//! on-the-fly forward exploration of the combined state space (algorithm 5, breadth first) with
+//! incremental reverse removal of losing states (algorithm 6). The default search builds one
+//! strategy instead: forced successors are always explored, the controller's alternatives one
+//! at a time (`alternative` gives the order), the next only when the chosen one is lost, which
+//! the reverse removal reports through the same in-edge lists (a local fixpoint computation in
+//! the manner of Liu and Smolka, as UPPAAL TIGA's on-the-fly algorithm). Targets of untried
+//! options and delays are not generated (`Edge::is_unexplored`).
+//!
+//! A state is a vector of sub-locations (one per plant unit and per plan) and a clock zone.
+//! Its outgoing edges fall in three classes:
+//! - *forced*: uncontrollable messages `!m`; if any leads to a removed state, so is this one;
+//! - *options*: controller requests `?m` and state guards `%g`; removing one only removes
+//!   the edge;
+//! - *waiting*: letting time pass. An *entry* state (just reached by a message) has one wait
+//!   edge to the same locations with the time-closed zone, where plant reactions may come at
+//!   any moment; a time-closed state has one delay edge (D) per clock piece that time can reach
+//!   next. Waiting is possible if all its targets survive, or, where time cannot reach another
+//!   piece, if some forced move exists (the plant must act).
+//!
+//! A state survives while no forced edge leads to a removed state and either an option
+//! survives or waiting is possible. This makes delays forced unless the controller has a
+//! better move: where the thesis turns a delay into a failed state into a tolerated timeout,
+//! a plan deadline could be missed; here it cannot. Timeout edges (T) past a plant invariant
+//! remain tolerated exceptions (5.2.2).
+//!
+//! Zeno avoidance (5.1): every search item remembers the plant states visited since the last
+//! plan progress; a message that returns to one of them without progress leads nowhere. That
+//! memory depends on the path that found a state first, so after the search every remaining
+//! cycle of the winning graph without plan progress is cut as well (`keep_rank_decreasing`, in
+//! `progress`).
+//! Transitions marked `instant` are urgent: while one is enabled, no other transition and no
+//! delay is possible; an instant reaction goes before an instant request.
+
+//!
+//! The parts: `space` (states, edges, removals: what a solved space holds), `meter` (budgets,
+//! work, progress calls, statistics), `expand` (successor generation, discrete parts and
+//! zones), `removal` (the local rule and backward propagation), `strategy` (the
+//! strategy-directed search's choices), `progress` (the nested fixpoint, its ranks and the zeno
+//! cut), `zeno` (the zeno memory). This file holds the options, the entry point and the search
+//! loop.
+
+mod expand;
+mod meter;
+mod progress;
+mod removal;
+mod space;
+mod strategy;
+mod zeno;
+
+pub use meter::{Budget, BudgetStop, Stats};
+pub(crate) use meter::{Halt, PROGRESS_WORK, STEP_COST};
+pub use space::{Edge, EdgeId, EdgeKind, Label, Removal, State, StateId, StateKind, StateSpace};
+
+use super::model::*;
+use super::precompute::{SplitGame, SubLocId};
+use crate::zone::Dbm;
+use expand::{Move, ScanArm};
+use progress::Counting;
+use serde::Serialize;
+use std::collections::VecDeque;
+use strategy::{plan_goals, send_distances, Deferred};
+use zeno::{Vis, ZenoSets};
+
+const NONE: u32 = u32::MAX;
+/// The strategy's alternative of a state that lets time pass (or the plant move).
+const WAIT: u32 = u32::MAX - 1;
+
+/// Limits and switches of one solver run.
+#[derive(Clone, Debug)]
+pub struct SolveOptions {
+    /// Stop with [`Verdict::BudgetExceeded`] once this many states are stored.
+    pub max_states: usize,
+    /// Stop once the split game and the state space take about this many heap bytes.
+    pub max_bytes: usize,
+    /// Stop once this much work is done (see [`Stats::work`]), the split included: bounds the
+    /// time of a search whose states are few but expensive (many clocks, many exit orders).
+    pub max_work: u64,
+    /// How many expansions between two calls of the progress callback (it is also called
+    /// during long work on one state).
+    pub progress_interval: usize,
+    /// Explore the whole reachable game before deciding (the thesis's algorithm 5, breadth
+    /// first), instead of only the strategy being built. Slower; kept as the reference.
+    pub exhaustive: bool,
+    /// First search with the thesis's zeno memory (5.1), which cuts a move back to a plant state
+    /// visited since the last plan progress: far fewer states, and what it finds is a correct
+    /// strategy. Only where it finds none and did cut something does a second search, without
+    /// the memory, decide. `false` searches without it at once (the exact reference).
+    pub zeno_memory: bool,
+}
+
+/// Default state budget: the exhaustive reference stores 824 640 states for round table 8/8
+/// (the strategy-directed search 286).
+pub const DEFAULT_MAX_STATES: usize = 1_000_000;
+/// Default memory budget, 512 MiB: the reference needs about 311 MiB for round table 8/8.
+pub const DEFAULT_MAX_BYTES: usize = 512 << 20;
+/// Default work budget: a few seconds of solving natively; round table 8/8 needs about 82 million.
+pub const DEFAULT_MAX_WORK: u64 = 250_000_000;
+
+impl Default for SolveOptions {
+    fn default() -> Self {
+        SolveOptions {
+            max_states: DEFAULT_MAX_STATES,
+            max_bytes: DEFAULT_MAX_BYTES,
+            max_work: DEFAULT_MAX_WORK,
+            progress_interval: 4096,
+            exhaustive: false,
+            zeno_memory: true,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    Realizable,
+    Unrealizable,
+    BudgetExceeded,
+    Cancelled,
+}
+
+/// The outcome of [`solve`].
+pub struct Solution {
+    pub verdict: Verdict,
+    pub stats: Stats,
+    pub space: StateSpace,
+    /// With [`Verdict::BudgetExceeded`]: which budget stopped the search.
+    pub stop: Option<BudgetStop>,
+}
+
+/// Solves the game within the budgets of `options` (the split's memory and work count). Calls
+/// `progress` every `options.progress_interval` expansions, and during long work on one state,
+/// with the statistics so far; returning `false` cancels the run.
+pub fn solve(
+    game: &Game,
+    split: &SplitGame,
+    options: &SolveOptions,
+    progress: &mut dyn FnMut(&Stats) -> bool,
+) -> Solution {
+    let exact = SolveOptions { zeno_memory: false, ..options.clone() };
+    let mut solver = Solver::new(game, split, options, progress);
+    let mut verdict = solver.run();
+    if verdict == Verdict::Unrealizable && solver.memory_cuts > 0 {
+        // The memory's cuts may have cost the controller its strategy: decide exactly.
+        let spent = solver.work;
+        drop(solver);
+        solver = Solver::new(game, split, &exact, progress);
+        solver.work += spent;
+        verdict = solver.run();
+    }
+    let mut stats = solver.stats();
+    let stop = match solver.halt {
+        Some(Halt::Budget(budget)) => Some(BudgetStop::search(budget, options)),
+        _ => None,
+    };
+    let space = solver.space;
+    if verdict == Verdict::Realizable || verdict == Verdict::Unrealizable {
+        stats.winning = space.winning_states().len();
+    }
+    Solution { verdict, stats, space, stop }
+}
+
+struct Solver<'g, 'p> {
+    game: &'g Game,
+    split: &'g SplitGame,
+    options: &'g SolveOptions,
+    progress: &'p mut dyn FnMut(&Stats) -> bool,
+    space: StateSpace,
+    state_index: hashbrown::HashMap<(u32, u32, u32, StateKind), StateId>,
+    /// States to expand: all reachable ones in the reference (breadth first), those the strategy
+    /// needs in the strategy-directed search (depth first).
+    queue: VecDeque<StateId>,
+    /// Strategy-directed search rather than the exhaustive reference.
+    lazy: bool,
+    /// Cut moves by the zeno memory (see `SolveOptions::zeno_memory`), and how many were cut.
+    memory: bool,
+    memory_cuts: usize,
+    deferred: Vec<Option<Deferred>>,
+    expansions: usize,
+    /// Per message with a sender: per location of the sender, how many transitions it needs at
+    /// least before it can send the message (`u16::MAX` if never); the search's sense of
+    /// direction towards the plans' goals.
+    send_distance: Vec<Vec<u16>>,
+    /// Per plan and sub-location: the messages that take the plan to its next goal (not to
+    /// failure).
+    plan_goals: Vec<Vec<Vec<MsgId>>>,
+    zeno: ZenoSets,
+    /// Per env id: 1 + index of the first violated assertion, or 0.
+    env_violation: Vec<u32>,
+    /// Per plan vector id: 1 + index of the first failed plan, or 0.
+    plan_failure: Vec<u32>,
+    /// Per env id: the original locations of the plant units (for predicates), flat.
+    env_locations: Vec<LocId>,
+    /// Clocks used per env id and per plan vector id, as bit sets.
+    env_clocks: Vec<u64>,
+    plan_clocks: Vec<u64>,
+    lost_queue: Vec<StateId>,
+    /// Strategy-directed search: the number of states at which to look for cycles without
+    /// progress next (see `explore`).
+    next_progress_check: usize,
+    dim: usize,
+    max_constants: Vec<i32>,
+    removed: usize,
+    expanded: usize,
+    moves: Vec<Move>,
+    pending_edges: Vec<Edge>,
+    /// Work done so far (the split's included), and when the next progress call is due.
+    work: u64,
+    next_progress: u64,
+    /// The work of one candidate successor (a zone and a state vector), and of one candidate
+    /// state vector alone.
+    successor_cost: u64,
+    vector_cost: u64,
+    halt: Option<Halt>,
+    /// In a scan game: the scan automaton's quiet and armed sub-locations (see `scan::ScanRoles`).
+    scan_arm: Option<ScanArm>,
+}
+
+impl<'g, 'p> Solver<'g, 'p> {
+    fn new(
+        game: &'g Game,
+        split: &'g SplitGame,
+        options: &'g SolveOptions,
+        progress: &'p mut dyn FnMut(&Stats) -> bool,
+    ) -> Solver<'g, 'p> {
+        let dim = game.dim();
+        let plant_count = split.plant_count;
+        let goals = if options.exhaustive { Vec::new() } else { plan_goals(split) };
+        Solver {
+            game,
+            split,
+            options,
+            progress,
+            space: StateSpace::empty(dim, plant_count, split.units.len() - plant_count),
+            state_index: hashbrown::HashMap::new(),
+            queue: VecDeque::new(),
+            lazy: !options.exhaustive,
+            memory: options.zeno_memory,
+            memory_cuts: 0,
+            deferred: Vec::new(),
+            expansions: 0,
+            send_distance: if options.exhaustive { Vec::new() } else { send_distances(game, &goals) },
+            plan_goals: goals,
+            zeno: ZenoSets { nodes: Vec::new() },
+            env_violation: Vec::new(),
+            plan_failure: Vec::new(),
+            env_locations: Vec::new(),
+            env_clocks: Vec::new(),
+            plan_clocks: Vec::new(),
+            lost_queue: Vec::new(),
+            next_progress_check: 16,
+            dim,
+            max_constants: vec![-1; dim],
+            removed: 0,
+            expanded: 0,
+            moves: Vec::new(),
+            pending_edges: Vec::new(),
+            work: split.work,
+            next_progress: split.work + PROGRESS_WORK,
+            successor_cost: STEP_COST + (dim * dim + split.units.len()) as u64,
+            vector_cost: STEP_COST + split.units.len() as u64,
+            halt: None,
+            scan_arm: ScanArm::new(game, split),
+        }
+    }
+
+    fn run(&mut self) -> Verdict {
+        let plant_count = self.split.plant_count;
+        let env: Vec<SubLocId> = self.split.units[..plant_count].iter().map(|u| u.initial).collect();
+        let plan: Vec<SubLocId> = self.split.units[plant_count..].iter().map(|u| u.initial).collect();
+        let mut zone = Dbm::zero(self.dim);
+        let (env_id, plan_id) = self.intern_discrete(&env, &plan);
+        self.normalise(env_id, plan_id, &mut zone);
+        let kind = if self.is_closed(&env, &plan, &zone) { StateKind::Interval } else { StateKind::Entry };
+        self.space.initial = self.find_or_add(env_id, plan_id, &zone, kind, Vis::Fresh).0;
+        if self.lazy {
+            self.demand(self.space.initial);
+        }
+        // Explore, then cut the zeno cycles of what survived; in the strategy-directed search a
+        // cut can make a state choose again, which needs more exploration.
+        let verdict = loop {
+            if let Some(stop) = self.explore() {
+                break stop;
+            }
+            if !self.enforce_progress() {
+                break if self.space.is_winning(self.space.initial) {
+                    Verdict::Realizable
+                } else {
+                    Verdict::Unrealizable
+                };
+            }
+        };
+        if self.lazy && matches!(verdict, Verdict::Realizable | Verdict::Unrealizable) {
+            self.mark_unexplored();
+        }
+        verdict
+    }
+
+    /// Expands queued states until none is left (`None`), the initial state is lost, or a budget
+    /// or the caller stops the search.
+    fn explore(&mut self) -> Option<Verdict> {
+        loop {
+            if !self.space.is_winning(self.space.initial) {
+                return Some(Verdict::Unrealizable);
+            }
+            // The reference goes breadth first (algorithm 5); the strategy-directed search
+            // depth first, so that a chosen line of play is followed to its end before others.
+            let next = if self.lazy { self.queue.pop_back() } else { self.queue.pop_front() };
+            let s = next?;
+            let st = &self.space.states[s as usize];
+            if st.removal.is_some() || st.expanded {
+                continue;
+            }
+            if let Some(budget) = self.exceeded() {
+                self.halt = Some(Halt::Budget(budget));
+                return Some(Verdict::BudgetExceeded);
+            }
+            self.expansions += 1;
+            if self.options.progress_interval > 0
+                && self.expansions % self.options.progress_interval == 0
+                && !self.report()
+            {
+                self.halt = Some(Halt::Cancelled);
+                return Some(Verdict::Cancelled);
+            }
+            self.expand(s);
+            // Strategy-directed search: a cycle without progress is found as soon as it
+            // closes, not when the whole strategy is explored, so that a doomed choice is given
+            // up before much is explored below it. Checked when the space has grown by a quarter
+            // since the last check (amortised linear).
+            if self.lazy && self.space.states.len() >= self.next_progress_check {
+                self.next_progress_check = self.space.states.len() + self.space.states.len() / 4 + 16;
+                let ranks = self.progress_ranks(Counting::Optimistic);
+                if !self.remove_trapped(&ranks) {
+                    self.steer_by_ranks(&ranks);
+                }
+            }
+            match self.halt {
+                Some(Halt::Budget(_)) => return Some(Verdict::BudgetExceeded),
+                Some(Halt::Cancelled) => return Some(Verdict::Cancelled),
+                None => {}
+            }
+        }
+    }
+
+    /// Strategy-directed search: states that were created but never needed are marked, so that
+    /// the surviving states are exactly those whose every continuation under the strategy was
+    /// explored.
+    fn mark_unexplored(&mut self) {
+        for st in &mut self.space.states {
+            if st.removal.is_none() && !st.expanded {
+                st.removal = Some(Removal::Unexplored);
+            }
+        }
+    }
+}

@@ -1,0 +1,268 @@
+//! The explored game graph: states, edges and their classes, why a state was removed, and the
+//! accessors the rest of the crate reads a solved space with.
+
+use super::NONE;
+use crate::timed::arena::SliceArena;
+use crate::timed::model::*;
+use crate::timed::precompute::SubLocId;
+use crate::zone::{Bound, Dbm};
+use serde::Serialize;
+use std::collections::VecDeque;
+
+pub type StateId = u32;
+pub type EdgeId = u32;
+
+/// What kind of move an edge is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum EdgeKind {
+    /// `?m`: a controller request.
+    Request,
+    /// `!m`: a plant reaction.
+    Reaction,
+    /// `%g`: a state guard checked before a request.
+    Guard,
+    /// Time passes: to the time-closed state, or into the next piece of a clock.
+    Delay,
+    /// Time passes beyond a plant invariant: the exceptional timeout of 5.2.2.
+    Timeout,
+}
+
+impl EdgeKind {
+    pub fn sigil(self) -> &'static str {
+        match self {
+            EdgeKind::Request => "?",
+            EdgeKind::Reaction => "!",
+            EdgeKind::Guard => "%",
+            EdgeKind::Delay => "D",
+            EdgeKind::Timeout => "T",
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Class {
+    Forced,
+    Option,
+    Wait,
+    Inert,
+}
+
+/// What an edge carries.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum Label {
+    Message {
+        message: MsgId,
+    },
+    /// Waiting in the current locations.
+    Wait,
+    /// Time passes until `clock` enters piece `piece`; `clocks` (a bit set) holds every clock
+    /// that enters its next piece at the same instant, `clock` included.
+    Piece {
+        clock: ClockId,
+        piece: u16,
+        clocks: u64,
+    },
+    /// Time passes beyond the invariant on `clock`.
+    Overrun {
+        clock: ClockId,
+    },
+}
+
+#[derive(Clone, Copy, Debug)]
+pub struct Edge {
+    pub from: StateId,
+    /// `NONE` for timeouts and for zeno repetitions.
+    pub to: StateId,
+    pub kind: EdgeKind,
+    pub label: Label,
+    /// Clocks reset by the move, as a bit set over clock ids.
+    pub resets: u64,
+    pub instant: bool,
+    /// The move returns to a plant state visited since the last plan progress.
+    pub zeno: bool,
+    /// Some plan reached a goal (took a transition) with this move.
+    pub progress: bool,
+    pub(super) class: Class,
+    pub(super) next_in: EdgeId,
+    /// A controller option whose target is not generated yet: its index in the solver's
+    /// deferred targets (strategy-directed search); `NONE` once generated or in the reference.
+    pub(super) deferred: u32,
+}
+
+impl Edge {
+    /// A controller option the strategy-directed search never needed to try: `to` is `NONE`.
+    pub fn is_unexplored(&self) -> bool {
+        self.deferred != NONE
+    }
+}
+
+/// Why a state was removed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Removal {
+    /// The state violates assertion number `rule`.
+    Assertion { rule: u32 },
+    /// Plan number `plan` has failed (forbidden message or timeout).
+    PlanFailed { plan: u32 },
+    /// Nothing can happen any more: no move and no time can pass usefully.
+    Deadlock,
+    /// A forced move (plant reaction or passing time) leads to a removed state.
+    Forced { edge: EdgeId },
+    /// A plant reaction returns to a plant state visited since the last plan progress.
+    ZenoLoop { edge: EdgeId },
+    /// Every controller move leads to a removed state and waiting is not possible.
+    NoMove,
+    /// Not lost, but never explored: the strategy found does not pass through this state, so
+    /// nothing is known about what follows it (strategy-directed search only).
+    Unexplored,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum StateKind {
+    /// Reached by a message: the controller may act at once.
+    Entry,
+    /// Time-closed: reached by waiting; only the plant and time move.
+    Waiting,
+    /// Time-closed and reached by a delay: the controller may act, or wait further.
+    Interval,
+    /// The intermediate state of a state guard (5.3.4).
+    Guard,
+}
+
+impl StateKind {
+    /// The name the JSON views use.
+    pub fn name(self) -> &'static str {
+        match self {
+            StateKind::Entry => "entry",
+            StateKind::Waiting => "waiting",
+            StateKind::Interval => "interval",
+            StateKind::Guard => "guard",
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct State {
+    pub env: u32,
+    pub plan: u32,
+    pub zone: u32,
+    pub kind: StateKind,
+    pub removal: Option<Removal>,
+    pub expanded: bool,
+    pub(super) out_start: u32,
+    pub(super) out_end: u32,
+    pub(super) first_in: EdgeId,
+    pub(super) options_alive: u32,
+    pub(super) wait_viable: bool,
+    pub(super) vis: u32,
+    /// Strategy-directed search: the alternative (option edge id, or `WAIT`) the strategy takes
+    /// here, and how many alternatives were tried and lost before it.
+    pub(super) choice: u32,
+    pub(super) tried: u32,
+}
+
+impl State {
+    pub(super) fn new(env: u32, plan: u32, zone: u32, kind: StateKind, removal: Option<Removal>, vis: u32) -> State {
+        State {
+            env,
+            plan,
+            zone,
+            kind,
+            removal,
+            expanded: false,
+            out_start: 0,
+            out_end: 0,
+            first_in: NONE,
+            options_alive: 0,
+            wait_viable: false,
+            vis,
+            choice: NONE,
+            tried: 0,
+        }
+    }
+}
+
+/// The explored game graph with the surviving (winning) and removed states.
+pub struct StateSpace {
+    pub dim: usize,
+    pub states: Vec<State>,
+    pub edges: Vec<Edge>,
+    pub initial: StateId,
+    pub(super) envs: SliceArena<SubLocId>,
+    pub(super) plans: SliceArena<SubLocId>,
+    pub(super) zones: SliceArena<Bound>,
+    pub(super) plant_count: usize,
+}
+
+impl StateSpace {
+    /// A space without states: what a search refused before it started leaves.
+    pub fn empty(dim: usize, plant_count: usize, plan_count: usize) -> StateSpace {
+        StateSpace {
+            dim,
+            states: Vec::new(),
+            edges: Vec::new(),
+            initial: 0,
+            envs: SliceArena::new(plant_count),
+            plans: SliceArena::new(plan_count),
+            zones: SliceArena::new(dim * dim),
+            plant_count,
+        }
+    }
+
+    /// True if state `s` exists and was not removed.
+    pub fn is_winning(&self, s: StateId) -> bool {
+        self.states.get(s as usize).is_some_and(|st| st.removal.is_none())
+    }
+
+    /// True if the edge leads to a winning state and was not cut as a zeno loop.
+    pub fn is_live(&self, e: &Edge) -> bool {
+        e.to != NONE && !e.zeno && self.is_winning(e.to)
+    }
+
+    /// Sub-locations of the plant units in state `s`.
+    pub fn env(&self, s: StateId) -> &[SubLocId] {
+        self.envs.get(self.states[s as usize].env)
+    }
+
+    /// Sub-locations of the plans in state `s`.
+    pub fn plan(&self, s: StateId) -> &[SubLocId] {
+        self.plans.get(self.states[s as usize].plan)
+    }
+
+    pub fn zone(&self, s: StateId) -> Dbm {
+        Dbm::from_slice(self.dim, self.zones.get(self.states[s as usize].zone))
+    }
+
+    pub fn out_edges(&self, s: StateId) -> impl Iterator<Item = (EdgeId, &Edge)> {
+        let st = &self.states[s as usize];
+        (st.out_start..st.out_end).map(move |e| (e, &self.edges[e as usize]))
+    }
+
+    pub fn plant_count(&self) -> usize {
+        self.plant_count
+    }
+
+    /// Surviving states reachable from the initial state through surviving states.
+    pub fn winning_states(&self) -> Vec<StateId> {
+        let mut seen = vec![false; self.states.len()];
+        let mut order = Vec::new();
+        if !self.is_winning(self.initial) {
+            return order;
+        }
+        seen[self.initial as usize] = true;
+        let mut queue = VecDeque::from([self.initial]);
+        while let Some(s) = queue.pop_front() {
+            order.push(s);
+            for (_, e) in self.out_edges(s) {
+                if e.to != NONE && !seen[e.to as usize] && self.is_winning(e.to) {
+                    seen[e.to as usize] = true;
+                    queue.push_back(e.to);
+                }
+            }
+        }
+        order
+    }
+}

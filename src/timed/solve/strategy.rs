@@ -1,0 +1,257 @@
+//! The strategy-directed search: the order in which a state's alternatives are tried (towards
+//! the plans' goals), the choice of one, and the generation of deferred option targets.
+
+use super::expand::guard_edge;
+use super::space::{Class, Edge, EdgeId, Removal, StateId, StateKind};
+use super::zeno::Vis;
+use super::{Solver, NONE, WAIT};
+use crate::timed::model::*;
+use crate::timed::precompute::{SplitGame, STAY};
+use std::collections::VecDeque;
+
+/// The target of a controller option not generated yet (strategy-directed search): the state's
+/// key, how its zeno memory is formed, the request edge, and the guards checked before it.
+pub(super) struct Deferred {
+    pub(super) env: u32,
+    pub(super) plan: u32,
+    pub(super) zone: u32,
+    pub(super) kind: StateKind,
+    pub(super) vis: Vis,
+    pub(super) request: Edge,
+    pub(super) guards: Vec<MsgId>,
+    /// The request returns to a plant state visited since the last plan progress.
+    pub(super) repeats: bool,
+}
+
+impl Solver<'_, '_> {
+    // ----- strategy-directed search ----------------------------------------------------------
+
+    /// How far the plant state `env_id` is from the goals of the plans in `plan_id`: per plan,
+    /// the fewest transitions before some sender can send a message that takes the plan to its
+    /// next goal, summed over the plans.
+    pub(super) fn goal_distance(&self, env_id: u32, plan_id: u32) -> u32 {
+        let locations = self.locations_of(env_id);
+        let mut total = 0u32;
+        for (p, &sub) in self.space.plans.get(plan_id).iter().enumerate() {
+            let nearest = self.plan_goals[p][sub as usize]
+                .iter()
+                .filter_map(|&m| {
+                    let sender = self.game.messages[m as usize].sender? as usize;
+                    self.send_distance[m as usize].get(locations[sender] as usize).copied()
+                })
+                .min()
+                .unwrap_or(u16::MAX);
+            total += u32::from(nearest);
+        }
+        total
+    }
+
+    /// Queues `s` for expansion if it still needs it.
+    pub(super) fn demand(&mut self, s: StateId) {
+        let st = &self.space.states[s as usize];
+        if st.removal.is_none() && !st.expanded {
+            self.queue.push_back(s);
+        }
+    }
+
+    /// Decides a freshly expanded state of the strategy-directed search: lost if a forced move
+    /// is; otherwise its forced successors are needed and it chooses its first alternative.
+    pub(super) fn evaluate_lazy(&mut self, s: StateId) {
+        let survey = self.survey(s);
+        if let Some(removal) = survey.dead_forced {
+            self.remove(s, removal);
+            return;
+        }
+        self.space.states[s as usize].wait_viable = survey.wait_viable();
+        let st = &self.space.states[s as usize];
+        for id in st.out_start..st.out_end {
+            let e = self.space.edges[id as usize];
+            if e.class == Class::Forced {
+                self.demand(e.to);
+            }
+        }
+        self.choose(s);
+    }
+
+    /// The `k`-th alternative of the expanded state `s` in the order the strategy tries them:
+    /// an option edge, `WAIT`, or `None` when all are tried. Options are stored with those that
+    /// make plan progress first, then by distance to the plans' goals. Waiting comes first where
+    /// it costs nothing (no delay edge, so only the forced moves, needed anyway, follow it), else
+    /// after every option (measured: fewest states on the examples).
+    pub(super) fn alternative(&self, s: StateId, k: u32) -> Option<u32> {
+        let st = &self.space.states[s as usize];
+        let (mut first_option, mut options, mut waits, mut forced) = (NONE, 0, 0, false);
+        for id in st.out_start..st.out_end {
+            let e = &self.space.edges[id as usize];
+            match e.class {
+                Class::Option => {
+                    first_option = first_option.min(id);
+                    options += 1;
+                }
+                Class::Wait => waits += 1,
+                Class::Forced => forced = true,
+                Class::Inert => {}
+            }
+        }
+        let wait_at = match (waits, forced) {
+            (0, true) => Some(0),
+            (0, false) => None,
+            _ => Some(options),
+        };
+        let option = match wait_at {
+            Some(w) if k == w => return Some(WAIT),
+            Some(w) if k > w => k - 1,
+            _ => k,
+        };
+        (option < options).then(|| first_option + option)
+    }
+
+    /// Picks the first alternative of `s`, from the `tried`-th on, that is not lost yet,
+    /// generating an option's target when it is tried the first time, and queues what it needs.
+    /// Without one, `s` is lost.
+    pub(super) fn choose(&mut self, s: StateId) {
+        loop {
+            let k = self.space.states[s as usize].tried;
+            match self.alternative(s, k) {
+                None => {
+                    let st = &mut self.space.states[s as usize];
+                    st.choice = NONE;
+                    let inert =
+                        (st.out_start..st.out_end).all(|id| self.space.edges[id as usize].class == Class::Inert);
+                    self.remove(s, if inert { Removal::Deadlock } else { Removal::NoMove });
+                    return;
+                }
+                Some(WAIT) => {
+                    let (start, end) = (self.space.states[s as usize].out_start, self.space.states[s as usize].out_end);
+                    let waits: Vec<EdgeId> =
+                        (start..end).filter(|&id| self.space.edges[id as usize].class == Class::Wait).collect();
+                    for &id in &waits {
+                        if self.space.edges[id as usize].is_unexplored() {
+                            self.generate(id);
+                        }
+                    }
+                    let st = &self.space.states[s as usize];
+                    let viable = if waits.is_empty() {
+                        st.wait_viable
+                    } else {
+                        st.wait_viable && waits.iter().all(|&id| self.space.is_live(&self.space.edges[id as usize]))
+                    };
+                    if viable {
+                        self.space.states[s as usize].choice = WAIT;
+                        for &id in &waits {
+                            self.demand(self.space.edges[id as usize].to);
+                        }
+                        return;
+                    }
+                    self.space.states[s as usize].wait_viable = false;
+                }
+                Some(edge) => {
+                    if self.space.edges[edge as usize].is_unexplored() {
+                        self.generate(edge);
+                    }
+                    let e = self.space.edges[edge as usize];
+                    if self.space.is_live(&e) {
+                        self.space.states[s as usize].choice = edge;
+                        self.demand(e.to);
+                        return;
+                    }
+                }
+            }
+            self.space.states[s as usize].tried += 1;
+        }
+    }
+
+    /// Generates the target of a deferred option (with its chain of guard states) and links the
+    /// edge to it.
+    pub(super) fn generate(&mut self, edge: EdgeId) {
+        let index = std::mem::replace(&mut self.space.edges[edge as usize].deferred, NONE);
+        let Some(d) = self.deferred[index as usize].take() else { return };
+        let from = self.space.edges[edge as usize].from;
+        let target = self.add_interned(d.env, d.plan, d.zone, d.kind, d.vis).0;
+        let first = if d.guards.is_empty() {
+            target
+        } else {
+            let st = self.space.states[from as usize].clone();
+            let chain: Vec<StateId> = d.guards.iter().map(|_| self.add_guard_state(&st)).collect();
+            for k in (0..chain.len()).rev() {
+                let next = match chain.get(k + 1) {
+                    Some(&next) => guard_edge(chain[k], next, d.guards[k + 1], d.request.instant),
+                    None => Edge { from: chain[k], to: target, ..d.request },
+                };
+                self.commit_edges(chain[k], vec![next]);
+                self.evaluate_lazy(chain[k]);
+            }
+            chain[0]
+        };
+        let target_state = &mut self.space.states[first as usize];
+        let e = &mut self.space.edges[edge as usize];
+        e.to = first;
+        e.next_in = target_state.first_in;
+        target_state.first_in = edge;
+    }
+}
+
+/// Per plan and sub-location: the messages that take the plan to a goal rather than to failure.
+pub(super) fn plan_goals(split: &SplitGame) -> Vec<Vec<Vec<MsgId>>> {
+    let messages = split.message_count;
+    (0..split.units.len() - split.plant_count)
+        .map(|p| {
+            let unit = &split.units[split.plant_count + p];
+            (0..unit.sublocs.len())
+                .map(|sub| {
+                    let next = &split.plan_next[p][sub * messages..(sub + 1) * messages];
+                    (0..messages)
+                        .filter(|&m| next[m] != STAY && !unit.sublocs[next[m] as usize].failed)
+                        .map(|m| m as MsgId)
+                        .collect()
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// For every message that is some plan's goal and has a sender, per location of the sender: the
+/// fewest transitions before the message can be sent (1 where it is enabled), by a backward
+/// breadth-first search over the sender's automaton (guards, clocks and synchronisation
+/// ignored: a lower bound). Other messages get an empty table.
+pub(super) fn send_distances(game: &Game, plan_goals: &[Vec<Vec<MsgId>>]) -> Vec<Vec<u16>> {
+    let mut goal = vec![false; game.messages.len()];
+    for &m in plan_goals.iter().flatten().flatten() {
+        goal[m as usize] = true;
+    }
+    // Incoming edges per location, per automaton, built once for the automata that send a goal.
+    let mut incoming: Vec<Option<Vec<Vec<LocId>>>> = vec![None; game.components.len()];
+    game.messages
+        .iter()
+        .enumerate()
+        .map(|(m, message)| {
+            let Some(sender) = message.sender.filter(|_| goal[m]) else { return Vec::new() };
+            let automaton = &game.components[sender as usize];
+            let incoming = incoming[sender as usize].get_or_insert_with(|| {
+                let mut lists = vec![Vec::new(); automaton.locations.len()];
+                for e in &automaton.edges {
+                    lists[e.to as usize].push(e.from);
+                }
+                lists
+            });
+            let mut distance = vec![u16::MAX; automaton.locations.len()];
+            let mut queue = VecDeque::new();
+            for e in &automaton.edges {
+                if e.message as usize == m && e.kind != MessageKind::Synchronised && distance[e.from as usize] != 1 {
+                    distance[e.from as usize] = 1;
+                    queue.push_back(e.from);
+                }
+            }
+            while let Some(loc) = queue.pop_front() {
+                let d = distance[loc as usize].saturating_add(1);
+                for &from in &incoming[loc as usize] {
+                    if distance[from as usize] == u16::MAX {
+                        distance[from as usize] = d;
+                        queue.push_back(from);
+                    }
+                }
+            }
+            distance
+        })
+        .collect()
+}
