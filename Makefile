@@ -11,8 +11,10 @@ PORT ?= 8080
 TEST_PROFILE ?= test-opt
 
 ## Run every test: formatting and lints, native (against the independent checkers),
-## wasm-bindgen-test (in Node) and the browser tests (in Chromium).
-test: lint test-native test-wasm test-browser
+## wasm-bindgen-test (in Node) and the browser tests (in Chromium). scripts/test.sh installs
+## what is missing in the background while the lints and the native tests compile.
+test:
+	CARGO=$(CARGO) TEST_PROFILE=$(TEST_PROFILE) bash scripts/test.sh
 
 ## The same with the random and property runs ten times bigger and every generated dialect
 ## parsed by blark (minutes more).

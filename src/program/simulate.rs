@@ -69,7 +69,10 @@ enum TraceLine {
     /// The controller's request (`DO (m)`).
     Request(MsgId),
     /// A plant message: `!` a reaction, `?` a request.
-    Message { sigil: &'static str, message: MsgId },
+    Message {
+        sigil: &'static str,
+        message: MsgId,
+    },
     Text(&'static str),
 }
 
@@ -385,7 +388,9 @@ impl<'g> Simulation<'g> {
                         let clocks: Vec<String> = plan
                             .clocks
                             .iter()
-                            .map(|&(c, _)| format!("{}={:.3}", game.clocks[c as usize].name, units(e.clocks[c as usize])))
+                            .map(|&(c, _)| {
+                                format!("{}={:.3}", game.clocks[c as usize].name, units(e.clocks[c as usize]))
+                            })
                             .collect();
                         format!("{}.{} {}", plan.name, plan.locations[e.plan_locs[p] as usize].name, clocks.join(" "))
                     })

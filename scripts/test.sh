@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# `make test`: every test, arranged so that a fresh 2-core machine stays busy.
+#
+# What is installed from the network (Debian packages, PyPI, npm, and wasm-bindgen-cli from
+# crates.io) runs in the background while the lints and the native tests compile; the native
+# tests run with cargo-nextest when it is installed (test binaries side by side instead of one
+# after the other), else with `cargo test`. Nothing is cached between runs: each step installs
+# only what is missing, as `make checkers`, `make web-setup` and `make browser-setup` do.
+#
+# Environment: CARGO (default cargo), TEST_PROFILE (default test-opt).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cargo=${CARGO:-cargo}
+profile=${TEST_PROFILE:-test-opt}
+mkdir -p target
+say() { echo "test: $*" >&2; }
+stamp() { date +%s; }
+started=$(stamp)
+phase() { say "$1 ($(($(stamp) - started)) s)"; }
+
+# 1. Installs in the background (network-bound; apt-get and pip one after the other).
+setup_log=target/setup.log
+# In a process group of its own, so that stopping the tests stops the installs too.
+setsid bash -c 'bash scripts/python-checkers.sh && bash scripts/setup-web.sh --browser' >"$setup_log" 2>&1 </dev/null &
+setup_pid=$!
+wait_setup() {
+    if ! wait "$setup_pid"; then
+        say "installing the checkers or the playground's tools failed:"
+        cat "$setup_log" >&2
+        exit 1
+    fi
+    phase "checkers, wasm-bindgen, npm packages and Chromium ready"
+}
+trap 'kill -- -"$setup_pid" 2>/dev/null || true' EXIT
+
+# 2. Formatting and lints, warnings as errors.
+phase "lint"
+$cargo fmt --check
+$cargo clippy --all-targets --profile "$profile" -- -D warnings
+
+# 3. Native tests: build while the installs finish, then run against the checkers.
+phase "build the native tests"
+nextest=0
+if $cargo nextest --version >/dev/null 2>&1; then nextest=1; fi
+if [[ $nextest -eq 1 ]]; then
+    $cargo nextest run --cargo-profile "$profile" --all-targets --no-run
+else
+    $cargo test --all-targets --profile "$profile" --no-run
+fi
+wait_setup
+phase "run the native tests"
+if [[ $nextest -eq 1 ]]; then
+    $cargo nextest run --cargo-profile "$profile" --all-targets --no-fail-fast \
+        --status-level fail --final-status-level slow
+else
+    $cargo test --all-targets --profile "$profile"
+fi
+$cargo test --doc --profile "$profile"
+
+# 4. The wasm boundary in Node, then the page in headless Chromium.
+phase "wasm tests"
+make --no-print-directory test-wasm
+phase "browser tests"
+make --no-print-directory test-browser
+phase "all tests passed"
