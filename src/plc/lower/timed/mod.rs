@@ -150,22 +150,26 @@ pub fn build_wired(
     names.reserve("scan_done");
     let mut inputs: Vec<Signal> = Vec::new();
     let mut outputs: Vec<(Signal, bool)> = Vec::new();
+    // The block's variable for message `m`: named after its binding's signal, or the message.
+    let variable_of = |m: MsgId, names: &mut Namespace, diags: &mut Diagnostics| -> Variable {
+        let (symbol, bound) = match io_of(m) {
+            Some(b) => (names.unique(&signal_name(game, b)), Some(binding(&b.target, target, diags))),
+            None => (names.unique(message_name(m)), None),
+        };
+        Variable {
+            symbol,
+            binding: bound.as_ref().map(|b| b.0.clone()),
+            comment: String::new(),
+            span: bound.map(|b| b.1),
+        }
+    };
     let mut input_of = |m: MsgId, names: &mut Namespace, diags: &mut Diagnostics| -> (usize, bool) {
         let (key, negated) = match io_of(m) {
             Some(b) => (signal_key(b), b.mode == IoMode::Negated),
             None => ((message_name(m).to_string(), false), false),
         };
         let index = inputs.iter().position(|i| i.key == key).unwrap_or_else(|| {
-            let (symbol, bound) = match io_of(m) {
-                Some(b) => (names.unique(&signal_name(game, b)), Some(binding(&b.target, target, diags))),
-                None => (names.unique(message_name(m)), None),
-            };
-            let variable = Variable {
-                symbol,
-                binding: bound.as_ref().map(|b| b.0.clone()),
-                comment: String::new(),
-                span: bound.map(|b| b.1),
-            };
+            let variable = variable_of(m, names, diags);
             inputs.push(Signal { variable, key, message: m, notes: Vec::new() });
             inputs.len() - 1
         });
@@ -178,16 +182,7 @@ pub fn build_wired(
             None => ((message_name(m).to_string(), true), Effect::Pulse),
         };
         let index = outputs.iter().position(|(o, _)| o.key == key).unwrap_or_else(|| {
-            let (symbol, bound) = match io_of(m) {
-                Some(b) => (names.unique(&signal_name(game, b)), Some(binding(&b.target, target, diags))),
-                None => (names.unique(message_name(m)), None),
-            };
-            let variable = Variable {
-                symbol,
-                binding: bound.as_ref().map(|b| b.0.clone()),
-                comment: String::new(),
-                span: bound.map(|b| b.1),
-            };
+            let variable = variable_of(m, names, diags);
             outputs.push((Signal { variable, key, message: m, notes: Vec::new() }, effect == Effect::Pulse));
             outputs.len() - 1
         });
