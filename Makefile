@@ -4,7 +4,7 @@
 CARGO ?= cargo
 PORT ?= 8080
 
-.PHONY: test test-long lint test-native test-wasm test-browser serve web web-setup browser-setup checkers fuzz
+.PHONY: test test-long lint test-native test-wasm test-browser serve web web-setup browser-setup checkers fuzz readme-bench
 
 # The tests build with the `test-opt` profile (Cargo.toml): optimised, no fat LTO, overflow
 # checks on. Release builds (LTO) are for `make serve`, benchmarks and users.
@@ -68,3 +68,10 @@ FUZZ_TARGETS ?= tga sct gen tlsf ltl verdict share
 
 fuzz:
 	FUZZ_SECONDS=$(FUZZ_SECONDS) bash scripts/fuzz.sh $(FUZZ_TARGETS)
+
+## Regenerate README.md's measured tables from `plcsynth bench timed|sct|ltl --markdown`
+## (release build, RUNS runs each, default 3; minutes; not part of `make test`).
+RUNS ?= 3
+
+readme-bench: checkers
+	RUNS=$(RUNS) CARGO=$(CARGO) bash scripts/readme-bench.sh

@@ -97,6 +97,8 @@ enum BenchEngine {
         /// Folder holding the examples.
         #[arg(long, default_value = "examples/timed")]
         examples: std::path::PathBuf,
+        #[command(flatten)]
+        format: cli::bench::Format,
     },
     /// Supervisory control: transfer lines (Göbe 2019, tables 7.1/7.2) and SupCon vs libFAUDES.
     Sct(cli::sct::BenchArgs),
@@ -117,7 +119,9 @@ fn main() -> ExitCode {
         Command::Supervise(a) => cli::sct::supervise(&a),
         Command::Supcon(a) => cli::sct::supcon(&a),
         Command::Ltl(a) => cli::ltl::ltl(&a),
-        Command::Bench { engine: BenchEngine::Timed { runs, examples } } => cli::bench::timed(&examples, runs),
+        Command::Bench { engine: BenchEngine::Timed { runs, examples, format } } => {
+            cli::bench::timed(&examples, runs, format)
+        }
         Command::Bench { engine: BenchEngine::Sct(a) } => cli::sct::bench(&a),
         Command::Bench { engine: BenchEngine::Ltl(a) } => cli::ltl::bench(&a),
     }

@@ -1,8 +1,70 @@
-//! `plcsynth bench timed`: our figures beside the published ones (Peter 2005, table of 7.3).
+//! `plcsynth bench timed`: our figures beside the published ones (Peter 2005, table of 7.3);
+//! and what every bench shares: `--markdown` (only the tables, with a caption, for the
+//! README; `scripts/readme-bench.sh`) and the tables' columns.
 
 use plcsynth::timed::{compile, solve::SolveOptions, solve::Verdict, synthesize};
 use std::path::Path;
 use std::time::Instant;
+
+/// How a bench prints: flattened into `bench timed|sct|ltl`.
+#[derive(clap::Args, Clone, Copy, Default)]
+pub struct Format {
+    /// Print only the tables as GitHub markdown, under a one-line caption (`make readme-bench`
+    /// puts them into README.md).
+    #[arg(long)]
+    pub markdown: bool,
+    /// Print only the header line of every table `--markdown` prints, without running
+    /// anything (the README test compares them with the README's).
+    #[arg(long, hide = true)]
+    pub headers: bool,
+}
+
+/// A table column: its heading and whether it is right-aligned (numbers).
+pub type Column = (&'static str, bool);
+
+/// `| a | b |`: a markdown table's header line.
+pub fn header(columns: &[Column]) -> String {
+    let names: Vec<&str> = columns.iter().map(|c| c.0).collect();
+    format!("| {} |", names.join(" | "))
+}
+
+/// The header line and the alignment rule of a markdown table.
+pub fn print_header(columns: &[Column]) {
+    let rule: String = columns.iter().map(|c| if c.1 { "---:|" } else { "---|" }).collect();
+    outln!("{}", header(columns));
+    outln!("|{rule}");
+}
+
+/// Prints the header lines of `tables` (`--headers`).
+pub fn print_headers(tables: &[&[Column]]) -> std::process::ExitCode {
+    for columns in tables {
+        outln!("{}", header(columns));
+    }
+    std::process::ExitCode::SUCCESS
+}
+
+/// The one-line caption of `--markdown` output: the command, the machine, the runs.
+pub fn print_caption(engine: &str, runs: usize) {
+    let cores = std::thread::available_parallelism().map_or(String::new(), |n| format!(" on a {n}-core machine"));
+    let runs = runs.max(1);
+    outln!(
+        "_`plcsynth bench {engine} --markdown --runs {runs}`{cores}; our times are medians of {runs} run{}._",
+        if runs == 1 { "" } else { "s" }
+    );
+}
+
+/// Milliseconds rounded for reading: whole above 100, one decimal above 1, else two.
+pub fn ms(x: f64) -> String {
+    if x >= 100.0 {
+        format!("{x:.0}")
+    } else if x >= 1.0 {
+        format!("{x:.1}")
+    } else if x >= 0.01 {
+        format!("{x:.2}")
+    } else {
+        "< 0.01".to_string()
+    }
+}
 
 /// The thesis's figures: visited, winning, code size (lines), seconds.
 type Published = Option<(u32, u32, u32, f64)>;
@@ -24,15 +86,58 @@ const THESIS: &[(&str, &str, Published)] = &[
     ("two_robots_14", "Robots 14 s", None),
 ];
 
+/// The columns of the table beside the thesis's.
+const TIMED_COLUMNS: &[Column] = &[
+    ("example", false),
+    ("verdict", false),
+    ("visited", true),
+    ("winning", true),
+    ("visited/winning", true),
+    ("code lines", true),
+    ("time [ms]", true),
+    ("state space [MiB]", true),
+    ("reference visited", true),
+    ("reference time [ms]", true),
+    ("speed-up", true),
+    ("thesis visited", true),
+    ("thesis winning", true),
+    ("thesis code", true),
+    ("thesis time [s]", true),
+];
+
+/// The columns of the scan-game table.
+const SCAN_COLUMNS: &[Column] = &[
+    ("example", false),
+    ("zero-time verdict", false),
+    ("visited", true),
+    ("time [ms]", true),
+    ("scan [ms]", true),
+    ("scan verdict", false),
+    ("visited", true),
+    ("time [ms]", true),
+    ("time ratio", true),
+];
+
 /// Runs every example `runs` times and prints medians beside the thesis figures.
-pub fn timed(examples_dir: &Path, runs: usize) -> std::process::ExitCode {
-    outln!("Timed-game synthesis: plcsynth (median of {runs} runs) beside Peter 2005, table 7.3 (Pentium III 1.2 GHz)");
+pub fn timed(examples_dir: &Path, runs: usize, format: Format) -> std::process::ExitCode {
+    if format.headers {
+        return print_headers(&[TIMED_COLUMNS, SCAN_COLUMNS]);
+    }
+    let md = format.markdown;
+    // Times: one decimal as always, or rounded for reading in markdown.
+    let t = |x: f64| if md { ms(x) } else { format!("{x:.1}") };
+    if md {
+        print_caption("timed", runs);
+    } else {
+        outln!(
+            "Timed-game synthesis: plcsynth (median of {runs} runs) beside Peter 2005, table 7.3 (Pentium III 1.2 GHz)"
+        );
+        outln!();
+        outln!("The search expands only the strategy it builds; the reference (`--exhaustive`, the thesis's");
+        outln!("breadth-first algorithm) explores the whole reachable game, run once, in the same process.");
+    }
     outln!();
-    outln!("The search expands only the strategy it builds; the reference (`--exhaustive`, the thesis's");
-    outln!("breadth-first algorithm) explores the whole reachable game, run once, in the same process.");
-    outln!();
-    outln!("| example | verdict | visited | winning | visited/winning | code lines | time [ms] | state space [MiB] | reference visited | reference time [ms] | speed-up | thesis visited | thesis winning | thesis code | thesis time [s] |");
-    outln!("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    print_header(TIMED_COLUMNS);
     for (file, label, thesis) in THESIS {
         let path = examples_dir.join(format!("{file}.tga"));
         let Ok(source) = std::fs::read_to_string(&path) else {
@@ -75,23 +180,24 @@ pub fn timed(examples_dir: &Path, runs: usize) -> std::process::ExitCode {
         let reference = synthesize(&game, &SolveOptions { exhaustive: true, ..SolveOptions::default() }, &mut |_| true);
         let reference_ms = started.elapsed().as_secs_f64() * 1000.0;
         let (rv, rt, speedup) = match reference.solution.verdict {
-            Verdict::BudgetExceeded => ("budget exceeded".to_string(), format!("{reference_ms:.1}"), "–".to_string()),
+            Verdict::BudgetExceeded => ("budget exceeded".to_string(), t(reference_ms), "–".to_string()),
             _ => (
                 reference.solution.stats.visited.to_string(),
-                format!("{reference_ms:.1}"),
+                t(reference_ms),
                 format!("{:.0}×", reference_ms / median.max(0.001)),
             ),
         };
         let ratio = st.visited as f64 / st.winning.max(1) as f64;
         outln!(
-            "| {label} | {verdict} | {} | {} | {ratio:.1} | {lines} | {median:.1} | {:.1} | {rv} | {rt} | {speedup} | {tv} | {tw} | {tc} | {tt} |",
+            "| {label} | {verdict} | {} | {} | {ratio:.1} | {lines} | {} | {:.1} | {rv} | {rt} | {speedup} | {tv} | {tw} | {tc} | {tt} |",
             st.visited,
             st.winning,
+            t(median),
             st.bytes as f64 / (1024.0 * 1024.0)
         );
     }
-    scan_table(examples_dir, runs);
-    if let Some(peak) = peak_rss_kib() {
+    scan_table(examples_dir, runs, md);
+    if let Some(peak) = peak_rss_kib().filter(|_| !md) {
         outln!();
         outln!("peak resident memory of this process: {:.1} MiB", peak as f64 / 1024.0);
     }
@@ -103,14 +209,16 @@ const BENCH_SCAN_MS: u64 = 10;
 
 /// Every example at a PLC's scan time beside its zero-time verdict: what the scan semantics
 /// costs (states and time, as a ratio measured in the same run). The thesis has no such figures.
-fn scan_table(examples_dir: &Path, runs: usize) {
+fn scan_table(examples_dir: &Path, runs: usize, md: bool) {
+    let t = |x: f64| if md { ms(x) } else { format!("{x:.1}") };
     outln!();
-    outln!(
-        "At a PLC scan time (the example's `scan`, else {BENCH_SCAN_MS} ms; default budgets; median of {runs} runs): the zero-time game beside the scan game"
-    );
-    outln!();
-    outln!("| example | zero-time verdict | visited | time [ms] | scan [ms] | scan verdict | visited | time [ms] | time ratio |");
-    outln!("|---|---|---:|---:|---:|---|---:|---:|---:|");
+    if !md {
+        outln!(
+            "At a PLC scan time (the example's `scan`, else {BENCH_SCAN_MS} ms; default budgets; median of {runs} runs): the zero-time game beside the scan game"
+        );
+        outln!();
+    }
+    print_header(SCAN_COLUMNS);
     let mut files: Vec<_> = std::fs::read_dir(examples_dir)
         .map(|d| {
             d.filter_map(|e| e.ok()).map(|e| e.path()).filter(|p| p.extension().is_some_and(|x| x == "tga")).collect()
@@ -149,11 +257,13 @@ fn scan_table(examples_dir: &Path, runs: usize) {
         };
         let (zt, st) = (median(zero_times), median(scan_times));
         outln!(
-            "| {name} | {} | {} | {zt:.1} | {scan_ms} | {} | {} | {st:.1} | {:.0}× |",
+            "| {name} | {} | {} | {} | {scan_ms} | {} | {} | {} | {:.0}× |",
             word(zero.solution.verdict, "realizable", "unrealizable"),
             zero.solution.stats.visited,
+            t(zt),
             word(scan.synthesis.solution.verdict, "implementable", "not implementable"),
             scan.synthesis.solution.stats.visited,
+            t(st),
             st / zt.max(1e-3)
         );
     }

@@ -1,5 +1,6 @@
 //! `plcsynth ltl`: LTL synthesis of G4LTL or TLSF specifications.
 
+use super::bench::{print_caption, print_header, print_headers, Column};
 use clap::Args;
 use plcsynth::diag::render_plain;
 use plcsynth::ltl::{self, Config, Format, Verdict};
@@ -267,6 +268,8 @@ pub struct BenchArgs {
     /// The folder of the public test data (G4LTL files in `g4ltl/`, TLSF in `tlsf/`).
     #[arg(long, default_value = "../shared/ltl")]
     pub data: std::path::PathBuf,
+    #[command(flatten)]
+    pub format: super::bench::Format,
 }
 
 /// G4LTL's own verdicts at unroll depths 1 and 3 (`../shared/ltl/README.md`).
@@ -436,13 +439,60 @@ fn cells(outcome: &ltl::Outcome) -> (String, String) {
     (verdict, size)
 }
 
+/// The columns of the G4LTL table.
+const G4LTL_COLUMNS: &[Column] = &[
+    ("specification", false),
+    ("verdict", false),
+    ("time [ms]", true),
+    ("strategy states / rows", true),
+    ("ST lines", true),
+    ("G4LTL k = 1", false),
+    ("G4LTL k = 3", false),
+];
+
+/// The columns of the SYNTCOMP table.
+const SYNTCOMP_COLUMNS: &[Column] = &[
+    ("SYNTCOMP instance", false),
+    ("verdict", false),
+    ("time [ms]", true),
+    ("strategy states / rows", true),
+    ("ST lines", true),
+    ("status", false),
+];
+
+/// The columns of the table beside the paper's table 2.
+const TABLE2_COLUMNS: &[Column] = &[
+    ("example", false),
+    ("ours", false),
+    ("verdict", false),
+    ("time [ms]", true),
+    ("groups", true),
+    ("learned (refinement)", true),
+    ("ST lines", true),
+    ("spec lines (ours / paper)", false),
+    ("paper: T/D, time, ST lines", false),
+    ("paper: assumptions generated, time (section 4)", false),
+];
+
 /// `plcsynth bench ltl`: every listed specification, our time and sizes beside the
 /// published verdicts.
 pub fn bench(a: &BenchArgs) -> ExitCode {
-    outln!("LTL synthesis: plcsynth (median of {} runs) beside G4LTL (../shared/ltl/README.md) and SYNTCOMP", a.runs);
+    if a.format.headers {
+        return print_headers(&[G4LTL_COLUMNS, SYNTCOMP_COLUMNS, TABLE2_COLUMNS]);
+    }
+    let md = a.format.markdown;
+    // Times: two decimals as always, or rounded for reading in markdown.
+    let t = |x: f64| if md { super::bench::ms(x) } else { format!("{x:.2}") };
+    if md {
+        print_caption("ltl", a.runs);
+    } else {
+        outln!(
+            "LTL synthesis: plcsynth (median of {} runs) beside G4LTL (../shared/ltl/README.md) and SYNTCOMP",
+            a.runs
+        );
+    }
     outln!();
-    outln!("| specification | verdict | time [ms] | strategy states / rows | ST lines | G4LTL k = 1 | G4LTL k = 3 |");
-    outln!("|---|---|---:|---:|---:|---|---|");
+    print_header(G4LTL_COLUMNS);
     let mut slowest: f64 = 0.0;
     for (file, k1, k3) in G4LTL {
         let path = a.data.join(format!("g4ltl/{file}.g4ltl"));
@@ -455,14 +505,13 @@ pub fn bench(a: &BenchArgs) -> ExitCode {
                 slowest = slowest.max(ms);
                 let (verdict, size) = cells(&outcome);
                 let lines = lines.map_or("–".into(), |l| l.to_string());
-                outln!("| {file} | {verdict} | {ms:.2} | {size} | {lines} | {k1} | {k3} |");
+                outln!("| {file} | {verdict} | {} | {size} | {lines} | {k1} | {k3} |", t(ms));
             }
             Err(e) => outln!("| {file} | {e} | | | | {k1} | {k3} |"),
         }
     }
     outln!();
-    outln!("| SYNTCOMP instance | verdict | time [ms] | strategy states / rows | ST lines | status |");
-    outln!("|---|---|---:|---:|---:|---|");
+    print_header(SYNTCOMP_COLUMNS);
     for (file, n, status) in SYNTCOMP {
         let path = a.data.join(format!("tlsf/{file}"));
         let Ok(source) = std::fs::read_to_string(&path) else {
@@ -479,19 +528,20 @@ pub fn bench(a: &BenchArgs) -> ExitCode {
                 slowest = slowest.max(ms);
                 let (verdict, size) = cells(&outcome);
                 let lines = lines.map_or("–".into(), |l| l.to_string());
-                outln!("| {label} | {verdict} | {ms:.2} | {size} | {lines} | {status} |");
+                outln!("| {label} | {verdict} | {} | {size} | {lines} | {status} |", t(ms));
             }
             Err(e) => outln!("| {label} | {e} | | | | {status} |"),
         }
     }
     outln!();
-    outln!(
-        "The paper's table 2 (G4LTL-ST, unroll depth 3, 2014 hardware) beside our specifications after its appendix B"
-    );
-    outln!("(its specifications are not public: ours are written from the descriptions, so sizes differ):");
-    outln!();
-    outln!("| example | ours | verdict | time [ms] | groups | learned (refinement) | ST lines | spec lines (ours / paper) | paper: T/D, time, ST lines | paper: assumptions generated, time (section 4) |");
-    outln!("|---|---|---|---:|---:|---:|---:|---|---|---|");
+    if !md {
+        outln!(
+            "The paper's table 2 (G4LTL-ST, unroll depth 3, 2014 hardware) beside our specifications after its appendix B"
+        );
+        outln!("(its specifications are not public: ours are written from the descriptions, so sizes differ):");
+        outln!();
+    }
+    print_header(TABLE2_COLUMNS);
     for Published { example, file, kind: td, spec_lines, time, st_lines: st, learned, learning } in TABLE2 {
         let path = std::path::Path::new("examples/ltl").join(file);
         let Ok(source) = std::fs::read_to_string(&path) else {
@@ -506,11 +556,15 @@ pub fn bench(a: &BenchArgs) -> ExitCode {
                 let lines = lines.map_or("–".into(), |l| l.to_string());
                 let n = outcome.refinement.learned.len();
                 outln!(
-                    "| {example} | {file} | {verdict} | {ms:.2} | {groups} | {n} | {lines} | {ours} / {spec_lines} | {td}, {time}, {st} | {learned}, {learning} |"
+                    "| {example} | {file} | {verdict} | {} | {groups} | {n} | {lines} | {ours} / {spec_lines} | {td}, {time}, {st} | {learned}, {learning} |",
+                    t(ms)
                 );
             }
             Err(e) => outln!("| {example} | {file} | {e} | | | | | {ours} / {spec_lines} | {td}, {time}, {st} | {learned}, {learning} |"),
         }
+    }
+    if md {
+        return ExitCode::SUCCESS;
     }
     outln!();
     outln!("slowest: {slowest:.1} ms (goal: every listed specification under 1 s).");

@@ -1,5 +1,6 @@
 //! `plcsynth supervise`, `plcsynth supcon` and `plcsynth bench sct`.
 
+use super::bench::{print_caption, print_header, print_headers, Column};
 use clap::{Args, ValueEnum};
 use plcsynth::benchmarks::textbook::{agv, small_factory, transfer_line, transfer_lines_classic};
 use plcsynth::benchmarks::transfer::{extended_line, transfer_lines};
@@ -106,6 +107,8 @@ pub struct BenchArgs {
     /// Skip the libFAUDES comparison.
     #[arg(long)]
     pub no_faudes: bool,
+    #[command(flatten)]
+    pub format: super::bench::Format,
 }
 
 fn read(path: &str) -> Result<String, ExitCode> {
@@ -346,22 +349,68 @@ fn run_lines(k: usize, m: usize, method: Method, runs: usize) -> (f64, usize, us
     (median(times), states, l.project.plants.len(), l.project.specs.len())
 }
 
+/// The columns of table 7.1 (`--markdown`).
+const LINES_COLUMNS: &[Column] = &[
+    ("lines × machines", false),
+    ("plants", true),
+    ("specs", true),
+    ("IncSyn [ms]", true),
+    ("states", true),
+    ("thesis IncSyn [ms]", true),
+    ("thesis states", true),
+    ("ModSyn [ms]", true),
+    ("ModSyn states", true),
+    ("thesis ModSyn", false),
+];
+
+/// The columns of table 7.2 (`--markdown`).
+const EXTENDED_COLUMNS: &[Column] = &[
+    ("extended line", false),
+    ("plants", true),
+    ("specs", true),
+    ("IncSyn [ms]", true),
+    ("states", true),
+    ("plants applied", true),
+    ("Dep criterion would compose", true),
+    ("thesis", false),
+];
+
+/// The columns of the libFAUDES comparison (`--markdown`).
+const FAUDES_COLUMNS: &[Column] = &[
+    ("problem", false),
+    ("states", true),
+    ("transitions", true),
+    ("ours [ms]", true),
+    ("libFAUDES [ms]", true),
+    ("ours / libFAUDES", true),
+];
+
 pub fn bench(a: &BenchArgs) -> ExitCode {
-    outln!("Incremental synthesis on transfer lines (Göbe 2019, table 7.1; buffers of capacity 2)");
-    outln!("ours: median of {} runs on this machine; thesis: Intel Core i5 750, 2.67 GHz", a.runs);
-    outln!();
-    outln!(
-        "{:<22} {:>7} {:>6} | {:>12} {:>8} | {:>12} {:>8} | {:>12} {:>8}",
-        "TLs x machines",
-        "plants",
-        "specs",
-        "IncSyn ms",
-        "states",
-        "thesis ms",
-        "states",
-        "ModSyn ms",
-        "states"
-    );
+    if a.format.headers {
+        return print_headers(&[LINES_COLUMNS, EXTENDED_COLUMNS, FAUDES_COLUMNS]);
+    }
+    let md = a.format.markdown;
+    if md {
+        print_caption("sct", a.runs);
+        outln!();
+        print_header(LINES_COLUMNS);
+    } else {
+        outln!("Incremental synthesis on transfer lines (Göbe 2019, table 7.1; buffers of capacity 2)");
+        outln!("ours: median of {} runs on this machine; thesis: Intel Core i5 750, 2.67 GHz", a.runs);
+        outln!();
+        outln!(
+            "{:<22} {:>7} {:>6} | {:>12} {:>8} | {:>12} {:>8} | {:>12} {:>8}",
+            "TLs x machines",
+            "plants",
+            "specs",
+            "IncSyn ms",
+            "states",
+            "thesis ms",
+            "states",
+            "ModSyn ms",
+            "states"
+        );
+    }
     // (k, m, thesis label, thesis IncSyn ms, thesis states, thesis ModSyn)
     let rows: &[(usize, usize, &str, &str, &str, &str)] = &[
         (2, 2, "2 x 2", "164", "38", "985 ms / 5994"),
@@ -373,17 +422,33 @@ pub fn bench(a: &BenchArgs) -> ExitCode {
     ];
     for &(k, m, label, t_ms, t_states, t_mod) in rows {
         let (ms, states, np, ns) = run_lines(k, m, Method::Incremental, a.runs);
-        let modsyn = if np <= 9 {
-            let (mms, mst, _, _) = run_lines(k, m, Method::Monolithic, a.runs.min(3));
-            format!("{mms:>12.3} {mst:>8}")
-        } else {
-            format!("{:>12} {:>8}", "skipped", "")
+        let modsyn = (np <= 9).then(|| run_lines(k, m, Method::Monolithic, a.runs.min(3)));
+        if md {
+            let label = label.replace(" x ", " × ");
+            let (mms, mst) = modsyn.map_or(("skipped".to_string(), "–".to_string()), |(mms, mst, _, _)| {
+                (super::bench::ms(mms), mst.to_string())
+            });
+            let dash = |s: &str| if s == "-" { "–".to_string() } else { s.to_string() };
+            outln!(
+                "| {label} | {np} | {ns} | {} | {states} | {} | {} | {mms} | {mst} | {} |",
+                super::bench::ms(ms),
+                dash(t_ms),
+                dash(t_states),
+                dash(t_mod)
+            );
+            continue;
+        }
+        let modsyn = match modsyn {
+            Some((mms, mst, _, _)) => format!("{mms:>12.3} {mst:>8}"),
+            None => format!("{:>12} {:>8}", "skipped", ""),
         };
         outln!("{label:<22} {np:>7} {ns:>6} | {ms:>12.3} {states:>8} | {t_ms:>12} {t_states:>8} | {modsyn}   (thesis ModSyn {t_mod})");
     }
     outln!();
-    outln!("Table 7.2: one line, 3 extended machines, a globally shared sensor (thesis: 15 plants, 4 specs,");
-    outln!("IncSyn 156 ms / 48 states; iModSyn out of memory). Reconstructed: the thesis publishes only sizes.");
+    if !md {
+        outln!("Table 7.2: one line, 3 extended machines, a globally shared sensor (thesis: 15 plants, 4 specs,");
+        outln!("IncSyn 156 ms / 48 states; iModSyn out of memory). Reconstructed: the thesis publishes only sizes.");
+    }
     {
         let src = extended_line(3);
         let (loaded, _) = compile(&src);
@@ -401,28 +466,44 @@ pub fn bench(a: &BenchArgs) -> ExitCode {
             used = reps.iter().map(|r| r.plants_used.len()).sum();
         }
         let dep: usize = (0..p.specs.len()).map(|i| dep_closure(p, i).len()).sum();
-        outln!(
-            "  ours: {} plants, {} specs, IncSyn {:.3} ms, {} states; plants applied {} (Dep criterion would compose {})",
-            p.plants.len(),
-            p.specs.len(),
-            median(times),
-            states,
-            used,
-            dep
-        );
+        if md {
+            print_header(EXTENDED_COLUMNS);
+            outln!(
+                "| 1 line, 3 extended machines, a shared sensor | {} | {} | {} | {states} | {used} | {dep} | 15 plants, 4 specs, IncSyn 156 ms / 48 states; iModSyn out of memory |",
+                p.plants.len(),
+                p.specs.len(),
+                super::bench::ms(median(times)),
+            );
+        } else {
+            outln!(
+                "  ours: {} plants, {} specs, IncSyn {:.3} ms, {} states; plants applied {} (Dep criterion would compose {})",
+                p.plants.len(),
+                p.specs.len(),
+                median(times),
+                states,
+                used,
+                dep
+            );
+        }
     }
-    outln!();
     if a.no_faudes {
+        if !md {
+            outln!();
+        }
         return ExitCode::SUCCESS;
     }
-    bench_faudes(a.runs)
+    outln!();
+    bench_faudes(a.runs, md)
 }
 
-fn bench_faudes(runs: usize) -> ExitCode {
-    outln!("Classic SupCon, plcsynth vs libFAUDES on identical .gen inputs (median ms)");
+fn bench_faudes(runs: usize, md: bool) -> ExitCode {
+    if !md {
+        outln!("Classic SupCon, plcsynth vs libFAUDES on identical .gen inputs (median ms)");
+    }
     let py = std::path::Path::new(".venv/bin/python");
     let script = std::path::Path::new("tests/faudes_bench.py");
-    if !py.exists() || !script.exists() {
+    let available = py.exists() && script.exists();
+    if !available && !md {
         outln!("  libFAUDES not available: run `scripts/python-checkers.sh` from the repository root");
         return ExitCode::SUCCESS;
     }
@@ -436,7 +517,19 @@ fn bench_faudes(runs: usize) -> ExitCode {
         ("transfer lines 1x4", transfer_lines_classic(1, 4, 2)),
         ("AGV (published 4406/11338)", agv()),
     ];
-    outln!("{:<24} {:>8} {:>8} | {:>10} {:>10} {:>7}", "problem", "states", "trans", "ours ms", "faudes ms", "ratio");
+    if md {
+        print_header(FAUDES_COLUMNS);
+    } else {
+        outln!(
+            "{:<24} {:>8} {:>8} | {:>10} {:>10} {:>7}",
+            "problem",
+            "states",
+            "trans",
+            "ours ms",
+            "faudes ms",
+            "ratio"
+        );
+    }
     for (name, (plant, spec, ev)) in &cases {
         let spec = &spec.with_selfloops(plant.alphabet());
         let mut times = Vec::new();
@@ -449,30 +542,29 @@ fn bench_faudes(runs: usize) -> ExitCode {
         }
         let sup = sup.expect("ran at least once");
         let ours = median(times);
-        let pf = dir.join("plant.gen");
-        let sf = dir.join("spec.gen");
-        let _ = std::fs::write(&pf, write_gen(plant, ev, "plant"));
-        let _ = std::fs::write(&sf, write_gen(spec, ev, "spec"));
-        let out = Command::new(py).arg(script).arg(&pf).arg(&sf).arg(runs.max(1).to_string()).output();
-        if let Ok(o) = &out {
-            if !o.status.success() {
-                eprintln!(
-                    "libFAUDES failed on {name}: {}",
-                    String::from_utf8_lossy(&o.stderr).lines().last().unwrap_or("")
-                );
-            }
+        let faudes = if available { faudes_supcon(py, script, &dir, name, plant, spec, ev, runs) } else { None };
+        let sizes_agree =
+            |(_, fst, ftr): (f64, u64, u64)| fst as usize == sup.num_states() && ftr as usize == sup.num_transitions();
+        if md {
+            let (fms, ratio) = match faudes {
+                Some(f @ (fms, _, _)) => {
+                    let agree = if sizes_agree(f) { "" } else { " (sizes differ!)" };
+                    (super::bench::ms(fms), format!("{:.2}{agree}", ours / fms.max(1e-6)))
+                }
+                None if available => ("error".to_string(), "–".to_string()),
+                None => ("not available".to_string(), "–".to_string()),
+            };
+            outln!(
+                "| {name} | {} | {} | {} | {fms} | {ratio} |",
+                sup.num_states(),
+                sup.num_transitions(),
+                super::bench::ms(ours)
+            );
+            continue;
         }
-        let faudes = out.ok().and_then(|o| String::from_utf8(o.stdout).ok()).and_then(|s| {
-            let v: serde_json::Value = serde_json::from_str(s.lines().last()?).ok()?;
-            Some((v["ms"].as_f64()?, v["states"].as_u64()?, v["transitions"].as_u64()?))
-        });
         match faudes {
-            Some((fms, fst, ftr)) => {
-                let agree = if fst as usize == sup.num_states() && ftr as usize == sup.num_transitions() {
-                    ""
-                } else {
-                    "  (sizes differ!)"
-                };
+            Some(f @ (fms, _, _)) => {
+                let agree = if sizes_agree(f) { "" } else { "  (sizes differ!)" };
                 outln!(
                     "{name:<24} {:>8} {:>8} | {ours:>10.3} {fms:>10.3} {:>7.2}{agree}",
                     sup.num_states(),
@@ -489,7 +581,41 @@ fn bench_faudes(runs: usize) -> ExitCode {
             ),
         }
     }
-    outln!("ratio = ours / libFAUDES (below 1 means plcsynth is faster); libFAUDES time excludes file reading.");
+    if !md {
+        outln!("ratio = ours / libFAUDES (below 1 means plcsynth is faster); libFAUDES time excludes file reading.");
+    }
     let _ = std::fs::remove_dir_all(&dir);
     ExitCode::SUCCESS
+}
+
+/// libFAUDES's SupCon of `plant` and `spec`, written as `.gen` files into `dir`: its median
+/// milliseconds over `runs` (file reading excluded), states and transitions.
+#[allow(clippy::too_many_arguments)]
+fn faudes_supcon(
+    py: &std::path::Path,
+    script: &std::path::Path,
+    dir: &std::path::Path,
+    name: &str,
+    plant: &plcsynth::sct::classic::Automaton,
+    spec: &plcsynth::sct::classic::Automaton,
+    ev: &Events,
+    runs: usize,
+) -> Option<(f64, u64, u64)> {
+    let pf = dir.join("plant.gen");
+    let sf = dir.join("spec.gen");
+    let _ = std::fs::write(&pf, write_gen(plant, ev, "plant"));
+    let _ = std::fs::write(&sf, write_gen(spec, ev, "spec"));
+    let out = Command::new(py).arg(script).arg(&pf).arg(&sf).arg(runs.max(1).to_string()).output();
+    if let Ok(o) = &out {
+        if !o.status.success() {
+            eprintln!(
+                "libFAUDES failed on {name}: {}",
+                String::from_utf8_lossy(&o.stderr).lines().last().unwrap_or("")
+            );
+        }
+    }
+    out.ok().and_then(|o| String::from_utf8(o.stdout).ok()).and_then(|s| {
+        let v: serde_json::Value = serde_json::from_str(s.lines().last()?).ok()?;
+        Some((v["ms"].as_f64()?, v["states"].as_u64()?, v["transitions"].as_u64()?))
+    })
 }
