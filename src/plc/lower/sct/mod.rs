@@ -387,12 +387,12 @@ fn enforcement_chain(s: &Supervisor) -> usize {
     let n = s.states.len();
     let mut longest = 0;
     for start in 0..n {
-        let mut state = start;
+        let mut state = start as u32;
         let mut len = 0;
         while len < n {
-            let Some(f) = s.states[state].enforced else { break };
+            let Some(f) = s.states[state as usize].enforced else { break };
             len += 1;
-            let next = s.states[state].transitions.iter().find(|(e, _)| *e == f).map_or(state, |&(_, t)| t as usize);
+            let next = s.successor(state, f);
             if next == state {
                 break;
             }
