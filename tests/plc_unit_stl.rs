@@ -1,15 +1,15 @@
 //! `plc::print::stl::unit` checked by running its output in awlsim (an independent S7 implementation):
 //! random units (Boolean logic, INT/DINT arithmetic, REAL arithmetic and comparisons, nested IF,
-//! dense and sparse CASE, function calls) against a reference interpreter of `plc::model::unit` written
-//! here, cycle by cycle on random inputs; TON timers in real time; a controller FB written in STL that calls
-//! one of the unit's FCs. awlsim comes from `scripts/python-checkers.sh` (`make test` runs it);
+//! dense and sparse CASE, function calls) against the crate's reference interpreter
+//! `plc::model::exec`, cycle by cycle on random inputs; TON timers in real time; a controller FB
+//! written in STL that calls one of the unit's FCs. awlsim comes from `scripts/python-checkers.sh` (`make test` runs it);
 //! without it these tests fail and say so.
 
 mod common;
 
+use plcsynth::plc::model::exec::{Arithmetic, ExecError, Machine, Value};
 use plcsynth::plc::model::unit::{BinOp, Expr, Place, Pou, PouKind, Signal, SignalKind, Stmt, Type, Unit, Var};
-use plcsynth::plc::print::stl::unit::{self as unit_stl, StlUnitOptions};
-use std::collections::HashMap;
+use plcsynth::plc::print::stl::unit::{self as unit_stl, Location, StlUnitOptions};
 
 /// Runs `awl` in awlsim with one script line per cycle; the reads of each cycle, as bytes.
 fn awlsim(name: &str, awl: &str, script: &[String]) -> Vec<Vec<Vec<u8>>> {
@@ -24,53 +24,16 @@ fn awlsim(name: &str, awl: &str, script: &[String]) -> Vec<Vec<Vec<u8>>> {
 }
 
 // ---------------------------------------------------------------------------------------------
-// A reference interpreter of `plc::model::unit` (IEC semantics; INT wraps at 16 bits, DINT at 32).
-// A REAL is held as the bits of its `f32` in an `i64`; every REAL operation is computed in
-// `f32` (as an S7 CPU does; awlsim rounds each result to `f32`), so REAL results and
-// comparisons are compared exactly, bit for bit. The random units keep REAL values within
+// The reference: the crate's interpreter `plc::model::exec`, in its accumulator arithmetic
+// (every INT operation wraps at 16 bits, DINT at 32, as the CPU's and the printed code's do),
+// its signals read from and written to process images at their addresses. Its REAL operations
+// are computed in `f32` (as an S7 CPU does; awlsim rounds each result to `f32`), so REAL results
+// and comparisons are compared exactly, bit for bit. The random units keep REAL values within
 // ±1E4 between statements and expressions three deep, so no NaN, infinity or subnormal arises
 // (awlsim saturates an overflow at ±3.4E38 where IEEE gives infinity).
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Ty {
-    Bool,
-    Int,
-    Dint,
-    Time,
-    Real,
-}
-
-fn real(bits: i64) -> f32 {
-    f32::from_bits(bits as u32)
-}
-
-fn bits(v: f32) -> i64 {
-    // S7 flushes subnormal results to zero.
-    let v = if v.is_subnormal() { 0.0 } else { v };
-    i64::from(v.to_bits())
-}
-
-fn scalar(ty: &Type) -> Ty {
-    match ty {
-        Type::Bool => Ty::Bool,
-        Type::Int => Ty::Int,
-        Type::Dint => Ty::Dint,
-        Type::Time => Ty::Time,
-        Type::Real => Ty::Real,
-        other => panic!("no value type: {other:?}"),
-    }
-}
-
-fn wrap(v: i64, ty: Ty) -> i64 {
-    match ty {
-        Ty::Int => v as i16 as i64,
-        Ty::Bool => v & 1,
-        Ty::Real => v as u32 as i64,
-        _ => v as i32 as i64,
-    }
-}
-
-/// A deliberate error of the reference, to show that the comparison finds one.
+/// A deliberate error of the reference, to show that the comparison finds one: the reference
+/// runs the unit rewritten so.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Mutation {
     None,
@@ -78,24 +41,84 @@ enum Mutation {
     EuclidMod,
     /// XOR as OR.
     XorAsOr,
-    /// REAL arithmetic in `f64`, rounded to `f32` only when stored.
-    RealInF64,
+    /// REAL `a / b` as `a * (1.0 / b)`: rounded to `f32` twice.
+    RealDivByReciprocal,
 }
 
-struct Machine<'u> {
-    unit: &'u Unit,
-    globals: HashMap<String, i64>,
-    program: HashMap<String, i64>,
-    inputs: Vec<u8>,
-    outputs: Vec<u8>,
-    memory: Vec<u8>,
-    mutation: Mutation,
+/// `unit` with `mutation` applied to every expression of its POUs.
+fn mutated(unit: &Unit, mutation: Mutation) -> Unit {
+    let mut unit = unit.clone();
+    for pou in &mut unit.pous {
+        mutate_stmts(&mut pou.body, mutation);
+    }
+    unit
 }
 
-/// The frame of the POU running: its locals, and the POU.
-struct Frame<'u> {
-    pou: &'u Pou,
-    locals: HashMap<String, i64>,
+fn mutate_stmts(body: &mut [Stmt], m: Mutation) {
+    for s in body {
+        match s {
+            Stmt::Comment(_) => {}
+            Stmt::Assign { value, .. } => *value = mutate(value, m),
+            Stmt::If { arms, otherwise } => {
+                for (cond, body) in arms {
+                    *cond = mutate(cond, m);
+                    mutate_stmts(body, m);
+                }
+                mutate_stmts(otherwise, m);
+            }
+            Stmt::Case { selector, arms, otherwise } => {
+                *selector = mutate(selector, m);
+                for (_, body) in arms {
+                    mutate_stmts(body, m);
+                }
+                mutate_stmts(otherwise, m);
+            }
+            Stmt::CallFunction { args, .. } | Stmt::CallInstance { args, .. } => {
+                for (_, e) in args {
+                    *e = mutate(e, m);
+                }
+            }
+        }
+    }
+}
+
+/// Whether divisor `e` of a random unit is REAL: its REAL divisors are a literal or
+/// `v * v + 1.0`, its integer ones hold no REAL literal.
+fn real_divisor(e: &Expr) -> bool {
+    match e {
+        Expr::Real(_) => true,
+        Expr::Neg(a) => real_divisor(a),
+        Expr::Binary(_, a, b) => real_divisor(a) || real_divisor(b),
+        _ => false,
+    }
+}
+
+fn mutate(e: &Expr, m: Mutation) -> Expr {
+    match e {
+        Expr::Not(a) => Expr::Not(Box::new(mutate(a, m))),
+        Expr::Neg(a) => Expr::Neg(Box::new(mutate(a, m))),
+        Expr::Binary(op, a, b) => {
+            let (a, b) = (mutate(a, m), mutate(b, m));
+            match (op, m) {
+                (BinOp::Xor, Mutation::XorAsOr) => Expr::binary(BinOp::Or, a, b),
+                (BinOp::Mod, Mutation::EuclidMod) => {
+                    // ((a MOD b) + |b|) MOD |b|, |b| of a literal; the random units' other
+                    // divisors, (x MOD 7) + 8, are positive.
+                    let d = match b {
+                        Expr::Int(v) => Expr::Int(v.abs()),
+                        other => other,
+                    };
+                    let rem = Expr::binary(BinOp::Mod, a, d.clone());
+                    Expr::binary(BinOp::Mod, Expr::binary(BinOp::Add, rem, d.clone()), d)
+                }
+                (BinOp::Div, Mutation::RealDivByReciprocal) if real_divisor(&b) => {
+                    Expr::binary(BinOp::Mul, a, Expr::binary(BinOp::Div, Expr::real(1.0).unwrap(), b))
+                }
+                _ => Expr::binary(*op, a, b),
+            }
+        }
+        other => other.clone(),
+    }
 }
 
 fn image_address(address: &str) -> (char, usize, Option<u8>, usize) {
@@ -117,318 +140,99 @@ fn image_address(address: &str) -> (char, usize, Option<u8>, usize) {
     }
 }
 
-impl<'u> Machine<'u> {
-    fn new(unit: &'u Unit, mutation: Mutation) -> Machine<'u> {
-        let mut m = Machine {
-            unit,
-            globals: HashMap::new(),
-            program: HashMap::new(),
-            inputs: vec![0; 32],
-            outputs: vec![0; 16],
-            memory: vec![0; 16],
-            mutation,
-        };
-        let scalar = |v: &&Var| matches!(v.ty, Type::Bool | Type::Int | Type::Dint | Type::Time | Type::Real);
-        for v in unit.globals.iter().filter(scalar) {
-            let init = m.literal(v.init.as_ref());
-            m.globals.insert(v.name.clone(), init);
-        }
-        let program = unit.pous.last().unwrap();
-        for v in program.locals.iter().filter(scalar) {
-            let init = m.literal(v.init.as_ref());
-            m.program.insert(v.name.clone(), init);
-        }
-        m
+/// The bytes of `v` in a variable of type `ty` other than BOOL, big-endian as S7 keeps them:
+/// two for INT, four for DINT and TIME, the `f32`'s bits for REAL.
+fn value_bytes(v: Value, ty: &Type) -> Vec<u8> {
+    match ty {
+        Type::Int => (v.as_int() as i16).to_be_bytes().to_vec(),
+        Type::Real => v.as_real().to_bits().to_be_bytes().to_vec(),
+        _ => (v.as_int() as i32).to_be_bytes().to_vec(),
     }
+}
 
-    fn literal(&self, e: Option<&Expr>) -> i64 {
-        match e {
-            None => 0,
-            Some(Expr::Bool(b)) => *b as i64,
-            Some(Expr::Int(n)) => *n,
-            Some(Expr::Real(r)) => bits(r.value()),
-            Some(Expr::Time(ms)) => *ms as i64,
-            Some(other) => panic!("not a literal: {other:?}"),
-        }
+/// The value of type `ty` (not BOOL) held in `bytes`, big-endian.
+fn bytes_value(bytes: &[u8], ty: &Type) -> Value {
+    match ty {
+        Type::Int => Value::Int(i64::from(i16::from_be_bytes(bytes.try_into().unwrap()))),
+        Type::Real => Value::Real(f32::from_bits(u32::from_be_bytes(bytes.try_into().unwrap()))),
+        Type::Time => Value::Time(i64::from(i32::from_be_bytes(bytes.try_into().unwrap()))),
+        _ => Value::Int(i64::from(i32::from_be_bytes(bytes.try_into().unwrap()))),
     }
+}
 
-    fn image(&mut self, area: char) -> &mut Vec<u8> {
-        match area {
-            'I' => &mut self.inputs,
-            'Q' => &mut self.outputs,
-            _ => &mut self.memory,
-        }
-    }
-
-    fn read_signal(&mut self, i: usize) -> i64 {
-        let s = &self.unit.signals[i];
-        let ty = scalar(&s.ty);
-        let (area, byte, bit, width) = image_address(&s.address);
-        let image = self.image(area);
-        match bit {
-            Some(x) => (image[byte] >> x & 1) as i64,
-            None => {
-                let mut v: i64 = 0;
-                for k in 0..width {
-                    v = v << 8 | image[byte + k] as i64;
-                }
-                wrap(v, ty)
+/// The variables at `locations` as the data block holding them: `size` bytes.
+fn data_block(locations: &[Location], size: usize, value: impl Fn(&str) -> Value) -> Vec<u8> {
+    let mut db = vec![0u8; size];
+    for l in locations {
+        let (v, b) = (value(&l.name), l.byte as usize);
+        match l.ty {
+            Type::Bool => db[b] |= u8::from(v.as_bool()) << l.bit,
+            _ => {
+                let bytes = value_bytes(v, &l.ty);
+                db[b..b + bytes.len()].copy_from_slice(&bytes);
             }
         }
     }
+    db
+}
 
-    fn write_signal(&mut self, i: usize, value: i64) {
-        let (area, byte, bit, width) = image_address(&self.unit.signals[i].address);
-        let image = self.image(area);
-        match bit {
-            Some(x) => image[byte] = image[byte] & !(1 << x) | ((value as u8 & 1) << x),
-            None => {
-                for k in 0..width {
-                    image[byte + k] = (value >> (8 * (width - 1 - k))) as u8;
-                }
+/// The reference PLC: the interpreter with its process images.
+struct Reference<'u> {
+    unit: &'u Unit,
+    machine: Machine<'u>,
+}
+
+impl<'u> Reference<'u> {
+    fn new(unit: &'u Unit) -> Reference<'u> {
+        let mut machine = Machine::new(unit).unwrap();
+        machine.set_arithmetic(Arithmetic::Accumulator);
+        Reference { unit, machine }
+    }
+
+    /// One cycle on the input image `inputs`.
+    fn cycle(&mut self, inputs: &[u8]) {
+        for (k, s) in self.unit.signals.iter().enumerate() {
+            let (area, byte, bit, width) = image_address(&s.address);
+            if area != 'I' {
+                continue;
             }
+            let v = match bit {
+                Some(x) => Value::Bool(inputs[byte] >> x & 1 == 1),
+                None => bytes_value(&inputs[byte..byte + width], &s.ty),
+            };
+            self.machine.set_signal(k, v);
+        }
+        let mut controller = |_: &mut Machine<'_>| Err(ExecError("the random units call no controller".into()));
+        if let Err(e) = self.machine.cycle(&mut controller) {
+            panic!("{}: the reference stops: {e:?}", self.unit.name);
         }
     }
 
-    fn place_ty(&self, frame: &Frame, place: &Place) -> Ty {
-        match place {
-            Place::Global(n) => scalar(&self.unit.global(n).unwrap().ty),
-            Place::Local(n) => match &frame.pou.kind {
-                PouKind::Function { returns: Some(t) } if *n == frame.pou.name => scalar(t),
-                _ => scalar(
-                    &frame
-                        .pou
-                        .inputs
-                        .iter()
-                        .chain(&frame.pou.outputs)
-                        .chain(&frame.pou.locals)
-                        .find(|v| v.name == *n)
-                        .unwrap()
-                        .ty,
-                ),
-            },
-            Place::Signal(i) => scalar(&self.unit.signals[*i].ty),
-            Place::Member(..) => panic!("the random units read no members"),
-        }
-    }
-
-    fn ty(&self, frame: &Frame, e: &Expr) -> Ty {
-        match e {
-            Expr::Bool(_) | Expr::Not(_) => Ty::Bool,
-            Expr::Int(n) => {
-                if i16::try_from(*n).is_ok() {
-                    Ty::Int
-                } else {
-                    Ty::Dint
-                }
+    /// The first `size` bytes of process image `area` (`Q` or `M`) after the cycle.
+    fn image(&self, area: char, size: usize) -> Vec<u8> {
+        let mut image = vec![0u8; size];
+        for (k, s) in self.unit.signals.iter().enumerate() {
+            let (a, byte, bit, _) = image_address(&s.address);
+            if a != area {
+                continue;
             }
-            Expr::Real(_) => Ty::Real,
-            Expr::Time(_) => Ty::Time,
-            Expr::Read(p) => self.place_ty(frame, p),
-            Expr::Neg(x) => self.ty(frame, x),
-            Expr::Binary(op, a, b) => match op {
-                BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::Div | BinOp::Mod => {
-                    match (self.ty(frame, a), self.ty(frame, b)) {
-                        (Ty::Real, Ty::Real) => Ty::Real,
-                        (Ty::Real, _) | (_, Ty::Real) => panic!("REAL mixed with an integer in {e:?}"),
-                        (Ty::Time, _) | (_, Ty::Time) => Ty::Time,
-                        (Ty::Dint, _) | (_, Ty::Dint) => Ty::Dint,
-                        _ => Ty::Int,
-                    }
-                }
-                _ => Ty::Bool,
-            },
-        }
-    }
-
-    fn read(&mut self, frame: &Frame, place: &Place) -> i64 {
-        match place {
-            Place::Global(n) => match self.unit.constants.iter().find(|c| c.name == *n) {
-                Some(c) => self.literal(c.init.as_ref()),
-                None => self.globals[n],
-            },
-            Place::Local(n) => match frame.locals.get(n) {
-                Some(v) => *v,
-                None => self.program[n],
-            },
-            Place::Signal(i) => self.read_signal(*i),
-            Place::Member(..) => unreachable!(),
-        }
-    }
-
-    fn write(&mut self, frame: &mut Frame, place: &Place, value: i64) {
-        let value = wrap(value, self.place_ty(frame, place));
-        match place {
-            Place::Global(n) => {
-                self.globals.insert(n.clone(), value);
-            }
-            Place::Local(n) => {
-                if frame.pou.kind == PouKind::Program {
-                    self.program.insert(n.clone(), value);
-                } else {
-                    frame.locals.insert(n.clone(), value);
-                }
-            }
-            Place::Signal(i) => self.write_signal(*i, value),
-            Place::Member(..) => unreachable!(),
-        }
-    }
-
-    fn eval(&mut self, frame: &Frame, e: &Expr) -> i64 {
-        match e {
-            Expr::Bool(b) => *b as i64,
-            Expr::Int(n) => *n,
-            Expr::Real(r) => bits(r.value()),
-            Expr::Time(ms) => *ms as i64,
-            Expr::Read(p) => self.read(frame, p),
-            Expr::Not(x) => 1 - self.eval(frame, x),
-            Expr::Neg(x) if self.ty(frame, x) == Ty::Real => bits(-real(self.eval(frame, x))),
-            Expr::Neg(x) => wrap(-self.eval(frame, x), self.ty(frame, e)),
-            Expr::Binary(op, a, b) if self.ty(frame, a) == Ty::Real => {
-                if self.mutation == Mutation::RealInF64 {
-                    let (x, y) = (self.eval_f64(frame, a), self.eval_f64(frame, b));
-                    return match op {
-                        BinOp::Eq => (x == y) as i64,
-                        BinOp::Ne => (x != y) as i64,
-                        BinOp::Lt => (x < y) as i64,
-                        BinOp::Le => (x <= y) as i64,
-                        BinOp::Gt => (x > y) as i64,
-                        BinOp::Ge => (x >= y) as i64,
-                        _ => bits(self.eval_f64(frame, e) as f32),
-                    };
-                }
-                let (x, y) = (real(self.eval(frame, a)), real(self.eval(frame, b)));
-                match op {
-                    BinOp::Eq => (x == y) as i64,
-                    BinOp::Ne => (x != y) as i64,
-                    BinOp::Lt => (x < y) as i64,
-                    BinOp::Le => (x <= y) as i64,
-                    BinOp::Gt => (x > y) as i64,
-                    BinOp::Ge => (x >= y) as i64,
-                    BinOp::Add => bits(x + y),
-                    BinOp::Sub => bits(x - y),
-                    BinOp::Mul => bits(x * y),
-                    BinOp::Div => bits(x / y),
-                    other => panic!("{other:?} of REALs"),
-                }
-            }
-            Expr::Binary(op, a, b) => {
-                let (x, y) = (self.eval(frame, a), self.eval(frame, b));
-                let t = self.ty(frame, e);
-                match op {
-                    BinOp::And => x & y,
-                    BinOp::Or => x | y,
-                    BinOp::Xor if self.mutation == Mutation::XorAsOr => x | y,
-                    BinOp::Xor => x ^ y,
-                    BinOp::Eq => (x == y) as i64,
-                    BinOp::Ne => (x != y) as i64,
-                    BinOp::Lt => (x < y) as i64,
-                    BinOp::Le => (x <= y) as i64,
-                    BinOp::Gt => (x > y) as i64,
-                    BinOp::Ge => (x >= y) as i64,
-                    BinOp::Add => wrap(x + y, t),
-                    BinOp::Sub => wrap(x - y, t),
-                    BinOp::Mul => wrap(x * y, t),
-                    BinOp::Div => wrap(x / y, t),
-                    BinOp::Mod if self.mutation == Mutation::EuclidMod => wrap(x.rem_euclid(y), t),
-                    BinOp::Mod => wrap(x % y, t),
+            let v = self.machine.signal(k);
+            match bit {
+                Some(x) => image[byte] |= u8::from(v.as_bool()) << x,
+                None => {
+                    let bytes = value_bytes(v, &s.ty);
+                    image[byte..byte + bytes.len()].copy_from_slice(&bytes);
                 }
             }
         }
-    }
-
-    /// A REAL expression computed in `f64` throughout (the mutation `RealInF64`).
-    fn eval_f64(&mut self, frame: &Frame, e: &Expr) -> f64 {
-        match e {
-            Expr::Neg(x) => -self.eval_f64(frame, x),
-            Expr::Binary(op, a, b) => {
-                let (x, y) = (self.eval_f64(frame, a), self.eval_f64(frame, b));
-                match op {
-                    BinOp::Add => x + y,
-                    BinOp::Sub => x - y,
-                    BinOp::Mul => x * y,
-                    _ => x / y,
-                }
-            }
-            other => f64::from(real(self.eval(frame, other))),
-        }
-    }
-
-    fn exec(&mut self, frame: &mut Frame, body: &[Stmt]) {
-        for s in body {
-            match s {
-                Stmt::Comment(_) => {}
-                Stmt::Assign { target, value } => {
-                    let v = self.eval(frame, value);
-                    self.write(frame, target, v);
-                }
-                Stmt::If { arms, otherwise } => {
-                    let mut taken = false;
-                    for (c, b) in arms {
-                        if self.eval(frame, c) != 0 {
-                            self.exec(frame, b);
-                            taken = true;
-                            break;
-                        }
-                    }
-                    if !taken {
-                        self.exec(frame, otherwise);
-                    }
-                }
-                Stmt::Case { selector, arms, otherwise } => {
-                    let v = self.eval(frame, selector);
-                    match arms.iter().find(|(ls, _)| ls.contains(&v)) {
-                        Some((_, b)) => self.exec(frame, b),
-                        None => self.exec(frame, otherwise),
-                    }
-                }
-                Stmt::CallFunction { function, args, result } => {
-                    let f = self.unit.pou(function).unwrap();
-                    let mut locals = HashMap::new();
-                    for p in &f.inputs {
-                        let value = match args.iter().find(|(n, _)| *n == p.name) {
-                            Some((_, e)) => self.eval(frame, e),
-                            None => self.literal(p.init.as_ref()),
-                        };
-                        locals.insert(p.name.clone(), wrap(value, scalar(&p.ty)));
-                    }
-                    for v in &f.locals {
-                        locals.insert(v.name.clone(), self.literal(v.init.as_ref()));
-                    }
-                    locals.insert(f.name.clone(), 0);
-                    let mut callee = Frame { pou: f, locals };
-                    self.exec(&mut callee, &f.body);
-                    if let Some(place) = result {
-                        let v = callee.locals[&f.name];
-                        self.write(frame, place, v);
-                    }
-                }
-                Stmt::CallInstance { .. } => panic!("the random units call no instances"),
-            }
-        }
-    }
-
-    fn cycle(&mut self) {
-        let program = self.unit.pous.last().unwrap();
-        let mut frame = Frame { pou: program, locals: HashMap::new() };
-        self.exec(&mut frame, &program.body);
+        image
     }
 
     /// The global data block as bytes, laid out as the printer says.
     fn global_db(&self, options: &StlUnitOptions) -> Vec<u8> {
         let locations = unit_stl::global_locations(self.unit, options);
         let size = locations.iter().map(|l| l.byte as usize + 4).max().unwrap_or(0);
-        let mut db = vec![0u8; size];
-        for l in &locations {
-            let v = self.globals[&l.name];
-            let b = l.byte as usize;
-            match l.ty {
-                Type::Bool => db[b] |= (v as u8 & 1) << l.bit,
-                Type::Int => db[b..b + 2].copy_from_slice(&(v as i16).to_be_bytes()),
-                _ => db[b..b + 4].copy_from_slice(&(v as i32).to_be_bytes()),
-            }
-        }
-        db
+        data_block(&locations, size, |name| self.machine.global(name).unwrap())
     }
 }
 
@@ -990,7 +794,7 @@ fn compare(unit: &Unit, seed: u64, cycles: usize, mutations: &[Mutation]) -> Vec
     let options = StlUnitOptions::default();
     assert_eq!(unit_stl::check(unit, &options), Vec::<String>::new());
     let awl = unit_stl::render(unit, &options);
-    let db_size = Machine::new(unit, Mutation::None).global_db(&options).len();
+    let db_size = Reference::new(unit).global_db(&options).len();
     // The program's statics, where the header says they are.
     let program = unit_stl::program_locations(unit, &options);
     let program_size = program.iter().map(|l| l.byte + if l.ty == Type::Real { 4 } else { 2 }).max().unwrap();
@@ -1029,26 +833,24 @@ fn compare(unit: &Unit, seed: u64, cycles: usize, mutations: &[Mutation]) -> Vec
     mutations
         .iter()
         .map(|&mutation| {
-            let mut m = Machine::new(unit, mutation);
+            let unit = mutated(unit, mutation);
+            let mut m = Reference::new(&unit);
             for (k, bytes) in inputs.iter().enumerate() {
-                m.inputs[..bytes.len()].copy_from_slice(bytes);
-                m.cycle();
-                let mut statics = vec![0u8; program_size as usize];
-                for l in &program {
-                    let (v, b) = (m.program[&l.name], l.byte as usize);
-                    match l.ty {
-                        Type::Bool => statics[b] |= (v as u8 & 1) << l.bit,
-                        Type::Real => statics[b..b + 4].copy_from_slice(&(v as u32).to_be_bytes()),
-                        _ => statics[b..b + 2].copy_from_slice(&(v as i16).to_be_bytes()),
-                    }
-                }
-                let expected = [m.global_db(&options), statics, m.outputs[..8].to_vec(), m.memory[..12].to_vec()];
+                m.cycle(bytes);
+                let statics =
+                    data_block(&program, program_size as usize, |name| m.machine.program_value(name).unwrap());
+                let expected = [m.global_db(&options), statics, m.image('Q', 8), m.image('M', 12)];
                 if trace[k] != expected {
+                    let globals: Vec<(&str, Value)> = unit
+                        .globals
+                        .iter()
+                        .filter_map(|v| Some((v.name.as_str(), m.machine.global(&v.name)?)))
+                        .collect();
                     return (
                         mutation,
                         Some(format!(
-                            "cycle {k}: awlsim {:02x?}, reference {expected:02x?}\nglobals {:?}",
-                            trace[k], m.globals
+                            "cycle {k}: awlsim {:02x?}, reference {expected:02x?}\nglobals {globals:?}",
+                            trace[k]
                         )),
                     );
                 }
@@ -1067,7 +869,7 @@ fn random_units_run_in_awlsim_as_the_reference_says() {
                 s.spawn(move || {
                     let unit = random_unit(seed);
                     let mutations = if seed == 1 {
-                        vec![Mutation::None, Mutation::EuclidMod, Mutation::XorAsOr, Mutation::RealInF64]
+                        vec![Mutation::None, Mutation::EuclidMod, Mutation::XorAsOr, Mutation::RealDivByReciprocal]
                     } else {
                         vec![Mutation::None]
                     };

@@ -62,7 +62,8 @@ pub(crate) struct RealtimeView {
     scan_ms: u64,
     runs: u64,
     scans_per_run: u64,
-    /// The failure, with the seed of its run and the run's trace, or `null`.
+    /// The failure ([`plc::lower::timed::realtime::RunReport::outcome`]: what and when) with its
+    /// run and seed, or `null`; the failed run's trace apart.
     failure: Option<String>,
     trace: Vec<String>,
 }
@@ -326,15 +327,10 @@ impl TimedSession {
                             scan_ms: ms,
                             runs: report.runs,
                             scans_per_run: config.scans,
-                            failure: report.failure.as_ref().map(|r| {
-                                format!(
-                                    "{} (run {}, seed {}, at {:.3} ms)",
-                                    r.failure.as_ref().map_or(String::new(), |f| format!("{f:?}")),
-                                    report.runs,
-                                    r.seed,
-                                    r.time_us as f64 / 1000.0
-                                )
-                            }),
+                            failure: report
+                                .failure
+                                .as_ref()
+                                .map(|r| format!("{} (run {}, seed {})", r.outcome(), report.runs, r.seed)),
                             trace: report.failure.map(|r| r.trace).unwrap_or_default(),
                         }
                     })

@@ -4,7 +4,8 @@
 //! any printer: what the lowering means is what this interpreter does.
 //!
 //! Integers are stored wrapped to their declared width (`INT` 16 bits, `DINT` 32 bits), as a PLC
-//! stores them; arithmetic is exact in between. `REAL` values are `f32` and every operation is
+//! stores them; arithmetic is exact in between, or, in [`Arithmetic::Accumulator`], wraps after
+//! every operation as an S7 CPU's accumulator does. `REAL` values are `f32` and every operation is
 //! computed in `f32` (as an S7 CPU does, so results agree bit for bit with awlsim), a subnormal
 //! result flushed to 0.0 as S7 does; an operation that mixes `REAL` with an integer, or a store
 //! of one into the other, is an error (IEC converts only explicitly). A `TON` is on-delay: `Q` rises once `IN` has been
@@ -94,6 +95,43 @@ fn s7_real(v: f32) -> Value {
     Value::Real(if v.is_subnormal() { 0.0 } else { v })
 }
 
+/// How integer operations treat the width of their operands.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Arithmetic {
+    /// Exact in between, wrapped to the declared width only when stored.
+    #[default]
+    Exact,
+    /// Every arithmetic operation (`+ - * / MOD`, negation) wraps its result at its operands'
+    /// width, as an S7 CPU's accumulator instructions do and as the STL printer's code computes
+    /// (`plc::print::stl::unit`): 16 bits when both sides are INT, 32 bits when one is DINT or
+    /// TIME; an integer literal is INT when it fits in 16 bits.
+    Accumulator,
+}
+
+/// The width an integer operation works in under [`Arithmetic::Accumulator`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum Width {
+    W16,
+    W32,
+}
+
+impl Width {
+    fn of(ty: &Type) -> Width {
+        if *ty == Type::Int {
+            Width::W16
+        } else {
+            Width::W32
+        }
+    }
+
+    fn wrap(self, v: i64) -> i64 {
+        match self {
+            Width::W16 => i64::from(v as i16),
+            Width::W32 => i64::from(v as i32),
+        }
+    }
+}
+
 /// Why the interpreter stopped.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ExecError(pub String);
@@ -152,6 +190,7 @@ pub struct Machine<'u> {
     now_ms: u64,
     /// Calls made so far in the current cycle: a bound on runaway code.
     steps: u64,
+    arithmetic: Arithmetic,
 }
 
 /// Statements one cycle may execute before it counts as a hang.
@@ -168,6 +207,7 @@ impl<'u> Machine<'u> {
             program: Frame::default(),
             now_ms: 0,
             steps: 0,
+            arithmetic: Arithmetic::Exact,
         };
         let mut globals = Frame::default();
         for v in unit.constants.iter().chain(&unit.globals) {
@@ -237,6 +277,16 @@ impl<'u> Machine<'u> {
     /// The value of global or constant `name`.
     pub fn global(&self, name: &str) -> Option<Value> {
         self.globals.values.get(name).copied()
+    }
+
+    /// The value of the program's variable `name` (an input, output or static).
+    pub fn program_value(&self, name: &str) -> Option<Value> {
+        self.program.values.get(name).copied()
+    }
+
+    /// Sets how integer operations treat widths from now on ([`Arithmetic::Exact`] at first).
+    pub fn set_arithmetic(&mut self, arithmetic: Arithmetic) {
+        self.arithmetic = arithmetic;
     }
 
     /// The value of variable `field` (an input, output or static) of `instance`, an instance of
@@ -452,7 +502,7 @@ impl<'u> Machine<'u> {
             },
             Expr::Neg(a) => match self.eval(a, frame)? {
                 Value::Real(v) => Value::Real(-v),
-                v => Value::Int(v.as_int().wrapping_neg()),
+                v => Value::Int(self.wrap(e, v.as_int().wrapping_neg(), frame)),
             },
             Expr::Binary(op, a, b) => {
                 let (x, y) = (self.eval(a, frame)?, self.eval(b, frame)?);
@@ -481,16 +531,52 @@ impl<'u> Machine<'u> {
                     BinOp::Le => Value::Bool(i <= j),
                     BinOp::Gt => Value::Bool(i > j),
                     BinOp::Ge => Value::Bool(i >= j),
-                    BinOp::Add => Value::Int(i.wrapping_add(j)),
-                    BinOp::Sub => Value::Int(i.wrapping_sub(j)),
-                    BinOp::Mul => Value::Int(i.wrapping_mul(j)),
+                    BinOp::Add => Value::Int(self.wrap(e, i.wrapping_add(j), frame)),
+                    BinOp::Sub => Value::Int(self.wrap(e, i.wrapping_sub(j), frame)),
+                    BinOp::Mul => Value::Int(self.wrap(e, i.wrapping_mul(j), frame)),
                     BinOp::Div | BinOp::Mod if j == 0 => return err("division by zero"),
                     // IEC truncates towards zero; MOD takes the sign of the dividend.
-                    BinOp::Div => Value::Int(i.wrapping_div(j)),
-                    BinOp::Mod => Value::Int(i.wrapping_rem(j)),
+                    BinOp::Div => Value::Int(self.wrap(e, i.wrapping_div(j), frame)),
+                    BinOp::Mod => Value::Int(self.wrap(e, i.wrapping_rem(j), frame)),
                 }
             }
         })
+    }
+
+    /// `v`, the result of integer operation `e`, wrapped at the operation's width under
+    /// [`Arithmetic::Accumulator`]; `v` itself when exact.
+    fn wrap(&self, e: &Expr, v: i64, frame: &Frame) -> i64 {
+        match self.arithmetic {
+            Arithmetic::Exact => v,
+            Arithmetic::Accumulator => self.width(e, frame).wrap(v),
+        }
+    }
+
+    /// The width integer expression `e` is computed in under [`Arithmetic::Accumulator`].
+    fn width(&self, e: &Expr, frame: &Frame) -> Width {
+        match e {
+            Expr::Int(v) if i16::try_from(*v).is_ok() => Width::W16,
+            Expr::Read(p) => self.place_type(p, frame).map_or(Width::W32, |ty| Width::of(&ty)),
+            Expr::Neg(a) => self.width(a, frame),
+            Expr::Binary(_, a, b) => self.width(a, frame).max(self.width(b, frame)),
+            _ => Width::W32,
+        }
+    }
+
+    /// The declared type of `place`, when it has one.
+    fn place_type(&self, place: &Place, frame: &Frame) -> Option<Type> {
+        match place {
+            Place::Local(name) => frame.types.get(name).cloned(),
+            Place::Global(name) => self.globals.types.get(name).cloned(),
+            Place::Signal(k) => self.unit.signals.get(*k).map(|s| s.ty.clone()),
+            Place::Member(base, field) => {
+                let Place::Local(name) = base.as_ref() else { return None };
+                match frame.instances.get(name) {
+                    Some(own) => own.types.get(field).cloned(),
+                    None => frame.timers.contains_key(name).then_some(Type::Time),
+                }
+            }
+        }
     }
 }
 
@@ -512,4 +598,55 @@ fn real_binary(op: BinOp, p: f32, q: f32) -> Result<Value> {
             return err(format!("`{}` of REALs (only + - * / and comparisons)", op.text()))
         }
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `n := (a * a) / 10` and `d := (a * big) / 10` with `a` INT 300, `big` DINT 300.
+    fn unit() -> Unit {
+        let square = |x: &str| Expr::binary(BinOp::Mul, Expr::global("a"), Expr::global(x));
+        let program = Pou {
+            kind: PouKind::Program,
+            name: "main".into(),
+            comment: String::new(),
+            inputs: vec![],
+            outputs: vec![],
+            locals: vec![Var::new("d", Type::Dint, "")],
+            body: vec![
+                Stmt::assign(Place::global("n"), Expr::binary(BinOp::Div, square("a"), Expr::Int(10))),
+                Stmt::assign(Place::local("d"), Expr::binary(BinOp::Div, square("big"), Expr::Int(10))),
+            ],
+        };
+        Unit {
+            name: "widths".into(),
+            header: vec![],
+            gvl: "GVL".into(),
+            constants: vec![],
+            globals: vec![
+                Var::new("a", Type::Int, "").with_init(Expr::Int(300)),
+                Var::new("big", Type::Dint, "").with_init(Expr::Int(300)),
+                Var::new("n", Type::Int, ""),
+            ],
+            signals: vec![],
+            pous: vec![program],
+        }
+    }
+
+    #[test]
+    fn accumulator_arithmetic_wraps_every_int_operation_and_exact_only_the_store() {
+        let unit = unit();
+        let mut controller = |_: &mut Machine<'_>| Ok(());
+        let mut exact = Machine::new(&unit).unwrap();
+        exact.cycle(&mut controller).unwrap();
+        assert_eq!(exact.global("n"), Some(Value::Int(9000)));
+        assert_eq!(exact.program_value("d"), Some(Value::Int(9000)));
+        let mut cpu = Machine::new(&unit).unwrap();
+        cpu.set_arithmetic(Arithmetic::Accumulator);
+        cpu.cycle(&mut controller).unwrap();
+        // 300 * 300 = 90000 wraps to 24464 in 16 bits; with a DINT it does not.
+        assert_eq!(cpu.global("n"), Some(Value::Int(2446)));
+        assert_eq!(cpu.program_value("d"), Some(Value::Int(9000)));
+    }
 }

@@ -29,6 +29,7 @@ use crate::rng::Rng;
 use crate::timed::model::{Game, MessageKind, MessageRole, MsgId};
 use crate::timed::plant::{Move, Plant, Violation};
 use std::collections::VecDeque;
+use std::fmt;
 
 /// The controller side of a run.
 pub trait ScanController {
@@ -324,6 +325,31 @@ pub struct RunReport {
     /// A legend (the inputs' and outputs' names, the plant's manner in this run), then the last
     /// events: time in ms, the event, the inputs' levels and the outputs.
     pub trace: Vec<String>,
+}
+
+impl RunReport {
+    /// What ended the run and when: the failure in its `Debug` form (the variant's name, which
+    /// the CLI's and the playground's readers look for) at the run's end in ms, e.g.
+    /// `PlanFailed { plan: "p" } at 495.000 ms`; `no failure (Scans) at …` when none.
+    pub fn outcome(&self) -> String {
+        let ms = self.time_us as f64 / 1000.0;
+        match &self.failure {
+            Some(f) => format!("{f:?} at {ms:.3} ms"),
+            None => format!("no failure ({:?}) at {ms:.3} ms", self.stop),
+        }
+    }
+}
+
+/// [`RunReport::outcome`], then the trace, one event a line: the text every reader of a failed
+/// run prints (the CLI, the tests; the playground shows the trace apart).
+impl fmt::Display for RunReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.outcome())?;
+        for line in &self.trace {
+            write!(f, "\n{line}")?;
+        }
+        Ok(())
+    }
 }
 
 /// How each input's level follows the plant (docs/plc-code.md, "The I/O contract").
