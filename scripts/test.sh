@@ -7,6 +7,9 @@
 # after the other), else with `cargo test`. Nothing is cached between runs: each step installs
 # only what is missing, as `make checkers`, `make web-setup` and `make browser-setup` do.
 #
+# The WebAssembly builds (lint, the boundary's tests, the playground) run in the background
+# during the native tests, in target/wasm-jobs.
+#
 # Environment: CARGO (default cargo), TEST_PROFILE (default test-opt).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -48,6 +51,20 @@ else
     $cargo test --all-targets --profile "$profile" --no-run
 fi
 wait_setup
+
+# 4. The WebAssembly builds (the boundary's lint and tests, the playground) in the background,
+#    in a target directory of their own so that they never wait for the native run's cargo.
+wasm_log=target/wasm-build.log
+wasm_target_dir=$PWD/target/wasm-jobs
+setsid env CARGO_TARGET_DIR="$wasm_target_dir" bash -c "
+    set -e
+    $cargo clippy --lib --target wasm32-unknown-unknown --no-default-features -- -D warnings
+    $cargo test --target wasm32-unknown-unknown --no-default-features --test wasm_api --no-run
+    bash scripts/build-web.sh
+" >"$wasm_log" 2>&1 </dev/null &
+wasm_pid=$!
+trap 'kill -- -"$setup_pid" 2>/dev/null || true; kill -- -"$wasm_pid" 2>/dev/null || true' EXIT
+
 phase "run the native tests"
 if [[ $nextest -eq 1 ]]; then
     $cargo nextest run --cargo-profile "$profile" --all-targets --no-fail-fast \
@@ -57,9 +74,14 @@ else
 fi
 $cargo test --doc --profile "$profile"
 
-# 4. The wasm boundary in Node, then the page in headless Chromium.
+# 5. The wasm boundary in Node, then the page in headless Chromium, on what step 4 built.
+if ! wait "$wasm_pid"; then
+    say "the WebAssembly lint or builds failed:"
+    cat "$wasm_log" >&2
+    exit 1
+fi
 phase "wasm tests"
-make --no-print-directory test-wasm
+CARGO_TARGET_DIR="$wasm_target_dir" $cargo test --target wasm32-unknown-unknown --no-default-features --test wasm_api
 phase "browser tests"
-make --no-print-directory test-browser
+node --test --test-concurrency=1 tests/browser/
 phase "all tests passed"
