@@ -6,7 +6,7 @@ PORT ?= 8080
 
 .PHONY: test test-long lint test-native test-wasm test-browser serve web web-setup browser-setup checkers fuzz readme-bench
 
-# The tests build with the `test-opt` profile (Cargo.toml): optimised, no fat LTO, overflow
+# The tests build with the `test-opt` profile (Cargo.toml): optimised, no LTO, overflow
 # checks on. Release builds (LTO) are for `make serve`, benchmarks and users.
 TEST_PROFILE ?= test-opt
 

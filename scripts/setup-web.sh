@@ -41,8 +41,12 @@ if [[ -z "$version" ]]; then say "wasm-bindgen not found in Cargo.lock"; exit 1;
 have=$(wasm-bindgen --version 2>/dev/null | awk '{print $2}' || true)
 if [[ "$have" != "$version" ]] || ! command -v wasm-bindgen-test-runner >/dev/null; then
     say "cargo install wasm-bindgen-cli --version $version (a few minutes, once)"
-    # Without --locked: the locked build of this version fails on a yanked dependency.
-    cargo install wasm-bindgen-cli --version "$version" --force </dev/null >&2
+    # Without --locked: the locked build of this version fails on a yanked dependency. A
+    # quick release build (no LTO, opt-level 1, parallel code generation): the tools only
+    # rewrite one module per build, and the install is about half of a fresh machine's setup.
+    CARGO_PROFILE_RELEASE_OPT_LEVEL=1 CARGO_PROFILE_RELEASE_LTO=false CARGO_PROFILE_RELEASE_CODEGEN_UNITS=16 \
+        CARGO_PROFILE_RELEASE_DEBUG=false \
+        cargo install wasm-bindgen-cli --version "$version" --force </dev/null >&2
 fi
 
 # 3. npm packages, from package-lock.json.

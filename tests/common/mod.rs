@@ -75,6 +75,11 @@ pub fn check(cmd: &mut Command, what: &Path) {
 /// blark's start-up costs about a second, more than most files), and fails naming every file
 /// it rejects.
 pub fn blark_all(python: &Path, root: &Path, files: &[PathBuf]) {
+    // Targets often print the same text (IEC ST and SCL after `scl_for_blark`, say): blark
+    // parses each text once, which checks exactly as much in about a third less time.
+    let mut seen = std::collections::HashSet::new();
+    let files: Vec<&PathBuf> =
+        files.iter().filter(|f| seen.insert(std::fs::read(f).expect("a file written for blark"))).collect();
     let script = root.join("tests/checkers/blark_many.py");
     let children: Vec<_> = [0, 1]
         .iter()
