@@ -17,7 +17,7 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-use common::venv_tool;
+use common::{scl_for_blark, venv_tool};
 
 fn example(name: &str) -> String {
     std::fs::read_to_string(root().join(format!("examples/timed/{name}.tga"))).unwrap()
@@ -81,35 +81,6 @@ fn blark(path: &Path) {
         out.lines().rev().take(12).collect::<Vec<_>>().join("\n"),
         std::fs::read_to_string(path).unwrap()
     );
-}
-
-/// SCL as blark reads it: the TIA Portal source lines (block attribute, VERSION and BEGIN) are
-/// Siemens-only and removed, and PLC tags (`"press"`, `"Lamp On"`) become identifiers, since IEC
-/// reads a double-quoted text as a string literal. Everything else is checked.
-fn scl_for_blark(text: &str) -> String {
-    assert!(text.contains("VERSION : 0.1\n") && text.contains("BEGIN\n"), "TIA source layout");
-    let mut out = String::new();
-    for line in text.lines() {
-        if line.starts_with("{ S7_Optimized_Access") || line.starts_with("VERSION :") || line == "BEGIN" {
-            continue;
-        }
-        // Tags outside comments: `"a b"` → `a_b`.
-        let (code, comment) = line.split_once("(*").map_or((line, None), |(c, rest)| (c, Some(rest)));
-        let mut in_tag = false;
-        for ch in code.chars() {
-            match ch {
-                '"' => in_tag = !in_tag,
-                ' ' if in_tag => out.push('_'),
-                _ => out.push(ch),
-            }
-        }
-        if let Some(rest) = comment {
-            out.push_str("(*");
-            out.push_str(rest);
-        }
-        out.push('\n');
-    }
-    out
 }
 
 /// Checks `text`, the code of `example` for `target`, with the target's independent checker.
@@ -241,7 +212,12 @@ fn without_io_the_signals_are_named_after_the_messages() {
     for name in ["loaded : BOOL", "reached_up : BOOL", "moveto_up : BOOL", "load : BOOL"] {
         assert!(st.contains(name), "{name} in\n{st}");
     }
-    assert!(!st.contains("PROGRAM"), "no wiring program without bindings");
+    // The program wires the block to a global variable list that the PLC tool maps to its I/O:
+    // unlocated in IEC and CODESYS, `AT %I*` / `AT %Q*` in TwinCAT.
+    assert!(st.contains("PROGRAM gear_checking_main") && st.contains("VAR_GLOBAL\n    loaded : BOOL;"), "{st}");
+    assert!(!st.contains('%'), "no address without bindings:\n{st}");
+    let twincat = generate("gear_checking", Target::Twincat);
+    assert!(twincat.contains("loaded AT %I* : BOOL;") && twincat.contains("load AT %Q* : BOOL;"), "{twincat}");
     let il = generate("gear_checking", Target::Il);
     assert!(il.contains("JMPC S0") && il.contains("ST step") && il.contains("RET"), "{il}");
 }
@@ -289,13 +265,16 @@ fn clash_spec(io: &str) -> String {
 #[test]
 fn variables_are_named_after_the_messages_and_addresses_appear_only_in_the_mapping() {
     let st = generate("lamp", Target::St);
-    let (block, program) = st.split_once("END_FUNCTION_BLOCK").unwrap();
+    let (globals, rest) = st.split_once("FUNCTION_BLOCK lamp\n").unwrap();
+    let (block, program) = rest.split_once("END_FUNCTION_BLOCK").unwrap();
     assert!(block.contains("press : BOOL; (* press, NOT release *)"), "{st}");
     assert!(block.contains("turn_on : BOOL; (* turn_on sets, turn_off resets *)"), "{st}");
     assert!(block.contains("IF NOT press THEN"), "{st}");
     assert!(!block.contains('%') && !st.contains("I124_0"), "no address in the block:\n{st}");
-    assert!(program.contains("press AT %IX124.0 : BOOL;") && program.contains("turn_on AT %QX125.6 : BOOL;"), "{st}");
+    // The located variables in the global variable list, the program reads and writes them.
+    assert!(globals.contains("press AT %IX124.0 : BOOL;") && globals.contains("turn_on AT %QX125.6 : BOOL;"), "{st}");
     assert!(program.contains("ctrl(press := press);\nturn_on := ctrl.turn_on;"), "{st}");
+    assert!(!program.contains('%'), "{st}");
     // CODESYS: the located variables in the global variable list, the program reads it.
     let codesys = generate("lamp", Target::Codesys);
     assert!(codesys.contains("{attribute 'qualified_only'}\nVAR_GLOBAL\n    press AT %IX124.0 : BOOL;"), "{codesys}");
@@ -471,7 +450,8 @@ fn stl_refuses_markers_on_user_bits_and_more_thresholds_than_timers_located() {
     assert!(build(&source, "lamp", Target::St, &Options::default()).is_ok());
     // Two robots compare several thresholds; a CPU with one timer cannot run them.
     let source = example("two_robots_14");
-    let needed = plc::print::stl::s7_timers(&build(&source, "r", Target::Stl, &Options::default()).unwrap()).len();
+    let code = build(&source, "r", Target::Stl, &Options::default()).unwrap();
+    let needed = plc::print::stl::s7_timers(&plc::lower::timed::structured(&code).unit).unwrap().len();
     assert!(needed >= 2, "{needed}");
     let diags =
         build(&source, "r", Target::Stl, &Options { cpu_timers: 1, ..Options::default() }).expect_err("one timer");

@@ -13,7 +13,7 @@ mod common;
 
 use common::{root, venv_tool};
 use plcsynth::plc::lower::timed::realtime::{
-    self, Config, Failure, Interpreter, Latency, RunReport, ScanController, Stop,
+    self, Config, Failure, Interpreter, Latency, RunReport, ScanController, Stop, UnitInterpreter,
 };
 use plcsynth::plc::lower::timed::{self as lower_timed, Wiring};
 use plcsynth::plc::model::code::{Code, Effect, Statement, Test};
@@ -278,6 +278,95 @@ fn the_lamp_fails_at_10_ms_and_lamp_scan_holds() {
     assert_eq!(at_10_ms(lamp_scan), plcsynth::timed::solve::Verdict::Realizable);
 }
 
+/// The structured unit of a step machine, run by the unit interpreter, beside the step
+/// machine's own interpreter: the plant sees the unit's outputs.
+struct Lockstep<'c> {
+    unit: UnitInterpreter<'c>,
+    reference: Interpreter<'c>,
+    scans: u64,
+    mismatches: Vec<String>,
+}
+
+impl ScanController for Lockstep<'_> {
+    fn scan(&mut self, now_us: u64, inputs: &[bool]) -> Vec<bool> {
+        let out = self.unit.scan(now_us, inputs);
+        let expected = self.reference.scan(now_us, inputs);
+        let (at, expected_at) = (self.unit.position(), self.reference.position());
+        if (out != expected || at != expected_at) && self.mismatches.len() < 5 {
+            self.mismatches.push(format!(
+                "scan {} at {now_us} us, inputs {inputs:?}: unit {out:?} at {at:?}, step machine {expected:?} at {expected_at:?}",
+                self.scans
+            ));
+        }
+        self.scans += 1;
+        out
+    }
+}
+
+/// Runs `structured` (the unit of `e`'s ST code) against the plant beside the step machine on
+/// `seed`; returns the report and the mismatches.
+fn lockstep(e: &Example, structured: &lower_timed::Structured, seed: u64, scans: u64) -> (RunReport, Vec<String>) {
+    let (code, wiring) = &e.st;
+    let mut l = Lockstep {
+        unit: UnitInterpreter::new(structured).unwrap_or_else(|m| panic!("{}: {m}", e.name)),
+        reference: Interpreter::new(code, Target::St),
+        scans: 0,
+        mismatches: Vec::new(),
+    };
+    let r = realtime::run(&e.game, code, wiring, &mut l, &config(scans), seed);
+    if let Some(m) = l.unit.error() {
+        l.mismatches.push(format!("the unit interpreter stopped: {m}"));
+    }
+    (r, l.mismatches)
+}
+
+#[test]
+fn the_structured_unit_runs_as_the_step_machine_scan_by_scan() {
+    // Every example's ST code as a unit of the one code model (a step list in a function
+    // block, a program wiring it), run by the unit interpreter against the plant: its outputs
+    // and positions are the step machine's at every scan, and so are the verdicts.
+    for e in examples() {
+        let structured = lower_timed::structured(&e.st.0);
+        for seed in 0..3 {
+            let (r, mismatches) = lockstep(e, &structured, seed, 800);
+            assert!(mismatches.is_empty(), "{} seed {seed}:\n{}", e.name, mismatches.join("\n"));
+            assert_eq!(r.outcome(), run_rust(e, Target::St, seed, 800).outcome(), "{} seed {seed}", e.name);
+        }
+    }
+    // The comparison sees a wrong lowering: a wait that ends the scan when it passes, or a
+    // request that drives the wrong level.
+    use plcsynth::plc::model::unit::{Expr, Next, Stmt};
+    let e = example("lamp_scan");
+    let original = lower_timed::structured(&e.st.0);
+    fn steps(s: &mut lower_timed::Structured) -> &mut Vec<plcsynth::plc::model::unit::Step> {
+        let block = &mut s.unit.pous[0];
+        match block.body.iter_mut().find(|s| matches!(s, Stmt::Steps(_))) {
+            Some(Stmt::Steps(list)) => &mut list.steps,
+            _ => panic!("no step list"),
+        }
+    }
+    let mut slow = original.clone();
+    for step in steps(&mut slow) {
+        if let (Some(_), Next::Continue(k)) = (&step.wait, step.next) {
+            step.next = Next::Resume(k);
+        }
+    }
+    let mut flipped = original.clone();
+    let act = steps(&mut flipped)
+        .iter_mut()
+        .flat_map(|s| s.actions.iter_mut())
+        .find_map(|a| match a {
+            Stmt::Assign { value: v @ Expr::Bool(true), .. } => Some(v),
+            _ => None,
+        })
+        .expect("a request");
+    *act = Expr::Bool(false);
+    for (what, mutant) in [("a wait that ends its scan", slow), ("a request flipped", flipped)] {
+        let caught = (0..3).any(|seed| !lockstep(e, &mutant, seed, 800).1.is_empty());
+        assert!(caught, "{what}: not told apart from the step machine");
+    }
+}
+
 /// Runs `code` (a mutant of `e`'s STL) on seeds 0..40 and returns the first failure.
 fn first_failure(e: &Example, code: &Code, scans: u64) -> Option<RunReport> {
     (0..40).find_map(|seed| {
@@ -395,7 +484,8 @@ impl Awlsim {
         let options = Options::default();
         let path =
             common::scratch("plcsynth-realtime", &format!("{name}.awl"), &plc::render(code, Target::Stl, &options));
-        let (inputs, outputs) = plc::print::stl::operands(code, &options);
+        let unit = lower_timed::structured(code).unit;
+        let (inputs, outputs) = plc::print::stl::operands(&unit, &options).expect("a step machine's unit");
         let mut child = Command::new(venv_tool("python"))
             .arg(root().join("tests/checkers/scan_loop.py"))
             .arg(&path)

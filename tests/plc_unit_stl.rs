@@ -78,6 +78,14 @@ fn mutate_stmts(body: &mut [Stmt], m: Mutation) {
                     *e = mutate(e, m);
                 }
             }
+            Stmt::Steps(list) => {
+                for step in &mut list.steps {
+                    for e in step.wait.iter_mut().chain(&mut step.when) {
+                        *e = mutate(e, m);
+                    }
+                    mutate_stmts(&mut step.actions, m);
+                }
+            }
         }
     }
 }

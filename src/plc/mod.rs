@@ -41,7 +41,6 @@ pub use lower::timed::{build, generate};
 pub use model::code::Code;
 
 use files::plcopen::unit as unit_plcopen;
-use files::{plcopen, twincat};
 use model::unit;
 use print::st::unit as unit_st;
 use print::stl::unit as unit_stl;
@@ -85,38 +84,20 @@ pub struct OutputFile {
 }
 
 /// The files of `code` for `target`: one for most targets; TwinCAT writes a `.TcPOU` per block
-/// and program and a `.TcGVL` for the I/O. The first file holds the function block.
+/// and program and a `.TcGVL` for the I/O. The first file holds the function block. Every
+/// target prints the code's unit ([`lower::timed::structured`]).
 pub fn render_files(code: &Code, target: Target, options: &Options) -> Vec<OutputFile> {
-    if target == Target::Twincat {
-        return twincat::files(code);
-    }
-    let mut text = String::new();
-    print_single(code, target, options, &mut text).expect("writing to a String cannot fail");
-    vec![OutputFile { name: format!("{}.{}", code.name, target.extension()), text }]
+    render_unit_files(&lower::timed::structured(code).unit, target, options)
+        .expect("every target prints a step machine's unit")
 }
 
-fn print_single(code: &Code, target: Target, options: &Options, out: &mut impl fmt::Write) -> fmt::Result {
-    match target {
-        Target::St => st::print(code, st::Dialect::Iec, out),
-        Target::Codesys => st::print(code, st::Dialect::Codesys, out),
-        Target::Scl => st::print(code, st::Dialect::Scl, out),
-        Target::Scl1500 => st::print(code, st::Dialect::Scl1500, out),
-        Target::Il => il::print(code, out),
-        Target::Stl => stl::print(code, options, out),
-        Target::Plcopen => plcopen::print(code, options, out),
-        Target::Twincat => {
-            for file in twincat::files(code) {
-                write!(out, "==> {} <==\n{}", file.name, file.text)?;
-            }
-            Ok(())
-        }
-    }
-}
-
-/// The files of a structured `unit` for `target`: one for most targets; TwinCAT writes a
-/// `.TcPOU` per POU and a `.TcGVL` for the globals. Instruction List is refused: it is
-/// deprecated in IEC 61131-3 (3rd edition) and no SCL or ST tool needs it for structured code
-/// (the SyRF framework of `lower::sct`, the LTL controllers of `lower::ltl`). What STL cannot hold is refused with [`print::stl::unit::check`]'s reasons.
+/// The files of a `unit` for `target`: one for most targets; TwinCAT writes a `.TcPOU` per POU
+/// and a `.TcGVL` for the globals. A unit of the jump-list shape (one block running a step list,
+/// wired by its program, [`print::steps`]) prints in IL and STL in the layout of Peter 2005,
+/// 6.7.2; other units print in STL as [`print::stl::unit`] lays them out (what STL cannot hold is
+/// refused with its `check`'s reasons) and are refused in Instruction List: it is deprecated in
+/// IEC 61131-3 (3rd edition) and no SCL or ST tool needs it for structured code (the SyRF
+/// framework of `lower::sct`, the LTL controllers of `lower::ltl`).
 pub fn render_unit_files(unit: &unit::Unit, target: Target, options: &Options) -> Result<Vec<OutputFile>, String> {
     let single = |text: String| Ok(vec![OutputFile { name: format!("{}.{}", unit.name, target.extension()), text }]);
     let mut text = String::new();
@@ -131,6 +112,10 @@ pub fn render_unit_files(unit: &unit::Unit, target: Target, options: &Options) -
             return single(text);
         }
         Target::Stl => {
+            if let Ok(block) = print::steps::StepBlock::of(unit) {
+                stl::print(&block, options, &mut text).expect("writing to a String cannot fail");
+                return single(text);
+            }
             let stl_options = unit_stl_options(options);
             let problems = unit_stl::check(unit, &stl_options);
             if !problems.is_empty() {
@@ -139,7 +124,13 @@ pub fn render_unit_files(unit: &unit::Unit, target: Target, options: &Options) -
             return single(unit_stl::render(unit, &stl_options));
         }
         Target::Il => {
-            return Err("structured code (function blocks and functions) is not generated as Instruction List (deprecated in IEC 61131-3 ed. 3); use st, codesys, scl or stl".into())
+            return match print::steps::StepBlock::of(unit) {
+                Ok(block) => {
+                    il::print(&block, &mut text).expect("writing to a String cannot fail");
+                    single(text)
+                }
+                Err(_) => Err("structured code (function blocks and functions) is not generated as Instruction List (deprecated in IEC 61131-3 ed. 3); use st, codesys, scl or stl".into()),
+            }
         }
     };
     unit_st::print(unit, dialect, &mut text).expect("writing to a String cannot fail");
@@ -388,14 +379,17 @@ pub fn is_identifier_path(text: &str) -> bool {
 /// Prints `code` as `target` writes it. A multi-file target prints each file after a line
 /// `==> NAME <==` (as `head` does); [`render_files`] gives them apart.
 pub fn print(code: &Code, target: Target, options: &Options, out: &mut impl fmt::Write) -> fmt::Result {
-    print_single(code, target, options, out)
+    out.write_str(&render(code, target, options))
 }
 
 /// [`print()`] into a string.
 pub fn render(code: &Code, target: Target, options: &Options) -> String {
-    let mut text = String::new();
-    print(code, target, options, &mut text).expect("writing to a String cannot fail");
-    text
+    let files = render_files(code, target, options);
+    if target == Target::Twincat {
+        files.iter().map(|f| format!("==> {} <==\n{}", f.name, f.text)).collect()
+    } else {
+        files.into_iter().map(|f| f.text).collect()
+    }
 }
 
 /// A stable name-based GUID (`{8-4-4-4-12}` hex digits, version 4 and variant bits set) for an

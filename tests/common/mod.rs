@@ -106,7 +106,8 @@ pub fn blark_all(python: &Path, root: &Path, files: &[PathBuf]) {
 
 /// SCL as blark reads it: TIA's source lines go, the global data block becomes a global
 /// variable list, `CONST` sections become `VAR CONSTANT` ones, `VAR_TEMP` becomes `VAR`, tags
-/// `"x"` become `x`.
+/// `"x"` become `x` (`"Lamp On"` becomes `Lamp_On`), since IEC reads a double-quoted text as a
+/// string literal.
 // Not every test binary that includes this module prints SCL.
 #[allow(dead_code)]
 pub fn scl_for_blark(text: &str) -> String {
@@ -146,7 +147,15 @@ pub fn scl_for_blark(text: &str) -> String {
         }
         let line = if in_const { line.replacen(" := ", " : INT := ", 1) } else { line.to_string() };
         let (code, comment) = line.split_once("(*").map_or((line.as_str(), None), |(c, r)| (c, Some(r)));
-        out.push_str(&code.replace('"', ""));
+        // Tags: `"Lamp On"` → `Lamp_On`.
+        let mut in_tag = false;
+        for ch in code.chars() {
+            match ch {
+                '"' => in_tag = !in_tag,
+                ' ' if in_tag => out.push('_'),
+                _ => out.push(ch),
+            }
+        }
         if let Some(rest) = comment {
             out.push_str("(*");
             out.push_str(rest);

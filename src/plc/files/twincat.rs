@@ -6,8 +6,6 @@
 //! Object ids are name-based GUIDs ([`crate::plc::stable_guid`]), so the files depend on the input
 //! only.
 
-use crate::plc::model::code::Code;
-use crate::plc::print::st::{self, Dialect};
 use crate::plc::{stable_guid, OutputFile};
 use std::fmt::Write;
 
@@ -30,15 +28,6 @@ fn head(header: &[String]) -> String {
     out
 }
 
-/// The provenance as ST comment lines, first in every declaration.
-fn header_comment(code: &Code) -> String {
-    code.header.iter().map(|l| format!("(* {l} *)\n")).collect()
-}
-
-fn pou(code: &Code, name: &str, declaration: &str, implementation: &str) -> OutputFile {
-    pou_file(&code.header, name, declaration, implementation)
-}
-
 /// A `.TcPOU` file of one POU whose declaration and implementation are given as ST text.
 pub fn pou_file(header: &[String], name: &str, declaration: &str, implementation: &str) -> OutputFile {
     let mut text = head(header);
@@ -52,28 +41,6 @@ pub fn pou_file(header: &[String], name: &str, declaration: &str, implementation
         cdata(implementation)
     );
     OutputFile { name: format!("{name}.TcPOU"), text }
-}
-
-/// The files: the function block first, then (with bindings) the program and the I/O list.
-pub fn files(code: &Code) -> Vec<OutputFile> {
-    let mut declaration = header_comment(code);
-    let mut body = String::new();
-    st::declaration(code, Dialect::Twincat, &mut declaration).expect("writing to a String cannot fail");
-    st::body(code, &mut body).expect("writing to a String cannot fail");
-    let mut files = vec![pou(code, &code.name, &declaration, &body)];
-    if st::wired(code, Dialect::Twincat) {
-        let mut declaration = header_comment(code);
-        let mut body = String::new();
-        st::program_declaration(code, Dialect::Twincat, &mut declaration).expect("writing to a String cannot fail");
-        st::program_body(code, Dialect::Twincat, &mut body).expect("writing to a String cannot fail");
-        files.push(pou(code, &code.program, &declaration, &body));
-    }
-    if st::has_gvl(code, Dialect::Twincat) {
-        let mut declaration = header_comment(code);
-        st::gvl(code, Dialect::Twincat, &mut declaration).expect("writing to a String cannot fail");
-        files.push(gvl_file(&code.header, &code.gvl, &declaration));
-    }
-    files
 }
 
 /// A `.TcGVL` file of a global variable list given as ST text.

@@ -17,7 +17,7 @@
 //! Division by zero and unknown names are errors, not panics.
 
 use crate::plc::fragment::BinOp;
-use crate::plc::model::unit::{Expr, Place, Pou, PouKind, Stmt, Type, Unit, Var};
+use crate::plc::model::unit::{Expr, Next, Place, Pou, PouKind, StepList, Stmt, Type, Unit, Var};
 use std::collections::HashMap;
 
 /// A value of the model's elementary types.
@@ -279,6 +279,11 @@ impl<'u> Machine<'u> {
         self.globals.values.get(name).copied()
     }
 
+    /// Sets global `name` (an input the tool maps, before a cycle).
+    pub fn set_global(&mut self, name: &str, value: Value) -> Result<()> {
+        self.store(&Place::global(name), value, &mut Frame::default())
+    }
+
     /// The value of the program's variable `name` (an input, output or static).
     pub fn program_value(&self, name: &str) -> Option<Value> {
         self.program.values.get(name).copied()
@@ -426,7 +431,50 @@ impl<'u> Machine<'u> {
                     _ => err(format!("`{name}` is not an instance")),
                 }
             }
+            Stmt::Steps(list) => self.step_list(list, frame, controller),
         }
+    }
+
+    /// One scan of a step list: from the stored position until a step ends the scan (see
+    /// [`StepList`]); a position outside the list restarts it at step 0 in the next scan.
+    fn step_list(
+        &mut self,
+        list: &StepList,
+        frame: &mut Frame,
+        controller: &mut Option<&mut Controller<'_>>,
+    ) -> Result<()> {
+        let n = list.steps.len();
+        let mut at = self.read(&Place::local(&list.position), frame)?.as_int();
+        let mut budget = 2 * n + 2;
+        let resume = loop {
+            let Some(step) = usize::try_from(at).ok().and_then(|i| list.steps.get(i)) else { break 0 };
+            if budget == 0 {
+                return err(format!(
+                    "the step list ran {} steps in one scan without ending it (a PLC's watchdog stops here)",
+                    2 * n + 2
+                ));
+            }
+            budget -= 1;
+            self.tick()?;
+            if let Some(wait) = &step.wait {
+                if !self.eval(wait, frame)?.as_bool() {
+                    break at as usize;
+                }
+            }
+            if let Some(when) = &step.when {
+                if !self.eval(when, frame)?.as_bool() {
+                    at += 1;
+                    continue;
+                }
+            }
+            self.stmts(&step.actions, frame, controller)?;
+            match step.next {
+                Next::Continue(k) => at = k as i64,
+                Next::Resume(k) => break k,
+            }
+        };
+        self.store(&Place::local(&list.position), Value::Int(resume as i64), frame)?;
+        self.store(&Place::local(&list.done), Value::Bool(true), frame)
     }
 
     fn store(&mut self, place: &Place, v: Value, frame: &mut Frame) -> Result<()> {

@@ -44,11 +44,39 @@ pub struct Var {
     pub init: Option<Expr>,
     /// Printed beside the declaration.
     pub comment: String,
+    /// For a global: where it lives in the PLC's memory, if not in the global list's own.
+    pub at: Option<Location>,
+}
+
+/// Where a global of the unit lives when it is wired to the process (see [`Var::at`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Location {
+    /// At a direct address (IEC form without `%`: `IX0.1`, `QX0.0`): the IEC dialects declare
+    /// it `AT %IX0.1`; Siemens code names it as a PLC tag of the same name that the tag table
+    /// defines at the address.
+    Address(String),
+    /// In the process image of `kind`, mapped by the PLC tool: TwinCAT declares it `AT %I*` /
+    /// `AT %Q*` to be linked in its System Manager; the others leave it to the tool's mapping.
+    Mapped(SignalKind),
 }
 
 impl Var {
     pub fn new(name: impl Into<String>, ty: Type, comment: impl Into<String>) -> Var {
-        Var { name: name.into(), ty, init: None, comment: comment.into() }
+        Var { name: name.into(), ty, init: None, comment: comment.into(), at: None }
+    }
+
+    /// The variable at `location`.
+    pub fn at(mut self, location: Location) -> Var {
+        self.at = Some(location);
+        self
+    }
+
+    /// The direct address of a global at one.
+    pub fn address(&self) -> Option<&str> {
+        match &self.at {
+            Some(Location::Address(a)) => Some(a),
+            _ => None,
+        }
     }
 
     pub fn with_init(mut self, init: Expr) -> Var {
@@ -300,6 +328,52 @@ pub enum Stmt {
         instance: Place,
         args: Vec<(String, Expr)>,
     },
+    /// A step list: sequential code that keeps its position between calls ([`StepList`]).
+    Steps(StepList),
+}
+
+/// Sequential code that runs across scans, as a step machine (Peter 2005, 6.7.2): the position
+/// is kept in a variable between calls; every call (one scan) enters at the stored position and
+/// runs from step to step until a step ends the scan. The structured dialects print it as a
+/// `CASE` over the position inside a `WHILE` loop; the jump-list dialects (IL, S7 STL) as a jump
+/// table and labels.
+///
+/// What keeps a scan finite is the builder's promise: within one call, control moves forward
+/// but for at most one backward [`Next::Continue`]. The interpreter stops a call that runs more
+/// than `2 · steps + 2` steps, as a PLC's watchdog would.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct StepList {
+    /// The `INT` local that holds the position between calls.
+    pub position: String,
+    /// The `BOOL` local the structured dialects loop on (`WHILE NOT done`).
+    pub done: String,
+    pub steps: Vec<Step>,
+}
+
+/// One step of a [`StepList`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Step {
+    /// The source of the step, printed beside it.
+    pub comment: String,
+    /// While this is FALSE the scan ends at the step, which runs again in the next scan.
+    pub wait: Option<Expr>,
+    /// While this is FALSE the step does nothing and control goes on at the next step within
+    /// the scan (a branch not taken).
+    pub when: Option<Expr>,
+    /// What the step does when it takes effect.
+    pub actions: Vec<Stmt>,
+    /// Where control goes after the actions.
+    pub next: Next,
+}
+
+/// Where control goes after a step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Next {
+    /// On at step `k` within this scan; past the last step the scan ends and the next one
+    /// starts at step 0.
+    Continue(usize),
+    /// The scan ends; the next one starts at step `k`.
+    Resume(usize),
 }
 
 impl Stmt {

@@ -1,20 +1,26 @@
 //! IEC 61131-3 Instruction List: the same function block as the ST target, with the control
 //! structure of 6.7.2 — a jump list on the step variable at the top, each wait storing its
-//! position and ending the scan while its condition is false.
+//! position and ending the scan while its condition is false. It prints units of the jump-list
+//! shape ([`StepBlock`]).
 
-use crate::plc::model::code::{Binding, Code, Effect, Statement, Test};
-use crate::plc::{preset_literal, print::st, time_literal};
+use crate::plc::model::unit::Next;
+use crate::plc::print::steps::{Action, Bit, Cond, StepBlock, Wire};
+use crate::plc::{iec_address, time_literal};
 use std::fmt::{self, Write};
 
-fn load(code: &Code, test: &Test, o: &mut impl Write) -> fmt::Result {
-    match *test {
-        Test::Input { input, negated } => {
-            writeln!(o, "        {} {}", if negated { "LDN" } else { "LD" }, code.inputs[input].symbol)
+fn load(block: &StepBlock<'_>, cond: &Cond, o: &mut impl Write) -> fmt::Result {
+    match *cond {
+        Cond::Bit { bit, negated } => {
+            let name = match bit {
+                Bit::Input(k) => block.block.inputs[k].name.as_str(),
+                Bit::Last(k) => block.last[k].expect("a tested memory of the last write exists"),
+            };
+            writeln!(o, "        {} {name}", if negated { "LDN" } else { "LD" })
         }
-        Test::Elapsed { timer, ms, strict } => write!(
+        Cond::Elapsed { timer, ms, strict } => write!(
             o,
             "        LD {}.ET\n        {} {}\n",
-            code.timers[timer].symbol,
+            block.timers[timer].var.name,
             if strict { "GT" } else { "GE" },
             time_literal(ms)
         ),
@@ -22,129 +28,137 @@ fn load(code: &Code, test: &Test, o: &mut impl Write) -> fmt::Result {
 }
 
 /// Stores position `k` in the step variable.
-fn store(o: &mut impl Write, k: usize) -> fmt::Result {
-    write!(o, "        LD {k}\n        ST step\n")
+fn store(o: &mut impl Write, position: &str, k: usize) -> fmt::Result {
+    write!(o, "        LD {k}\n        ST {position}\n")
 }
 
-/// Prints the function block in Instruction List.
-pub fn print(code: &Code, o: &mut impl Write) -> fmt::Result {
-    for line in &code.header {
+/// Prints the function block in Instruction List, and the program that wires it when a signal
+/// is bound.
+pub(in crate::plc) fn print(block: &StepBlock<'_>, o: &mut impl Write) -> fmt::Result {
+    let fb = block.block;
+    let position = block.list.position.as_str();
+    let n = block.steps.len();
+    for line in &block.unit.header {
         writeln!(o, "(* {line} *)")?;
     }
-    write!(o, "FUNCTION_BLOCK {}\nVAR_INPUT\n", code.name)?;
-    for i in &code.inputs {
-        writeln!(o, "    {} : BOOL; (* {} *)", i.symbol, i.comment)?;
+    write!(o, "FUNCTION_BLOCK {}\nVAR_INPUT\n", fb.name)?;
+    for v in &fb.inputs {
+        writeln!(o, "    {} : BOOL; (* {} *)", v.name, v.comment)?;
     }
     o.write_str("END_VAR\nVAR_OUTPUT\n")?;
-    for out in &code.outputs {
-        writeln!(o, "    {} : BOOL; (* {} *)", out.variable.symbol, out.variable.comment)?;
+    for v in &fb.outputs {
+        writeln!(o, "    {} : BOOL; (* {} *)", v.name, v.comment)?;
     }
-    o.write_str("END_VAR\nVAR\n    step : INT := 0;\n")?;
-    for out in &code.outputs {
-        if let Some(last) = out.gap() {
-            writeln!(o, "    {last} : BOOL; (* {} at the last output write *)", out.variable.symbol)?;
+    writeln!(o, "END_VAR\nVAR\n    {position} : INT := 0;")?;
+    for (k, v) in fb.outputs.iter().enumerate() {
+        if let Some(last) = block.last[k] {
+            writeln!(o, "    {last} : BOOL; (* {} at the last output write *)", v.name)?;
         }
     }
-    for t in &code.timers {
-        writeln!(o, "    {} : TON;", t.symbol)?;
+    for t in &block.timers {
+        writeln!(o, "    {} : TON;", t.var.name)?;
     }
     o.write_str("END_VAR\n")?;
-    for out in code.outputs.iter().filter(|out| out.pulsed) {
-        if let Some(last) = out.gap() {
-            write!(o, "        LD {}\n        ST {last}\n", out.variable.symbol)?;
+    for (k, v) in fb.outputs.iter().enumerate().filter(|(k, _)| block.pulsed[*k]) {
+        if let Some(last) = block.last[k] {
+            write!(o, "        LD {}\n        ST {last}\n", v.name)?;
         }
-        write!(o, "        LD FALSE\n        ST {}\n", out.variable.symbol)?;
+        write!(o, "        LD FALSE\n        ST {}\n", v.name)?;
     }
-    for (k, t) in code.timers.iter().enumerate() {
-        writeln!(o, "        CAL {}(IN := TRUE, PT := {})", t.symbol, preset_literal(code, k))?;
+    for t in &block.timers {
+        writeln!(o, "        CAL {}(IN := TRUE, PT := {})", t.var.name, time_literal(t.preset_ms))?;
     }
     // Jump list.
-    for i in 0..code.steps.len() {
-        write!(o, "        LD step\n        EQ {i}\n        JMPC S{i}\n")?;
+    for i in 0..n {
+        write!(o, "        LD {position}\n        EQ {i}\n        JMPC S{i}\n")?;
     }
     o.write_str("        JMP RESTART\n")?;
-    for (i, step) in code.steps.iter().enumerate() {
+    let transfer = |next: Next, o: &mut String| -> fmt::Result {
+        match next {
+            Next::Continue(k) => writeln!(o, "        JMP S{}", k.min(n)),
+            Next::Resume(k) => {
+                store(o, position, k)?;
+                o.write_str("        JMP END_SCAN\n")
+            }
+        }
+    };
+    for (i, step) in block.steps.iter().enumerate() {
         writeln!(o, "S{i}: (* {} *)", step.comment)?;
-        let restarts: String = step
-            .restarts
-            .iter()
-            .map(|&t| {
-                format!("        CAL {}(IN := FALSE, PT := {})\n", code.timers[t].symbol, preset_literal(code, t))
-            })
-            .collect();
-        match step.statement {
-            Statement::Wait { test } => {
-                store(o, i)?;
-                load(code, &test, o)?;
-                o.write_str("        JMPCN END_SCAN\n")?;
-                o.write_str(&restarts)?;
-            }
-            Statement::Branch { test, target } => {
-                store(o, i)?;
-                load(code, &test, o)?;
-                write!(o, "        JMPC B{i}\n        JMP S{}\n", i + 1)?;
-                write!(o, "B{i}:\n{restarts}")?;
-                if target > i || step.back_in_scan {
-                    writeln!(o, "        JMP S{target}")?;
-                } else {
-                    store(o, code.resume_at(target))?;
-                    o.write_str("        JMP END_SCAN\n")?;
+        let mut actions = String::new();
+        for a in &step.actions {
+            match *a {
+                Action::Drive { output, value } => {
+                    let verb = match (block.pulsed[output], value) {
+                        (true, _) => "ST",
+                        (false, true) => "S",
+                        (false, false) => "R",
+                    };
+                    let load = if value || !block.pulsed[output] { "TRUE" } else { "FALSE" };
+                    write!(actions, "        LD {load}\n        {verb} {}\n", fb.outputs[output].name)?;
+                }
+                Action::Restart { timer } => {
+                    let t = &block.timers[timer];
+                    writeln!(actions, "        CAL {}(IN := FALSE, PT := {})", t.var.name, time_literal(t.preset_ms))?;
                 }
             }
-            Statement::Act { output, effect, ends_scan } => {
-                let out = &code.outputs[output].variable.symbol;
-                let verb = match effect {
-                    Effect::Pulse => "ST",
-                    Effect::Set => "S",
-                    Effect::Reset => "R",
-                };
-                if let Some(last) = code.outputs[output].gap().filter(|_| effect == Effect::Pulse) {
-                    // Pulsed in the previous scan: wait here for one scan with the output FALSE.
-                    store(o, i)?;
-                    write!(o, "        LD {last}\n        JMPC END_SCAN\n")?;
+        }
+        if let Some(wait) = &step.wait {
+            store(o, position, i)?;
+            load(block, wait, o)?;
+            o.write_str("        JMPCN END_SCAN\n")?;
+        }
+        match &step.when {
+            Some(when) => {
+                if step.wait.is_none() {
+                    store(o, position, i)?;
                 }
-                write!(o, "        LD TRUE\n        {verb} {out}\n")?;
-                o.write_str(&restarts)?;
-                if ends_scan {
-                    store(o, code.resume_at(i + 1))?;
-                    o.write_str("        JMP END_SCAN\n")?;
-                }
+                load(block, when, o)?;
+                write!(o, "        JMPC B{i}\n        JMP S{}\nB{i}:\n{actions}", i + 1)?;
+                let mut jump = String::new();
+                transfer(step.next, &mut jump)?;
+                o.write_str(&jump)?;
             }
-            Statement::Jump { target } => {
-                o.write_str(&restarts)?;
-                if target > i || step.back_in_scan {
-                    writeln!(o, "        JMP S{target}")?;
-                } else {
-                    store(o, code.resume_at(target))?;
-                    o.write_str("        JMP END_SCAN\n")?;
+            None => {
+                o.write_str(&actions)?;
+                if step.next != Next::Continue(i + 1) {
+                    let mut jump = String::new();
+                    transfer(step.next, &mut jump)?;
+                    o.write_str(&jump)?;
                 }
             }
         }
     }
-    write!(o, "S{}:\nRESTART:\n", code.steps.len())?;
-    store(o, 0)?;
+    write!(o, "S{n}:\nRESTART:\n")?;
+    store(o, position, 0)?;
     o.write_str("END_SCAN:\n        RET\nEND_FUNCTION_BLOCK\n")?;
-    if code.has_bindings() {
-        program(code, o)?;
+    if block.wires.iter().any(|w| *w != Wire::Unbound) {
+        program(block, o)?;
     }
     Ok(())
 }
 
-/// The program that wires the block, with the ST target's located declarations.
-fn program(code: &Code, o: &mut impl Write) -> fmt::Result {
-    o.write_str("\n")?;
-    st::program_declaration(code, st::Dialect::Iec, o)?;
-    let signal = |symbol: &str, binding: &Option<Binding>| match binding {
-        Some(Binding::Address(_)) => symbol.to_string(),
-        Some(b) => b.iec_text(),
-        None => "FALSE".to_string(),
+/// The program that wires the block: located variables for the addresses, project symbols as
+/// written.
+fn program(block: &StepBlock<'_>, o: &mut impl Write) -> fmt::Result {
+    let fb = block.block;
+    write!(o, "\nPROGRAM {}\nVAR\n    {} : {};\n", block.program.name, block.instance, fb.name)?;
+    for (v, wire) in block.variables().zip(&block.wires) {
+        if let Wire::Address { name, address } = wire {
+            writeln!(o, "    {name} AT %{} : BOOL; (* {} *)", iec_address(address), v.comment)?;
+        }
+    }
+    o.write_str("END_VAR\n")?;
+    let outside = |wire: &Wire<'_>| match *wire {
+        Wire::Address { name, .. } => name.to_string(),
+        Wire::Symbol(symbol) => symbol.to_string(),
+        Wire::Unbound => "FALSE".to_string(),
     };
+    let n_in = fb.inputs.len();
     let args: Vec<String> =
-        code.inputs.iter().map(|i| format!("{} := {}", i.symbol, signal(&i.symbol, &i.binding))).collect();
-    writeln!(o, "        CAL {}({})", code.instance, args.join(", "))?;
-    for out in code.outputs.iter().filter(|out| out.variable.binding.is_some()) {
-        let v = &out.variable;
-        write!(o, "        LD {}.{}\n        ST {}\n", code.instance, v.symbol, signal(&v.symbol, &v.binding))?;
+        fb.inputs.iter().zip(&block.wires).map(|(v, w)| format!("{} := {}", v.name, outside(w))).collect();
+    writeln!(o, "        CAL {}({})", block.instance, args.join(", "))?;
+    for (v, wire) in fb.outputs.iter().zip(&block.wires[n_in..]).filter(|(_, w)| **w != Wire::Unbound) {
+        write!(o, "        LD {}.{}\n        ST {}\n", block.instance, v.name, outside(wire))?;
     }
     o.write_str("END_PROGRAM\n")
 }

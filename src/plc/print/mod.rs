@@ -9,4 +9,5 @@
 
 pub mod il;
 pub mod st;
+pub(in crate::plc) mod steps;
 pub mod stl;

@@ -2,7 +2,7 @@
 //! body as IEC Structured Text; a configuration whose resource runs the program in a cyclic
 //! task and holds the unit's globals and constants (`globalVars`, `constant="true"`).
 
-use crate::plc::files::plcopen::{escape, project_head, st_body, variable};
+use crate::plc::files::plcopen::{escape, located, project_head, st_body, variable};
 use crate::plc::model::unit::{Pou, PouKind, Type, Unit, Var};
 use crate::plc::print::st::unit::{pou_body, Writer};
 use crate::plc::print::st::Dialect;
@@ -89,7 +89,8 @@ pub fn print(unit: &Unit, options: &Options, o: &mut impl Write) -> fmt::Result 
         writeln!(o, "          <globalVars name=\"{}\"{attribute}>", escape(&unit.gvl))?;
         for v in list.iter() {
             let init = v.init.as_ref().map(|e| w.init(e));
-            variable(o, &v.name, &xml_type(&v.ty), init.as_deref(), &v.comment)?;
+            let address = v.address().map(|a| format!("%{}", crate::plc::iec_address(a)));
+            located(o, &v.name, address.as_deref(), &xml_type(&v.ty), init.as_deref(), &v.comment)?;
         }
         o.write_str("          </globalVars>\n")?;
     }

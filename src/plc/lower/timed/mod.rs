@@ -4,6 +4,9 @@
 //! command becomes one step.
 
 pub mod realtime;
+mod structured;
+
+pub use structured::{structured, Structured};
 
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use crate::plc::model::code::{
@@ -351,7 +354,10 @@ pub fn build_wired(
         requests.iter().map(|r| r.map(|m| request_facts(game, m, &wiring.inputs))).collect();
     chain_requests(&mut code, &facts);
     if target == Target::Stl {
-        for clash in stl::clashes(&code, options) {
+        let unit = structured(&code).unit;
+        let block =
+            crate::plc::print::steps::StepBlock::of(&unit).expect("a step machine's unit has the jump-list shape");
+        for clash in stl::clashes(&block, options) {
             let d = match clash.variable {
                 Some(v) => {
                     let span = code.variables().nth(v).and_then(|(v, _)| v.span).unwrap_or_default();

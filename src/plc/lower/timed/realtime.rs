@@ -22,8 +22,10 @@
 //! running. The controller is a [`ScanController`]: [`Interpreter`] runs the code in Rust; a
 //! test plugs in a PLC emulator. No I/O, no clock: a run is a function of its seed.
 
-use crate::plc::lower::timed::Wiring;
+use crate::plc::lower::timed::{Structured, Wiring};
 use crate::plc::model::code::{Code, Effect, Statement, Test};
+use crate::plc::model::exec::{Machine, Value};
+use crate::plc::model::unit::{Place, PouKind, Stmt};
 use crate::plc::{print::stl, Target};
 use crate::rng::Rng;
 use crate::timed::model::{Game, MessageKind, MessageRole, MsgId};
@@ -191,6 +193,88 @@ impl ScanController for Interpreter<'_> {
 
     fn position(&self) -> Option<usize> {
         Some(self.position)
+    }
+}
+
+/// A controller's structured unit ([`crate::plc::lower::timed::structured`]) run by the unit
+/// interpreter [`crate::plc::model::exec`]: the one model's semantics, scan by scan, as the
+/// structured printers execute it. The interpreter's clock counts milliseconds: a scan at a
+/// fraction of a millisecond sees the time of the millisecond it falls in. A unit the
+/// interpreter refuses (a scan that does not end) stops the controller where it is, as a PLC's
+/// watchdog would; [`UnitInterpreter::error`] tells why.
+pub struct UnitInterpreter<'u> {
+    structured: &'u Structured,
+    machine: Machine<'u>,
+    /// The instance of the block in the program, whose position [`ScanController::position`]
+    /// reports.
+    instance: Option<String>,
+    now_ms: u64,
+    error: Option<String>,
+}
+
+impl<'u> UnitInterpreter<'u> {
+    /// The unit after a cold start.
+    pub fn new(structured: &'u Structured) -> Result<UnitInterpreter<'u>, String> {
+        let machine = Machine::new(&structured.unit).map_err(|e| e.0)?;
+        let program = structured.unit.pous.iter().find(|p| p.kind == PouKind::Program);
+        let instance = program.and_then(|p| {
+            p.body.iter().find_map(|s| match s {
+                Stmt::CallInstance { instance: Place::Local(name), .. } => Some(name.clone()),
+                _ => None,
+            })
+        });
+        Ok(UnitInterpreter { structured, machine, instance, now_ms: 0, error: None })
+    }
+
+    /// Why the interpreter stopped the controller, if it did.
+    pub fn error(&self) -> Option<&str> {
+        self.error.as_deref()
+    }
+
+    fn write(&mut self, place: &Place, level: bool) -> Result<(), String> {
+        match place {
+            Place::Signal(k) => {
+                self.machine.set_signal(*k, Value::Bool(level));
+                Ok(())
+            }
+            Place::Global(name) => self.machine.set_global(name, Value::Bool(level)).map_err(|e| e.0),
+            other => Err(format!("the program wires {other:?}, neither a signal nor a global")),
+        }
+    }
+
+    fn level(&self, place: &Place) -> bool {
+        match place {
+            Place::Signal(k) => self.machine.signal(*k).as_bool(),
+            Place::Global(name) => self.machine.global(name).is_some_and(Value::as_bool),
+            _ => false,
+        }
+    }
+}
+
+impl ScanController for UnitInterpreter<'_> {
+    fn scan(&mut self, now_us: u64, inputs: &[bool]) -> Vec<bool> {
+        let outputs = |me: &Self| me.structured.outputs.iter().map(|p| me.level(p)).collect();
+        if self.error.is_some() {
+            return outputs(self);
+        }
+        let now_ms = now_us / 1000;
+        self.machine.advance(now_ms.saturating_sub(self.now_ms));
+        self.now_ms = self.now_ms.max(now_ms);
+        let mut result = Ok(());
+        for (place, &level) in self.structured.inputs.iter().zip(inputs) {
+            result = result.and_then(|()| self.write(place, level));
+        }
+        let mut no_controller =
+            |_: &mut Machine<'_>| Err(crate::plc::model::exec::ExecError("no external controller".into()));
+        if let Err(e) = result.and_then(|()| self.machine.cycle(&mut no_controller).map_err(|e| e.0)) {
+            self.error = Some(e);
+        }
+        outputs(self)
+    }
+
+    fn position(&self) -> Option<usize> {
+        let instance = self.instance.as_deref()?;
+        self.machine.instance_value(instance, super::structured::POSITION).map(|v| v.as_int() as usize)
     }
 }
 

@@ -16,7 +16,7 @@
 //! - **Timers** are `TON`, on S7-1200/1500 `TON_TIME`; the program is an FB on Siemens targets,
 //!   called from an organisation block the user adds.
 
-use crate::plc::model::unit::{Expr, Place, Pou, PouKind, SignalKind, Stmt, Type, Unit, Var};
+use crate::plc::model::unit::{Expr, Location, Next, Place, Pou, PouKind, SignalKind, StepList, Stmt, Type, Unit, Var};
 use crate::plc::print::st::Dialect;
 use crate::plc::{iec_address, siemens_address, time_literal, OutputFile};
 use std::collections::BTreeSet;
@@ -60,8 +60,12 @@ impl<'u> Writer<'u> {
         match place {
             Place::Global(name) => {
                 let constant = self.unit.constants.iter().any(|c| &c.name == name);
+                let located = self.unit.globals.iter().any(|g| &g.name == name && g.address().is_some());
                 if siemens(self.dialect) {
-                    if constant {
+                    if located {
+                        // A PLC tag, which the tag table defines at the address.
+                        format!("\"{name}\"")
+                    } else if constant {
                         name.clone()
                     } else {
                         format!("\"{}\".{name}", self.unit.gvl)
@@ -213,7 +217,60 @@ impl<'u> Writer<'u> {
             Stmt::CallInstance { instance, args } => {
                 let _ = writeln!(o, "{pad}{}({});", self.place(instance), self.args(args));
             }
+            Stmt::Steps(list) => self.step_list(list, indent, o),
         }
+    }
+
+    /// A step list as a `CASE` over its position inside a `WHILE` loop that runs until a step
+    /// ends the scan.
+    fn step_list(&self, list: &StepList, indent: usize, o: &mut String) {
+        let pad = "    ".repeat(indent);
+        let (position, done) = (&list.position, &list.done);
+        let _ = write!(o, "{pad}{done} := FALSE;\n{pad}WHILE NOT {done} DO\n{pad}    CASE {position} OF\n");
+        for (i, step) in list.steps.iter().enumerate() {
+            let _ = writeln!(o, "{pad}    {i}: (* {} *)", comment_text(&step.comment));
+            let go = |next: Next, o: &mut String, indent: usize| {
+                let pad = "    ".repeat(indent);
+                let (k, ends) = match next {
+                    Next::Continue(k) => (k, false),
+                    Next::Resume(k) => (k, true),
+                };
+                let _ = writeln!(o, "{pad}{position} := {k};");
+                if ends {
+                    let _ = writeln!(o, "{pad}{done} := TRUE;");
+                }
+            };
+            match (&step.wait, &step.when) {
+                (None, None) => {
+                    self.stmts(&step.actions, indent + 2, o);
+                    go(step.next, o, indent + 2);
+                }
+                (wait, when) => {
+                    let inner = "    ".repeat(indent + 2);
+                    let mut keyword = "IF";
+                    if let (Some(wait), Some(_)) = (wait, when) {
+                        let _ = writeln!(o, "{inner}IF {} THEN", self.expr(&Expr::Not(Box::new(wait.clone()))));
+                        let _ = writeln!(o, "{inner}    {done} := TRUE;");
+                        keyword = "ELSIF";
+                    }
+                    let condition = when.as_ref().or(wait.as_ref()).expect("one of them is there");
+                    let _ = writeln!(o, "{inner}{keyword} {} THEN", self.expr(condition));
+                    self.stmts(&step.actions, indent + 3, o);
+                    go(step.next, o, indent + 3);
+                    let _ = writeln!(o, "{inner}ELSE");
+                    if when.is_some() {
+                        let _ = writeln!(o, "{inner}    {position} := {};", i + 1);
+                    } else {
+                        let _ = writeln!(o, "{inner}    {done} := TRUE;");
+                    }
+                    let _ = writeln!(o, "{inner}END_IF;");
+                }
+            }
+        }
+        let _ = write!(
+            o,
+            "{pad}    ELSE\n{pad}        {position} := 0;\n{pad}        {done} := TRUE;\n{pad}    END_CASE;\n{pad}END_WHILE;\n"
+        );
     }
 }
 
@@ -227,7 +284,14 @@ fn comment_text(text: &str) -> String {
 fn declare(o: &mut String, w: &Writer<'_>, v: &Var) {
     let init = v.init.as_ref().map(|e| format!(" := {}", w.init(e))).unwrap_or_default();
     let comment = if v.comment.is_empty() { String::new() } else { format!(" (* {} *)", comment_text(&v.comment)) };
-    let _ = writeln!(o, "    {} : {}{init};{comment}", v.name, type_name(&v.ty, w.dialect));
+    // TwinCAT links a variable to the I/O in its System Manager when it is declared `AT %I*`.
+    let at = match &v.at {
+        Some(Location::Address(a)) => format!(" AT %{}", iec_address(a)),
+        Some(Location::Mapped(SignalKind::Input)) if w.dialect == Dialect::Twincat => " AT %I*".into(),
+        Some(Location::Mapped(SignalKind::Output)) if w.dialect == Dialect::Twincat => " AT %Q*".into(),
+        _ => String::new(),
+    };
+    let _ = writeln!(o, "    {}{at} : {}{init};{comment}", v.name, type_name(&v.ty, w.dialect));
 }
 
 /// The constants a POU reads (SCL declares them per block).
@@ -285,6 +349,12 @@ fn constants_used<'u>(unit: &'u Unit, pou: &Pou) -> Vec<&'u Var> {
                     place(instance, names);
                     args.iter().for_each(|(_, e)| expr(e, names));
                 }
+                Stmt::Steps(list) => {
+                    for step in &list.steps {
+                        step.wait.iter().chain(&step.when).for_each(|e| expr(e, names));
+                        stmts(&step.actions, names);
+                    }
+                }
             }
         }
     }
@@ -313,19 +383,24 @@ pub fn gvl(unit: &Unit, dialect: Dialect, o: &mut String) {
     }
 }
 
+/// The globals a Siemens data block holds: all but those at a direct address, which are PLC tags.
+fn data_block_globals(unit: &Unit) -> impl Iterator<Item = &Var> {
+    unit.globals.iter().filter(|v| v.address().is_none())
+}
+
 /// The global data block (SCL).
 fn data_block(unit: &Unit, dialect: Dialect, o: &mut String) {
     let w = Writer { unit, dialect };
     let _ = write!(o, "DATA_BLOCK \"{}\"\n{}", unit.gvl, siemens_head(dialect));
     if dialect == Dialect::Scl1500 {
         o.push_str("VAR\n");
-        for v in &unit.globals {
+        for v in data_block_globals(unit) {
             declare(o, &w, v);
         }
         o.push_str("END_VAR\n");
     } else {
         o.push_str("STRUCT\n");
-        for v in &unit.globals {
+        for v in data_block_globals(unit) {
             declare(o, &w, v);
         }
         o.push_str("END_STRUCT;\n");
@@ -427,7 +502,7 @@ pub fn print(unit: &Unit, dialect: Dialect, o: &mut impl Write) -> fmt::Result {
     signal_list(unit, &mut text);
     text.push('\n');
     if siemens(dialect) {
-        if !unit.globals.is_empty() {
+        if data_block_globals(unit).next().is_some() {
             data_block(unit, dialect, &mut text);
             text.push('\n');
         }

@@ -3,7 +3,7 @@
 //! position is kept in a marker byte (`MB 0` by default, [`Options::marker_byte`]) and entered
 //! through a `JL` jump list; a wait stores
 //! its position and ends the cycle (`JCN end`) while its condition is false, so the program has
-//! no backward jumps but the ones a scan may take once ([`crate::plc::model::code::Step::back_in_scan`]);
+//! no backward jumps but the ones a scan may take once;
 //! requests `SET` / `S` / `R` outputs. Labels are four letters numbered by
 //! command position (`aaaa` is command 0, `aaac` command 2), as in the thesis's listing.
 //!
@@ -19,7 +19,8 @@
 
 pub mod unit;
 
-use crate::plc::model::code::{Binding, Code, Effect, Statement, Test};
+use crate::plc::model::unit::{Next, Unit};
+use crate::plc::print::steps::{Action, Bit, Cond, StepBlock, Wire};
 use crate::plc::target::TimeType;
 use crate::plc::{siemens_address, Options};
 use std::fmt::{self, Write};
@@ -50,39 +51,55 @@ fn s5time(ms: u64) -> String {
     out
 }
 
-fn operand(binding: &Option<Binding>, fallback: &str) -> String {
-    match binding {
-        Some(Binding::Address(text)) => {
-            let a = siemens_address(text);
+fn operand(wire: &Wire<'_>, fallback: &str) -> String {
+    match wire {
+        Wire::Address { address, .. } => {
+            let a = siemens_address(address);
             let split = a.find(|c: char| c.is_ascii_digit()).unwrap_or(a.len());
             format!("{} {}", &a[..split], &a[split..])
         }
-        Some(Binding::Symbol(text) | Binding::Quoted(text)) => format!("\"{text}\""),
-        None => fallback.to_string(),
+        Wire::Symbol(text) => format!("\"{}\"", text.trim_matches('"')),
+        Wire::Unbound => fallback.to_string(),
     }
 }
 
-/// A problem of the chosen [`Options`] with `code`, for the lowering to locate.
+/// A problem of the chosen [`Options`] with a block, for the lowering to locate.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Clash {
-    /// The variable (index in [`Code::variables`]) whose binding clashes, if that is the cause.
+    /// The variable of the block (inputs, then outputs) whose binding clashes, if that is the
+    /// cause.
     pub variable: Option<usize>,
-    /// The S7 timer (code timer, preset in ms) beyond the CPU's timers, if that is the cause.
+    /// The S7 timer (timer of the block, preset in ms) beyond the CPU's timers, if that is the
+    /// cause.
     pub timer: Option<(usize, u64)>,
     pub message: String,
     pub notes: Vec<String>,
 }
 
-/// The S7 timers `code` needs: one per (code timer, preset), numbered `T 1` on in this order.
-pub fn s7_timers(code: &Code) -> Vec<(usize, u64)> {
+/// The S7 timers that `unit` (of the jump-list shape) needs in the layout of 6.7.2: one per
+/// (timer of its block, S5TIME preset), numbered `T 1` on in this order.
+pub fn s7_timers(unit: &Unit) -> Result<Vec<(usize, u64)>, String> {
+    StepBlock::of(unit).map(|block| block_timers(&block))
+}
+
+/// The STL operands of the inputs and of the outputs of `unit`'s block (`I 124.0`, `Q 125.6`,
+/// `"Lamp On"`, `M 10.0` for an unbound signal).
+pub fn operands(unit: &Unit, options: &Options) -> Result<(Vec<String>, Vec<String>), String> {
+    let block = StepBlock::of(unit)?;
+    let (inputs, outputs, _) = all_operands(&block, options);
+    Ok((inputs, outputs))
+}
+
+/// [`s7_timers`] of a block.
+fn block_timers(block: &StepBlock<'_>) -> Vec<(usize, u64)> {
     let mut s7_timers: Vec<(usize, u64)> = Vec::new();
-    for s in &code.steps {
-        if let Statement::Wait { test: Test::Elapsed { timer, ms, strict } }
-        | Statement::Branch { test: Test::Elapsed { timer, ms, strict }, .. } = s.statement
-        {
-            let key = (timer, preset(ms, strict));
-            if !s7_timers.contains(&key) {
-                s7_timers.push(key);
+    for s in &block.steps {
+        for c in s.wait.iter().chain(&s.when) {
+            if let Cond::Elapsed { timer, ms, strict } = *c {
+                let key = (timer, preset(ms, strict));
+                if !s7_timers.contains(&key) {
+                    s7_timers.push(key);
+                }
             }
         }
     }
@@ -94,25 +111,29 @@ pub fn preset(ms: u64, strict: bool) -> u64 {
     u64::try_from(TimeType::S5Time.preset_for(u128::from(ms), strict)).unwrap_or(u64::MAX)
 }
 
-/// The marker bytes `code` uses with `options`: the position (one byte, or a word when there are
-/// more than 255 resumption points) and the bytes of the memory bits of unbound signals.
-fn marker_bytes(code: &Code, options: &Options) -> (std::ops::Range<u32>, std::ops::Range<u32>) {
+/// The marker bytes a block uses with `options`: the position (one byte, or a word when there
+/// are more than 255 resumption points) and the bytes of the memory bits of unbound signals.
+fn marker_bytes(block: &StepBlock<'_>, options: &Options) -> (std::ops::Range<u32>, std::ops::Range<u32>) {
     let first = u32::from(options.marker_byte);
-    let width = if resume_points(code).iter().filter(|&&r| r).count() > 255 { 2 } else { 1 };
-    let unbound = code.variables().filter(|(v, _)| v.binding.is_none()).count() as u32
-        + code.outputs.iter().filter(|o| o.gap().is_some()).count() as u32;
+    let width = if block.resume_points().iter().filter(|&&r| r).count() > 255 { 2 } else { 1 };
+    let unbound = block.wires.iter().filter(|w| **w == Wire::Unbound).count() as u32 + gaps(block).count() as u32;
     let bits = first + 10;
     (first..first + width, bits..bits + unbound.div_ceil(8))
 }
 
+/// The pulsed outputs with a memory of their last write.
+fn gaps<'b>(block: &'b StepBlock<'_>) -> impl Iterator<Item = usize> + 'b {
+    (0..block.last.len()).filter(|&k| block.pulsed[k] && block.last[k].is_some())
+}
+
 /// Memory bits of user bindings on the position or the unbound signals' bytes, and thresholds
 /// beyond the CPU's timers.
-pub fn clashes(code: &Code, options: &Options) -> Vec<Clash> {
-    let (position, bits) = marker_bytes(code, options);
+pub(in crate::plc) fn clashes(block: &StepBlock<'_>, options: &Options) -> Vec<Clash> {
+    let (position, bits) = marker_bytes(block, options);
     let mut out = Vec::new();
-    for (k, (v, _)) in code.variables().enumerate() {
-        let Some(Binding::Address(text)) = &v.binding else { continue };
-        let address = siemens_address(text);
+    for (k, (v, wire)) in block.variables().zip(&block.wires).enumerate() {
+        let Wire::Address { address, .. } = wire else { continue };
+        let address = siemens_address(address);
         let Some(rest) = address.strip_prefix('M') else { continue };
         let Some(byte) = rest.split('.').next().and_then(|b| b.parse::<u32>().ok()) else { continue };
         let what = if position.contains(&byte) {
@@ -131,11 +152,11 @@ pub fn clashes(code: &Code, options: &Options) -> Vec<Clash> {
         out.push(Clash {
             variable: Some(k),
             timer: None,
-            message: format!("`{}` is bound to %{address}, in {what}", v.symbol),
+            message: format!("`{}` is bound to %{address}, in {what}", v.name),
             notes: vec!["choose another marker byte with `--marker-byte N` (the default is 0)".to_string()],
         });
     }
-    let timers = s7_timers(code);
+    let timers = block_timers(block);
     if timers.len() > usize::from(options.cpu_timers) {
         let key = timers[usize::from(options.cpu_timers)];
         out.push(Clash {
@@ -155,60 +176,29 @@ pub fn clashes(code: &Code, options: &Options) -> Vec<Clash> {
     out
 }
 
-/// Resumption points: the start, every wait, the continuation of every request, and the
-/// targets of backward jumps.
-fn resume_points(code: &Code) -> Vec<bool> {
-    let mut resume = vec![false; code.steps.len().max(1)];
-    resume[0] = true;
-    for (i, s) in code.steps.iter().enumerate() {
-        match s.statement {
-            Statement::Wait { .. } => resume[i] = true,
-            Statement::Act { output, effect, ends_scan } => {
-                if ends_scan {
-                    resume[code.resume_at(i + 1)] = true;
-                }
-                // A pulse after a pulse waits here for the next scan.
-                if effect == Effect::Pulse && code.outputs[output].gap().is_some() {
-                    resume[i] = true;
-                }
-            }
-            Statement::Branch { target, .. } | Statement::Jump { target } if target <= i => {
-                resume[code.resume_at(target)] = true
-            }
-            _ => {}
-        }
-    }
-    resume
-}
-
-/// The STL operands of the inputs and of the outputs (`I 124.0`, `Q 125.6`, `"Lamp On"`):
-/// unbound signals take memory bits from byte `marker_byte + 10` on, inputs first (the bits
-/// of the pulsed outputs' last writes follow them).
-pub fn operands(code: &Code, options: &Options) -> (Vec<String>, Vec<String>) {
-    let (inputs, outputs, _) = all_operands(code, options);
-    (inputs, outputs)
-}
-
-/// [`operands`], and per output the memory bit of its value at the last output write
-/// ([`crate::plc::model::code::Output::last`]), after the bits of the unbound signals.
-fn all_operands(code: &Code, options: &Options) -> (Vec<String>, Vec<String>, Vec<Option<String>>) {
-    let (_, bit_bytes) = marker_bytes(code, options);
+/// The STL operands of the inputs, of the outputs (`I 124.0`, `Q 125.6`, `"Lamp On"`), and per
+/// output the memory bit of its value at the last output write: unbound signals take memory
+/// bits from byte `marker_byte + 10` on, inputs first, then outputs, then the last writes.
+fn all_operands(block: &StepBlock<'_>, options: &Options) -> (Vec<String>, Vec<String>, Vec<Option<String>>) {
+    let (_, bit_bytes) = marker_bytes(block, options);
     let mut next_bit = bit_bytes.start as usize * 8;
     let mut bit = || {
         let b = next_bit;
         next_bit += 1;
         format!("M {}.{}", b / 8, b % 8)
     };
-    let inputs = code.inputs.iter().map(|i| operand(&i.binding, &bit())).collect();
-    let outputs = code.outputs.iter().map(|o| operand(&o.variable.binding, &bit())).collect();
-    let last = code.outputs.iter().map(|o| o.gap().map(|_| bit())).collect();
+    let n_in = block.block.inputs.len();
+    let inputs = block.wires[..n_in].iter().map(|w| operand(w, &bit())).collect();
+    let outputs = block.wires[n_in..].iter().map(|w| operand(w, &bit())).collect();
+    let gaps: Vec<usize> = gaps(block).collect();
+    let last = (0..block.last.len()).map(|k| gaps.contains(&k).then(&mut bit)).collect();
     (inputs, outputs, last)
 }
 
 /// Prints the organisation block (or the function block, its data block and the calling OB).
-pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result {
-    let resolve = |i: usize| code.resume_at(i);
-    let resume = resume_points(code);
+pub(in crate::plc) fn print(block: &StepBlock<'_>, options: &Options, o: &mut impl Write) -> fmt::Result {
+    let n = block.steps.len();
+    let resume = block.resume_points();
     let index: Vec<usize> = resume
         .iter()
         .scan(0, |k, &r| {
@@ -221,38 +211,38 @@ pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result 
         .collect();
     let points: Vec<usize> = (0..resume.len()).filter(|&i| resume[i]).collect();
     let wide = points.len() > 255;
-    let (position_bytes, _) = marker_bytes(code, options);
-    let (inputs, outputs, last) = all_operands(code, options);
+    let (position_bytes, _) = marker_bytes(block, options);
+    let (inputs, outputs, last) = all_operands(block, options);
     // One S7 timer per (timer, preset); a strict threshold waits for the next S5TIME value.
-    let s7_timers = s7_timers(code);
+    let s7_timers = block_timers(block);
     let t_number = |timer: usize, ms: u64| s7_timers.iter().position(|&x| x == (timer, ms)).map_or(0, |k| k + 1);
     let position = if wide { format!("MW {}", position_bytes.start) } else { format!("MB {}", position_bytes.start) };
 
-    for line in &code.header {
+    for line in &block.unit.header {
         writeln!(o, "// {line}")?;
     }
     o.write_str("// Signals:\n")?;
-    for (i, input) in code.inputs.iter().enumerate() {
-        writeln!(o, "//   {:<10} {}", inputs[i], input.comment)?;
+    for (k, v) in block.block.inputs.iter().enumerate() {
+        writeln!(o, "//   {:<10} {}", inputs[k], v.comment)?;
     }
-    for (k, out) in code.outputs.iter().enumerate() {
-        writeln!(o, "//   {:<10} {}", outputs[k], out.variable.comment)?;
+    for (k, v) in block.block.outputs.iter().enumerate() {
+        writeln!(o, "//   {:<10} {}", outputs[k], v.comment)?;
     }
-    for (k, out) in code.outputs.iter().enumerate() {
+    for (k, v) in block.block.outputs.iter().enumerate() {
         if let Some(bit) = &last[k] {
-            writeln!(o, "//   {bit:<10} {} at the last output write", out.variable.symbol)?;
+            writeln!(o, "//   {bit:<10} {} at the last output write", v.name)?;
         }
     }
     writeln!(o, "//   {position:<10} program position")?;
     for (k, &(timer, ms)) in s7_timers.iter().enumerate() {
-        writeln!(o, "//   T {:<8} {} reached {} ms", k + 1, code.timers[timer].comment, ms)?;
+        writeln!(o, "//   T {:<8} {} reached {} ms", k + 1, block.timers[timer].var.comment, ms)?;
     }
     match options.fb {
         Some(fb) => write!(o, "FUNCTION_BLOCK FB {fb}\nBEGIN\n")?,
         None => write!(o, "ORGANIZATION_BLOCK OB {}\nBEGIN\n", options.ob)?,
     }
-    for (k, out) in code.outputs.iter().enumerate() {
-        if out.pulsed {
+    for k in 0..block.block.outputs.len() {
+        if block.pulsed[k] {
             if let Some(bit) = &last[k] {
                 write!(o, "\tA\t{}\n\t=\t{bit}\n", outputs[k])?;
             }
@@ -262,7 +252,6 @@ pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result 
     for &(timer, ms) in &s7_timers {
         write!(o, "\tSET\n\tL\t{}\n\tSD\tT {}\n", s5time(ms), t_number(timer, ms))?;
     }
-    // Text, not output: the trampolines of branches are collected apart and printed last.
     let store = |k: usize| format!("\tL\t{k}\n\tT\t{position}\n");
     if wide {
         for &p in &points {
@@ -277,67 +266,70 @@ pub fn print(code: &Code, options: &Options, o: &mut impl Write) -> fmt::Result 
     }
     o.write_str("ud:\tL\t0\n")?;
     write!(o, "\tT\t{position}\n\tJU\t{}\n", label(0))?;
-    let test = |t: &Test| match *t {
-        Test::Input { input, negated } => format!("\t{}\t{}\n", if negated { "AN" } else { "A" }, inputs[input]),
-        Test::Elapsed { timer, ms, strict } => format!("\tA\tT {}\n", t_number(timer, preset(ms, strict))),
-    };
-    let restart = |i: usize| -> String {
-        let mut text = String::new();
-        for &timer in &code.steps[i].restarts {
-            for &(t, ms) in s7_timers.iter().filter(|(t, _)| *t == timer) {
-                text.push_str(&format!("\tCLR\n\tL\t{}\n\tSD\tT {}\n", s5time(ms), t_number(t, ms)));
-            }
+    let test = |c: &Cond| match *c {
+        Cond::Bit { bit, negated } => {
+            let operand = match bit {
+                Bit::Input(k) => &inputs[k],
+                Bit::Last(k) => last[k].as_ref().expect("a tested memory of the last write has a bit"),
+            };
+            format!("\t{}\t{operand}\n", if negated { "AN" } else { "A" })
         }
-        text
+        Cond::Elapsed { timer, ms, strict } => format!("\tA\tT {}\n", t_number(timer, preset(ms, strict))),
     };
-    let jumped = code.jumped_to();
+    let act = |a: &Action| -> String {
+        match *a {
+            Action::Drive { output, value } => {
+                let verb = match (block.pulsed[output], value) {
+                    (true, _) => "=",
+                    (false, true) => "S",
+                    (false, false) => "R",
+                };
+                let rlo = if value || !block.pulsed[output] { "SET" } else { "CLR" };
+                format!("\t{rlo}\n\t{verb}\t{}\n", outputs[output])
+            }
+            Action::Restart { timer } => s7_timers
+                .iter()
+                .filter(|(t, _)| *t == timer)
+                .map(|&(t, ms)| format!("\tCLR\n\tL\t{}\n\tSD\tT {}\n", s5time(ms), t_number(t, ms)))
+                .collect(),
+        }
+    };
+    // A transfer as a jump: within the scan to a step's label, else store where the next scan
+    // resumes and end this one.
+    let transfer = |next: Next| match next {
+        Next::Continue(k) if k < n => format!("\tJU\t{}\n", label(k)),
+        Next::Continue(_) => format!("{}\tJU\tend\n", store(index[0])),
+        Next::Resume(k) => format!("{}\tJU\tend\n", store(index[k.min(resume.len() - 1)])),
+    };
+    let jumped = block.jumped_to();
+    // Text, not output: the taken branches are collected apart and printed last.
     let mut trampolines = String::new();
-    // After an unconditional jump, only labelled code can be reached.
+    // After an unconditional transfer, only labelled code can be reached.
     let mut falls_in = true;
-    for (i, step) in code.steps.iter().enumerate() {
+    for (i, step) in block.steps.iter().enumerate() {
         let needs_label = resume[i] || jumped[i];
         if !falls_in && !needs_label {
             continue;
         }
-        falls_in = !matches!(step.statement, Statement::Act { ends_scan: true, .. } | Statement::Jump { .. });
         let lbl = if needs_label { format!("{}:", label(i)) } else { String::new() };
         writeln!(o, "{lbl}\tNOP\t0\t// {}", step.comment)?;
-        match step.statement {
-            Statement::Wait { test: t } => {
-                write!(o, "{}{}\tJCN\tend\n{}", store(index[i]), test(&t), restart(i))?;
-            }
-            Statement::Branch { test: t, target } => {
+        if let Some(wait) = &step.wait {
+            writeln!(o, "{}{}\tJCN\tend", store(index[i]), test(wait))?;
+        }
+        let actions: String = step.actions.iter().map(act).collect();
+        match &step.when {
+            Some(when) => {
                 let taken = format!("b{}", &label(i)[1..]);
-                writeln!(o, "{}\tJC\t{taken}", test(&t))?;
-                trampolines.push_str(&format!("{taken}:\tNOP\t0\n{}", restart(i)));
-                if target > i || step.back_in_scan {
-                    trampolines.push_str(&format!("\tJU\t{}\n", label(target)));
-                } else {
-                    trampolines.push_str(&format!("{}\tJU\tend\n", store(index[resolve(target)])));
-                }
+                writeln!(o, "{}\tJC\t{taken}", test(when))?;
+                trampolines.push_str(&format!("{taken}:\tNOP\t0\n{actions}{}", transfer(step.next)));
+                falls_in = true;
             }
-            Statement::Act { output, effect, ends_scan } => {
-                let verb = match effect {
-                    Effect::Pulse => "=",
-                    Effect::Set => "S",
-                    Effect::Reset => "R",
-                };
-                if let Some(bit) = last[output].as_ref().filter(|_| effect == Effect::Pulse) {
-                    // Pulsed in the previous scan: wait here for one scan with the output FALSE.
-                    write!(o, "{}\tA\t{bit}\n\tJC\tend\n", store(index[i]))?;
-                }
-                write!(o, "\tSET\n\t{verb}\t{}\n{}", outputs[output], restart(i))?;
-                // Going on within the scan falls through into the next step.
-                if ends_scan {
-                    writeln!(o, "{}\tJU\tend", store(index[resolve(i + 1)]))?;
-                }
-            }
-            Statement::Jump { target } => {
-                o.write_str(&restart(i))?;
-                if target > i || step.back_in_scan {
-                    writeln!(o, "\tJU\t{}", label(target))?;
-                } else {
-                    writeln!(o, "{}\tJU\tend", store(index[resolve(target)]))?;
+            None => {
+                o.write_str(&actions)?;
+                // Going on at the next step falls through into it.
+                falls_in = step.next == Next::Continue(i + 1);
+                if !falls_in {
+                    o.write_str(&transfer(step.next))?;
                 }
             }
         }

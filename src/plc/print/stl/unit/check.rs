@@ -39,6 +39,12 @@ pub fn check(unit: &Unit, options: &StlUnitOptions) -> Vec<String> {
         }
     }
     for v in &unit.globals {
+        if v.at.is_some() {
+            errors.push(format!(
+                "global `{}` is wired to the process: the STL form keeps every global in its data block",
+                v.name
+            ));
+        }
         if let Type::Instance(name) = &v.ty {
             if unit.pou(name).is_some_and(|p| p.kind != PouKind::FunctionBlock) {
                 errors.push(format!("global `{}` is an instance of `{name}`, which is not a function block", v.name));

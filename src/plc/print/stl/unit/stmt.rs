@@ -6,7 +6,7 @@ use super::expr::incompatible;
 use super::expr::{expr_text, place_text};
 use super::layout::Blocks;
 use super::{default_value, fits_int, shadow, type_name, valid_name, Gen, StlUnitOptions, TempKind, Ty};
-use crate::plc::model::unit::{Expr, Place, Pou, PouKind, Stmt, Type, Unit};
+use crate::plc::model::unit::{Expr, Next, Place, Pou, PouKind, StepList, Stmt, Type, Unit};
 use std::fmt::Write;
 
 impl Gen<'_> {
@@ -68,7 +68,83 @@ impl Gen<'_> {
             Stmt::Case { selector, arms, otherwise } => self.case(selector, arms, otherwise),
             Stmt::CallFunction { function, args, result } => self.call_function(function, args, result.as_ref()),
             Stmt::CallInstance { instance, args } => self.call_instance(instance, args),
+            Stmt::Steps(list) => self.step_list(list),
         }
+    }
+
+    /// A step list in the layout of Peter 2005, 6.7.2: a jump list on the position (a chain of
+    /// comparisons beyond 255 steps), a label per step; a wait stores its own position and ends
+    /// the scan (`JCN` to the list's end) while its condition is false; a position outside the
+    /// list restarts it at step 0 in the next scan.
+    fn step_list(&mut self, list: &StepList) {
+        let position = Place::local(&list.position);
+        let op = match self.operand(&position) {
+            Ok(op) => op,
+            Err(m) => return self.error(m),
+        };
+        if self.ty(&Expr::Read(position)) != Ok(Ty::Int) {
+            return self.error(format!("the position `{}` of a step list is not an INT", list.position));
+        }
+        let n = list.steps.len();
+        if n > 32_767 {
+            return self.error(format!("{n} steps do not fit an INT position"));
+        }
+        let end = self.new_label();
+        let restart = self.new_label();
+        let labels: Vec<String> = (0..n).map(|_| self.new_label()).collect();
+        let at = |k: usize| if k < n { labels[k].clone() } else { restart.clone() };
+        self.comment(&format!(
+            "Step list on {}: one scan runs from the stored step until a step ends it.",
+            list.position
+        ));
+        if n <= 255 {
+            self.emit(&format!("L\t{op}"));
+            let list_end = self.new_label();
+            self.emit(&format!("JL\t{list_end}"));
+            for l in &labels {
+                self.emit(&format!("JU\t{l}"));
+            }
+            let _ = writeln!(self.code, "{list_end}:\tJU\t{restart}");
+        } else {
+            for (k, l) in labels.iter().enumerate() {
+                self.emit(&format!("L\t{op}"));
+                self.emit(&format!("L\t{k}"));
+                self.emit("==I");
+                self.emit(&format!("JC\t{l}"));
+            }
+            self.emit(&format!("JU\t{restart}"));
+        }
+        let store = |g: &mut Self, k: usize| {
+            g.emit(&format!("L\t{k}"));
+            g.emit(&format!("T\t{op}"));
+        };
+        let _ = writeln!(self.code, "{restart}:\tNOP\t0");
+        store(self, 0);
+        self.emit(&format!("JU\t{end}"));
+        for (i, step) in list.steps.iter().enumerate() {
+            self.place_label(&labels[i]);
+            self.comment(&step.comment);
+            if let Some(wait) = &step.wait {
+                store(self, i);
+                self.bool_value(wait);
+                self.emit(&format!("JCN\t{end}"));
+            }
+            if let Some(when) = &step.when {
+                self.bool_value(when);
+                self.emit(&format!("JCN\t{}", at(i + 1)));
+            }
+            self.statements(&step.actions);
+            match step.next {
+                // The next step's label follows: fall into it.
+                Next::Continue(k) if k == i + 1 && k < n => {}
+                Next::Continue(k) => self.emit(&format!("JU\t{}", at(k))),
+                Next::Resume(k) => {
+                    store(self, k);
+                    self.emit(&format!("JU\t{end}"));
+                }
+            }
+        }
+        self.place_label(&end);
     }
 
     fn case(&mut self, selector: &Expr, arms: &[(Vec<i64>, Vec<Stmt>)], otherwise: &[Stmt]) {
