@@ -339,6 +339,12 @@ fn a_quoted_tag_keeps_its_quotes_in_siemens_code_and_is_refused_located_elsewher
     let st =
         plc::render(&build(&source, "x", Target::St, &Options::default()).unwrap(), Target::St, &Options::default());
     assert!(st.contains("ctrl(lamp := lamp_ok"), "{st}");
+    // A member of a data block: SCL quotes the block, the IEC dialects write it as it is.
+    let source = clash_spec("io { lamp = GVL.lamp_on; }\n");
+    for (target, call) in [(Target::Scl, "ctrl(lamp := \"GVL\".lamp_on"), (Target::St, "ctrl(lamp := GVL.lamp_on")] {
+        let text = plc::render(&build(&source, "x", target, &Options::default()).unwrap(), target, &Options::default());
+        assert!(text.contains(call), "{target}:\n{text}");
+    }
 }
 
 #[test]
@@ -387,7 +393,11 @@ fn plcopen_holds_a_program_a_task_the_mapped_io_and_the_creation_time() {
 
 #[test]
 fn the_io_table_lists_every_signal_as_csv_and_as_a_siemens_symbol_table() {
-    let code = build(&example("lamp"), "lamp", Target::St, &Options::default()).unwrap();
+    let unit = |name: &str| {
+        let code = build(&example(name), name, Target::St, &Options::default()).unwrap();
+        plc::lower::timed::structured(&code).unit
+    };
+    let code = unit("lamp");
     assert_eq!(
         plc::io_table_csv(&code),
         "address,type,symbol,direction,meaning\r\n%IX124.0,BOOL,press,input,\"press, NOT release\"\r\n\
@@ -399,7 +409,7 @@ fn the_io_table_lists_every_signal_as_csv_and_as_a_siemens_symbol_table() {
          \"turn_on\",\"Q 125.6\",\"BOOL\",\"turn_on sets, turn_off resets\"\r\n"
     );
     // Without io, the block's own inputs and outputs, unbound.
-    let code = build(&example("gear_checking"), "gear_checking", Target::St, &Options::default()).unwrap();
+    let code = unit("gear_checking");
     let csv = plc::io_table_csv(&code);
     assert!(
         csv.contains("\r\n,BOOL,loaded,input,loaded\r\n") && csv.contains(",BOOL,load,output,load pulses\r\n"),

@@ -12,11 +12,11 @@
 mod common;
 
 use common::{root, venv_tool};
+use plcsynth::plc::lower::timed::machine::{Code, Effect, Statement, Test};
 use plcsynth::plc::lower::timed::realtime::{
-    self, Config, Failure, Interpreter, Latency, RunReport, ScanController, Stop, UnitInterpreter,
+    self, Config, Failure, Latency, RunReport, ScanController, Stop, UnitInterpreter,
 };
 use plcsynth::plc::lower::timed::{self as lower_timed, Wiring};
-use plcsynth::plc::model::code::{Code, Effect, Statement, Test};
 use plcsynth::plc::{self, Options, Target};
 use plcsynth::program;
 use plcsynth::timed::model::Game;
@@ -134,9 +134,18 @@ fn config(scans: u64) -> Config {
     Config { scan_us: SCAN_US, scans, ..Config::default() }
 }
 
+/// Runs `e`'s code for `target` (STL tests its thresholds at their S5TIME presets) in the unit
+/// interpreter against the plant.
 fn run_rust(e: &Example, target: Target, seed: u64, scans: u64) -> RunReport {
     let (code, wiring) = if target == Target::Stl { &e.stl } else { &e.st };
-    let mut controller = Interpreter::new(code, target);
+    run_code(e, code, wiring, seed, scans)
+}
+
+/// Runs `code` (lowered from `e`, or a mutant of it) as its unit in the unit interpreter against
+/// `e`'s plant.
+fn run_code(e: &Example, code: &Code, wiring: &Wiring, seed: u64, scans: u64) -> RunReport {
+    let structured = lower_timed::structured(code);
+    let mut controller = UnitInterpreter::new(&structured).unwrap_or_else(|m| panic!("{}: {m}", e.name));
     realtime::run(&e.game, code, wiring, &mut controller, &config(scans), seed)
 }
 
@@ -278,106 +287,44 @@ fn the_lamp_fails_at_10_ms_and_lamp_scan_holds() {
     assert_eq!(at_10_ms(lamp_scan), plcsynth::timed::solve::Verdict::Realizable);
 }
 
-/// The structured unit of a step machine, run by the unit interpreter, beside the step
-/// machine's own interpreter: the plant sees the unit's outputs.
-struct Lockstep<'c> {
-    unit: UnitInterpreter<'c>,
-    reference: Interpreter<'c>,
-    scans: u64,
-    mismatches: Vec<String>,
-}
-
-impl ScanController for Lockstep<'_> {
-    fn scan(&mut self, now_us: u64, inputs: &[bool]) -> Vec<bool> {
-        let out = self.unit.scan(now_us, inputs);
-        let expected = self.reference.scan(now_us, inputs);
-        let (at, expected_at) = (self.unit.position(), self.reference.position());
-        if (out != expected || at != expected_at) && self.mismatches.len() < 5 {
-            self.mismatches.push(format!(
-                "scan {} at {now_us} us, inputs {inputs:?}: unit {out:?} at {at:?}, step machine {expected:?} at {expected_at:?}",
-                self.scans
-            ));
-        }
-        self.scans += 1;
-        out
-    }
-}
-
-/// Runs `structured` (the unit of `e`'s ST code) against the plant beside the step machine on
-/// `seed`; returns the report and the mismatches.
-fn lockstep(e: &Example, structured: &lower_timed::Structured, seed: u64, scans: u64) -> (RunReport, Vec<String>) {
-    let (code, wiring) = &e.st;
-    let mut l = Lockstep {
-        unit: UnitInterpreter::new(structured).unwrap_or_else(|m| panic!("{}: {m}", e.name)),
-        reference: Interpreter::new(code, Target::St),
-        scans: 0,
-        mismatches: Vec::new(),
-    };
-    let r = realtime::run(&e.game, code, wiring, &mut l, &config(scans), seed);
-    if let Some(m) = l.unit.error() {
-        l.mismatches.push(format!("the unit interpreter stopped: {m}"));
-    }
-    (r, l.mismatches)
-}
-
-#[test]
-fn the_structured_unit_runs_as_the_step_machine_scan_by_scan() {
-    // Every example's ST code as a unit of the one code model (a step list in a function
-    // block, a program wiring it), run by the unit interpreter against the plant: its outputs
-    // and positions are the step machine's at every scan, and so are the verdicts.
-    for e in examples() {
-        let structured = lower_timed::structured(&e.st.0);
-        for seed in 0..3 {
-            let (r, mismatches) = lockstep(e, &structured, seed, 800);
-            assert!(mismatches.is_empty(), "{} seed {seed}:\n{}", e.name, mismatches.join("\n"));
-            assert_eq!(r.outcome(), run_rust(e, Target::St, seed, 800).outcome(), "{} seed {seed}", e.name);
-        }
-    }
-    // The comparison sees a wrong lowering: a wait that ends the scan when it passes, or a
-    // request that drives the wrong level.
-    use plcsynth::plc::model::unit::{Expr, Next, Stmt};
-    let e = example("lamp_scan");
-    let original = lower_timed::structured(&e.st.0);
-    fn steps(s: &mut lower_timed::Structured) -> &mut Vec<plcsynth::plc::model::unit::Step> {
-        let block = &mut s.unit.pous[0];
-        match block.body.iter_mut().find(|s| matches!(s, Stmt::Steps(_))) {
-            Some(Stmt::Steps(list)) => &mut list.steps,
-            _ => panic!("no step list"),
-        }
-    }
-    let mut slow = original.clone();
-    for step in steps(&mut slow) {
-        if let (Some(_), Next::Continue(k)) = (&step.wait, step.next) {
-            step.next = Next::Resume(k);
-        }
-    }
-    let mut flipped = original.clone();
-    let act = steps(&mut flipped)
-        .iter_mut()
-        .flat_map(|s| s.actions.iter_mut())
-        .find_map(|a| match a {
-            Stmt::Assign { value: v @ Expr::Bool(true), .. } => Some(v),
-            _ => None,
-        })
-        .expect("a request");
-    *act = Expr::Bool(false);
-    for (what, mutant) in [("a wait that ends its scan", slow), ("a request flipped", flipped)] {
-        let caught = (0..3).any(|seed| !lockstep(e, &mutant, seed, 800).1.is_empty());
-        assert!(caught, "{what}: not told apart from the step machine");
-    }
-}
-
 /// Runs `code` (a mutant of `e`'s STL) on seeds 0..40 and returns the first failure.
 fn first_failure(e: &Example, code: &Code, scans: u64) -> Option<RunReport> {
     (0..40).find_map(|seed| {
-        let mut c = Interpreter::new(code, Target::Stl);
-        let r = realtime::run(&e.game, code, &e.stl.1, &mut c, &config(scans), seed);
+        let r = run_code(e, code, &e.stl.1, seed, scans);
         r.failure.is_some().then_some(r)
     })
 }
 
 fn step_of(code: &Code, what: impl Fn(&Statement) -> bool) -> usize {
     code.steps.iter().position(|s| what(&s.statement)).expect("the step exists")
+}
+
+#[test]
+fn stl_tests_a_strict_threshold_at_the_next_s5time_value() {
+    // `x > 30 ms` on S5TIME (10 ms steps): the STL code tests 40 ms, which its timer's preset
+    // reaches; the ST code tests `> 30 ms` itself. Both hold against the plant.
+    let source = "timeunit 10ms;\nplant { automaton A { clocks x; nodes a, b;\n  \
+                  a -> b ?go { x in (3,inf) } reset { x }; b -> a ?back; } }\n\
+                  plans { plan { waitfor go; waitfor back; } }\n";
+    let w = lowered("strict", source);
+    let thresholds = |c: &Code| -> Vec<(u64, bool)> {
+        c.steps
+            .iter()
+            .filter_map(|s| match s.statement {
+                Statement::Wait { test: Test::Elapsed { ms, strict, .. } } => Some((ms, strict)),
+                _ => None,
+            })
+            .collect()
+    };
+    assert_eq!(thresholds(&w.stl.0), vec![(40, false)]);
+    assert_eq!(thresholds(&w.st.0), vec![(30, true)]);
+    assert!(w.stl.0.timers[0].preset_ms >= 40, "{:?}", w.stl.0.timers);
+    for seed in 0..20 {
+        for target in [Target::Stl, Target::St] {
+            let r = run_rust(&w, target, seed, 1000);
+            assert!(r.failure.is_none() && r.progress > 20, "{target}: {}", show(&r));
+        }
+    }
 }
 
 #[test]
@@ -532,7 +479,7 @@ impl Drop for Awlsim {
 /// awlsim drives the plant; the reference interpreter runs beside it on the same inputs.
 struct Differential<'c> {
     plc: &'c mut Awlsim,
-    reference: Interpreter<'c>,
+    reference: UnitInterpreter<'c>,
     scans: u64,
     mismatches: Vec<String>,
 }
@@ -556,16 +503,15 @@ impl ScanController for Differential<'_> {
     }
 }
 
-/// Runs `e`'s STL in awlsim for the seeds, against the plant, beside `reference_target`'s
-/// interpreter of `e`'s STL code; returns the reports and the mismatches.
+/// Runs `e`'s STL in awlsim for the seeds, against the plant, beside the unit interpreter of
+/// `e`'s STL code; returns the reports and the mismatches.
 fn awlsim_runs(
     plc: &mut Awlsim,
     e: &Example,
-    reference_target: Target,
     seeds: impl IntoIterator<Item = u64>,
     scans: u64,
 ) -> Vec<(RunReport, Vec<String>)> {
-    awlsim_runs_beside(plc, e, &e.stl.0, reference_target, seeds, scans)
+    awlsim_runs_beside(plc, e, &e.stl.0, seeds, scans)
 }
 
 /// [`awlsim_runs`] with the interpreter running `reference` instead.
@@ -573,23 +519,24 @@ fn awlsim_runs_beside(
     plc: &mut Awlsim,
     e: &Example,
     reference: &Code,
-    reference_target: Target,
     seeds: impl IntoIterator<Item = u64>,
     scans: u64,
 ) -> Vec<(RunReport, Vec<String>)> {
     let (code, wiring) = &e.stl;
+    let structured = lower_timed::structured(reference);
     seeds
         .into_iter()
         .map(|seed| {
             plc.reset();
             let mut d = Differential {
                 plc: &mut *plc,
-                reference: Interpreter::new(reference, reference_target),
+                reference: UnitInterpreter::new(&structured).expect("the unit runs"),
                 scans: 0,
                 mismatches: Vec::new(),
             };
             let r = realtime::run(&e.game, code, wiring, &mut d, &config(scans), seed);
-            let mismatches = d.mismatches;
+            let mut mismatches = d.mismatches;
+            mismatches.extend(d.reference.fault());
             (r, mismatches)
         })
         .collect()
@@ -618,10 +565,7 @@ fn awlsim_agrees_with_the_interpreter_scan_by_scan_and_gives_the_same_verdicts()
                     None => {
                         let mut code = e.stl.0.clone();
                         code.outputs.iter_mut().for_each(|o| o.last = None);
-                        let repeats = |s: u64| {
-                            let mut c = Interpreter::new(&code, Target::Stl);
-                            realtime::run(&e.game, &code, &e.stl.1, &mut c, &config(1500), s).repeated_pulses > 0
-                        };
+                        let repeats = |s: u64| run_code(e, &code, &e.stl.1, s, 1500).repeated_pulses > 0;
                         let gap = (1..40).find(|&s| repeats(s));
                         // The round tables' `cycle` comes back to back when the table is quick.
                         assert!(
@@ -640,7 +584,7 @@ fn awlsim_agrees_with_the_interpreter_scan_by_scan_and_gives_the_same_verdicts()
                     }
                 };
                 let mut tally = Tally::default();
-                for (r, mismatches) in awlsim_runs(&mut plc, e, Target::Stl, seeds, scans) {
+                for (r, mismatches) in awlsim_runs(&mut plc, e, seeds, scans) {
                     assert!(
                         mismatches.is_empty(),
                         "{}: awlsim and the interpreter differ:\n{}",
@@ -688,7 +632,7 @@ fn the_differential_has_teeth_and_awlsim_timers_run_on_the_virtual_clock() {
         }
     }
     let mut plc = Awlsim::start("two_machines_teeth", &e.stl.0);
-    let runs = awlsim_runs_beside(&mut plc, e, &ending, Target::Stl, 0..1, 500);
+    let runs = awlsim_runs_beside(&mut plc, e, &ending, 0..1, 500);
     assert!(runs.iter().any(|(_, m)| !m.is_empty()), "requests going on within the scan went unnoticed");
     // S7 timers on the virtual clock: the waiting example's `SD` (30 ms) elapses exactly three
     // scans after the scan that restarted it, as the interpreter says, in every run.
@@ -699,7 +643,7 @@ fn the_differential_has_teeth_and_awlsim_timers_run_on_the_virtual_clock() {
                   plans { plan { waitfor go; waitfor back; } }\n",
     );
     let mut plc = Awlsim::start("waiting_timer", &w.stl.0);
-    for (r, mismatches) in awlsim_runs(&mut plc, &w, Target::Stl, 0..3, 300) {
+    for (r, mismatches) in awlsim_runs(&mut plc, &w, 0..3, 300) {
         assert!(mismatches.is_empty(), "{mismatches:?}");
         assert!(r.failure.is_none() && r.progress > 20, "{}", show(&r));
     }
@@ -726,8 +670,7 @@ fn requests_going_on_within_their_scan_cut_latency_and_hold() {
             let mut t = Tally::default();
             let mut failure = None;
             for seed in (0..runs(&e.name)).step_by(2) {
-                let mut controller = Interpreter::new(c, Target::Stl);
-                let r = realtime::run(&e.game, c, &e.stl.1, &mut controller, &config(SCANS), seed);
+                let r = run_code(e, c, &e.stl.1, seed, SCANS);
                 if r.failure.is_some() && failure.is_none() {
                     failure = Some(r.clone());
                 }
@@ -768,7 +711,7 @@ fn requests_going_on_within_their_scan_cut_latency_and_hold() {
     );
 }
 
-/// The rules of `plc::model::code::chain_requests` matter: the same code with every request going on
+/// The rules of `plc::lower::timed::machine::chain_requests` matter: the same code with every request going on
 /// within its scan fails. The round table's `DO (cycle); WAITUNTIL (cycle_end)` then reads the
 /// `cycle_end` of the previous cycle, and `DO (store_class_0); DO (cycle)` reach the table in
 /// either order, cycling while the marble is still validating.
@@ -806,7 +749,8 @@ fn independent_requests_share_a_scan_and_hold() {
         })
         .collect();
     assert_eq!(first_two, vec![false, false], "start_a goes on to start_b, and start_b to the waits");
-    let mut i = Interpreter::new(code, Target::St);
+    let structured = lower_timed::structured(code);
+    let mut i = UnitInterpreter::new(&structured).unwrap();
     assert_eq!(i.scan(0, &[false, false]), vec![true, true], "both requests in the first scan");
     for seed in 0..60 {
         let target = if seed % 2 == 0 { Target::Stl } else { Target::St };

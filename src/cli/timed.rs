@@ -464,12 +464,11 @@ pub fn compile(
         }
     };
     if let Some(ms) = check_at {
-        let check_target = target.unwrap_or(plc::Target::St);
         let config = plc::lower::timed::realtime::Config {
             scan_us: ms.saturating_mul(1000),
             ..plc::lower::timed::realtime::Config::default()
         };
-        let report = plc::lower::timed::realtime::check(&game, &code, &wiring, check_target, &config, check_runs);
+        let report = plc::lower::timed::realtime::check(&game, &code, &wiring, &config, check_runs);
         if let Some(r) = &report.failure {
             eprintln!(
                 "{file}: the generated code fails at {ms} ms in real-time run {} of {check_runs} (seed {}), although \
@@ -494,10 +493,11 @@ pub fn compile(
         return write_files(out, None, &[plc::OutputFile { name: String::new(), text: program.render(&game) }]);
     };
     if let Some(path) = &plc_args.io_table {
+        let unit = plc::lower::timed::structured(&code).unit;
         let text = if path.to_ascii_lowercase().ends_with(".sdf") {
-            plc::tag_table_sdf(&code)
+            plc::tag_table_sdf(&unit)
         } else {
-            plc::io_table_csv(&code)
+            plc::io_table_csv(&unit)
         };
         if let Err(e) = std::fs::write(path, text) {
             eprintln!("error: cannot write {path}: {e}");

@@ -1,33 +1,33 @@
 //! PLC back ends, in four layers that show in the folders:
 //!
-//! - [`model`]: the neutral code model — the step machine of the timed engine's controllers
-//!   ([`model::code`]) and the structured unit of POUs ([`model::unit`]) — and the unit's
-//!   reference interpreter ([`model::exec`]);
+//! - [`model`]: the one code model — the unit of POUs ([`model::unit`]: functions, function
+//!   blocks and a program over typed variables, with expressions, `IF`, `CASE` and step lists) —
+//!   and its reference interpreter ([`model::exec`]);
 //! - [`lower`]: one lowering per engine, the only place that knows one: [`lower::timed`] (the
-//!   timed engine's intermediate program, with the real-time checker
-//!   [`lower::timed::realtime`]), [`lower::sct`] (the supervisors' runtime framework, with the
-//!   playground's cycle simulator [`lower::sct::framework_sim`]) and [`lower::ltl`] (an LTL
-//!   controller's state machine);
+//!   timed engine's intermediate program, through the step machine [`lower::timed::machine`]
+//!   to a unit, with the real-time checker [`lower::timed::realtime`]), [`lower::sct`] (the
+//!   supervisors' runtime framework, with the playground's cycle simulator
+//!   [`lower::sct::framework_sim`]) and [`lower::ltl`] (an LTL controller's state machine);
 //! - [`print`](mod@print): one printer per dialect family over the model alone: Structured Text (plain,
-//!   CODESYS, TwinCAT, Siemens SCL), Siemens S7 STL (AWL, Peter 2005, 6.7.2) and Instruction List;
+//!   CODESYS, TwinCAT, Siemens SCL), Siemens S7 STL (AWL) and Instruction List;
 //! - [`files`]: what a PLC tool imports around the printed code: TwinCAT files, PLCopen TC6 XML,
 //!   I/O tables.
 //!
 //! [`fragment`] reads the Structured Text fragments written into `.sct` specifications;
-//! [`Target`] lists the targets, and [`render_files`] / [`render_unit_files`] pick the printer
-//! and writer of one.
+//! [`Target`] lists the targets, and [`render_unit_files`] picks the printer and writer of one
+//! ([`render_files`] for a timed controller's step machine).
 //!
-//! Step machines on every target share the execution scheme of 6.7.2: the program position is
-//! kept in a step variable; every call (one PLC scan) jumps to the stored position and runs until
-//! the program waits. A scan ends when a wait condition is false, when the program jumps
-//! backwards (so no loop can run within one scan; a jump back from which the scan cannot jump
-//! back again goes on, [`model::code::Step::back_in_scan`]), and after a request unless nothing
-//! later in the scan depends on it having taken effect ([`model::code::chain_requests`]:
-//! outputs are written and inputs read again before a test of its feedback or a request that
-//! might not commute with it). Inputs are levels read once per scan; a request either pulses its
-//! output for one scan or sets/resets a latched output (the `io` section). Clocks read by delay
-//! conditions are IEC `TON` timers (S7 timers in STL), restarted where the program resets the
-//! clock.
+//! Step lists on every target share the execution scheme of Peter 2005, 6.7.2: the program
+//! position is kept in a step variable; every call (one PLC scan) enters at the stored position
+//! and runs until a step ends the scan. For a timed controller a scan ends when a wait condition
+//! is false, when the program jumps backwards (so no loop can run within one scan; a jump back
+//! from which the scan cannot jump back again goes on, [`lower::timed::machine::Step::back_in_scan`]),
+//! and after a request unless nothing later in the scan depends on it having taken effect
+//! ([`lower::timed::machine::chain_requests`]: outputs are written and inputs read again before
+//! a test of its feedback or a request that might not commute with it). Inputs are levels read
+//! once per scan; a request either pulses its output for one scan or sets/resets a latched
+//! output (the `io` section). Clocks read by delay conditions are IEC `TON` timers (S7 timers
+//! in STL), restarted where the program resets the clock.
 
 pub mod files;
 pub mod fragment;
@@ -37,8 +37,8 @@ pub mod print;
 mod target;
 
 pub use files::iotable::{io_table, io_table_csv, signal_rows, signal_table_csv, tag_table_sdf, IoRow, SignalRow};
+pub use lower::timed::Code;
 pub use lower::timed::{build, generate};
-pub use model::code::Code;
 
 use files::plcopen::unit as unit_plcopen;
 use model::unit;
@@ -445,11 +445,6 @@ pub fn siemens_address(text: &str) -> String {
         Some(bit) => format!("{area}{bit}"),
         None => format!("{area}{rest}"),
     }
-}
-
-/// The preset of a timer: above its largest threshold, so every comparison can still become true.
-pub fn preset_literal(code: &Code, timer: usize) -> String {
-    time_literal(code.timers[timer].preset_ms)
 }
 
 #[cfg(test)]

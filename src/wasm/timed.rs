@@ -307,22 +307,15 @@ impl TimedSession {
         };
         let realtime = match (self.implementable_at, &lowered) {
             (Some(ms), Some((code, wiring))) => {
-                let check_target = plc_target.unwrap_or(Target::St);
-                let cell = &self.checked[usize::from(check_target == Target::Stl)];
+                // The STL code tests its thresholds at their S5TIME presets: checked apart.
+                let cell = &self.checked[usize::from(plc_target == Some(Target::Stl))];
                 Some(
                     cell.get_or_init(|| {
                         let config = plc::lower::timed::realtime::Config {
                             scan_us: ms.saturating_mul(1000),
                             ..Default::default()
                         };
-                        let report = plc::lower::timed::realtime::check(
-                            &self.game,
-                            code,
-                            wiring,
-                            check_target,
-                            &config,
-                            CHECK_RUNS,
-                        );
+                        let report = plc::lower::timed::realtime::check(&self.game, code, wiring, &config, CHECK_RUNS);
                         RealtimeView {
                             scan_ms: ms,
                             runs: report.runs,
@@ -350,7 +343,8 @@ impl TimedSession {
                         .map(|f| FileView { name: f.name, text: f.text })
                         .collect()
                 };
-                let io = plc::io_table(&code)
+                let unit = plc::lower::timed::structured(&code).unit;
+                let io = plc::io_table(&unit)
                     .into_iter()
                     .map(|r| IoRowView {
                         address: r.address,
@@ -365,8 +359,8 @@ impl TimedSession {
                     extension: t.extension(),
                     files,
                     io,
-                    io_csv: plc::io_table_csv(&code),
-                    io_sdf: plc::tag_table_sdf(&code),
+                    io_csv: plc::io_table_csv(&unit),
+                    io_sdf: plc::tag_table_sdf(&unit),
                     realtime,
                 }
             }

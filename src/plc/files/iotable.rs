@@ -2,9 +2,9 @@
 //! symbol), type, symbol, direction and meaning; as CSV for any tool, and as a Siemens symbol
 //! table (SDF, the "System Data Format" of STEP 7 that TIA Portal's PLC tag tables import too).
 
-use crate::plc::model::code::{Binding, Code, Direction};
 use crate::plc::model::unit::{SignalKind, Unit};
-use crate::plc::siemens_address;
+use crate::plc::print::steps::{StepBlock, Wire};
+use crate::plc::{iec_address, siemens_address};
 
 /// One row of the I/O table.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -15,28 +15,30 @@ pub struct IoRow {
     pub data_type: &'static str,
     /// The variable's name in the generated code.
     pub symbol: String,
-    pub direction: Direction,
+    pub direction: SignalKind,
     /// The messages of the specification it stands for.
     pub meaning: String,
 }
 
-impl Direction {
-    pub fn name(self) -> &'static str {
-        match self {
-            Direction::Input => "input",
-            Direction::Output => "output",
-        }
-    }
-}
-
-/// The rows of `code`: inputs first, then outputs, in the order of the block's interface.
-pub fn io_table(code: &Code) -> Vec<IoRow> {
-    code.variables()
-        .map(|(v, direction)| IoRow {
-            address: v.binding.as_ref().map(Binding::iec_text).unwrap_or_default(),
+/// The rows of a step-list unit (a lowered timed controller, [`StepBlock`]): one per variable
+/// of its block, inputs first, then outputs, in the order of the block's interface; none for a
+/// unit of another shape (whose signals [`signal_rows`] lists).
+pub fn io_table(unit: &Unit) -> Vec<IoRow> {
+    let Ok(block) = StepBlock::of(unit) else { return Vec::new() };
+    let n_in = block.block.inputs.len();
+    block
+        .variables()
+        .zip(&block.wires)
+        .enumerate()
+        .map(|(k, (v, wire))| IoRow {
+            address: match *wire {
+                Wire::Address { address, .. } => format!("%{}", iec_address(address)),
+                Wire::Symbol(symbol) => symbol.to_string(),
+                Wire::Unbound => String::new(),
+            },
             data_type: "BOOL",
-            symbol: v.symbol.clone(),
-            direction,
+            symbol: v.name.clone(),
+            direction: if k < n_in { SignalKind::Input } else { SignalKind::Output },
             meaning: v.comment.clone(),
         })
         .collect()
@@ -52,9 +54,9 @@ fn csv_field(text: &str) -> String {
 }
 
 /// The I/O table as CSV (RFC 4180, comma-separated, a header row, CRLF line ends).
-pub fn io_table_csv(code: &Code) -> String {
+pub fn io_table_csv(unit: &Unit) -> String {
     let mut out = String::from("address,type,symbol,direction,meaning\r\n");
-    for row in io_table(code) {
+    for row in io_table(unit) {
         let fields = [row.address.as_str(), row.data_type, &row.symbol, row.direction.name(), &row.meaning];
         let line: Vec<String> = fields.iter().map(|f| csv_field(f)).collect();
         out.push_str(&line.join(","));
@@ -63,21 +65,22 @@ pub fn io_table_csv(code: &Code) -> String {
     out
 }
 
-/// The signals bound to addresses as a Siemens symbol table in SDF: one line per tag,
+/// The globals at direct addresses as a Siemens symbol table in SDF (the PLC tags the SCL code
+/// names, see [`crate::plc::model::unit::Location::Address`]): one line per tag,
 /// `"symbol","address","type","comment"` (STEP 7 "Programming with STEP 7", 8.6: strings in
 /// quotation marks separated by commas; the address in Siemens notation `I 124.0`). STEP 7
 /// limits symbols to 24 and comments to 80 characters; comments are cut to 80. Signals bound to
 /// project symbols or unbound are not tags of this table.
-pub fn tag_table_sdf(code: &Code) -> String {
+pub fn tag_table_sdf(unit: &Unit) -> String {
     let mut out = String::new();
-    for (v, _) in code.variables() {
-        if let Some(Binding::Address(text)) = &v.binding {
+    for v in &unit.globals {
+        if let Some(text) = v.address() {
             let address = siemens_address(text);
             let split = address.find(|c: char| c.is_ascii_digit()).unwrap_or(address.len());
             let comment: String = v.comment.replace('"', "'").chars().take(80).collect();
             out.push_str(&format!(
                 "\"{}\",\"{} {}\",\"BOOL\",\"{}\"\r\n",
-                v.symbol,
+                v.name,
                 &address[..split],
                 &address[split..],
                 comment

@@ -18,7 +18,7 @@
 
 use crate::plc::fragment::BinOp;
 use crate::plc::model::unit::{Expr, Next, Place, Pou, PouKind, StepList, Stmt, Type, Unit, Var};
-use std::collections::HashMap;
+use hashbrown::HashMap;
 
 /// A value of the model's elementary types.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -88,6 +88,17 @@ fn convert(v: Value, ty: &Type, name: &str) -> Result<Value> {
         return err(format!("`{name}` ({to}) gets a value of type {from}: IEC needs an explicit conversion"));
     }
     Ok(v.stored_as(ty))
+}
+
+/// Stores `v` into local `name` of `frame`.
+fn set_local(frame: &mut Frame, name: &str, v: Value) -> Result<()> {
+    match (frame.types.get(name), frame.values.get_mut(name)) {
+        (Some(ty), Some(slot)) => {
+            *slot = convert(v, ty, name)?;
+            Ok(())
+        }
+        _ => err(format!("no local `{name}`")),
+    }
 }
 
 /// A REAL result as an S7 CPU keeps it: a subnormal becomes 0.0.
@@ -281,7 +292,16 @@ impl<'u> Machine<'u> {
 
     /// Sets global `name` (an input the tool maps, before a cycle).
     pub fn set_global(&mut self, name: &str, value: Value) -> Result<()> {
-        self.store(&Place::global(name), value, &mut Frame::default())
+        if self.unit.constants.iter().any(|c| c.name == name) {
+            return err(format!("`{name}` is a constant"));
+        }
+        match (self.globals.types.get(name), self.globals.values.get_mut(name)) {
+            (Some(ty), Some(slot)) => {
+                *slot = convert(value, ty, name)?;
+                Ok(())
+            }
+            _ => err(format!("no global `{name}`")),
+        }
     }
 
     /// The value of the program's variable `name` (an input, output or static).
@@ -395,7 +415,7 @@ impl<'u> Machine<'u> {
                             }
                         }
                         let now = self.now_ms;
-                        let t = frame.timers.entry(name.clone()).or_default();
+                        let Some(t) = frame.timers.get_mut(name) else { return err(format!("no timer `{name}`")) };
                         if let Some(p) = preset {
                             t.preset_ms = p;
                         }
@@ -409,19 +429,26 @@ impl<'u> Machine<'u> {
                     }
                     Some(ty @ Type::Instance(_)) if self.function_block(ty).is_some() => {
                         let block = self.function_block(ty).expect("just checked");
-                        let mut values = Vec::new();
+                        let mut values = Vec::with_capacity(args.len());
                         for (param, e) in args {
                             let Some(input) = block.inputs.iter().find(|v| v.name == *param) else {
                                 return err(format!("`{}` has no input `{param}`", block.name));
                             };
-                            values.push((param.clone(), convert(self.eval(e, frame)?, &input.ty, param)?));
+                            values.push((param, convert(self.eval(e, frame)?, &input.ty, param)?));
                         }
-                        let Some(mut own) = frame.instances.remove(name) else {
+                        let Some(own) = frame.instances.get_mut(name) else {
                             return err(format!("instance `{name}` has no variables"));
                         };
-                        own.values.extend(values);
+                        let mut own = std::mem::take(own);
+                        for (param, value) in values {
+                            if let Some(slot) = own.values.get_mut(param) {
+                                *slot = value;
+                            }
+                        }
                         let result = self.stmts(&block.body, &mut own, &mut None);
-                        frame.instances.insert(name.clone(), own);
+                        if let Some(slot) = frame.instances.get_mut(name) {
+                            *slot = own;
+                        }
                         result
                     }
                     Some(Type::Instance(_)) => match controller.as_deref_mut() {
@@ -444,7 +471,8 @@ impl<'u> Machine<'u> {
         controller: &mut Option<&mut Controller<'_>>,
     ) -> Result<()> {
         let n = list.steps.len();
-        let mut at = self.read(&Place::local(&list.position), frame)?.as_int();
+        let Some(at) = frame.values.get(&list.position) else { return err(format!("no local `{}`", list.position)) };
+        let mut at = at.as_int();
         let mut budget = 2 * n + 2;
         let resume = loop {
             let Some(step) = usize::try_from(at).ok().and_then(|i| list.steps.get(i)) else { break 0 };
@@ -473,33 +501,14 @@ impl<'u> Machine<'u> {
                 Next::Resume(k) => break k,
             }
         };
-        self.store(&Place::local(&list.position), Value::Int(resume as i64), frame)?;
-        self.store(&Place::local(&list.done), Value::Bool(true), frame)
+        set_local(frame, &list.position, Value::Int(resume as i64))?;
+        set_local(frame, &list.done, Value::Bool(true))
     }
 
     fn store(&mut self, place: &Place, v: Value, frame: &mut Frame) -> Result<()> {
         match place {
-            Place::Local(name) => match frame.types.get(name) {
-                Some(ty) => {
-                    let v = convert(v, ty, name)?;
-                    frame.values.insert(name.clone(), v);
-                    Ok(())
-                }
-                None => err(format!("no local `{name}`")),
-            },
-            Place::Global(name) => {
-                if self.unit.constants.iter().any(|c| &c.name == name) {
-                    return err(format!("`{name}` is a constant"));
-                }
-                match self.globals.types.get(name) {
-                    Some(ty) => {
-                        let v = convert(v, ty, name)?;
-                        self.globals.values.insert(name.clone(), v);
-                        Ok(())
-                    }
-                    None => err(format!("no global `{name}`")),
-                }
-            }
+            Place::Local(name) => set_local(frame, name, v),
+            Place::Global(name) => self.set_global(name, v),
             Place::Signal(k) => {
                 if *k >= self.signals.len() {
                     return err(format!("no signal {k}"));

@@ -1,6 +1,6 @@
 //! The structured half of the neutral code model: program organisation units (functions,
 //! function blocks, a program) over typed variables, with expressions, `IF` and `CASE` — what a
-//! framework of cooperating blocks needs, where [`crate::plc::model::code::Code`] is one step machine.
+//! framework of cooperating blocks needs, where [`crate::plc::lower::timed::machine::Code`] is one step machine.
 //! It names no engine: a lowering (such as `lower::sct`) builds a [`Unit`]; printers (`print::st::unit`
 //! for the Structured Text dialects, PLCopen and TwinCAT, `print::stl::unit` for S7 AWL) turn it into
 //! text.
@@ -96,11 +96,23 @@ pub enum SignalKind {
     Memory,
 }
 
+impl SignalKind {
+    /// `input`, `output` or `variable`.
+    pub fn name(self) -> &'static str {
+        match self {
+            SignalKind::Input => "input",
+            SignalKind::Output => "output",
+            SignalKind::Memory => "variable",
+        }
+    }
+}
+
 /// A signal of the user's project that the unit reads or writes but does not declare.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Signal {
-    /// The name as the user's project writes it: a symbol (`Q_Inlet`, `GVL.lamp`) or a direct
-    /// address without `%` (`IX0.1`), see [`Signal::is_address`].
+    /// The name as the user's project writes it: a symbol (`Q_Inlet`, `GVL.lamp`), a Siemens
+    /// tag with its quotes (`"Lamp On"`, for Siemens dialects only) or a direct address without
+    /// `%` (`IX0.1`), see [`Signal::is_address`].
     pub symbol: String,
     pub kind: SignalKind,
     pub ty: Type,

@@ -3,14 +3,16 @@
 //! the signals of the `io` section), clocks read by delay conditions become timers, and each
 //! command becomes one step.
 
+pub mod machine;
 pub mod realtime;
 mod structured;
 
+pub use machine::Code;
 pub use structured::{structured, Structured};
 
 use crate::diag::{Diagnostic, Diagnostics, Span};
-use crate::plc::model::code::{
-    chain_requests, Binding, Code, Effect, Output, RequestFacts, Statement, Step, Test, Timer, Variable,
+use crate::plc::lower::timed::machine::{
+    chain_requests, Binding, Effect, Output, RequestFacts, Statement, Step, Test, Timer, Variable,
 };
 use crate::plc::{
     iec_address, is_identifier_path, print::stl, render, source_hash, Namespace, Options, Target, TimeType,
@@ -243,7 +245,13 @@ pub fn build_wired(
                 if !thresholds.iter().any(|&(t, p, _, _)| (t, p) == (timer, preset)) {
                     thresholds.push((timer, preset, clock, interval.lower));
                 }
-                Test::Elapsed { timer, ms, strict }
+                if time == TimeType::S5Time {
+                    // An S7 timer is elapsed at its S5TIME preset: the step tests that value, so
+                    // that the code means what the STL does.
+                    Test::Elapsed { timer, ms: preset, strict: false }
+                } else {
+                    Test::Elapsed { timer, ms, strict }
+                }
             }
         }
     };
@@ -287,10 +295,16 @@ pub fn build_wired(
             }
         }
         let clock_name = &game.clocks[clock as usize].name;
+        // On S5TIME a strict threshold is tested at the next S5TIME value, above the largest
+        // constant: the preset reaches every threshold tested.
+        let k = code_timers.len();
+        let tested = thresholds.iter().filter(|&&(t, ..)| t == k).map(|&(_, p, ..)| p);
+        let preset = u64::try_from(preset).unwrap_or(u64::MAX);
+        let preset = if time == TimeType::S5Time { tested.fold(preset, u64::max) } else { preset };
         code_timers.push(Timer {
             symbol: names.unique(&format!("t_{clock_name}")),
             comment: format!("clock {clock_name}"),
-            preset_ms: u64::try_from(preset).unwrap_or(u64::MAX),
+            preset_ms: preset,
         });
     }
     if diags.has_errors() {

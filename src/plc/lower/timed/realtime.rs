@@ -1,9 +1,10 @@
-//! Closed-loop checking in real time: a lowered timed controller ([`Code`]) scanned with a real
+//! Closed-loop checking in real time: a lowered timed controller ([`Code`], run as its unit)
+//! scanned with a real
 //! period against the plant automata of its [`Game`], in continuous time counted in
 //! microseconds, with a plant that picks its timings adversarially within the specification.
 //!
 //! The PLC scans at `t_k = k · scan`: it latches the input image from the plant's state, runs
-//! the code from its stored position (the [`crate::plc::model::code::Statement`] semantics), and writes
+//! the code from its stored position (its unit's step list, [`crate::plc::model::unit::StepList`]), and writes
 //! the output image at `t_k + e_k`, the execution time `e_k` in `[0, scan)` chosen by the
 //! adversary. Outputs are physical signals: a request reaches the plant on a rising edge of its
 //! output (a pulse repeated in the next scan stays TRUE and is no second request; a latched
@@ -19,14 +20,15 @@
 //! every plant move and every request), a plan fails (a timeout clock beyond its bound, at the
 //! microsecond), a request is refused, a request enters a guarded condition while the scan that
 //! issued it read the guard FALSE, or the plans stop progressing while the controller keeps
-//! running. The controller is a [`ScanController`]: [`Interpreter`] runs the code in Rust; a
-//! test plugs in a PLC emulator. No I/O, no clock: a run is a function of its seed.
+//! running, or the controller stops (a scan that does not end). The controller is a
+//! [`ScanController`]: [`UnitInterpreter`] runs the code's unit in the unit interpreter
+//! ([`crate::plc::model::exec`]), as the printers write it; a test plugs in a PLC emulator. No
+//! I/O, no clock: a run is a function of its seed.
 
+use crate::plc::lower::timed::machine::{Code, Effect};
 use crate::plc::lower::timed::{Structured, Wiring};
-use crate::plc::model::code::{Code, Effect, Statement, Test};
 use crate::plc::model::exec::{Machine, Value};
 use crate::plc::model::unit::{Place, PouKind, Stmt};
-use crate::plc::{print::stl, Target};
 use crate::rng::Rng;
 use crate::timed::model::{Game, MessageKind, MessageRole, MsgId};
 use crate::timed::plant::{Move, Plant, Violation};
@@ -44,155 +46,10 @@ pub trait ScanController {
     fn position(&self) -> Option<usize> {
         None
     }
-}
 
-/// The reference interpreter of a [`Code`], as the printers execute it: pulsed outputs are
-/// cleared (their value as last written kept for [`Output::last`](crate::plc::model::code::Output::last):
-/// a pulse right after a pulse waits a scan) and every timer is called with `IN := TRUE` at the start of each scan (so a timer's
-/// `ET` is measured at the scan instant, in whole milliseconds); a restart stops the timer
-/// (`IN := FALSE`: `ET` is 0 for the rest of the scan) and the next scan's call starts it
-/// again. Every target stores the position a chain of bare jumps leads to
-/// ([`Code::resume_at`]). `Target::Stl` follows `stl.rs` where it differs from the IEC
-/// targets: a strict threshold waits for the next S5TIME value
-/// ([`stl::preset`]).
-pub struct Interpreter<'c> {
-    code: &'c Code,
-    stl: bool,
-    position: usize,
-    outputs: Vec<bool>,
-    /// Per timer: the scan instant its running started at (`None`: stopped).
-    started: Vec<Option<u64>>,
-    /// Per timer: `ET` in µs as of its last call.
-    elapsed: Vec<u64>,
-}
-
-impl<'c> Interpreter<'c> {
-    /// A block in its initial state (position 0, outputs FALSE, timers stopped) running the
-    /// code as `target`'s printer does.
-    pub fn new(code: &'c Code, target: Target) -> Interpreter<'c> {
-        Interpreter {
-            code,
-            stl: target == Target::Stl,
-            position: 0,
-            outputs: vec![false; code.outputs.len()],
-            started: vec![None; code.timers.len()],
-            elapsed: vec![0; code.timers.len()],
-        }
-    }
-
-    fn test(&self, test: Test, inputs: &[bool]) -> bool {
-        match test {
-            Test::Input { input, negated } => inputs[input] != negated,
-            // `ET >= T#…` (`ET > T#…` when strict) on whole milliseconds; STL's S7 timer is
-            // elapsed at its S5TIME preset.
-            Test::Elapsed { timer, ms, strict } => {
-                let et_ms = self.elapsed[timer] / 1000;
-                if self.stl {
-                    et_ms >= stl::preset(ms, strict)
-                } else if strict {
-                    et_ms > ms
-                } else {
-                    et_ms >= ms
-                }
-            }
-        }
-    }
-
-    fn restart(&mut self, step: usize) {
-        for &t in &self.code.steps[step].restarts {
-            self.started[t] = None;
-            self.elapsed[t] = 0;
-        }
-    }
-}
-
-impl ScanController for Interpreter<'_> {
-    fn scan(&mut self, now_us: u64, inputs: &[bool]) -> Vec<bool> {
-        let code = self.code;
-        // The output image as last written: the memory of every pulsed output's last write.
-        let last = self.outputs.clone();
-        for (k, out) in code.outputs.iter().enumerate() {
-            if out.pulsed {
-                self.outputs[k] = false;
-            }
-        }
-        for (t, timer) in code.timers.iter().enumerate() {
-            let start = *self.started[t].get_or_insert(now_us);
-            // A TON's ET stops at PT; STL has an S7 timer per threshold, each with its own
-            // preset (the code timer's is the largest threshold, not above it).
-            let cap = if self.stl { u64::MAX } else { timer.preset_ms.saturating_mul(1000) };
-            self.elapsed[t] = (now_us - start).min(cap);
-        }
-        let mut i = self.position;
-        // Within a scan control moves forward but for at most one backward transfer
-        // (`Step::back_in_scan`), so it ends within twice `steps.len()` steps; code that breaks
-        // that rule (a mutant) stops there, where a PLC's watchdog would.
-        let mut budget = 2 * code.steps.len() + 2;
-        loop {
-            if i >= code.steps.len() {
-                // Falling off the end restarts the program in the next scan.
-                self.position = 0;
-                break;
-            }
-            budget -= 1;
-            if budget == 0 {
-                self.position = i;
-                break;
-            }
-            match code.steps[i].statement {
-                Statement::Wait { test } => {
-                    if self.test(test, inputs) {
-                        self.restart(i);
-                        i += 1;
-                    } else {
-                        self.position = i;
-                        break;
-                    }
-                }
-                Statement::Branch { test, target } => {
-                    if self.test(test, inputs) {
-                        self.restart(i);
-                        if target <= i && !code.steps[i].back_in_scan {
-                            self.position = code.resume_at(target);
-                            break;
-                        }
-                        i = target;
-                    } else {
-                        i += 1;
-                    }
-                }
-                // ---- Act: the one place that executes a request. ----
-                // The output is driven, the step's timers restart, and the scan goes on or
-                // ends; a pulse of an output TRUE at the last write (with its memory,
-                // `Output::last`) only ends the scan and stays here, to pulse in the next one.
-                Statement::Act { output, effect, ends_scan } => {
-                    if effect == Effect::Pulse && last[output] && code.outputs[output].gap().is_some() {
-                        self.position = i;
-                        break;
-                    }
-                    self.outputs[output] = effect != Effect::Reset;
-                    self.restart(i);
-                    if ends_scan {
-                        self.position = code.resume_at(i + 1);
-                        break;
-                    }
-                    i += 1;
-                }
-                Statement::Jump { target } => {
-                    self.restart(i);
-                    if target <= i && !code.steps[i].back_in_scan {
-                        self.position = code.resume_at(target);
-                        break;
-                    }
-                    i = target;
-                }
-            }
-        }
-        self.outputs.clone()
-    }
-
-    fn position(&self) -> Option<usize> {
-        Some(self.position)
+    /// Why the controller stopped, if it did (a scan that did not end): the run fails.
+    fn fault(&self) -> Option<String> {
+        None
     }
 }
 
@@ -272,6 +129,10 @@ impl ScanController for UnitInterpreter<'_> {
         outputs(self)
     }
 
+    fn fault(&self) -> Option<String> {
+        self.error.clone()
+    }
+
     fn position(&self) -> Option<usize> {
         let instance = self.instance.as_deref()?;
         self.machine.instance_value(instance, super::structured::POSITION).map(|v| v.as_int() as usize)
@@ -320,6 +181,10 @@ pub enum Failure {
     },
     /// The plans stopped progressing while the controller kept running.
     NoProgress {
+        reason: String,
+    },
+    /// The controller stopped: its scan did not end (a PLC's watchdog would stop it).
+    ControllerStopped {
         reason: String,
     },
 }
@@ -622,7 +487,7 @@ pub struct CheckReport {
 /// `0..runs` (each a different manner of the adversary: timings, execution times, orders),
 /// `config.scans` scans each, and stops at the first failure. The gate of a compile at a
 /// declared scan time: evidence over many adversarial runs, not a proof.
-pub fn check(game: &Game, code: &Code, wiring: &Wiring, target: Target, config: &Config, runs: u64) -> CheckReport {
+pub fn check(game: &Game, code: &Code, wiring: &Wiring, config: &Config, runs: u64) -> CheckReport {
     let mut report = CheckReport {
         runs: 0,
         scans: 0,
@@ -632,8 +497,9 @@ pub fn check(game: &Game, code: &Code, wiring: &Wiring, target: Target, config: 
         timelocks: 0,
         failure: None,
     };
+    let structured = super::structured(code);
     for seed in 0..runs {
-        let mut controller = Interpreter::new(code, target);
+        let Ok(mut controller) = UnitInterpreter::new(&structured) else { break };
         let r = run(game, code, wiring, &mut controller, config, seed);
         report.runs += 1;
         report.scans += r.scans;
@@ -1028,6 +894,9 @@ impl Run<'_> {
         }
         self.reacted = false;
         let outputs = controller.scan(self.now as u64, &image);
+        if let Some(reason) = controller.fault() {
+            return Some(self.fail(Failure::ControllerStopped { reason }));
+        }
         assert_eq!(outputs.len(), self.code.outputs.len(), "the controller writes one level per output");
         let execution = match self.execution {
             Execution::Mixed => [Execution::Random, Execution::Zero, Execution::Longest][self.rng.below(3) as usize],
@@ -1191,7 +1060,7 @@ impl Run<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plc::model::code::{Output, Step, Timer, Variable};
+    use crate::plc::lower::timed::machine::{Effect, Output, Statement, Step, Test, Timer, Variable};
 
     /// `0: WAIT t >= 30 ms; 1: DO go (restart t); 2: GOTO 0` with one input and a pulsed output.
     fn code() -> Code {
@@ -1212,19 +1081,18 @@ mod tests {
         }
     }
 
-    fn outputs(target: Target, scans: u64) -> Vec<bool> {
-        let code = code();
-        let mut i = Interpreter::new(&code, target);
+    /// The output at each scan, every 10 ms, with the input FALSE.
+    fn outputs(code: &Code, scans: u64) -> Vec<bool> {
+        let structured = super::super::structured(code);
+        let mut i = UnitInterpreter::new(&structured).unwrap();
         (0..scans).map(|k| i.scan(k * 10_000, &[false])[0]).collect()
     }
 
     #[test]
     fn a_timer_restarted_by_a_request_starts_with_the_next_scan() {
-        // STL: started at scan 0, elapsed at scan 3 (30 ms); restarted there, running from scan
-        // 4, elapsed at scan 7; the position after the request resolves through the jump.
-        let stl = outputs(Target::Stl, 12);
-        assert_eq!(stl.iter().positions(), vec![3, 7, 11]);
-        assert_eq!(outputs(Target::St, 12).iter().positions(), vec![3, 7, 11]);
+        // Started at scan 0, elapsed at scan 3 (30 ms); restarted there, running from scan 4,
+        // elapsed at scan 7; the position after the request resolves through the jump.
+        assert_eq!(outputs(&code(), 12).iter().positions(), vec![3, 7, 11]);
     }
 
     #[test]
@@ -1233,18 +1101,11 @@ mod tests {
         // request resolves through `GOTO 0`), but a pulse right after a pulse waits a scan.
         let mut c = code();
         c.steps[0].statement = Statement::Wait { test: Test::Input { input: 0, negated: true } };
-        let run = |c: &Code, target| {
-            let mut i = Interpreter::new(c, target);
-            let outputs: Vec<bool> = (0..6u64).map(|k| i.scan(k * 10_000, &[false])[0]).collect();
-            outputs.iter().positions()
-        };
-        assert_eq!(run(&c, Target::St), vec![0, 2, 4]);
-        assert_eq!(run(&c, Target::Stl), vec![0, 2, 4]);
+        assert_eq!(outputs(&c, 6).iter().positions(), vec![0, 2, 4]);
         // Without the memory of the last write the code pulses in every scan: one long TRUE, a
         // single request for the plant.
         c.outputs[0].last = None;
-        assert_eq!(run(&c, Target::Stl), vec![0, 1, 2, 3, 4, 5]);
-        assert_eq!(run(&c, Target::St), vec![0, 1, 2, 3, 4, 5]);
+        assert_eq!(outputs(&c, 6).iter().positions(), vec![0, 1, 2, 3, 4, 5]);
     }
 
     #[test]
@@ -1256,23 +1117,23 @@ mod tests {
         c.steps[1].statement = Statement::Act { output: 0, effect: Effect::Pulse, ends_scan: false };
         c.steps.insert(2, Step::new(Statement::Wait { test: Test::Input { input: 0, negated: false } }, vec![]));
         c.steps[3].statement = Statement::Jump { target: 0 };
-        for target in [Target::St, Target::Stl] {
-            let mut i = Interpreter::new(&c, target);
-            assert_eq!(i.scan(0, &[true]), vec![true]);
-            assert_eq!(i.position(), Some(0));
-            let mut i = Interpreter::new(&c, target);
-            assert_eq!(i.scan(0, &[false]), vec![true]);
-            assert_eq!(i.position(), Some(2));
-        }
+        let structured = super::super::structured(&c);
+        let mut i = UnitInterpreter::new(&structured).unwrap();
+        assert_eq!(i.scan(0, &[true]), vec![true]);
+        assert_eq!(i.position(), Some(0));
+        let mut i = UnitInterpreter::new(&structured).unwrap();
+        assert_eq!(i.scan(0, &[false]), vec![true]);
+        assert_eq!(i.position(), Some(2));
     }
 
     #[test]
     fn a_pulse_after_a_pulse_waits_at_its_step_for_one_scan() {
-        // STL, waiting for nothing: scan 1 reaches the request with `go` TRUE from scan 0 and
-        // stays at step 1 without acting.
+        // Waiting for nothing: scan 1 reaches the request with `go` TRUE from scan 0 and stays
+        // at step 1 without acting.
         let mut c = code();
         c.steps[0].statement = Statement::Wait { test: Test::Input { input: 0, negated: true } };
-        let mut i = Interpreter::new(&c, Target::Stl);
+        let structured = super::super::structured(&c);
+        let mut i = UnitInterpreter::new(&structured).unwrap();
         assert_eq!(i.scan(0, &[false]), vec![true]);
         assert_eq!(i.position(), Some(0));
         assert_eq!(i.scan(10_000, &[false]), vec![false]);
@@ -1282,15 +1143,15 @@ mod tests {
     }
 
     #[test]
-    fn stl_waits_for_a_strict_threshold_beyond_the_code_timers_preset() {
-        // STL's code timer carries the largest threshold as its preset (30 ms); its S7 timer
-        // for `> 30 ms` is preset to 40 ms, the next S5TIME value, and must still elapse.
+    fn a_scan_that_does_not_end_stops_the_controller() {
+        // A jump back that goes on within its scan to itself: the watchdog's case.
         let mut c = code();
-        c.timers[0].preset_ms = 30;
-        c.steps[0].statement = Statement::Wait { test: Test::Elapsed { timer: 0, ms: 30, strict: true } };
-        let mut i = Interpreter::new(&c, Target::Stl);
-        let requests = (0..10u64).map(|k| i.scan(k * 10_000, &[false])[0]).collect::<Vec<_>>();
-        assert_eq!(requests.iter().positions(), vec![4, 9]);
+        c.steps[2].back_in_scan = true;
+        c.steps[0].statement = Statement::Jump { target: 2 };
+        let structured = super::super::structured(&c);
+        let mut i = UnitInterpreter::new(&structured).unwrap();
+        i.scan(0, &[false]);
+        assert!(i.fault().is_some_and(|f| f.contains("watchdog")), "{:?}", i.fault());
     }
 
     trait Positions {

@@ -10,7 +10,7 @@
 //! ([`Location::Address`]), named after its message; an unbound one is a global the PLC tool
 //! maps ([`Location::Mapped`]).
 
-use crate::plc::model::code::{Binding, Code, Effect, Statement, Step, Test};
+use crate::plc::lower::timed::machine::{Binding, Code, Effect, Statement, Step, Test};
 use crate::plc::model::unit::{
     self, direct_addresses, BinOp, Expr, Location, Next, Place, Pou, PouKind, Signal, SignalKind, StepList, Stmt, Type,
     Unit, Var,
@@ -56,8 +56,8 @@ fn wiring(code: &Code, unit: &mut Unit) -> Vec<Place> {
     let kinds: Vec<(SignalKind, char)> = code
         .variables()
         .map(|(_, d)| match d {
-            crate::plc::model::code::Direction::Input => (SignalKind::Input, 'I'),
-            crate::plc::model::code::Direction::Output => (SignalKind::Output, 'Q'),
+            crate::plc::lower::timed::machine::Direction::Input => (SignalKind::Input, 'I'),
+            crate::plc::lower::timed::machine::Direction::Output => (SignalKind::Output, 'Q'),
         })
         .collect();
     // Addresses for the symbols, where a dialect cannot write them (STL), per area, after the
@@ -85,10 +85,13 @@ fn wiring(code: &Code, unit: &mut Unit) -> Vec<Place> {
             match &v.binding {
                 None => global(Location::Mapped(kind), unit),
                 Some(Binding::Address(a)) => global(Location::Address(crate::plc::iec_address(a)), unit),
-                Some(Binding::Symbol(symbol) | Binding::Quoted(symbol)) => {
+                Some(binding @ (Binding::Symbol(symbol) | Binding::Quoted(symbol))) => {
+                    // A Siemens tag keeps its quotes: it is written as it is.
+                    let symbol =
+                        if matches!(binding, Binding::Quoted(_)) { format!("\"{symbol}\"") } else { symbol.clone() };
                     let address = if area == 'I' { input_address() } else { output_address() };
                     let comment = v.comment.clone();
-                    unit.signals.push(Signal { symbol: symbol.clone(), kind, ty: Type::Bool, address, comment });
+                    unit.signals.push(Signal { symbol, kind, ty: Type::Bool, address, comment });
                     Place::Signal(unit.signals.len() - 1)
                 }
             }

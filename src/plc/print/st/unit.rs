@@ -81,7 +81,13 @@ impl<'u> Writer<'u> {
                 let s = &self.unit.signals[*n];
                 match (siemens(self.dialect), s.is_address()) {
                     (true, true) => format!("%{}", siemens_address(&s.address)),
-                    (true, false) => format!("\"{}\"", s.symbol),
+                    // A tag in quotes; a member of a data block (`GVL.lamp`) as `"GVL".lamp`;
+                    // a symbol written with its quotes as it is.
+                    (true, false) if s.symbol.starts_with('"') => s.symbol.clone(),
+                    (true, false) => match s.symbol.split_once('.') {
+                        Some((block, member)) => format!("\"{block}\".{member}"),
+                        None => format!("\"{}\"", s.symbol),
+                    },
                     (false, true) => format!("%{}", iec_address(&s.address)),
                     (false, false) => s.symbol.clone(),
                 }

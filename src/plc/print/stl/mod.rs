@@ -1,21 +1,20 @@
-//! Siemens S7 Statement List (AWL), as in Peter 2005, 6.7.2: an organisation block (`OB 1`, or
-//! with [`Options::fb`] a function block with its instance data block called from the OB) whose
-//! position is kept in a marker byte (`MB 0` by default, [`Options::marker_byte`]) and entered
-//! through a `JL` jump list; a wait stores
-//! its position and ends the cycle (`JCN end`) while its condition is false, so the program has
-//! no backward jumps but the ones a scan may take once;
-//! requests `SET` / `S` / `R` outputs. Labels are four letters numbered by
-//! command position (`aaaa` is command 0, `aaac` command 2), as in the thesis's listing.
+//! Siemens S7 Statement List (AWL), as in Peter 2005, 6.7.2, for a unit of the jump-list shape
+//! ([`crate::plc::print::steps`]): an organisation block (`OB 1`, or with [`Options::fb`] a
+//! function block with its instance data block called from the OB) whose position is kept in a
+//! marker byte (`MB 0` by default, [`Options::marker_byte`]) and entered through a `JL` jump
+//! list over the resumption points; a wait stores its position and ends the cycle (`JCN end`)
+//! while its condition is false; requests `SET` / `S` / `R` outputs. Labels are four letters
+//! numbered by step (`aaaa` is step 0, `aaac` step 2), as in the thesis's listing. Other units
+//! print as [`unit`] lays them out.
 //!
-//! Two choices beyond the thesis: the cycle also ends after a request that a later test or request
-//! of the cycle depends on ([`crate::plc::model::code::chain_requests`]), so that the next test reads inputs
-//! taken after the request was written out (the thesis always continues into the next test, which
-//! then sees the input image from before the request); and clocks are S7 on-delay timers,
-//! one per compared threshold, restarted by calling `SD` with RLO 0 (resolution 10 ms). Inputs
-//! and outputs without an io binding get memory bits from byte `marker_byte + 10` on (M 10.0),
-//! then each pulsed output a bit for its value at the last output write: a pulse while that bit
-//! is set stores its own position and ends the cycle (`A M …`, `JC end`), to pulse in the next.
-//! [`clashes`] finds user `%M` bindings on those bytes and thresholds beyond the CPU's timers.
+//! Beyond the thesis: the cycle ends where the step list says (after a request that a later test
+//! or request of the cycle depends on, say, so that the next test reads inputs taken after the
+//! request was written out); and clocks are S7 on-delay timers, one per compared threshold,
+//! restarted by calling `SD` with RLO 0 (resolution 10 ms). Inputs and outputs without a binding
+//! get memory bits from byte `marker_byte + 10` on (M 10.0), then each pulsed output a bit for
+//! its value at the last output write: a pulse while that bit is set stores its own position and
+//! ends the cycle (`AN M …`, `JCN end`), to pulse in the next. [`clashes`] finds user `%M`
+//! bindings on those bytes and thresholds beyond the CPU's timers.
 
 pub mod unit;
 

@@ -1,39 +1,20 @@
-//! The neutral code model every printer reads: a function block with BOOL inputs and outputs,
-//! timers, and a list of steps (statements over tests). It names no engine; a lowering (such as
-//! [`crate::plc::lower::timed`]) builds it, and printers turn it into text.
+//! The step machine the timed lowering builds before it writes the unit: a function block with
+//! BOOL inputs and outputs, timers, and a list of steps (statements over tests) with the
+//! signals' bindings. Here the lowering decides which requests and backward transfers go on
+//! within their scan ([`chain_requests`]); [`super::structured`] then turns the machine into a
+//! [`crate::plc::model::unit::Unit`], the form every printer and the interpreter read.
 
 use crate::diag::Span;
 
 /// Where a signal lives outside the block.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Binding {
-    /// A direct IEC address such as `I0.0`, `QX1.3`, `MX10.2` (without the `%`).
+    /// A direct address such as `I0.0`, `QX1.3`, `MX10.2` (without the `%`).
     Address(String),
     /// A symbol of an existing project, possibly dotted (`GVL.lamp`).
     Symbol(String),
     /// A Siemens tag name written in quotes (`"Lamp On"`), printed with its quotes.
     Quoted(String),
-}
-
-impl Binding {
-    /// The binding as Siemens code writes it: `%I0.0`, `GVL.lamp`, `"Lamp On"`.
-    pub fn siemens_text(&self) -> String {
-        match self {
-            Binding::Address(text) => format!("%{}", crate::plc::siemens_address(text)),
-            Binding::Symbol(text) => text.clone(),
-            Binding::Quoted(text) => format!("\"{text}\""),
-        }
-    }
-
-    /// The binding as IEC code writes it: `%IX0.0`, `GVL.lamp`, `"Lamp On"` (a quoted name is
-    /// only accepted by the lowering for Siemens targets, see `Target::quotes_tags`).
-    pub fn iec_text(&self) -> String {
-        match self {
-            Binding::Address(text) => format!("%{}", crate::plc::iec_address(text)),
-            Binding::Symbol(text) => text.clone(),
-            Binding::Quoted(text) => format!("\"{text}\""),
-        }
-    }
 }
 
 /// Which way a signal flows, seen from the PLC program.
@@ -183,20 +164,6 @@ pub struct Code {
 }
 
 impl Code {
-    /// For every step, whether some jump or branch targets it (printers that label only jump
-    /// targets use it).
-    pub fn jumped_to(&self) -> Vec<bool> {
-        let mut v = vec![false; self.steps.len()];
-        for s in &self.steps {
-            if let Statement::Branch { target, .. } | Statement::Jump { target } = s.statement {
-                if target < v.len() {
-                    v[target] = true;
-                }
-            }
-        }
-        v
-    }
-
     /// Where execution goes on after it reaches position `i` by falling through: through jumps
     /// without restarts (they do nothing but jump), and past the last step at 0. This is the
     /// position every printer stores when a scan ends before `i`, so that no scan is spent on a
@@ -218,11 +185,6 @@ impl Code {
         } else {
             i
         }
-    }
-
-    /// Whether any variable is wired to a signal outside the block.
-    pub fn has_bindings(&self) -> bool {
-        self.variables().any(|(v, _)| v.binding.is_some())
     }
 
     /// Every interface variable with its direction: inputs first, then outputs.
