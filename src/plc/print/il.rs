@@ -4,7 +4,7 @@
 //! shape ([`StepBlock`]).
 
 use crate::plc::model::unit::Next;
-use crate::plc::print::steps::{Action, Bit, Cond, StepBlock, Wire};
+use crate::plc::print::steps::{Action, Bit, Cond, Drive, StepBlock, Wire};
 use crate::plc::{iec_address, time_literal};
 use std::fmt::{self, Write};
 
@@ -88,12 +88,11 @@ pub(in crate::plc) fn print(block: &StepBlock<'_>, o: &mut impl Write) -> fmt::R
         for a in &step.actions {
             match *a {
                 Action::Drive { output, value } => {
-                    let verb = match (block.pulsed[output], value) {
-                        (true, _) => "ST",
-                        (false, true) => "S",
-                        (false, false) => "R",
+                    let (load, verb) = match block.drive(output, value) {
+                        Drive::Assign(level) => (if level { "TRUE" } else { "FALSE" }, "ST"),
+                        Drive::Set => ("TRUE", "S"),
+                        Drive::Reset => ("TRUE", "R"),
                     };
-                    let load = if value || !block.pulsed[output] { "TRUE" } else { "FALSE" };
                     write!(actions, "        LD {load}\n        {verb} {}\n", fb.outputs[output].name)?;
                 }
                 Action::Restart { timer } => {

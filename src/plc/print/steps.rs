@@ -51,6 +51,15 @@ pub(in crate::plc) enum Action {
     Restart { timer: usize },
 }
 
+/// How the jump-list dialects write a drive of an output: a pulsed output (cleared at the
+/// start of every scan) is assigned its level; a latched one is set or reset.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(in crate::plc) enum Drive {
+    Assign(bool),
+    Set,
+    Reset,
+}
+
 /// One step, decoded.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub(in crate::plc) struct StepView<'u> {
@@ -182,6 +191,15 @@ impl<'u> StepBlock<'u> {
         }
         let (instance, wires) = wiring(unit, block, program)?;
         Ok(StepBlock { unit, block, program, instance, wires, pulsed, last, timers, list, steps })
+    }
+
+    /// How an [`Action::Drive`] of `output` to `value` is written.
+    pub fn drive(&self, output: usize, value: bool) -> Drive {
+        match (self.pulsed[output], value) {
+            (true, level) => Drive::Assign(level),
+            (false, true) => Drive::Set,
+            (false, false) => Drive::Reset,
+        }
     }
 
     /// The names of the block's inputs, then of its outputs.

@@ -19,7 +19,7 @@
 pub mod unit;
 
 use crate::plc::model::unit::{Next, Unit};
-use crate::plc::print::steps::{Action, Bit, Cond, StepBlock, Wire};
+use crate::plc::print::steps::{Action, Bit, Cond, Drive, StepBlock, Wire};
 use crate::plc::target::TimeType;
 use crate::plc::{siemens_address, Options};
 use std::fmt::{self, Write};
@@ -278,12 +278,11 @@ pub(in crate::plc) fn print(block: &StepBlock<'_>, options: &Options, o: &mut im
     let act = |a: &Action| -> String {
         match *a {
             Action::Drive { output, value } => {
-                let verb = match (block.pulsed[output], value) {
-                    (true, _) => "=",
-                    (false, true) => "S",
-                    (false, false) => "R",
+                let (rlo, verb) = match block.drive(output, value) {
+                    Drive::Assign(level) => (if level { "SET" } else { "CLR" }, "="),
+                    Drive::Set => ("SET", "S"),
+                    Drive::Reset => ("SET", "R"),
                 };
-                let rlo = if value || !block.pulsed[output] { "SET" } else { "CLR" };
                 format!("\t{rlo}\n\t{verb}\t{}\n", outputs[output])
             }
             Action::Restart { timer } => s7_timers
