@@ -119,9 +119,9 @@ fn check(target: Target, example: &str, text: &str) {
 
 #[test]
 fn every_target_passes_its_checker_on_every_example() {
-    // blark costs about a second to start: its files are parsed at the end, by two processes
-    // (tests/checkers/blark_many.py) instead of one each. The other checkers run per target,
-    // one thread each.
+    // blark costs about a second to start: its files (the ST dialects' and TwinCAT's) are parsed
+    // at the end, by two processes (tests/checkers/blark_many.py) instead of one each. The other
+    // checkers run per target, one thread each.
     let for_blark = std::sync::Mutex::new(Vec::new());
     std::thread::scope(|scope| {
         for target in Target::ALL {
@@ -133,6 +133,16 @@ fn every_target_passes_its_checker_on_every_example() {
                         Target::St | Target::Codesys => scratch(&format!("{example}_{target}.st"), &text),
                         Target::Scl | Target::Scl1500 => {
                             scratch(&format!("{example}_{target}.st"), &scl_for_blark(&text))
+                        }
+                        // Well-formed XML here; blark reads the files and parses their ST below.
+                        Target::Twincat => {
+                            for file in files(example, Target::Twincat) {
+                                let path = scratch(&format!("{example}_{}", file.name), &file.text);
+                                let (ok, out) = run(Command::new("xmllint").arg("--noout").arg(&path));
+                                assert!(ok, "{}: not well-formed XML: {out}", file.name);
+                                for_blark.lock().unwrap().push(path);
+                            }
+                            continue;
                         }
                         _ => {
                             check(target, example, &text);
