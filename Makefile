@@ -57,7 +57,7 @@ test-wasm: web-setup
 
 ## The page in headless Chromium (playwright-core); screenshots go to target/screenshots.
 test-browser: browser-setup web
-	node --test --test-concurrency=1 tests/browser/
+	node --test --test-concurrency=2 tests/browser/
 
 ## Coverage-guided fuzzing (docs/fuzzing.md; not part of `make test`): runs the targets
 ## FUZZ_TARGETS (tga sct gen tlsf ltl verdict share) one after the other, FUZZ_SECONDS each (default 60),

@@ -21,18 +21,33 @@ stamp() { date +%s; }
 started=$(stamp)
 phase() { say "$1 ($(($(stamp) - started)) s)"; }
 
-# 1. Installs in the background (network-bound; apt-get and pip one after the other).
+# 1. Installs in the background (network-bound; apt-get and pip one after the other): the
+#    checkers first, which the native tests need; then the playground's tools, which only the
+#    WebAssembly builds and the browser tests need, so the native tests do not wait for them.
 setup_log=target/setup.log
+checkers_ready=target/checkers.ready
+web_ready=target/web.ready
+setup_broke=target/setup.failed
+rm -f "$checkers_ready" "$web_ready" "$setup_broke"
 # In a process group of its own, so that stopping the tests stops the installs too.
-setsid bash -c 'bash scripts/python-checkers.sh && bash scripts/setup-web.sh --browser' >"$setup_log" 2>&1 </dev/null &
+setsid bash -c "{ bash scripts/python-checkers.sh && touch $checkers_ready && bash scripts/setup-web.sh --browser && touch $web_ready; } || { touch $setup_broke; exit 1; }" \
+    >"$setup_log" 2>&1 </dev/null &
 setup_pid=$!
+setup_failed() {
+    say "installing the checkers or the playground's tools failed:"
+    cat "$setup_log" >&2
+    exit 1
+}
+wait_checkers() {
+    while [[ ! -e $checkers_ready ]]; do
+        [[ ! -e $setup_broke ]] || setup_failed
+        sleep 1
+    done
+    phase "checkers ready"
+}
 wait_setup() {
-    if ! wait "$setup_pid"; then
-        say "installing the checkers or the playground's tools failed:"
-        cat "$setup_log" >&2
-        exit 1
-    fi
-    phase "checkers, wasm-bindgen, npm packages and Chromium ready"
+    wait "$setup_pid" || setup_failed
+    phase "wasm-bindgen, npm packages and Chromium ready"
 }
 trap 'kill -- -"$setup_pid" 2>/dev/null || true' EXIT
 
@@ -50,14 +65,16 @@ if [[ $nextest -eq 1 ]]; then
 else
     $cargo test --all-targets --profile "$profile" --no-run
 fi
-wait_setup
+wait_checkers
 
 # 4. The WebAssembly builds (the boundary's lint and tests, the playground) in the background,
-#    in a target directory of their own so that they never wait for the native run's cargo.
+#    in a target directory of their own so that they never wait for the native run's cargo,
+#    once the playground's tools are installed (the installs fail: the builds stop at once).
 wasm_log=target/wasm-build.log
 wasm_target_dir=$PWD/target/wasm-jobs
 setsid env CARGO_TARGET_DIR="$wasm_target_dir" bash -c "
     set -e
+    while [[ ! -e $web_ready ]]; do [[ ! -e $setup_broke ]] || exit 1; sleep 1; done
     $cargo clippy --lib --target wasm32-unknown-unknown --no-default-features -- -D warnings
     $cargo test --target wasm32-unknown-unknown --no-default-features --test wasm_api --no-run
     bash scripts/build-web.sh
@@ -75,6 +92,7 @@ fi
 $cargo test --doc --profile "$profile"
 
 # 5. The wasm boundary in Node, then the page in headless Chromium, on what step 4 built.
+wait_setup
 if ! wait "$wasm_pid"; then
     say "the WebAssembly lint or builds failed:"
     cat "$wasm_log" >&2
@@ -83,5 +101,5 @@ fi
 phase "wasm tests"
 CARGO_TARGET_DIR="$wasm_target_dir" $cargo test --target wasm32-unknown-unknown --no-default-features --test wasm_api
 phase "browser tests"
-node --test --test-concurrency=1 tests/browser/
+node --test --test-concurrency=2 tests/browser/
 phase "all tests passed"
