@@ -31,7 +31,7 @@ checkers:
 	bash scripts/python-checkers.sh
 
 test-native: checkers
-	$(CARGO) test --all-targets --profile $(TEST_PROFILE)
+	$(CARGO) test --lib --bins --tests --profile $(TEST_PROFILE)
 	$(CARGO) test --doc --profile $(TEST_PROFILE)
 
 ## Install what the playground needs (wasm32 target, wasm-bindgen-cli, npm packages).

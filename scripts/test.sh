@@ -56,14 +56,17 @@ phase "lint"
 $cargo fmt --check
 $cargo clippy --all-targets --profile "$profile" -- -D warnings
 
-# 3. Native tests: build while the installs finish, then run against the checkers.
+# 3. Native tests: build while the installs finish, then run against the checkers. The
+#    benchmarks are not built again here (clippy above compiles them; `cargo bench` and
+#    `plcsynth bench` run them): criterion and three more binaries cost minutes of CPU.
+targets="--lib --bins --tests"
 phase "build the native tests"
 nextest=0
 if $cargo nextest --version >/dev/null 2>&1; then nextest=1; fi
 if [[ $nextest -eq 1 ]]; then
-    $cargo nextest run --cargo-profile "$profile" --all-targets --no-run
+    $cargo nextest run --cargo-profile "$profile" $targets --no-run
 else
-    $cargo test --all-targets --profile "$profile" --no-run
+    $cargo test $targets --profile "$profile" --no-run
 fi
 wait_checkers
 
@@ -84,10 +87,10 @@ trap 'kill -- -"$setup_pid" 2>/dev/null || true; kill -- -"$wasm_pid" 2>/dev/nul
 
 phase "run the native tests"
 if [[ $nextest -eq 1 ]]; then
-    $cargo nextest run --cargo-profile "$profile" --all-targets --no-fail-fast \
+    $cargo nextest run --cargo-profile "$profile" $targets --no-fail-fast \
         --status-level fail --final-status-level slow
 else
-    $cargo test --all-targets --profile "$profile"
+    $cargo test $targets --profile "$profile"
 fi
 $cargo test --doc --profile "$profile"
 
