@@ -499,7 +499,7 @@ pub fn check(game: &Game, code: &Code, wiring: &Wiring, config: &Config, runs: u
     };
     let structured = super::structured(code);
     for seed in 0..runs {
-        let Ok(mut controller) = UnitInterpreter::new(&structured) else { break };
+        let mut controller = UnitInterpreter::new(&structured).expect("a lowered controller's unit starts");
         let r = run(game, code, wiring, &mut controller, config, seed);
         report.runs += 1;
         report.scans += r.scans;

@@ -228,50 +228,33 @@ impl<'u> Writer<'u> {
     }
 
     /// A step list as a `CASE` over its position inside a `WHILE` loop that runs until a step
-    /// ends the scan.
+    /// ends the scan; each step's body is the `IF` its wait and branch make of it.
     fn step_list(&self, list: &StepList, indent: usize, o: &mut String) {
         let pad = "    ".repeat(indent);
         let (position, done) = (&list.position, &list.done);
         let _ = write!(o, "{pad}{done} := FALSE;\n{pad}WHILE NOT {done} DO\n{pad}    CASE {position} OF\n");
+        let go_to = |k: usize| Stmt::assign(Place::local(position.clone()), Expr::Int(k as i64));
+        let end_scan = || Stmt::assign(Place::local(done.clone()), Expr::Bool(true));
         for (i, step) in list.steps.iter().enumerate() {
             let _ = writeln!(o, "{pad}    {i}: (* {} *)", comment_text(&step.comment));
-            let go = |next: Next, o: &mut String, indent: usize| {
-                let pad = "    ".repeat(indent);
-                let (k, ends) = match next {
-                    Next::Continue(k) => (k, false),
-                    Next::Resume(k) => (k, true),
-                };
-                let _ = writeln!(o, "{pad}{position} := {k};");
-                if ends {
-                    let _ = writeln!(o, "{pad}{done} := TRUE;");
+            let mut effect = step.actions.clone();
+            match step.next {
+                Next::Continue(k) => effect.push(go_to(k)),
+                Next::Resume(k) => effect.extend([go_to(k), end_scan()]),
+            }
+            let body = match (&step.wait, &step.when) {
+                (None, None) => effect,
+                (Some(wait), None) => {
+                    vec![Stmt::If { arms: vec![(wait.clone(), effect)], otherwise: vec![end_scan()] }]
+                }
+                (wait, Some(when)) => {
+                    let mut arms: Vec<(Expr, Vec<Stmt>)> =
+                        wait.iter().map(|w| (w.clone().not(), vec![end_scan()])).collect();
+                    arms.push((when.clone(), effect));
+                    vec![Stmt::If { arms, otherwise: vec![go_to(i + 1)] }]
                 }
             };
-            match (&step.wait, &step.when) {
-                (None, None) => {
-                    self.stmts(&step.actions, indent + 2, o);
-                    go(step.next, o, indent + 2);
-                }
-                (wait, when) => {
-                    let inner = "    ".repeat(indent + 2);
-                    let mut keyword = "IF";
-                    if let (Some(wait), Some(_)) = (wait, when) {
-                        let _ = writeln!(o, "{inner}IF {} THEN", self.expr(&Expr::Not(Box::new(wait.clone()))));
-                        let _ = writeln!(o, "{inner}    {done} := TRUE;");
-                        keyword = "ELSIF";
-                    }
-                    let condition = when.as_ref().or(wait.as_ref()).expect("one of them is there");
-                    let _ = writeln!(o, "{inner}{keyword} {} THEN", self.expr(condition));
-                    self.stmts(&step.actions, indent + 3, o);
-                    go(step.next, o, indent + 3);
-                    let _ = writeln!(o, "{inner}ELSE");
-                    if when.is_some() {
-                        let _ = writeln!(o, "{inner}    {position} := {};", i + 1);
-                    } else {
-                        let _ = writeln!(o, "{inner}    {done} := TRUE;");
-                    }
-                    let _ = writeln!(o, "{inner}END_IF;");
-                }
-            }
+            self.stmts(&body, indent + 2, o);
         }
         let _ = write!(
             o,
