@@ -80,6 +80,16 @@ pub fn synthesize(
     options: &solve::SolveOptions,
     progress: &mut dyn FnMut(&solve::Stats) -> bool,
 ) -> Synthesis {
+    synthesize_guided(game, None, options, progress)
+}
+
+/// [`synthesize`] with the search of a scan game guided by a zero-time strategy.
+fn synthesize_guided(
+    game: &model::Game,
+    guide: Option<&solve::ScanGuide>,
+    options: &solve::SolveOptions,
+    progress: &mut dyn FnMut(&solve::Stats) -> bool,
+) -> Synthesis {
     let split = match precompute::split(game, options, progress) {
         Ok(split) => split,
         Err(error) => {
@@ -95,7 +105,7 @@ pub fn synthesize(
             return Synthesis { split: precompute::unsplit(game), solution, explanation: None };
         }
     };
-    let solution = solve::solve(game, &split, options, progress);
+    let solution = solve::solve_guided(game, &split, options, guide, progress);
     let explanation = if solution.verdict == solve::Verdict::Unrealizable {
         explain::explain(game, &split, &solution.space, solution.space.initial)
     } else {
@@ -112,7 +122,8 @@ pub struct ScanSynthesis {
 }
 
 /// Solves the scan game of `game` at `scan_ms`: realizable means implementable on a PLC with
-/// that cycle time.
+/// that cycle time. The strategy-directed search is guided by a zero-time strategy (see
+/// [`scan_guide`]); the verdict does not depend on the guide, only the work to reach it.
 pub fn synthesize_at_scan(
     game: &model::Game,
     scan_ms: u64,
@@ -120,8 +131,48 @@ pub fn synthesize_at_scan(
     progress: &mut dyn FnMut(&solve::Stats) -> bool,
 ) -> Result<ScanSynthesis, scan::ScanError> {
     let scan_game = scan::scan_game(game, scan_ms)?;
-    let synthesis = synthesize(&scan_game, options, progress);
+    let guide = if options.exhaustive { None } else { scan_guide(game, scan_ms, options, progress) };
+    let synthesis = synthesize_guided(&scan_game, guide.as_ref(), options, progress);
     Ok(ScanSynthesis { scan_ms, game: scan_game, synthesis })
+}
+
+/// The zero-time strategy that guides the search of the scan game at `scan_ms`, or `None` if
+/// the zero-time controller does not win. A PLC reacts up to a scan or two late at every step,
+/// so a zero-time strategy that meets a plan's deadline with nothing to spare leads the scan
+/// search into a long dead end; the guide is the strategy of the zero-time game (in the scan
+/// game's time units) with every plan deadline shortened by as many scan-game units as keep it
+/// realizable (bisection), the strategy with the most time to spare.
+pub fn scan_guide(
+    game: &model::Game,
+    scan_ms: u64,
+    options: &solve::SolveOptions,
+    progress: &mut dyn FnMut(&solve::Stats) -> bool,
+) -> Option<solve::ScanGuide> {
+    let base = scan::rescaled(game, scan_ms).ok()?;
+    let mut solve_with_spare = |spare: u32| -> Option<Synthesis> {
+        let mut tight = base.clone();
+        for (_, bound) in tight.plans.iter_mut().flat_map(|p| p.clocks.iter_mut()) {
+            *bound = bound.checked_sub(spare)?;
+        }
+        let synthesis = synthesize(&tight, options, progress);
+        (synthesis.solution.verdict == solve::Verdict::Realizable).then_some(synthesis)
+    };
+    let mut best = solve_with_spare(0)?;
+    let shortest = base.plans.iter().flat_map(|p| p.clocks.iter().map(|&(_, bound)| bound)).min();
+    if let Some(shortest) = shortest {
+        let (mut works, mut fails) = (0, shortest + 1);
+        while fails - works > 1 {
+            let mid = works + (fails - works) / 2;
+            match solve_with_spare(mid) {
+                Some(synthesis) => {
+                    best = synthesis;
+                    works = mid;
+                }
+                None => fails = mid,
+            }
+        }
+    }
+    solve::ScanGuide::new(&best.split, &best.solution)
 }
 
 /// The scan times around a verdict: the longest found to work and the shortest found not to.

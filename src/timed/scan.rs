@@ -104,6 +104,18 @@ fn gcd(a: u64, b: u64) -> u64 {
     }
 }
 
+/// `game` itself (zero-time semantics) in the time units of its scan game at `scan_ms`.
+pub fn rescaled(game: &Game, scan_ms: u64) -> Result<Game, ScanError> {
+    if scan_ms == 0 {
+        return Err(ScanError::Zero);
+    }
+    let unit = gcd(game.timeunit_ms, scan_ms);
+    let mut out = game.clone();
+    out.timeunit_ms = unit;
+    rescale(&mut out, game.timeunit_ms / unit)?;
+    Ok(out)
+}
+
 /// The scan game of `game` at a scan time of `scan_ms` milliseconds.
 pub fn scan_game(game: &Game, scan_ms: u64) -> Result<Game, ScanError> {
     if scan_ms == 0 {

@@ -3,7 +3,7 @@
 
 use plcsynth::timed::model::Game;
 use plcsynth::timed::solve::{EdgeKind, SolveOptions, StateId, StateKind, StateSpace, Verdict};
-use plcsynth::timed::synthesize;
+use plcsynth::timed::{synthesize, synthesize_at_scan, Synthesis};
 use plcsynth::zone::Dbm;
 use std::collections::HashSet;
 
@@ -26,6 +26,24 @@ pub fn compare_with_reference(game: &Game, max_states: usize) -> Result<Option<(
     let fast = synthesize(game, &options, &mut |_| true);
     let exact = SolveOptions { exhaustive: true, zeno_memory: false, ..options };
     let reference = synthesize(game, &exact, &mut |_| true);
+    agree(&fast, &reference)
+}
+
+/// [`compare_with_reference`] for the scan game of `game` at `scan_ms`, the search guided by the
+/// zero-time strategy as `synthesize_at_scan` runs it.
+pub fn compare_scan_with_reference(
+    game: &Game,
+    scan_ms: u64,
+    max_states: usize,
+) -> Result<Option<(usize, usize)>, String> {
+    let options = SolveOptions { max_states, ..SolveOptions::default() };
+    let fast = synthesize_at_scan(game, scan_ms, &options, &mut |_| true).map_err(|e| e.to_string())?;
+    let exact = SolveOptions { exhaustive: true, zeno_memory: false, ..options };
+    let reference = synthesize(&fast.game, &exact, &mut |_| true);
+    agree(&fast.synthesis, &reference)
+}
+
+fn agree(fast: &Synthesis, reference: &Synthesis) -> Result<Option<(usize, usize)>, String> {
     let (f, r) = (&fast.solution, &reference.solution);
     if f.verdict == Verdict::BudgetExceeded || r.verdict == Verdict::BudgetExceeded {
         return Ok(None);

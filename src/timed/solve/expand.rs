@@ -12,10 +12,10 @@ use crate::zone::{Bound, Dbm};
 
 /// One discrete move under construction.
 pub(super) struct Move {
-    kind: MessageKind,
-    message: MsgId,
+    pub(super) kind: MessageKind,
+    pub(super) message: MsgId,
     instant: bool,
-    env: Vec<SubLocId>,
+    pub(super) env: Vec<SubLocId>,
     resets: u64,
 }
 
@@ -194,7 +194,7 @@ impl Solver<'_, '_> {
     /// Collects the discrete moves enabled in `env`, resolving `$` synchronisation (algorithm 3):
     /// a sender's move needs one enabled `$` transition in every unit synchronising on the
     /// message; each combination is a move.
-    fn collect_moves(&mut self, env: &[SubLocId], requests_allowed: bool) {
+    pub(super) fn collect_moves(&mut self, env: &[SubLocId], requests_allowed: bool) {
         self.moves.clear();
         let split = self.split;
         let units = &split.units;
@@ -404,26 +404,11 @@ impl Solver<'_, '_> {
         if self.lazy {
             // Alternatives in the order the strategy tries them (see `alternative`).
             // Among options: plan progress first, then the nearer to the plans' goals.
-            let keys: Vec<(u8, u32)> = own
-                .iter()
-                .map(|e| match e.class {
-                    Class::Forced => (0, 0),
-                    Class::Option if e.is_unexplored() => {
-                        let d = self.deferred[e.deferred as usize].as_ref().expect("a deferred target");
-                        let order = if e.progress {
-                            1
-                        } else if d.repeats {
-                            3
-                        } else {
-                            2
-                        };
-                        (order, self.goal_distance(d.env, d.plan))
-                    }
-                    Class::Option => (4, 0),
-                    Class::Wait => (5, 0),
-                    Class::Inert => (6, 0),
-                })
-                .collect();
+            let hints = self.guide_hints(&own, &env, &plan, &zone);
+            let keys: Vec<(u8, u32, bool)> = own.iter().map(|e| self.try_order(e, &hints)).collect();
+            if self.halt.is_some() {
+                return;
+            }
             let mut order: Vec<usize> = (0..own.len()).collect();
             order.sort_by_key(|&i| keys[i]);
             let own: Vec<Edge> = order.into_iter().map(|i| own[i]).collect();

@@ -41,6 +41,7 @@
 //! loop.
 
 mod expand;
+mod guide;
 mod meter;
 mod progress;
 mod removal;
@@ -48,6 +49,7 @@ mod space;
 mod strategy;
 mod zeno;
 
+pub use guide::ScanGuide;
 pub use meter::{Budget, BudgetStop, Stats};
 pub(crate) use meter::{Halt, PROGRESS_WORK, STEP_COST};
 pub use space::{Edge, EdgeId, EdgeKind, Label, Removal, State, StateId, StateKind, StateSpace};
@@ -137,14 +139,26 @@ pub fn solve(
     options: &SolveOptions,
     progress: &mut dyn FnMut(&Stats) -> bool,
 ) -> Solution {
+    solve_guided(game, split, options, None, progress)
+}
+
+/// [`solve`] for a scan game, whose strategy-directed search tries first at each read what the
+/// zero-time strategy `guide` does there (see [`ScanGuide`]); the verdict does not depend on it.
+pub fn solve_guided(
+    game: &Game,
+    split: &SplitGame,
+    options: &SolveOptions,
+    guide: Option<&ScanGuide>,
+    progress: &mut dyn FnMut(&Stats) -> bool,
+) -> Solution {
     let exact = SolveOptions { zeno_memory: false, ..options.clone() };
-    let mut solver = Solver::new(game, split, options, progress);
+    let mut solver = Solver::new(game, split, options, guide, progress);
     let mut verdict = solver.run();
     if verdict == Verdict::Unrealizable && solver.memory_cuts > 0 {
         // The memory's cuts may have cost the controller its strategy: decide exactly.
         let spent = solver.work;
         drop(solver);
-        solver = Solver::new(game, split, &exact, progress);
+        solver = Solver::new(game, split, &exact, guide, progress);
         solver.work += spent;
         verdict = solver.run();
     }
@@ -214,6 +228,8 @@ struct Solver<'g, 'p> {
     halt: Option<Halt>,
     /// In a scan game: the scan automaton's quiet and armed sub-locations (see `scan::ScanRoles`).
     scan_arm: Option<ScanArm>,
+    /// In a scan game: the zero-time strategy that orders the commitments at a read.
+    guide: Option<&'g ScanGuide>,
 }
 
 impl<'g, 'p> Solver<'g, 'p> {
@@ -221,6 +237,7 @@ impl<'g, 'p> Solver<'g, 'p> {
         game: &'g Game,
         split: &'g SplitGame,
         options: &'g SolveOptions,
+        guide: Option<&'g ScanGuide>,
         progress: &'p mut dyn FnMut(&Stats) -> bool,
     ) -> Solver<'g, 'p> {
         let dim = game.dim();
@@ -261,6 +278,7 @@ impl<'g, 'p> Solver<'g, 'p> {
             vector_cost: STEP_COST + split.units.len() as u64,
             halt: None,
             scan_arm: ScanArm::new(game, split),
+            guide,
         }
     }
 

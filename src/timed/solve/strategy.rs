@@ -2,11 +2,13 @@
 //! the plans' goals), the choice of one, and the generation of deferred option targets.
 
 use super::expand::guard_edge;
-use super::space::{Class, Edge, EdgeId, Removal, StateId, StateKind};
+use super::guide::Hint;
+use super::space::{Class, Edge, EdgeId, Label, Removal, StateId, StateKind};
 use super::zeno::Vis;
 use super::{Solver, NONE, WAIT};
 use crate::timed::model::*;
-use crate::timed::precompute::{SplitGame, STAY};
+use crate::timed::precompute::{SplitGame, SubLocId, STAY};
+use crate::zone::Dbm;
 use std::collections::VecDeque;
 
 /// The target of a controller option not generated yet (strategy-directed search): the state's
@@ -44,6 +46,97 @@ impl Solver<'_, '_> {
             total += u32::from(nearest);
         }
         total
+    }
+
+    /// Where an alternative of a freshly expanded state goes in the order the strategy tries
+    /// them (smallest first): forced moves, then what the guide's zero-time strategy does here
+    /// (`hints`, scan games only), then options that make plan progress, then the others nearer
+    /// the plans' goals first, options returning to a visited plant state after those, waiting
+    /// last. In a scan game the decision at a read is a commitment whose effect comes later, so
+    /// it is ordered by the request it commits (see `delivery_order`); there, committing nothing
+    /// goes after the requests as near the goals, as waiting does.
+    pub(super) fn try_order(&mut self, e: &Edge, hints: &[Hint]) -> (u8, u32, bool) {
+        match e.class {
+            Class::Forced => (0, 0, false),
+            Class::Option if e.is_unexplored() => {
+                let d = self.deferred[e.deferred as usize].as_ref().expect("a deferred target");
+                let (env, plan, repeats) = (d.env, d.plan, d.repeats);
+                let here = if e.progress {
+                    2
+                } else if repeats {
+                    4
+                } else {
+                    3
+                };
+                let Label::Message { message } = e.label else { return (here, 0, false) };
+                let Some(roles) = self.game.scan.as_ref() else {
+                    return (here, self.goal_distance(env, plan), false);
+                };
+                if message == roles.idle {
+                    // After the hinted requests: where the zero-time strategy both waits and
+                    // requests (zones that meet the read's), the request is the one with a deadline.
+                    if hints.contains(&Hint::Wait) {
+                        return (1, 1, false);
+                    }
+                    return (here, self.goal_distance(env, plan), true);
+                }
+                match roles.commits.get(message as usize).copied().flatten() {
+                    Some(request) if hints.contains(&Hint::Request(request)) => (1, 0, false),
+                    Some(request) => self.delivery_order(env, plan, request),
+                    None => (here, self.goal_distance(env, plan), false),
+                }
+            }
+            Class::Option => (5, 0, false),
+            Class::Wait => (6, 0, false),
+            Class::Inert => (7, 0, false),
+        }
+    }
+
+    /// The guide's decisions for a read whose alternatives are `edges` (none elsewhere).
+    pub(super) fn guide_hints(&self, edges: &[Edge], env: &[SubLocId], plan: &[SubLocId], zone: &Dbm) -> Vec<Hint> {
+        let (Some(guide), Some(roles)) = (self.guide, self.game.scan.as_ref()) else { return Vec::new() };
+        let read = edges.iter().any(|e| e.class == Class::Option && e.label == Label::Message { message: roles.idle });
+        if !read {
+            return Vec::new();
+        }
+        guide.hints(self.split, env, plan, zone)
+    }
+
+    /// The order of committing `request` in a scan game, from the state `(env, plan)` it commits
+    /// it into, by what its delivery does: the plant may deliver it at once, in the plant state
+    /// the PLC has just read, so a delivery that violates an assertion or fails a plan makes the
+    /// commitment lost (tried last, found lost in a step); otherwise it is ordered as the
+    /// request itself would be in the zero-time game. Without this look-through every
+    /// commitment looks alike (the plant has not moved yet) and the search tries them in the
+    /// order of their declaration.
+    fn delivery_order(&mut self, env: u32, plan: u32, request: MsgId) -> (u8, u32, bool) {
+        let plant = self.space.envs.get(env).to_vec();
+        let plans = self.space.plans.get(plan).to_vec();
+        self.collect_moves(&plant, true);
+        let moves = std::mem::take(&mut self.moves);
+        let (mut progress, mut lost, mut distance) = (false, false, u32::MAX);
+        for m in moves.iter().filter(|m| m.message == request) {
+            let mut plans_after = plans.clone();
+            for (p, sub) in plans_after.iter_mut().enumerate() {
+                let next = self.split.plan_next[p][*sub as usize * self.split.message_count + request as usize];
+                if next != STAY {
+                    progress = true;
+                    *sub = next;
+                }
+            }
+            let (env_after, plan_after) = self.intern_discrete(&m.env, &plans_after);
+            lost |= self.env_violation[env_after as usize] != 0 || self.plan_failure[plan_after as usize] != 0;
+            distance = distance.min(self.goal_distance(env_after, plan_after));
+        }
+        self.moves = moves;
+        if distance == u32::MAX {
+            // Not deliverable now (an urgent move goes first): order by the state as it is.
+            (3, self.goal_distance(env, plan), false)
+        } else if lost {
+            (4, distance, true)
+        } else {
+            (if progress { 2 } else { 3 }, distance, false)
+        }
     }
 
     /// Queues `s` for expansion if it still needs it.
