@@ -51,6 +51,8 @@ struct ScanSummary {
     budget: Option<BudgetStop>,
     /// Why no PLC with this scan can do it, as text (the scan game's counter-play).
     explanation_text: Option<String>,
+    /// The scan times around the verdict (`timed::scan_bound`), once it is decided.
+    bound: Option<timed::ScanBound>,
 }
 
 /// Runs of the real-time check of code at a declared scan time (each 2000 scans), as the CLI.
@@ -197,12 +199,21 @@ impl TimedSession {
         let scan = match self.game.scan_ms {
             // A callback error cancels the run, so a realizable verdict means none occurred.
             Some((ms, _)) if synthesis.solution.verdict == Verdict::Realizable => {
-                timed::synthesize_at_scan(&self.game, ms, &options, &mut report).ok().map(|r| ScanSummary {
-                    scan_ms: ms,
-                    verdict: r.synthesis.solution.verdict,
-                    stats: r.synthesis.solution.stats,
-                    budget: r.synthesis.solution.stop.clone(),
-                    explanation_text: r.synthesis.explanation.as_ref().map(|e| e.render()),
+                timed::synthesize_at_scan(&self.game, ms, &options, &mut report).ok().map(|r| {
+                    let verdict = r.synthesis.solution.verdict;
+                    // How slow a PLC may be: the neighbouring scan times solved, as the CLI's
+                    // `solve` prints them (each within the same budgets).
+                    let bound = matches!(verdict, Verdict::Realizable | Verdict::Unrealizable).then(|| {
+                        timed::scan_bound(&self.game, ms, verdict == Verdict::Realizable, &options, &mut report)
+                    });
+                    ScanSummary {
+                        scan_ms: ms,
+                        verdict,
+                        stats: r.synthesis.solution.stats,
+                        budget: r.synthesis.solution.stop.clone(),
+                        explanation_text: r.synthesis.explanation.as_ref().map(|e| e.render()),
+                        bound,
+                    }
                 })
             }
             _ => None,

@@ -152,6 +152,9 @@ test('a spec with a scan time shows the verdict on the PLC, and a too slow scan 
   await page.waitForSelector('#scan-verdict');
   assert.equal(await page.getAttribute('#scan-verdict', 'data-verdict'), 'realizable');
   assert.match(await page.textContent('#scan-verdict'), /Implementable at 10 ms/);
+  // How slow the PLC may be: the bound search's neighbours (a change read a scan late and
+  // switched within the next one: 2T < 30 ms).
+  assert.match(await page.textContent('#scan-bound'), /implementable at 14 ms, not at 15 ms/);
   await shot(page, '07a-scan-implementable');
   // Its code was run against the plant at 10 ms before it is shown.
   await page.click('[data-tab=code]');
@@ -166,6 +169,7 @@ test('a spec with a scan time shows the verdict on the PLC, and a too slow scan 
   assert.equal(await runAndWait(page), 'realizable');
   await page.waitForFunction(() => document.querySelector('#scan-verdict')?.dataset.verdict === 'unrealizable');
   assert.match(await page.textContent('#scan-verdict'), /Not implementable at 20 ms/);
+  assert.equal(await page.getAttribute('#scan-bound', 'data-works'), '14');
   assert.match(await page.textContent('#scan-explanation'), /plc\.read/);
   assert.match(await page.textContent('#scan-explanation'), /✗/);
   await shot(page, '07b-scan-not-implementable');
