@@ -140,8 +140,9 @@ pub fn synthesize_at_scan(
 /// the zero-time controller does not win. A PLC reacts up to a scan or two late at every step,
 /// so a zero-time strategy that meets a plan's deadline with nothing to spare leads the scan
 /// search into a long dead end; the guide is the strategy of the zero-time game (in the scan
-/// game's time units) with every plan deadline shortened by as many scan-game units as keep it
-/// realizable (bisection), the strategy with the most time to spare.
+/// game's time units) with every plan deadline shortened by a spare: half the shortest deadline,
+/// else a quarter, and so on down to none, the first that keeps it realizable (within a factor
+/// of two of the most time a strategy can spare, in a few solves).
 pub fn scan_guide(
     game: &model::Game,
     scan_ms: u64,
@@ -149,30 +150,22 @@ pub fn scan_guide(
     progress: &mut dyn FnMut(&solve::Stats) -> bool,
 ) -> Option<solve::ScanGuide> {
     let base = scan::rescaled(game, scan_ms).ok()?;
-    let mut solve_with_spare = |spare: u32| -> Option<Synthesis> {
+    let shortest = base.plans.iter().flat_map(|p| p.clocks.iter().map(|&(_, bound)| bound)).min().unwrap_or(0);
+    let mut spare = shortest / 2;
+    loop {
         let mut tight = base.clone();
         for (_, bound) in tight.plans.iter_mut().flat_map(|p| p.clocks.iter_mut()) {
-            *bound = bound.checked_sub(spare)?;
+            *bound -= spare;
         }
         let synthesis = synthesize(&tight, options, progress);
-        (synthesis.solution.verdict == solve::Verdict::Realizable).then_some(synthesis)
-    };
-    let mut best = solve_with_spare(0)?;
-    let shortest = base.plans.iter().flat_map(|p| p.clocks.iter().map(|&(_, bound)| bound)).min();
-    if let Some(shortest) = shortest {
-        let (mut works, mut fails) = (0, shortest + 1);
-        while fails - works > 1 {
-            let mid = works + (fails - works) / 2;
-            match solve_with_spare(mid) {
-                Some(synthesis) => {
-                    best = synthesis;
-                    works = mid;
-                }
-                None => fails = mid,
-            }
+        if synthesis.solution.verdict == solve::Verdict::Realizable {
+            return solve::ScanGuide::new(&synthesis.split, &synthesis.solution);
         }
+        if spare == 0 || synthesis.solution.verdict == solve::Verdict::Cancelled {
+            return None;
+        }
+        spare /= 2;
     }
-    solve::ScanGuide::new(&best.split, &best.solution)
 }
 
 /// The scan times around a verdict: the longest found to work and the shortest found not to.

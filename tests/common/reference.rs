@@ -30,17 +30,17 @@ pub fn compare_with_reference(game: &Game, max_states: usize) -> Result<Option<(
 }
 
 /// [`compare_with_reference`] for the scan game of `game` at `scan_ms`, the search guided by the
-/// zero-time strategy as `synthesize_at_scan` runs it.
+/// zero-time strategy as `synthesize_at_scan` runs it; also returns the search's verdict.
 pub fn compare_scan_with_reference(
     game: &Game,
     scan_ms: u64,
     max_states: usize,
-) -> Result<Option<(usize, usize)>, String> {
+) -> Result<(Verdict, Option<(usize, usize)>), String> {
     let options = SolveOptions { max_states, ..SolveOptions::default() };
     let fast = synthesize_at_scan(game, scan_ms, &options, &mut |_| true).map_err(|e| e.to_string())?;
     let exact = SolveOptions { exhaustive: true, zeno_memory: false, ..options };
     let reference = synthesize(&fast.game, &exact, &mut |_| true);
-    agree(&fast.synthesis, &reference)
+    Ok((fast.synthesis.solution.verdict, agree(&fast.synthesis, &reference)?))
 }
 
 fn agree(fast: &Synthesis, reference: &Synthesis) -> Result<Option<(usize, usize)>, String> {
