@@ -768,6 +768,7 @@ fn every_target_parses_or_validates_for_every_example_and_a_transfer_line() {
     let all_dialects = std::env::var("PLCSYNTH_ALL_DIALECTS").is_ok_and(|v| v == "1");
     let mut sources = examples();
     sources.push(("transfer_lines_3x3".into(), transfer_lines(3, 3, 2)));
+
     let options = plc::Options::default();
     let mut st_files = Vec::new();
     for (name, src) in &sources {
@@ -807,7 +808,59 @@ fn every_target_parses_or_validates_for_every_example_and_a_transfer_line() {
             }
         }
     }
+    // The statements with nested unary operators of the ST and SCL printers, in a small program.
+    for target in [Target::St, Target::Scl] {
+        let body = nested_unary_statements(target).join("\n");
+        let program = format!(
+            "PROGRAM nested_unary\nVAR\n  Q_Inlet : BOOL;\n  I_LevelHigh : BOOL;\n  Count : INT;\nEND_VAR\n{body}\nEND_PROGRAM\n"
+        );
+        st_files.push(scratch(&format!("nested_unary_{target}.st"), &program));
+    }
     common::blark_all(&python, &root(), &st_files);
+}
+
+/// The tank of figure 5.8 with its enforced closing written with nested unary operators
+/// (`NOT (NOT a)`, `-(-x)`): issue 31's printer bug.
+fn tank_with_nested_unary_operators() -> String {
+    let tank = std::fs::read_to_string(root().join("examples/sct/tank_preemption.sct")).unwrap();
+    let src = tank.replace(
+        r#"on accept "Q_Inlet := FALSE;""#,
+        r#"on accept "Q_Inlet := NOT (NOT I_LevelHigh); Count := -(-Count) + -(-3);""#,
+    );
+    assert_ne!(src, tank, "the action to rewrite is in the example");
+    src
+}
+
+/// The statements the tank with nested unary operators prints in `target`, unquoted: the
+/// enforced closing's two assignments.
+fn nested_unary_statements(target: Target) -> Vec<String> {
+    let unit = unit_of(&project(&tank_with_nested_unary_operators()));
+    let text = plc::render_unit_files(&unit, target, &plc::Options::default()).unwrap().remove(0).text;
+    // SCL quotes the tags: `NOT (NOT "I_LevelHigh")`.
+    let unquoted = text.replace('"', "");
+    let statements: Vec<String> = unquoted
+        .lines()
+        .map(str::trim)
+        .filter(|l| l.contains("NOT (NOT") || l.contains("-(-"))
+        .map(|l| l.trim_start_matches("(*").trim_end_matches("*)").trim().to_string())
+        .collect();
+    assert!(!statements.is_empty(), "{target}:\n{text}");
+    statements
+}
+
+/// Nested unary operators in action code print as IEC 61131-3 writes them: the tank's enforced
+/// closing written `Q_Inlet := NOT (NOT I_LevelHigh)` was printed `NOT NOT I_LevelHigh`, which
+/// blark rejects (issue 31), and `-(-x)` risked `--x`. Every ST dialect (blark parses the
+/// statements in a small program with the examples' files, above) and the STL comments.
+#[test]
+fn nested_unary_operators_in_action_code_keep_their_parentheses() {
+    for target in [Target::St, Target::Codesys, Target::Scl, Target::Scl1500, Target::Stl] {
+        let statements = nested_unary_statements(target);
+        let all = statements.join("\n");
+        assert!(all.contains("Q_Inlet := NOT (NOT I_LevelHigh);"), "{target}:\n{all}");
+        assert!(all.contains("Count := -(-Count) + -(-3);"), "{target}:\n{all}");
+        assert!(!all.contains("NOT NOT") && !all.contains("--Count"), "{target}:\n{all}");
+    }
 }
 
 /// docs/syrf.md shows one complete generated framework: it must be what `supervise` prints.

@@ -123,7 +123,9 @@ impl<'u> Writer<'u> {
                     out.push('(');
                 }
                 out.push_str(if matches!(e, Expr::Not(_)) { "NOT " } else { "-" });
-                self.write_expr(inner, UNARY, out);
+                // A unary operand that is itself unary is parenthesised: IEC 61131-3 has no
+                // `NOT NOT a` (blark rejects it) and `--x` is no negation.
+                self.write_expr(inner, UNARY + 1, out);
                 if paren {
                     out.push(')');
                 }

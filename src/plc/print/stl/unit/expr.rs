@@ -316,7 +316,11 @@ pub(super) fn expr_text(unit: &Unit, e: &Expr) -> String {
             Expr::Not(x) | Expr::Neg(x) => {
                 out.push_str(if matches!(e, Expr::Not(_)) { "NOT " } else { "-" });
                 let mut inner = String::new();
-                if go(unit, x, &mut inner) < 8 {
+                // Binary operands, nested unary ones and negative literals in parentheses
+                // (`NOT (NOT a)`, `-(-x)`, `-(-5)`).
+                let negative = matches!(x.as_ref(), Expr::Int(n) if *n < 0)
+                    || matches!(x.as_ref(), Expr::Real(r) if r.value() < 0.0);
+                if go(unit, x, &mut inner) <= 8 || negative {
                     out.push_str(&format!("({inner})"));
                 } else {
                     out.push_str(&inner);
