@@ -21,7 +21,7 @@ pub(super) enum Hint {
 }
 
 /// The decisions of a zero-time winning strategy, by plant and plan locations, each with the
-/// zone where it is taken (time-closed, in the zero-time game's units).
+/// future of the zone where it is taken (in the scan game's time units, see `scan::rescaled`).
 pub struct ScanGuide {
     plant_count: usize,
     dim: usize,
