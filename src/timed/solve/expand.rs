@@ -14,9 +14,9 @@ use crate::zone::{Bound, Dbm};
 pub(super) struct Move {
     pub(super) kind: MessageKind,
     pub(super) message: MsgId,
-    instant: bool,
+    pub(super) instant: bool,
     pub(super) env: Vec<SubLocId>,
-    resets: u64,
+    pub(super) resets: u64,
 }
 
 /// Where a delay arms the scan automaton of a scan game.
@@ -194,7 +194,7 @@ impl Solver<'_, '_> {
     /// Collects the discrete moves enabled in `env`, resolving `$` synchronisation (algorithm 3):
     /// a sender's move needs one enabled `$` transition in every unit synchronising on the
     /// message; each combination is a move.
-    pub(super) fn collect_moves(&mut self, env: &[SubLocId], requests_allowed: bool) {
+    fn collect_moves(&mut self, env: &[SubLocId], requests_allowed: bool) {
         self.moves.clear();
         let split = self.split;
         let units = &split.units;
@@ -211,33 +211,7 @@ impl Solver<'_, '_> {
                     resets: clock_bits(&e.resets),
                 }];
                 partial[0].env[u] = e.target;
-                for &other in &split.sync_units[e.message as usize] {
-                    let other = other as usize;
-                    let options: Vec<_> = units[other].sublocs[env[other] as usize]
-                        .edges
-                        .iter()
-                        .filter(|se| se.kind == MessageKind::Synchronised && se.message == e.message)
-                        .collect();
-                    let mut next = Vec::with_capacity(partial.len() * options.len());
-                    for m in &partial {
-                        for o in &options {
-                            let mut env2 = m.env.clone();
-                            env2[other] = o.target;
-                            next.push(Move {
-                                kind: m.kind,
-                                message: m.message,
-                                instant: m.instant || o.instant,
-                                env: env2,
-                                resets: m.resets | clock_bits(&o.resets),
-                            });
-                        }
-                    }
-                    partial = next;
-                    // Synchronisation multiplies the moves: count them as work.
-                    if !self.charge(self.vector_cost * partial.len() as u64) {
-                        return;
-                    }
-                }
+                let Some(partial) = self.synchronise(env, partial) else { return };
                 self.moves.extend(partial);
             }
         }
@@ -248,6 +222,42 @@ impl Solver<'_, '_> {
             let reaction_first = self.moves.iter().any(|m| m.instant && m.kind == MessageKind::Uncontrollable);
             self.moves.retain(|m| m.instant && !(reaction_first && m.kind == MessageKind::Controllable));
         }
+    }
+
+    /// `partial` (moves of one message's sender from `env`) completed with one enabled `$`
+    /// transition in every unit synchronising on the message, each combination a move; `None`
+    /// when the work this costs stops the search.
+    pub(super) fn synchronise(&mut self, env: &[SubLocId], mut partial: Vec<Move>) -> Option<Vec<Move>> {
+        let Some(message) = partial.first().map(|m| m.message) else { return Some(partial) };
+        let split = self.split;
+        for &other in &split.sync_units[message as usize] {
+            let other = other as usize;
+            let options: Vec<_> = split.units[other].sublocs[env[other] as usize]
+                .edges
+                .iter()
+                .filter(|se| se.kind == MessageKind::Synchronised && se.message == message)
+                .collect();
+            let mut next = Vec::with_capacity(partial.len() * options.len());
+            for m in &partial {
+                for o in &options {
+                    let mut env2 = m.env.clone();
+                    env2[other] = o.target;
+                    next.push(Move {
+                        kind: m.kind,
+                        message: m.message,
+                        instant: m.instant || o.instant,
+                        env: env2,
+                        resets: m.resets | clock_bits(&o.resets),
+                    });
+                }
+            }
+            partial = next;
+            // Synchronisation multiplies the moves: count them as work.
+            if !self.charge(self.vector_cost * partial.len() as u64) {
+                return None;
+            }
+        }
+        Some(partial)
     }
 
     pub(super) fn expand(&mut self, s: StateId) {

@@ -1,7 +1,7 @@
 //! The strategy-directed search: the order in which a state's alternatives are tried (towards
 //! the plans' goals), the choice of one, and the generation of deferred option targets.
 
-use super::expand::guard_edge;
+use super::expand::{guard_edge, Move};
 use super::guide::Hint;
 use super::space::{Class, Edge, EdgeId, Label, Removal, StateId, StateKind};
 use super::zeno::Vis;
@@ -112,10 +112,13 @@ impl Solver<'_, '_> {
     fn delivery_order(&mut self, env: u32, plan: u32, request: MsgId) -> (u8, u32, bool) {
         let plant = self.space.envs.get(env).to_vec();
         let plans = self.space.plans.get(plan).to_vec();
-        self.collect_moves(&plant, true);
-        let moves = std::mem::take(&mut self.moves);
+        // The plant's side of the delivery: its units that take the request with it (the scan
+        // automaton's own move does not matter here).
+        let delivery =
+            Move { kind: MessageKind::Uncontrollable, message: request, instant: false, env: plant.clone(), resets: 0 };
+        let Some(moves) = self.synchronise(&plant, vec![delivery]) else { return (3, 0, false) };
         let (mut progress, mut lost, mut distance) = (false, false, u32::MAX);
-        for m in moves.iter().filter(|m| m.message == request) {
+        for m in &moves {
             let mut plans_after = plans.clone();
             for (p, sub) in plans_after.iter_mut().enumerate() {
                 let next = self.split.plan_next[p][*sub as usize * self.split.message_count + request as usize];
@@ -128,9 +131,8 @@ impl Solver<'_, '_> {
             lost |= self.env_violation[env_after as usize] != 0 || self.plan_failure[plan_after as usize] != 0;
             distance = distance.min(self.goal_distance(env_after, plan_after));
         }
-        self.moves = moves;
         if distance == u32::MAX {
-            // Not deliverable now (an urgent move goes first): order by the state as it is.
+            // No unit can take it now (it would be refused): order by the state as it is.
             (3, self.goal_distance(env, plan), false)
         } else if lost {
             (4, distance, true)
