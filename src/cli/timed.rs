@@ -91,17 +91,7 @@ impl ScanOutcome {
     }
 
     fn bound_text(&self) -> Option<String> {
-        let b = self.bound?;
-        if b.scale_free {
-            return Some("the same at every scan time (the specification has no time constants)".into());
-        }
-        let text = match (b.works, b.fails) {
-            (Some(w), Some(f)) => format!("implementable at {w} ms, not at {f} ms"),
-            (None, Some(f)) => format!("not implementable at any scan time tried, down to 1 ms (fails at {f} ms)"),
-            (Some(w), None) => format!("implementable up to at least {w} ms (the longest tried)"),
-            (None, None) => return None,
-        };
-        Some(if b.stopped { format!("{text}; the search stopped at a budget") } else { text })
+        self.bound?.text()
     }
 }
 

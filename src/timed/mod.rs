@@ -182,6 +182,22 @@ pub struct ScanBound {
     pub scale_free: bool,
 }
 
+impl ScanBound {
+    /// The bound in words, as `solve` and the playground print it (`None` if nothing was found).
+    pub fn text(&self) -> Option<String> {
+        if self.scale_free {
+            return Some("the same at every scan time (the specification has no time constants)".into());
+        }
+        let text = match (self.works, self.fails) {
+            (Some(w), Some(f)) => format!("implementable at {w} ms, not at {f} ms"),
+            (None, Some(f)) => format!("not implementable at any scan time tried, down to 1 ms (fails at {f} ms)"),
+            (Some(w), None) => format!("implementable up to at least {w} ms (the longest tried)"),
+            (None, None) => return None,
+        };
+        Some(if self.stopped { format!("{text}; the search stopped at a budget") } else { text })
+    }
+}
+
 /// Searches the scan times around `scan_ms`, where the verdict was `implementable`: below it by
 /// bisection when it fails, above it by doubling (up to four times the longest constant of the
 /// specification) and then bisection when it works. Implementability need not be monotone in

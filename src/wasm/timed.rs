@@ -53,6 +53,8 @@ struct ScanSummary {
     explanation_text: Option<String>,
     /// The scan times around the verdict (`timed::scan_bound`), once it is decided.
     bound: Option<timed::ScanBound>,
+    /// The same in words, as the CLI's `solve` prints it.
+    bound_text: Option<String>,
 }
 
 /// Runs of the real-time check of code at a declared scan time (each 2000 scans), as the CLI.
@@ -212,6 +214,7 @@ impl TimedSession {
                         stats: r.synthesis.solution.stats,
                         budget: r.synthesis.solution.stop.clone(),
                         explanation_text: r.synthesis.explanation.as_ref().map(|e| e.render()),
+                        bound_text: bound.and_then(|b| b.text()),
                         bound,
                     }
                 })

@@ -31,23 +31,11 @@ const scanText = {
   cancelled: () => 'Cancelled',
 };
 
-/** How slow the PLC may be: the neighbouring scan times the bound search solved. */
-function boundPart(bound) {
-  if (!bound) return null;
-  let text;
-  if (bound.scale_free) {
-    text = 'The same verdict at every scan time: the spec has no time constants.';
-  } else if (bound.works && bound.fails) {
-    text = `How slow the PLC may be: implementable at ${bound.works} ms, not at ${bound.fails} ms.`;
-  } else if (bound.fails) {
-    text = `Not implementable at any scan time tried, down to 1 ms (fails at ${bound.fails} ms).`;
-  } else if (bound.works) {
-    text = `Implementable up to at least ${bound.works} ms (the longest tried).`;
-  } else {
-    return null;
-  }
-  if (bound.stopped) text += ' The search stopped at a budget.';
-  return h('p', { id: 'scan-bound', 'data-works': bound.works ?? '', 'data-fails': bound.fails ?? '' }, text);
+/** How slow the PLC may be: the neighbouring scan times the bound search solved (text from the engine). */
+function boundPart(scan) {
+  if (!scan.bound_text) return null;
+  const { works, fails } = scan.bound;
+  return h('p', { id: 'scan-bound', 'data-works': works ?? '', 'data-fails': fails ?? '' }, `Scan time: ${scan.bound_text}.`);
 }
 
 /** The verdict at the declared scan time, or a note that the verdict assumes zero time. */
@@ -63,7 +51,7 @@ function scanPart(summary) {
     {},
     h('div', { class: `verdict ${scan.verdict}`, id: 'scan-verdict', 'data-verdict': scan.verdict }, scanText[scan.verdict]?.(scan.scan_ms) ?? scan.verdict),
     h('p', { class: 'muted' }, `The scan game: ${fmtInt(scan.stats.visited)} states visited, ${fmtInt(scan.stats.removed)} removed.`),
-    boundPart(scan.bound),
+    boundPart(scan),
     scan.explanation_text
       ? [
           h('h3', {}, `Why a PLC with a ${scan.scan_ms} ms scan cannot do it`),
