@@ -17,9 +17,10 @@ test:
 	CARGO=$(CARGO) TEST_PROFILE=$(TEST_PROFILE) bash scripts/test.sh
 
 ## The same with the random and property runs ten times bigger, the real-time closed loops
-## four times longer and every generated dialect parsed by blark (minutes more).
+## four times longer, the scan strategies' code 50 runs in awlsim and every generated dialect
+## parsed by blark (minutes more).
 test-long:
-	PLCSYNTH_RANDOM_SPECS=4000 PROPTEST_CASES=4096 PLCSYNTH_ALL_DIALECTS=1 PLCSYNTH_REALTIME_RUNS=4 $(MAKE) test
+	PLCSYNTH_RANDOM_SPECS=4000 PROPTEST_CASES=4096 PLCSYNTH_ALL_DIALECTS=1 PLCSYNTH_REALTIME_RUNS=4 PLCSYNTH_AWLSIM_RUNS=50 $(MAKE) test
 
 ## rustfmt and clippy, warnings as errors (the wasm boundary is linted in test-wasm).
 lint:

@@ -370,19 +370,38 @@ fn compile_at_a_scan_time_writes_nothing_for_a_controller_no_plc_can_run() {
 
 #[test]
 fn compile_at_a_scan_time_refuses_code_that_fails_in_real_time() {
-    // hardware_xyz is implementable up to 500 ms (tests/timed_scan.rs), but the code follows the
-    // zero-time strategy and its scans' latency: at 495 ms a plan misses its bound.
-    let args = ["compile", "examples/timed/hardware_xyz.tga", "--target", "stl", "--scan", "495ms"];
+    // gripper_guard has state guards, which the scan game leaves out: its code follows the
+    // zero-time strategy with its scans' latency, and at 500 ms (implementable) a plan misses
+    // its bound in run 8.
+    let args = ["compile", "examples/timed/gripper_guard.tga", "--target", "stl", "--scan", "500ms"];
     let (code, out, err) = plcsynth(&args);
     assert_eq!(code, 1, "{err}");
     assert!(out.is_empty(), "{out}");
-    assert!(err.contains("the generated code fails at 495 ms in real-time run"), "{err}");
+    assert!(err.contains("code from the zero-time strategy") && err.contains("state guards"), "{err}");
+    assert!(err.contains("the generated code fails at 500 ms in real-time run"), "{err}");
     assert!(err.contains("PlanFailed") && err.contains("scan "), "{err}");
     // The check can be skipped; at 100 ms the code holds.
     let (code, out, _) = plcsynth(&[&args[..], &["--check-runs", "0"]].concat());
     assert_eq!(code, 0);
     assert!(out.contains("ORGANIZATION_BLOCK"), "{out}");
-    let (code, _, err) = plcsynth(&["compile", "examples/timed/hardware_xyz.tga", "--scan", "100ms"]);
+    let (code, _, err) = plcsynth(&["compile", "examples/timed/gripper_guard.tga", "--scan", "100ms"]);
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("checked at 100 ms"), "{err}");
+}
+
+#[test]
+fn compile_at_a_scan_time_follows_the_scan_strategy() {
+    // hardware_xyz is implementable up to 500 ms (tests/timed_scan.rs); the code of its
+    // zero-time strategy missed a plan bound at 495 ms, the scan strategy's holds.
+    let args = ["compile", "examples/timed/hardware_xyz.tga", "--target", "stl", "--scan", "495ms"];
+    let (code, out, err) = plcsynth(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("code from the scan strategy at 495 ms") && err.contains("one decision per scan"), "{err}");
+    assert!(err.contains("checked at 495 ms: 20 runs of 2000 scans") && err.contains("no failure"), "{err}");
+    assert!(out.contains("ORGANIZATION_BLOCK"), "{out}");
+    // The intermediate program at a scan time is the scan strategy's: dispatch, then decide.
+    let (code, out, err) = plcsynth(&["compile", "examples/timed/lamp_scan.tga", "--check-runs", "0"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.starts_with(" 0 : GOTO ") && out.contains("IF (press) THEN GOTO"), "{out}");
+    assert!(out.contains("DO (turn_on)") && out.contains("DO (turn_off)"), "{out}");
 }

@@ -546,81 +546,80 @@ fn awlsim_runs_beside(
         .collect()
 }
 
-#[test]
-fn awlsim_agrees_with_the_interpreter_scan_by_scan_and_gives_the_same_verdicts() {
-    let chosen: Vec<&Example> = examples().iter().filter(|e| !NOT_IN_AWLSIM.contains(&e.name.as_str())).collect();
-    // One awlsim per example, two at a time (awlsim compiles the larger STL for seconds).
+/// Runs `each` on every item, two threads at a time (one awlsim per item: awlsim compiles the
+/// larger STL for seconds), and returns the lines they give, sorted.
+fn two_at_a_time<T: Sync>(items: &[T], each: impl Fn(&T) -> Vec<String> + Sync) -> Vec<String> {
     let lines = std::sync::Mutex::new(Vec::new());
     let next = std::sync::atomic::AtomicUsize::new(0);
     std::thread::scope(|scope| {
         for _ in 0..2 {
             scope.spawn(|| loop {
                 let i = next.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
-                let Some(e) = chosen.get(i) else { break };
-                let mut plc = Awlsim::start(&e.name, &e.stl.0);
-                let expected = expected_failure(&e.name);
-                // Two seeds of 1500 scans (15 s, see below); for an example that fails, the first two
-                // seeds on which the interpreter fails within 1500 scans and the first on which
-                // it does not, if any.
-                let (seeds, scans) = match expected {
-                    // Seed 0, and the first seed on which the code would pulse an output in two
-                    // consecutive scans without the memories of the last write, so that awlsim
-                    // runs the wait of a pulse after a pulse (else seed 1).
-                    None => {
-                        let mut code = e.stl.0.clone();
-                        code.outputs.iter_mut().for_each(|o| o.last = None);
-                        let repeats = |s: u64| run_code(e, &code, &e.stl.1, s, 1500).repeated_pulses > 0;
-                        let gap = (1..40).find(|&s| repeats(s));
-                        // The round tables' `cycle` comes back to back when the table is quick.
-                        assert!(
-                            gap.is_some() || !e.name.starts_with("round_table"),
-                            "{}: no seed pulses twice",
-                            e.name
-                        );
-                        (vec![0, gap.unwrap_or(1)], 1500)
-                    }
-                    Some(_) => {
-                        let fails: Vec<bool> =
-                            (0..40).map(|s| run_rust(e, Target::Stl, s, 1500).failure.is_some()).collect();
-                        let mut seeds: Vec<u64> = (0..40).filter(|&s| fails[s as usize]).take(2).collect();
-                        seeds.extend((0..40).find(|&s| !fails[s as usize]));
-                        (seeds, 1500)
-                    }
-                };
-                let mut tally = Tally::default();
-                for (r, mismatches) in awlsim_runs(&mut plc, e, seeds, scans) {
-                    assert!(
-                        mismatches.is_empty(),
-                        "{}: awlsim and the interpreter differ:\n{}",
-                        e.name,
-                        mismatches.join("\n")
-                    );
-                    // The verdict on the plant's side is the Rust interpreter's on the same seed.
-                    let rust = run_rust(e, Target::Stl, r.seed, scans);
-                    assert_eq!(
-                        (&r.failure, r.scans, r.requests),
-                        (&rust.failure, rust.scans, rust.requests),
-                        "{}: awlsim's run and the interpreter's differ\n{}\n--- interpreter:\n{}",
-                        e.name,
-                        show(&r),
-                        show(&rust)
-                    );
-                    if let Some(f) = &r.failure {
-                        let known = expected.is_some_and(|k| (k.failure)(f));
-                        assert!(known, "{} fails in awlsim:\n{}", e.name, show(&r));
-                    }
-                    tally.add(&r);
-                }
-                assert_eq!(tally.repeated_pulses, 0, "{}: awlsim repeated a pulse", e.name);
-                if expected.is_some() {
-                    assert!(tally.failures > 0, "{}: awlsim's runs found no failure", e.name);
-                }
-                lines.lock().unwrap().push(tally.line(&e.name));
+                let Some(item) = items.get(i) else { break };
+                let mine = each(item);
+                lines.lock().unwrap().extend(mine);
             });
         }
     });
     let mut lines = lines.into_inner().unwrap();
     lines.sort();
+    lines
+}
+
+#[test]
+fn awlsim_agrees_with_the_interpreter_scan_by_scan_and_gives_the_same_verdicts() {
+    let chosen: Vec<&Example> = examples().iter().filter(|e| !NOT_IN_AWLSIM.contains(&e.name.as_str())).collect();
+    let lines = two_at_a_time(&chosen, |e| {
+        let mut plc = Awlsim::start(&e.name, &e.stl.0);
+        let expected = expected_failure(&e.name);
+        // Two seeds of 1500 scans (15 s, see below); for an example that fails, the first two
+        // seeds on which the interpreter fails within 1500 scans and the first on which
+        // it does not, if any.
+        let (seeds, scans) = match expected {
+            // Seed 0, and the first seed on which the code would pulse an output in two
+            // consecutive scans without the memories of the last write, so that awlsim
+            // runs the wait of a pulse after a pulse (else seed 1).
+            None => {
+                let mut code = e.stl.0.clone();
+                code.outputs.iter_mut().for_each(|o| o.last = None);
+                let repeats = |s: u64| run_code(e, &code, &e.stl.1, s, 1500).repeated_pulses > 0;
+                let gap = (1..40).find(|&s| repeats(s));
+                // The round tables' `cycle` comes back to back when the table is quick.
+                assert!(gap.is_some() || !e.name.starts_with("round_table"), "{}: no seed pulses twice", e.name);
+                (vec![0, gap.unwrap_or(1)], 1500)
+            }
+            Some(_) => {
+                let fails: Vec<bool> = (0..40).map(|s| run_rust(e, Target::Stl, s, 1500).failure.is_some()).collect();
+                let mut seeds: Vec<u64> = (0..40).filter(|&s| fails[s as usize]).take(2).collect();
+                seeds.extend((0..40).find(|&s| !fails[s as usize]));
+                (seeds, 1500)
+            }
+        };
+        let mut tally = Tally::default();
+        for (r, mismatches) in awlsim_runs(&mut plc, e, seeds, scans) {
+            assert!(mismatches.is_empty(), "{}: awlsim and the interpreter differ:\n{}", e.name, mismatches.join("\n"));
+            // The verdict on the plant's side is the Rust interpreter's on the same seed.
+            let rust = run_rust(e, Target::Stl, r.seed, scans);
+            assert_eq!(
+                (&r.failure, r.scans, r.requests),
+                (&rust.failure, rust.scans, rust.requests),
+                "{}: awlsim's run and the interpreter's differ\n{}\n--- interpreter:\n{}",
+                e.name,
+                show(&r),
+                show(&rust)
+            );
+            if let Some(f) = &r.failure {
+                let known = expected.is_some_and(|k| (k.failure)(f));
+                assert!(known, "{} fails in awlsim:\n{}", e.name, show(&r));
+            }
+            tally.add(&r);
+        }
+        assert_eq!(tally.repeated_pulses, 0, "{}: awlsim repeated a pulse", e.name);
+        if expected.is_some() {
+            assert!(tally.failures > 0, "{}: awlsim's runs found no failure", e.name);
+        }
+        vec![tally.line(&e.name)]
+    });
     eprintln!("plc::lower::timed::realtime at a {} ms scan (awlsim):\n{}", SCAN_US / 1000, lines.join("\n"));
 }
 
@@ -762,4 +761,80 @@ fn independent_requests_share_a_scan_and_hold() {
         assert!(r.failure.is_none(), "{}", show(&r));
         assert!(r.progress > 100, "{}", show(&r));
     }
+}
+
+/// Seeds of awlsim per example for the code of the scan strategy: `make test` runs 2 of 2000
+/// scans; `PLCSYNTH_AWLSIM_RUNS` sets more (the closed-loop proof of issue 28 ran 50).
+fn awlsim_scan_runs() -> u64 {
+    std::env::var("PLCSYNTH_AWLSIM_RUNS").ok().and_then(|v| v.parse().ok()).unwrap_or(2)
+}
+
+/// The code of the scan strategy at 10 ms (`program::scan`), for STL and ST, of every example
+/// that has one: implementable at 10 ms and without state guards.
+fn scan_examples() -> Vec<Example> {
+    examples()
+        .iter()
+        .filter(|e| e.game.guards.is_empty())
+        .filter_map(|e| {
+            let outcome =
+                plcsynth::timed::synthesize_at_scan(&e.game, SCAN_US / 1000, &SolveOptions::default(), &mut |_| true)
+                    .expect("a scan game");
+            if outcome.synthesis.solution.verdict != plcsynth::timed::solve::Verdict::Realizable {
+                assert!(expected_failure(&e.name).is_some(), "{}: not implementable at 10 ms", e.name);
+                return None;
+            }
+            let scan_program = lower_timed::scan_program(&e.game, &outcome)
+                .unwrap_or_else(|why| panic!("{}: no program follows the scan strategy: {why}", e.name));
+            let p = scan_program.program();
+            let source = std::fs::read_to_string(root().join(format!("examples/timed/{}.tga", e.name))).unwrap();
+            let build = |target| {
+                lower_timed::build_paced(
+                    &e.game,
+                    &p,
+                    lower_timed::Pacing::ScanByScan,
+                    target,
+                    &e.name,
+                    &source,
+                    &Options::default(),
+                )
+                .unwrap_or_else(|d| panic!("{}: {d:?}", e.name))
+            };
+            Some(Example { name: e.name.clone(), game: e.game.clone(), stl: build(Target::Stl), st: build(Target::St) })
+        })
+        .collect()
+}
+
+#[test]
+fn code_of_the_scan_strategy_holds_in_real_time_and_in_awlsim() {
+    let chosen = scan_examples();
+    let names: Vec<&str> = chosen.iter().map(|e| e.name.as_str()).collect();
+    // Every example without guards that is implementable at 10 ms gets the scan strategy's code.
+    for name in ["gear_checking", "hardware_xyz", "lamp_scan", "robot_arm", "two_machines", "two_robots_22"] {
+        assert!(names.contains(&name), "{name} has no code of its scan strategy: {names:?}");
+    }
+    let lines = two_at_a_time(&chosen, |e| {
+        // Every scan reads, decides once and writes: no request goes on within its scan.
+        for (code, _) in [&e.stl, &e.st] {
+            assert!(code.steps.iter().all(|s| !s.back_in_scan));
+            assert!(code.steps.iter().all(|s| !matches!(s.statement, Statement::Act { ends_scan: false, .. })));
+        }
+        let mut tally = Tally::default();
+        for seed in 0..runs(&e.name) {
+            for target in [Target::St, Target::Stl] {
+                let r = run_rust(e, target, seed, SCANS);
+                assert!(r.failure.is_none(), "{} ({target:?}) fails at 10 ms:\n{}", e.name, show(&r));
+                tally.add(&r);
+            }
+        }
+        assert_eq!(tally.repeated_pulses, 0, "{}: a pulse was repeated", e.name);
+        let mut plc = Awlsim::start(&format!("{}_scan", e.name), &e.stl.0);
+        let mut in_awlsim = Tally::default();
+        for (r, mismatches) in awlsim_runs(&mut plc, e, 0..awlsim_scan_runs(), SCANS) {
+            assert!(mismatches.is_empty(), "{}: awlsim and the interpreter differ:\n{}", e.name, mismatches.join("\n"));
+            assert!(r.failure.is_none(), "{} fails in awlsim:\n{}", e.name, show(&r));
+            in_awlsim.add(&r);
+        }
+        vec![tally.line(&e.name), in_awlsim.line(&format!("{} (awlsim)", e.name))]
+    });
+    eprintln!("code of the scan strategy at a {} ms scan:\n{}", SCAN_US / 1000, lines.join("\n"));
 }

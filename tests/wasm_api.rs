@@ -12,6 +12,7 @@ const LAMP_NAIVE: &str = include_str!("../examples/timed/lamp_naive.tga");
 const RT4: &str = include_str!("../examples/timed/round_table_4.tga");
 const LAMP_SCAN: &str = include_str!("../examples/timed/lamp_scan.tga");
 const HARDWARE_XYZ: &str = include_str!("../examples/timed/hardware_xyz.tga");
+const GRIPPER_GUARD: &str = include_str!("../examples/timed/gripper_guard.tga");
 
 fn get(v: &JsValue, key: &str) -> JsValue {
     Reflect::get(v, &JsValue::from_str(key)).unwrap()
@@ -306,16 +307,24 @@ fn code_at_a_declared_scan_time_is_run_against_the_plant_first() {
     assert_eq!(num(&realtime, "runs"), 20.0);
     assert!(get(&realtime, "failure").is_null());
     assert_eq!(array(&get(&code, "files")).length(), 1);
-    // hardware_xyz is implementable at 495 ms, but its code fails a run there: no files.
-    let (s, summary) = solved(&format!("scan 495 ms;\n{HARDWARE_XYZ}"));
+    // gripper_guard is implementable at 500 ms, but it has state guards: its code follows the
+    // zero-time strategy and fails a run there: no files.
+    let (s, summary) = solved(&format!("scan 500 ms;\n{GRIPPER_GUARD}"));
     assert_eq!(string(&get(&summary, "scan"), "verdict"), "realizable");
+    assert!(string(&get(&summary, "scan"), "code_from").contains("zero-time strategy"));
     for target in ["st", "program"] {
-        let code = s.code(target, "hardware_xyz", None).unwrap();
+        let code = s.code(target, "gripper_guard", None).unwrap();
         let realtime = get(&code, "realtime");
         assert!(string(&realtime, "failure").contains("PlanFailed"), "{target}");
         assert!(array(&get(&realtime, "trace")).length() > 2);
         assert_eq!(array(&get(&code, "files")).length(), 0, "{target}");
     }
+    // hardware_xyz's code follows its scan strategy and holds at 495 ms.
+    let (s, summary) = solved(&format!("scan 495 ms;\n{HARDWARE_XYZ}"));
+    assert!(string(&get(&summary, "scan"), "code_from").starts_with("the scan strategy"));
+    let code = s.code("st", "hardware_xyz", None).unwrap();
+    assert!(get(&get(&code, "realtime"), "failure").is_null());
+    assert_eq!(array(&get(&code, "files")).length(), 1);
 }
 
 #[wasm_bindgen_test]

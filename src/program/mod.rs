@@ -13,6 +13,7 @@
 
 pub mod generate;
 pub mod optimize;
+pub mod scan;
 pub mod select;
 pub mod simulate;
 

@@ -4,7 +4,7 @@
 //! `program::simulate` drives it in eighths of a time unit with a scan after every plant step,
 //! `plc::lower::timed::realtime` in microseconds against a PLC with a real scan period.
 
-use super::model::{Game, Interval, LocId, MessageKind, MsgId};
+use super::model::{Game, Interval, LocId, MessageKind, MessageRole, MsgId};
 use super::precompute::SplitGame;
 use super::solve::{StateId, StateKind, StateSpace};
 
@@ -17,6 +17,132 @@ pub struct Move {
     pub instant: bool,
     /// (unit, edge index) of every participating transition, the sender first.
     pub parts: Vec<(usize, usize)>,
+}
+
+/// How each input's level follows the plant (docs/plc-code.md, "The I/O contract"): the one
+/// model of what a PLC reads, shared by the real-time checker and the scan program's
+/// extraction, so that the code is built from the levels it will be tested on.
+///
+/// A reaction *holds* from its occurrence until its sender next takes part in a transition that
+/// is not `instant` (a sensor of the state reached: an instant transition leaves no time to see
+/// the location it leaves), and initially when an edge carrying it enters its sender's initial
+/// location. A guard holds while the environment says so. An input whose messages are bound
+/// with both polarities is a latch: a `Level` message sets it TRUE when it occurs, a `not`
+/// message sets it FALSE; initially it is TRUE when one of its `Level` messages holds. Any
+/// other input is TRUE while one of its messages holds, or, bound only with `not`, FALSE while
+/// one holds.
+#[derive(Clone, Debug)]
+pub struct Sensors {
+    /// Per input: its messages and whether each reads the signal negated (shared by clones,
+    /// and left out of equality: clones of one set of sensors are compared).
+    messages: std::sync::Arc<[Vec<(MsgId, bool)>]>,
+    /// Per input: the latch's value, for latches.
+    latch: Vec<Option<bool>>,
+    /// Per message: whether it holds.
+    pub holds: Vec<bool>,
+}
+
+impl PartialEq for Sensors {
+    fn eq(&self, other: &Sensors) -> bool {
+        self.holds == other.holds && self.latch == other.latch
+    }
+}
+
+impl Eq for Sensors {}
+
+impl std::hash::Hash for Sensors {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.holds.hash(state);
+        self.latch.hash(state);
+    }
+}
+
+impl Sensors {
+    /// The levels at the start, for inputs wired to `inputs` (per input, its messages and
+    /// whether each reads it negated).
+    pub fn new(game: &Game, inputs: &[Vec<(MsgId, bool)>]) -> Sensors {
+        let holds: Vec<bool> = (0..game.messages.len())
+            .map(|m| match game.messages[m].sender {
+                Some(s) if game.messages[m].role == MessageRole::Reaction => {
+                    let a = &game.components[s as usize];
+                    a.edges
+                        .iter()
+                        .any(|e| e.message as usize == m && e.kind != MessageKind::Synchronised && e.to == a.initial)
+                }
+                _ => false,
+            })
+            .collect();
+        let latch = inputs
+            .iter()
+            .map(|ms| {
+                let both = ms.iter().any(|&(_, n)| n) && ms.iter().any(|&(_, n)| !n);
+                both.then(|| ms.iter().any(|&(m, n)| !n && holds[m as usize]))
+            })
+            .collect();
+        Sensors { messages: inputs.to_vec().into(), latch, holds }
+    }
+
+    pub fn level(&self, input: usize) -> bool {
+        match self.latch[input] {
+            Some(v) => v,
+            None => {
+                let ms = &self.messages[input];
+                let any = ms.iter().any(|&(m, _)| self.holds[m as usize]);
+                if ms.iter().all(|&(_, n)| n) {
+                    !any
+                } else {
+                    any
+                }
+            }
+        }
+    }
+
+    /// Forgets whether messages no input reads hold: two memories that differ only there give
+    /// the same levels now and later.
+    pub fn forget_unread(&mut self) {
+        let mut read = vec![false; self.holds.len()];
+        for &(m, _) in self.messages.iter().flatten() {
+            read[m as usize] = true;
+        }
+        for (h, r) in self.holds.iter_mut().zip(read) {
+            *h &= r;
+        }
+    }
+
+    /// What the sensors remember of the plant's past, for ordering memories.
+    pub fn memory(&self) -> (&[bool], &[Option<bool>]) {
+        (&self.holds, &self.latch)
+    }
+
+    /// Every input's level.
+    pub fn image(&self) -> Vec<bool> {
+        (0..self.messages.len()).map(|i| self.level(i)).collect()
+    }
+
+    /// A plant move on `message` with the units `parts` happened: their reactions stop holding
+    /// unless it is instant, its message holds and sets or clears its latches.
+    pub fn moved(&mut self, game: &Game, message: MsgId, instant: bool, parts: impl Iterator<Item = u32>) {
+        // `game` may extend the game the sensors were made for (a scan game): messages beyond
+        // it are read by no input.
+        let known = self.holds.len();
+        if !instant {
+            for u in parts {
+                for (k, msg) in game.messages.iter().enumerate().take(known) {
+                    if msg.sender == Some(u) && msg.role == MessageRole::Reaction {
+                        self.holds[k] = false;
+                    }
+                }
+            }
+        }
+        if (message as usize) < known && game.messages[message as usize].role == MessageRole::Reaction {
+            self.holds[message as usize] = true;
+        }
+        for (i, ms) in self.messages.iter().enumerate() {
+            if let (Some(v), Some(&(_, negated))) = (&mut self.latch[i], ms.iter().find(|&&(k, _)| k == message)) {
+                *v = !negated;
+            }
+        }
+    }
 }
 
 /// What is wrong with a plant state.

@@ -55,6 +55,9 @@ struct ScanSummary {
     bound: Option<timed::ScanBound>,
     /// The same in words, as the CLI's `solve` prints it.
     bound_text: Option<String>,
+    /// Where the code comes from when implementable: the scan strategy (one decision per scan)
+    /// or, where the PLC's inputs do not tell it enough, the zero-time strategy and why.
+    code_from: Option<String>,
 }
 
 /// Runs of the real-time check of code at a declared scan time (each 2000 scans), as the CLI.
@@ -127,6 +130,9 @@ pub struct TimedSession {
     /// The declared scan time, when the last solve found the specification implementable there:
     /// `code` then runs the code against the plant in real time first.
     implementable_at: Option<u64>,
+    /// The program of the scan strategy at that scan time, where there is one
+    /// (`plc::lower::timed::scan_program`); the code follows it, one decision per scan.
+    scan_program: Option<Program>,
     /// That check, once per semantics (IEC targets, STL), built on the first `code` call after
     /// a solve: the targets of one semantics run the same code.
     checked: [OnceCell<RealtimeView>; 2],
@@ -149,6 +155,7 @@ impl TimedSession {
                 program: OnceCell::new(),
                 strategy: OnceCell::new(),
                 implementable_at: None,
+                scan_program: None,
                 checked: Default::default(),
                 sim: None,
             }),
@@ -198,11 +205,22 @@ impl TimedSession {
         let mut progress = Progress::new(progress, opts.progress_ms);
         let mut report = |stats: &Stats| progress.report(|| *stats);
         let synthesis = timed::synthesize(&self.game, &options, &mut report);
+        let mut scan_program = None;
         let scan = match self.game.scan_ms {
             // A callback error cancels the run, so a realizable verdict means none occurred.
             Some((ms, _)) if synthesis.solution.verdict == Verdict::Realizable => {
                 timed::synthesize_at_scan(&self.game, ms, &options, &mut report).ok().map(|r| {
                     let verdict = r.synthesis.solution.verdict;
+                    let code_from = (verdict == Verdict::Realizable).then(|| {
+                        match plc::lower::timed::scan_program(&self.game, &r) {
+                            Ok(p) => {
+                                let text = format!("the scan strategy: {} nodes, one decision per scan", p.nodes.len());
+                                scan_program = Some(p.program());
+                                text
+                            }
+                            Err(why) => format!("the zero-time strategy, checked in real time: {why}"),
+                        }
+                    });
                     // How slow a PLC may be: the neighbouring scan times solved, as the CLI's
                     // `solve` prints them (each within the same budgets).
                     let bound = matches!(verdict, Verdict::Realizable | Verdict::Unrealizable).then(|| {
@@ -216,6 +234,7 @@ impl TimedSession {
                         explanation_text: r.synthesis.explanation.as_ref().map(|e| e.render()),
                         bound_text: bound.and_then(|b| b.text()),
                         bound,
+                        code_from,
                     }
                 })
             }
@@ -236,6 +255,7 @@ impl TimedSession {
         self.checked = Default::default();
         self.sim = None;
         self.implementable_at = summary.scan.as_ref().filter(|s| s.verdict == Verdict::Realizable).map(|s| s.scan_ms);
+        self.scan_program = scan_program;
         to_js(&summary)
     }
 
@@ -297,7 +317,11 @@ impl TimedSession {
     /// first run against the plant (`realtime`); if a run fails, `files` is empty. Throws `{ ok: false, diagnostics }` when a time constant does not fit
     /// the target.
     pub fn code(&self, target: &str, name: &str, created_unix: Option<f64>) -> Result<JsValue, JsValue> {
-        let Some(program) = self.controller()? else { return Ok(JsValue::NULL) };
+        let Some(zero_time) = self.controller()? else { return Ok(JsValue::NULL) };
+        let (program, pacing) = match &self.scan_program {
+            Some(p) => (p, plc::lower::timed::Pacing::ScanByScan),
+            None => (zero_time, plc::lower::timed::Pacing::Chained),
+        };
         let plc_target: Option<Target> = match target {
             "program" => None,
             t => Some(plc_target(t)?),
@@ -306,7 +330,7 @@ impl TimedSession {
         // The intermediate program is checked as ST; it needs the lowering only for the check.
         let lowered = if plc_target.is_some() || self.implementable_at.is_some() {
             let t = plc_target.unwrap_or(Target::St);
-            match plc::lower::timed::build_wired(&self.game, program, t, name, &self.source, &options) {
+            match plc::lower::timed::build_paced(&self.game, program, pacing, t, name, &self.source, &options) {
                 Ok(built) => Some(built),
                 Err(errors) if plc_target.is_some() => return Err(diagnostics_error(&errors)),
                 Err(errors) => {

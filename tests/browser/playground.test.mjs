@@ -155,6 +155,8 @@ test('a spec with a scan time shows the verdict on the PLC, and a too slow scan 
   // How slow the PLC may be: the bound search's neighbours (a change read a scan late and
   // switched within the next one: 2T < 30 ms).
   assert.match(await page.textContent('#scan-bound'), /implementable at 14 ms, not at 15 ms/);
+  // The code follows the scan game's strategy: one read, one decision, one write per scan.
+  assert.match(await page.textContent('#scan-code-from'), /Code from the scan strategy: \d+ nodes, one decision per scan/);
   await shot(page, '07a-scan-implementable');
   // Its code was run against the plant at 10 ms before it is shown.
   await page.click('[data-tab=code]');
@@ -178,17 +180,19 @@ test('a spec with a scan time shows the verdict on the PLC, and a too slow scan 
 });
 
 test('code that fails a real-time run at the declared scan time is not offered', async () => {
-  // hardware_xyz is implementable at 495 ms, but its code (the zero-time strategy with the
-  // scans' latency) misses a plan bound there: the page shows the failing run, not the code.
-  const page = await newPage(browser, `${server.url}#example/hardware_xyz`);
-  await setEditorText(page, `scan 495 ms;\n${readExample('hardware_xyz')}`);
+  // gripper_guard is implementable at 500 ms, but it has state guards, which the scan game leaves
+  // out: its code follows the zero-time strategy with the scans' latency and misses a plan bound
+  // there. The page shows the failing run, not the code.
+  const page = await newPage(browser, `${server.url}#example/gripper_guard`);
+  await setEditorText(page, `scan 500 ms;\n${readExample('gripper_guard')}`);
   assert.equal(await runAndWait(page), 'realizable');
   await page.waitForFunction(() => document.querySelector('#scan-verdict')?.dataset.verdict === 'realizable');
+  assert.match(await page.textContent('#scan-code-from'), /Code from the zero-time strategy, checked in real time: .*state guards/);
   await page.click('[data-tab=code]');
   await page.selectOption('#target', 'stl');
   await page.waitForSelector('#code[data-target="stl"][data-complete=true]');
   assert.equal(await page.getAttribute('#code-note', 'data-realtime'), 'failed');
-  assert.match(await page.textContent('#code-note'), /No code: it fails at 495 ms in a real-time run/);
+  assert.match(await page.textContent('#code-note'), /No code: it fails at 500 ms in a real-time run/);
   assert.match(await page.textContent('#code'), /PlanFailed/);
   assert.doesNotMatch(await page.textContent('#code'), /ORGANIZATION_BLOCK/);
   await shot(page, '07c-scan-code-fails-in-real-time');

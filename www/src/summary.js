@@ -52,6 +52,7 @@ function scanPart(summary) {
     h('div', { class: `verdict ${scan.verdict}`, id: 'scan-verdict', 'data-verdict': scan.verdict }, scanText[scan.verdict]?.(scan.scan_ms) ?? scan.verdict),
     h('p', { class: 'muted' }, `The scan game: ${fmtInt(scan.stats.visited)} states visited, ${fmtInt(scan.stats.removed)} removed.`),
     boundPart(scan),
+    scan.code_from ? h('p', { class: 'muted', id: 'scan-code-from' }, `Code from ${scan.code_from}.`) : null,
     scan.explanation_text
       ? [
           h('h3', {}, `Why a PLC with a ${scan.scan_ms} ms scan cannot do it`),

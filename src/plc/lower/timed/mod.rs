@@ -133,10 +133,75 @@ pub struct Wiring {
     pub outputs: Vec<Vec<(MsgId, Effect)>>,
 }
 
+/// How the code spreads a program's requests over scans.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Pacing {
+    /// A program of the zero-time strategy: a request, or a backward jump, goes on within its
+    /// scan where nothing later in the scan depends on it ([`chain_requests`]).
+    #[default]
+    Chained,
+    /// A program of the scan strategy ([`crate::program::scan`]): every request and every
+    /// backward jump ends its scan, so each scan reads, decides once and writes.
+    ScanByScan,
+}
+
+/// The inputs a PLC reads, as [`Wiring::inputs`] lists them: every signal of the `io` section
+/// that a reaction is bound to, with all its bindings, or, without an `io` section, one input
+/// per reaction. What the scan program may test.
+pub fn observed_signals(game: &Game) -> Vec<Vec<(MsgId, bool)>> {
+    let reaction = |m: MsgId| {
+        let info = &game.messages[m as usize];
+        info.role == MessageRole::Reaction && info.sender.is_some()
+    };
+    if game.io.is_empty() {
+        return (0..game.messages.len() as MsgId).filter(|&m| reaction(m)).map(|m| vec![(m, false)]).collect();
+    }
+    let mut keys: Vec<(String, bool)> = Vec::new();
+    for b in game.io.iter().filter(|b| reaction(b.message)) {
+        let key = signal_key(b);
+        if !keys.contains(&key) {
+            keys.push(key);
+        }
+    }
+    keys.iter()
+        .map(|key| {
+            game.io.iter().filter(|b| signal_key(b) == *key).map(|b| (b.message, b.mode == IoMode::Negated)).collect()
+        })
+        .collect()
+}
+
+/// Game states the scan program's extraction may follow, summed over its beliefs (two
+/// machines, the largest example, follows about 500 000).
+pub const SCAN_PROGRAM_BUDGET: usize = 2_000_000;
+
+/// The program of the scan strategy of `scan` (a won scan game of `game`) over the inputs the
+/// PLC reads ([`observed_signals`]), to be built with [`Pacing::ScanByScan`]; or why there is
+/// none, in words (the code then follows the zero-time strategy, checked in real time).
+pub fn scan_program(
+    game: &Game,
+    scan: &crate::timed::ScanSynthesis,
+) -> Result<crate::program::scan::ScanProgram, String> {
+    let signals = observed_signals(game);
+    crate::program::scan::extract(game, scan, &signals, SCAN_PROGRAM_BUDGET).map_err(|e| e.text(game, &signals))
+}
+
 /// [`build`], with the [`Wiring`] of the code's variables.
 pub fn build_wired(
     game: &Game,
     program: &Program,
+    target: Target,
+    name: &str,
+    source: &str,
+    options: &Options,
+) -> Result<(Code, Wiring), Vec<Diagnostic>> {
+    build_paced(game, program, Pacing::Chained, target, name, source, options)
+}
+
+/// [`build_wired`] with the given pacing.
+pub fn build_paced(
+    game: &Game,
+    program: &Program,
+    pacing: Pacing,
     target: Target,
     name: &str,
     source: &str,
@@ -364,9 +429,11 @@ pub fn build_wired(
         timers: code_timers,
         steps,
     };
-    let facts: Vec<Option<RequestFacts>> =
-        requests.iter().map(|r| r.map(|m| request_facts(game, m, &wiring.inputs))).collect();
-    chain_requests(&mut code, &facts);
+    if pacing == Pacing::Chained {
+        let facts: Vec<Option<RequestFacts>> =
+            requests.iter().map(|r| r.map(|m| request_facts(game, m, &wiring.inputs))).collect();
+        chain_requests(&mut code, &facts);
+    }
     if target == Target::Stl {
         let unit = structured(&code).unit;
         let block =

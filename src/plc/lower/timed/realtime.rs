@@ -31,7 +31,7 @@ use crate::plc::model::exec::{Machine, Value};
 use crate::plc::model::unit::{Place, PouKind, Stmt};
 use crate::rng::Rng;
 use crate::timed::model::{Game, MessageKind, MessageRole, MsgId};
-use crate::timed::plant::{Move, Plant, Violation};
+use crate::timed::plant::{Move, Plant, Sensors, Violation};
 use std::collections::VecDeque;
 use std::fmt;
 
@@ -301,91 +301,6 @@ impl fmt::Display for RunReport {
     }
 }
 
-/// How each input's level follows the plant (docs/plc-code.md, "The I/O contract").
-///
-/// A reaction *holds* from its occurrence until its sender next takes part in a transition that
-/// is not `instant` (a sensor of the state reached: an instant transition leaves no time to see
-/// the location it leaves), and initially when an edge carrying it enters its sender's initial
-/// location. A guard holds while the environment says so. An input whose messages are bound
-/// with both polarities is a latch: a `Level` message sets it TRUE when it occurs, a `not`
-/// message sets it FALSE; initially it is TRUE when one of its `Level` messages holds. Any
-/// other input is TRUE while one of its messages holds, or, bound only with `not`, FALSE while
-/// one holds.
-struct Inputs {
-    /// Per input: its messages and polarities.
-    messages: Vec<Vec<(MsgId, bool)>>,
-    /// Per input: the latch's value, for latches.
-    latch: Vec<Option<bool>>,
-    /// Per message: whether it holds.
-    holds: Vec<bool>,
-}
-
-impl Inputs {
-    fn new(game: &Game, wiring: &Wiring) -> Inputs {
-        let holds: Vec<bool> = (0..game.messages.len())
-            .map(|m| match game.messages[m].sender {
-                Some(s) if game.messages[m].role == MessageRole::Reaction => {
-                    let a = &game.components[s as usize];
-                    a.edges
-                        .iter()
-                        .any(|e| e.message as usize == m && e.kind != MessageKind::Synchronised && e.to == a.initial)
-                }
-                _ => false,
-            })
-            .collect();
-        let latch = wiring
-            .inputs
-            .iter()
-            .map(|ms| {
-                let both = ms.iter().any(|&(_, n)| n) && ms.iter().any(|&(_, n)| !n);
-                both.then(|| ms.iter().any(|&(m, n)| !n && holds[m as usize]))
-            })
-            .collect();
-        Inputs { messages: wiring.inputs.clone(), latch, holds }
-    }
-
-    fn level(&self, input: usize) -> bool {
-        match self.latch[input] {
-            Some(v) => v,
-            None => {
-                let ms = &self.messages[input];
-                let any = ms.iter().any(|&(m, _)| self.holds[m as usize]);
-                if ms.iter().all(|&(_, n)| n) {
-                    !any
-                } else {
-                    any
-                }
-            }
-        }
-    }
-
-    fn image(&self) -> Vec<bool> {
-        (0..self.messages.len()).map(|i| self.level(i)).collect()
-    }
-
-    /// A plant move happened: its participants' reactions stop holding unless it is instant,
-    /// its message holds and sets or clears its latches.
-    fn moved(&mut self, game: &Game, m: &Move) {
-        if !m.instant {
-            for &(u, _) in &m.parts {
-                for (k, msg) in game.messages.iter().enumerate() {
-                    if msg.sender == Some(u as u32) && msg.role == MessageRole::Reaction {
-                        self.holds[k] = false;
-                    }
-                }
-            }
-        }
-        if game.messages[m.message as usize].role == MessageRole::Reaction {
-            self.holds[m.message as usize] = true;
-        }
-        for (i, ms) in self.messages.iter().enumerate() {
-            if let (Some(v), Some(&(_, negated))) = (&mut self.latch[i], ms.iter().find(|&&(k, _)| k == m.message)) {
-                *v = !negated;
-            }
-        }
-    }
-}
-
 /// When the plant lets a reaction fire within its window.
 #[derive(Clone, Copy, Debug)]
 enum Timing {
@@ -434,7 +349,7 @@ struct Run<'a> {
     wiring: &'a Wiring,
     config: &'a Config,
     plant: Plant<'a>,
-    inputs: Inputs,
+    inputs: Sensors,
     guards: Vec<MsgId>,
     rng: Rng,
     /// Per timing strategy: its weight in this run.
@@ -543,7 +458,7 @@ pub fn run(
         wiring,
         config,
         plant: Plant::new(game, unit_us),
-        inputs: Inputs::new(game, wiring),
+        inputs: Sensors::new(game, &wiring.inputs),
         guards,
         rng,
         timing,
@@ -665,7 +580,7 @@ impl Run<'_> {
         if self.plant.apply(m) {
             self.progressed(&closing);
         }
-        self.inputs.moved(self.game, m);
+        self.inputs.moved(self.game, m.message, m.instant, m.parts.iter().map(|&(u, _)| u as u32));
         self.decided = None;
         self.stalled_scans = 0;
         self.note(what);
@@ -694,7 +609,7 @@ impl Run<'_> {
             if self.plant.apply(&m) {
                 self.progressed(&closing);
             }
-            self.inputs.moved(self.game, &m);
+            self.inputs.moved(self.game, m.message, m.instant, m.parts.iter().map(|&(u, _)| u as u32));
             self.reacted |= self.inputs.image() != before;
             self.decided = None;
             self.report.reactions += 1;

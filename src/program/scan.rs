@@ -1,0 +1,393 @@
+//! The controller program of a scan game's winning strategy: code whose every scan reads its
+//! inputs, takes one decision and writes, as the scan game's PLC does ([`crate::timed::scan`]),
+//! so that a PLC running it stays inside the game's semantics by construction.
+//!
+//! The scan game's controller sees the plant's whole state at each read; a PLC sees its input
+//! levels (the I/O contract, [`Sensors`]). The extraction follows the strategy from read to
+//! read: between two reads the plant may move in every way the game allows (its reactions, the
+//! delivery of the request, time passing), and at the next read the PLC learns only the levels.
+//! So the program tracks a *belief*: the read states of the strategy, each with the sensors'
+//! memory, that agree with every image read so far. Each belief is one node of the program.
+//! Its decision is the strategy's, which must be the same in every state of the belief; where
+//! it is not, the strategy needs to know more than the PLC reads (usually how long it has
+//! waited: timers are not part of the observation yet) and no program is built. The successors
+//! of a node are the beliefs of the next read, one per image it can read.
+//!
+//! A read that changed nothing leaves the scan game's PLC quiet until the plant changes; a
+//! real PLC reads again every scan, sees the same image and must take the same decision: a
+//! state whose idle decision quiets the PLC is its own successor under its image.
+//!
+//! The program, in the intermediate language: a first `GOTO` to the initial node's decision,
+//! then per node its *dispatch*, a decision tree of input tests over the levels that tell its
+//! successors apart, each leaf a `GOTO` to a successor's decision; then per node its decision,
+//! `DO (r)` or nothing, and a `GOTO` back to its dispatch. Every dispatch comes before every
+//! decision, so a dispatch reaches a decision within its scan (forward jumps), and a decision
+//! returns to a dispatch only with the next scan (a backward jump ends the scan; the lowering's
+//! [`Pacing::ScanByScan`](crate::plc::lower::timed::Pacing) makes every request end it too):
+//! one read, one decision, one write per scan.
+
+use super::{CmdId, Condition, Instruction, Program};
+use crate::timed::model::{Game, MsgId};
+use crate::timed::plant::Sensors;
+use crate::timed::solve::{EdgeKind, Label, StateId, StateSpace};
+use crate::timed::ScanSynthesis;
+use std::collections::HashMap;
+
+/// Why no program follows the scan strategy.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum ScanProgramError {
+    /// The scan game is not won (or not decided).
+    NotImplementable,
+    /// The specification has state guards, which the scan game drops: its strategy does not
+    /// say which guard the code must read before a guarded request.
+    Guards,
+    /// Two read states the PLC cannot tell apart by its inputs need different decisions.
+    Ambiguous {
+        /// The input levels both read (per observed signal).
+        image: Vec<bool>,
+        /// The two decisions (`None`: no request).
+        decisions: [Option<MsgId>; 2],
+    },
+    /// The belief construction passed its budget of tracked states.
+    Budget { limit: usize },
+}
+
+impl ScanProgramError {
+    /// The reason in words, naming messages and signals of `game`.
+    pub fn text(&self, game: &Game, signals: &[Vec<(MsgId, bool)>]) -> String {
+        let decision = |d: &Option<MsgId>| match d {
+            Some(r) => format!("send `{}`", game.messages[*r as usize].name),
+            None => "send nothing".to_string(),
+        };
+        match self {
+            ScanProgramError::NotImplementable => "the scan game is not won".into(),
+            ScanProgramError::Guards => "the specification has state guards, which the scan game leaves out".into(),
+            ScanProgramError::Ambiguous { image, decisions } => {
+                let levels: Vec<String> = signals
+                    .iter()
+                    .zip(image)
+                    .map(|(ms, &level)| {
+                        let names: Vec<&str> =
+                            ms.iter().map(|&(m, _)| game.messages[m as usize].name.as_str()).collect();
+                        format!("{}={}", names.join("/"), u8::from(level))
+                    })
+                    .collect();
+                format!(
+                    "the PLC reads the same inputs ({}) in two states where the scan strategy must {} and {}: \
+                     it needs to know more than its inputs say (a timer)",
+                    if levels.is_empty() { "none".to_string() } else { levels.join(", ") },
+                    decision(&decisions[0]),
+                    decision(&decisions[1]),
+                )
+            }
+            ScanProgramError::Budget { limit } => {
+                format!("following the scan strategy from read to read passed {limit} tracked states")
+            }
+        }
+    }
+}
+
+/// One node of a scan program: what the PLC may be in after a read, and what it does there.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Node {
+    /// The request sent in the scan of the read, if any.
+    pub decision: Option<MsgId>,
+    /// The nodes of the next read, each with the levels (per observed signal) that lead there.
+    pub next: Vec<(Vec<bool>, usize)>,
+    /// The read states of the scan game in the belief.
+    pub states: usize,
+}
+
+/// The program of a scan strategy, node by node; node 0 is the first read.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ScanProgram {
+    pub nodes: Vec<Node>,
+    /// The observed signals: per input, its messages and whether each reads it negated.
+    pub signals: Vec<Vec<(MsgId, bool)>>,
+    /// States visited while following the strategy from read to read.
+    pub work: usize,
+}
+
+/// A read state of the scan game with the sensors' memory on arrival.
+type Element = (StateId, Sensors);
+
+/// The extraction's view of a solved scan game.
+struct Extraction<'a> {
+    game: &'a Game,
+    space: &'a StateSpace,
+    /// Per state: the strategy's decision at a read (`Some(edge)`), `None` elsewhere.
+    decision_edge: Vec<Option<u32>>,
+    quiet: crate::timed::model::LocId,
+    plc_location: Box<dyn Fn(StateId) -> crate::timed::model::LocId + 'a>,
+    budget: usize,
+    work: usize,
+    /// The successors of every element followed so far (an element recurs in many beliefs).
+    memo: HashMap<Element, Vec<Element>>,
+}
+
+impl Extraction<'_> {
+    /// The request a read's decision sends (`None`: idle).
+    fn request(&self, s: StateId) -> Option<MsgId> {
+        let roles = self.game.scan.as_ref()?;
+        let edge = &self.space.edges[self.decision_edge[s as usize]? as usize];
+        match edge.label {
+            Label::Message { message } => roles.commits[message as usize],
+            _ => None,
+        }
+    }
+
+    /// The read states (with the sensors' memory) the plant can bring the PLC to at its next
+    /// read after `element`'s decision.
+    fn successors(&mut self, element: &Element) -> Result<Vec<Element>, ScanProgramError> {
+        if let Some(known) = self.memo.get(element) {
+            return Ok(known.clone());
+        }
+        let out = self.follow(element)?;
+        self.memo.insert(element.clone(), out.clone());
+        Ok(out)
+    }
+
+    /// [`Extraction::successors`], computed.
+    fn follow(&mut self, element: &Element) -> Result<Vec<Element>, ScanProgramError> {
+        let (q, sensors) = element;
+        let Some(decision) = self.decision_edge[*q as usize] else { return Ok(Vec::new()) };
+        let start = self.space.edges[decision as usize].to;
+        let mut out = Vec::new();
+        if (self.plc_location)(start) == self.quiet {
+            out.push(element.clone());
+        }
+        let mut seen: std::collections::HashSet<Element> = std::collections::HashSet::new();
+        let mut stack = vec![(start, sensors.clone())];
+        while let Some((s, sensors)) = stack.pop() {
+            if !seen.insert((s, sensors.clone())) {
+                continue;
+            }
+            self.work += 1;
+            if self.work > self.budget {
+                return Err(ScanProgramError::Budget { limit: self.budget });
+            }
+            if self.decision_edge[s as usize].is_some() {
+                out.push((s, sensors));
+                continue;
+            }
+            for (_, e) in self.space.out_edges(s) {
+                if e.to as usize >= self.space.states.len() || !self.space.is_winning(e.to) {
+                    continue;
+                }
+                match (e.kind, e.label) {
+                    (EdgeKind::Reaction, Label::Message { message }) => {
+                        let info = &self.game.messages[message as usize];
+                        let mut next = sensors.clone();
+                        let parts = info.sender.into_iter().chain(info.synchronised.iter().copied());
+                        next.moved(self.game, message, e.instant, parts);
+                        next.forget_unread();
+                        stack.push((e.to, next));
+                    }
+                    (EdgeKind::Delay, _) => stack.push((e.to, sensors.clone())),
+                    _ => {}
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// The canonical order of a belief's elements.
+fn canonical(mut belief: Vec<Element>) -> Vec<Element> {
+    belief.sort_by(|a, b| a.0.cmp(&b.0).then_with(|| a.1.memory().cmp(&b.1.memory())));
+    belief.dedup();
+    belief
+}
+
+/// Builds the scan program of a won scan game. `game` is the specification's own game (its
+/// message ids are the scan game's first ones); `signals` are the inputs the PLC reads (per
+/// input, its messages and whether each reads it negated); `budget` bounds the read states
+/// tracked, summed over all beliefs.
+pub fn extract(
+    game: &Game,
+    scan: &ScanSynthesis,
+    signals: &[Vec<(MsgId, bool)>],
+    budget: usize,
+) -> Result<ScanProgram, ScanProgramError> {
+    if !game.guards.is_empty() {
+        return Err(ScanProgramError::Guards);
+    }
+    let space = &scan.synthesis.solution.space;
+    if scan.synthesis.solution.verdict != crate::timed::solve::Verdict::Realizable || !space.is_winning(space.initial) {
+        return Err(ScanProgramError::NotImplementable);
+    }
+    let roles = scan.game.scan.as_ref().ok_or(ScanProgramError::NotImplementable)?;
+    let strategy = super::select::select(&scan.game, space);
+    let mut decision_edge = vec![None; space.states.len()];
+    for &s in &strategy.states {
+        if let super::select::Choice::Request(e) = strategy.choice[s as usize] {
+            decision_edge[s as usize] = Some(e);
+        }
+    }
+    let split = &scan.synthesis.split;
+    let plc = roles.plc;
+    let plc_location =
+        move |s: StateId| split.units[plc as usize].sublocs[space.env(s)[plc as usize] as usize].location;
+    let mut x = Extraction {
+        game: &scan.game,
+        space,
+        decision_edge,
+        quiet: roles.quiet,
+        plc_location: Box::new(plc_location),
+        budget,
+        work: 0,
+        memo: HashMap::new(),
+    };
+    let mut sensors = Sensors::new(game, signals);
+    sensors.forget_unread();
+    let initial: Element = (space.initial, sensors);
+    let mut beliefs: Vec<Vec<Element>> = vec![vec![initial]];
+    let mut index: HashMap<Vec<Element>, usize> = HashMap::from([(beliefs[0].clone(), 0)]);
+    let mut nodes: Vec<Node> = Vec::new();
+    let mut k = 0;
+    while k < beliefs.len() {
+        let belief = beliefs[k].clone();
+        k += 1;
+        let decision = x.request(belief[0].0);
+        for element in &belief[1..] {
+            let other = x.request(element.0);
+            if other != decision {
+                return Err(ScanProgramError::Ambiguous { image: element.1.image(), decisions: [decision, other] });
+            }
+        }
+        let mut by_image: Vec<(Vec<bool>, Vec<Element>)> = Vec::new();
+        for element in &belief {
+            for next in x.successors(element)? {
+                let image = next.1.image();
+                match by_image.iter_mut().find(|(i, _)| *i == image) {
+                    Some((_, group)) => group.push(next),
+                    None => by_image.push((image, vec![next])),
+                }
+            }
+        }
+        by_image.sort_by(|a, b| a.0.cmp(&b.0));
+        let mut next = Vec::new();
+        for (image, group) in by_image {
+            let group = canonical(group);
+            let id = *index.entry(group.clone()).or_insert_with(|| {
+                beliefs.push(group);
+                beliefs.len() - 1
+            });
+            next.push((image, id));
+        }
+        nodes.push(Node { decision, next, states: belief.len() });
+    }
+    let nodes = minimise(nodes);
+    Ok(ScanProgram { nodes, signals: signals.to_vec(), work: x.work })
+}
+
+/// What a node does, up to the current partition: its class and, per image read next, the
+/// class it leads to.
+type Signature<'n> = (usize, Vec<(&'n [bool], usize)>);
+
+/// Merges the nodes no run can tell apart (the coarsest partition stable under decision and
+/// successors by image, refined from the decisions), node 0's class first. Beliefs are sets of
+/// game states, and many sets behave alike: the lamp's 10 beliefs are 4 nodes.
+fn minimise(nodes: Vec<Node>) -> Vec<Node> {
+    let mut class: Vec<usize> = Vec::new();
+    let mut decisions: Vec<Option<MsgId>> = Vec::new();
+    for node in &nodes {
+        let c = decisions.iter().position(|d| *d == node.decision).unwrap_or_else(|| {
+            decisions.push(node.decision);
+            decisions.len() - 1
+        });
+        class.push(c);
+    }
+    loop {
+        let mut signatures: HashMap<Signature, usize> = HashMap::new();
+        let mut refined = Vec::with_capacity(nodes.len());
+        for (k, node) in nodes.iter().enumerate() {
+            let next: Vec<(&[bool], usize)> = node.next.iter().map(|(i, c)| (i.as_slice(), class[*c])).collect();
+            let fresh = signatures.len();
+            refined.push(*signatures.entry((class[k], next)).or_insert(fresh));
+        }
+        let stable = signatures.len() == class.iter().collect::<std::collections::HashSet<_>>().len();
+        class = refined;
+        if stable {
+            break;
+        }
+    }
+    // Renumber by first occurrence, so that node 0 stays first.
+    let mut number: HashMap<usize, usize> = HashMap::new();
+    for &c in &class {
+        let fresh = number.len();
+        number.entry(c).or_insert(fresh);
+    }
+    let mut merged: Vec<Option<Node>> = vec![None; number.len()];
+    for (k, node) in nodes.iter().enumerate() {
+        let id = number[&class[k]];
+        let next = node.next.iter().map(|(i, c)| (i.clone(), number[&class[*c]])).collect();
+        match &mut merged[id] {
+            Some(m) => m.states += node.states,
+            slot @ None => *slot = Some(Node { next, ..node.clone() }),
+        }
+    }
+    merged.into_iter().flatten().collect()
+}
+
+impl ScanProgram {
+    /// The program in the intermediate language (see the module's documentation for its shape).
+    pub fn program(&self) -> Program {
+        let mut program = Program::new();
+        let start = program.fresh_id();
+        let dispatch: Vec<CmdId> = self.nodes.iter().map(|_| program.fresh_id()).collect();
+        let decide: Vec<CmdId> = self.nodes.iter().map(|_| program.fresh_id()).collect();
+        program.push_with_id(start, Instruction::Goto { target: decide[0] }, 0);
+        for (k, node) in self.nodes.iter().enumerate() {
+            let entries: Vec<&(Vec<bool>, usize)> = node.next.iter().collect();
+            self.tree(&mut program, dispatch[k], &entries, &decide, k);
+        }
+        for (k, node) in self.nodes.iter().enumerate() {
+            match node.decision {
+                Some(request) => {
+                    program.push_with_id(decide[k], Instruction::Do { request }, 0);
+                    program.push(Instruction::Goto { target: dispatch[k] }, 0);
+                }
+                None => program.push_with_id(decide[k], Instruction::Goto { target: dispatch[k] }, 0),
+            }
+        }
+        program
+    }
+
+    /// The decision tree that sends each image of `entries` to its node's decision, its first
+    /// command taking id `label`; an input is tested only where the entries left lead to
+    /// different nodes. A node without successors (the plant cannot move any more) stays.
+    fn tree(
+        &self,
+        program: &mut Program,
+        label: CmdId,
+        entries: &[&(Vec<bool>, usize)],
+        decide: &[CmdId],
+        node: usize,
+    ) {
+        let Some(&&(ref first, child)) = entries.first() else {
+            program.push_with_id(label, Instruction::Goto { target: decide[node] }, 0);
+            return;
+        };
+        if entries.iter().all(|e| e.1 == child) {
+            program.push_with_id(label, Instruction::Goto { target: decide[child] }, 0);
+            return;
+        }
+        // Entries have distinct images: some input splits them.
+        let input = (0..first.len())
+            .find(|&i| entries.iter().any(|e| e.0[i] != first[i]))
+            .expect("entries with different nodes have different images");
+        // `IF (m)` holds when input `input` reads as `m` says: TRUE, or FALSE for `not`.
+        let (message, negated) = self.signals[input][0];
+        let (yes, no): (Vec<_>, Vec<_>) = entries.iter().partition(|e| e.0[input] != negated);
+        let yes_label = program.fresh_id();
+        program.push_with_id(
+            label,
+            Instruction::If { condition: Condition::Message { message }, target: yes_label },
+            0,
+        );
+        let no_label = program.fresh_id();
+        self.tree(program, no_label, &no, decide, node);
+        self.tree(program, yes_label, &yes, decide, node);
+    }
+}
