@@ -416,17 +416,17 @@ pub fn compile(
         match outcome.result.synthesis.solution.verdict {
             Verdict::Realizable => match plc::lower::timed::scan_program(&game, &outcome.result) {
                 Ok(scan_program) => {
+                    let (nodes, followed) = (scan_program.nodes.len(), scan_program.work);
                     eprintln!(
-                            "{file}: code from the scan strategy at {ms} ms: {} nodes, one decision per scan ({} states followed)",
-                            scan_program.nodes.len(),
-                            scan_program.work
-                        );
+                        "{file}: code from the scan strategy at {ms} ms: {nodes} nodes, one decision per scan \
+                         ({followed} states followed)"
+                    );
                     program = scan_program.program();
                     pacing = plc::lower::timed::Pacing::ScanByScan;
                 }
                 Err(why) => eprintln!(
                     "{file}: code from the zero-time strategy, checked in real time: no program follows the \
-                         scan strategy: {why}"
+                     scan strategy: {why}"
                 ),
             },
             Verdict::Unrealizable => {

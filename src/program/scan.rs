@@ -27,8 +27,9 @@
 //! one read, one decision, one write per scan.
 
 use super::{CmdId, Condition, Instruction, Program};
-use crate::timed::model::{Game, MsgId};
+use crate::timed::model::{CompId, Game, LocId, MsgId};
 use crate::timed::plant::Sensors;
+use crate::timed::precompute::SplitGame;
 use crate::timed::solve::{EdgeKind, Label, StateId, StateSpace};
 use crate::timed::ScanSynthesis;
 use std::collections::HashMap;
@@ -117,8 +118,10 @@ struct Extraction<'a> {
     space: &'a StateSpace,
     /// Per state: the strategy's decision at a read (`Some(edge)`), `None` elsewhere.
     decision_edge: Vec<Option<u32>>,
-    quiet: crate::timed::model::LocId,
-    plc_location: Box<dyn Fn(StateId) -> crate::timed::model::LocId + 'a>,
+    split: &'a SplitGame,
+    /// The scan automaton and its location after an idle read.
+    plc: CompId,
+    quiet: LocId,
     budget: usize,
     work: usize,
     /// The successors of every element followed so far (an element recurs in many beliefs).
@@ -126,6 +129,12 @@ struct Extraction<'a> {
 }
 
 impl Extraction<'_> {
+    /// The scan automaton's location in state `s`.
+    fn plc_location(&self, s: StateId) -> LocId {
+        let plc = self.plc as usize;
+        self.split.units[plc].sublocs[self.space.env(s)[plc] as usize].location
+    }
+
     /// The request a read's decision sends (`None`: idle).
     fn request(&self, s: StateId) -> Option<MsgId> {
         let roles = self.game.scan.as_ref()?;
@@ -153,7 +162,7 @@ impl Extraction<'_> {
         let Some(decision) = self.decision_edge[*q as usize] else { return Ok(Vec::new()) };
         let start = self.space.edges[decision as usize].to;
         let mut out = Vec::new();
-        if (self.plc_location)(start) == self.quiet {
+        if self.plc_location(start) == self.quiet {
             out.push(element.clone());
         }
         let mut seen: std::collections::HashSet<Element> = std::collections::HashSet::new();
@@ -224,16 +233,13 @@ pub fn extract(
             decision_edge[s as usize] = Some(e);
         }
     }
-    let split = &scan.synthesis.split;
-    let plc = roles.plc;
-    let plc_location =
-        move |s: StateId| split.units[plc as usize].sublocs[space.env(s)[plc as usize] as usize].location;
     let mut x = Extraction {
         game: &scan.game,
         space,
         decision_edge,
+        split: &scan.synthesis.split,
+        plc: roles.plc,
         quiet: roles.quiet,
-        plc_location: Box::new(plc_location),
         budget,
         work: 0,
         memo: HashMap::new(),

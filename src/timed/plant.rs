@@ -36,6 +36,8 @@ pub struct Sensors {
     /// Per input: its messages and whether each reads the signal negated (shared by clones,
     /// and left out of equality: clones of one set of sensors are compared).
     messages: std::sync::Arc<[Vec<(MsgId, bool)>]>,
+    /// Per message: whether some input reads it (shared by clones, as `messages`).
+    read: std::sync::Arc<[bool]>,
     /// Per input: the latch's value, for latches.
     latch: Vec<Option<bool>>,
     /// Per message: whether it holds.
@@ -79,7 +81,11 @@ impl Sensors {
                 both.then(|| ms.iter().any(|&(m, n)| !n && holds[m as usize]))
             })
             .collect();
-        Sensors { messages: inputs.to_vec().into(), latch, holds }
+        let mut read = vec![false; holds.len()];
+        for &(m, _) in inputs.iter().flatten() {
+            read[m as usize] = true;
+        }
+        Sensors { messages: inputs.to_vec().into(), read: read.into(), latch, holds }
     }
 
     pub fn level(&self, input: usize) -> bool {
@@ -100,11 +106,7 @@ impl Sensors {
     /// Forgets whether messages no input reads hold: two memories that differ only there give
     /// the same levels now and later.
     pub fn forget_unread(&mut self) {
-        let mut read = vec![false; self.holds.len()];
-        for &(m, _) in self.messages.iter().flatten() {
-            read[m as usize] = true;
-        }
-        for (h, r) in self.holds.iter_mut().zip(read) {
+        for (h, &r) in self.holds.iter_mut().zip(self.read.iter()) {
             *h &= r;
         }
     }
