@@ -10,6 +10,8 @@
 //! whose outputs must equal the Rust interpreter's scan by scan and give the same verdicts.
 
 mod common;
+#[path = "common/random_spec.rs"]
+mod random_spec;
 
 use common::{root, venv_tool};
 use plcsynth::plc::lower::timed::machine::{Code, Effect, Statement, Test};
@@ -783,7 +785,17 @@ fn scan_examples() -> Vec<Example> {
                 assert!(expected_failure(&e.name).is_some(), "{}: not implementable at 10 ms", e.name);
                 return None;
             }
-            let scan_program = lower_timed::scan_program(&e.game, &outcome)
+            // The extraction asks its caller whether to go on, and stops when told (the page's
+            // cancel button); gear checking follows far more states than one call's worth.
+            if e.name == "gear_checking" {
+                let mut calls = 0;
+                let stopped = lower_timed::scan_program(&e.game, &outcome, &mut |_| {
+                    calls += 1;
+                    false
+                });
+                assert_eq!((stopped.err().as_deref(), calls), (Some("cancelled"), 1));
+            }
+            let scan_program = lower_timed::scan_program(&e.game, &outcome, &mut |_| true)
                 .unwrap_or_else(|why| panic!("{}: no program follows the scan strategy: {why}", e.name));
             let p = scan_program.program();
             let source = std::fs::read_to_string(root().join(format!("examples/timed/{}.tga", e.name))).unwrap();
@@ -837,4 +849,138 @@ fn code_of_the_scan_strategy_holds_in_real_time_and_in_awlsim() {
         vec![tally.line(&e.name), in_awlsim.line(&format!("{} (awlsim)", e.name))]
     });
     eprintln!("code of the scan strategy at a {} ms scan:\n{}", SCAN_US / 1000, lines.join("\n"));
+}
+
+/// The random specifications of `tests/random_specs.rs` at a 250 ms scan (their time unit is a
+/// second): every one that is implementable there and has a program of its scan strategy runs
+/// that code in real time without a failure (ST and STL in the interpreter, 10 runs of 400
+/// scans), and its STL in awlsim beside the interpreter: the first six, 2 runs of 400 scans, in
+/// `make test`; every one, `PLCSYNTH_AWLSIM_RUNS` runs of 2000 scans, when that is set above 2
+/// (`make test-long`). A quarter of the random specs' count (`PLCSYNTH_RANDOM_SPECS`).
+#[test]
+fn code_of_the_scan_strategy_of_random_specs_holds_in_real_time_and_in_awlsim() {
+    const SCAN_MS: u64 = 250;
+    let count = std::env::var("PLCSYNTH_RANDOM_SPECS").ok().and_then(|v| v.parse().ok()).unwrap_or(400u64) / 4;
+    let budget = SolveOptions { max_states: 10_000, ..SolveOptions::default() };
+    let config = Config { scan_us: SCAN_MS * 1000, scans: 400, ..Config::default() };
+    let (mut implementable, mut programs) = (0, Vec::new());
+    for seed in 0..count {
+        let source = random_spec::spec(seed);
+        let Ok((game, _)) = compile(&source) else { continue };
+        if synthesize(&game, &budget, &mut |_| true).solution.verdict != plcsynth::timed::solve::Verdict::Realizable {
+            continue;
+        }
+        let outcome = plcsynth::timed::synthesize_at_scan(&game, SCAN_MS, &budget, &mut |_| true).expect("a scan game");
+        if outcome.synthesis.solution.verdict != plcsynth::timed::solve::Verdict::Realizable {
+            continue;
+        }
+        implementable += 1;
+        let Ok(scan_program) = lower_timed::scan_program(&game, &outcome, &mut |_| true) else { continue };
+        let p = scan_program.program();
+        let build = |target| {
+            lower_timed::build_paced(
+                &game,
+                &p,
+                lower_timed::Pacing::ScanByScan,
+                target,
+                "random",
+                &source,
+                &Options::default(),
+            )
+            .unwrap_or_else(|d| panic!("seed {seed}: {d:?}\n{source}"))
+        };
+        let example = Example {
+            name: format!("random_{seed}"),
+            game: game.clone(),
+            stl: build(Target::Stl),
+            st: build(Target::St),
+        };
+        for run in 0..10 {
+            for (code, wiring) in [&example.st, &example.stl] {
+                let structured = lower_timed::structured(code);
+                let mut controller = UnitInterpreter::new(&structured).unwrap();
+                let r = realtime::run(&game, code, wiring, &mut controller, &config, run);
+                assert!(
+                    r.failure.is_none(),
+                    "seed {seed}: the scan strategy's code fails at {SCAN_MS} ms:\n{}\nspec:\n{source}\nprogram:\n{}",
+                    show(&r),
+                    p.render(&game)
+                );
+            }
+        }
+        programs.push(example);
+    }
+    // Most implementable random specs get the scan strategy's code (the rest: inputs alike).
+    assert!(programs.len() * 3 > implementable * 2, "only {} of {implementable} have a scan program", programs.len());
+    let runs = awlsim_scan_runs();
+    let (specs, awlsim_config) =
+        if runs > 2 { (programs.len(), Config { scans: SCANS, ..config.clone() }) } else { (6, config.clone()) };
+    let in_awlsim: Vec<&Example> = programs.iter().take(specs).collect();
+    let lines = two_at_a_time(&in_awlsim, |e| {
+        let mut plc = Awlsim::start(&e.name, &e.stl.0);
+        let mut tally = Tally::default();
+        for seed in 0..runs {
+            plc.reset();
+            let structured = lower_timed::structured(&e.stl.0);
+            let mut d = Differential {
+                plc: &mut plc,
+                reference: UnitInterpreter::new(&structured).unwrap(),
+                scans: 0,
+                mismatches: Vec::new(),
+            };
+            let r = realtime::run(&e.game, &e.stl.0, &e.stl.1, &mut d, &awlsim_config, seed);
+            assert!(
+                d.mismatches.is_empty(),
+                "{}: awlsim and the interpreter differ:\n{}",
+                e.name,
+                d.mismatches.join("\n")
+            );
+            assert!(r.failure.is_none(), "{} fails in awlsim:\n{}", e.name, show(&r));
+            tally.add(&r);
+        }
+        vec![tally.line(&e.name)]
+    });
+    eprintln!(
+        "random specs at {SCAN_MS} ms: {implementable} implementable, {} with the scan strategy's code; in awlsim:\n{}",
+        programs.len(),
+        lines.join("\n")
+    );
+}
+
+/// A plant whose reactions cycle without a time constraint (`a1`: q0 -> q1 -> q3 -> q0, each a
+/// reaction, the plan progressing on one of them) can react without end within one scan. The
+/// run stops there as the plant's doing (`Stop::Timelock`, "zeno" in the trace) instead of
+/// staying at one instant for ever (`compile --check-runs` hung on this random spec, seed 231).
+#[test]
+fn a_plant_that_reacts_without_end_within_a_scan_stops_the_run() {
+    let source = random_spec::spec(231);
+    assert!(source.contains("q0 -> q1 !a1m0;") && source.contains("q1 -> q3 !a1m5;"), "{source}");
+    let (game, _) = compile(&source).unwrap();
+    let budget = SolveOptions { max_states: 10_000, ..SolveOptions::default() };
+    let outcome = plcsynth::timed::synthesize_at_scan(&game, 250, &budget, &mut |_| true).unwrap();
+    let p = lower_timed::scan_program(&game, &outcome, &mut |_| true).expect("a scan program").program();
+    let (code, wiring) = lower_timed::build_paced(
+        &game,
+        &p,
+        lower_timed::Pacing::ScanByScan,
+        Target::St,
+        "zeno",
+        &source,
+        &Options::default(),
+    )
+    .unwrap();
+    let config = Config { scan_us: 250_000, scans: 400, ..Config::default() };
+    let structured = lower_timed::structured(&code);
+    let stops: Vec<Stop> = (0..10)
+        .map(|seed| {
+            let mut controller = UnitInterpreter::new(&structured).unwrap();
+            let r = realtime::run(&game, &code, &wiring, &mut controller, &config, seed);
+            assert!(r.failure.is_none(), "{}", show(&r));
+            if r.stop == Stop::Timelock {
+                assert!(r.trace.iter().any(|l| l.contains("zeno")), "{}", show(&r));
+            }
+            r.stop
+        })
+        .collect();
+    assert!(stops.contains(&Stop::Timelock), "{stops:?}");
 }

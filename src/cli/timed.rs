@@ -414,7 +414,7 @@ pub fn compile(
             Err(code) => return code,
         };
         match outcome.result.synthesis.solution.verdict {
-            Verdict::Realizable => match plc::lower::timed::scan_program(&game, &outcome.result) {
+            Verdict::Realizable => match plc::lower::timed::scan_program(&game, &outcome.result, &mut |_| true) {
                 Ok(scan_program) => {
                     let (nodes, followed) = (scan_program.nodes.len(), scan_program.work);
                     eprintln!(

@@ -51,6 +51,8 @@ pub enum ScanProgramError {
     },
     /// The belief construction passed its budget of tracked states.
     Budget { limit: usize },
+    /// The caller's progress callback asked to stop.
+    Cancelled,
 }
 
 impl ScanProgramError {
@@ -84,6 +86,7 @@ impl ScanProgramError {
             ScanProgramError::Budget { limit } => {
                 format!("following the scan strategy from read to read passed {limit} tracked states")
             }
+            ScanProgramError::Cancelled => "cancelled".into(),
         }
     }
 }
@@ -126,7 +129,12 @@ struct Extraction<'a> {
     work: usize,
     /// The successors of every element followed so far (an element recurs in many beliefs).
     memo: HashMap<Element, Vec<Element>>,
+    /// Called with the states followed so far every [`PROGRESS_EVERY`]; `false` stops.
+    keep_going: &'a mut dyn FnMut(usize) -> bool,
 }
+
+/// How many followed states between two calls of the progress callback.
+const PROGRESS_EVERY: usize = 4096;
 
 impl Extraction<'_> {
     /// The scan automaton's location in state `s`.
@@ -175,6 +183,9 @@ impl Extraction<'_> {
             if self.work > self.budget {
                 return Err(ScanProgramError::Budget { limit: self.budget });
             }
+            if self.work % PROGRESS_EVERY == 0 && !(self.keep_going)(self.work) {
+                return Err(ScanProgramError::Cancelled);
+            }
             if self.decision_edge[s as usize].is_some() {
                 out.push((s, sensors));
                 continue;
@@ -211,12 +222,14 @@ fn canonical(mut belief: Vec<Element>) -> Vec<Element> {
 /// Builds the scan program of a won scan game. `game` is the specification's own game (its
 /// message ids are the scan game's first ones); `signals` are the inputs the PLC reads (per
 /// input, its messages and whether each reads it negated); `budget` bounds the read states
-/// tracked, summed over all beliefs.
+/// tracked, summed over all beliefs; `keep_going` is called with the states followed so far
+/// every few thousand and stops the extraction when it answers `false`.
 pub fn extract(
     game: &Game,
     scan: &ScanSynthesis,
     signals: &[Vec<(MsgId, bool)>],
     budget: usize,
+    keep_going: &mut dyn FnMut(usize) -> bool,
 ) -> Result<ScanProgram, ScanProgramError> {
     if !game.guards.is_empty() {
         return Err(ScanProgramError::Guards);
@@ -243,6 +256,7 @@ pub fn extract(
         budget,
         work: 0,
         memo: HashMap::new(),
+        keep_going,
     };
     let mut sensors = Sensors::new(game, signals);
     sensors.forget_unread();

@@ -212,7 +212,9 @@ impl TimedSession {
                 timed::synthesize_at_scan(&self.game, ms, &options, &mut report).ok().map(|r| {
                     let verdict = r.synthesis.solution.verdict;
                     let code_from = (verdict == Verdict::Realizable).then(|| {
-                        match plc::lower::timed::scan_program(&self.game, &r) {
+                        // The page's cancel button stops the extraction too.
+                        let stats = r.synthesis.solution.stats;
+                        match plc::lower::timed::scan_program(&self.game, &r, &mut |_| report(&stats)) {
                             Ok(p) => {
                                 let text = format!("the scan strategy: {} nodes, one decision per scan", p.nodes.len());
                                 scan_program = Some(p.program());

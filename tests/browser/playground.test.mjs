@@ -163,8 +163,10 @@ test('a spec with a scan time shows the verdict on the PLC, and a too slow scan 
   await page.selectOption('#target', 'stl');
   await page.waitForSelector('#code[data-target="stl"][data-complete=true]');
   assert.equal(await page.getAttribute('#code-note', 'data-realtime'), 'held');
+  assert.match(await page.textContent('#code-note'), /Generated from the program of the scan game’s strategy: one read, one decision, one write per scan/);
   assert.match(await page.textContent('#code-note'), /Checked at 10 ms: 20 runs of 2[ ,.]?000 scans/);
   assert.match(await page.textContent('#code'), /ORGANIZATION_BLOCK/);
+  await shot(page, '07d-scan-strategy-code');
   await page.click('[data-tab=summary]');
   // At 20 ms the button may settle before the lamp follows: the scan game's counter-play.
   await setEditorText(page, readExample('lamp_scan').replace('scan 10 ms;', 'scan 20 ms;'));

@@ -560,7 +560,9 @@ async function refreshCode() {
       renderIo(generated);
       renderFiles(generated.files);
       note.textContent = {
-        timed: target === 'program' ? 'The optimised controller program (Peter 2005, chapter 6).' : 'Generated from the optimised controller program.',
+        timed: app.result?.scan?.code_from?.startsWith('the scan strategy')
+          ? (target === 'program' ? 'The program of the scan game’s strategy: each scan reads the inputs, takes one decision and writes.' : 'Generated from the program of the scan game’s strategy: one read, one decision, one write per scan.')
+          : (target === 'program' ? 'The optimised controller program (Peter 2005, chapter 6).' : 'Generated from the optimised controller program.'),
         sct: 'The runtime framework: it detects the events, asks every supervisor, resets denied outputs and executes enforced events around the existing controller (FB “Controller”).',
         ltl: 'The controller as a function block: call it once per scan.',
       }[app.engine()];

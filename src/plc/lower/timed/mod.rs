@@ -177,12 +177,15 @@ pub const SCAN_PROGRAM_BUDGET: usize = 2_000_000;
 /// The program of the scan strategy of `scan` (a won scan game of `game`) over the inputs the
 /// PLC reads ([`observed_signals`]), to be built with [`Pacing::ScanByScan`]; or why there is
 /// none, in words (the code then follows the zero-time strategy, checked in real time).
+/// `keep_going` is called with the states followed so far every few thousand; `false` cancels.
 pub fn scan_program(
     game: &Game,
     scan: &crate::timed::ScanSynthesis,
+    keep_going: &mut dyn FnMut(usize) -> bool,
 ) -> Result<crate::program::scan::ScanProgram, String> {
     let signals = observed_signals(game);
-    crate::program::scan::extract(game, scan, &signals, SCAN_PROGRAM_BUDGET).map_err(|e| e.text(game, &signals))
+    crate::program::scan::extract(game, scan, &signals, SCAN_PROGRAM_BUDGET, keep_going)
+        .map_err(|e| e.text(game, &signals))
 }
 
 /// [`build`], with the [`Wiring`] of the code's variables.

@@ -35,6 +35,10 @@ use crate::timed::plant::{Move, Plant, Sensors, Violation};
 use std::collections::VecDeque;
 use std::fmt;
 
+/// Plant reactions between two scans beyond which the plant is taken to be zeno (a cycle of
+/// reactions without a time constraint would otherwise keep a run at one instant for ever).
+const ZENO_REACTIONS: u64 = 100_000;
+
 /// The controller side of a run.
 pub trait ScanController {
     /// One scan at `now_us` (microseconds since the run began) on the input image `inputs` (a
@@ -195,8 +199,8 @@ pub enum Stop {
     /// All scans ran.
     Scans,
     /// The plant could neither move nor let time pass (an invariant expired with no reaction
-    /// enabled, or instant transitions without end): the specification's tolerated timeout,
-    /// not the controller's fault.
+    /// enabled, or instant transitions without end), or reacted without end between two scans
+    /// (a zeno plant): the specification's doing, not the controller's fault.
     Timelock,
     Failed,
 }
@@ -378,6 +382,9 @@ struct Run<'a> {
     round_latency: Vec<u64>,
     requests_since_progress: u64,
     stalled_scans: u64,
+    /// Plant reactions since the last scan: a plant that reacts without end between two scans
+    /// (a cycle of reactions without a time constraint) stops the run.
+    reactions_since_scan: u64,
     trace: VecDeque<String>,
     /// The first line of every trace: the names behind the bits of the trace's lines.
     legend: String,
@@ -479,6 +486,7 @@ pub fn run(
         round_latency: vec![0; game.plans.len()],
         requests_since_progress: 0,
         stalled_scans: 0,
+        reactions_since_scan: 0,
         trace: VecDeque::new(),
         legend: format!(
             "inputs {}; outputs {}",
@@ -779,6 +787,11 @@ impl Run<'_> {
                 if !self.plant.enabled(&m) {
                     return None;
                 }
+                self.reactions_since_scan += 1;
+                if self.reactions_since_scan > ZENO_REACTIONS {
+                    self.note(format!("the plant reacts more than {ZENO_REACTIONS} times within one scan (zeno)"));
+                    return Some(Stop::Timelock);
+                }
                 self.report.reactions += 1;
                 let line = format!("!{}", self.describe(&m));
                 self.apply(&m, line)
@@ -801,6 +814,7 @@ impl Run<'_> {
 
     /// A scan instant: latch the inputs, run the controller, schedule the output write.
     fn scan(&mut self, controller: &mut dyn ScanController) -> Option<Stop> {
+        self.reactions_since_scan = 0;
         let k = self.report.scans;
         let image = self.inputs.image();
         let changed = self.last_image.as_ref() != Some(&image);
