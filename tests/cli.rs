@@ -370,23 +370,33 @@ fn compile_at_a_scan_time_writes_nothing_for_a_controller_no_plc_can_run() {
 
 #[test]
 fn compile_at_a_scan_time_refuses_code_that_fails_in_real_time() {
-    // gripper_guard has state guards, which the scan game leaves out: its code follows the
-    // zero-time strategy with its scans' latency, and at 500 ms (implementable) a plan misses
-    // its bound in run 8.
-    let args = ["compile", "examples/timed/gripper_guard.tga", "--target", "stl", "--scan", "500ms"];
+    // The watchdog's scan strategy decides by how long it has waited, which no input shows: its
+    // code follows the zero-time strategy with its scans' latency, and at 250 ms (implementable)
+    // it sends `stop` in a scan in which the run ended by itself.
+    let args = ["compile", "tests/fixtures/timed/watchdog.tga", "--target", "stl", "--scan", "250ms"];
     let (code, out, err) = plcsynth(&args);
     assert_eq!(code, 1, "{err}");
     assert!(out.is_empty(), "{out}");
-    assert!(err.contains("code from the zero-time strategy") && err.contains("state guards"), "{err}");
-    assert!(err.contains("the generated code fails at 500 ms in real-time run"), "{err}");
-    assert!(err.contains("PlanFailed") && err.contains("scan "), "{err}");
-    // The check can be skipped; at 100 ms the code holds.
+    assert!(err.contains("code from the zero-time strategy") && err.contains("(a timer)"), "{err}");
+    assert!(err.contains("the generated code fails at 250 ms in real-time run"), "{err}");
+    assert!(err.contains("RequestRefused") && err.contains("scan "), "{err}");
+    // The check can be skipped.
     let (code, out, _) = plcsynth(&[&args[..], &["--check-runs", "0"]].concat());
     assert_eq!(code, 0);
     assert!(out.contains("ORGANIZATION_BLOCK"), "{out}");
-    let (code, _, err) = plcsynth(&["compile", "examples/timed/gripper_guard.tga", "--scan", "100ms"]);
+    // gripper_guard has a state guard: its code follows the scan strategy and waits for the
+    // guard before the guarded request. The game assumes the guard holds when checked; the
+    // checker lets it come up to a scan late, which at 500 ms costs a plan its bound (run 8),
+    // and the note says so. At 100 ms it holds.
+    let (code, _, err) = plcsynth(&["compile", "examples/timed/gripper_guard.tga", "--scan", "500ms"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("code from the scan strategy at 500 ms") && err.contains("fails at 500 ms"), "{err}");
+    assert!(err.contains("assumes that a state guard holds whenever the code checks it"), "{err}");
+    let args = ["compile", "examples/timed/gripper_guard.tga", "--scan", "100ms", "--target", "program"];
+    let (code, out, err) = plcsynth(&args);
     assert_eq!(code, 0, "{err}");
-    assert!(err.contains("checked at 100 ms"), "{err}");
+    assert!(err.contains("code from the scan strategy at 100 ms") && err.contains("checked at 100 ms"), "{err}");
+    assert!(out.contains("WAITUNTIL (gear_is_present);\n") && out.contains("DO (moveto_closed)"), "{out}");
 }
 
 #[test]

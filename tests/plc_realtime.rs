@@ -20,7 +20,7 @@ use plcsynth::plc::lower::timed::realtime::{
 };
 use plcsynth::plc::lower::timed::{self as lower_timed, Wiring};
 use plcsynth::plc::{self, Options, Target};
-use plcsynth::program;
+use plcsynth::program::{self, parse_listing};
 use plcsynth::timed::model::Game;
 use plcsynth::timed::{compile, solve::SolveOptions, synthesize};
 use std::io::{BufRead, BufReader, Write};
@@ -772,11 +772,10 @@ fn awlsim_scan_runs() -> u64 {
 }
 
 /// The code of the scan strategy at 10 ms (`program::scan`), for STL and ST, of every example
-/// that has one: implementable at 10 ms and without state guards.
+/// implementable at 10 ms.
 fn scan_examples() -> Vec<Example> {
     examples()
         .iter()
-        .filter(|e| e.game.guards.is_empty())
         .filter_map(|e| {
             let outcome =
                 plcsynth::timed::synthesize_at_scan(&e.game, SCAN_US / 1000, &SolveOptions::default(), &mut |_| true)
@@ -820,10 +819,13 @@ fn scan_examples() -> Vec<Example> {
 fn code_of_the_scan_strategy_holds_in_real_time_and_in_awlsim() {
     let chosen = scan_examples();
     let names: Vec<&str> = chosen.iter().map(|e| e.name.as_str()).collect();
-    // Every example without guards that is implementable at 10 ms gets the scan strategy's code.
+    // Every example implementable at 10 ms gets the scan strategy's code, with state guards too
+    // (gripper_guard, the round tables).
     for name in ["gear_checking", "hardware_xyz", "lamp_scan", "robot_arm", "two_machines", "two_robots_22"] {
         assert!(names.contains(&name), "{name} has no code of its scan strategy: {names:?}");
     }
+    assert!(names.contains(&"gripper_guard") && names.contains(&"round_table_12_of_12"), "{names:?}");
+    assert_eq!(names.len(), examples().len() - FAILS_AT_10_MS.len(), "{names:?}");
     let lines = two_at_a_time(&chosen, |e| {
         // Every scan reads, decides once and writes: no request goes on within its scan.
         for (code, _) in [&e.stl, &e.st] {
@@ -983,4 +985,97 @@ fn a_plant_that_reacts_without_end_within_a_scan_stops_the_run() {
         })
         .collect();
     assert!(stops.contains(&Stop::Timelock), "{stops:?}");
+}
+
+/// The round table's colour of marble 0 read once, one position after `store_class_0` (the
+/// guards' `dependson`), and the marble unloaded by it positions later without reading it again:
+/// right under the declared dependencies, since the colour changes only at `store_class_0`.
+const COLOUR_READ_ONCE: &str = "
+    0: DO (cycle); 1: WAITUNTIL (cycle_end); 2: DO (cycle); 3: WAITUNTIL (cycle_end);
+    4: DO (classify_0); 5: WAITUNTIL (classify_end_0); 6: DO (store_class_0);
+    7: DO (cycle); 8: WAITUNTIL (cycle_end);
+    9: IF (c0_is_blue) THEN GOTO 20; 10: IF (c0_is_green) THEN GOTO 30;
+    11: IF (c0_is_red) THEN GOTO 40; 12: WAITUNTIL (c0_is_undef); 13: GOTO 50;
+    20: DO (cycle); 21: WAITUNTIL (cycle_end);
+    22: DO (unload_a_0); 23: WAITUNTIL (unloading_end_a_0); 24: GOTO 61;
+    30: DO (cycle); 31: WAITUNTIL (cycle_end); 32: DO (cycle); 33: WAITUNTIL (cycle_end);
+    34: DO (unload_b_0); 35: WAITUNTIL (unloading_end_b_0); 36: GOTO 62;
+    40: DO (cycle); 41: WAITUNTIL (cycle_end); 42: DO (cycle); 43: WAITUNTIL (cycle_end);
+    44: DO (cycle); 45: WAITUNTIL (cycle_end);
+    46: DO (unload_c_0); 47: WAITUNTIL (unloading_end_c_0); 48: GOTO 63;
+    50: DO (cycle); 51: WAITUNTIL (cycle_end); 52: DO (cycle); 53: WAITUNTIL (cycle_end);
+    54: DO (cycle); 55: WAITUNTIL (cycle_end); 56: DO (cycle); 57: WAITUNTIL (cycle_end);
+    58: DO (unload_d_0); 59: WAITUNTIL (unloading_end_d_0); 60: GOTO 64;
+    61: DO (cycle); 610: WAITUNTIL (cycle_end); 62: DO (cycle); 620: WAITUNTIL (cycle_end);
+    63: DO (cycle); 630: WAITUNTIL (cycle_end); 64: DO (cycle); 640: WAITUNTIL (cycle_end);
+    65: GOTO 0;";
+
+/// A controller that records the image each scan read and the outputs it wrote.
+struct Recording<'a> {
+    inner: UnitInterpreter<'a>,
+    scans: Vec<(Vec<bool>, Vec<bool>)>,
+}
+
+impl ScanController for Recording<'_> {
+    fn scan(&mut self, now_us: u64, inputs: &[bool]) -> Vec<bool> {
+        let outputs = self.inner.scan(now_us, inputs);
+        self.scans.push((inputs.to_vec(), outputs.clone()));
+        outputs
+    }
+
+    fn position(&self) -> Option<usize> {
+        self.inner.position()
+    }
+
+    fn fault(&self) -> Option<String> {
+        self.inner.fault()
+    }
+}
+
+/// Issue 28, point 4: the checker changes a state guard only on the messages its `dependson`
+/// lists. A program that relies on that (it reads the colour once and unloads by it later) holds,
+/// the colour inputs change only after a `store_class_0` write (or, counted, when the run had
+/// stalled and only the game's assumption lets it go on), and without the dependencies the same
+/// program is failed: the colour redrawn at every move no longer matches what it read.
+#[test]
+fn stable_guards_keep_their_dependson_and_a_program_relying_on_it_holds() {
+    let source = std::fs::read_to_string(root().join("examples/timed/round_table_1.tga")).unwrap();
+    let (game, _) = compile(&source).unwrap();
+    let p = parse_listing(COLOUR_READ_ONCE, &|m| game.message_id(m), &|_| None).unwrap();
+    let (code, wiring) = lower_timed::build_wired(&game, &p, Target::St, "rt1", &source, &Options::default()).unwrap();
+    let structured = lower_timed::structured(&code);
+    let colour: Vec<usize> = (0..code.inputs.len())
+        .filter(|&i| wiring.inputs[i].iter().any(|&(m, _)| game.messages[m as usize].name.starts_with("c0_is_")))
+        .collect();
+    assert_eq!(colour.len(), 4, "the four colour inputs are read");
+    let store = (0..code.outputs.len())
+        .find(|&k| wiring.outputs[k].iter().any(|&(m, _)| game.messages[m as usize].name == "store_class_0"))
+        .unwrap();
+    let (mut unloads, mut assumed) = (0, 0);
+    for seed in 0..40 {
+        let mut controller = Recording { inner: UnitInterpreter::new(&structured).unwrap(), scans: Vec::new() };
+        let r = realtime::run(&game, &code, &wiring, &mut controller, &config(SCANS), seed);
+        assert!(r.failure.is_none(), "{}", show(&r));
+        unloads += r.progress / 2;
+        assumed += r.assumed_guards;
+        // A colour changes between two reads only if store_class_0 was written in between.
+        let mut unexplained = 0;
+        for pair in controller.scans.windows(2) {
+            let (before, after) = (&pair[0], &pair[1]);
+            if colour.iter().any(|&i| before.0[i] != after.0[i]) && !before.1[store] {
+                unexplained += 1;
+            }
+        }
+        assert!(unexplained <= r.assumed_guards, "seed {seed}: {unexplained} colour changes without store_class_0");
+    }
+    assert!(unloads > 80, "the runs unload marbles ({unloads} rounds)");
+    println!("40 runs: {unloads} marble rounds, {assumed} stable guards raised after a stall");
+    // Without the dependencies a guard may change at every move, and the program is failed.
+    let mut free = game.clone();
+    free.dependencies.clear();
+    let failed = (0..40).find_map(|seed| {
+        let mut controller = UnitInterpreter::new(&structured).unwrap();
+        realtime::run(&free, &code, &wiring, &mut controller, &config(SCANS), seed).failure
+    });
+    assert!(matches!(failed, Some(Failure::GuardViolated { .. })), "{failed:?}");
 }

@@ -13,6 +13,7 @@ const RT4: &str = include_str!("../examples/timed/round_table_4.tga");
 const LAMP_SCAN: &str = include_str!("../examples/timed/lamp_scan.tga");
 const HARDWARE_XYZ: &str = include_str!("../examples/timed/hardware_xyz.tga");
 const GRIPPER_GUARD: &str = include_str!("../examples/timed/gripper_guard.tga");
+const WATCHDOG: &str = include_str!("fixtures/timed/watchdog.tga");
 
 fn get(v: &JsValue, key: &str) -> JsValue {
     Reflect::get(v, &JsValue::from_str(key)).unwrap()
@@ -307,18 +308,26 @@ fn code_at_a_declared_scan_time_is_run_against_the_plant_first() {
     assert_eq!(num(&realtime, "runs"), 20.0);
     assert!(get(&realtime, "failure").is_null());
     assert_eq!(array(&get(&code, "files")).length(), 1);
-    // gripper_guard is implementable at 500 ms, but it has state guards: its code follows the
-    // zero-time strategy and fails a run there: no files.
-    let (s, summary) = solved(&format!("scan 500 ms;\n{GRIPPER_GUARD}"));
+    // The watchdog is implementable at 250 ms, but its scan strategy needs a timer: its code
+    // follows the zero-time strategy and fails a run there: no files.
+    let (s, summary) = solved(&format!("scan 250 ms;\n{WATCHDOG}"));
     assert_eq!(string(&get(&summary, "scan"), "verdict"), "realizable");
     assert!(string(&get(&summary, "scan"), "code_from").contains("zero-time strategy"));
     for target in ["st", "program"] {
-        let code = s.code(target, "gripper_guard", None).unwrap();
+        let code = s.code(target, "watchdog", None).unwrap();
         let realtime = get(&code, "realtime");
-        assert!(string(&realtime, "failure").contains("PlanFailed"), "{target}");
+        assert!(string(&realtime, "failure").contains("RequestRefused"), "{target}");
         assert!(array(&get(&realtime, "trace")).length() > 2);
         assert_eq!(array(&get(&code, "files")).length(), 0, "{target}");
     }
+    // gripper_guard's (a state guard) follows its scan strategy and holds at 100 ms; at 500 ms a
+    // guard read FALSE costs a plan its bound, and the page is told why.
+    let (s, _) = solved(&format!("scan 500 ms;\n{GRIPPER_GUARD}"));
+    let realtime = get(&s.code("st", "gripper_guard", None).unwrap(), "realtime");
+    assert!(string(&realtime, "why").contains("a state guard holds whenever the code checks it"));
+    let (s, summary) = solved(&format!("scan 100 ms;\n{GRIPPER_GUARD}"));
+    assert!(string(&get(&summary, "scan"), "code_from").starts_with("the scan strategy"));
+    assert!(get(&get(&s.code("st", "gripper_guard", None).unwrap(), "realtime"), "failure").is_null());
     // hardware_xyz's code follows its scan strategy and holds at 495 ms.
     let (s, summary) = solved(&format!("scan 495 ms;\n{HARDWARE_XYZ}"));
     assert!(string(&get(&summary, "scan"), "code_from").starts_with("the scan strategy"));

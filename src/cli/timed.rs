@@ -485,15 +485,7 @@ pub fn compile(
         };
         let report = plc::lower::timed::realtime::check(&game, &code, &wiring, &config, check_runs);
         if let Some(r) = &report.failure {
-            let why = match pacing {
-                plc::lower::timed::Pacing::Chained => {
-                    "the code follows the zero-time strategy with the latency of its scans; a shorter scan time may hold"
-                }
-                // The scan strategy's code is right by construction: a failure is a bug.
-                plc::lower::timed::Pacing::ScanByScan => {
-                    "the code follows the scan strategy, which the game says wins: please report this as a bug"
-                }
-            };
+            let why = pacing.failure_reason(&game);
             eprintln!(
                 "{file}: the generated code fails at {ms} ms in real-time run {} of {check_runs} (seed {}), although \
                  the scan game is implementable; nothing written\n  = note: {why}\n{r}",

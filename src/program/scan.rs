@@ -17,7 +17,8 @@
 //! real PLC reads again every scan, sees the same image and must take the same decision: a
 //! state whose idle decision quiets the PLC is its own successor under its image.
 //!
-//! The program, in the intermediate language: a first `GOTO` to the initial node's decision,
+//! The program, in the intermediate language: a first `GOTO` to the initial node's decision (or,
+//! when the plant moves at once from its initial state, to a dispatch on the first read's image),
 //! then per node its *dispatch*, a decision tree of input tests over the levels that tell its
 //! successors apart, each leaf a `GOTO` to a successor's decision; then per node its decision,
 //! `DO (r)` or nothing, and a `GOTO` back to its dispatch. Every dispatch comes before every
@@ -25,9 +26,17 @@
 //! returns to a dispatch only with the next scan (a backward jump ends the scan; the lowering's
 //! [`Pacing::ScanByScan`](crate::plc::lower::timed::Pacing) makes every request end it too):
 //! one read, one decision, one write per scan.
+//!
+//! State guards (4.2.1) are left out of the scan game: like the zero-time game, it assumes a
+//! guard holds whenever the controller checks it, so a check never changes who wins. The
+//! program checks them all the same: a decision whose request may enter a guarded condition
+//! (at any moment of its scan the strategy lets the plant deliver it) first waits for every such
+//! guard, read at the start of the scan (`WAITUNTIL`, or a chain of `IF`s that re-reads all of
+//! them the next scan). Under the game's assumption the wait passes in the scan of the read; a
+//! guard that does not hold holds the request back, as the zero-time program's wait does.
 
 use super::{CmdId, Condition, Instruction, Program};
-use crate::timed::model::{CompId, Game, LocId, MsgId};
+use crate::timed::model::{CompId, Game, GuardRule, LocId, MsgId};
 use crate::timed::plant::Sensors;
 use crate::timed::precompute::SplitGame;
 use crate::timed::solve::{EdgeKind, Label, StateId, StateSpace};
@@ -39,9 +48,6 @@ use std::collections::HashMap;
 pub enum ScanProgramError {
     /// The scan game is not won (or not decided).
     NotImplementable,
-    /// The specification has state guards, which the scan game drops: its strategy does not
-    /// say which guard the code must read before a guarded request.
-    Guards,
     /// Two read states the PLC cannot tell apart by its inputs need different decisions.
     Ambiguous {
         /// The input levels both read (per observed signal).
@@ -64,7 +70,6 @@ impl ScanProgramError {
         };
         match self {
             ScanProgramError::NotImplementable => "the scan game is not won".into(),
-            ScanProgramError::Guards => "the specification has state guards, which the scan game leaves out".into(),
             ScanProgramError::Ambiguous { image, decisions } => {
                 let levels: Vec<String> = signals
                     .iter()
@@ -96,16 +101,21 @@ impl ScanProgramError {
 pub struct Node {
     /// The request sent in the scan of the read, if any.
     pub decision: Option<MsgId>,
+    /// The state guards the request may enter the condition of: all must read TRUE first.
+    pub guards: Vec<MsgId>,
     /// The nodes of the next read, each with the levels (per observed signal) that lead there.
     pub next: Vec<(Vec<bool>, usize)>,
     /// The read states of the scan game in the belief.
     pub states: usize,
 }
 
-/// The program of a scan strategy, node by node; node 0 is the first read.
+/// The program of a scan strategy, node by node; node 0 is the first read, or the PLC before
+/// it (see [`ScanProgram::before_first_read`]).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ScanProgram {
     pub nodes: Vec<Node>,
+    /// Node 0 is the PLC before its first read (it decides nothing), not the first read.
+    pub before_first_read: bool,
     /// The observed signals: per input, its messages and whether each reads it negated.
     pub signals: Vec<Vec<(MsgId, bool)>>,
     /// States visited while following the strategy from read to read.
@@ -114,6 +124,14 @@ pub struct ScanProgram {
 
 /// A read state of the scan game with the sensors' memory on arrival.
 type Element = (StateId, Sensors);
+
+/// What follows an element's decision: the read states of the next read, and the state guards
+/// whose conditions the decision's request may enter.
+#[derive(Clone, Default)]
+struct Followed {
+    next: Vec<Element>,
+    guards: Vec<MsgId>,
+}
 
 /// The extraction's view of a solved scan game.
 struct Extraction<'a> {
@@ -127,8 +145,10 @@ struct Extraction<'a> {
     quiet: LocId,
     budget: usize,
     work: usize,
-    /// The successors of every element followed so far (an element recurs in many beliefs).
-    memo: HashMap<Element, Vec<Element>>,
+    /// What follows every element followed so far (an element recurs in many beliefs).
+    memo: HashMap<Element, Followed>,
+    /// The specification's state guards (the scan game has none).
+    guard_rules: &'a [GuardRule],
     /// Called with the states followed so far every [`PROGRESS_EVERY`]; `false` stops.
     keep_going: &'a mut dyn FnMut(usize) -> bool,
 }
@@ -153,9 +173,15 @@ impl Extraction<'_> {
         }
     }
 
+    /// The plant components' locations in state `s` (the scan automaton's among them).
+    fn locations(&self, s: StateId) -> Vec<LocId> {
+        let env = self.space.env(s);
+        (0..self.split.plant_count).map(|u| self.split.units[u].sublocs[env[u] as usize].location).collect()
+    }
+
     /// The read states (with the sensors' memory) the plant can bring the PLC to at its next
-    /// read after `element`'s decision.
-    fn successors(&mut self, element: &Element) -> Result<Vec<Element>, ScanProgramError> {
+    /// read after `element`'s decision, and the guards its request may enter.
+    fn successors(&mut self, element: &Element) -> Result<Followed, ScanProgramError> {
         if let Some(known) = self.memo.get(element) {
             return Ok(known.clone());
         }
@@ -165,16 +191,30 @@ impl Extraction<'_> {
     }
 
     /// [`Extraction::successors`], computed.
-    fn follow(&mut self, element: &Element) -> Result<Vec<Element>, ScanProgramError> {
+    fn follow(&mut self, element: &Element) -> Result<Followed, ScanProgramError> {
         let (q, sensors) = element;
-        let Some(decision) = self.decision_edge[*q as usize] else { return Ok(Vec::new()) };
+        let Some(decision) = self.decision_edge[*q as usize] else { return Ok(Followed::default()) };
+        let request = self.request(*q);
         let start = self.space.edges[decision as usize].to;
-        let mut out = Vec::new();
+        let mut out = Followed::default();
         if self.plc_location(start) == self.quiet {
-            out.push(element.clone());
+            out.next.push(element.clone());
         }
+        self.reach(start, sensors.clone(), request, &mut out)?;
+        Ok(out)
+    }
+
+    /// Adds to `out` the read states the plant can bring the PLC to from `start` (with the
+    /// sensors' memory `sensors`), and the guards the delivery of `request` on the way enters.
+    fn reach(
+        &mut self,
+        start: StateId,
+        sensors: Sensors,
+        request: Option<MsgId>,
+        out: &mut Followed,
+    ) -> Result<(), ScanProgramError> {
         let mut seen: std::collections::HashSet<Element> = std::collections::HashSet::new();
-        let mut stack = vec![(start, sensors.clone())];
+        let mut stack = vec![(start, sensors)];
         while let Some((s, sensors)) = stack.pop() {
             if !seen.insert((s, sensors.clone())) {
                 continue;
@@ -187,7 +227,7 @@ impl Extraction<'_> {
                 return Err(ScanProgramError::Cancelled);
             }
             if self.decision_edge[s as usize].is_some() {
-                out.push((s, sensors));
+                out.next.push((s, sensors));
                 continue;
             }
             for (_, e) in self.space.out_edges(s) {
@@ -196,6 +236,18 @@ impl Extraction<'_> {
                 }
                 match (e.kind, e.label) {
                     (EdgeKind::Reaction, Label::Message { message }) => {
+                        if Some(message) == request && !self.guard_rules.is_empty() {
+                            // The delivery: the guards of the conditions it enters (4.2.1).
+                            let (before, after) = (self.locations(s), self.locations(e.to));
+                            for rule in self.guard_rules {
+                                if !rule.cond.eval(&before)
+                                    && rule.cond.eval(&after)
+                                    && !out.guards.contains(&rule.message)
+                                {
+                                    out.guards.push(rule.message);
+                                }
+                            }
+                        }
                         let info = &self.game.messages[message as usize];
                         let mut next = sensors.clone();
                         let parts = info.sender.into_iter().chain(info.synchronised.iter().copied());
@@ -208,7 +260,8 @@ impl Extraction<'_> {
                 }
             }
         }
-        Ok(out)
+        out.guards.sort_unstable();
+        Ok(())
     }
 }
 
@@ -231,9 +284,6 @@ pub fn extract(
     budget: usize,
     keep_going: &mut dyn FnMut(usize) -> bool,
 ) -> Result<ScanProgram, ScanProgramError> {
-    if !game.guards.is_empty() {
-        return Err(ScanProgramError::Guards);
-    }
     let space = &scan.synthesis.solution.space;
     if scan.synthesis.solution.verdict != crate::timed::solve::Verdict::Realizable || !space.is_winning(space.initial) {
         return Err(ScanProgramError::NotImplementable);
@@ -256,28 +306,46 @@ pub fn extract(
         budget,
         work: 0,
         memo: HashMap::new(),
+        guard_rules: &game.guards,
         keep_going,
     };
     let mut sensors = Sensors::new(game, signals);
     sensors.forget_unread();
-    let initial: Element = (space.initial, sensors);
-    let mut beliefs: Vec<Vec<Element>> = vec![vec![initial]];
-    let mut index: HashMap<Vec<Element>, usize> = HashMap::from([(beliefs[0].clone(), 0)]);
+    // Node 0 is the first read, or, where the plant moves at once from its initial state (the
+    // round table's instant restart and load), the PLC before its first read, whose image
+    // picks the node the first scan decides in.
+    let before_first_read = x.decision_edge[space.initial as usize].is_none();
+    let mut first = Followed::default();
+    let mut beliefs: Vec<Vec<Element>> = vec![Vec::new()];
+    let mut index: HashMap<Vec<Element>, usize> = HashMap::new();
+    if before_first_read {
+        x.reach(space.initial, sensors, None, &mut first)?;
+    } else {
+        beliefs[0].push((space.initial, sensors));
+        index.insert(beliefs[0].clone(), 0);
+    }
     let mut nodes: Vec<Node> = Vec::new();
     let mut k = 0;
     while k < beliefs.len() {
         let belief = beliefs[k].clone();
         k += 1;
-        let decision = x.request(belief[0].0);
-        for element in &belief[1..] {
+        let decision = belief.first().and_then(|e| x.request(e.0));
+        for element in belief.iter().skip(1) {
             let other = x.request(element.0);
             if other != decision {
                 return Err(ScanProgramError::Ambiguous { image: element.1.image(), decisions: [decision, other] });
             }
         }
         let mut by_image: Vec<(Vec<bool>, Vec<Element>)> = Vec::new();
-        for element in &belief {
-            for next in x.successors(element)? {
+        let mut guards: Vec<MsgId> = Vec::new();
+        let followed: Vec<Followed> = if k == 1 && before_first_read {
+            vec![std::mem::take(&mut first)]
+        } else {
+            belief.iter().map(|element| x.successors(element)).collect::<Result<_, _>>()?
+        };
+        for followed in followed {
+            guards.extend(followed.guards);
+            for next in followed.next {
                 let image = next.1.image();
                 match by_image.iter_mut().find(|(i, _)| *i == image) {
                     Some((_, group)) => group.push(next),
@@ -295,10 +363,12 @@ pub fn extract(
             });
             next.push((image, id));
         }
-        nodes.push(Node { decision, next, states: belief.len() });
+        guards.sort_unstable();
+        guards.dedup();
+        nodes.push(Node { decision, guards, next, states: belief.len() });
     }
     let nodes = minimise(nodes);
-    Ok(ScanProgram { nodes, signals: signals.to_vec(), work: x.work })
+    Ok(ScanProgram { nodes, before_first_read, signals: signals.to_vec(), work: x.work })
 }
 
 /// What a node does, up to the current partition: its class and, per image read next, the
@@ -310,10 +380,11 @@ type Signature<'n> = (usize, Vec<(&'n [bool], usize)>);
 /// game states, and many sets behave alike: the lamp's 10 beliefs are 4 nodes.
 fn minimise(nodes: Vec<Node>) -> Vec<Node> {
     let mut class: Vec<usize> = Vec::new();
-    let mut decisions: Vec<Option<MsgId>> = Vec::new();
+    let mut decisions: Vec<(Option<MsgId>, &[MsgId])> = Vec::new();
     for node in &nodes {
-        let c = decisions.iter().position(|d| *d == node.decision).unwrap_or_else(|| {
-            decisions.push(node.decision);
+        let decision = (node.decision, node.guards.as_slice());
+        let c = decisions.iter().position(|d| *d == decision).unwrap_or_else(|| {
+            decisions.push(decision);
             decisions.len() - 1
         });
         class.push(c);
@@ -357,7 +428,8 @@ impl ScanProgram {
         let start = program.fresh_id();
         let dispatch: Vec<CmdId> = self.nodes.iter().map(|_| program.fresh_id()).collect();
         let decide: Vec<CmdId> = self.nodes.iter().map(|_| program.fresh_id()).collect();
-        program.push_with_id(start, Instruction::Goto { target: decide[0] }, 0);
+        let first = if self.before_first_read { dispatch[0] } else { decide[0] };
+        program.push_with_id(start, Instruction::Goto { target: first }, 0);
         for (k, node) in self.nodes.iter().enumerate() {
             let entries: Vec<&(Vec<bool>, usize)> = node.next.iter().collect();
             self.tree(&mut program, dispatch[k], &entries, &decide, k);
@@ -365,7 +437,27 @@ impl ScanProgram {
         for (k, node) in self.nodes.iter().enumerate() {
             match node.decision {
                 Some(request) => {
-                    program.push_with_id(decide[k], Instruction::Do { request }, 0);
+                    let mut label = decide[k];
+                    match node.guards.as_slice() {
+                        [] => {}
+                        &[message] => {
+                            let condition = Condition::Message { message };
+                            program.push_with_id(label, Instruction::WaitUntil { condition }, 0);
+                            label = program.fresh_id();
+                        }
+                        several => {
+                            // Each test passed goes on; one that fails waits for the next scan,
+                            // which tests them all again on its image.
+                            for &message in several {
+                                let next = program.fresh_id();
+                                let condition = Condition::Message { message };
+                                program.push_with_id(label, Instruction::If { condition, target: next }, 0);
+                                program.push(Instruction::Goto { target: decide[k] }, 0);
+                                label = next;
+                            }
+                        }
+                    }
+                    program.push_with_id(label, Instruction::Do { request }, 0);
                     program.push(Instruction::Goto { target: dispatch[k] }, 0);
                 }
                 None => program.push_with_id(decide[k], Instruction::Goto { target: dispatch[k] }, 0),

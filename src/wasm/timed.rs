@@ -72,6 +72,8 @@ pub(crate) struct RealtimeView {
     /// The failure ([`plc::lower::timed::realtime::RunReport::outcome`]: what and when) with its
     /// run and seed, or `null`; the failed run's trace apart.
     failure: Option<String>,
+    /// Why the code can fail although the scan game is won ([`plc::lower::timed::Pacing::failure_reason`]).
+    why: Option<&'static str>,
     trace: Vec<String>,
 }
 
@@ -364,6 +366,7 @@ impl TimedSession {
                                 .failure
                                 .as_ref()
                                 .map(|r| format!("{} (run {}, seed {})", r.outcome(), report.runs, r.seed)),
+                            why: report.failure.is_some().then(|| pacing.failure_reason(&self.game)),
                             trace: report.failure.map(|r| r.trace).unwrap_or_default(),
                         }
                     })

@@ -182,20 +182,22 @@ test('a spec with a scan time shows the verdict on the PLC, and a too slow scan 
 });
 
 test('code that fails a real-time run at the declared scan time is not offered', async () => {
-  // gripper_guard is implementable at 500 ms, but it has state guards, which the scan game leaves
-  // out: its code follows the zero-time strategy with the scans' latency and misses a plan bound
-  // there. The page shows the failing run, not the code.
+  // The watchdog (tests/fixtures) is implementable at 250 ms, but its scan strategy decides by
+  // how long it has waited, which no input shows: its code follows the zero-time strategy with
+  // the scans' latency and sends a request the plant refuses. The page shows the failing run,
+  // not the code.
   const page = await newPage(browser, `${server.url}#example/gripper_guard`);
-  await setEditorText(page, `scan 500 ms;\n${readExample('gripper_guard')}`);
+  const watchdog = readFileSync(new URL('../fixtures/timed/watchdog.tga', import.meta.url), 'utf8');
+  await setEditorText(page, `scan 250 ms;\n${watchdog}`);
   assert.equal(await runAndWait(page), 'realizable');
   await page.waitForFunction(() => document.querySelector('#scan-verdict')?.dataset.verdict === 'realizable');
-  assert.match(await page.textContent('#scan-code-from'), /Code from the zero-time strategy, checked in real time: .*state guards/);
+  assert.match(await page.textContent('#scan-code-from'), /Code from the zero-time strategy, checked in real time: .*a timer/);
   await page.click('[data-tab=code]');
   await page.selectOption('#target', 'stl');
   await page.waitForSelector('#code[data-target="stl"][data-complete=true]');
   assert.equal(await page.getAttribute('#code-note', 'data-realtime'), 'failed');
-  assert.match(await page.textContent('#code-note'), /No code: it fails at 500 ms in a real-time run/);
-  assert.match(await page.textContent('#code'), /PlanFailed/);
+  assert.match(await page.textContent('#code-note'), /No code: it fails at 250 ms in a real-time run/);
+  assert.match(await page.textContent('#code'), /RequestRefused/);
   assert.doesNotMatch(await page.textContent('#code'), /ORGANIZATION_BLOCK/);
   await shot(page, '07c-scan-code-fails-in-real-time');
   assert.deepEqual(page.errors, []);

@@ -550,7 +550,7 @@ async function refreshCode() {
       // The code failed a run against the plant at the declared scan time: no code, the trace.
       app.code = `${realtime.failure}\n\n${realtime.trace.join('\n')}\n`;
       app.suffix = '.realtime';
-      note.textContent = `No code: it fails at ${realtime.scan_ms} ms in a real-time run against the plant, although the scan game says implementable (the code follows the zero-time strategy; a shorter scan may hold). The trace:`;
+      note.textContent = `No code: it fails at ${realtime.scan_ms} ms in a real-time run against the plant, although the scan game says implementable (${realtime.why}). The trace:`;
       note.dataset.realtime = 'failed';
     } else if (generated) {
       const files = generated.files;

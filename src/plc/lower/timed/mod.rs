@@ -145,6 +145,29 @@ pub enum Pacing {
     ScanByScan,
 }
 
+impl Pacing {
+    /// Why code paced so, for `game`, can fail a real-time run at a scan time where the scan
+    /// game is won: the words of the CLI's note and the playground's.
+    pub fn failure_reason(self, game: &Game) -> &'static str {
+        match self {
+            Pacing::Chained => {
+                "the code follows the zero-time strategy with the latency of its scans; a shorter scan time may hold"
+            }
+            // The scan game assumes, as the thesis's game does, that a state guard holds when the
+            // code checks it; the checker lets a free guard come up to a scan late.
+            Pacing::ScanByScan if !game.guards.is_empty() => {
+                "the code follows the scan strategy, whose game assumes that a state guard holds whenever \
+                 the code checks it; a guard FALSE when checked holds the request back, which the game does \
+                 not cover; a shorter scan time may hold"
+            }
+            // Without guards the scan strategy's code is right by construction: a failure is a bug.
+            Pacing::ScanByScan => {
+                "the code follows the scan strategy, which the game says wins: please report this as a bug"
+            }
+        }
+    }
+}
+
 /// The inputs a PLC reads, as [`Wiring::inputs`] lists them: every signal of the `io` section
 /// that a reaction is bound to, with all its bindings, or, without an `io` section, one input
 /// per reaction. What the scan program may test.

@@ -14,8 +14,14 @@
 //!
 //! The plant decides after every change of its state which reaction fires when: random times
 //! within guards and invariants, the earliest and latest allowed instants, 1 µs after a scan
-//! instant, 1 µs before one; it may also idle. Guard inputs are drawn anew at every move, and
-//! one that is FALSE turns TRUE within a scan period. `instant` transitions
+//! instant, 1 µs before one; it may also idle. A state guard keeps the spec's `dependson`: one
+//! whose dependencies list only messages (the round table's colours) is drawn anew when one of
+//! them occurs and holds its level in between; any other is drawn anew at every move, and one
+//! that is FALSE turns TRUE within a scan period (the game assumes a guard holds when the
+//! controller checks it). A stable guard turns TRUE between its messages only when the run
+//! would otherwise stall (the plant can do nothing by itself and the controller has sent
+//! nothing for two scans): there the game's assumption is all that lets the controller go on.
+//! `instant` transitions
 //! fire at once, before anything else. A run fails when an assertion is violated (checked after
 //! every plant move and every request), a plan fails (a timeout clock beyond its bound, at the
 //! microsecond), a request is refused, a request enters a guarded condition while the scan that
@@ -30,7 +36,7 @@ use crate::plc::lower::timed::{Structured, Wiring};
 use crate::plc::model::exec::{Machine, Value};
 use crate::plc::model::unit::{Place, PouKind, Stmt};
 use crate::rng::Rng;
-use crate::timed::model::{Game, MessageKind, MessageRole, MsgId};
+use crate::timed::model::{DependsOn, Game, MessageKind, MessageRole, MsgId};
 use crate::timed::plant::{Move, Plant, Sensors, Violation};
 use std::collections::VecDeque;
 use std::fmt;
@@ -275,6 +281,9 @@ pub struct RunReport {
     /// Scans that pulsed an output already TRUE from the scan before: the signal stays TRUE,
     /// so the plant sees one request where the code made two.
     pub repeated_pulses: u64,
+    /// Times a stable guard (one that changes only on its `dependson` messages) turned TRUE
+    /// between them, because the run had stalled: the game's assumption, not the spec's promise.
+    pub assumed_guards: u64,
     /// A legend (the inputs' and outputs' names, the plant's manner in this run), then the last
     /// events: time in ms, the event, the inputs' levels and the outputs.
     pub trace: Vec<String>,
@@ -334,10 +343,47 @@ enum Next {
     React(Move),
     /// The environment sets guard message `m` to the value.
     Guard(MsgId, bool),
+    /// A stable guard turns TRUE between its dependency messages: the run had stalled, and only
+    /// the game's assumption (a guard holds when the controller checks it) lets it go on.
+    AssumedGuard(MsgId),
     /// Nothing until then; decide again.
     Idle,
     /// The invariants expire with no reaction enabled.
     Timelock,
+}
+
+/// A state guard's input and when the specification lets it change.
+struct GuardInput {
+    message: MsgId,
+    /// `Some`: only when one of these messages occurs (`dependson` without `time`); `None`: at
+    /// any time.
+    changes_on: Option<Vec<MsgId>>,
+}
+
+impl GuardInput {
+    fn of(game: &Game) -> Vec<GuardInput> {
+        let guards =
+            (0..game.messages.len() as MsgId).filter(|&m| game.messages[m as usize].role == MessageRole::Guard);
+        guards
+            .map(|message| {
+                let on: Vec<DependsOn> = game
+                    .dependencies
+                    .iter()
+                    .filter(|d| d.message == message)
+                    .flat_map(|d| d.on.iter().copied())
+                    .collect();
+                let changes_on = (!on.is_empty() && !on.contains(&DependsOn::Time)).then(|| {
+                    on.iter().filter_map(|d| if let DependsOn::Message(m) = d { Some(*m) } else { None }).collect()
+                });
+                GuardInput { message, changes_on }
+            })
+            .collect()
+    }
+
+    /// Whether the guard is drawn anew when `m` occurs.
+    fn redrawn_by(&self, m: MsgId) -> bool {
+        self.changes_on.as_ref().is_none_or(|on| on.contains(&m))
+    }
 }
 
 struct Write {
@@ -354,7 +400,7 @@ struct Run<'a> {
     config: &'a Config,
     plant: Plant<'a>,
     inputs: Sensors,
-    guards: Vec<MsgId>,
+    guards: Vec<GuardInput>,
     rng: Rng,
     /// Per timing strategy: its weight in this run.
     timing: [u64; 5],
@@ -457,8 +503,7 @@ pub fn run(
         timing[rng.below(5) as usize] = 12;
     }
     let execution = [Execution::Random, Execution::Zero, Execution::Longest, Execution::Mixed][rng.below(4) as usize];
-    let guards: Vec<MsgId> =
-        (0..game.messages.len() as MsgId).filter(|&m| game.messages[m as usize].role == MessageRole::Guard).collect();
+    let guards = GuardInput::of(game);
     let mut run = Run {
         game,
         code,
@@ -504,11 +549,12 @@ pub fn run(
             progress: 0,
             latency: Latency::default(),
             repeated_pulses: 0,
+            assumed_guards: 0,
             trace: Vec::new(),
         },
     };
     for i in 0..run.guards.len() {
-        let g = run.guards[i];
+        let g = run.guards[i].message;
         run.inputs.holds[g as usize] = run.rng.chance(50);
     }
     run.legend += &format!(
@@ -592,14 +638,21 @@ impl Run<'_> {
         self.decided = None;
         self.stalled_scans = 0;
         self.note(what);
-        // Guard inputs are drawn anew at every plant move and request.
-        for i in 0..self.guards.len() {
-            let g = self.guards[i];
-            self.inputs.holds[g as usize] = self.rng.chance(50);
-        }
+        self.redraw_guards(m.message);
         let request = self.game.messages[m.message as usize].role == MessageRole::Request;
         self.reacted |= !request && self.inputs.image() != before;
         self.violated().or_else(|| self.settle())
+    }
+
+    /// Draws anew the guards that message `m` may change: the stable ones that depend on it, and
+    /// every other.
+    fn redraw_guards(&mut self, m: MsgId) {
+        for i in 0..self.guards.len() {
+            if self.guards[i].redrawn_by(m) {
+                let g = self.guards[i].message;
+                self.inputs.holds[g as usize] = self.rng.chance(50);
+            }
+        }
     }
 
     /// Fires the instant transitions enabled now, one after the other (checking the state after
@@ -618,11 +671,12 @@ impl Run<'_> {
                 self.progressed(&closing);
             }
             self.inputs.moved(self.game, m.message, m.instant, m.parts.iter().map(|&(u, _)| u as u32));
-            self.reacted |= self.inputs.image() != before;
             self.decided = None;
             self.report.reactions += 1;
             let line = format!("!{}", self.describe(&m));
             self.note(line);
+            self.redraw_guards(m.message);
+            self.reacted |= self.inputs.image() != before;
             if let Some(stop) = self.violated() {
                 return Some(stop);
             }
@@ -723,13 +777,20 @@ impl Run<'_> {
             }
         };
         // A guard that is FALSE turns TRUE within a scan period (the game assumes a guard holds
-        // when the controller needs it), unless the plant moves first.
-        let low: Vec<MsgId> = self.guards.iter().copied().filter(|&g| !self.inputs.holds[g as usize]).collect();
+        // when the controller needs it), unless the plant moves first; a stable one only when
+        // the run has stalled.
+        let stalled = !self.plant_can_react && self.stalled_scans >= 2;
+        let low: Vec<(MsgId, bool)> = self
+            .guards
+            .iter()
+            .filter(|g| !self.inputs.holds[g.message as usize] && (g.changes_on.is_none() || stalled))
+            .map(|g| (g.message, g.changes_on.is_some()))
+            .collect();
         if !low.is_empty() {
-            let g = low[self.rng.below(low.len() as u64) as usize];
+            let (g, stable) = low[self.rng.below(low.len() as u64) as usize];
             let d = self.pick_time(1, Some(self.scan));
             if choice.as_ref().is_none_or(|&(at, _)| d < at) {
-                choice = Some((d, Next::Guard(g, true)));
+                choice = Some((d, if stable { Next::AssumedGuard(g) } else { Next::Guard(g, true) }));
             }
         }
         if let Some((at, ms)) = instant {
@@ -804,6 +865,15 @@ impl Run<'_> {
                 self.note(line);
                 None
             }
+            Next::AssumedGuard(g) => {
+                let before = self.inputs.image();
+                self.inputs.holds[g as usize] = true;
+                self.reacted |= self.inputs.image() != before;
+                self.report.assumed_guards += 1;
+                let line = format!("guard {} := 1 (stalled: the game assumes it holds when checked)", self.name(g));
+                self.note(line);
+                None
+            }
             Next::Idle => None,
             Next::Timelock => {
                 self.note("the plant can neither move nor wait (an invariant expires)".into());
@@ -846,6 +916,10 @@ impl Run<'_> {
         self.next_scan += self.scan;
         if !self.plant_can_react {
             self.stalled_scans += 1;
+            if self.stalled_scans == 2 && self.guards.iter().any(|g| g.changes_on.is_some()) {
+                // Stalled: the plant decides again, now free to raise a stable guard.
+                self.decided = None;
+            }
             if self.stalled_scans >= self.config.patience {
                 let reason =
                     format!("{} scans without a request while the plant can do nothing by itself", self.stalled_scans);
