@@ -4,7 +4,7 @@
 //! selection, code generation or optimisation is unsound.
 
 use plcsynth::program::{self, optimize::Context, simulate};
-use plcsynth::timed::{compile, solve::SolveOptions, solve::Verdict, synthesize};
+use plcsynth::timed::{compile, solve::Verdict, synthesize};
 
 #[path = "common/reference.rs"]
 mod reference;
@@ -23,7 +23,7 @@ fn spec_count() -> u64 {
 fn check_seed(seed: u64) -> (bool, bool) {
     let source = spec(seed);
     let Ok((game, _)) = compile(&source) else { return (false, false) };
-    let s = synthesize(&game, &SolveOptions { max_states: 50_000, ..SolveOptions::default() }, &mut |_| true);
+    let s = synthesize(&game, &reference::options(50_000), &mut |_| true);
     if s.solution.verdict != Verdict::Realizable {
         return (true, false);
     }
@@ -100,7 +100,7 @@ fn scan_search_agrees_with_the_exhaustive_reference_on_random_specs() {
             Err(message) => panic!("seed {seed} at 250 ms: {message}\n{source}"),
         };
         compared += 1;
-        let zero = synthesize(&game, &SolveOptions::default(), &mut |_| true).solution.verdict;
+        let zero = synthesize(&game, &reference::options(1_000_000), &mut |_| true).solution.verdict;
         realizable += u64::from(zero == Verdict::Realizable);
         implementable += u64::from(verdict == Verdict::Realizable);
     }
@@ -120,7 +120,7 @@ fn unrealizable_random_specs_have_a_counter_play_the_plant_replays() {
     for seed in 0..spec_count() / 2 {
         let source = spec(seed);
         let Ok((game, _)) = compile(&source) else { continue };
-        let s = synthesize(&game, &SolveOptions { max_states: 50_000, ..SolveOptions::default() }, &mut |_| true);
+        let s = synthesize(&game, &reference::options(50_000), &mut |_| true);
         if s.solution.verdict != Verdict::Unrealizable {
             continue;
         }

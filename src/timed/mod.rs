@@ -194,7 +194,11 @@ impl ScanBound {
             (Some(w), None) => format!("implementable up to at least {w} ms (the longest tried)"),
             (None, None) => return None,
         };
-        Some(if self.stopped { format!("{text}; the search stopped at a budget") } else { text })
+        Some(match (self.stopped, self.works, self.fails) {
+            (false, ..) => text,
+            (true, Some(_), Some(_)) => format!("{text}; between them the search stopped at a budget"),
+            (true, ..) => format!("{text}; the search stopped at a budget"),
+        })
     }
 }
 
@@ -203,6 +207,13 @@ impl ScanBound {
 /// specification) and then bisection when it works. Implementability need not be monotone in
 /// the scan time, so the answer is two neighbouring times that were solved, not a proof about
 /// the times between: "works at `works`, fails at `fails`".
+///
+/// A scan time with few common divisors with the time unit makes a large game (1301 ms in
+/// seconds is 1301 units of a millisecond), so the bisection probes round times first (the
+/// multiple of the largest step in the middle half of the interval: 30, then 35, then 36 between
+/// 20 and 40) and ends at neighbours only where those decide. A probe that stops at a budget is
+/// passed over: doubling goes on above it, and the bisection keeps to the times below it, up to
+/// [`UNDECIDED_PROBES`] of them; the pair found stays a decided one.
 pub fn scan_bound(
     game: &model::Game,
     scan_ms: u64,
@@ -237,11 +248,14 @@ pub fn scan_bound(
         bound.scale_free = true;
         return bound;
     }
+    // Probes that stopped at a budget, and the bisection's upper end for probes: below every
+    // one of them.
+    let mut undecided = 0;
+    let mut below = u64::MAX;
     let (mut lo, mut hi) = if implementable {
         let cap = (u64::from(longest) * game.timeunit_ms).max(scan_ms).saturating_mul(4);
-        let mut works = scan_ms;
+        let (mut works, mut next) = (scan_ms, scan_ms.saturating_mul(2));
         loop {
-            let next = works.saturating_mul(2);
             if next > cap {
                 bound.works = Some(works);
                 return bound;
@@ -250,25 +264,56 @@ pub fn scan_bound(
                 Some(true) => works = next,
                 Some(false) => break (works, next),
                 None => {
-                    bound.works = Some(works);
-                    return bound;
+                    undecided += 1;
+                    below = below.min(next);
                 }
             }
+            next = next.saturating_mul(2);
         }
     } else {
         (0, scan_ms)
     };
-    while hi - lo > 1 {
-        let mid = lo + (hi - lo) / 2;
+    below = below.min(hi);
+    while let Some(mid) = round_probe(lo, below) {
+        if undecided >= UNDECIDED_PROBES {
+            break;
+        }
         match verdict_at(mid, &mut bound) {
             Some(true) => lo = mid,
-            Some(false) => hi = mid,
-            None => break,
+            Some(false) => (hi, below) = (mid, mid),
+            None => {
+                undecided += 1;
+                below = mid;
+            }
         }
     }
     bound.works = (lo > 0).then_some(lo);
     bound.fails = Some(hi);
     bound
+}
+
+/// Probes that stop at a budget one bound search passes over before it settles for the pair
+/// it has (each costs a whole budget).
+pub const UNDECIDED_PROBES: usize = 3;
+
+/// The next probe of a bisection of the open interval `(lo, hi)` of milliseconds: the multiple
+/// of the largest round step (1000, 500, 200, 100, 50, 20, 10, 5, 2, 1 ms) that lies in the
+/// middle half of the interval, nearest its middle; `None` once the ends are neighbours.
+fn round_probe(lo: u64, hi: u64) -> Option<u64> {
+    if hi <= lo + 1 {
+        return None;
+    }
+    let (quarter_lo, quarter_hi) = (lo + (hi - lo) / 4, hi - (hi - lo) / 4);
+    let middle = lo + (hi - lo) / 2;
+    for step in [1000, 500, 200, 100, 50, 20, 10, 5, 2] {
+        let below = middle / step * step;
+        let candidates = [below, below + step].into_iter().filter(|&m| m > lo && m < hi);
+        let inside = candidates.filter(|&m| m >= quarter_lo && m <= quarter_hi);
+        if let Some(m) = inside.min_by_key(|&m| m.abs_diff(middle)) {
+            return Some(m);
+        }
+    }
+    Some(middle)
 }
 
 /// Where constant `value` of `clock` is written in `source`, the text `game` was compiled from:
@@ -306,6 +351,45 @@ pub fn constant_span(game: &model::Game, source: &str, clock: model::ClockId, va
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_bound_says_where_the_search_stopped() {
+        let bound = |works, fails, stopped| ScanBound { works, fails, stopped, scale_free: false }.text();
+        assert_eq!(bound(Some(35), Some(36), false).unwrap(), "implementable at 35 ms, not at 36 ms");
+        assert_eq!(
+            bound(Some(15), Some(20), true).unwrap(),
+            "implementable at 15 ms, not at 20 ms; between them the search stopped at a budget"
+        );
+        assert_eq!(
+            bound(Some(20), None, true).unwrap(),
+            "implementable up to at least 20 ms (the longest tried); the search stopped at a budget"
+        );
+        assert_eq!(bound(None, None, true), None);
+    }
+
+    #[test]
+    fn bisection_probes_round_times_first() {
+        let probes = |mut lo: u64, hi: u64| {
+            let mut out = Vec::new();
+            while let Some(m) = round_probe(lo, hi) {
+                out.push(m);
+                lo = m;
+            }
+            out
+        };
+        // Between 20 and 40 ms, with every probe found to work.
+        assert_eq!(probes(20, 40), [30, 35, 36, 38, 39]);
+        assert_eq!(round_probe(1300, 1462), Some(1400));
+        assert_eq!(round_probe(0, 10), Some(5));
+        assert_eq!(round_probe(14, 15), None);
+        // Every probe lies strictly inside, and the ends meet.
+        for lo in 0..60 {
+            for hi in lo + 2..80 {
+                let m = round_probe(lo, hi).unwrap();
+                assert!(lo < m && m < hi, "{lo} {hi} {m}");
+            }
+        }
+    }
 
     /// The text at each span [`constant_span`] finds for `(clock, value)`.
     fn located(source: &str, clock: &str, value: u32) -> String {

@@ -14,6 +14,12 @@ fn key(space: &StateSpace, s: StateId) -> Key {
     (space.env(s).to_vec(), space.plan(s).to_vec(), space.zone(s), space.states[s as usize].kind)
 }
 
+/// The comparisons' budget: `max_states` and a work budget of 250 million, half the default, so
+/// that a game beyond the budget costs a comparison what it did before the default grew.
+pub fn options(max_states: usize) -> SolveOptions {
+    SolveOptions { max_states, max_work: 250_000_000, ..SolveOptions::default() }
+}
+
 /// Checks, for one game solved both ways within `max_states` (the default search, and the exact
 /// reference: exhaustive, without the thesis's zeno memory): the same verdict; every winning
 /// state of the search is winning in the reference; and in both, the winning states are closed
@@ -22,7 +28,7 @@ fn key(space: &StateSpace, s: StateId) -> Key {
 /// progress. Returns the visited states of the search and of the reference, or `None` if either
 /// exceeded the budget.
 pub fn compare_with_reference(game: &Game, max_states: usize) -> Result<Option<(usize, usize)>, String> {
-    let options = SolveOptions { max_states, ..SolveOptions::default() };
+    let options = options(max_states);
     let fast = synthesize(game, &options, &mut |_| true);
     let exact = SolveOptions { exhaustive: true, zeno_memory: false, ..options };
     let reference = synthesize(game, &exact, &mut |_| true);
@@ -36,7 +42,7 @@ pub fn compare_scan_with_reference(
     scan_ms: u64,
     max_states: usize,
 ) -> Result<(Verdict, Option<(usize, usize)>), String> {
-    let options = SolveOptions { max_states, ..SolveOptions::default() };
+    let options = options(max_states);
     let fast = synthesize_at_scan(game, scan_ms, &options, &mut |_| true).map_err(|e| e.to_string())?;
     let exact = SolveOptions { exhaustive: true, zeno_memory: false, ..options };
     let reference = synthesize(&fast.game, &exact, &mut |_| true);

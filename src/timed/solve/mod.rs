@@ -96,8 +96,9 @@ pub struct SolveOptions {
 pub const DEFAULT_MAX_STATES: usize = 1_000_000;
 /// Default memory budget, 512 MiB: the reference needs about 311 MiB for round table 8/8.
 pub const DEFAULT_MAX_BYTES: usize = 512 << 20;
-/// Default work budget: a few seconds of solving natively; round table 8/8 needs about 82 million.
-pub const DEFAULT_MAX_WORK: u64 = 250_000_000;
+/// Default work budget: about three seconds of solving natively; round table 8/8 needs about
+/// 82 million, the scan game of gear checking at 36 ms, which is not implementable, 327 million.
+pub const DEFAULT_MAX_WORK: u64 = 500_000_000;
 
 impl Default for SolveOptions {
     fn default() -> Self {
