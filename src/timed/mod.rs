@@ -212,8 +212,9 @@ impl ScanBound {
 /// seconds is 1301 units of a millisecond), so the bisection probes round times first (the
 /// multiple of the largest step in the middle half of the interval: 30, then 35, then 36 between
 /// 20 and 40) and ends at neighbours only where those decide. A probe that stops at a budget is
-/// passed over: doubling goes on above it, and the bisection keeps to the times below it, up to
-/// [`UNDECIDED_PROBES`] of them; the pair found stays a decided one.
+/// passed over: doubling goes on above it, and the bisection probes the wider of the gaps below
+/// the lowest and above the highest of them, up to [`UNDECIDED_PROBES`]; the pair found stays a
+/// decided one.
 pub fn scan_bound(
     game: &model::Game,
     scan_ms: u64,
@@ -248,10 +249,9 @@ pub fn scan_bound(
         bound.scale_free = true;
         return bound;
     }
-    // Probes that stopped at a budget, and the bisection's upper end for probes: below every
-    // one of them.
-    let mut undecided = 0;
-    let mut below = u64::MAX;
+    // Probes that stopped at a budget: the bisection probes below the lowest of them or above
+    // the highest, in the wider of the two gaps.
+    let mut undecided: Vec<u64> = Vec::new();
     let (mut lo, mut hi) = if implementable {
         let cap = (u64::from(longest) * game.timeunit_ms).max(scan_ms).saturating_mul(4);
         let (mut works, mut next) = (scan_ms, scan_ms.saturating_mul(2));
@@ -263,28 +263,26 @@ pub fn scan_bound(
             match verdict_at(next, &mut bound) {
                 Some(true) => works = next,
                 Some(false) => break (works, next),
-                None => {
-                    undecided += 1;
-                    below = below.min(next);
-                }
+                None => undecided.push(next),
             }
             next = next.saturating_mul(2);
         }
     } else {
         (0, scan_ms)
     };
-    below = below.min(hi);
-    while let Some(mid) = round_probe(lo, below) {
-        if undecided >= UNDECIDED_PROBES {
-            break;
-        }
+    while undecided.len() < UNDECIDED_PROBES {
+        let between = || undecided.iter().copied().filter(|&u| lo < u && u < hi);
+        let (lowest, highest) = (between().min().unwrap_or(hi), between().max().unwrap_or(lo));
+        let probe = if hi - highest > lowest - lo {
+            round_probe(highest, hi).or_else(|| round_probe(lo, lowest))
+        } else {
+            round_probe(lo, lowest).or_else(|| round_probe(highest, hi))
+        };
+        let Some(mid) = probe else { break };
         match verdict_at(mid, &mut bound) {
             Some(true) => lo = mid,
-            Some(false) => (hi, below) = (mid, mid),
-            None => {
-                undecided += 1;
-                below = mid;
-            }
+            Some(false) => hi = mid,
+            None => undecided.push(mid),
         }
     }
     bound.works = (lo > 0).then_some(lo);
