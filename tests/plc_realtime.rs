@@ -832,8 +832,13 @@ fn code_of_the_scan_strategy_holds_in_real_time_and_in_awlsim() {
             assert!(code.steps.iter().all(|s| !s.back_in_scan));
             assert!(code.steps.iter().all(|s| !matches!(s.statement, Statement::Act { ends_scan: false, .. })));
         }
+        // `make test` samples the round tables (their code has one shape, bins aside): 10 runs
+        // each in the interpreter, awlsim for two of them; `make test-long` runs them all.
+        let long = awlsim_scan_runs() > 2;
+        let round_table = e.name.starts_with("round_table");
+        let interpreter_runs = if round_table && !long { runs(&e.name).min(10) } else { runs(&e.name) };
         let mut tally = Tally::default();
-        for seed in 0..runs(&e.name) {
+        for seed in 0..interpreter_runs {
             for target in [Target::St, Target::Stl] {
                 let r = run_rust(e, target, seed, SCANS);
                 assert!(r.failure.is_none(), "{} ({target:?}) fails at 10 ms:\n{}", e.name, show(&r));
@@ -841,6 +846,9 @@ fn code_of_the_scan_strategy_holds_in_real_time_and_in_awlsim() {
             }
         }
         assert_eq!(tally.repeated_pulses, 0, "{}: a pulse was repeated", e.name);
+        if round_table && !long && !["round_table_2", "round_table_12_of_12"].contains(&e.name.as_str()) {
+            return vec![tally.line(&e.name)];
+        }
         let mut plc = Awlsim::start(&format!("{}_scan", e.name), &e.stl.0);
         let mut in_awlsim = Tally::default();
         for (r, mismatches) in awlsim_runs(&mut plc, e, 0..awlsim_scan_runs(), SCANS) {

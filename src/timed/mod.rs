@@ -175,7 +175,8 @@ pub struct ScanBound {
     pub works: Option<u64>,
     /// Not implementable at this scan time.
     pub fails: Option<u64>,
-    /// A search hit a budget or was cancelled: the bound is what was found before.
+    /// A probe between `works` and `fails` (or above `works`, when nothing failed) hit a budget
+    /// or was cancelled: the times between are open.
     pub stopped: bool,
     /// The specification has no time constants: scaling time maps the runs at one scan time
     /// onto the runs at any other, so the verdict is the same at every scan time.
@@ -223,15 +224,13 @@ pub fn scan_bound(
     progress: &mut dyn FnMut(&solve::Stats) -> bool,
 ) -> ScanBound {
     let mut bound = ScanBound::default();
-    let mut verdict_at = |ms: u64, bound: &mut ScanBound| -> Option<bool> {
+    // `None`: stopped at a budget or cancelled (or no scan game at that time).
+    let mut verdict_at = |ms: u64| -> Option<bool> {
         let result = synthesize_at_scan(game, ms, options, progress).ok()?;
         match result.synthesis.solution.verdict {
             solve::Verdict::Realizable => Some(true),
             solve::Verdict::Unrealizable => Some(false),
-            _ => {
-                bound.stopped = true;
-                None
-            }
+            _ => None,
         }
     };
     let longest = game
@@ -258,9 +257,10 @@ pub fn scan_bound(
         loop {
             if next > cap {
                 bound.works = Some(works);
+                bound.stopped = !undecided.is_empty();
                 return bound;
             }
-            match verdict_at(next, &mut bound) {
+            match verdict_at(next) {
                 Some(true) => works = next,
                 Some(false) => break (works, next),
                 None => undecided.push(next),
@@ -279,7 +279,7 @@ pub fn scan_bound(
             round_probe(lo, lowest).or_else(|| round_probe(highest, hi))
         };
         let Some(mid) = probe else { break };
-        match verdict_at(mid, &mut bound) {
+        match verdict_at(mid) {
             Some(true) => lo = mid,
             Some(false) => hi = mid,
             None => undecided.push(mid),
@@ -287,6 +287,8 @@ pub fn scan_bound(
     }
     bound.works = (lo > 0).then_some(lo);
     bound.fails = Some(hi);
+    // A probe that stopped between the pair leaves the times between them open.
+    bound.stopped = undecided.iter().any(|&u| lo < u && u < hi);
     bound
 }
 
