@@ -45,6 +45,10 @@ use std::fmt;
 /// reactions without a time constraint would otherwise keep a run at one instant for ever).
 const ZENO_REACTIONS: u64 = 100_000;
 
+/// Scans without a request while the plant can do nothing by itself after which a run has
+/// stalled, and a stable guard may turn TRUE between its dependency messages.
+const STALLED_SCANS: u64 = 2;
+
 /// The controller side of a run.
 pub trait ScanController {
     /// One scan at `now_us` (microseconds since the run began) on the input image `inputs` (a
@@ -341,11 +345,13 @@ enum Execution {
 #[derive(Clone, Debug)]
 enum Next {
     React(Move),
-    /// The environment sets guard message `m` to the value.
-    Guard(MsgId, bool),
-    /// A stable guard turns TRUE between its dependency messages: the run had stalled, and only
-    /// the game's assumption (a guard holds when the controller checks it) lets it go on.
-    AssumedGuard(MsgId),
+    /// A FALSE guard turns TRUE; `stalled`: a stable guard between its dependency messages,
+    /// because the run had stalled and only the game's assumption (a guard holds when the
+    /// controller checks it) lets it go on.
+    RaiseGuard {
+        message: MsgId,
+        stalled: bool,
+    },
     /// Nothing until then; decide again.
     Idle,
     /// The invariants expire with no reaction enabled.
@@ -779,7 +785,7 @@ impl Run<'_> {
         // A guard that is FALSE turns TRUE within a scan period (the game assumes a guard holds
         // when the controller needs it), unless the plant moves first; a stable one only when
         // the run has stalled.
-        let stalled = !self.plant_can_react && self.stalled_scans >= 2;
+        let stalled = !self.plant_can_react && self.stalled_scans >= STALLED_SCANS;
         let low: Vec<(MsgId, bool)> = self
             .guards
             .iter()
@@ -790,7 +796,7 @@ impl Run<'_> {
             let (g, stable) = low[self.rng.below(low.len() as u64) as usize];
             let d = self.pick_time(1, Some(self.scan));
             if choice.as_ref().is_none_or(|&(at, _)| d < at) {
-                choice = Some((d, if stable { Next::AssumedGuard(g) } else { Next::Guard(g, true) }));
+                choice = Some((d, Next::RaiseGuard { message: g, stalled: stable }));
             }
         }
         if let Some((at, ms)) = instant {
@@ -857,20 +863,13 @@ impl Run<'_> {
                 let line = format!("!{}", self.describe(&m));
                 self.apply(&m, line)
             }
-            Next::Guard(g, value) => {
+            Next::RaiseGuard { message, stalled } => {
                 let before = self.inputs.image();
-                self.inputs.holds[g as usize] = value;
+                self.inputs.holds[message as usize] = true;
                 self.reacted |= self.inputs.image() != before;
-                let line = format!("guard {} := {}", self.name(g), u8::from(value));
-                self.note(line);
-                None
-            }
-            Next::AssumedGuard(g) => {
-                let before = self.inputs.image();
-                self.inputs.holds[g as usize] = true;
-                self.reacted |= self.inputs.image() != before;
-                self.report.assumed_guards += 1;
-                let line = format!("guard {} := 1 (stalled: the game assumes it holds when checked)", self.name(g));
+                self.report.assumed_guards += u64::from(stalled);
+                let why = if stalled { " (stalled: the game assumes it holds when checked)" } else { "" };
+                let line = format!("guard {} := 1{why}", self.name(message));
                 self.note(line);
                 None
             }
@@ -916,7 +915,7 @@ impl Run<'_> {
         self.next_scan += self.scan;
         if !self.plant_can_react {
             self.stalled_scans += 1;
-            if self.stalled_scans == 2 && self.guards.iter().any(|g| g.changes_on.is_some()) {
+            if self.stalled_scans == STALLED_SCANS && self.guards.iter().any(|g| g.changes_on.is_some()) {
                 // Stalled: the plant decides again, now free to raise a stable guard.
                 self.decided = None;
             }
