@@ -29,6 +29,11 @@ pub struct BudgetArgs {
     /// exact search, which may store more states.
     #[arg(long)]
     pub no_zeno_memory: bool,
+    /// Scan games: store every zone as its own state at once, rather than first letting a move
+    /// go to a surviving state of the same locations that wins its zone (inclusion, with plan
+    /// clocks lower; a quarter of every budget): the larger search, for comparison.
+    #[arg(long)]
+    pub no_inclusion: bool,
 }
 
 /// The PLC's cycle time.
@@ -186,6 +191,7 @@ impl BudgetArgs {
             max_work: self.max_work,
             exhaustive: self.exhaustive,
             zeno_memory: !self.no_zeno_memory,
+            inclusion: !self.no_inclusion,
             ..SolveOptions::default()
         }
     }

@@ -57,6 +57,8 @@ pub enum ScanProgramError {
     },
     /// The belief construction passed its budget of tracked states.
     Budget { limit: usize },
+    /// The scan game without inclusion, which the extraction follows, passed a solver budget.
+    ExactBudget,
     /// The caller's progress callback asked to stop.
     Cancelled,
 }
@@ -90,6 +92,10 @@ impl ScanProgramError {
             }
             ScanProgramError::Budget { limit } => {
                 format!("following the scan strategy from read to read passed {limit} tracked states")
+            }
+            ScanProgramError::ExactBudget => {
+                "the scan game with a state per zone, whose strategy the code follows, passes the solver's budget"
+                    .into()
             }
             ScanProgramError::Cancelled => "cancelled".into(),
         }
@@ -284,6 +290,24 @@ pub fn extract(
     budget: usize,
     keep_going: &mut dyn FnMut(usize) -> bool,
 ) -> Result<ScanProgram, ScanProgramError> {
+    // A solution with covers (inclusion) is solved again with a state per zone: a cover's
+    // decision is made for its larger zone, and the plant moves it allows there blur the
+    // beliefs of the PLC.
+    let mut stopped = false;
+    let exact = scan.exact(game, &mut |stats| {
+        stopped = stopped || !keep_going(stats.visited);
+        !stopped
+    });
+    if stopped {
+        return Err(ScanProgramError::Cancelled);
+    }
+    let scan = match &exact {
+        Some(exact) if exact.synthesis.solution.verdict == crate::timed::solve::Verdict::BudgetExceeded => {
+            return Err(ScanProgramError::ExactBudget)
+        }
+        Some(exact) => exact,
+        None => scan,
+    };
     let space = &scan.synthesis.solution.space;
     if scan.synthesis.solution.verdict != crate::timed::solve::Verdict::Realizable || !space.is_winning(space.initial) {
         return Err(ScanProgramError::NotImplementable);

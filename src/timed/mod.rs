@@ -119,6 +119,29 @@ pub struct ScanSynthesis {
     pub scan_ms: u64,
     pub game: model::Game,
     pub synthesis: Synthesis,
+    /// The options it was solved with.
+    pub options: solve::SolveOptions,
+}
+
+impl ScanSynthesis {
+    /// Whether some move of the solution goes to a state that includes its zone rather than
+    /// to its own (inclusion, see [`solve::SolveOptions::inclusion`]).
+    pub fn has_covers(&self) -> bool {
+        let space = &self.synthesis.solution.space;
+        space.edges.iter().any(|e| space.own_zone(e).is_some())
+    }
+
+    /// The same scan game solved with every zone its own state (no inclusion), if this
+    /// solution has covers: the strategy a PLC's code can follow read by read, where a cover's
+    /// decisions, made for a larger zone, tell apart states the PLC's inputs do not. `None` if
+    /// this solution has no covers (it is exact already) or the scan game cannot be built.
+    pub fn exact(&self, game: &model::Game, progress: &mut dyn FnMut(&solve::Stats) -> bool) -> Option<ScanSynthesis> {
+        if !self.has_covers() {
+            return None;
+        }
+        let options = solve::SolveOptions { inclusion: false, ..self.options.clone() };
+        synthesize_at_scan(game, self.scan_ms, &options, progress).ok()
+    }
 }
 
 /// Solves the scan game of `game` at `scan_ms`: realizable means implementable on a PLC with
@@ -133,7 +156,7 @@ pub fn synthesize_at_scan(
     let scan_game = scan::scan_game(game, scan_ms)?;
     let guide = if options.exhaustive { None } else { scan_guide(game, scan_ms, options, progress) };
     let synthesis = synthesize_guided(&scan_game, guide.as_ref(), options, progress);
-    Ok(ScanSynthesis { scan_ms, game: scan_game, synthesis })
+    Ok(ScanSynthesis { scan_ms, game: scan_game, synthesis, options: options.clone() })
 }
 
 /// The zero-time strategy that guides the search of the scan game at `scan_ms`, or `None` if

@@ -202,7 +202,7 @@ impl TimedSession {
             max_work: opts.max_work.unwrap_or(defaults.max_work),
             progress_interval: opts.progress_interval.unwrap_or(defaults.progress_interval).max(1),
             exhaustive: opts.exhaustive,
-            zeno_memory: defaults.zeno_memory,
+            ..defaults
         };
         let mut progress = Progress::new(progress, opts.progress_ms);
         let mut report = |stats: &Stats| progress.report(|| *stats);

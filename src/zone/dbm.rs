@@ -337,6 +337,46 @@ impl Dbm {
             .all(|(o, s)| o.iter().zip(s).fold(true, |ok, (a, b)| ok & (a <= b)))
     }
 
+    /// True if every valuation of `other` is a valuation of `self` with some of the clocks in
+    /// `lowered` (a bit set over the indices; bit 0 ignored) made smaller, each no lower than 0:
+    /// `other ⊆ down(self)`, the closure of `self` downwards in those clocks (both canonical).
+    ///
+    /// The closure keeps every bound of `self` but those that bound a lowered clock from below
+    /// (`x_i - x_p ≤ c`, `p` lowered); in canonical form these become `x_i - x_p ≤ (x_i - x_0
+    /// bound)` and `x_p ≥ 0`, so the test is entry-wise like [`Dbm::includes`]. Where lowering a
+    /// clock can only help (a deadline's clock, checked against upper bounds alone), `self`
+    /// covers `other` for a game: whatever wins from `self` wins from `other`.
+    ///
+    /// ```
+    /// use plcsynth::zone::Dbm;
+    ///
+    /// use plcsynth::zone::{Bound, Dbm};
+    ///
+    /// // x1 = 0 and a deadline clock x2 at 5, or at 3.
+    /// let at = |x2| {
+    ///     let mut z = Dbm::zero(3);
+    ///     z.up();
+    ///     assert!(z.constrain_interval(2, Bound::le(-x2), Bound::le(x2)));
+    ///     z.reset(1);
+    ///     z
+    /// };
+    /// let (late, early) = (at(5), at(3));
+    /// assert!(!late.includes(&early));
+    /// assert!(late.includes_lowered(&early, 0b100));
+    /// assert!(!early.includes_lowered(&late, 0b100));
+    /// assert!(!late.includes_lowered(&early, 0b010));
+    /// ```
+    pub fn includes_lowered(&self, other: &Dbm, lowered: u64) -> bool {
+        debug_assert_eq!(self.dim, other.dim);
+        if other.is_empty() {
+            return true;
+        }
+        if self.is_empty() {
+            return false;
+        }
+        includes_lowered(&self.m, &other.m, self.dim, lowered)
+    }
+
     /// Classic k-normalisation (Extra_M): bounds above a clock's maximal
     /// constant become infinite, bounds below minus a clock's maximal
     /// constant become `< -max`. `max[c]` is the maximal constant compared
@@ -515,4 +555,23 @@ impl Dbm {
         debug_assert!(self.contains_point(&v, den));
         Some((v, den))
     }
+}
+
+/// [`Dbm::includes_lowered`] on the matrices ([`Dbm::as_slice`]) of two canonical, non-empty
+/// zones of dimension `n`: for callers that store zones as slices.
+pub fn includes_lowered(big: &[Bound], small: &[Bound], n: usize, lowered: u64) -> bool {
+    let lowered = lowered & !1;
+    (0..n).all(|i| {
+        let (b, s) = (&big[i * n..i * n + n], &small[i * n..i * n + n]);
+        (0..n).all(|j| {
+            let bound = if j == i || lowered >> j & 1 == 0 {
+                b[j]
+            } else if i == 0 {
+                LE0 // x_j ≥ 0 is all that is left of its lower bounds
+            } else {
+                b[0] // x_i - x_j ≤ x_i, the tightest left once x_j may go down to 0
+            };
+            s[j] <= bound
+        })
+    })
 }

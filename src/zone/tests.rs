@@ -483,6 +483,43 @@ proptest! {
     }
 
     #[test]
+    fn includes_lowered_is_inclusion_in_the_downward_closure((a, b) in two_zones(), lowered in 0..16u64) {
+        // Inside the box, so that the grid decides (see `for_each_point`).
+        let boxed = |z: &Dbm| {
+            let mut z = z.clone();
+            for c in 1..z.dim() {
+                z.constrain(c, 0, le(BOX as i32));
+            }
+            z
+        };
+        let (a, b) = (boxed(&a), boxed(&b));
+        let n = a.dim();
+        let lowered = lowered & ((1 << n) - 1);
+        // `a` in units of 1/DEN, where every grid point is an integer point.
+        let scaled = {
+            let m: Vec<Bound> = a
+                .as_slice()
+                .iter()
+                .map(|b| if b.is_infinity() { *b } else { Bound::new(b.constant() * DEN as i32, b.is_strict()) })
+                .collect();
+            Dbm::from_slice(n, &m)
+        };
+        // v ∈ down(a): some u ∈ a equals v but for lowered clocks, where it is at least v.
+        let in_closure = |v: &[i64]| {
+            let mut u = scaled.clone();
+            (1..n).all(|c| {
+                let x = v[c] as i32;
+                let lower = u.constrain(0, c, le(-x));
+                lower && (lowered >> c & 1 == 1 || u.constrain(c, 0, le(x)))
+            })
+        };
+        let mut expected = true;
+        for_each_point(n, |v| expected &= !b.contains_point(v, DEN) || in_closure(v));
+        prop_assert_eq!(a.includes_lowered(&b, lowered), expected);
+        prop_assert_eq!(a.includes_lowered(&b, 0), a.includes(&b));
+    }
+
+    #[test]
     fn up_is_delay(z in zone()) {
         let mut y = z.clone();
         y.up();

@@ -32,7 +32,7 @@ pub fn compare_with_reference(game: &Game, max_states: usize) -> Result<Option<(
     let fast = synthesize(game, &options, &mut |_| true);
     let exact = SolveOptions { exhaustive: true, zeno_memory: false, ..options };
     let reference = synthesize(game, &exact, &mut |_| true);
-    agree(&fast, &reference)
+    agree(game, &fast, &reference)
 }
 
 /// [`compare_with_reference`] for the scan game of `game` at `scan_ms`, the search guided by the
@@ -46,31 +46,63 @@ pub fn compare_scan_with_reference(
     let fast = synthesize_at_scan(game, scan_ms, &options, &mut |_| true).map_err(|e| e.to_string())?;
     let exact = SolveOptions { exhaustive: true, zeno_memory: false, ..options };
     let reference = synthesize(&fast.game, &exact, &mut |_| true);
-    Ok((fast.synthesis.solution.verdict, agree(&fast.synthesis, &reference)?))
+    Ok((fast.synthesis.solution.verdict, agree(&fast.game, &fast.synthesis, &reference)?))
 }
 
-fn agree(fast: &Synthesis, reference: &Synthesis) -> Result<Option<(usize, usize)>, String> {
+fn agree(game: &Game, fast: &Synthesis, reference: &Synthesis) -> Result<Option<(usize, usize)>, String> {
     let (f, r) = (&fast.solution, &reference.solution);
     if f.verdict == Verdict::BudgetExceeded || r.verdict == Verdict::BudgetExceeded {
         return Ok(None);
     }
-    closed(&f.space).map_err(|m| format!("search: {m}"))?;
-    closed(&r.space).map_err(|m| format!("reference: {m}"))?;
+    let lowered = deadline_clocks(game);
+    closed(&f.space, lowered).map_err(|m| format!("search: {m}"))?;
+    closed(&r.space, lowered).map_err(|m| format!("reference: {m}"))?;
     progressing(&f.space).map_err(|m| format!("search: {m}"))?;
     progressing(&r.space).map_err(|m| format!("reference: {m}"))?;
     if f.verdict != r.verdict {
         return Err(format!("verdicts differ: {:?} against the reference's {:?}", f.verdict, r.verdict));
     }
-    let winning: HashSet<Key> = r.space.winning_states().into_iter().map(|s| key(&r.space, s)).collect();
-    if let Some(s) = f.space.winning_states().into_iter().find(|&s| !winning.contains(&key(&f.space, s))) {
+    // Winning in the reference: surviving its exact removal. (Not only the survivors reachable
+    // through survivors: the search's inclusion may reach a surviving state from one whose
+    // zone it includes, where the reference's own moves do not go.)
+    let all: HashSet<Key> = (0..r.space.states.len() as StateId).map(|s| key(&r.space, s)).collect();
+    let survivors: HashSet<Key> =
+        (0..r.space.states.len() as StateId).filter(|&s| r.space.is_winning(s)).map(|s| key(&r.space, s)).collect();
+    if let Some(s) = f.space.winning_states().into_iter().find(|&s| !survivors.contains(&key(&f.space, s))) {
         return Err(format!("s{s} wins in the search but not in the reference"));
+    }
+    // A move into a zone that a winning state includes: the zone, where the reference has it,
+    // survives there too.
+    for s in f.space.winning_states() {
+        for (_, e) in f.space.out_edges(s).filter(|(_, e)| f.space.is_live(e)) {
+            let Some(own) = f.space.own_zone(e) else { continue };
+            let t = e.to;
+            let own_key = (f.space.env(t).to_vec(), f.space.plan(t).to_vec(), own, f.space.states[t as usize].kind);
+            if all.contains(&own_key) && !survivors.contains(&own_key) {
+                return Err(format!("s{s}: the move to s{t} (including its zone) enters a zone the reference loses"));
+            }
+        }
     }
     Ok(Some((f.stats.visited, r.stats.visited)))
 }
 
-/// Every winning state's plant reactions stay winning, and it has a winning request or can wait.
-pub fn closed(space: &StateSpace) -> Result<(), String> {
+/// The clocks of the plans (a bit per zone index): only ever checked against a deadline.
+fn deadline_clocks(game: &Game) -> u64 {
+    game.plans.iter().flat_map(|p| &p.clocks).fold(0, |bits, &(c, _)| bits | 1 << c)
+}
+
+/// Every winning state's plant reactions stay winning, and it has a winning request or can wait;
+/// a move to a state whose zone includes the move's own lies in that zone, once the clocks
+/// `lowered` (the plans' deadline clocks) may be lower there.
+pub fn closed(space: &StateSpace, lowered: u64) -> Result<(), String> {
     for s in space.winning_states() {
+        for (_, e) in space.out_edges(s) {
+            if let Some(own) = space.own_zone(e) {
+                if !space.zone(e.to).includes_lowered(&own, lowered) {
+                    return Err(format!("s{s}: the move to s{} does not lie in its zone", e.to));
+                }
+            }
+        }
         let edges: Vec<_> = space.out_edges(s).map(|(_, e)| e).collect();
         if let Some(e) = edges.iter().find(|e| e.kind == EdgeKind::Reaction && !space.is_live(e)) {
             return Err(format!("s{s}: the reaction to s{} leaves the winning states", e.to));

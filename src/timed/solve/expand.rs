@@ -8,7 +8,7 @@ use super::zeno::Vis;
 use super::{Solver, NONE};
 use crate::timed::model::*;
 use crate::timed::precompute::{SplitGame, SubLocId, STAY};
-use crate::zone::{Bound, Dbm};
+use crate::zone::{includes_lowered, Bound, Dbm};
 
 /// One discrete move under construction.
 pub(super) struct Move {
@@ -181,12 +181,53 @@ impl Solver<'_, '_> {
         };
         self.space.states.push(State::new(env_id, plan_id, zone_id, kind, removal, vis));
         self.state_index.insert(key, id);
+        if let Some(covers) = self.covers.as_mut().filter(|_| removal.is_none()) {
+            covers.entry((env_id, plan_id, kind)).or_default().push(id);
+        }
         if removal.is_some() {
             self.removed += 1;
         } else if kind != StateKind::Guard && !self.lazy {
             self.queue.push_back(id);
         }
         (id, true)
+    }
+
+    /// Inclusion (see `SolveOptions::inclusion`): a surviving state of these locations and kind
+    /// whose zone includes zone `zone_id` once its plan clocks may be lower (a plan clock only
+    /// ever meets a deadline, so a lower one only helps the controller), the latest such first;
+    /// lost states leave the lists as they are met.
+    fn cover(&mut self, env_id: u32, plan_id: u32, zone_id: u32, kind: StateKind) -> Option<StateId> {
+        let covers = self.covers.as_mut()?;
+        let list = covers.get_mut(&(env_id, plan_id, kind))?;
+        let states = &self.space.states;
+        list.retain(|&s| states[s as usize].removal.is_none());
+        let zone = self.space.zones.get(zone_id);
+        let (dim, lowered) = (self.dim, self.deadline_clocks);
+        let mut compared = 0u64;
+        let found = list.iter().rev().copied().find(|&s| {
+            compared += 1;
+            includes_lowered(self.space.zones.get(states[s as usize].zone), zone, dim, lowered)
+        });
+        self.charge(compared * (self.dim * self.dim) as u64);
+        found
+    }
+
+    /// The target of a move: state and, if it is a cover, the move's own zone (`Edge::exact`).
+    pub(super) fn target(
+        &mut self,
+        env_id: u32,
+        plan_id: u32,
+        zone_id: u32,
+        kind: StateKind,
+        vis: Vis,
+    ) -> (StateId, u32) {
+        let own = self.state_index.get(&(env_id, plan_id, zone_id, kind)).copied();
+        let to = match own.or_else(|| self.cover(env_id, plan_id, zone_id, kind)) {
+            Some(to) => to,
+            None => self.add_interned(env_id, plan_id, zone_id, kind, vis).0,
+        };
+        let exact = if self.space.states[to as usize].zone == zone_id { NONE } else { zone_id };
+        (to, exact)
     }
 
     // ----- expansion -----------------------------------------------------------------------
@@ -316,7 +357,12 @@ impl Solver<'_, '_> {
             let vis = if progress { Vis::Fresh } else { Vis::Extend(st.vis) };
             // The strategy-directed search generates an option's target only once it tries it.
             let defer = self.lazy && m.kind == MessageKind::Controllable && !cut;
-            let to = if cut || defer { NONE } else { self.find_or_add(env_id, plan_id, &z, kind, vis).0 };
+            let (to, exact) = if cut || defer {
+                (NONE, NONE)
+            } else {
+                let (zone_id, _) = self.space.zones.intern(z.as_slice());
+                self.target(env_id, plan_id, zone_id, kind, vis)
+            };
             let edge = Edge {
                 from: s,
                 to,
@@ -329,6 +375,7 @@ impl Solver<'_, '_> {
                 class,
                 next_in: NONE,
                 deferred: NONE,
+                exact,
             };
             if m.kind == MessageKind::Controllable && !cut {
                 let before = self.locations_of(st.env).to_vec();
@@ -381,6 +428,7 @@ impl Solver<'_, '_> {
                         class: Class::Wait,
                         next_in: NONE,
                         deferred: NONE,
+                        exact: NONE,
                     };
                     self.add_wait_edge(edge, st.env, st.plan, &closed, StateKind::Waiting, Vis::Same(st.vis));
                 }
@@ -553,6 +601,7 @@ impl Solver<'_, '_> {
                     class: Class::Inert,
                     next_in: NONE,
                     deferred: NONE,
+                    exact: NONE,
                 });
             }
             return;
@@ -602,6 +651,7 @@ impl Solver<'_, '_> {
             class: Class::Wait,
             next_in: NONE,
             deferred: NONE,
+            exact: NONE,
         };
         self.add_wait_edge(edge, env_id, plan_id, &zone, StateKind::Interval, Vis::Extend(st.vis));
     }
@@ -679,6 +729,7 @@ pub(super) fn guard_edge(from: StateId, to: StateId, message: MsgId, instant: bo
         class: Class::Option,
         next_in: NONE,
         deferred: NONE,
+        exact: NONE,
     }
 }
 

@@ -48,10 +48,37 @@ impl Solver<'_, '_> {
             for &s in &trapped {
                 in_trap[s as usize] = true;
             }
+            // Inclusion: a cycle may close only because a move went to a state including its
+            // zone (an earlier state of the same play, say), where the play itself moves on.
+            // Such moves get their own states first; only a trap without them is removed. Each
+            // move is unfolded once, so this ends.
+            if self.covers.is_some() {
+                let folded: Vec<EdgeId> = trapped
+                    .iter()
+                    .flat_map(|&s| self.space.out_edges(s))
+                    .filter(|(_, e)| {
+                        e.exact != NONE
+                            && !e.progress
+                            && !e.zeno
+                            && in_trap.get(e.to as usize).copied().unwrap_or(false)
+                    })
+                    .map(|(id, _)| id)
+                    .collect();
+                if !folded.is_empty() {
+                    for edge in folded {
+                        self.unfold(edge);
+                    }
+                    self.propagate();
+                    return true;
+                }
+            }
             for &s in &trapped {
                 // The plant keeps the plays from progress if one of its moves stays in the trap;
                 // otherwise every alternative of the controller does, and they are cut.
-                let stays = |e: &Edge| !e.progress && !e.zeno && e.to != NONE && in_trap[e.to as usize];
+                // (A state added meanwhile, for a move whose cover was trapped, is not in the trap.)
+                let stays = |e: &Edge| {
+                    !e.progress && !e.zeno && e.to != NONE && in_trap.get(e.to as usize).copied().unwrap_or(false)
+                };
                 let (start, end) = (self.space.states[s as usize].out_start, self.space.states[s as usize].out_end);
                 let culprit = (start..end).find(|&id| {
                     self.space.edges[id as usize].class == Class::Forced && stays(&self.space.edges[id as usize])
@@ -326,10 +353,15 @@ impl Solver<'_, '_> {
             ranks
         };
         let live = |st: &State| st.removal.is_none() && st.expanded;
+        let mut marked = Vec::new();
         for (s, st) in self.space.states.iter_mut().enumerate() {
             if live(st) && ranks[s] == NONE {
                 st.removal = Some(Removal::Unexplored);
+                marked.push(s as StateId);
             }
+        }
+        if self.lazy {
+            self.unexplored_closure(marked);
         }
         // Components of the winning states under their live moves without progress.
         let space = &self.space;
@@ -409,6 +441,52 @@ impl Solver<'_, '_> {
                 }
             }
         }
+    }
+}
+
+impl Solver<'_, '_> {
+    /// Strategy-directed search: a surviving state that relies on a state just marked
+    /// unexplored is not decided either, so it is marked too, backwards from `marked`: a plant
+    /// reaction into one, or no request into a survivor and no waiting whose delays all survive.
+    /// (Plan progress gives a state its rank whatever the move's target, so a ranked state off
+    /// the strategy can lead into an unranked one.)
+    fn unexplored_closure(&mut self, mut marked: Vec<StateId>) {
+        while let Some(y) = marked.pop() {
+            let mut id = self.space.states[y as usize].first_in;
+            while id != NONE {
+                let x = self.space.edges[id as usize].from;
+                id = self.space.edges[id as usize].next_in;
+                let xs = &self.space.states[x as usize];
+                if xs.removal.is_none() && xs.expanded && !self.decided(x) {
+                    self.space.states[x as usize].removal = Some(Removal::Unexplored);
+                    marked.push(x);
+                }
+            }
+        }
+    }
+
+    /// Whether the surviving state `s` keeps its plant reactions among the survivors and has a
+    /// request into a survivor or can wait among them.
+    fn decided(&self, s: StateId) -> bool {
+        let space = &self.space;
+        let (mut option, mut delays, mut delays_live, mut reaction) = (false, false, true, false);
+        for (_, e) in space.out_edges(s) {
+            match e.class {
+                Class::Forced => {
+                    if !space.is_live(e) {
+                        return false;
+                    }
+                    reaction = true;
+                }
+                Class::Option => option |= space.is_live(e),
+                Class::Wait => {
+                    delays = true;
+                    delays_live &= space.is_live(e);
+                }
+                Class::Inert => {}
+            }
+        }
+        option || if delays { delays_live } else { reaction }
     }
 }
 

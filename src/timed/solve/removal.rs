@@ -1,7 +1,8 @@
 //! Removal: the local rule that decides an expanded state, and the backward propagation of
 //! removed states (algorithm 6).
 
-use super::space::{Class, EdgeId, Removal, StateId};
+use super::space::{Class, EdgeId, Label, Removal, StateId};
+use super::zeno::Vis;
 use super::{Solver, NONE, WAIT};
 
 impl Solver<'_, '_> {
@@ -58,12 +59,24 @@ impl Solver<'_, '_> {
             st.removal = Some(reason);
             self.removed += 1;
             self.lost_queue.push(s);
+            if self.covers.is_some() {
+                self.retarget_covered(s);
+            }
         }
     }
 
     /// Algorithm 6: removes, backwards, every state that can no longer avoid a removed one.
     pub(super) fn propagate(&mut self) {
-        while let Some(y) = self.lost_queue.pop() {
+        loop {
+            if let Some(edge) = self.lost_edges.pop() {
+                let x = self.space.edges[edge as usize].from;
+                let xs = &self.space.states[x as usize];
+                if xs.removal.is_none() && xs.expanded {
+                    self.lost_edge(x, edge);
+                }
+                continue;
+            }
+            let Some(y) = self.lost_queue.pop() else { break };
             let mut id = self.space.states[y as usize].first_in;
             while id != NONE {
                 let edge_id = id;
@@ -74,13 +87,109 @@ impl Solver<'_, '_> {
                 if xs.removal.is_some() || !xs.expanded || e.zeno {
                     continue; // a zeno edge was already discounted when it was cut
                 }
-                match e.class {
-                    Class::Forced => self.remove(x, Removal::Forced { edge: edge_id }),
-                    Class::Option => self.option_lost(x, edge_id),
-                    Class::Wait => self.wait_lost(x),
-                    Class::Inert => {}
-                }
+                self.lost_edge(x, edge_id);
             }
+        }
+    }
+
+    /// Move `edge` of the live state `x` leads to a removed state.
+    fn lost_edge(&mut self, x: StateId, edge_id: EdgeId) {
+        match self.space.edges[edge_id as usize].class {
+            Class::Forced => self.remove(x, Removal::Forced { edge: edge_id }),
+            Class::Option => self.option_lost(x, edge_id),
+            Class::Wait => self.wait_lost(x),
+            Class::Inert => {}
+        }
+    }
+
+    /// Inclusion: the moves of live states that went to the removed state `y` because it
+    /// included their own zones lose nothing by its loss. Each gets, at once (before anything
+    /// reads the move as lost), the state of its own zone: not another cover, which a search
+    /// near the largest scan time that works keeps losing too (two machines at 17 ms: 77 694
+    /// states so, 323 444 and the budget when a move may hop from cover to cover).
+    fn retarget_covered(&mut self, y: StateId) {
+        let mut id = self.space.states[y as usize].first_in;
+        let mut kept = NONE;
+        while id != NONE {
+            let edge_id = id;
+            let e = self.space.edges[id as usize];
+            id = e.next_in;
+            if e.exact == NONE || e.zeno || self.space.states[e.from as usize].removal.is_some() {
+                kept = edge_id;
+                continue;
+            }
+            match kept {
+                NONE => self.space.states[y as usize].first_in = e.next_in,
+                k => self.space.edges[k as usize].next_in = e.next_in,
+            }
+            let lost = &self.space.states[y as usize];
+            let (env, plan, kind) = (lost.env, lost.plan, lost.kind);
+            let vis = self.move_vis(edge_id);
+            let to = self.add_interned(env, plan, e.exact, kind, vis).0;
+            self.relink(edge_id, to, NONE);
+        }
+    }
+
+    /// Inclusion: gives the move `edge`, into a state that includes its zone, the state of its
+    /// own zone, as the search without inclusion has it (see `remove_trapped`).
+    pub(super) fn unfold(&mut self, edge_id: EdgeId) {
+        let e = self.space.edges[edge_id as usize];
+        let mut id = self.space.states[e.to as usize].first_in;
+        let mut previous = NONE;
+        while id != NONE && id != edge_id {
+            previous = id;
+            id = self.space.edges[id as usize].next_in;
+        }
+        match previous {
+            NONE => self.space.states[e.to as usize].first_in = e.next_in,
+            p => self.space.edges[p as usize].next_in = e.next_in,
+        }
+        let cover = &self.space.states[e.to as usize];
+        let (env, plan, kind) = (cover.env, cover.plan, cover.kind);
+        let vis = self.move_vis(edge_id);
+        let to = self.add_interned(env, plan, e.exact, kind, vis).0;
+        self.relink(edge_id, to, NONE);
+    }
+
+    /// How the zeno memory of a move's own target is formed (as `expand` forms it).
+    fn move_vis(&self, edge_id: EdgeId) -> Vis {
+        let e = &self.space.edges[edge_id as usize];
+        let from = self.space.states[e.from as usize].vis;
+        if e.progress {
+            Vis::Fresh
+        } else if e.label == Label::Wait {
+            Vis::Same(from)
+        } else {
+            Vis::Extend(from)
+        }
+    }
+
+    /// Points the move `edge` (out of every in-list) at `to`, with `exact` as its own zone:
+    /// a lost target makes the move lost (`lost_edges`, read by `propagate`); a live one is
+    /// needed where the strategy relies on the move.
+    fn relink(&mut self, edge_id: EdgeId, to: StateId, exact: u32) {
+        let target = &mut self.space.states[to as usize];
+        let target_lost = target.removal.is_some();
+        let edge = &mut self.space.edges[edge_id as usize];
+        edge.to = to;
+        edge.exact = exact;
+        edge.next_in = target.first_in;
+        target.first_in = edge_id;
+        let e = *edge;
+        if target_lost {
+            self.lost_edges.push(edge_id);
+            return;
+        }
+        let xs = &self.space.states[e.from as usize];
+        let needed = xs.expanded
+            && match e.class {
+                Class::Forced => true,
+                Class::Option => xs.choice == edge_id,
+                Class::Wait => xs.choice == WAIT,
+                Class::Inert => false,
+            };
+        if needed {
+            self.demand(to);
         }
     }
 

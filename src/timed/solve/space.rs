@@ -89,6 +89,10 @@ pub struct Edge {
     /// A controller option whose target is not generated yet: its index in the solver's
     /// deferred targets (strategy-directed search); `NONE` once generated or in the reference.
     pub(super) deferred: u32,
+    /// Inclusion (scan games): `to` is a state whose zone includes the move's own target zone,
+    /// this one (interned); `NONE` when `to` is the move's own target. Should `to` be lost, the
+    /// move is given the state of its own zone (`Solver::retarget_covered`).
+    pub(super) exact: u32,
 }
 
 impl Edge {
@@ -234,6 +238,12 @@ impl StateSpace {
 
     pub fn zone(&self, s: StateId) -> Dbm {
         Dbm::from_slice(self.dim, self.zones.get(self.states[s as usize].zone))
+    }
+
+    /// The zone move `e` itself leads to, where its target is a state whose zone includes it
+    /// (inclusion, see `SolveOptions::inclusion`); `None` where the target's zone is the move's.
+    pub fn own_zone(&self, e: &Edge) -> Option<Dbm> {
+        (e.exact != NONE).then(|| Dbm::from_slice(self.dim, self.zones.get(e.exact)))
     }
 
     pub fn out_edges(&self, s: StateId) -> impl Iterator<Item = (EdgeId, &Edge)> {

@@ -262,8 +262,9 @@ impl Solver<'_, '_> {
         let index = std::mem::replace(&mut self.space.edges[edge as usize].deferred, NONE);
         let Some(d) = self.deferred[index as usize].take() else { return };
         let from = self.space.edges[edge as usize].from;
-        let target = self.add_interned(d.env, d.plan, d.zone, d.kind, d.vis).0;
+        let (target, exact) = self.target(d.env, d.plan, d.zone, d.kind, d.vis);
         let first = if d.guards.is_empty() {
+            self.space.edges[edge as usize].exact = exact;
             target
         } else {
             let st = self.space.states[from as usize].clone();
@@ -271,7 +272,7 @@ impl Solver<'_, '_> {
             for k in (0..chain.len()).rev() {
                 let next = match chain.get(k + 1) {
                     Some(&next) => guard_edge(chain[k], next, d.guards[k + 1], d.request.instant),
-                    None => Edge { from: chain[k], to: target, ..d.request },
+                    None => Edge { from: chain[k], to: target, exact, ..d.request },
                 };
                 self.commit_edges(chain[k], vec![next]);
                 self.evaluate_lazy(chain[k]);
