@@ -3,8 +3,8 @@
 #
 # What is installed from the network (Debian packages, PyPI, npm, and wasm-bindgen-cli from
 # crates.io) runs in the background while the lints and the native tests compile; the native
-# tests run with cargo-nextest when it is installed (test binaries side by side instead of one
-# after the other), else with `cargo test`. Nothing is cached between runs: each step installs
+# tests run with cargo-nextest when it is installed (a process per test, two at a time), else
+# with `cargo test`. Nothing is cached between runs: each step installs
 # only what is missing, as `make checkers`, `make web-setup` and `make browser-setup` do.
 #
 # The WebAssembly builds (lint, the boundary's tests, the playground) run in the background
