@@ -3,8 +3,7 @@
 //! `tests/fixtures/fuzz/<target>/` is one minimised input; `verdict/` holds the generated
 //! specification as `.tga` text rather than the fuzzer's bytes, so that it can be read.
 
-#[path = "../fuzz/src/lib.rs"]
-mod harness;
+use crate::harness;
 
 use plcsynth::rng::Rng;
 use plcsynth::timed::solve::Verdict;

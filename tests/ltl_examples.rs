@@ -11,7 +11,7 @@
 //! - every synthesised controller becomes code for every structured target, and blark parses
 //!   (xmllint validates) the code of three of them, one with a timer.
 
-mod common;
+use crate::common;
 
 use plcsynth::ltl::{self, Config, Format, Outcome, Spec, Verdict};
 use plcsynth::plc::{self, Target};

@@ -5,8 +5,7 @@
 //! target's (`fuzz/src/lib.rs`, `check_g4ltl`), so both run the same code.
 
 #[allow(dead_code)] // the other targets' checks are used by tests/fuzz_regressions.rs
-#[path = "../fuzz/src/lib.rs"]
-mod harness;
+use crate::harness;
 
 use proptest::prelude::*;
 use std::path::PathBuf;

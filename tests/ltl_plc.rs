@@ -8,7 +8,7 @@
 //! cycle by cycle against the same reference. The checkers come from
 //! `scripts/python-checkers.sh` (run when missing).
 
-mod common;
+use crate::common;
 
 use plcsynth::diag::Span;
 use plcsynth::ltl::{Cube, Machine, Row, Semantics, Signal, SignalId, SignalKind, Spec, StateId, Timer};

@@ -3,7 +3,7 @@
 //! `tests/checkers/ltl_mc.py` (Debian's lbt, no code shared with the engine), and every added
 //! assumption matters (without any one of them the specification is unrealizable again).
 
-mod common;
+use crate::common;
 
 use plcsynth::ltl::{self, Config, Format, Ltl, Outcome, Spec, SuggestConfig, Suggestions, Template, Verdict};
 use std::path::{Path, PathBuf};

@@ -19,7 +19,7 @@
 //! Mutants must be caught: a shortened and a lengthened preset, a flipped output, and G4LTL-ST's
 //! own start `t1(IN := 0, PT := …)` (appendix A), with which awlsim's TON never sets `Q`.
 
-mod common;
+use crate::common;
 
 use common::root;
 use plcsynth::ltl::{self, Config, Format, Ltl, Machine, NumExpr, Relation, SignalId, Spec, Verdict};

@@ -1,7 +1,15 @@
 //! Every native integration test in one binary, a module per file of `tests/`: one link of
 //! the library and its dependencies instead of one per file (`make test` builds on two cores).
 //! Run one file's tests with a filter on its module: `cargo nextest run --test native plc_realtime::`.
-//! (`#[path]` makes each file own its directory, so `mod common;` inside it is `tests/common`.)
+//! The helpers the files share are declared here once (`use crate::common;` in a file).
+
+mod common;
+#[path = "../fuzz/src/lib.rs"]
+mod harness;
+#[path = "common/random_spec.rs"]
+mod random_spec;
+#[path = "common/reference.rs"]
+mod reference;
 
 #[path = "architecture.rs"]
 mod architecture;

@@ -4,7 +4,7 @@
 //! loads and runs the S7 STL. The checkers are installed by `scripts/python-checkers.sh` (`make test`
 //! runs it); without them these tests fail and say so.
 
-mod common;
+use crate::common;
 
 use plcsynth::diag::Diagnostic;
 use plcsynth::plc::{self, Code, Options, OutputFile, Target};

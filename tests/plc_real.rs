@@ -5,7 +5,7 @@
 //! Instruction List is refused, and awlsim runs the STL form over a grid of (x, y) whose
 //! results must equal `f32` evaluation in Rust bit for bit, as must `plc::model::exec`'s.
 
-mod common;
+use crate::common;
 
 use common::{check, venv_tool};
 use plcsynth::plc::model::exec::{Machine, Value};

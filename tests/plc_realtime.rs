@@ -9,9 +9,8 @@
 //! STL in awlsim (`tests/checkers/scan_loop.py`, one process per example on a virtual clock),
 //! whose outputs must equal the Rust interpreter's scan by scan and give the same verdicts.
 
-mod common;
-#[path = "common/random_spec.rs"]
-mod random_spec;
+use crate::common;
+use crate::random_spec;
 
 use common::{root, venv_tool};
 use plcsynth::plc::lower::timed::machine::{Code, Effect, Statement, Test};

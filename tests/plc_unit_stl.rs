@@ -5,7 +5,7 @@
 //! written in STL that calls one of the unit's FCs. awlsim comes from `scripts/python-checkers.sh` (`make test` runs it);
 //! without it these tests fail and say so.
 
-mod common;
+use crate::common;
 
 use plcsynth::plc::model::exec::{Arithmetic, ExecError, Machine, Value};
 use plcsynth::plc::model::unit::{BinOp, Expr, Place, Pou, PouKind, Signal, SignalKind, Stmt, Type, Unit, Var};

@@ -6,11 +6,9 @@
 use plcsynth::program::{self, optimize::Context, simulate};
 use plcsynth::timed::{compile, solve::Verdict, synthesize};
 
-#[path = "common/reference.rs"]
-mod reference;
+use crate::reference;
 
-#[path = "common/random_spec.rs"]
-mod random_spec;
+use crate::random_spec;
 use random_spec::spec;
 
 /// How many random specifications to check: 400 in `make test`, more in `make test-long`

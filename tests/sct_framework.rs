@@ -6,7 +6,7 @@
 //! - by form: every Structured Text output parsed by blark, every PLCopen output validated
 //!   against the TC6 schema, for every example and a generated transfer line.
 
-mod common;
+use crate::common;
 
 use plcsynth::benchmarks::transfer::transfer_lines;
 use plcsynth::plc::fragment::{self, BinOp, ExprKind, UnOp};

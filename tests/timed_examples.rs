@@ -5,8 +5,7 @@ use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpac
 use plcsynth::timed::{compile, model::Game, synthesize, Synthesis};
 use std::path::PathBuf;
 
-#[path = "common/reference.rs"]
-mod reference;
+use crate::reference;
 
 const NONE: u32 = u32::MAX;
 

@@ -1,4 +1,4 @@
-//! The checks behind the fuzz targets, shared with the regression tests: `tests/fuzz_regressions.rs`
+//! The checks behind the fuzz targets, shared with the regression tests: `tests/native.rs`
 //! includes this file as a module, so a saved fuzz input is replayed through exactly the code
 //! that found it. Each check panics on a property violation; a parser error is not one.
 
