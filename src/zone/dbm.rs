@@ -348,12 +348,10 @@ impl Dbm {
     /// covers `other` for a game: whatever wins from `self` wins from `other`.
     ///
     /// ```
-    /// use plcsynth::zone::Dbm;
-    ///
     /// use plcsynth::zone::{Bound, Dbm};
     ///
     /// // x1 = 0 and a deadline clock x2 at 5, or at 3.
-    /// let at = |x2| {
+    /// let at = |x2: i32| {
     ///     let mut z = Dbm::zero(3);
     ///     z.up();
     ///     assert!(z.constrain_interval(2, Bound::le(-x2), Bound::le(x2)));

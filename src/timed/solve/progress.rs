@@ -148,7 +148,12 @@ impl Solver<'_, '_> {
                     None
                 } else if e.is_unexplored() {
                     optimistic.then_some(true)
-                } else if e.to == NONE || space.states[e.to as usize].removal.is_some() {
+                } else if e.to == NONE
+                    || space.states[e.to as usize].removal.is_some()
+                    || (!optimistic && !space.states[e.to as usize].expanded)
+                {
+                    // Counting only what was explored, an unexpanded target is not known to
+                    // survive (the strategy-directed search marks it unexplored at the end).
                     None
                 } else {
                     Some(e.progress)
@@ -175,7 +180,10 @@ impl Solver<'_, '_> {
                 }
             }
             if blocked {
-                continue; // a lost forced move: the safety removal is on its way
+                // A lost forced move: the safety removal is on its way (or, counting only what
+                // was explored, the state is left out); never counted down.
+                forced_wanted[s as usize] = NONE;
+                continue;
             }
             let waits = if wait_blocked || (wait_edges == 0 && !forced_any) { NONE } else { waits };
             forced_wanted[s as usize] = forced;
@@ -201,10 +209,10 @@ impl Solver<'_, '_> {
                     continue;
                 }
                 match e.class {
-                    Class::Forced => forced_wanted[x] -= 1,
+                    Class::Forced if forced_wanted[x] != NONE => forced_wanted[x] -= 1,
                     Class::Option => option_good[x] = true,
                     Class::Wait if waits_wanted[x] != NONE => waits_wanted[x] -= 1,
-                    Class::Wait | Class::Inert => continue,
+                    Class::Forced | Class::Wait | Class::Inert => continue,
                 }
                 if joins(forced_wanted[x], waits_wanted[x], option_good[x]) {
                     rank[x] = rank[y as usize] + 1;
@@ -345,24 +353,32 @@ impl Solver<'_, '_> {
     /// In the strategy-directed search, surviving states outside the ranks (needed by no
     /// strategy, and not decided) are marked unexplored.
     fn keep_rank_decreasing(&mut self, ranks: &[u32]) {
+        let live = |st: &State| st.removal.is_none() && st.expanded;
         let final_ranks;
         let ranks = if self.lazy {
-            final_ranks = self.progress_ranks(Counting::Explored);
+            // The greatest fixpoint over what was explored: a state left out is marked
+            // unexplored, with the survivors that rely on it (`unexplored_closure`); that can
+            // leave out a state whose rank rested on a move with progress into one (progress
+            // counts into surviving states only), so until nothing changes. The strategy's own
+            // states are never left out: its moves rank them.
+            final_ranks = loop {
+                let ranks = self.progress_ranks(Counting::Explored);
+                let mut marked = Vec::new();
+                for (s, st) in self.space.states.iter_mut().enumerate() {
+                    if live(st) && ranks[s] == NONE {
+                        st.removal = Some(Removal::Unexplored);
+                        marked.push(s as StateId);
+                    }
+                }
+                if marked.is_empty() {
+                    break ranks;
+                }
+                self.unexplored_closure(marked);
+            };
             &final_ranks
         } else {
             ranks
         };
-        let live = |st: &State| st.removal.is_none() && st.expanded;
-        let mut marked = Vec::new();
-        for (s, st) in self.space.states.iter_mut().enumerate() {
-            if live(st) && ranks[s] == NONE {
-                st.removal = Some(Removal::Unexplored);
-                marked.push(s as StateId);
-            }
-        }
-        if self.lazy {
-            self.unexplored_closure(marked);
-        }
         // Components of the winning states under their live moves without progress.
         let space = &self.space;
         let nodes: Vec<StateId> =
