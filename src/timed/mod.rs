@@ -127,8 +127,7 @@ impl ScanSynthesis {
     /// Whether some move of the solution goes to a state that includes its zone rather than
     /// to its own (inclusion, see [`solve::SolveOptions::inclusion`]).
     pub fn has_covers(&self) -> bool {
-        let space = &self.synthesis.solution.space;
-        space.edges.iter().any(|e| space.own_zone(e).is_some())
+        self.synthesis.solution.space.edges.iter().any(|e| e.is_covered())
     }
 
     /// The same scan game solved with every zone its own state (no inclusion), if this

@@ -161,7 +161,7 @@ pub fn solve_guided(
     guide: Option<&ScanGuide>,
     progress: &mut dyn FnMut(&Stats) -> bool,
 ) -> Solution {
-    if !(options.inclusion && !options.exhaustive && game.scan.is_some()) {
+    if !uses_inclusion(game, options) {
         return solve_pass(game, split, options, guide, progress, 0);
     }
     // Inclusion decides most scan games with a fraction of the states, but where covers keep
@@ -179,6 +179,11 @@ pub fn solve_guided(
     }
     let exact = SolveOptions { inclusion: false, ..options.clone() };
     solve_pass(game, split, &exact, guide, progress, first.stats.work)
+}
+
+/// Whether a search of `game` with `options` uses inclusion: scan games, strategy-directed.
+fn uses_inclusion(game: &Game, options: &SolveOptions) -> bool {
+    options.inclusion && !options.exhaustive && game.scan.is_some()
 }
 
 /// The part of each budget the search with inclusion gets before the search without it runs
@@ -301,7 +306,7 @@ impl<'g, 'p> Solver<'g, 'p> {
             progress,
             space: StateSpace::empty(dim, plant_count, split.units.len() - plant_count),
             state_index: hashbrown::HashMap::new(),
-            covers: (options.inclusion && !options.exhaustive && game.scan.is_some()).then(hashbrown::HashMap::new),
+            covers: uses_inclusion(game, options).then(hashbrown::HashMap::new),
             deadline_clocks: game.plans.iter().flat_map(|p| &p.clocks).fold(0, |bits, &(c, _)| bits | 1 << c),
             queue: VecDeque::new(),
             lazy: !options.exhaustive,

@@ -122,11 +122,7 @@ impl Solver<'_, '_> {
                 NONE => self.space.states[y as usize].first_in = e.next_in,
                 k => self.space.edges[k as usize].next_in = e.next_in,
             }
-            let lost = &self.space.states[y as usize];
-            let (env, plan, kind) = (lost.env, lost.plan, lost.kind);
-            let vis = self.move_vis(edge_id);
-            let to = self.add_interned(env, plan, e.exact, kind, vis).0;
-            self.relink(edge_id, to, NONE);
+            self.give_own_state(edge_id);
         }
     }
 
@@ -144,6 +140,13 @@ impl Solver<'_, '_> {
             NONE => self.space.states[e.to as usize].first_in = e.next_in,
             p => self.space.edges[p as usize].next_in = e.next_in,
         }
+        self.give_own_state(edge_id);
+    }
+
+    /// Points the covered move `edge`, already out of its cover's in-list, at the state of its
+    /// own zone (same locations and kind as the cover).
+    fn give_own_state(&mut self, edge_id: EdgeId) {
+        let e = self.space.edges[edge_id as usize];
         let cover = &self.space.states[e.to as usize];
         let (env, plan, kind) = (cover.env, cover.plan, cover.kind);
         let vis = self.move_vis(edge_id);

@@ -100,6 +100,12 @@ impl Edge {
     pub fn is_unexplored(&self) -> bool {
         self.deferred != NONE
     }
+
+    /// A move whose target is a state that includes its own zone (inclusion, see
+    /// `SolveOptions::inclusion`; the zone is [`StateSpace::own_zone`]).
+    pub fn is_covered(&self) -> bool {
+        self.exact != NONE
+    }
 }
 
 /// Why a state was removed.
