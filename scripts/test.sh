@@ -43,11 +43,11 @@ wait_checkers() {
         [[ ! -e $setup_broke ]] || setup_failed
         sleep 1
     done
-    phase "checkers ready"
+    phase "checkers ready (installed at $(($(stat -c %Y "$checkers_ready") - started)) s)"
 }
 wait_setup() {
     wait "$setup_pid" || setup_failed
-    phase "wasm-bindgen, npm packages and Chromium ready"
+    phase "wasm-bindgen, npm packages and Chromium ready (installed at $(($(stat -c %Y "$web_ready") - started)) s)"
 }
 trap 'kill -- -"$setup_pid" 2>/dev/null || true' EXIT
 
