@@ -187,3 +187,26 @@ fn unrealizable_random_specs_have_a_counter_play_the_plant_replays() {
         unrealizable - cyclic
     );
 }
+
+/// Seed 1335 (found by `make test-long`): a controller that makes plan progress in zero time
+/// for ever. The closed-loop run cuts such a scan after 10 000 commands; it once cut between a
+/// state's guard test and the request the test guards, a point where no PLC scan ends, and the
+/// plant moved in between (a refused request). The cut now comes right after a request.
+#[test]
+fn a_zeno_scan_is_cut_after_a_request_not_between_a_test_and_its_request() {
+    assert_eq!(check_seed(1335), (true, true));
+}
+
+/// Seed 1068 at 250 ms (found by a sweep of 9 000 seeds): inclusion once sent a move to a state
+/// whose zone was larger in a clock other than the plans'. Downstream of it, a part of the zone
+/// had nothing left but a timeout past a plant invariant, a deadlock, which the larger zone
+/// tolerates as it has another way out: the search won where the reference loses. A cover now
+/// differs from the zones it takes only in the plans' clocks.
+#[test]
+fn covers_differ_from_what_they_cover_only_in_plan_clocks() {
+    let (game, _) = compile(&spec(1068)).expect("seed 1068 compiles");
+    let (verdict, compared) =
+        reference::compare_scan_with_reference(&game, 250, 10_000).unwrap_or_else(|m| panic!("{m}"));
+    assert_eq!(verdict, Verdict::Unrealizable);
+    assert!(compared.is_some(), "within the budget");
+}

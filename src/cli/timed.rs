@@ -34,6 +34,11 @@ pub struct BudgetArgs {
     /// clocks lower; a quarter of every budget): the larger search, for comparison.
     #[arg(long)]
     pub no_inclusion: bool,
+    /// Scan games: explore every new state, rather than counting one lost at once when a lost
+    /// state of the same locations has its clock values with the plans' clocks at most as high
+    /// (dominance): the larger search, for comparison.
+    #[arg(long)]
+    pub no_dominance: bool,
 }
 
 /// The PLC's cycle time.
@@ -192,6 +197,7 @@ impl BudgetArgs {
             exhaustive: self.exhaustive,
             zeno_memory: !self.no_zeno_memory,
             inclusion: !self.no_inclusion,
+            dominance: !self.no_dominance,
             ..SolveOptions::default()
         }
     }

@@ -62,6 +62,8 @@ pub use crate::rng::Rng;
 
 /// How many of the last steps [`RunReport::trace`] keeps.
 const TRACE_LINES: usize = 40;
+/// Commands one scan runs before a zeno loop is cut (at its next request).
+const ZENO_CUT: usize = 10_000;
 
 /// What a step of the trace was.
 #[derive(Clone, Debug)]
@@ -475,6 +477,8 @@ impl<'g> Simulation<'g> {
         let mut acted = false;
         let progress_before = self.report.progress;
         let mut executed = 0usize;
+        // Whether the command run last was a request: the only place where a zeno loop is cut.
+        let mut after_request = false;
         // A scan ends when control comes back to a command it already ran (a wait loop); it
         // then resumes at that command, the head of the loop, as the generated PLC code does.
         // Commands run in this scan (since its last request), by stamp: no set to clear.
@@ -493,16 +497,20 @@ impl<'g> Simulation<'g> {
                 self.report.failure = Some(Failure::ControllerLoops);
                 return acted;
             }
-            if executed > 10_000 {
-                // Acting forever at one instant: a zeno controller. One that keeps making plan
-                // progress is the specification's business (5.1; the PLC code spreads it over
-                // scans); one that makes none is a failure.
+            // Acting forever at one instant: a zeno controller. One that keeps making plan
+            // progress is the specification's business (5.1; the PLC code spreads it over
+            // scans); one that makes none is a failure. The cut comes right after a request, as
+            // a PLC scan ends after writing its outputs, never between a test and the request it
+            // guards (the plant could move in between). Without a request a scan ends within
+            // the program's length (a wait loop), so this check ends every scan.
+            if executed > ZENO_CUT && after_request {
                 if self.report.progress == progress_before {
                     self.report.failure = Some(Failure::ControllerLoops);
                 }
                 return acted;
             }
             let c = program.commands[self.pc];
+            after_request = matches!(c.instruction, Instruction::Do { .. });
             let truth = |sim: &Self, cond: &Condition| match cond {
                 Condition::Message { message } => sim.pending == Some(*message) || sim.guard_values[*message as usize],
                 // `{c} WAIT k`: the timer has reached k (passed k when the bound is open), as the

@@ -32,7 +32,8 @@ pub struct Step {
 pub enum Outcome {
     /// The state itself is a failure.
     Violation { reason: String },
-    /// The plant (or passing time) moves on.
+    /// The plant (or passing time) moves on; or, for a state lost by dominance, the lost state
+    /// that dominates it (the event says so).
     Forced { next: Box<Step> },
     /// Every controller choice fails; one branch per choice.
     Choices { branches: Vec<Step> },
@@ -43,7 +44,8 @@ pub enum Outcome {
 #[derive(Clone, Debug, Serialize)]
 pub struct Explanation {
     pub root: Step,
-    /// Moves the plant needs at most to force a failure.
+    /// Moves the plant needs at most to force a failure (in a scan game, a step from a state
+    /// lost by dominance to the lost state dominating it counts as one).
     pub depth: u32,
 }
 
@@ -78,6 +80,8 @@ fn ranks(space: &StateSpace) -> Ranks {
     let mut pending = vec![0u32; n];
     let mut wait_done = vec![false; n];
     let mut preds: Vec<Vec<u32>> = vec![Vec::new(); n];
+    // States lost by dominance, per the lost state dominating them: one more than its rank.
+    let mut dominated: Vec<Vec<StateId>> = vec![Vec::new(); n];
     let mut queue = VecDeque::new();
     // States of rank 1 from the start go behind those of rank 0: the queue must hold ranks in
     // order, so that a state lost by its last controller choice gets one more than the largest.
@@ -126,12 +130,19 @@ fn ranks(space: &StateSpace) -> Ranks {
                 witness[s] = edge;
                 ones.push(s as StateId);
             }
+            Removal::Dominated { by } => dominated[by as usize].push(s as StateId),
             Removal::Forced { .. } | Removal::NoMove | Removal::Unexplored => {}
         }
     }
     queue.extend(ones);
     while let Some(y) = queue.pop_front() {
         let r = rank[y as usize];
+        for &x in &dominated[y as usize] {
+            if rank[x as usize] == UNRANKED {
+                rank[x as usize] = r + 1;
+                queue.push_back(x);
+            }
+        }
         for &id in &preds[y as usize] {
             let e = &space.edges[id as usize];
             let x = e.from as usize;
@@ -406,6 +417,10 @@ fn step(
             let next = step(game, split, space, ranks, e.to, Some(describe_edge(game, split, e)), depth + 1, budget);
             Outcome::Forced { next: Box::new(next) }
         }
+        Some(Removal::Dominated { by }) => {
+            let next = step(game, split, space, ranks, by, Some(dominated_text(by)), depth + 1, budget);
+            Outcome::Forced { next: Box::new(next) }
+        }
         Some(Removal::NoMove) => {
             let mut branches = Vec::new();
             for (_, e) in space.out_edges(s) {
@@ -532,6 +547,11 @@ pub fn dump(game: &Game, split: &SplitGame, space: &StateSpace) -> String {
     out
 }
 
+/// Why a state lost by dominance is lost, in words.
+fn dominated_text(by: StateId) -> String {
+    format!("lost as s{by} is: the same locations, and s{by}'s clock values lie in this state's with the plans' clocks at most as high")
+}
+
 /// A removal reason in words.
 pub fn removal_text(game: &Game, split: &SplitGame, space: &StateSpace, s: StateId, r: Removal) -> String {
     match r {
@@ -541,6 +561,7 @@ pub fn removal_text(game: &Game, split: &SplitGame, space: &StateSpace, s: State
         Removal::ZenoLoop { edge } => format!("zeno loop: {}", describe_edge(game, split, &space.edges[edge as usize])),
         Removal::NoMove => "every controller move fails and waiting is not possible".to_string(),
         Removal::Unexplored => "not explored: the strategy found does not pass through this state".to_string(),
+        Removal::Dominated { by } => dominated_text(by),
         _ => violation(game, split, space, s).unwrap_or_default(),
     }
 }

@@ -555,6 +555,34 @@ impl Dbm {
     }
 }
 
+/// [`includes_lowered`], and the two zones agree on every other clock: their projections
+/// onto the clocks not in `lowered` (the sub-matrices of canonical zones) are equal, so they
+/// differ only in how far the lowered clocks have run.
+///
+/// ```
+/// use plcsynth::zone::{includes_lowered, includes_only_lowered, Bound, Dbm};
+///
+/// // A deadline clock x2 at 5 or at 3, x1 = 0; and x2 at 5 with x1 anywhere in [0, 1].
+/// let at = |x2: i32, x1_max: i32| {
+///     let mut z = Dbm::zero(3);
+///     z.up();
+///     assert!(z.constrain_interval(2, Bound::le(-x2), Bound::le(x2)));
+///     z.reset(1);
+///     z.up();
+///     assert!(z.constrain_interval(1, Bound::le(0), Bound::le(x1_max)));
+///     z
+/// };
+/// let (late, early, wide) = (at(5, 0), at(3, 0), at(5, 1));
+/// assert!(includes_only_lowered(late.as_slice(), early.as_slice(), 3, 0b100));
+/// assert!(includes_lowered(wide.as_slice(), early.as_slice(), 3, 0b100));
+/// assert!(!includes_only_lowered(wide.as_slice(), early.as_slice(), 3, 0b100));
+/// ```
+pub fn includes_only_lowered(big: &[Bound], small: &[Bound], n: usize, lowered: u64) -> bool {
+    let kept = |c: usize| c == 0 || lowered >> c & 1 == 0;
+    includes_lowered(big, small, n, lowered)
+        && (0..n).filter(|&i| kept(i)).all(|i| (0..n).filter(|&j| kept(j)).all(|j| big[i * n + j] == small[i * n + j]))
+}
+
 /// [`Dbm::includes_lowered`] on the matrices ([`Dbm::as_slice`]) of two canonical, non-empty
 /// zones of dimension `n`: for callers that store zones as slices.
 pub fn includes_lowered(big: &[Bound], small: &[Bound], n: usize, lowered: u64) -> bool {

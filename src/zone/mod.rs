@@ -15,5 +15,5 @@ mod display;
 mod tests;
 
 pub use bound::Bound;
-pub use dbm::{includes_lowered, Dbm};
+pub use dbm::{includes_lowered, includes_only_lowered, Dbm};
 pub use display::{Constraint, DisplayZone};

@@ -2,9 +2,9 @@
 //! --no-zeno-memory`), and the properties both must have.
 
 use plcsynth::timed::model::Game;
-use plcsynth::timed::solve::{EdgeKind, SolveOptions, StateId, StateKind, StateSpace, Verdict};
+use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateKind, StateSpace, Verdict};
 use plcsynth::timed::{synthesize, synthesize_at_scan, Synthesis};
-use plcsynth::zone::Dbm;
+use plcsynth::zone::{includes_only_lowered, Dbm};
 use std::collections::HashSet;
 
 /// A state independent of the run that stored it: sub-locations, plans, zone and kind.
@@ -83,6 +83,38 @@ fn agree(game: &Game, fast: &Synthesis, reference: &Synthesis) -> Result<Option<
             }
         }
     }
+    // A state lost by dominance: the state dominating it has the same locations and kind, is
+    // lost (not merely unexplored), and its zone lies in this one's, plan clocks lowered.
+    for s in 0..f.space.states.len() as StateId {
+        if let Some(Removal::Dominated { by }) = f.space.states[s as usize].removal {
+            let (a, b) = (key(&f.space, s), key(&f.space, by));
+            if (&a.0, &a.1, a.3) != (&b.0, &b.1, b.3) {
+                return Err(format!("s{s} is lost by dominance of s{by}, of other locations or kind"));
+            }
+            if matches!(f.space.states[by as usize].removal, None | Some(Removal::Unexplored)) {
+                return Err(format!("s{s} is lost by dominance of s{by}, which is not lost"));
+            }
+            if !a.2.includes_lowered(&b.2, lowered) {
+                return Err(format!("s{s} is lost by dominance of s{by}, whose zone does not lie in its own"));
+            }
+        }
+    }
+    // A state lost by dominance, and the lost state dominating it, where the reference has
+    // them, are lost there too. (Only where the reference wins: a lost initial state ends its
+    // search before every removal is made, so its survivors need not win.)
+    let reference_complete = r.verdict == Verdict::Realizable;
+    for s in (0..f.space.states.len() as StateId).filter(|_| reference_complete) {
+        if let Some(Removal::Dominated { by }) = f.space.states[s as usize].removal {
+            for (what, t) in [("dominated", s), ("dominating", by)] {
+                if survivors.contains(&key(&f.space, t)) {
+                    return Err(format!(
+                        "s{t} ({what}: s{s} lost by dominance of s{by}, lost as {:?}) wins in the reference",
+                        f.space.states[by as usize].removal
+                    ));
+                }
+            }
+        }
+    }
     Ok(Some((f.stats.visited, r.stats.visited)))
 }
 
@@ -93,13 +125,17 @@ fn deadline_clocks(game: &Game) -> u64 {
 
 /// Every winning state's plant reactions stay winning, and it has a winning request or can wait;
 /// a move to a state whose zone includes the move's own lies in that zone, once the clocks
-/// `lowered` (the plans' deadline clocks) may be lower there.
+/// `lowered` (the plans' deadline clocks) may be lower there, and agrees with it on the others.
 pub fn closed(space: &StateSpace, lowered: u64) -> Result<(), String> {
     for s in space.winning_states() {
         for (_, e) in space.out_edges(s) {
             if let Some(own) = space.own_zone(e) {
-                if !space.zone(e.to).includes_lowered(&own, lowered) {
-                    return Err(format!("s{s}: the move to s{} does not lie in its zone", e.to));
+                let cover = space.zone(e.to);
+                if !includes_only_lowered(cover.as_slice(), own.as_slice(), cover.dim(), lowered) {
+                    return Err(format!(
+                        "s{s}: the move to s{} does not lie in its zone, or differs in other clocks",
+                        e.to
+                    ));
                 }
             }
         }

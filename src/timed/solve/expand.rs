@@ -8,7 +8,7 @@ use super::zeno::Vis;
 use super::{Solver, NONE};
 use crate::timed::model::*;
 use crate::timed::precompute::{SplitGame, SubLocId, STAY};
-use crate::zone::{includes_lowered, Bound, Dbm};
+use crate::zone::{includes_lowered, includes_only_lowered, Bound, Dbm};
 
 /// One discrete move under construction.
 pub(super) struct Move {
@@ -206,7 +206,47 @@ impl Solver<'_, '_> {
         let mut compared = 0u64;
         let found = list.iter().rev().copied().find(|&s| {
             compared += 1;
-            includes_lowered(self.space.zones.get(states[s as usize].zone), zone, dim, lowered)
+            includes_only_lowered(self.space.zones.get(states[s as usize].zone), zone, dim, lowered)
+        });
+        self.charge(compared * (self.dim * self.dim) as u64);
+        found
+    }
+
+    /// [`Self::add_interned`], and a new state lost at once if a lost state dominates it (see
+    /// `SolveOptions::dominance`).
+    pub(super) fn add_checked(
+        &mut self,
+        env_id: u32,
+        plan_id: u32,
+        zone_id: u32,
+        kind: StateKind,
+        vis: Vis,
+    ) -> StateId {
+        let (id, new) = self.add_interned(env_id, plan_id, zone_id, kind, vis);
+        if new && self.space.states[id as usize].removal.is_none() {
+            if let Some(by) = self.dominating_loss(env_id, plan_id, zone_id, kind) {
+                // Born lost, as a state that violates an assertion is: nothing points at it
+                // yet, and whoever links a move to it reads the removal.
+                self.space.states[id as usize].removal = Some(Removal::Dominated { by });
+                self.removed += 1;
+                self.dominated += 1;
+            }
+        }
+        id
+    }
+
+    /// Dominance: a lost state of these locations and kind whose zone lies in zone `zone_id`
+    /// once plan clocks may be lower there (were `zone_id` won, by inclusion so would that
+    /// state be), the latest lost first.
+    fn dominating_loss(&mut self, env_id: u32, plan_id: u32, zone_id: u32, kind: StateKind) -> Option<StateId> {
+        let list = self.losses.as_ref()?.get(&(env_id, plan_id, kind))?;
+        let zone = self.space.zones.get(zone_id);
+        let states = &self.space.states;
+        let (dim, lowered) = (self.dim, self.deadline_clocks);
+        let mut compared = 0u64;
+        let found = list.iter().rev().copied().find(|&s| {
+            compared += 1;
+            includes_lowered(zone, self.space.zones.get(states[s as usize].zone), dim, lowered)
         });
         self.charge(compared * (self.dim * self.dim) as u64);
         found
@@ -224,7 +264,7 @@ impl Solver<'_, '_> {
         let own = self.state_index.get(&(env_id, plan_id, zone_id, kind)).copied();
         let to = match own.or_else(|| self.cover(env_id, plan_id, zone_id, kind)) {
             Some(to) => to,
-            None => self.add_interned(env_id, plan_id, zone_id, kind, vis).0,
+            None => self.add_checked(env_id, plan_id, zone_id, kind, vis),
         };
         let exact = if self.space.states[to as usize].zone == zone_id { NONE } else { zone_id };
         (to, exact)

@@ -103,6 +103,8 @@ pub struct Stats {
     pub winning: usize,
     /// States removed as losing.
     pub removed: usize,
+    /// Of those, states lost on arrival by dominance (`SolveOptions::dominance`), not expanded.
+    pub dominated: usize,
     pub edges: usize,
     /// Distinct zones stored.
     pub zones: usize,
@@ -147,6 +149,7 @@ impl Solver<'_, '_> {
             expanded: self.expanded,
             winning: 0,
             removed: self.removed,
+            dominated: self.dominated,
             edges: s.edges.len(),
             zones: s.zones.len(),
             bytes: self.bytes(),

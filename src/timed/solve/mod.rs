@@ -97,6 +97,12 @@ pub struct SolveOptions {
     /// every budget; if it stops there, the search without inclusion runs with the rest.
     /// `false` stores every zone as its own state at once.
     pub inclusion: bool,
+    /// Scan games, strategy-directed search: a new state is lost at once when a lost state of
+    /// the same locations and kind has a zone that lies in the new one's, plan clocks allowed
+    /// to be lower there (`Removal::Dominated`): the dual of inclusion (were the new state won,
+    /// so would be the lost one). Loss proofs then do not explore again, zone by zone, what
+    /// lower plan clocks already lost. `false` explores every new state.
+    pub dominance: bool,
 }
 
 /// Default state budget: the exhaustive reference stores 824 640 states for round table 8/8
@@ -118,6 +124,7 @@ impl Default for SolveOptions {
             exhaustive: false,
             zeno_memory: true,
             inclusion: true,
+            dominance: true,
         }
     }
 }
@@ -186,6 +193,11 @@ fn uses_inclusion(game: &Game, options: &SolveOptions) -> bool {
     options.inclusion && !options.exhaustive && game.scan.is_some()
 }
 
+/// Whether a search of `game` with `options` uses dominance: scan games, strategy-directed.
+fn uses_dominance(game: &Game, options: &SolveOptions) -> bool {
+    options.dominance && !options.exhaustive && game.scan.is_some()
+}
+
 /// The part of each budget the search with inclusion gets before the search without it runs
 /// (see [`solve_guided`]).
 const INCLUSION_SHARE: usize = 4;
@@ -232,6 +244,13 @@ struct Solver<'g, 'p> {
     state_index: hashbrown::HashMap<(u32, u32, u32, StateKind), StateId>,
     /// Inclusion (see `SolveOptions::inclusion`), when on: the states per discrete part and kind.
     covers: Option<hashbrown::HashMap<(u32, u32, StateKind), Vec<StateId>>>,
+    /// Dominance (see `SolveOptions::dominance`), when on: the lost states per discrete part
+    /// and kind.
+    losses: Option<hashbrown::HashMap<(u32, u32, StateKind), Vec<StateId>>>,
+    /// States lost on arrival by dominance.
+    dominated: usize,
+    /// Dominance: per state, whether its loss carries over to larger zones (`monotone_loss`).
+    monotone: Vec<bool>,
     /// The plans' clocks (a bit per zone index): checked only against deadlines, so a state
     /// with them higher covers one with them lower (inclusion).
     deadline_clocks: u64,
@@ -307,6 +326,9 @@ impl<'g, 'p> Solver<'g, 'p> {
             space: StateSpace::empty(dim, plant_count, split.units.len() - plant_count),
             state_index: hashbrown::HashMap::new(),
             covers: uses_inclusion(game, options).then(hashbrown::HashMap::new),
+            losses: uses_dominance(game, options).then(hashbrown::HashMap::new),
+            dominated: 0,
+            monotone: Vec::new(),
             deadline_clocks: game.plans.iter().flat_map(|p| &p.clocks).fold(0, |bits, &(c, _)| bits | 1 << c),
             queue: VecDeque::new(),
             lazy: !options.exhaustive,

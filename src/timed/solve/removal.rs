@@ -58,10 +58,61 @@ impl Solver<'_, '_> {
         if st.removal.is_none() {
             st.removal = Some(reason);
             self.removed += 1;
+            let key = (st.env, st.plan, st.kind);
             self.lost_queue.push(s);
+            if self.losses.is_some() && self.monotone_loss(s, reason) {
+                if self.monotone.len() <= s as usize {
+                    self.monotone.resize(s as usize + 1, false);
+                }
+                self.monotone[s as usize] = true;
+                if let Some(losses) = self.losses.as_mut() {
+                    losses.entry(key).or_default().push(s);
+                }
+            }
             if self.covers.is_some() {
                 self.retarget_covered(s);
             }
+        }
+    }
+
+    /// Dominance: whether the loss of `s` (for `reason`) carries over to every state of its
+    /// locations and kind whose zone includes its own, plan clocks higher: a violation, or
+    /// reached from violations through plant reactions, lost requests and lost delays alone
+    /// (the larger zone has the same moves, into larger zones). Not a loss for want of time
+    /// passing (a deadlock, or no delay and no reaction: a larger zone may let time pass), on a
+    /// cycle without progress, or through a move cut or never tried.
+    fn monotone_loss(&self, s: StateId, reason: Removal) -> bool {
+        let monotone = |t: StateId| {
+            t != NONE
+                && match self.space.states[t as usize].removal {
+                    Some(Removal::Assertion { .. } | Removal::PlanFailed { .. } | Removal::Dominated { .. }) => true,
+                    Some(_) => self.monotone.get(t as usize).copied().unwrap_or(false),
+                    None => false,
+                }
+        };
+        match reason {
+            Removal::Assertion { .. } | Removal::PlanFailed { .. } => true,
+            Removal::Forced { edge } => {
+                let e = &self.space.edges[edge as usize];
+                !e.zeno && monotone(e.to)
+            }
+            Removal::NoMove => {
+                // Waiting fails for good if a delay leads to such a loss, or if an instant move
+                // is enabled: that depends on the sub-locations alone (every piece of a clock is
+                // a sub-location), so the larger zone cannot wait either.
+                let (mut wait_lost, mut urgent) = (false, false);
+                for (_, e) in self.space.out_edges(s) {
+                    urgent |= e.instant;
+                    match e.class {
+                        Class::Option if e.zeno || !monotone(e.to) => return false,
+                        Class::Wait if e.zeno => return false,
+                        Class::Wait => wait_lost |= monotone(e.to),
+                        _ => {}
+                    }
+                }
+                wait_lost || urgent
+            }
+            _ => false,
         }
     }
 
@@ -150,7 +201,7 @@ impl Solver<'_, '_> {
         let cover = &self.space.states[e.to as usize];
         let (env, plan, kind) = (cover.env, cover.plan, cover.kind);
         let vis = self.move_vis(edge_id);
-        let to = self.add_interned(env, plan, e.exact, kind, vis).0;
+        let to = self.add_checked(env, plan, e.exact, kind, vis);
         self.relink(edge_id, to, NONE);
     }
 

@@ -127,6 +127,10 @@ pub enum Removal {
     /// Not lost, but never explored: the strategy found does not pass through this state, so
     /// nothing is known about what follows it (strategy-directed search only).
     Unexplored,
+    /// Lost on arrival because state `by`, of the same locations and kind, is lost and its zone
+    /// lies in this one's once plan clocks may be lower there (dominance, the dual of
+    /// inclusion: see `SolveOptions::dominance`). Not expanded.
+    Dominated { by: StateId },
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
