@@ -2,7 +2,7 @@
 //! chains, waiting and delay edges, timeouts), the interning of its discrete parts and zones,
 //! and the scan automaton's arming in a scan game.
 
-use super::space::{Class, Edge, EdgeId, EdgeKind, Label, Removal, State, StateId, StateKind};
+use super::space::{Class, Edge, EdgeId, EdgeKind, Label, Removal, State, StateId, StateKind, StateSpace};
 use super::strategy::Deferred;
 use super::zeno::Vis;
 use super::{Solver, NONE};
@@ -201,14 +201,10 @@ impl Solver<'_, '_> {
         let list = covers.get_mut(&(env_id, plan_id, kind))?;
         let states = &self.space.states;
         list.retain(|&s| states[s as usize].removal.is_none());
-        let zone = self.space.zones.get(zone_id);
         let (dim, lowered) = (self.dim, self.deadline_clocks);
-        let mut compared = 0u64;
-        let found = list.iter().rev().copied().find(|&s| {
-            compared += 1;
-            includes_only_lowered(self.space.zones.get(states[s as usize].zone), zone, dim, lowered)
-        });
-        self.charge(compared * (self.dim * self.dim) as u64);
+        let (found, compared) =
+            latest_related(&self.space, list, zone_id, |cover, zone| includes_only_lowered(cover, zone, dim, lowered));
+        self.charge(compared * (dim * dim) as u64);
         found
     }
 
@@ -240,15 +236,10 @@ impl Solver<'_, '_> {
     /// state be), the latest lost first.
     fn dominating_loss(&mut self, env_id: u32, plan_id: u32, zone_id: u32, kind: StateKind) -> Option<StateId> {
         let list = self.losses.as_ref()?.get(&(env_id, plan_id, kind))?;
-        let zone = self.space.zones.get(zone_id);
-        let states = &self.space.states;
         let (dim, lowered) = (self.dim, self.deadline_clocks);
-        let mut compared = 0u64;
-        let found = list.iter().rev().copied().find(|&s| {
-            compared += 1;
-            includes_lowered(zone, self.space.zones.get(states[s as usize].zone), dim, lowered)
-        });
-        self.charge(compared * (self.dim * self.dim) as u64);
+        let (found, compared) =
+            latest_related(&self.space, list, zone_id, |lost, zone| includes_lowered(zone, lost, dim, lowered));
+        self.charge(compared * (dim * dim) as u64);
         found
     }
 
@@ -736,6 +727,23 @@ impl Solver<'_, '_> {
         st.expanded = true;
         self.expanded += 1;
     }
+}
+
+/// The latest of `candidates` whose zone stands in `relation` to zone `zone_id` (the
+/// candidate's matrix first), and how many were compared.
+fn latest_related(
+    space: &StateSpace,
+    candidates: &[StateId],
+    zone_id: u32,
+    relation: impl Fn(&[Bound], &[Bound]) -> bool,
+) -> (Option<StateId>, u64) {
+    let zone = space.zones.get(zone_id);
+    let mut compared = 0u64;
+    let found = candidates.iter().rev().copied().find(|&s| {
+        compared += 1;
+        relation(space.zones.get(space.states[s as usize].zone), zone)
+    });
+    (found, compared)
 }
 
 /// A clock that time can move out of its current piece.
