@@ -84,34 +84,28 @@ fn agree(game: &Game, fast: &Synthesis, reference: &Synthesis) -> Result<Option<
         }
     }
     // A state lost by dominance: the state dominating it has the same locations and kind, is
-    // lost (not merely unexplored), and its zone lies in this one's, plan clocks lowered.
-    for s in 0..f.space.states.len() as StateId {
-        if let Some(Removal::Dominated { by }) = f.space.states[s as usize].removal {
-            let (a, b) = (key(&f.space, s), key(&f.space, by));
-            if (&a.0, &a.1, a.3) != (&b.0, &b.1, b.3) {
-                return Err(format!("s{s} is lost by dominance of s{by}, of other locations or kind"));
-            }
-            if matches!(f.space.states[by as usize].removal, None | Some(Removal::Unexplored)) {
-                return Err(format!("s{s} is lost by dominance of s{by}, which is not lost"));
-            }
-            if !a.2.includes_lowered(&b.2, lowered) {
-                return Err(format!("s{s} is lost by dominance of s{by}, whose zone does not lie in its own"));
-            }
-        }
-    }
-    // A state lost by dominance, and the lost state dominating it, where the reference has
-    // them, are lost there too. (Only where the reference wins: a lost initial state ends its
-    // search before every removal is made, so its survivors need not win.)
+    // lost (not merely unexplored), and its zone lies in this one's, plan clocks lowered. Both,
+    // where the reference has them, are lost there too (only where the reference wins: a lost
+    // initial state ends its search before every removal is made, so its survivors need not win).
     let reference_complete = r.verdict == Verdict::Realizable;
-    for s in (0..f.space.states.len() as StateId).filter(|_| reference_complete) {
-        if let Some(Removal::Dominated { by }) = f.space.states[s as usize].removal {
-            for (what, t) in [("dominated", s), ("dominating", by)] {
-                if survivors.contains(&key(&f.space, t)) {
-                    return Err(format!(
-                        "s{t} ({what}: s{s} lost by dominance of s{by}, lost as {:?}) wins in the reference",
-                        f.space.states[by as usize].removal
-                    ));
-                }
+    for s in 0..f.space.states.len() as StateId {
+        let Some(Removal::Dominated { by }) = f.space.states[s as usize].removal else { continue };
+        let (a, b) = (key(&f.space, s), key(&f.space, by));
+        if (&a.0, &a.1, a.3) != (&b.0, &b.1, b.3) {
+            return Err(format!("s{s} is lost by dominance of s{by}, of other locations or kind"));
+        }
+        if matches!(f.space.states[by as usize].removal, None | Some(Removal::Unexplored)) {
+            return Err(format!("s{s} is lost by dominance of s{by}, which is not lost"));
+        }
+        if !a.2.includes_lowered(&b.2, lowered) {
+            return Err(format!("s{s} is lost by dominance of s{by}, whose zone does not lie in its own"));
+        }
+        for (what, t, k) in [("dominated", s, &a), ("dominating", by, &b)] {
+            if reference_complete && survivors.contains(k) {
+                let why = f.space.states[by as usize].removal;
+                return Err(format!(
+                    "{what} s{t} (s{s} lost by dominance of s{by}, lost as {why:?}) wins in the reference"
+                ));
             }
         }
     }
