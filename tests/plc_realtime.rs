@@ -956,6 +956,40 @@ fn code_of_the_scan_strategy_of_random_specs_holds_in_real_time_and_in_awlsim() 
     );
 }
 
+/// Random spec 33 at 250 ms: the scan strategy sends different requests in two states the PLC
+/// reads alike, but both states have a decision of least goal distance in common; taken from the
+/// whole winning region, it gives a scan program (where the strategy's own split would need a
+/// timer), and that program's code holds in real time.
+#[test]
+fn a_decision_shared_by_states_the_plc_reads_alike_gives_a_scan_program() {
+    const SCAN_MS: u64 = 250;
+    let source = random_spec::spec(33);
+    let (game, _) = compile(&source).unwrap();
+    let budget = SolveOptions::default();
+    let outcome = plcsynth::timed::synthesize_at_scan(&game, SCAN_MS, &budget, &mut |_| true).expect("a scan game");
+    assert_eq!(outcome.synthesis.solution.verdict, plcsynth::timed::solve::Verdict::Realizable);
+    let scan_program = lower_timed::scan_program(&game, &outcome, &mut |_| true).unwrap_or_else(|e| panic!("{e}"));
+    assert!(scan_program.shared_decisions, "the strategy's own decisions suffice: no longer the case this test is for");
+    let p = scan_program.program();
+    let code = lower_timed::build_paced(
+        &game,
+        &p,
+        lower_timed::Pacing::ScanByScan,
+        Target::St,
+        "random_33",
+        &source,
+        &Options::default(),
+    )
+    .unwrap_or_else(|d| panic!("{d:?}"));
+    let config = Config { scan_us: SCAN_MS * 1000, scans: 400, ..Config::default() };
+    for run in 0..10 {
+        let structured = lower_timed::structured(&code.0);
+        let mut controller = UnitInterpreter::new(&structured).unwrap();
+        let r = realtime::run(&game, &code.0, &code.1, &mut controller, &config, run);
+        assert!(r.failure.is_none(), "run {run}:\n{}\nprogram:\n{}", show(&r), p.render(&game));
+    }
+}
+
 /// A plant whose reactions cycle without a time constraint (`a1`: q0 -> q1 -> q3 -> q0, each a
 /// reaction, the plan progressing on one of them) can react without end within one scan. The
 /// run stops there as the plant's doing (`Stop::Timelock`, "zeno" in the trace) instead of

@@ -126,6 +126,10 @@ pub struct ScanProgram {
     pub signals: Vec<Vec<(MsgId, bool)>>,
     /// States visited while following the strategy from read to read.
     pub work: usize,
+    /// Whether the decisions come from the whole winning region (each belief taking a
+    /// decision all its states share) because the strategy's own split two states the PLC
+    /// cannot tell apart.
+    pub shared_decisions: bool,
 }
 
 /// A read state of the scan game with the sensors' memory on arrival.
@@ -145,14 +149,20 @@ struct Extraction<'a> {
     space: &'a StateSpace,
     /// Per state: the strategy's decision at a read (`Some(edge)`), `None` elsewhere.
     decision_edge: Vec<Option<u32>>,
+    /// `Some`: the space is the whole winning region (the exhaustive search), and a belief's
+    /// decision is chosen among the decisions of least goal distance (request selection's rule,
+    /// [`super::select`]) that all its states share, these distances per state; `None`: each
+    /// state decides as the strategy does.
+    distances: Option<Vec<u32>>,
     split: &'a SplitGame,
     /// The scan automaton and its location after an idle read.
     plc: CompId,
     quiet: LocId,
     budget: usize,
     work: usize,
-    /// What follows every element followed so far (an element recurs in many beliefs).
-    memo: HashMap<Element, Followed>,
+    /// What follows every element and decision followed so far (an element recurs in many
+    /// beliefs).
+    memo: HashMap<(Element, u32), Followed>,
     /// The specification's state guards (the scan game has none).
     guard_rules: &'a [GuardRule],
     /// Called with the states followed so far every [`PROGRESS_EVERY`]; `false` stops.
@@ -169,14 +179,40 @@ impl Extraction<'_> {
         self.split.units[plc].sublocs[self.space.env(s)[plc] as usize].location
     }
 
-    /// The request a read's decision sends (`None`: idle).
-    fn request(&self, s: StateId) -> Option<MsgId> {
+    /// The request a decision edge sends (`None`: idle).
+    fn request_of(&self, edge: u32) -> Option<MsgId> {
         let roles = self.game.scan.as_ref()?;
-        let edge = &self.space.edges[self.decision_edge[s as usize]? as usize];
-        match edge.label {
+        match self.space.edges[edge as usize].label {
             Label::Message { message } => roles.commits[message as usize],
             _ => None,
         }
+    }
+
+    /// Whether the PLC decides in state `s`: a read of the strategy (or, in the whole winning
+    /// region, any winning read).
+    fn is_read(&self, s: StateId) -> bool {
+        match &self.distances {
+            None => self.decision_edge[s as usize].is_some(),
+            Some(_) => self.space.is_winning(s) && self.space.out_edges(s).any(|(_, e)| e.kind == EdgeKind::Request),
+        }
+    }
+
+    /// The decisions the PLC may take in read state `s`, preferred first: the strategy's, or
+    /// every live decision of least goal distance (ties in request selection's order).
+    fn options(&self, s: StateId) -> Vec<u32> {
+        let Some(dist) = &self.distances else { return self.decision_edge[s as usize].into_iter().collect() };
+        let mut live: Vec<(u32, Option<&str>, u32)> = self
+            .space
+            .out_edges(s)
+            .filter(|(_, e)| e.kind == EdgeKind::Request && self.space.is_live(e))
+            .map(|(id, _)| {
+                let name = self.request_of(id).map(|r| self.game.messages[r as usize].name.as_str());
+                (super::select::edge_distance(self.space, dist, id), name, id)
+            })
+            .collect();
+        live.sort_unstable();
+        let least = live.first().map(|o| o.0);
+        live.into_iter().take_while(|o| Some(o.0) == least).map(|o| o.2).collect()
     }
 
     /// The plant components' locations in state `s` (the scan automaton's among them).
@@ -187,20 +223,20 @@ impl Extraction<'_> {
 
     /// The read states (with the sensors' memory) the plant can bring the PLC to at its next
     /// read after `element`'s decision, and the guards its request may enter.
-    fn successors(&mut self, element: &Element) -> Result<Followed, ScanProgramError> {
-        if let Some(known) = self.memo.get(element) {
+    fn successors(&mut self, element: &Element, decision: u32) -> Result<Followed, ScanProgramError> {
+        let key = (element.clone(), decision);
+        if let Some(known) = self.memo.get(&key) {
             return Ok(known.clone());
         }
-        let out = self.follow(element)?;
-        self.memo.insert(element.clone(), out.clone());
+        let out = self.follow(element, decision)?;
+        self.memo.insert(key, out.clone());
         Ok(out)
     }
 
     /// [`Extraction::successors`], computed.
-    fn follow(&mut self, element: &Element) -> Result<Followed, ScanProgramError> {
-        let (q, sensors) = element;
-        let Some(decision) = self.decision_edge[*q as usize] else { return Ok(Followed::default()) };
-        let request = self.request(*q);
+    fn follow(&mut self, element: &Element, decision: u32) -> Result<Followed, ScanProgramError> {
+        let (_, sensors) = element;
+        let request = self.request_of(decision);
         let start = self.space.edges[decision as usize].to;
         let mut out = Followed::default();
         if self.plc_location(start) == self.quiet {
@@ -232,7 +268,7 @@ impl Extraction<'_> {
             if self.work % PROGRESS_EVERY == 0 && !(self.keep_going)(self.work) {
                 return Err(ScanProgramError::Cancelled);
             }
-            if self.decision_edge[s as usize].is_some() {
+            if self.is_read(s) {
                 out.next.push((s, sensors));
                 continue;
             }
@@ -308,22 +344,67 @@ pub fn extract(
         Some(exact) => exact,
         None => scan,
     };
+    match follow_beliefs(game, scan, signals, budget, false, keep_going) {
+        Err(ambiguous @ ScanProgramError::Ambiguous { .. }) => {
+            // The strategy picked one of several equally good decisions per state, and two
+            // states the PLC cannot tell apart got different ones: in the whole winning region
+            // (the exhaustive search, every decision's consequences known) a belief may take a
+            // decision all its states share instead.
+            let mut stopped = false;
+            let whole = scan.exhaustive(game, &mut |stats| {
+                stopped = stopped || !keep_going(stats.visited);
+                !stopped
+            });
+            if stopped {
+                return Err(ScanProgramError::Cancelled);
+            }
+            match whole {
+                Some(whole) if whole.synthesis.solution.verdict == crate::timed::solve::Verdict::Realizable => {
+                    match follow_beliefs(game, &whole, signals, budget, true, keep_going) {
+                        Err(ScanProgramError::Budget { .. } | ScanProgramError::Ambiguous { .. }) => Err(ambiguous),
+                        other => other,
+                    }
+                }
+                _ => Err(ambiguous),
+            }
+        }
+        other => other,
+    }
+}
+
+/// The belief construction of [`extract`] on the solved scan game `scan`: each state decides as
+/// its strategy does, or, with `shared`, each belief takes a decision of least goal distance
+/// that all its states share (`scan` must then be the whole winning region).
+fn follow_beliefs(
+    game: &Game,
+    scan: &ScanSynthesis,
+    signals: &[Vec<(MsgId, bool)>],
+    budget: usize,
+    shared: bool,
+    keep_going: &mut dyn FnMut(usize) -> bool,
+) -> Result<ScanProgram, ScanProgramError> {
     let space = &scan.synthesis.solution.space;
     if scan.synthesis.solution.verdict != crate::timed::solve::Verdict::Realizable || !space.is_winning(space.initial) {
         return Err(ScanProgramError::NotImplementable);
     }
     let roles = scan.game.scan.as_ref().ok_or(ScanProgramError::NotImplementable)?;
-    let strategy = super::select::select(&scan.game, space);
     let mut decision_edge = vec![None; space.states.len()];
-    for &s in &strategy.states {
-        if let super::select::Choice::Request(e) = strategy.choice[s as usize] {
-            decision_edge[s as usize] = Some(e);
+    let distances = if shared {
+        Some(super::select::goal_distances(space))
+    } else {
+        let strategy = super::select::select(&scan.game, space);
+        for &s in &strategy.states {
+            if let super::select::Choice::Request(e) = strategy.choice[s as usize] {
+                decision_edge[s as usize] = Some(e);
+            }
         }
-    }
+        None
+    };
     let mut x = Extraction {
         game: &scan.game,
         space,
         decision_edge,
+        distances,
         split: &scan.synthesis.split,
         plc: roles.plc,
         quiet: roles.quiet,
@@ -338,7 +419,7 @@ pub fn extract(
     // Node 0 is the first read, or, where the plant moves at once from its initial state (the
     // round table's instant restart and load), the PLC before its first read, whose image
     // picks the node the first scan decides in.
-    let before_first_read = x.decision_edge[space.initial as usize].is_none();
+    let before_first_read = !x.is_read(space.initial);
     let mut first = Followed::default();
     let mut beliefs: Vec<Vec<Element>> = vec![Vec::new()];
     let mut index: HashMap<Vec<Element>, usize> = HashMap::new();
@@ -353,19 +434,14 @@ pub fn extract(
     while k < beliefs.len() {
         let belief = beliefs[k].clone();
         k += 1;
-        let decision = belief.first().and_then(|e| x.request(e.0));
-        for element in belief.iter().skip(1) {
-            let other = x.request(element.0);
-            if other != decision {
-                return Err(ScanProgramError::Ambiguous { image: element.1.image(), decisions: [decision, other] });
-            }
-        }
+        let (decision, edges) =
+            if k == 1 && before_first_read { (None, Vec::new()) } else { x.shared_decision(&belief)? };
         let mut by_image: Vec<(Vec<bool>, Vec<Element>)> = Vec::new();
         let mut guards: Vec<MsgId> = Vec::new();
         let followed: Vec<Followed> = if k == 1 && before_first_read {
             vec![std::mem::take(&mut first)]
         } else {
-            belief.iter().map(|element| x.successors(element)).collect::<Result<_, _>>()?
+            belief.iter().zip(edges).map(|(element, edge)| x.successors(element, edge)).collect::<Result<_, _>>()?
         };
         for followed in followed {
             guards.extend(followed.guards);
@@ -392,7 +468,34 @@ pub fn extract(
         nodes.push(Node { decision, guards, next, states: belief.len() });
     }
     let nodes = minimise(nodes);
-    Ok(ScanProgram { nodes, before_first_read, signals: signals.to_vec(), work: x.work })
+    Ok(ScanProgram { nodes, before_first_read, signals: signals.to_vec(), work: x.work, shared_decisions: shared })
+}
+
+impl Extraction<'_> {
+    /// The decision of a belief (the request, `None` for idle) and, per element, the edge that
+    /// takes it: the first of the first element's options that every element has.
+    fn shared_decision(&self, belief: &[Element]) -> Result<(Option<MsgId>, Vec<u32>), ScanProgramError> {
+        let options: Vec<Vec<u32>> = belief.iter().map(|e| self.options(e.0)).collect();
+        let pick = |request: Option<MsgId>| -> Option<Vec<u32>> {
+            options.iter().map(|o| o.iter().copied().find(|&edge| self.request_of(edge) == request)).collect()
+        };
+        let first = options.first().map(Vec::as_slice).unwrap_or_default();
+        for &edge in first {
+            let request = self.request_of(edge);
+            if let Some(edges) = pick(request) {
+                return Ok((request, edges));
+            }
+        }
+        // No decision is shared: name the first element's preferred one and one it lacks.
+        let decision = first.first().and_then(|&e| self.request_of(e));
+        let (element, other) = belief
+            .iter()
+            .zip(&options)
+            .find(|(_, o)| !o.iter().any(|&edge| self.request_of(edge) == decision))
+            .map(|(element, o)| (element, o.first().and_then(|&e| self.request_of(e))))
+            .unwrap_or((&belief[0], decision));
+        Err(ScanProgramError::Ambiguous { image: element.1.image(), decisions: [decision, other] })
+    }
 }
 
 /// What a node does, up to the current partition: its class and, per image read next, the

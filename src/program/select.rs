@@ -63,7 +63,8 @@ pub fn goal_distances(space: &StateSpace) -> Vec<u32> {
     dist
 }
 
-fn edge_distance(space: &StateSpace, dist: &[u32], e: EdgeId) -> u32 {
+/// Moves from taking edge `e` to the nearest plan progress (`u32::MAX`: none known).
+pub(crate) fn edge_distance(space: &StateSpace, dist: &[u32], e: EdgeId) -> u32 {
     let edge = &space.edges[e as usize];
     if edge.progress {
         1

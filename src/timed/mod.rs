@@ -141,6 +141,18 @@ impl ScanSynthesis {
         let options = solve::SolveOptions { inclusion: false, ..self.options.clone() };
         synthesize_at_scan(game, self.scan_ms, &options, progress).ok()
     }
+
+    /// The same scan game solved by the exhaustive search (within the same budgets): the whole
+    /// winning region, where every decision's consequences are explored, not only the
+    /// strategy's. `None` if the scan game cannot be built.
+    pub fn exhaustive(
+        &self,
+        game: &model::Game,
+        progress: &mut dyn FnMut(&solve::Stats) -> bool,
+    ) -> Option<ScanSynthesis> {
+        let options = solve::SolveOptions { exhaustive: true, ..self.options.clone() };
+        synthesize_at_scan(game, self.scan_ms, &options, progress).ok()
+    }
 }
 
 /// Solves the scan game of `game` at `scan_ms`: realizable means implementable on a PLC with

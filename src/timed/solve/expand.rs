@@ -181,8 +181,11 @@ impl Solver<'_, '_> {
         };
         self.space.states.push(State::new(env_id, plan_id, zone_id, kind, removal, vis));
         self.state_index.insert(key, id);
-        if let Some(covers) = self.covers.as_mut().filter(|_| removal.is_none()) {
-            covers.entry((env_id, plan_id, kind)).or_default().push(id);
+        if self.covers.is_some() && removal.is_none() {
+            let key = (env_id, plan_id, kind, self.kept_key(zone_id));
+            if let Some(covers) = self.covers.as_mut() {
+                covers.entry(key).or_default().push(id);
+            }
         }
         if removal.is_some() {
             self.removed += 1;
@@ -197,8 +200,8 @@ impl Solver<'_, '_> {
     /// ever meets a deadline, so a lower one only helps the controller), the latest such first;
     /// lost states leave the lists as they are met.
     fn cover(&mut self, env_id: u32, plan_id: u32, zone_id: u32, kind: StateKind) -> Option<StateId> {
-        let covers = self.covers.as_mut()?;
-        let list = covers.get_mut(&(env_id, plan_id, kind))?;
+        let key = (env_id, plan_id, kind, self.kept_key(zone_id));
+        let list = self.covers.as_mut()?.get_mut(&key)?;
         let states = &self.space.states;
         list.retain(|&s| states[s as usize].removal.is_none());
         let (dim, lowered) = (self.dim, self.deadline_clocks);
@@ -206,6 +209,29 @@ impl Solver<'_, '_> {
             latest_related(&self.space, list, zone_id, |cover, zone| includes_only_lowered(cover, zone, dim, lowered));
         self.charge(compared * (dim * dim) as u64);
         found
+    }
+
+    /// The hash of zone `zone_id`'s bounds between clocks other than the plans' (and the zero
+    /// clock): equal for two zones one of which covers the other (`includes_only_lowered`).
+    fn kept_key(&mut self, zone_id: u32) -> u64 {
+        if let Some(&Some(known)) = self.kept_keys.get(zone_id as usize) {
+            return known;
+        }
+        let (dim, lowered) = (self.dim, self.deadline_clocks & !1);
+        let zone = self.space.zones.get(zone_id);
+        // The multiply-rotate mix of rustc's FxHasher: a lookup key, not a defence against
+        // chosen collisions, and cheap next to the comparisons it saves.
+        let mut hash = 0u64;
+        for i in (0..dim).filter(|i| lowered >> i & 1 == 0) {
+            for j in (0..dim).filter(|j| lowered >> j & 1 == 0) {
+                hash = (hash.rotate_left(5) ^ zone[i * dim + j].raw() as u64).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+            }
+        }
+        if self.kept_keys.len() <= zone_id as usize {
+            self.kept_keys.resize(zone_id as usize + 1, None);
+        }
+        self.kept_keys[zone_id as usize] = Some(hash);
+        hash
     }
 
     /// [`Self::add_interned`], and a new state lost at once if a lost state dominates it (see

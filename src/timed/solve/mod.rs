@@ -235,6 +235,9 @@ fn solve_pass(
     Solution { verdict, stats, space, stop }
 }
 
+/// Locations, kind and the hash of the zone without the plans' clocks (see `Solver::covers`).
+type CoverKey = (u32, u32, StateKind, u64);
+
 struct Solver<'g, 'p> {
     game: &'g Game,
     split: &'g SplitGame,
@@ -242,8 +245,13 @@ struct Solver<'g, 'p> {
     progress: &'p mut dyn FnMut(&Stats) -> bool,
     space: StateSpace,
     state_index: hashbrown::HashMap<(u32, u32, u32, StateKind), StateId>,
-    /// Inclusion (see `SolveOptions::inclusion`), when on: the states per discrete part and kind.
-    covers: Option<hashbrown::HashMap<(u32, u32, StateKind), Vec<StateId>>>,
+    /// Inclusion (see `SolveOptions::inclusion`), when on: the states per discrete part, kind
+    /// and [`Solver::kept_key`] of the zone. A cover's zone agrees with the zone it takes on
+    /// every clock but the plans', so only states of the same key can cover one another, and a
+    /// lookup compares a handful of zones, not every zone of the locations.
+    covers: Option<hashbrown::HashMap<CoverKey, Vec<StateId>>>,
+    /// Per interned zone, its key once computed (zones recur in many states).
+    kept_keys: Vec<Option<u64>>,
     /// Dominance (see `SolveOptions::dominance`), when on: the lost states per discrete part
     /// and kind.
     losses: Option<hashbrown::HashMap<(u32, u32, StateKind), Vec<StateId>>>,
@@ -326,6 +334,7 @@ impl<'g, 'p> Solver<'g, 'p> {
             space: StateSpace::empty(dim, plant_count, split.units.len() - plant_count),
             state_index: hashbrown::HashMap::new(),
             covers: uses_inclusion(game, options).then(hashbrown::HashMap::new),
+            kept_keys: Vec::new(),
             losses: uses_dominance(game, options).then(hashbrown::HashMap::new),
             dominated: 0,
             monotone: Vec::new(),
