@@ -35,6 +35,10 @@ use crate::diag::{Diagnostic, Diagnostics, Span};
 use hashbrown::{HashMap, HashSet};
 use std::fmt::Write as _;
 
+/// The attribute holding an event's `.sct` properties (the text between the braces of its
+/// declaration: triggers and actions), so that a project exported and imported again keeps
+/// them.
+pub const SCT_ATTRIBUTE: &str = "plcsynth:sct";
 /// The namespace of Waters modules.
 pub const NS_MODULE: &str = "http://waters.sourceforge.net/xsd/module";
 /// The namespace of Waters base elements (`B:Comment`).
@@ -128,6 +132,8 @@ pub struct Module {
     pub events: Vec<EventId>,
     /// The events marked [`ENFORCEABLE_ATTRIBUTE`].
     pub enforceable: Vec<EventId>,
+    /// The events' attributes (`<AttributeMap>`): event, name, value.
+    pub attributes: Vec<(EventId, String, String)>,
     pub components: Vec<Component>,
     /// Where each event is declared.
     event_spans: HashMap<EventId, Span>,
@@ -160,6 +166,38 @@ pub fn read_wmod_within(src: &str, events: &mut Events, max_states: usize) -> Re
     let doc = roxmltree::Document::parse_with_options(src, options).map_err(|e| xml_error(src, &e))?;
     let mut r = Reader { events, max_states, states: 0, declared: HashMap::new(), aliases: HashMap::new() };
     r.module(doc.root_element())
+}
+
+/// The text of a module file's bytes: UTF-8 as it is; a file that is not UTF-8 but declares a
+/// single-byte Western encoding (`windows-1252`, which Supremica writes, or `ISO-8859-1`) is
+/// decoded from it. `None`: neither (XML without a declaration is UTF-8).
+pub fn decode(bytes: &[u8]) -> Option<std::borrow::Cow<'_, str>> {
+    if let Ok(s) = std::str::from_utf8(bytes) {
+        return Some(std::borrow::Cow::Borrowed(s));
+    }
+    let head = String::from_utf8_lossy(&bytes[..bytes.len().min(200)]).to_ascii_lowercase();
+    let declaration = head.strip_prefix("<?xml").and_then(|h| h.split("?>").next())?;
+    let single_byte = ["windows-1252", "cp1252", "iso-8859-1", "iso8859-1", "latin1", "latin-1"]
+        .iter()
+        .any(|enc| declaration.contains(&format!("\"{enc}\"")) || declaration.contains(&format!("'{enc}'")));
+    if !single_byte {
+        return None;
+    }
+    // Windows-1252's 0x80–0x9F; the rest of the byte range is Latin-1. (Unassigned codes map
+    // to the C1 control of the same number, as browsers do.)
+    const HIGH: [u16; 32] = [
+        0x20AC, 0x81, 0x201A, 0x192, 0x201E, 0x2026, 0x2020, 0x2021, 0x2C6, 0x2030, 0x160, 0x2039, 0x152, 0x8D, 0x17D,
+        0x8F, 0x90, 0x2018, 0x2019, 0x201C, 0x201D, 0x2022, 0x2013, 0x2014, 0x2DC, 0x2122, 0x161, 0x203A, 0x153, 0x9D,
+        0x17E, 0x178,
+    ];
+    let text = bytes
+        .iter()
+        .map(|&b| match b {
+            0x80..=0x9F => char::from_u32(u32::from(HIGH[usize::from(b - 0x80)])).unwrap_or('\u{FFFD}'),
+            b => char::from(b),
+        })
+        .collect();
+    Some(std::borrow::Cow::Owned(text))
 }
 
 /// roxmltree's error, at its text position.
@@ -296,6 +334,7 @@ impl Reader<'_> {
             name,
             events: Vec::new(),
             enforceable: Vec::new(),
+            attributes: Vec::new(),
             components: Vec::new(),
             event_spans: HashMap::new(),
         };
@@ -340,17 +379,18 @@ impl Reader<'_> {
                 return Err(WmodError::at(attr_span(d, "Observable"), format!("event `{name}` is unobservable"))
                     .note("SupCon here assumes every event is observed; unobservable events are not read"));
             }
-            let mut enforceable = false;
+            let mut attributes: Vec<(String, String)> = Vec::new();
             for c in d.children().filter(|c| c.is_element()) {
                 if local(c) == "AttributeMap" {
-                    enforceable |= c
-                        .children()
-                        .filter(|a| a.is_element() && local(*a) == "Attribute")
-                        .any(|a| a.attribute("Name") == Some(ENFORCEABLE_ATTRIBUTE) && a.attribute("Value") != Some("false"));
+                    for a in c.children().filter(|a| a.is_element() && local(*a) == "Attribute") {
+                        let key = a.attribute("Name").unwrap_or_default().to_string();
+                        attributes.push((key, a.attribute("Value").unwrap_or_default().to_string()));
+                    }
                 } else if !is_presentation(c) {
                     return Err(unsupported(c, "EventDecl"));
                 }
             }
+            let enforceable = attributes.iter().any(|(k, v)| k == ENFORCEABLE_ATTRIBUTE && v != "false");
             let declared = match kind {
                 "PROPOSITION" => match name {
                     ":accepting" => Declared::Accepting,
@@ -368,6 +408,7 @@ impl Reader<'_> {
                     if enforceable {
                         module.enforceable.push(e);
                     }
+                    module.attributes.extend(attributes.into_iter().map(|(k, v)| (e, k, v)));
                     Declared::Event(e)
                 }
                 _ => {
@@ -736,16 +777,16 @@ pub struct ComponentOut<'a> {
 }
 
 /// Writes a module of `components`, declaring the events of their alphabets (controllability
-/// from `events`, `enforceable` with [`ENFORCEABLE_ATTRIBUTE`]) and `:accepting`; `comment`,
-/// if not empty, becomes the module's `<B:Comment>`. State names are the automata's, made
-/// unique within a component (`name`, `name_2`, …; `s<id>` for empty names), so that edges can
-/// refer to them.
+/// from `events`) with their `attributes` (event, name, value: an `<AttributeMap>`, such as
+/// [`ENFORCEABLE_ATTRIBUTE`]) and `:accepting`; `comment`, if not empty, becomes the module's
+/// `<B:Comment>`. State names are the automata's, made unique within a component (`name`,
+/// `name_2`, …; `s<id>` for empty names), so that edges can refer to them.
 pub fn write_wmod(
     module_name: &str,
     comment: &str,
     components: &[ComponentOut],
     events: &Events,
-    enforceable: &[EventId],
+    attributes: &[(EventId, &str, String)],
 ) -> String {
     let mut used: Vec<EventId> = components.iter().flat_map(|c| c.automaton.alphabet().iter().copied()).collect();
     used.sort_unstable();
@@ -759,14 +800,16 @@ pub fn write_wmod(
     for &e in &used {
         let kind = if events.is_controllable(e) { "CONTROLLABLE" } else { "UNCONTROLLABLE" };
         let name = escape(events.name(e));
-        if enforceable.contains(&e) {
-            let _ = writeln!(
-                o,
-                "<EventDecl Kind=\"{kind}\" Name=\"{name}\">\n<AttributeMap>\n<Attribute Name=\"{ENFORCEABLE_ATTRIBUTE}\" Value=\"true\"/>\n</AttributeMap>\n</EventDecl>"
-            );
-        } else {
+        let attrs: Vec<&(EventId, &str, String)> = attributes.iter().filter(|a| a.0 == e).collect();
+        if attrs.is_empty() {
             let _ = writeln!(o, "<EventDecl Kind=\"{kind}\" Name=\"{name}\"/>");
+            continue;
         }
+        let _ = writeln!(o, "<EventDecl Kind=\"{kind}\" Name=\"{name}\">\n<AttributeMap>");
+        for (_, key, value) in attrs {
+            let _ = writeln!(o, "<Attribute Name=\"{}\" Value=\"{}\"/>", escape(key), escape(value));
+        }
+        o.push_str("</AttributeMap>\n</EventDecl>\n");
     }
     o.push_str("</EventDeclList>\n<ComponentList>\n");
     for c in components {
@@ -949,14 +992,18 @@ mod tests {
     fn round_trips_through_the_writer() {
         let mut ev = Events::new();
         let m = read_wmod(SUPREMICA_STYLE, &mut ev).unwrap();
-        let enforceable = vec![ev.get("start").unwrap()];
+        let attributes = vec![
+            (ev.get("start").unwrap(), ENFORCEABLE_ATTRIBUTE, "true".to_string()),
+            (ev.get("break").unwrap(), "note", "a\n\"b\" <c>".to_string()),
+        ];
         let out: Vec<ComponentOut> =
             m.components.iter().map(|c| ComponentOut { name: &c.name, kind: c.kind, automaton: &c.automaton }).collect();
-        let text = write_wmod("cell <2>", "a \"comment\"", &out, &ev, &enforceable);
+        let text = write_wmod("cell <2>", "a \"comment\"", &out, &ev, &attributes);
         let mut ev2 = Events::new();
         let back = read_wmod(&text, &mut ev2).unwrap_or_else(|e| panic!("{e:?}\n{text}"));
         assert_eq!(back.name, "cell <2>");
         assert_eq!(back.enforceable, vec![ev2.get("start").unwrap()]);
+        assert!(back.attributes.contains(&(ev2.get("break").unwrap(), "note".to_string(), "a\n\"b\" <c>".to_string())));
         for (a, b) in m.components.iter().zip(&back.components) {
             assert_eq!((a.name.as_str(), a.kind), (b.name.as_str(), b.kind));
             let (x, y) = (&a.automaton, &b.automaton);
