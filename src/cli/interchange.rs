@@ -142,7 +142,11 @@ pub fn import(a: &ImportArgs) -> ExitCode {
         };
         budget = budget.saturating_sub(g.automaton.num_states());
         let stem = std::path::Path::new(path).file_stem().and_then(|s| s.to_str()).unwrap_or("generator").to_string();
-        inputs.push(Input { path: path.clone(), src, parts: vec![(stem, kind, g.automaton, Span::default(), Vec::new())] });
+        inputs.push(Input {
+            path: path.clone(),
+            src,
+            parts: vec![(stem, kind, g.automaton, Span::default(), Vec::new())],
+        });
     }
     // Parts of all files in one list; `owner[k]` is the file of part k.
     let mut parts = Vec::new();
@@ -298,7 +302,10 @@ pub(crate) fn module_side(
     match compose(&parts, events, max_states) {
         Some(a) => Ok(a),
         None => {
-            eprintln!("error: the {} components of `{path}` compose to more than {max_states} states", if plant { "plant" } else { "specification" });
+            eprintln!(
+                "error: the {} components of `{path}` compose to more than {max_states} states",
+                if plant { "plant" } else { "specification" }
+            );
             eprintln!("note: the state budget is {max_states} states; raise it with --max-states N");
             Err(ExitCode::from(3))
         }

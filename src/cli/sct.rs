@@ -322,7 +322,9 @@ pub fn supcon(a: &SupconArgs) -> ExitCode {
     };
     let spec = match &a.spec {
         Some(path) => read_side(path, false, &mut events, a.max_states),
-        None if a.plant.to_ascii_lowercase().ends_with(".wmod") => read_side(&a.plant, false, &mut events, a.max_states),
+        None if a.plant.to_ascii_lowercase().ends_with(".wmod") => {
+            read_side(&a.plant, false, &mut events, a.max_states)
+        }
         None => {
             eprintln!("error: a specification file is needed with a `.gen` plant");
             return ExitCode::from(2);

@@ -65,9 +65,37 @@ impl PartError {
 /// Names of the `.sct` grammar that a generated name avoids (they are contextual keywords, but
 /// `forbid x;` or `state initial initial` would read ambiguously to a person).
 const RESERVED: &[&str] = &[
-    "module", "event", "timer", "plant", "spec", "template", "instance", "state", "initial", "forbid", "alphabet",
-    "selfloops", "impossible", "if", "and", "or", "not", "true", "false", "controllable", "uncontrollable",
-    "enforceable", "bind", "namespace", "detect", "executed", "reset", "on", "duration", "start", "stop",
+    "module",
+    "event",
+    "timer",
+    "plant",
+    "spec",
+    "template",
+    "instance",
+    "state",
+    "initial",
+    "forbid",
+    "alphabet",
+    "selfloops",
+    "impossible",
+    "if",
+    "and",
+    "or",
+    "not",
+    "true",
+    "false",
+    "controllable",
+    "uncontrollable",
+    "enforceable",
+    "bind",
+    "namespace",
+    "detect",
+    "executed",
+    "reset",
+    "on",
+    "duration",
+    "start",
+    "stop",
 ];
 
 /// Makes names identifiers (`[A-Za-z_][A-Za-z0-9_]*`, not reserved) and unique within one
@@ -193,7 +221,11 @@ pub fn classic_to_sct(
             }
             None => {
                 if kind == "enforceable" {
-                    let _ = writeln!(body, "// `{}` is enforceable: give it its `on accept \"...\";` code.", event_names[&e]);
+                    let _ = writeln!(
+                        body,
+                        "// `{}` is enforceable: give it its `on accept \"...\";` code.",
+                        event_names[&e]
+                    );
                 }
                 let _ = writeln!(body, "event {} : {kind};", event_names[&e]);
             }
@@ -227,12 +259,8 @@ pub fn classic_to_sct(
                 items.push(format!("{} -> {};", event_names[&edge.event], names[edge.target as usize]));
             }
             if !plant {
-                let forbidden: Vec<&str> = a
-                    .alphabet()
-                    .iter()
-                    .filter(|&&e| a.step(s, e).is_none())
-                    .map(|e| event_names[e].as_str())
-                    .collect();
+                let forbidden: Vec<&str> =
+                    a.alphabet().iter().filter(|&&e| a.step(s, e).is_none()).map(|e| event_names[e].as_str()).collect();
                 if !forbidden.is_empty() {
                     items.push(format!("forbid {};", forbidden.join(", ")));
                 }
@@ -288,8 +316,11 @@ pub fn project_to_classic(src: &str, loaded: &Loaded, supervisors: &[&Supervisor
         let name = waters_name(&info.name);
         if let Some(&j) = safe.get(&name) {
             let span = loaded.events.get(i).map_or(Span::default(), |m| m.spans.name);
-            d.error(span, format!("events `{}` and `{}` both become `{name}` in a Waters module", p.events[j].name, info.name))
-                .with_note("Waters names are identifiers: the dots of qualified names become `_`; rename one of them");
+            d.error(
+                span,
+                format!("events `{}` and `{}` both become `{name}` in a Waters module", p.events[j].name, info.name),
+            )
+            .with_note("Waters names are identifiers: the dots of qualified names become `_`; rename one of them");
         }
         safe.insert(name.clone(), i);
         let e = events.intern(&name, info.kind != EventKind::Uncontrollable);
@@ -389,10 +420,15 @@ pub fn project_to_classic(src: &str, loaded: &Loaded, supervisors: &[&Supervisor
         .events
         .iter()
         .enumerate()
-        .filter_map(|(i, m)| event_body(src, m.spans.name.end as usize).map(|b| (EventId(i as u32), b.to_string())))
+        .filter_map(|(i, m)| {
+            event_body(src, m.spans.name.end as usize).map(|b| (EventId(i as u32), b.trim().to_string()))
+        })
         .collect();
     for t in &loaded.timers {
-        left_out.push(format!("timer `{}` ({} ms from `{}`): `{}` is an uncontrollable event", t.name, t.duration_ms, t.start, t.timeout));
+        left_out.push(format!(
+            "timer `{}` ({} ms from `{}`): `{}` is an uncontrollable event",
+            t.name, t.duration_ms, t.start, t.timeout
+        ));
     }
     let mut enforcement = Vec::new();
     for sup in supervisors {
@@ -500,7 +536,7 @@ fn event_body(src: &str, name_end: usize) -> Option<&str> {
             b'}' => {
                 depth = depth.checked_sub(1)?;
                 if depth == 0 {
-                    return src.get(open? ..i);
+                    return src.get(open?..i);
                 }
             }
             _ => {}

@@ -5,7 +5,7 @@
 //! Kind="CONTROLLABLE|UNCONTROLLABLE|PROPOSITION" Name=…>`, an optional `<EventAliasList>` and a
 //! `<ComponentList>` of `<SimpleComponent Kind="PLANT|SPEC|SUPERVISOR|PROPERTY" Name=…>`, each
 //! holding one `<Graph>`: an optional `<LabelBlock>` of *blocked* events (in the component's
-//! alphabet, on no edge), a `<NodeList>` of `<SimpleNode Name=… Initial="true">` whose
+//! alphabet, on no edge; `:accepting` there when no state is marked), a `<NodeList>` of `<SimpleNode Name=… Initial="true">` whose
 //! `<EventList>` names the propositions `:accepting` (marked) and `:forbidden`, and an
 //! `<EdgeList>` of `<Edge Source=… Target=…>` whose `<LabelBlock>` names one or more events or
 //! event aliases (an edge with several labels is several transitions).
@@ -264,7 +264,9 @@ fn local<'a>(n: Node<'a, '_>) -> &'a str {
 /// Elements that only carry layout or tool data: skipped wherever they appear.
 fn is_presentation(n: Node) -> bool {
     let name = local(n);
-    name.ends_with("Geometry") || name == "AttributeMap" || (name == "Comment" && n.tag_name().namespace() == Some(NS_BASE))
+    name.ends_with("Geometry")
+        || name == "AttributeMap"
+        || (name == "Comment" && n.tag_name().namespace() == Some(NS_BASE))
 }
 
 /// Why an element is refused, for its error's note.
@@ -309,16 +311,24 @@ fn elements<'a, 'i>(n: Node<'a, 'i>) -> Result<Vec<Node<'a, 'i>>, WmodError> {
     Ok(out)
 }
 
+/// Attribute `name`, which must be present and (a name, a kind) not empty.
 fn required<'a>(n: Node<'a, '_>, name: &str) -> Result<&'a str, WmodError> {
-    n.attribute(name).ok_or_else(|| WmodError::at(tag_span(n), format!("<{}> needs a `{name}` attribute", local(n))))
+    match n.attribute(name) {
+        None => Err(WmodError::at(tag_span(n), format!("<{}> needs a `{name}` attribute", local(n)))),
+        Some("") => Err(WmodError::at(attr_span(n, name), format!("the `{name}` of <{}> is empty", local(n)))),
+        Some(v) => Ok(v),
+    }
 }
 
 /// Refuses namespaces other than the module's (and no namespace, for hand-written files).
 fn check_namespace(n: Node) -> Result<(), WmodError> {
     match n.tag_name().namespace() {
         None | Some(NS_MODULE) => Ok(()),
-        Some(ns) => Err(WmodError::at(tag_span(n), format!("<{}> in the namespace `{ns}` is not part of a Waters module", local(n)))
-            .note(format!("Waters modules use `{NS_MODULE}`"))),
+        Some(ns) => Err(WmodError::at(
+            tag_span(n),
+            format!("<{}> in the namespace `{ns}` is not part of a Waters module", local(n)),
+        )
+        .note(format!("Waters modules use `{NS_MODULE}`"))),
     }
 }
 
@@ -357,7 +367,9 @@ impl Reader<'_> {
                 }
             }
         }
-        if let Some(&c) = children.iter().find(|c| !matches!(local(**c), "EventDeclList" | "EventAliasList" | "ComponentList")) {
+        if let Some(&c) =
+            children.iter().find(|c| !matches!(local(**c), "EventDeclList" | "EventAliasList" | "ComponentList"))
+        {
             return Err(unsupported(c, "Module"));
         }
         Ok(module)
@@ -397,6 +409,10 @@ impl Reader<'_> {
                     ":forbidden" => Declared::Forbidden,
                     _ => Declared::Proposition,
                 },
+                "CONTROLLABLE" | "UNCONTROLLABLE" if matches!(name, ":accepting" | ":forbidden") => {
+                    return Err(WmodError::at(attr_span(d, "Kind"), format!("`{name}` is a proposition, not an event"))
+                        .note("declare it with Kind=\"PROPOSITION\""))
+                }
                 "CONTROLLABLE" | "UNCONTROLLABLE" => {
                     let controllable = kind == "CONTROLLABLE";
                     let e = self.events.intern(name, controllable);
@@ -484,9 +500,17 @@ impl Reader<'_> {
                         }
                         None if self.aliases.contains_key(m.as_str()) => {}
                         None if pending.iter().any(|(n, _, _)| n == m) => {
-                            return Err(WmodError::at(*span, format!("alias `{alias}` is part of a cycle of aliases through `{m}`")))
+                            return Err(WmodError::at(
+                                *span,
+                                format!("alias `{alias}` is part of a cycle of aliases through `{m}`"),
+                            ))
                         }
-                        None => return Err(WmodError::at(*span, format!("alias `{alias}` names `{m}`, which is not declared"))),
+                        None => {
+                            return Err(WmodError::at(
+                                *span,
+                                format!("alias `{alias}` names `{m}`, which is not declared"),
+                            ))
+                        }
                     }
                 }
                 return Err(WmodError::at(pending[0].1, format!("alias `{alias}` cannot be resolved")));
@@ -599,7 +623,12 @@ impl Reader<'_> {
             let is_initial = match n.attribute("Initial") {
                 None | Some("false") => false,
                 Some("true") => true,
-                Some(v) => return Err(WmodError::at(attr_span(n, "Initial"), format!("`Initial` is `{v}`, not `true` or `false`"))),
+                Some(v) => {
+                    return Err(WmodError::at(
+                        attr_span(n, "Initial"),
+                        format!("`Initial` is `{v}`, not `true` or `false`"),
+                    ))
+                }
             };
             let (mut marked, mut is_forbidden) = (false, false);
             for list in elements(n)? {
@@ -617,16 +646,25 @@ impl Reader<'_> {
                         Some(Declared::Accepting) => marked = true,
                         Some(Declared::Forbidden) => is_forbidden = true,
                         Some(Declared::Proposition) => {
-                            return Err(WmodError::at(attr_span(id, "Name"), format!("the proposition `{p}` is not read"))
-                                .note("plcsynth reads the propositions `:accepting` and `:forbidden` only"))
+                            return Err(WmodError::at(
+                                attr_span(id, "Name"),
+                                format!("the proposition `{p}` is not read"),
+                            )
+                            .note("plcsynth reads the propositions `:accepting` and `:forbidden` only"))
                         }
                         Some(Declared::Event(_)) => {
-                            return Err(WmodError::at(attr_span(id, "Name"), format!("the event `{p}` is listed on a node"))
-                                .note("a node's <EventList> holds propositions (`:accepting`, `:forbidden`)"))
+                            return Err(WmodError::at(
+                                attr_span(id, "Name"),
+                                format!("the event `{p}` is listed on a node"),
+                            )
+                            .note("a node's <EventList> holds propositions (`:accepting`, `:forbidden`)"))
                         }
                         None => {
-                            return Err(WmodError::at(attr_span(id, "Name"), format!("`{p}` is not a declared proposition"))
-                                .note("declare `:accepting` with Kind=\"PROPOSITION\""))
+                            return Err(WmodError::at(
+                                attr_span(id, "Name"),
+                                format!("`{p}` is not a declared proposition"),
+                            )
+                            .note("declare `:accepting` with Kind=\"PROPOSITION\""))
                         }
                     }
                 }
@@ -646,7 +684,10 @@ impl Reader<'_> {
             if self.states >= self.max_states {
                 return Err(WmodError {
                     over_budget: true,
-                    ..WmodError::at(nspan, format!("the module declares more than {} states, the state budget", self.max_states))
+                    ..WmodError::at(
+                        nspan,
+                        format!("the module declares more than {} states, the state budget", self.max_states),
+                    )
                 }
                 .note("raise the budget (`--max-states N`) if the module is meant to be this large"));
             }
@@ -691,7 +732,10 @@ impl Reader<'_> {
                 match by_name.get(v) {
                     Some(&(s, _)) => ends[k] = s,
                     None => {
-                        return Err(WmodError::at(attr_span(edge, attr), format!("`{v}` is not a node of component `{name}`")))
+                        return Err(WmodError::at(
+                            attr_span(edge, attr),
+                            format!("`{v}` is not a node of component `{name}`"),
+                        ))
                     }
                 }
             }
@@ -738,9 +782,8 @@ impl Reader<'_> {
                 }
             }
         }
-        let automaton = b
-            .build()
-            .map_err(|_| WmodError::at(span, format!("component `{name}` is not a valid automaton")))?;
+        let automaton =
+            b.build().map_err(|_| WmodError::at(span, format!("component `{name}` is not a valid automaton")))?;
         Ok(Component { name, kind, automaton, span, state_spans, forbidden })
     }
 }
@@ -823,8 +866,14 @@ pub fn write_wmod(
             }
         }
         let blocked: Vec<EventId> = a.alphabet().iter().copied().filter(|e| !on_edge[e.0 as usize]).collect();
-        if !blocked.is_empty() {
+        // No state marked: `:accepting` in the alphabet all the same, or every state would
+        // read as marked.
+        let unmarked = a.num_states() > 0 && (0..a.num_states() as StateId).all(|s| !a.is_marked(s));
+        if !blocked.is_empty() || unmarked {
             o.push_str("<LabelBlock>\n");
+            if unmarked {
+                o.push_str("<SimpleIdentifier Name=\":accepting\"/>\n");
+            }
             for e in blocked {
                 let _ = writeln!(o, "<SimpleIdentifier Name=\"{}\"/>", escape(events.name(e)));
             }
@@ -978,11 +1027,14 @@ mod tests {
         // specification disables it; `start` is blocked (in the alphabet, on no edge).
         let s = &spec.automaton;
         assert_eq!((s.num_states(), s.num_transitions(), spec.forbidden), (1, 0, 1));
-        assert_eq!(s.alphabet(), &{
-            let mut v = vec![start, brk];
-            v.sort();
-            v
-        }[..]);
+        assert_eq!(
+            s.alphabet(),
+            &{
+                let mut v = vec![start, brk];
+                v.sort();
+                v
+            }[..]
+        );
         // No `:accepting` in the specification: every state marked.
         assert!(s.is_marked(0));
         assert_eq!(&SUPREMICA_STYLE[plant.span.range()], "M");
@@ -996,8 +1048,11 @@ mod tests {
             (ev.get("start").unwrap(), ENFORCEABLE_ATTRIBUTE, "true".to_string()),
             (ev.get("break").unwrap(), "note", "a\n\"b\" <c>".to_string()),
         ];
-        let out: Vec<ComponentOut> =
-            m.components.iter().map(|c| ComponentOut { name: &c.name, kind: c.kind, automaton: &c.automaton }).collect();
+        let out: Vec<ComponentOut> = m
+            .components
+            .iter()
+            .map(|c| ComponentOut { name: &c.name, kind: c.kind, automaton: &c.automaton })
+            .collect();
         let text = write_wmod("cell <2>", "a \"comment\"", &out, &ev, &attributes);
         let mut ev2 = Events::new();
         let back = read_wmod(&text, &mut ev2).unwrap_or_else(|e| panic!("{e:?}\n{text}"));
@@ -1007,7 +1062,10 @@ mod tests {
         for (a, b) in m.components.iter().zip(&back.components) {
             assert_eq!((a.name.as_str(), a.kind), (b.name.as_str(), b.kind));
             let (x, y) = (&a.automaton, &b.automaton);
-            assert_eq!((x.num_states(), x.num_transitions(), x.init()), (y.num_states(), y.num_transitions(), y.init()));
+            assert_eq!(
+                (x.num_states(), x.num_transitions(), x.init()),
+                (y.num_states(), y.num_transitions(), y.init())
+            );
             for s in 0..x.num_states() as StateId {
                 assert_eq!(x.is_marked(s), y.is_marked(s));
                 assert_eq!(x.state_name(s), y.state_name(s));
@@ -1135,7 +1193,9 @@ mod tests {
             .replace("<EventDeclList>", "<EventDeclList><EventDecl Kind=\"PROPOSITION\" Name=\":forbidden\"/>");
         assert_eq!(error(&src).2, "plant `P` has the forbidden state `p`");
         let nodes: String = (0..10).map(|i| format!("<SimpleNode Name=\"s{i}\"/>")).collect();
-        let src = module(&format!("<SimpleComponent Kind=\"SPEC\" Name=\"S\"><Graph><NodeList>{nodes}</NodeList></Graph></SimpleComponent>"));
+        let src = module(&format!(
+            "<SimpleComponent Kind=\"SPEC\" Name=\"S\"><Graph><NodeList>{nodes}</NodeList></Graph></SimpleComponent>"
+        ));
         let e = read_wmod_within(&src, &mut Events::new(), 5).unwrap_err();
         assert!(e.over_budget && e.message.contains("more than 5 states"), "{e:?}");
         assert!(read_wmod_within(&src, &mut Events::new(), 10).is_ok());
