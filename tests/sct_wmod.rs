@@ -473,8 +473,8 @@ proptest! {
             1..4),
     ) {
         let mut ev = Events::new();
-        for e in 0..n_events {
-            ev.intern(&format!("e{e}<&\"{e}\">"), controllable[e]);
+        for (e, &c) in controllable.iter().enumerate().take(n_events) {
+            ev.intern(&format!("e{e}<&\"{e}\">"), c);
         }
         let kinds = [ComponentKind::Plant, ComponentKind::Spec, ComponentKind::Supervisor, ComponentKind::Property];
         let built: Vec<(String, ComponentKind, Automaton)> = automata
@@ -505,9 +505,22 @@ proptest! {
     }
 }
 
+/// The fuzz target's check (`fuzz/src/lib.rs`) on the fixture, its prefixed form and every
+/// example that maps, as exported: the seeds of the `wmod` target pass it.
 #[test]
 fn wmod_fixtures_pass_the_fuzz_check() {
-    for name in ["small_factory.wmod"] {
-        crate::harness::check_wmod(&fixture(name));
+    let src = fixture("small_factory.wmod");
+    crate::harness::check_wmod(&src);
+    crate::harness::check_wmod(&prefixed(&src));
+    for entry in std::fs::read_dir(root().join("examples/sct")).unwrap() {
+        let src = std::fs::read_to_string(entry.unwrap().path()).unwrap();
+        let (loaded, _) = compile(&src);
+        let Ok(classic) = project_to_classic(&src, &loaded.unwrap(), &[]) else { continue };
+        let out: Vec<ComponentOut> = classic
+            .components
+            .iter()
+            .map(|(name, kind, automaton)| ComponentOut { name, kind: *kind, automaton })
+            .collect();
+        crate::harness::check_wmod(&write_wmod("m", "", &out, &classic.events, &classic.attributes()));
     }
 }

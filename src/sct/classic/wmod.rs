@@ -24,11 +24,12 @@
 //! on one event towards another target. Nothing is dropped silently: an element the reader does
 //! not know is an error too.
 //!
-//! The writer emits what Supremica itself writes for such a module (without layout, which
-//! Supremica computes when it opens the file): events with their kinds and `:accepting`,
-//! components with their kinds, marked states, blocked events. plcsynth's enforceable events
-//! (`.sct`) have no Waters kind; they are written `CONTROLLABLE` with the attribute
-//! `plcsynth:enforceable`, which Supremica keeps and ignores and this reader reads back.
+//! The writer emits such a module in the layout Supremica writes (without geometry, which
+//! Supremica computes when it opens a graph without it): events with their kinds and
+//! `:accepting`, components with their kinds, marked states, blocked events, edges grouped by
+//! target. plcsynth's enforceable events (`.sct`) have no Waters kind; they are written
+//! `CONTROLLABLE` with the attribute `plcsynth:enforceable` in the event's `<AttributeMap>`
+//! (where Waters tools keep their own data), which this reader reads back.
 
 use super::{Automaton, AutomatonBuilder, EventId, Events, StateId};
 use crate::diag::{Diagnostic, Diagnostics, Span};
@@ -231,6 +232,9 @@ enum Declared {
 }
 
 type Node<'a, 'i> = roxmltree::Node<'a, 'i>;
+
+/// An alias not resolved yet: its name, where it is declared, and its members with theirs.
+type PendingAlias = (String, Span, Vec<(String, Span)>);
 
 struct Reader<'e> {
     events: &'e mut Events,
@@ -440,7 +444,7 @@ impl Reader<'_> {
     /// `<EventAlias Name=…><ExpressionList>` of names of events or other aliases; an alias may
     /// name an alias declared after it, but no cycle.
     fn aliases(&mut self, list: Node) -> Result<(), WmodError> {
-        let mut pending: Vec<(String, Span, Vec<(String, Span)>)> = Vec::new();
+        let mut pending: Vec<PendingAlias> = Vec::new();
         for a in elements(list)? {
             check_namespace(a)?;
             if local(a) != "EventAlias" {
