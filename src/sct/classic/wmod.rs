@@ -304,10 +304,14 @@ fn elements<'a, 'i>(n: Node<'a, 'i>) -> Result<Vec<Node<'a, 'i>>, WmodError> {
                 out.push(c);
             }
         } else if c.is_text() && c.text().is_some_and(|t| !t.trim().is_empty()) {
+            // The first character that is not a blank, in the source (the node's text may
+            // differ from it by entities, so it is looked up in the source itself).
             let r = c.range();
-            let lead = c.text().unwrap_or("").len() - c.text().unwrap_or("").trim_start().len();
+            let raw = n.document().input_text().get(r.clone()).unwrap_or("");
+            let lead = raw.len() - raw.trim_start().len();
+            let width = raw[lead..].chars().next().map_or(0, char::len_utf8);
             return Err(WmodError::at(
-                Span::new(r.start + lead, r.start + lead + 1),
+                Span::new(r.start + lead, r.start + lead + width),
                 format!("unexpected text in <{}>", local(n)),
             ));
         }
