@@ -56,6 +56,8 @@ fn the_seed_inputs_pass_the_fuzz_checks() {
 /// million states past the fuzz check's old textual skip (a fraction); the reader's state budget
 /// now refuses it at once. `wmod/text_starting_with_a_multibyte_character.wmod`: the error for
 /// stray text took one byte of its first character, splitting `é` (found by the `wmod` target).
+/// `wmod/renamed_name_with_a_line_break.wmod`: a renamed name with a line break ended the
+/// comment listing it, so the imported project did not load.
 #[test]
 fn saved_parser_inputs_pass_their_checks() {
     type Check = fn(&str);

@@ -129,6 +129,12 @@ impl Namer {
     }
 }
 
+/// A foreign name as it may stand in a `//` comment: control characters (a line break would end
+/// the comment and leave the rest of the name as `.sct` text) escaped as Rust writes them.
+fn in_comment(name: &str) -> String {
+    name.chars().flat_map(|c| if c.is_control() { c.escape_debug().collect::<Vec<_>>() } else { vec![c] }).collect()
+}
+
 /// Options of [`classic_to_sct`].
 #[derive(Clone, Copy, Debug, Default)]
 pub struct ToSct {
@@ -240,7 +246,7 @@ pub fn classic_to_sct(
         let plant = p.kind == ComponentKind::Plant;
         body.push('\n');
         if p.kind == ComponentKind::Supervisor {
-            let _ = writeln!(body, "// `{}` is a Waters SUPERVISOR: read as a specification.", p.name);
+            let _ = writeln!(body, "// `{}` is a Waters SUPERVISOR: read as a specification.", in_comment(p.name));
         }
         let _ = writeln!(body, "{} {name} {{", if plant { "plant" } else { "spec" });
         if plant {
@@ -277,10 +283,10 @@ pub fn classic_to_sct(
     if !top.renamed.is_empty() || !state_renamed.is_empty() {
         o.push_str("// Renamed to .sct names:\n");
         for (from, to) in &top.renamed {
-            let _ = writeln!(o, "//   `{from}` is `{to}`");
+            let _ = writeln!(o, "//   `{}` is `{to}`", in_comment(from));
         }
         for (component, from, to) in &state_renamed {
-            let _ = writeln!(o, "//   state `{from}` of `{component}` is `{to}`");
+            let _ = writeln!(o, "//   state `{}` of `{}` is `{to}`", in_comment(from), in_comment(component));
         }
     }
     o.push_str(&body);
