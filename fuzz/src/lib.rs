@@ -769,6 +769,16 @@ pub fn check_wmod(text: &str) {
             }
         }
     }
+    // With the events' `.sct` properties pasted (a foreign text, so the project may be refused
+    // for what it says; never a panic, and a text that is not one body is not pasted).
+    let bodies: Vec<(classic::EventId, String)> =
+        module.attributes.iter().filter(|a| a.1 == wmod::SCT_ATTRIBUTE).map(|a| (a.0, a.2.clone())).collect();
+    if let Ok(project) =
+        classic_to_sct(&parts, &events, &module.enforceable, &bodies, "fuzz", ToSct { ignore_marking: true })
+    {
+        let (_, diagnostics) = sct::compile(&project);
+        assert_located(&project, &diagnostics);
+    }
     let plant = module.components.iter().find(|c| c.kind == ComponentKind::Plant);
     let spec = module.components.iter().find(|c| c.kind == ComponentKind::Spec);
     if let (Some(p), Some(s)) = (plant, spec) {

@@ -129,6 +129,13 @@ impl Namer {
     }
 }
 
+/// Whether `text` between `{` and a closing brace on its own line is the whole body of a
+/// declaration: no brace closes it early, no string or comment swallows the closing one.
+fn is_one_body(text: &str) -> bool {
+    let declaration = format!(" : k {{{text}\n}}");
+    event_body(&declaration, 0) == Some(&declaration[6..declaration.len() - 1])
+}
+
 /// A foreign name as it may stand in a `//` comment: control characters (a line break would end
 /// the comment and leave the rest of the name as `.sct` text) escaped as Rust writes them.
 fn in_comment(name: &str) -> String {
@@ -222,8 +229,23 @@ pub fn classic_to_sct(
             "uncontrollable"
         };
         match bodies.iter().find(|(x, _)| *x == e) {
+            Some((_, text)) if is_one_body(text.trim()) => {
+                let text = text.trim();
+                if text.contains('\n') || text.contains("//") {
+                    let _ = writeln!(body, "event {} : {kind} {{\n  {text}\n}}", event_names[&e]);
+                } else {
+                    let _ = writeln!(body, "event {} : {kind} {{ {text} }}", event_names[&e]);
+                }
+            }
             Some((_, text)) => {
-                let _ = writeln!(body, "event {} : {kind} {{ {} }}", event_names[&e], text.trim());
+                // Text that would close the declaration early (or never): not pasted, but said.
+                let _ = writeln!(
+                    body,
+                    "// The `plcsynth:sct` properties of `{}` are not one declaration body, left out: {}",
+                    event_names[&e],
+                    in_comment(text)
+                );
+                let _ = writeln!(body, "event {} : {kind};", event_names[&e]);
             }
             None => {
                 if kind == "enforceable" {
@@ -576,4 +598,20 @@ fn label_name(label: &str) -> String {
 /// `.sct` names) as `_`.
 pub fn waters_name(name: &str) -> String {
     name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' }).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_a_whole_declaration_body_is_pasted() {
+        assert!(is_one_body(r#"detect rising "Q_Inlet"; reset on denial "Q_Inlet";"#));
+        assert!(is_one_body(r#"on accept "IF a THEN b := TRUE; END_IF;"; // a comment"#));
+        assert!(is_one_body(r#"on accept "x := \"}\";";"#));
+        assert!(!is_one_body("detect rising \"a\"; } plant X { alphabet e; state s; "));
+        assert!(!is_one_body("on accept \"unterminated;"));
+        assert!(!is_one_body("/* open comment"));
+        assert_eq!(in_comment("a\nb\tc"), "a\\nb\\tc");
+    }
 }
