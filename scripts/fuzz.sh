@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${FUZZ_SECONDS:-60}"
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(tga sct gen tlsf ltl verdict share)
+[ ${#targets[@]} -gt 0 ] || targets=(tga sct gen wmod tlsf ltl verdict share)
 
 rust_targets=()
 for t in "${targets[@]}"; do [ "$t" = share ] || rust_targets+=("$t"); done
@@ -29,11 +29,12 @@ for t in "${targets[@]}"; do
     tga) seed tga examples/timed/*.tga tests/fixtures/thesis/*.tga tests/fixtures/fuzz/tga/* ;;
     sct) seed sct examples/sct/*.sct tests/fixtures/fuzz/sct/* ;;
     gen) seed gen fuzz/seeds/gen/* tests/fixtures/fuzz/gen/* ;;
+    wmod) seed wmod fuzz/seeds/wmod/* tests/fixtures/wmod/*.wmod tests/fixtures/fuzz/wmod/* ;;
     ltl) seed ltl ../shared/ltl/g4ltl/*.g4ltl examples/ltl/*.ltl tests/fixtures/fuzz/ltl/* ;;
     tlsf) seed tlsf ../shared/ltl/tlsf/*/*.tlsf examples/ltl/*.tlsf tests/fixtures/fuzz/tlsf/* ;;
     verdict) mkdir -p fuzz/corpus/verdict ;; # bytes choose a specification: no text seeds
     share) ;;
-    *) echo "unknown fuzz target $t (tga, sct, gen, tlsf, ltl, verdict, share)" >&2; exit 2 ;;
+    *) echo "unknown fuzz target $t (tga, sct, gen, wmod, tlsf, ltl, verdict, share)" >&2; exit 2 ;;
   esac
   echo "== fuzz $t for ${seconds}s"
   if [ "$t" = share ]; then

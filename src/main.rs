@@ -61,8 +61,16 @@ enum Command {
     /// Cheng et al. 2014). Exit status: 0 realizable, 1 unrealizable, 2 input error, 3 unknown
     /// (bound or budget reached).
     Ltl(cli::ltl::LtlArgs),
-    /// Classic Ramadge–Wonham SupCon of a plant and a specification in libFAUDES `.gen` format.
+    /// Classic Ramadge–Wonham SupCon of a plant and a specification, libFAUDES `.gen` files or
+    /// Supremica `.wmod` modules.
     Supcon(cli::sct::SupconArgs),
+    /// Write a Supremica module (`.wmod`) or libFAUDES generators (`.gen`) as a `.sct` project.
+    /// Exit status: 0 written, 2 input error or a part that does not map, 3 state budget spent.
+    Import(cli::interchange::ImportArgs),
+    /// Write a `.sct` project's plants and specifications (and its supervisors) as a Supremica
+    /// module (`.wmod`). Exit status: 0 written, 2 input error or a part that does not map,
+    /// 3 state budget spent.
+    Export(cli::interchange::ExportArgs),
     /// Print benchmark tables beside the published figures.
     Bench {
         #[command(subcommand)]
@@ -118,6 +126,8 @@ fn main() -> ExitCode {
         }
         Command::Supervise(a) => cli::sct::supervise(&a),
         Command::Supcon(a) => cli::sct::supcon(&a),
+        Command::Import(a) => cli::interchange::import(&a),
+        Command::Export(a) => cli::interchange::export(&a),
         Command::Ltl(a) => cli::ltl::ltl(&a),
         Command::Bench { engine: BenchEngine::Timed { runs, examples, format } } => {
             cli::bench::timed(&examples, runs, format)

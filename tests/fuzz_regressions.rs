@@ -34,10 +34,11 @@ fn files(relative: &str) -> Vec<(String, String)> {
 #[test]
 fn the_seed_inputs_pass_the_fuzz_checks() {
     type Check = fn(&str);
-    let checks: [(&str, Check); 4] = [
+    let checks: [(&str, Check); 5] = [
         ("examples/timed", harness::check_tga),
         ("examples/sct", harness::check_sct),
         ("fuzz/seeds/gen", harness::check_gen),
+        ("fuzz/seeds/wmod", harness::check_wmod),
         ("../shared/ltl/g4ltl", harness::check_g4ltl),
     ];
     for (dir, check) in checks {
@@ -53,14 +54,18 @@ fn the_seed_inputs_pass_the_fuzz_checks() {
 /// Inputs that made a parser target fail (a crash or a timeout), replayed through its check.
 /// `gen/consecutive_range_with_fraction_timeout.gen`: `<Consecutive> 2 6310354.555` declared six
 /// million states past the fuzz check's old textual skip (a fraction); the reader's state budget
-/// now refuses it at once.
+/// now refuses it at once. `wmod/text_starting_with_a_multibyte_character.wmod`: the error for
+/// stray text took one byte of its first character, splitting `é` (found by the `wmod` target).
+/// `wmod/renamed_name_with_a_line_break.wmod`: a renamed name with a line break ended the
+/// comment listing it, so the imported project did not load.
 #[test]
 fn saved_parser_inputs_pass_their_checks() {
     type Check = fn(&str);
-    let checks: [(&str, Check); 5] = [
+    let checks: [(&str, Check); 6] = [
         ("tga", harness::check_tga),
         ("sct", harness::check_sct),
         ("gen", harness::check_gen),
+        ("wmod", harness::check_wmod),
         ("tlsf", harness::check_tlsf),
         ("ltl", harness::check_g4ltl),
     ];

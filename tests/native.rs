@@ -77,6 +77,8 @@ mod sct_scale;
 mod sct_textbook;
 #[path = "sct_transfer.rs"]
 mod sct_transfer;
+#[path = "sct_wmod.rs"]
+mod sct_wmod;
 #[path = "time_constants.rs"]
 mod time_constants;
 #[path = "timed_budget.rs"]

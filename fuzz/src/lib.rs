@@ -687,3 +687,118 @@ fn assert_on_the_fly_equals_fixpoint(source: &str, space: &StateSpace, verdict: 
         }
     }
 }
+
+/// States a fuzzed module may declare (the reader's budget).
+const WMOD_MAX_STATES: usize = 100_000;
+
+/// `.wmod`: read a Waters module within a state budget (never a panic; an error is located
+/// inside the source and renders); each component of a module read is written back with the
+/// module's event attributes and read again unchanged (states, names, marking, initial state,
+/// alphabet, transitions, kinds, attributes); the module is written as a `.sct` project (or
+/// refused with errors located in it) and, if written, that project loads; when the module has
+/// a plant and a specification whose product is small, SupCon's result is controllable and
+/// nonblocking.
+pub fn check_wmod(text: &str) {
+    use plcsynth::sct::classic::wmod::{self, ComponentKind, ComponentOut};
+    use plcsynth::sct::interchange::{classic_to_sct, Part, ToSct};
+    let mut events = Events::new();
+    let module = match wmod::read_wmod_within(text, &mut events, WMOD_MAX_STATES) {
+        Ok(m) => m,
+        Err(e) => {
+            let d = e.diagnostic(text);
+            assert_located(text, std::slice::from_ref(&d));
+            render_plain("fuzz.wmod", text, &[d]);
+            return;
+        }
+    };
+    let attributes: Vec<(classic::EventId, &str, String)> =
+        module.attributes.iter().map(|(e, k, v)| (*e, k.as_str(), v.clone())).collect();
+    let out: Vec<ComponentOut> = module
+        .components
+        .iter()
+        .map(|c| ComponentOut { name: &c.name, kind: c.kind, automaton: &c.automaton })
+        .collect();
+    let written = wmod::write_wmod(&module.name, "fuzz", &out, &events, &attributes);
+    let mut again = events.clone();
+    let back =
+        wmod::read_wmod(&written, &mut again).unwrap_or_else(|e| panic!("written module unreadable: {e:?}\n{written}"));
+    assert_eq!(module.name, back.name, "module name changed");
+    assert_eq!(module.components.len(), back.components.len(), "component count changed");
+    for (a, b) in module.components.iter().zip(&back.components) {
+        assert_eq!((&a.name, a.kind), (&b.name, b.kind), "component name or kind changed");
+        assert_same_automaton(&a.automaton, &b.automaton);
+        for s in 0..a.automaton.num_states() as classic::StateId {
+            assert_eq!(a.automaton.state_name(s), b.automaton.state_name(s), "state name changed");
+        }
+    }
+    let mut attrs_back: Vec<_> = back.attributes.clone();
+    let mut attrs: Vec<_> = module.attributes.clone();
+    // Attributes of events no component uses are not written (the writer declares used events).
+    let used: std::collections::HashSet<_> =
+        module.components.iter().flat_map(|c| c.automaton.alphabet().iter().copied()).collect();
+    attrs.retain(|a| used.contains(&a.0));
+    attrs.sort();
+    attrs_back.sort();
+    assert_eq!(attrs, attrs_back, "event attributes changed");
+    let parts: Vec<Part> = module
+        .components
+        .iter()
+        .map(|c| Part {
+            name: &c.name,
+            kind: c.kind,
+            automaton: &c.automaton,
+            span: c.span,
+            state_spans: &c.state_spans,
+        })
+        .collect();
+    match classic_to_sct(&parts, &events, &module.enforceable, &[], "fuzz", ToSct { ignore_marking: true }) {
+        Ok(project) => {
+            let (loaded, diagnostics) = sct::compile(&project);
+            // Enforceable events need `on accept` code, which a module without it cannot give.
+            let only_missing_code =
+                diagnostics.iter().filter(|d| d.is_error()).all(|d| d.message.contains("on accept"));
+            assert!(
+                loaded.is_some() || (!module.enforceable.is_empty() && only_missing_code),
+                "an imported project does not load: {diagnostics:?}\n{project}"
+            );
+        }
+        Err(errors) => {
+            for e in errors {
+                let d = e.diagnostic(text);
+                assert_located(text, std::slice::from_ref(&d));
+            }
+        }
+    }
+    // With the events' `.sct` properties pasted (a foreign text, so the project may be refused
+    // for what it says; never a panic, and a text that is not one body is not pasted).
+    let bodies: Vec<(classic::EventId, String)> =
+        module.attributes.iter().filter(|a| a.1 == wmod::SCT_ATTRIBUTE).map(|a| (a.0, a.2.clone())).collect();
+    if let Ok(project) =
+        classic_to_sct(&parts, &events, &module.enforceable, &bodies, "fuzz", ToSct { ignore_marking: true })
+    {
+        let (_, diagnostics) = sct::compile(&project);
+        assert_located(&project, &diagnostics);
+    }
+    let plant = module.components.iter().find(|c| c.kind == ComponentKind::Plant);
+    let spec = module.components.iter().find(|c| c.kind == ComponentKind::Spec);
+    if let (Some(p), Some(s)) = (plant, spec) {
+        let (p, s) = (&p.automaton, &s.automaton);
+        if p.num_states().saturating_mul(s.num_states()) <= GEN_MAX_PRODUCT {
+            if let Ok(sup) = classic::supcon(p, s, &events, true) {
+                assert!(classic::is_controllable(p, &sup, &events), "SupCon result is not controllable");
+                assert!(sup.num_states() == 0 || sup.is_nonblocking(), "SupCon result is blocking");
+            }
+        }
+    }
+}
+
+fn assert_same_automaton(a: &Automaton, b: &Automaton) {
+    assert_eq!(a.num_states(), b.num_states(), "state count changed");
+    assert_eq!(a.num_transitions(), b.num_transitions(), "transition count changed");
+    assert_eq!(a.init(), b.init(), "initial state changed");
+    assert_eq!(a.alphabet(), b.alphabet(), "alphabet changed");
+    for s in 0..a.num_states() as classic::StateId {
+        assert_eq!(a.is_marked(s), b.is_marked(s), "marking of state {s} changed");
+        assert_eq!(a.edges(s), b.edges(s), "transitions of state {s} changed");
+    }
+}

@@ -11,6 +11,7 @@ macro_rules! outln {
 }
 
 pub mod bench;
+pub mod interchange;
 pub mod ltl;
 pub mod sct;
 pub mod timed;

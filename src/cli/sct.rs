@@ -7,6 +7,7 @@ use plcsynth::benchmarks::transfer::{extended_line, transfer_lines};
 use plcsynth::diag::{render_plain, Diagnostics};
 use plcsynth::plc;
 use plcsynth::sct::classic::gen::{read_gen_file_within, write_gen, GenFile};
+use plcsynth::sct::classic::wmod::{write_wmod, ComponentKind, ComponentOut};
 use plcsynth::sct::classic::{minimize, supcon as classic_supcon, supcon_within, EventId, Events, SupConError};
 use plcsynth::sct::model::dep_closure;
 use plcsynth::sct::model::{Budget, Config, Method, DEFAULT_MAX_STATES};
@@ -50,9 +51,10 @@ pub struct SuperviseArgs {
     /// the report (docs/syrf.md).
     #[arg(long, value_parser = target_parser(), conflicts_with = "json")]
     pub target: Option<plc::Target>,
-    /// Write the framework to this file instead of standard output; for a target of several
-    /// files (twincat) a directory, created if missing.
-    #[arg(short, long, requires = "target")]
+    /// With `--target`: write the framework to this file instead of standard output; for a
+    /// target of several files (twincat) a directory, created if missing. Without: a file named
+    /// `….wmod`, to which the supervisors are written as a Supremica module.
+    #[arg(short, long)]
     pub output: Option<String>,
     /// Also write the signal table (CSV: address, type, symbol, direction, events).
     #[arg(long, value_name = "FILE", requires = "target")]
@@ -80,11 +82,15 @@ pub(crate) fn target_parser() -> impl clap::builder::TypedValueParser<Value = pl
 
 #[derive(Args)]
 pub struct SupconArgs {
-    /// Plant generator (`.gen`).
+    /// Plant: a libFAUDES generator (`.gen`), or a Supremica module (`.wmod`) whose PLANT
+    /// components are composed.
     pub plant: String,
-    /// Specification generator (`.gen`), over a subset of the plant's events.
-    pub spec: String,
-    /// Write the supervisor here.
+    /// Specification over a subset of the plant's events: a generator (`.gen`), or a module
+    /// (`.wmod`) whose SPEC and SUPERVISOR components are composed. Without it, the
+    /// specification is that of the plant's module.
+    pub spec: Option<String>,
+    /// Write the supervisor here: a Supremica module if the name ends in `.wmod`, a libFAUDES
+    /// generator otherwise.
     #[arg(short = 'o', long)]
     pub output: Option<String>,
     /// Supremal controllable closed sublanguage (no nonblocking requirement).
@@ -121,6 +127,11 @@ fn read(path: &str) -> Result<String, ExitCode> {
 /// Exit status: 0 supervisors synthesised, 2 input error (located diagnostics), 3 the state
 /// budget is spent (specification products and synthesis draw on one budget per run).
 pub fn supervise(a: &SuperviseArgs) -> ExitCode {
+    let wmod_output = a.target.is_none().then_some(a.output.as_deref()).flatten();
+    if wmod_output.is_some_and(|o| !o.to_ascii_lowercase().ends_with(".wmod")) {
+        eprintln!("error: `--output` needs `--target`, or a file name ending in `.wmod` for the supervisors");
+        return ExitCode::from(2);
+    }
     let src = match read(&a.file) {
         Ok(s) => s,
         Err(c) => return c,
@@ -232,6 +243,9 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
         ExitCode::from(2)
     } else if stop.is_some() {
         ExitCode::from(3)
+    } else if let Some(o) = wmod_output {
+        let sups: Vec<_> = reports.iter().map(|r| &r.supervisor).collect();
+        super::interchange::write_project(&a.file, &src, &loaded, &sups, true, Some(o))
     } else {
         ExitCode::SUCCESS
     }
@@ -278,13 +292,45 @@ fn read_gen_located(path: &str, events: &mut Events, max_states: usize) -> Resul
     }
 }
 
+/// One side of `supcon` (plant or specification) and where its events are declared.
+struct Side {
+    path: String,
+    src: String,
+    automaton: plcsynth::sct::classic::Automaton,
+    event_spans: Box<dyn Fn(EventId) -> Option<plcsynth::diag::Span>>,
+}
+
+/// Reads the plant or the specification of `supcon` from a `.gen` or `.wmod` file.
+fn read_side(path: &str, plant: bool, events: &mut Events, max_states: usize) -> Result<Side, ExitCode> {
+    if path.to_ascii_lowercase().ends_with(".wmod") {
+        let (src, m) = super::interchange::read_module(path, events, max_states)?;
+        let automaton = super::interchange::module_side(path, &src, &m, plant, events, max_states)?;
+        return Ok(Side { path: path.to_string(), src, automaton, event_spans: Box::new(move |e| m.event_span(e)) });
+    }
+    let (src, g) = read_gen_located(path, events, max_states)?;
+    let spans: Vec<(EventId, plcsynth::diag::Span)> =
+        g.automaton.alphabet().iter().filter_map(|&e| g.event_span(e).map(|s| (e, s))).collect();
+    let event_spans = Box::new(move |e| spans.iter().find(|(x, _)| *x == e).map(|(_, s)| *s));
+    Ok(Side { path: path.to_string(), src, automaton: g.automaton, event_spans })
+}
+
 pub fn supcon(a: &SupconArgs) -> ExitCode {
     let mut events = Events::new();
-    let (_, plant) = match read_gen_located(&a.plant, &mut events, a.max_states) {
+    let plant = match read_side(&a.plant, true, &mut events, a.max_states) {
         Ok(p) => p,
         Err(c) => return c,
     };
-    let (spec_src, spec) = match read_gen_located(&a.spec, &mut events, a.max_states) {
+    let spec = match &a.spec {
+        Some(path) => read_side(path, false, &mut events, a.max_states),
+        None if a.plant.to_ascii_lowercase().ends_with(".wmod") => {
+            read_side(&a.plant, false, &mut events, a.max_states)
+        }
+        None => {
+            eprintln!("error: a specification file is needed with a `.gen` plant");
+            return ExitCode::from(2);
+        }
+    };
+    let spec = match spec {
         Ok(p) => p,
         Err(c) => return c,
     };
@@ -292,19 +338,19 @@ pub fn supcon(a: &SupconArgs) -> ExitCode {
     let sup = match supcon_within(&plant.automaton, &spec.automaton, &events, !a.closed, a.max_states) {
         Ok(s) => s,
         Err(SupConError::BudgetExceeded { max_states }) => {
-            eprintln!("error: `{}` || `{}` has more than {max_states} states", a.plant, a.spec);
+            eprintln!("error: `{}` || `{}` has more than {max_states} states", plant.path, spec.path);
             eprintln!("note: the state budget is {max_states} states; raise it with --max-states N");
             return ExitCode::from(3);
         }
         Err(SupConError::SpecEventsOutsidePlant(outside)) => {
             let names =
                 |es: &[EventId]| es.iter().map(|e| format!("`{}`", events.name(*e))).collect::<Vec<_>>().join(", ");
-            let mut d = Diagnostics::new(&spec_src);
-            let span = spec.event_span(outside[0]).unwrap_or_default();
+            let mut d = Diagnostics::new(&spec.src);
+            let span = (spec.event_spans)(outside[0]).unwrap_or_default();
             d.error(span, format!("the specification uses events the plant does not know: {}", names(&outside)))
                 .with_note(format!("the plant `{}` has the events {}", a.plant, names(plant.automaton.alphabet())))
                 .with_note("SupCon needs the specification's events among the plant's");
-            eprint!("{}", render_plain(&a.spec, &spec_src, &d.items));
+            eprint!("{}", render_plain(&spec.path, &spec.src, &d.items));
             return ExitCode::from(2);
         }
     };
@@ -319,7 +365,15 @@ pub fn supcon(a: &SupconArgs) -> ExitCode {
         if sup.init().is_none() { " -- empty: no supervisor exists" } else { "" }
     );
     if let Some(o) = &a.output {
-        if let Err(e) = std::fs::write(o, write_gen(&sup, &events, "supervisor")) {
+        let text = if o.to_ascii_lowercase().ends_with(".wmod") {
+            let component = ComponentOut { name: "supervisor", kind: ComponentKind::Supervisor, automaton: &sup };
+            let kind = if a.closed { "SupConClosed" } else { "SupCon" };
+            let comment = format!("{kind} of {} and {} by plcsynth.", plant.path, spec.path);
+            write_wmod("supervisor", &comment, &[component], &events, &[])
+        } else {
+            write_gen(&sup, &events, "supervisor")
+        };
+        if let Err(e) = std::fs::write(o, text) {
             eprintln!("error: cannot write `{o}`: {e}");
             return ExitCode::from(1);
         }

@@ -45,6 +45,7 @@ mod ast;
 mod check;
 pub mod classic;
 pub mod export;
+pub mod interchange;
 mod lexer;
 pub mod model;
 mod parser;

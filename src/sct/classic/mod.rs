@@ -8,6 +8,7 @@
 //! contiguous slice and a product can merge two such slices in one pass.
 
 pub mod gen;
+pub mod wmod;
 
 use crate::graph::{flags, Successors, View};
 use hashbrown::HashMap;
