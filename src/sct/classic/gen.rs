@@ -27,47 +27,16 @@
 //! The writer emits the native format with names quoted where libFAUDES would misread them.
 
 use super::{Automaton, AutomatonBuilder, BuildError, EventId, Events, StateId};
-use crate::diag::{Diagnostic, Diagnostics, Span};
+use crate::diag::Span;
 use hashbrown::{HashMap, HashSet};
 use std::fmt::Write as _;
 
 /// A located error in a `.gen` text.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct GenError {
-    /// The offending token (or tag).
-    pub span: Span,
-    pub message: String,
-    pub notes: Vec<String>,
-    /// The file declares more states than the caller's budget allows: not a malformed file,
-    /// but one too large for this run (the CLI's exit status 3, as for every budget stop).
-    pub over_budget: bool,
-}
+pub type GenError = super::FileError;
 
-impl GenError {
-    fn at(span: Span, message: impl Into<String>) -> GenError {
-        GenError { span, message: message.into(), notes: Vec::new(), over_budget: false }
-    }
-
-    fn budget(span: Span, max_states: usize) -> GenError {
-        GenError {
-            over_budget: true,
-            ..GenError::at(span, format!("the generator declares more than {max_states} states, the state budget"))
-        }
-        .note("a short `<Consecutive>` range can declare millions of states; raise the budget (`--max-states N`) if the file is meant to be this large")
-    }
-
-    fn note(mut self, note: impl Into<String>) -> GenError {
-        self.notes.push(note.into());
-        self
-    }
-
-    /// The error as a diagnostic of `source`, with line and column.
-    pub fn diagnostic(&self, source: &str) -> Diagnostic {
-        let mut d = Diagnostics::new(source);
-        let item = d.error(self.span, self.message.clone());
-        item.notes = self.notes.clone();
-        item.clone()
-    }
+/// More than `max_states` states declared, at `span`.
+fn over_budget(span: Span, max_states: usize) -> GenError {
+    GenError::budget(span, "the generator", max_states).note("a short `<Consecutive>` range can declare millions of states; raise the budget (`--max-states N`) if the file is meant to be this large")
 }
 
 /// A generator read from a `.gen` text, with where its events are named.
@@ -603,7 +572,7 @@ impl<'s> Reader<'s, '_> {
             return Err(GenError::at(span, format!("state `{label}` (index {index}) appears twice")));
         }
         if self.labels.len() >= self.max_states {
-            return Err(GenError::budget(span, self.max_states));
+            return Err(over_budget(span, self.max_states));
         }
         let s = self.builder.add_state(label.clone(), false);
         self.labels.push(label);
@@ -623,7 +592,7 @@ impl<'s> Reader<'s, '_> {
         }
         let count = (last as i128 - first as i128 + 1) as u128;
         if count + self.labels.len() as u128 > self.max_states as u128 {
-            return Err(GenError::budget(span, self.max_states));
+            return Err(over_budget(span, self.max_states));
         }
         for k in first..=last {
             self.add_state(k, None, span)?;

@@ -7,10 +7,12 @@
 //! sparse-row table sorted by (source, event), so that the transitions leaving a state are one
 //! contiguous slice and a product can merge two such slices in one pass.
 
+mod file_error;
 pub mod gen;
 pub mod wmod;
 
 use crate::graph::{flags, Successors, View};
+pub use file_error::FileError;
 use hashbrown::HashMap;
 use petgraph::visit::{Dfs, NodeFiltered, Visitable};
 

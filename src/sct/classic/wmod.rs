@@ -32,7 +32,7 @@
 //! (where Waters tools keep their own data), which this reader reads back.
 
 use super::{Automaton, AutomatonBuilder, EventId, Events, StateId};
-use crate::diag::{Diagnostic, Diagnostics, Span};
+use crate::diag::Span;
 use hashbrown::{HashMap, HashSet};
 use std::fmt::Write as _;
 
@@ -48,35 +48,7 @@ pub const NS_BASE: &str = "http://waters.sourceforge.net/xsd/base";
 pub const ENFORCEABLE_ATTRIBUTE: &str = "plcsynth:enforceable";
 
 /// A located error in a `.wmod` text.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct WmodError {
-    /// The offending element, attribute or name.
-    pub span: Span,
-    pub message: String,
-    pub notes: Vec<String>,
-    /// The module declares more states than the caller's budget allows: not a malformed file,
-    /// but one too large for this run (the CLI's exit status 3, as for every budget stop).
-    pub over_budget: bool,
-}
-
-impl WmodError {
-    fn at(span: Span, message: impl Into<String>) -> WmodError {
-        WmodError { span, message: message.into(), notes: Vec::new(), over_budget: false }
-    }
-
-    fn note(mut self, note: impl Into<String>) -> WmodError {
-        self.notes.push(note.into());
-        self
-    }
-
-    /// The error as a diagnostic of `source`, with line and column.
-    pub fn diagnostic(&self, source: &str) -> Diagnostic {
-        let mut d = Diagnostics::new(source);
-        let item = d.error(self.span, self.message.clone());
-        item.notes = self.notes.clone();
-        item.clone()
-    }
-}
+pub type WmodError = super::FileError;
 
 /// The kind of a Waters component.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -690,14 +662,8 @@ impl Reader<'_> {
                 continue;
             }
             if self.states >= self.max_states {
-                return Err(WmodError {
-                    over_budget: true,
-                    ..WmodError::at(
-                        nspan,
-                        format!("the module declares more than {} states, the state budget", self.max_states),
-                    )
-                }
-                .note("raise the budget (`--max-states N`) if the module is meant to be this large"));
+                return Err(WmodError::budget(nspan, "the module", self.max_states)
+                    .note("raise the budget (`--max-states N`) if the module is meant to be this large"));
             }
             self.states += 1;
             let s = b.add_state(node_name, true);
