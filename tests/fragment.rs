@@ -67,7 +67,7 @@ fn strip(e: &Expr) -> Expr {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(512))]
+    #![proptest_config(crate::common::proptest_config(512))]
 
     /// Printing inserts exactly the parentheses the precedences need: the printed text parses
     /// back to the same tree (spans aside), and printing that again gives the same text.

@@ -112,6 +112,7 @@ fn soup() -> impl Strategy<Value = String> {
 }
 
 proptest! {
+    #![proptest_config(crate::common::proptest_config(256))]
     #[test]
     fn damaged_specifications_never_panic(source in mutated()) {
         harness::check_g4ltl(&source);

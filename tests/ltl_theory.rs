@@ -197,7 +197,7 @@ fn run(p: &Problem, which: &[usize], budget: u64) -> Answer {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 400, ..ProptestConfig::default() })]
+    #![proptest_config(crate::common::proptest_config(400))]
 
     #[test]
     fn decide_is_sound(p in problem(false, true)) {

@@ -419,6 +419,7 @@ fn mutated() -> impl Strategy<Value = String> {
 }
 
 proptest! {
+    #![proptest_config(crate::common::proptest_config(256))]
     #[test]
     fn mutated_benchmarks_never_panic(source in mutated()) {
         check_any(&source);

@@ -187,7 +187,7 @@ const TOKENS: &[&str] = &[
 ];
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 400, .. ProptestConfig::default() })]
+    #![proptest_config(crate::common::proptest_config(400))]
 
     #[test]
     fn never_panics_on_random_bytes(bytes in proptest::collection::vec(any::<u8>(), 0..300)) {
@@ -216,7 +216,7 @@ fn example_sources() -> Vec<String> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 300, .. ProptestConfig::default() })]
+    #![proptest_config(crate::common::proptest_config(300))]
 
     /// Mutated examples (a span deleted, a token inserted, a span duplicated) exercise the
     /// resolver and synthesis on almost-valid input: never a panic, and a failed load always

@@ -30,7 +30,7 @@ mod gen_robustness {
     use proptest::prelude::*;
 
     proptest! {
-        #![proptest_config(ProptestConfig { cases: 300, .. ProptestConfig::default() })]
+        #![proptest_config(crate::common::proptest_config(300))]
 
         /// Mutated `.gen` files never make the reader (or SupCon on what it reads) panic.
         #[test]

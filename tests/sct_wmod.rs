@@ -457,7 +457,7 @@ fn random_automaton(
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(200))]
+    #![proptest_config(crate::common::proptest_config(200))]
 
     /// Random automata written as a module and read back are identical: states, names,
     /// marking, initial state, alphabet (blocked events included), transitions, kinds and

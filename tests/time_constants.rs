@@ -169,7 +169,7 @@ fn s5_literal(ms: u128) -> String {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(256))]
+    #![proptest_config(crate::common::proptest_config(256))]
 
     /// For any time unit and bound, every target prints the exact product or refuses it at the
     /// constant; it never prints a wrong number.

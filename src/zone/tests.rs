@@ -417,8 +417,14 @@ fn random_matrix() -> impl Strategy<Value = (usize, Vec<Option<(i32, bool)>>)> {
     })
 }
 
+/// As `tests/common`'s `proptest_config`: `base` cases times `PLCSYNTH_PROPTEST_SCALE`.
+fn proptest_config(base: u32) -> ProptestConfig {
+    let scale = std::env::var("PLCSYNTH_PROPTEST_SCALE").ok().and_then(|v| v.parse::<u32>().ok()).unwrap_or(1).max(1);
+    ProptestConfig::with_cases(base.saturating_mul(scale))
+}
+
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+    #![proptest_config(proptest_config(200))]
 
     #[test]
     fn closure_keeps_points_and_is_canonical((dim, entries) in random_matrix()) {

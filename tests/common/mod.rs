@@ -253,3 +253,11 @@ fn line_shapes_keep_keywords_nesting_and_punctuation_and_covers_keep_every_shape
     assert_eq!(covering_subset(&[a, b, c]), vec![0, 2]);
     assert_eq!(covering_subset(&[a, a]).len(), 1);
 }
+
+/// The configuration of every proptest block: `base` cases, times `PLCSYNTH_PROPTEST_SCALE`
+/// (`make test-long` sets 10). Blocks name their own base because their cases differ in cost
+/// by orders of magnitude; the scale is the one knob that makes all of them bigger.
+pub fn proptest_config(base: u32) -> proptest::prelude::ProptestConfig {
+    let scale = std::env::var("PLCSYNTH_PROPTEST_SCALE").ok().and_then(|v| v.parse::<u32>().ok()).unwrap_or(1).max(1);
+    proptest::prelude::ProptestConfig::with_cases(base.saturating_mul(scale))
+}
