@@ -213,7 +213,12 @@ fn every_listed_specification_gets_its_known_verdict_and_a_strategy_lbt_confirms
         std::fs::write(&json, ltl::report_json(spec, outcome).to_string()).unwrap();
         documents.push((name, json));
     }
-    // The model checks, two at a time (lbt and Python start in about 50 ms each).
+    model_check(&documents);
+}
+
+/// Runs `tests/checkers/ltl_mc.py` on every (name, report) document, two at a time (lbt and
+/// Python start in about 50 ms each), and fails on the first strategy it does not confirm.
+pub(crate) fn model_check(documents: &[(String, PathBuf)]) {
     let half = documents.len() / 2;
     let (first, second) = documents.split_at(half);
     let results: Vec<(String, i32, String)> = std::thread::scope(|s| {
@@ -234,6 +239,30 @@ fn every_listed_specification_gets_its_known_verdict_and_a_strategy_lbt_confirms
     for (name, code, text) in results {
         assert_eq!(code, 0, "{name}: the independent model check does not confirm the strategy:\n{text}");
     }
+}
+
+/// The symbolic solver (`--solver symbolic`) on every listed specification: the known verdict,
+/// and a strategy the model check confirms (`tests/ltl_random.rs` compares it with the explicit
+/// solver position by position).
+#[test]
+fn the_symbolic_solver_decides_every_listed_specification() {
+    let dir = scratch().join("symbolic");
+    std::fs::create_dir_all(&dir).unwrap();
+    let cfg = Config { solver: ltl::Solver::Symbolic, ..Config::default() };
+    let mut documents = Vec::new();
+    for (i, (path, params, expected)) in listed().into_iter().enumerate() {
+        let name = label(&path, &params);
+        let source = std::fs::read_to_string(&path).unwrap();
+        let (spec, _) = ltl::compile(&source, Format::of_path(path.to_str().unwrap()), &params).unwrap();
+        let outcome = ltl::synthesize(&spec, &cfg, &mut |_| true).unwrap_or_else(|stop| panic!("{name}: {stop}"));
+        assert_eq!(outcome.verdict, expected, "{name}: {}", ltl::summary(&outcome));
+        let machine = outcome.controller.as_ref().or(outcome.counter_strategy.as_ref()).expect("a strategy");
+        machine.validate().unwrap_or_else(|e| panic!("{name}: {e}"));
+        let json = dir.join(format!("{i}.json"));
+        std::fs::write(&json, ltl::report_json(&spec, &outcome).to_string()).unwrap();
+        documents.push((name, json));
+    }
+    model_check(&documents);
 }
 
 #[test]

@@ -164,7 +164,7 @@ fn the_automaton_accepts_exactly_the_lassos_the_formula_holds_on() {
 
 /// Whether some play of `machine` (against every behaviour of its opponent) has a run of
 /// `automaton` with infinitely many accepting edges: a search of the product graph.
-fn some_play_accepted(machine: &Machine, automaton: &Automaton) -> bool {
+pub(crate) fn some_play_accepted(machine: &Machine, automaton: &Automaton) -> bool {
     if automaton.is_empty() {
         return false;
     }
@@ -236,10 +236,15 @@ fn the_antichain_solver_wins_with_its_strategies_too() {
     strategies_win(Solver::Antichain, 13);
 }
 
-/// Both solvers decide the same games: the same verdict at the same bound on every
-/// specification both finish.
 #[test]
-fn the_two_solvers_agree() {
+fn the_symbolic_solver_wins_with_its_strategies_too() {
+    strategies_win(Solver::Symbolic, 19);
+}
+
+/// The solvers decide the same games: the same verdict at the same bound on every
+/// specification all finish (the symbolic solver also builds the explicit one's positions).
+#[test]
+fn the_solvers_agree() {
     let mut rng = Rng::new(17);
     let mut compared = 0;
     for case in 0..cases() / 2 {
@@ -251,8 +256,10 @@ fn the_two_solvers_agree() {
                 .ok()
                 .filter(|o| o.limit.as_deref().is_none_or(|l| l.contains("--max-k")))
         };
-        if let (Some(a), Some(b)) = (run(Solver::Explicit), run(Solver::Antichain)) {
+        if let (Some(a), Some(b), Some(c)) = (run(Solver::Explicit), run(Solver::Antichain), run(Solver::Symbolic)) {
             assert_eq!((a.verdict, a.k), (b.verdict, b.k), "case {case}: {}", spec.formula_text());
+            assert_eq!((a.verdict, a.k), (c.verdict, c.k), "case {case}: {}", spec.formula_text());
+            assert_eq!(a.stats.positions, c.stats.positions, "case {case}: {}", spec.formula_text());
             compared += 1;
         }
     }

@@ -35,6 +35,8 @@ mod ltl_random;
 mod ltl_refine;
 #[path = "ltl_suggest.rs"]
 mod ltl_suggest;
+#[path = "ltl_symbolic.rs"]
+mod ltl_symbolic;
 #[path = "ltl_theory.rs"]
 mod ltl_theory;
 #[path = "ltl_timed_loop.rs"]

@@ -11,6 +11,7 @@ use std::process::ExitCode;
 pub enum SolverArg {
     Explicit,
     Antichain,
+    Symbolic,
 }
 
 #[derive(Args)]
@@ -30,8 +31,9 @@ pub struct LtlArgs {
     /// Units of work the run may spend (translation and games; about proportional to time).
     #[arg(long, value_name = "N", default_value_t = ltl::DEFAULT_MAX_WORK)]
     pub max_work: u64,
-    /// How the bounded games are solved: `explicit` (every reachable position; the default) or
-    /// `antichain` (the fixpoint on maximal winning positions).
+    /// How the bounded games are solved: `explicit` (every reachable position; the default),
+    /// `antichain` (the fixpoint on maximal winning positions) or `symbolic` (the explicit
+    /// solver's positions, letters as decision diagrams: no 2^n enumeration, up to 63 signals).
     #[arg(long, value_enum, default_value = "explicit")]
     pub solver: SolverArg,
     /// Override a TLSF parameter, e.g. `--param n=3` (repeatable).
@@ -104,6 +106,7 @@ pub fn ltl(a: &LtlArgs) -> ExitCode {
     let solver = match a.solver {
         SolverArg::Explicit => ltl::Solver::Explicit,
         SolverArg::Antichain => ltl::Solver::Antichain,
+        SolverArg::Symbolic => ltl::Solver::Symbolic,
     };
     let cfg = Config {
         max_k: a.max_k,

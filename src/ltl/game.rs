@@ -19,6 +19,7 @@
 
 use super::antichain::{self, Antichain};
 use super::strategy::extract_from_antichain;
+use super::symbolic::{Halt, SymbolicGame};
 use super::translate::Automaton;
 use super::{
     translate, Config, Ltl, Machine, Outcome, Progress, Semantics, SignalId, Solver, Spec, Stats, Stop, Verdict, Work,
@@ -31,6 +32,10 @@ const LOST: u32 = u32::MAX;
 /// Work the explicit solver may spend on the antichain fixpoint of a won game, for a smaller
 /// strategy; past it the explored positions serve.
 const EXTRACTION_WORK: u64 = 10_000_000;
+
+/// Up to this many signals the symbolic solver's strategy is extracted as the explicit
+/// solver's is (4 096 letters per position at most).
+const EXPLICIT_EXTRACTION_SIGNALS: usize = 12;
 
 /// Successor entries (positions × letters) a game may hold: 4 bytes each, so 200 MB.
 const MAX_ENTRIES: usize = 50_000_000;
@@ -215,7 +220,10 @@ fn valuations(signals: &[SignalId]) -> Vec<u64> {
 
 pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) -> bool) -> Result<Outcome, Stop> {
     let signals = spec.signals.len();
-    if signals > cfg.max_signals.min(63) {
+    if cfg.solver == Solver::Symbolic && signals > 63 {
+        return Err(Stop::Budget(format!("{signals} signals: the symbolic games hold a letter in 64 bits")));
+    }
+    if cfg.solver != Solver::Symbolic && signals > cfg.max_signals.min(63) {
         return Err(Stop::Budget(format!(
             "{signals} signals: the explicit games enumerate 2^{signals} letters per position, and the limit is {} \
              (split the specification into parts with fewer signals)",
@@ -230,7 +238,11 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) 
     let (inputs, outputs) = (spec.inputs(), spec.outputs());
     let controller_first = spec.semantics == Semantics::Moore;
     let (first_signals, second_signals) = if controller_first { (&outputs, &inputs) } else { (&inputs, &outputs) };
-    let (first, second) = (valuations(first_signals), valuations(second_signals));
+    // The symbolic solver never enumerates the valuations.
+    let (first, second) = match cfg.solver {
+        Solver::Symbolic => (Vec::new(), Vec::new()),
+        _ => (valuations(first_signals), valuations(second_signals)),
+    };
     let mut stats = Stats {
         automaton_states: against.states.len(),
         dual_automaton_states: towards.states.len(),
@@ -255,6 +267,8 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) 
                 k,
                 first: &first,
                 second: &second,
+                first_signals,
+                second_signals,
                 protagonist_first: controller == controller_first,
                 reads: if controller { &inputs } else { &outputs },
                 writes: if controller { &outputs } else { &inputs },
@@ -314,6 +328,9 @@ struct Play<'a> {
     k: u32,
     first: &'a [u64],
     second: &'a [u64],
+    /// The first mover's signals and the second's (the symbolic solver's diagram order).
+    first_signals: &'a [SignalId],
+    second_signals: &'a [SignalId],
     protagonist_first: bool,
     /// The protagonist's signals and the opponent's, for its strategy.
     reads: &'a [SignalId],
@@ -329,6 +346,55 @@ impl Play<'_> {
     fn play(&self, solver: Solver, work: &mut Work) -> Result<(usize, Option<(usize, Machine)>), Stop> {
         let (k, automaton) = (self.k, self.automaton);
         let winning = match solver {
+            Solver::Symbolic => {
+                let explored = SymbolicGame::explore(
+                    automaton,
+                    k,
+                    self.first_signals,
+                    self.second_signals,
+                    self.protagonist_first,
+                    self.max_positions,
+                    work,
+                );
+                let mut game = match explored {
+                    Ok(game) => game,
+                    Err(Halt::Stopped(stop)) => return Err(stop),
+                    Err(Halt::OverBudget) => {
+                        return Err(Stop::Budget(position_budget(k, self.max_positions, self.max_states)))
+                    }
+                };
+                game.solve();
+                let built = game.positions();
+                if !game.won() {
+                    return Ok((built, None));
+                }
+                let signals = self.first_signals.len() + self.second_signals.len();
+                if signals > EXPLICIT_EXTRACTION_SIGNALS {
+                    return Ok((built, Some(game.strategy(self.reads, self.writes, self.protagonist_first))));
+                }
+                // Few signals: the letters are cheap to enumerate, and the strategy is extracted
+                // as the explicit solver's is, over the maximal winning positions (those of the
+                // whole game when affordable, else the explored ones): smaller machines than
+                // the diagram's rows give.
+                let (first, second) = (valuations(self.first_signals), valuations(self.second_signals));
+                let explicit = Play { first: &first, second: &second, ..*self };
+                let winning = match work.capped(EXTRACTION_WORK, |work| explicit.fixpoint(work)) {
+                    Ok(winning) => winning,
+                    Err(Stop::Cancelled) => return Err(Stop::Cancelled),
+                    Err(Stop::Budget(_)) => game.maximal_winning(),
+                };
+                let strategy = extract_from_antichain(
+                    automaton,
+                    k,
+                    &winning,
+                    &first,
+                    &second,
+                    self.protagonist_first,
+                    self.reads,
+                    self.writes,
+                );
+                return Ok((built, Some(strategy)));
+            }
             Solver::Antichain => {
                 let winning = self.fixpoint(work)?;
                 let built = winning.elements.len();

@@ -27,6 +27,7 @@ mod refine;
 mod spec;
 mod strategy;
 mod suggest;
+mod symbolic;
 pub mod theory;
 mod tlsf;
 mod translate;
@@ -105,8 +106,9 @@ pub struct Config {
     pub refine: bool,
 }
 
-/// The two solvers of the bounded games; they decide the same games (the tests compare them),
-/// and both hand the winner's maximal winning positions to one strategy extraction.
+/// The solvers of the bounded games; they decide the same games (the tests compare them). The
+/// explicit and antichain solvers hand the winner's maximal winning positions to one strategy
+/// extraction; the symbolic one reads its strategy off its own diagram.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Solver {
     /// Every position reachable from the initial one explored, the game solved backwards by
@@ -116,6 +118,10 @@ pub enum Solver {
     /// The greatest fixpoint on antichains of maximal winning positions (Filiot, Jin and Raskin):
     /// no position below them is enumerated, but meets of antichains can grow.
     Antichain,
+    /// Letters as decision diagrams over the signals (`symbolic`): every position reachable
+    /// from the initial one explored as the explicit solver does, but a position's successors
+    /// split only on the signals its runs' guards name, so no step enumerates 2^n letters.
+    Symbolic,
 }
 
 /// The default work budget: a few seconds natively.

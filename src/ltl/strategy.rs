@@ -110,18 +110,17 @@ pub(super) fn extract_from_antichain(
         table.push(moves);
         i += 1;
     }
-    let raw = table.len();
-    let table = minimise(&table);
+    (table.len(), machine_from_table(&table, reads, writes, protagonist_first))
+}
+
+/// The machine of a table of moves (per state and valuation of the reads: the value written
+/// and the next state, state 0 initial), minimised, its rows written as few disjoint cubes.
+pub(super) fn machine_from_table(table: &Table, reads: &[SignalId], writes: &[SignalId], moves_first: bool) -> Machine {
+    let table = minimise(table);
     let states = table.iter().map(|moves| cover(moves, reads.len())).collect();
-    let machine = Machine {
-        reads: reads.to_vec(),
-        writes: writes.to_vec(),
-        moves_first: protagonist_first,
-        init: StateId(0),
-        states,
-    };
+    let machine = Machine { reads: reads.to_vec(), writes: writes.to_vec(), moves_first, init: StateId(0), states };
     debug_assert_eq!(machine.validate(), Ok(()));
-    (raw, machine)
+    machine
 }
 
 fn below(a: &[i8], b: &[i8]) -> bool {
@@ -129,7 +128,7 @@ fn below(a: &[i8], b: &[i8]) -> bool {
 }
 
 /// Per machine state and valuation of the read signals: the value written and the next state.
-type Table = Vec<Vec<(u64, u32)>>;
+pub(super) type Table = Vec<Vec<(u64, u32)>>;
 
 /// Valuations ordered as a PLC engineer would like ties broken: fewer signals set first.
 fn by_fewest_set(count: usize) -> Vec<usize> {
@@ -223,7 +222,7 @@ fn cover(moves: &[(u64, u32)], width: usize) -> Vec<Row> {
 }
 
 /// The valuations of `width` signals inside `cube`.
-fn members(width: usize, cube: Cube) -> impl Iterator<Item = usize> {
+pub(super) fn members(width: usize, cube: Cube) -> impl Iterator<Item = usize> {
     let free = ((1u64 << width) - 1) & !cube.care;
     let mut sub = Some(free);
     std::iter::from_fn(move || {

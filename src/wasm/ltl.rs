@@ -174,6 +174,7 @@ impl LtlSession {
         let solver = match opts.solver.as_deref() {
             None | Some("explicit") => ltl::Solver::Explicit,
             Some("antichain") => ltl::Solver::Antichain,
+            Some("symbolic") => ltl::Solver::Symbolic,
             Some(other) => return Err(JsValue::from_str(&format!("unknown solver `{other}` (explicit, antichain)"))),
         };
         let cfg = Config {
