@@ -137,6 +137,7 @@ fn compile_writes_every_target_and_refuses_unrealizable_specs() {
         ("il", "JMPCN END_SCAN"),
         ("stl", "JL\tud"),
         ("plcopen", "tc6_0201"),
+        ("abb", "interval=\"PT0.010S\""),
     ] {
         let file = dir.join(format!("lamp.{target}"));
         let (code, _, err) =
@@ -261,6 +262,26 @@ fn compile_writes_the_io_table_and_takes_the_stl_and_plcopen_options() {
         plcsynth(&["compile", "examples/timed/lamp.tga", "--target", "scl-1500", "--io-table", sdf.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
     assert!(std::fs::read_to_string(&sdf).unwrap().starts_with("\"press\",\"I 124.0\",\"BOOL\","));
+    // The CODESYS mapping list, by --io-format whatever the file's name.
+    let mapping = dir.join("lamp_mapping.csv");
+    let (code, _, err) = plcsynth(&[
+        "compile",
+        "examples/timed/lamp.tga",
+        "--target",
+        "codesys",
+        "--io-table",
+        mapping.to_str().unwrap(),
+        "--io-format",
+        "codesys",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let table = std::fs::read_to_string(&mapping).unwrap();
+    assert!(
+        table.starts_with("Variable;Address;Type;Direction;Description\r\nGVL_IO.press;%IX124.0;BOOL;input;"),
+        "{table}"
+    );
+    let (code, _, err) = plcsynth(&["compile", "examples/timed/lamp.tga", "--target", "st", "--io-format", "codesys"]);
+    assert_eq!(code, 2, "--io-format needs --io-table: {err}");
     // STL: block numbers and marker byte; refused for other targets.
     let (code, out, err) = plcsynth(&[
         "compile",

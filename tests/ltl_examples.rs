@@ -354,8 +354,8 @@ fn synthesised_controllers_become_code_for_every_target() {
                     std::fs::write(&out, common::scl_for_blark(text)).unwrap();
                     st_files.push(out);
                 }
-                Target::Plcopen => {
-                    let out = dir.join(format!("{stem}.xml"));
+                Target::Plcopen | Target::Abb => {
+                    let out = dir.join(format!("{stem}_{target}.xml"));
                     std::fs::write(&out, text).unwrap();
                     let status = Command::new("xmllint").arg("--noout").arg("--schema").arg(&schema).arg(&out).output();
                     let status = status.expect("xmllint runs (bash scripts/python-checkers.sh installs it)");

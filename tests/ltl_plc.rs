@@ -416,8 +416,11 @@ fn every_target_parses_or_validates() {
                         check(Command::new("xmllint").arg("--noout").arg(&path), &path);
                     }
                 }
-                Target::Plcopen => {
-                    let path = scratch(&format!("{name}.xml"), text);
+                Target::Plcopen | Target::Abb => {
+                    if target == Target::Abb {
+                        assert!(!text.contains("constant=\"true\""), "{name}: ABB declares no constants");
+                    }
+                    let path = scratch(&format!("{name}_{target}.xml"), text);
                     check(Command::new("xmllint").arg("--noout").arg("--schema").arg(&schema).arg(&path), &path);
                 }
                 Target::Stl => {

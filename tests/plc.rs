@@ -98,10 +98,10 @@ fn check(target: Target, example: &str, text: &str) {
                 blark(&path);
             }
         }
-        Target::Plcopen => {
+        Target::Plcopen | Target::Abb => {
             let schema = root().join("../shared/schemas/tc6_xml_v201.xsd");
             assert!(schema.exists(), "the PLCopen schema is expected at {}", schema.display());
-            let path = scratch(&format!("{example}.xml"), text);
+            let path = scratch(&format!("{example}_{target}.xml"), text);
             let (ok, out) = run(Command::new("xmllint").arg("--noout").arg("--schema").arg(&schema).arg(&path));
             assert!(ok, "{example}: {out}");
         }
@@ -415,6 +415,122 @@ fn plcopen_holds_a_program_a_task_the_mapped_io_and_the_creation_time() {
         assert!(xml.contains(fragment), "{fragment} in\n{xml}");
     }
     check(Target::Plcopen, "lamp_created", &xml);
+}
+
+/// The ABB dialect (Eclipse ESCET's conventions for ABB's Automation Builder) differs from plain
+/// TC6 where named here, and both validate against the TC6 schema.
+#[test]
+fn abb_writes_the_task_interval_in_iso_8601_and_the_io_at_the_configuration() {
+    let options = Options { created_unix: 1_700_000_000, ..Options::default() };
+    let code = build(&example("lamp"), "lamp", Target::Abb, &options).unwrap();
+    let abb = plc::render(&code, Target::Abb, &options);
+    let plain = plc::render(&code, Target::Plcopen, &options);
+    // The task's interval: an ISO 8601 duration, as CODESYS-based tools write it.
+    assert!(abb.contains("<task name=\"task_main\" interval=\"PT0.010S\" priority=\"1\">"), "{abb}");
+    assert!(plain.contains("interval=\"T#10ms\"") && !plain.contains("PT0.010S"), "{plain}");
+    // The I/O: the configuration's global variables (after the resource), located at their
+    // addresses; plain TC6 puts them in the resource.
+    let at_configuration = "        </resource>\n        <globalVars name=\"GVL_IO\">\n";
+    assert!(abb.contains(at_configuration), "{abb}");
+    assert!(!plain.contains(at_configuration) && plain.contains("          <globalVars name=\"GVL_IO\">"), "{plain}");
+    let configuration = &abb[abb.find("</resource>").unwrap()..];
+    for variable in
+        ["<variable name=\"press\" address=\"%IX124.0\">", "<variable name=\"turn_on\" address=\"%QX125.6\">"]
+    {
+        assert!(configuration.contains(variable), "{variable} in\n{abb}");
+    }
+    // The POUs are the same.
+    let pous = |xml: &str| xml[xml.find("<pous>").unwrap()..xml.find("</pous>").unwrap()].to_string();
+    assert_eq!(pous(&abb), pous(&plain));
+    check(Target::Abb, "lamp_abb", &abb);
+    check(Target::Plcopen, "lamp_plain", &plain);
+}
+
+/// A unit with named constants: ABB's file declares none and writes their values where they
+/// are read; the values read are the same (the reference interpreter runs both units).
+#[test]
+fn abb_writes_constants_values_in_place_and_computes_the_same() {
+    use plc::model::exec::{Machine, Value};
+    use plc::model::unit::{BinOp, Expr, Place, Pou, PouKind, Stmt, Type, Unit, Var};
+    let within = Expr::binary(
+        BinOp::And,
+        Expr::binary(BinOp::Gt, Expr::local("x"), Expr::global("LOW")),
+        Expr::binary(BinOp::Le, Expr::local("x"), Expr::global("HIGH")),
+    );
+    let unit = Unit {
+        name: "limits".into(),
+        header: vec!["a unit with constants".into()],
+        gvl: "GVL_LIMITS".into(),
+        constants: vec![
+            Var::new("LOW", Type::Int, "lower bound").with_init(Expr::Int(-3)),
+            Var::new("HIGH", Type::Int, "upper bound").with_init(Expr::Int(7)),
+        ],
+        globals: vec![Var::new("count", Type::Int, "")],
+        signals: Vec::new(),
+        pous: vec![
+            Pou {
+                kind: PouKind::Function { returns: Some(Type::Bool) },
+                name: "within".into(),
+                comment: String::new(),
+                inputs: vec![Var::new("x", Type::Int, "")],
+                outputs: Vec::new(),
+                locals: Vec::new(),
+                body: vec![Stmt::assign(Place::local("within"), within)],
+            },
+            Pou {
+                kind: PouKind::Program,
+                name: "limits_main".into(),
+                comment: String::new(),
+                inputs: Vec::new(),
+                outputs: Vec::new(),
+                locals: Vec::new(),
+                body: vec![Stmt::assign(
+                    Place::global("count"),
+                    Expr::binary(BinOp::Add, Expr::global("count"), Expr::global("HIGH")),
+                )],
+            },
+        ],
+    };
+    let render = |target| plc::render_unit_files(&unit, target, &Options::default()).unwrap().remove(0).text;
+    let (abb, plain) = (render(Target::Abb), render(Target::Plcopen));
+    assert!(plain.contains("<globalVars name=\"GVL_LIMITS\" constant=\"true\">"), "{plain}");
+    assert!(plain.contains("x > LOW AND x <= HIGH") && plain.contains("count := count + HIGH;"), "{plain}");
+    assert!(!abb.contains("constant=\"true\"") && !abb.contains("LOW") && !abb.contains("HIGH"), "{abb}");
+    assert!(abb.contains("x > (-3) AND x <= 7") && abb.contains("count := count + 7;"), "{abb}");
+    check(Target::Abb, "limits_abb", &abb);
+    check(Target::Plcopen, "limits_plain", &plain);
+    let inlined = unit.inline_constants();
+    assert!(inlined.constants.is_empty());
+    let (mut a, mut b) = (Machine::new(&unit).unwrap(), Machine::new(&inlined).unwrap());
+    for x in -6..12 {
+        let args = [("x", Value::Int(x))];
+        assert_eq!(a.call("within", &args).unwrap(), b.call("within", &args).unwrap(), "x = {x}");
+        assert_eq!(a.call("within", &args).unwrap(), Value::Bool(-3 < x && x <= 7), "x = {x}");
+    }
+}
+
+/// The CODESYS I/O mapping list: semicolon-separated, the globals qualified by their list (the
+/// CODESYS target declares it `qualified_only`), a mapped one without an address.
+#[test]
+fn the_codesys_mapping_list_names_each_channel_s_variable() {
+    let unit = |name: &str| {
+        let code = build(&example(name), name, Target::Codesys, &Options::default()).unwrap();
+        plc::lower::timed::structured(&code).unit
+    };
+    assert_eq!(
+        plc::codesys_mapping_csv(&unit("lamp")),
+        "Variable;Address;Type;Direction;Description\r\n\
+         GVL_IO.press;%IX124.0;BOOL;input;press, NOT release\r\n\
+         GVL_IO.turn_on;%QX125.6;BOOL;output;turn_on sets, turn_off resets\r\n"
+    );
+    let csv = plc::codesys_mapping_csv(&unit("gear_checking"));
+    assert!(
+        csv.contains("\r\nGVL_IO.loaded;;BOOL;input;loaded\r\n") && csv.contains("\r\nGVL_IO.load;;BOOL;output;"),
+        "{csv}"
+    );
+    // The code the list belongs to declares what it names.
+    let gvl = &files("lamp", Target::Codesys)[0].text;
+    assert!(gvl.contains("{attribute 'qualified_only'}") && gvl.contains("press AT %IX124.0 : BOOL;"), "{gvl}");
 }
 
 #[test]

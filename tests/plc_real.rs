@@ -204,9 +204,9 @@ fn every_target_parses_validates_or_refuses() {
                     check(Command::new("xmllint").arg("--noout").arg(&path), &path);
                 }
             }
-            Target::Plcopen => {
+            Target::Plcopen | Target::Abb => {
                 assert!(text.contains("<REAL/>") && text.contains("<simpleValue value=\"-0.25\"/>"), "{text}");
-                let path = scratch("predicates.xml", text);
+                let path = scratch(&format!("predicates_{target}.xml"), text);
                 check(Command::new("xmllint").arg("--noout").arg("--schema").arg(&schema).arg(&path), &path);
             }
             Target::Stl => {

@@ -308,7 +308,7 @@ fn products_written_in_the_file_and_compose_obey_the_state_budget() {
 fn supervise_writes_the_runtime_framework_for_every_target() {
     let dir = std::env::temp_dir().join(format!("plcsynth-supervise-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    for target in ["st", "codesys", "scl", "scl-1500", "plcopen", "stl"] {
+    for target in ["st", "codesys", "scl", "scl-1500", "plcopen", "abb", "stl"] {
         let path = dir.join(format!("tank.{target}"));
         let table = dir.join(format!("tank_{target}.csv"));
         let (code, out, err) = plcsynth(&[
@@ -332,6 +332,22 @@ fn supervise_writes_the_runtime_framework_for_every_target() {
         assert!(csv.contains("%IX0.0,BOOL,I_LevelHigh,input,levelAlarm\r\n"), "{csv}");
         assert!(csv.contains(",INT,EV_T_timeout,constant,"), "{csv}");
     }
+    // The signal table as the CODESYS mapping list: the user's symbols at their addresses.
+    let table = dir.join("tank_mapping.csv");
+    let (code, _, err) = plcsynth(&[
+        "supervise",
+        "examples/sct/tank_timer.sct",
+        "--target",
+        "codesys",
+        "--io-table",
+        table.to_str().unwrap(),
+        "--io-format",
+        "codesys",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let csv = std::fs::read_to_string(&table).unwrap();
+    assert!(csv.starts_with("Variable;Address;Type;Direction;Description\r\n"), "{csv}");
+    assert!(csv.contains("\r\nI_LevelHigh;%IX0.0;BOOL;input;levelAlarm\r\n"), "{csv}");
     // TwinCAT: a directory with a file per POU and the global variable list.
     let tc = dir.join("tank_tc");
     let (code, _, err) =

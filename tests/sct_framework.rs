@@ -800,8 +800,11 @@ fn every_target_parses_or_validates_for_every_example_and_a_transfer_line() {
                         }
                     }
                 }
-                Target::Plcopen => {
-                    let path = scratch(&format!("{name}.xml"), &files[0].text);
+                Target::Plcopen | Target::Abb => {
+                    if target == Target::Abb {
+                        assert!(!files[0].text.contains("constant=\"true\""), "{name}: ABB declares no constants");
+                    }
+                    let path = scratch(&format!("{name}_{target}.xml"), &files[0].text);
                     check(Command::new("xmllint").arg("--noout").arg("--schema").arg(&schema).arg(&path), &path);
                 }
                 _ => {}

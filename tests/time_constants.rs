@@ -67,6 +67,7 @@ fn constants_beyond_the_targets_time_types_are_refused() {
         (Target::St, "IEC TIME"),
         (Target::Il, "IEC TIME"),
         (Target::Plcopen, "IEC TIME"),
+        (Target::Abb, "IEC TIME"),
         (Target::Scl, "S7 TIME"),
         (Target::Scl1500, "S7 TIME"),
         (Target::Codesys, "CODESYS/TwinCAT TIME"),
@@ -153,7 +154,9 @@ fn s5time_constants_must_be_exact() {
 fn accepts(target: Target, threshold_ms: u128, unit_ms: u128) -> bool {
     let fits_32 = |max: u128| threshold_ms + unit_ms <= max;
     match target {
-        Target::St | Target::Il | Target::Plcopen | Target::Scl | Target::Scl1500 => fits_32((1 << 31) - 1),
+        Target::St | Target::Il | Target::Plcopen | Target::Abb | Target::Scl | Target::Scl1500 => {
+            fits_32((1 << 31) - 1)
+        }
         Target::Codesys | Target::Twincat => fits_32((1 << 32) - 1),
         Target::Stl => {
             [10, 100, 1000, 10_000].iter().any(|&step| threshold_ms % step == 0 && threshold_ms / step <= 999)

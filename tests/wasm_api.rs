@@ -235,9 +235,9 @@ fn state_search_and_neighbourhood() {
 fn targets_list_the_program_and_every_plc_back_end() {
     let list = array(&targets().unwrap());
     let ids: Vec<String> = list.iter().map(|t| string(&t, "id")).collect();
-    assert_eq!(ids, ["program", "st", "twincat", "codesys", "scl", "scl-1500", "il", "stl", "plcopen"]);
+    assert_eq!(ids, ["program", "st", "twincat", "codesys", "scl", "scl-1500", "il", "stl", "plcopen", "abb"]);
     let exts: Vec<String> = list.iter().map(|t| string(&t, "extension")).collect();
-    assert_eq!(exts, ["txt", "st", "TcPOU", "st", "scl", "scl", "il", "awl", "xml"]);
+    assert_eq!(exts, ["txt", "st", "TcPOU", "st", "scl", "scl", "il", "awl", "xml", "xml"]);
 }
 
 #[wasm_bindgen_test]
@@ -255,6 +255,7 @@ fn code_for_every_target_of_a_realizable_spec() {
         ("il", "turn_on"),
         ("stl", "turn_on"),
         ("plcopen", "<project"),
+        ("abb", "interval=\"PT0.010S\""),
     ] {
         let code = s.code(target, "lamp", Some(1_700_000_000.0)).unwrap();
         assert_eq!(string(&code, "target"), target);
@@ -276,6 +277,7 @@ fn code_for_every_target_of_a_realizable_spec() {
     );
     assert!(string(&code, "io_csv").starts_with("address,type,symbol,direction,meaning"));
     assert!(string(&code, "io_sdf").starts_with("\"press\",\"I 124.0\""));
+    assert!(string(&code, "io_codesys").starts_with("Variable;Address;Type;Direction;Description\r\nGVL_IO.press;"));
     assert!(s.code("cobol", "lamp", None).is_err());
 }
 
@@ -420,7 +422,7 @@ fn sct_session_draws_synthesises_and_generates_the_framework() {
     assert!(array(&get(&sup, "enforced_events")).length() >= 1, "preemption enforces closing the inlet");
     let drawn = array(&s.supervisors().unwrap());
     assert!(string(&drawn.get(0), "dot").contains("⇒"), "the enforced event is marked");
-    for target in ["st", "twincat", "codesys", "scl", "scl-1500", "stl", "plcopen"] {
+    for target in ["st", "twincat", "codesys", "scl", "scl-1500", "stl", "plcopen", "abb"] {
         let code = s.code(target, "", "", JsValue::UNDEFINED).unwrap();
         let files = array(&get(&code, "files"));
         assert!(files.length() >= 1, "{target}");
@@ -464,7 +466,7 @@ fn ltl_session_decides_draws_and_generates_code() {
     assert!(string(&summary, "machine_dot").starts_with("digraph"));
     assert!(string(&summary, "machine_text").contains(" / "));
     assert!(get(&summary, "counter_tree").is_null());
-    for target in ["st", "twincat", "stl", "plcopen"] {
+    for target in ["st", "twincat", "stl", "plcopen", "abb"] {
         let code = s.code(target, "FB_Arbiter", JsValue::UNDEFINED).unwrap();
         let text = string(&array(&get(&code, "files")).get(0), "text");
         assert!(text.contains("FB_Arbiter"), "{target}: {text}");

@@ -50,6 +50,10 @@ pub struct LtlArgs {
     /// Also write the signal table (CSV: address, type, symbol, direction).
     #[arg(long, value_name = "FILE", requires = "target")]
     pub io_table: Option<String>,
+    /// The form of --io-table: csv (the signal table) or codesys (the CODESYS I/O mapping
+    /// list, semicolon-separated).
+    #[arg(long, value_enum, value_name = "FORMAT", requires = "io_table")]
+    pub io_format: Option<super::IoFormat>,
     /// The function block's name (default `FB_` and the TLSF title, or `FB_Controller`).
     #[arg(long, value_name = "NAME", requires = "target")]
     pub name: Option<String>,
@@ -260,7 +264,7 @@ fn write_code(a: &LtlArgs, target: plc::Target, source: &str, spec: &ltl::Spec, 
             return ExitCode::from(2);
         }
     };
-    super::write_unit(&unit, target, plc::Options::default(), a.io_table.as_deref(), a.output.as_deref())
+    super::write_unit(&unit, target, plc::Options::default(), a.io_table.as_deref(), a.io_format, a.output.as_deref())
 }
 
 #[derive(Args)]

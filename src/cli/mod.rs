@@ -16,14 +16,34 @@ pub mod ltl;
 pub mod sct;
 pub mod timed;
 
+/// The form of the I/O table written by `--io-table`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum IoFormat {
+    /// plcsynth's own CSV (comma-separated, one row per signal).
+    Csv,
+    /// A Siemens symbol table (STEP 7 symbols, TIA Portal PLC tags; timed games only).
+    Sdf,
+    /// The CODESYS I/O mapping list (semicolon-separated: Variable;Address;Type;Direction;Description).
+    Codesys,
+}
+
+impl IoFormat {
+    /// The format given, or the one the file name implies: `.sdf` a symbol table, else CSV.
+    pub fn of(given: Option<IoFormat>, path: &str) -> IoFormat {
+        given.unwrap_or(if path.to_ascii_lowercase().ends_with(".sdf") { IoFormat::Sdf } else { IoFormat::Csv })
+    }
+}
+
 /// Prints `unit` for `target` with `options` (the creation time taken from
 /// `SOURCE_DATE_EPOCH` or the clock) and writes it to `output` or standard output, and the
-/// signal table to `io_table`: the last step of `supervise --target` and `ltl --target`.
+/// signal table to `io_table` in `io_format` (CSV, or the CODESYS mapping list): the last step of
+/// `supervise --target` and `ltl --target`.
 pub fn write_unit(
     unit: &plcsynth::plc::model::unit::Unit,
     target: plcsynth::plc::Target,
     options: plcsynth::plc::Options,
     io_table: Option<&str>,
+    io_format: Option<IoFormat>,
     output: Option<&str>,
 ) -> std::process::ExitCode {
     use plcsynth::plc;
@@ -43,7 +63,15 @@ pub fn write_unit(
         }
     };
     if let Some(path) = io_table {
-        if let Err(e) = std::fs::write(path, plc::signal_table_csv(unit)) {
+        let text = match IoFormat::of(io_format, path) {
+            IoFormat::Csv => plc::signal_table_csv(unit),
+            IoFormat::Codesys => plc::codesys_mapping_csv(unit),
+            IoFormat::Sdf => {
+                eprintln!("error: --io-format sdf is for timed controllers; this code reads the user's own symbols");
+                return ExitCode::from(2);
+            }
+        };
+        if let Err(e) = std::fs::write(path, text) {
             eprintln!("error: cannot write {path}: {e}");
             return ExitCode::from(2);
         }

@@ -59,6 +59,10 @@ pub struct SuperviseArgs {
     /// Also write the signal table (CSV: address, type, symbol, direction, events).
     #[arg(long, value_name = "FILE", requires = "target")]
     pub io_table: Option<String>,
+    /// The form of --io-table: csv (the signal table) or codesys (the CODESYS I/O mapping
+    /// list, semicolon-separated).
+    #[arg(long, value_enum, value_name = "FORMAT", requires = "io_table")]
+    pub io_format: Option<super::IoFormat>,
     /// The function block type of the existing controller that the framework calls.
     #[arg(long, value_name = "TYPE", default_value = "Controller", requires = "target")]
     pub controller: String,
@@ -270,7 +274,7 @@ fn write_framework(
         }
     };
     let options = plc::Options { ob: a.ob, fb: Some(a.controller_fb), ..plc::Options::default() };
-    super::write_unit(&unit, target, options, a.io_table.as_deref(), a.output.as_deref())
+    super::write_unit(&unit, target, options, a.io_table.as_deref(), a.io_format, a.output.as_deref())
 }
 
 /// How to go on after the state budget stopped a run.

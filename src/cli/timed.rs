@@ -143,9 +143,14 @@ const ZERO_TIME: &str = "assumes a controller that reacts in zero time (the thes
 #[derive(Args)]
 pub struct PlcArgs {
     /// Also write the I/O table: CSV (address, type, symbol, direction, meaning) for a `.csv`
-    /// file, a Siemens symbol table for STEP 7 / TIA Portal for a `.sdf` file.
+    /// file, a Siemens symbol table for STEP 7 / TIA Portal for a `.sdf` file (or as
+    /// --io-format says).
     #[arg(long, value_name = "FILE")]
     pub io_table: Option<String>,
+    /// The form of --io-table: csv, sdf (Siemens symbols / TIA Portal tags) or codesys (the
+    /// CODESYS I/O mapping list, semicolon-separated); by default from the file's extension.
+    #[arg(long, value_enum, value_name = "FORMAT", requires = "io_table")]
+    pub io_format: Option<super::IoFormat>,
     /// STL: the organisation block that runs the controller.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
     pub ob: Option<u16>,
@@ -521,10 +526,10 @@ pub fn compile(
     };
     if let Some(path) = &plc_args.io_table {
         let unit = plc::lower::timed::structured(&code).unit;
-        let text = if path.to_ascii_lowercase().ends_with(".sdf") {
-            plc::tag_table_sdf(&unit)
-        } else {
-            plc::io_table_csv(&unit)
+        let text = match super::IoFormat::of(plc_args.io_format, path) {
+            super::IoFormat::Sdf => plc::tag_table_sdf(&unit),
+            super::IoFormat::Csv => plc::io_table_csv(&unit),
+            super::IoFormat::Codesys => plc::codesys_mapping_csv(&unit),
         };
         if let Err(e) = std::fs::write(path, text) {
             eprintln!("error: cannot write {path}: {e}");

@@ -36,7 +36,9 @@ pub mod model;
 pub mod print;
 mod target;
 
-pub use files::iotable::{io_table, io_table_csv, signal_rows, signal_table_csv, tag_table_sdf, IoRow, SignalRow};
+pub use files::iotable::{
+    codesys_mapping_csv, io_table, io_table_csv, signal_rows, signal_table_csv, tag_table_sdf, IoRow, SignalRow,
+};
 pub use lower::timed::Code;
 pub use lower::timed::{build, generate};
 
@@ -107,8 +109,9 @@ pub fn render_unit_files(unit: &unit::Unit, target: Target, options: &Options) -
         Target::Scl => st::Dialect::Scl,
         Target::Scl1500 => st::Dialect::Scl1500,
         Target::Twincat => return Ok(unit_st::files(unit)),
-        Target::Plcopen => {
-            unit_plcopen::print(unit, options, &mut text).expect("writing to a String cannot fail");
+        Target::Plcopen | Target::Abb => {
+            let flavour = if target == Target::Abb { unit_plcopen::Flavour::Abb } else { unit_plcopen::Flavour::Tc6 };
+            unit_plcopen::print_flavour(unit, flavour, options, &mut text).expect("writing to a String cannot fail");
             return single(text);
         }
         Target::Stl => {

@@ -24,11 +24,15 @@ pub enum Target {
     Stl,
     /// PLCopen TC6 XML v2.01: the block, a program and a configuration with a task.
     Plcopen,
+    /// ABB Automation Builder (AC500): PLCopen TC6 XML in the conventions of Eclipse ESCET's
+    /// PLC generator for ABB: no named constants (their values written in place), the I/O as the
+    /// configuration's global variables, the task interval as an ISO 8601 duration.
+    Abb,
 }
 
 impl Target {
     /// Every target, in the order menus and help list them.
-    pub const ALL: [Target; 8] = [
+    pub const ALL: [Target; 9] = [
         Target::St,
         Target::Twincat,
         Target::Codesys,
@@ -37,6 +41,7 @@ impl Target {
         Target::Il,
         Target::Stl,
         Target::Plcopen,
+        Target::Abb,
     ];
 
     /// The one table of names, labels and file extensions that the CLI, the page and the
@@ -51,6 +56,7 @@ impl Target {
             Target::Il => ("il", "Instruction List (IEC 61131-3)", "il"),
             Target::Stl => ("stl", "S7 STL / AWL", "awl"),
             Target::Plcopen => ("plcopen", "PLCopen TC6 XML", "xml"),
+            Target::Abb => ("abb", "ABB Automation Builder (PLCopen XML)", "xml"),
         };
         TargetInfo { name, label, extension }
     }
@@ -86,8 +92,11 @@ impl Target {
     pub fn time_type(self) -> TimeType {
         match self {
             // IEC 61131-3 leaves TIME's range to the implementation; 32-bit signed milliseconds
-            // is the common one (and S7's TIME). PLCopen XML carries the IEC text.
-            Target::St | Target::Il | Target::Plcopen => TimeType::Millis { name: "IEC TIME", max_ms: i32::MAX as u64 },
+            // is the common one (and S7's TIME). PLCopen XML carries the IEC text; ABB's AC500
+            // tools are CODESYS-based (unsigned milliseconds), the signed range fits both.
+            Target::St | Target::Il | Target::Plcopen | Target::Abb => {
+                TimeType::Millis { name: "IEC TIME", max_ms: i32::MAX as u64 }
+            }
             Target::Scl | Target::Scl1500 => TimeType::Millis { name: "S7 TIME", max_ms: i32::MAX as u64 },
             // CODESYS and TwinCAT document TIME as an unsigned 32-bit count of milliseconds.
             Target::Codesys | Target::Twincat => {

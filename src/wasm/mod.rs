@@ -227,6 +227,8 @@ pub(crate) struct GeneratedCode {
     /// The I/O table as CSV, and (timed games) as a Siemens SDF symbol table; else empty.
     pub io_csv: String,
     pub io_sdf: String,
+    /// The I/O as the CODESYS I/O mapping list (`plc::codesys_mapping_csv`); empty for `program`.
+    pub io_codesys: String,
     /// At a declared scan time at which a timed specification is implementable: the real-time
     /// check of the code (`plc::lower::timed::realtime::check`); when it failed, `files` is empty.
     pub realtime: Option<timed::RealtimeView>,
@@ -282,6 +284,7 @@ pub(crate) fn unit_code(
         io,
         io_csv: plc::signal_table_csv(unit),
         io_sdf: String::new(),
+        io_codesys: plc::codesys_mapping_csv(unit),
         realtime: None,
     })
 }

@@ -316,7 +316,7 @@ impl TimedSession {
 
     /// The controller as code for `target` (an id from `targets()`), the function block named
     /// after `name`, PLCopen's creation time `created_unix` (seconds since 1970, from the page's
-    /// clock): `{ target, extension, files, io, io_csv, io_sdf, realtime }`, or `null` when the
+    /// clock): `{ target, extension, files, io, io_csv, io_sdf, io_codesys, realtime }`, or `null` when the
     /// game is not realizable. At a declared scan time where the game is implementable the code is
     /// first run against the plant (`realtime`); if a run fails, `files` is empty. Throws `{ ok: false, diagnostics }` when a time constant does not fit
     /// the target.
@@ -404,6 +404,7 @@ impl TimedSession {
                     io,
                     io_csv: plc::io_table_csv(&unit),
                     io_sdf: plc::tag_table_sdf(&unit),
+                    io_codesys: plc::codesys_mapping_csv(&unit),
                     realtime,
                 }
             }
@@ -420,6 +421,7 @@ impl TimedSession {
                     io: Vec::new(),
                     io_csv: String::new(),
                     io_sdf: String::new(),
+                    io_codesys: String::new(),
                     realtime,
                 }
             }

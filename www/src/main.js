@@ -474,7 +474,7 @@ function renderCode(text, started) {
   else window.plcsynth.codeTimings.doneMs = performance.now() - started;
 }
 
-/** The I/O table under the target menu, with its CSV and SDF downloads. */
+/** The I/O table under the target menu, with its CSV, SDF and CODESYS mapping downloads. */
 function renderIo(generated) {
   const box = $('#io-box');
   const rows = generated?.io ?? [];
@@ -486,6 +486,8 @@ function renderIo(generated) {
     ...rows.map((r) => h('tr', {}, h('td', {}, r.address || '—'), h('td', {}, r.type), h('td', {}, r.symbol), h('td', {}, r.direction), h('td', {}, r.meaning))),
   );
   $('#download-io-sdf').hidden = !generated.io_sdf;
+  // The mapping list of CODESYS's device editor, which ABB's Automation Builder shares.
+  $('#download-io-codesys').hidden = !generated.io_codesys || !['codesys', 'abb'].includes(generated.target);
 }
 
 /** One button per file of a multi-file target (TwinCAT). */
@@ -600,6 +602,7 @@ $('#download-code').addEventListener('click', () => {
 });
 $('#download-io-csv').addEventListener('click', () => app.io && download(`${fileStem()}_io.csv`, app.io.io_csv, 'text/csv'));
 $('#download-io-sdf').addEventListener('click', () => app.io && download(`${fileStem()}_tags.sdf`, app.io.io_sdf));
+$('#download-io-codesys').addEventListener('click', () => app.io && download(`${fileStem()}_mapping.csv`, app.io.io_codesys, 'text/csv'));
 
 // ---- share ------------------------------------------------------------------------------
 

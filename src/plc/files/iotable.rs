@@ -1,8 +1,9 @@
 //! The I/O table of a controller: one row per interface variable with its address (or project
-//! symbol), type, symbol, direction and meaning; as CSV for any tool, and as a Siemens symbol
-//! table (SDF, the "System Data Format" of STEP 7 that TIA Portal's PLC tag tables import too).
+//! symbol), type, symbol, direction and meaning; as CSV for any tool, as a Siemens symbol
+//! table (SDF, the "System Data Format" of STEP 7 that TIA Portal's PLC tag tables import too),
+//! and as a CODESYS I/O mapping list ([`codesys_mapping_csv`]).
 
-use crate::plc::model::unit::{SignalKind, Unit};
+use crate::plc::model::unit::{Location, SignalKind, Type, Unit};
 use crate::plc::print::steps::{StepBlock, Wire};
 use crate::plc::{iec_address, siemens_address};
 
@@ -110,13 +111,7 @@ pub struct SignalRow {
 pub fn signal_rows(unit: &Unit) -> Vec<SignalRow> {
     let mut rows = Vec::new();
     for s in &unit.signals {
-        let data_type = match s.ty {
-            crate::plc::model::unit::Type::Int => "INT",
-            crate::plc::model::unit::Type::Dint => "DINT",
-            crate::plc::model::unit::Type::Real => "REAL",
-            crate::plc::model::unit::Type::Time => "TIME",
-            _ => "BOOL",
-        };
+        let data_type = type_name(&s.ty);
         let direction = match s.kind {
             SignalKind::Input => "input",
             SignalKind::Output => "output",
@@ -153,6 +148,86 @@ pub fn signal_table_csv(unit: &Unit) -> String {
         let fields = [&r.address, r.data_type, &r.symbol, r.direction, &r.events];
         let line: Vec<String> = fields.iter().map(|f| csv_field(f)).collect();
         out.push_str(&line.join(","));
+        out.push_str("\r\n");
+    }
+    out
+}
+
+/// The IEC name of a signal's type.
+fn type_name(ty: &Type) -> &'static str {
+    match ty {
+        Type::Int => "INT",
+        Type::Dint => "DINT",
+        Type::Real => "REAL",
+        Type::Time => "TIME",
+        _ => "BOOL",
+    }
+}
+
+/// A field of a semicolon-separated file: quoted when it holds a semicolon, a quote or a line
+/// break.
+fn semicolon_field(text: &str) -> String {
+    if text.contains([';', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
+    }
+}
+
+/// The I/O of a unit as the CODESYS device editor's I/O mapping lists it: one row per variable
+/// wired to the process, semicolon-separated (the separator CODESYS's "Export mappings to CSV"
+/// writes under a semicolon list separator, and the one ABB's copy of that help names), with a
+/// header row `Variable;Address;Type;Direction;Description`:
+///
+/// - `Variable`: what the mapping links to the channel, as CODESYS names it in the project: a
+///   global of the unit's list qualified by the list's name (`GVL_IO.press`: the CODESYS target
+///   declares the list `qualified_only`), or a signal's symbol in the user's project; empty for
+///   a signal the code reads at its direct address (nothing to map);
+/// - `Address`: the channel's IEC address (`%IX124.0`), empty for a global the tool maps
+///   (`Location::Mapped`): the row then names the variable that the channel of the user's
+///   choice is to be mapped to;
+/// - `Type`, `Direction` (`input`, `output`, `variable`), `Description` (the messages or events
+///   behind it).
+///
+/// CODESYS's "Import mappings from CSV" matches rows by device and channel name, which only the
+/// user's device tree knows; docs/plc-code.md says how this list fills an exported mapping.
+pub fn codesys_mapping_csv(unit: &Unit) -> String {
+    let mut rows: Vec<[String; 5]> = Vec::new();
+    for v in &unit.globals {
+        let (address, kind) = match &v.at {
+            Some(Location::Address(a)) => {
+                let kind = match a.chars().next() {
+                    Some('I') => SignalKind::Input,
+                    Some('Q') => SignalKind::Output,
+                    _ => SignalKind::Memory,
+                };
+                (format!("%{}", iec_address(a)), kind)
+            }
+            Some(Location::Mapped(kind)) => (String::new(), *kind),
+            None => continue,
+        };
+        rows.push([
+            format!("{}.{}", unit.gvl, v.name),
+            address,
+            type_name(&v.ty).to_string(),
+            kind.name().to_string(),
+            v.comment.clone(),
+        ]);
+    }
+    for sig in &unit.signals {
+        let variable = if sig.is_address() { String::new() } else { sig.symbol.clone() };
+        rows.push([
+            variable,
+            format!("%{}", iec_address(&sig.address)),
+            type_name(&sig.ty).to_string(),
+            sig.kind.name().to_string(),
+            sig.comment.clone(),
+        ]);
+    }
+    let mut out = String::from("Variable;Address;Type;Direction;Description\r\n");
+    for row in rows {
+        let line: Vec<String> = row.iter().map(|f| semicolon_field(f)).collect();
+        out.push_str(&line.join(";"));
         out.push_str("\r\n");
     }
     out

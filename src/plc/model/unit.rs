@@ -453,6 +453,84 @@ impl Unit {
     pub fn pou(&self, name: &str) -> Option<&Pou> {
         self.pous.iter().find(|p| p.name == name)
     }
+
+    /// The unit without named constants: every read of a constant replaced by its value
+    /// (constants defined through other constants resolved first), for tools whose import
+    /// takes no `VAR_GLOBAL CONSTANT` (the ABB target). The code does the same: a constant is
+    /// never written, so reading its value in place of its name changes nothing.
+    pub fn inline_constants(&self) -> Unit {
+        let mut values: Vec<(String, Expr)> = Vec::new();
+        for c in &self.constants {
+            let value = c.init.clone().unwrap_or(Expr::Int(0));
+            let value = substitute(&value, &values);
+            values.push((c.name.clone(), value));
+        }
+        let var = |v: &Var| Var { init: v.init.as_ref().map(|e| substitute(e, &values)), ..v.clone() };
+        Unit {
+            constants: Vec::new(),
+            globals: self.globals.iter().map(var).collect(),
+            pous: self
+                .pous
+                .iter()
+                .map(|p| Pou {
+                    inputs: p.inputs.iter().map(var).collect(),
+                    outputs: p.outputs.iter().map(var).collect(),
+                    locals: p.locals.iter().map(var).collect(),
+                    body: p.body.iter().map(|s| substitute_stmt(s, &values)).collect(),
+                    ..p.clone()
+                })
+                .collect(),
+            ..self.clone()
+        }
+    }
+}
+
+/// `e` with every read of a global named in `values` replaced by its value.
+fn substitute(e: &Expr, values: &[(String, Expr)]) -> Expr {
+    match e {
+        Expr::Read(Place::Global(name)) => {
+            values.iter().find(|(n, _)| n == name).map_or_else(|| e.clone(), |(_, v)| v.clone())
+        }
+        Expr::Not(a) => Expr::Not(Box::new(substitute(a, values))),
+        Expr::Neg(a) => Expr::Neg(Box::new(substitute(a, values))),
+        Expr::Binary(op, a, b) => Expr::Binary(*op, Box::new(substitute(a, values)), Box::new(substitute(b, values))),
+        _ => e.clone(),
+    }
+}
+
+fn substitute_stmt(s: &Stmt, values: &[(String, Expr)]) -> Stmt {
+    let block = |list: &[Stmt]| list.iter().map(|s| substitute_stmt(s, values)).collect::<Vec<_>>();
+    let args = |list: &[(String, Expr)]| list.iter().map(|(n, e)| (n.clone(), substitute(e, values))).collect();
+    match s {
+        Stmt::Comment(_) => s.clone(),
+        Stmt::Assign { target, value } => Stmt::Assign { target: target.clone(), value: substitute(value, values) },
+        Stmt::If { arms, otherwise } => Stmt::If {
+            arms: arms.iter().map(|(c, body)| (substitute(c, values), block(body))).collect(),
+            otherwise: block(otherwise),
+        },
+        Stmt::Case { selector, arms, otherwise } => Stmt::Case {
+            selector: substitute(selector, values),
+            arms: arms.iter().map(|(labels, body)| (labels.clone(), block(body))).collect(),
+            otherwise: block(otherwise),
+        },
+        Stmt::CallFunction { function, args: a, result } => {
+            Stmt::CallFunction { function: function.clone(), args: args(a), result: result.clone() }
+        }
+        Stmt::CallInstance { instance, args: a } => Stmt::CallInstance { instance: instance.clone(), args: args(a) },
+        Stmt::Steps(list) => Stmt::Steps(StepList {
+            steps: list
+                .steps
+                .iter()
+                .map(|step| Step {
+                    wait: step.wait.as_ref().map(|e| substitute(e, values)),
+                    when: step.when.as_ref().map(|e| substitute(e, values)),
+                    actions: block(&step.actions),
+                    ..step.clone()
+                })
+                .collect(),
+            ..list.clone()
+        }),
+    }
 }
 
 #[cfg(test)]
