@@ -296,7 +296,7 @@ fn summary_of(r: &SupervisorReport) -> SupervisorSummary<'_> {
 struct ImportOptions {
     /// Read every state as marked instead of refusing unmarked states (`.sct` has no marking).
     ignore_marking: bool,
-    /// The states the files may declare in all (default 1 000 000, as `plcsynth import`).
+    /// The states the files may declare in all (default 250 000, as `plcsynth import`).
     max_states: Option<usize>,
 }
 
