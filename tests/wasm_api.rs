@@ -729,7 +729,7 @@ fn import_model_reads_generators_as_plants_and_specifications() {
 fn import_model_locates_malformed_modules_and_refuses_what_it_cannot_read() {
     let module = "<?xml version=\"1.0\"?>\n<Module xmlns=\"http://waters.sourceforge.net/xsd/module\" Name=\"m\">\n\
                   <EventDeclList>\n<EventDecl Kind=\"CONTROLLABLE\" Name=\"a\">\n</EventDeclList>\n</Module>\n";
-    let (err, d) = import_error(&[model_file("bad.wmod", module.as_bytes(), "plant")], "{}");
+    let (_, d) = import_error(&[model_file("bad.wmod", module.as_bytes(), "plant")], "{}");
     assert_eq!(string(&d, "file"), "bad.wmod");
     assert_eq!((num(&d, "line"), num(&d, "column")), (5.0, 1.0));
     assert!(string(&d, "message").starts_with("malformed XML"), "{}", string(&d, "message"));
