@@ -3,7 +3,7 @@
 #![cfg(target_arch = "wasm32")]
 
 use js_sys::{Array, Function, Reflect};
-use plcsynth::wasm::{check, targets, version, LtlSession, SctSession, TimedSession as Session};
+use plcsynth::wasm::{check, import_model, targets, version, LtlSession, SctSession, TimedSession as Session};
 use wasm_bindgen::{JsCast, JsValue};
 use wasm_bindgen_test::*;
 
@@ -629,4 +629,123 @@ fn the_editor_check_of_a_large_sct_product_stops_early_with_a_warning() {
     assert_eq!(string(&d, "severity"), "warning");
     assert!(string(&d, "message").contains("Run builds it"));
     assert_eq!(num(&d, "line"), 67.0, "located at the product");
+}
+
+/// A file for `importModel`: `{ name, bytes, kind }`.
+fn model_file(name: &str, bytes: &[u8], kind: &str) -> JsValue {
+    to_options(&[
+        ("name", JsValue::from_str(name)),
+        ("bytes", js_sys::Uint8Array::from(bytes).into()),
+        ("kind", JsValue::from_str(kind)),
+    ])
+}
+
+/// What `importModel` throws, with its first diagnostic.
+fn import_error(files: &[JsValue], options: &str) -> (JsValue, JsValue) {
+    let list: Array = files.iter().collect();
+    let err = import_model(list, js_sys::JSON::parse(options).unwrap()).err().expect("the import must fail");
+    assert_eq!(get(&err, "ok").as_bool(), Some(false));
+    let first = array(&get(&err, "diagnostics")).get(0);
+    (err, first)
+}
+
+/// Synthesises an imported project: the verdict of each supervisor.
+fn supervisors_of(text: &str) -> Vec<(String, bool)> {
+    let mut s = SctSession::new(text, JsValue::UNDEFINED).map_err(|e| format!("{e:?}\n{text}")).unwrap();
+    let summary = s.solve(JsValue::UNDEFINED, None).unwrap();
+    assert!(get(&summary, "stopped").is_null());
+    array(&get(&summary, "supervisors"))
+        .iter()
+        .map(|x| (string(&x, "name"), get(&x, "realizable").as_bool().unwrap()))
+        .collect()
+}
+
+#[wasm_bindgen_test]
+fn import_model_converts_a_supremica_module_into_a_project_that_synthesises() {
+    // Supremica writes windows-1252: an event `sé` (0xE9) must arrive decoded, then renamed.
+    let module = include_str!("fixtures/wmod/small_factory.wmod").replace("Name=\"s1\"", "Name=\"s\u{e9}\"");
+    let bytes: Vec<u8> = module.chars().map(|c| u8::try_from(u32::from(c)).expect("Latin-1")).collect();
+    assert!(std::str::from_utf8(&bytes).is_err(), "the module is not UTF-8");
+    let file = model_file("small_factory.wmod", &bytes, "plant");
+    // Its machines' working states are unmarked: refused, located in the module.
+    let (err, d) = import_error(std::slice::from_ref(&file), "{}");
+    assert_eq!(string(&d, "file"), "small_factory.wmod");
+    assert_eq!((num(&d, "line"), num(&d, "column")), (43.0, 19.0));
+    assert_eq!(string(&d, "severity"), "error");
+    assert_eq!(string(&d, "message"), "state `W` of `M1` is not marked");
+    let note = array(&get(&d, "notes")).get(0).as_string().unwrap();
+    assert!(note.contains("`Ignore marking` reads every state as marked"), "{note}");
+    assert_eq!(get(&err, "unmarked").as_bool(), Some(true));
+    let rendered = string(&d, "rendered");
+    assert!(rendered.contains("small_factory.wmod:43:19: error: state `W` of `M1` is not marked"), "{rendered}");
+    assert!(rendered.contains("43 | <SimpleNode Name=\"W\">"), "{rendered}");
+    // With marking ignored it converts: the header says so and lists the renamed event.
+    let list: Array = [file].into_iter().collect();
+    let imported = import_model(list, js_sys::JSON::parse(r#"{"ignoreMarking": true}"#).unwrap()).unwrap();
+    assert_eq!(string(&imported, "name"), "small_factory.sct");
+    let text = string(&imported, "text");
+    assert!(text.starts_with("// Imported by the plcsynth playground from `small_factory.wmod`."), "{text}");
+    assert!(text.contains("// Marking ignored (Ignore marking): every state is read as marked."), "{text}");
+    assert!(text.contains("//   `s\u{e9}` is `s_`"), "{text}");
+    assert!(text.contains("state I initial { s_ -> W; }"), "{text}");
+    assert!(text.contains("spec Buffer {\n  state empty initial { f1 -> full; forbid s2; }"), "{text}");
+    // The project checks and synthesises in the page's engine: the buffer's supervisor exists.
+    assert_eq!(get(&check("sct", &text).unwrap(), "ok").as_bool(), Some(true));
+    let sups = supervisors_of(&text);
+    assert!(!sups.is_empty() && sups.iter().all(|(_, ok)| *ok), "{sups:?}");
+}
+
+#[wasm_bindgen_test]
+fn import_model_reads_generators_as_plants_and_specifications() {
+    let machine = "<Generator> \"M1\"\n<Alphabet> a1 +C+ b1 </Alphabet>\n<States> idle busy </States>\n\
+                   <TransRel>\nidle a1 busy\nbusy b1 idle\n</TransRel>\n<InitStates> idle </InitStates>\n\
+                   <MarkedStates> idle busy </MarkedStates>\n</Generator>\n";
+    // At most one part in the buffer: start again (a1) only after the part was taken (b1).
+    let once = "<Generator> \"Once\"\n<Alphabet> a1 +C+ b1 </Alphabet>\n<States> ready started </States>\n\
+                <TransRel>\nready a1 started\nstarted b1 ready\n</TransRel>\n<InitStates> ready </InitStates>\n\
+                <MarkedStates> ready started </MarkedStates>\n</Generator>\n";
+    let files: Array =
+        [model_file("machine.gen", machine.as_bytes(), "plant"), model_file("once.gen", once.as_bytes(), "spec")]
+            .into_iter()
+            .collect();
+    let imported = import_model(files, JsValue::UNDEFINED).unwrap();
+    assert_eq!(string(&imported, "name"), "machine.sct");
+    let text = string(&imported, "text");
+    assert!(text.starts_with("// Imported by the plcsynth playground from `machine.gen`, `once.gen`."), "{text}");
+    assert!(text.contains("plant machine {") && text.contains("spec once {"), "{text}");
+    assert!(text.contains("event a1 : controllable;") && text.contains("event b1 : uncontrollable;"), "{text}");
+    assert_eq!(supervisors_of(&text), vec![("once".to_string(), true)]);
+    // A generator's error is located in its own file.
+    let broken = machine.replace("busy b1 idle", "busy b1 nowhere");
+    let files =
+        [model_file("machine.gen", broken.as_bytes(), "plant"), model_file("once.gen", once.as_bytes(), "spec")];
+    let (err, d) = import_error(&files, "{}");
+    assert_eq!(string(&d, "file"), "machine.gen");
+    assert_eq!(num(&d, "line"), 6.0);
+    assert!(string(&d, "message").contains("nowhere"), "{}", string(&d, "message"));
+    assert!(string(&d, "rendered").starts_with("machine.gen:6:"), "{}", string(&d, "rendered"));
+    assert_eq!(get(&err, "unmarked").as_bool(), Some(false));
+}
+
+#[wasm_bindgen_test]
+fn import_model_locates_malformed_modules_and_refuses_what_it_cannot_read() {
+    let module = "<?xml version=\"1.0\"?>\n<Module xmlns=\"http://waters.sourceforge.net/xsd/module\" Name=\"m\">\n\
+                  <EventDeclList>\n<EventDecl Kind=\"CONTROLLABLE\" Name=\"a\">\n</EventDeclList>\n</Module>\n";
+    let (_, d) = import_error(&[model_file("bad.wmod", module.as_bytes(), "plant")], "{}");
+    assert_eq!(string(&d, "file"), "bad.wmod");
+    assert_eq!((num(&d, "line"), num(&d, "column")), (5.0, 1.0));
+    assert!(string(&d, "message").starts_with("malformed XML"), "{}", string(&d, "message"));
+    assert!(string(&d, "rendered").starts_with("bad.wmod:5:1: error: malformed XML"), "{}", string(&d, "rendered"));
+    // Bytes that are no text, a file of another kind, two modules at once: said, not thrown as text.
+    let (_, d) = import_error(&[model_file("x.gen", &[0xff, 0xfe, 0x00, 0x41], "plant")], "{}");
+    assert!(string(&d, "message").contains("is not UTF-8 text"), "{}", string(&d, "message"));
+    let (_, d) = import_error(&[model_file("notes.txt", b"hello", "plant")], "{}");
+    assert!(string(&d, "message").contains("neither a Supremica module"), "{}", string(&d, "message"));
+    let good = include_bytes!("fixtures/wmod/small_factory.wmod");
+    let (_, d) = import_error(&[model_file("a.wmod", good, "plant"), model_file("b.wmod", good, "plant")], "{}");
+    assert!(string(&d, "message").contains("one `.wmod` module at a time"), "{}", string(&d, "message"));
+    // Wrong arguments are the caller's mistake: thrown as text.
+    assert!(import_model(Array::new(), JsValue::UNDEFINED).unwrap_err().as_string().unwrap().contains("no file"));
+    let odd: Array = [model_file("x.gen", b"", "supervisor")].into_iter().collect();
+    assert!(import_model(odd, JsValue::UNDEFINED).unwrap_err().as_string().unwrap().contains("unknown kind"));
 }

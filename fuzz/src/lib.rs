@@ -751,7 +751,14 @@ pub fn check_wmod(text: &str) {
             state_spans: &c.state_spans,
         })
         .collect();
-    match classic_to_sct(&parts, &events, &module.enforceable, &[], "fuzz", ToSct { ignore_marking: true }) {
+    match classic_to_sct(
+        &parts,
+        &events,
+        &module.enforceable,
+        &[],
+        "fuzz",
+        ToSct { ignore_marking: true, ..ToSct::default() },
+    ) {
         Ok(project) => {
             let (loaded, diagnostics) = sct::compile(&project);
             // Enforceable events need `on accept` code, which a module without it cannot give.
@@ -773,9 +780,14 @@ pub fn check_wmod(text: &str) {
     // for what it says; never a panic, and a text that is not one body is not pasted).
     let bodies: Vec<(classic::EventId, String)> =
         module.attributes.iter().filter(|a| a.1 == wmod::SCT_ATTRIBUTE).map(|a| (a.0, a.2.clone())).collect();
-    if let Ok(project) =
-        classic_to_sct(&parts, &events, &module.enforceable, &bodies, "fuzz", ToSct { ignore_marking: true })
-    {
+    if let Ok(project) = classic_to_sct(
+        &parts,
+        &events,
+        &module.enforceable,
+        &bodies,
+        "fuzz",
+        ToSct { ignore_marking: true, ..ToSct::default() },
+    ) {
         let (_, diagnostics) = sct::compile(&project);
         assert_located(&project, &diagnostics);
     }

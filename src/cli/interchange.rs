@@ -3,12 +3,9 @@
 
 use clap::Args;
 use plcsynth::diag::{render_plain, Diagnostics, Span};
-use plcsynth::sct::classic::gen::read_gen_file_within;
-use plcsynth::sct::classic::wmod::{
-    decode, read_wmod_within, write_wmod, ComponentKind, ComponentOut, Module, SCT_ATTRIBUTE,
-};
-use plcsynth::sct::classic::{product_within, Automaton, EventId, Events};
-use plcsynth::sct::interchange::{classic_to_sct, project_to_classic, Part, ToSct};
+use plcsynth::sct::classic::wmod::{decode, read_wmod_within, write_wmod, ComponentKind, ComponentOut, Module};
+use plcsynth::sct::classic::{product_within, Automaton, Events};
+use plcsynth::sct::interchange::{import as import_files, is_wmod, project_to_classic, Import, ImportFile, ToSct};
 use plcsynth::sct::model::{Budget, Config, DEFAULT_MAX_STATES};
 use plcsynth::sct::{compile_within, synthesize_all_within};
 use std::process::ExitCode;
@@ -63,10 +60,6 @@ pub(crate) fn read_text(path: &str) -> Result<String, ExitCode> {
     }
 }
 
-fn is_wmod(path: &str) -> bool {
-    path.to_ascii_lowercase().ends_with(".wmod")
-}
-
 /// Writes `text` to `output`, or to standard output.
 fn write_out(output: Option<&str>, text: &str) -> ExitCode {
     match output {
@@ -97,76 +90,41 @@ pub(crate) fn read_module(path: &str, events: &mut Events, max_states: usize) ->
     }
 }
 
-/// One input file of `import`: its text and components (name, kind, automaton, spans).
-struct Input {
-    path: String,
-    src: String,
-    parts: Vec<(String, ComponentKind, Automaton, Span, Vec<Span>)>,
-}
-
 pub fn import(a: &ImportArgs) -> ExitCode {
-    let mut events = Events::new();
-    let mut enforceable: Vec<EventId> = Vec::new();
-    let mut bodies: Vec<(EventId, String)> = Vec::new();
-    let mut inputs: Vec<Input> = Vec::new();
-    let mut budget = a.max_states;
     let wmods = a.files.iter().filter(|f| is_wmod(f)).count();
     if wmods > 0 && (a.files.len() > 1 || !a.spec.is_empty()) {
         eprintln!("error: import one `.wmod` module at a time, without other files");
         return ExitCode::from(2);
     }
-    let gens = a.files.iter().map(|f| (f, ComponentKind::Plant)).chain(a.spec.iter().map(|f| (f, ComponentKind::Spec)));
-    for (path, kind) in gens {
-        if is_wmod(path) {
-            let (src, m) = match read_module(path, &mut events, budget) {
-                Ok(x) => x,
-                Err(c) => return c,
-            };
-            enforceable.extend(&m.enforceable);
-            bodies.extend(m.attributes.iter().filter(|a| a.1 == SCT_ATTRIBUTE).map(|a| (a.0, a.2.clone())));
-            let parts =
-                m.components.into_iter().map(|c| (c.name, c.kind, c.automaton, c.span, c.state_spans)).collect();
-            inputs.push(Input { path: path.clone(), src, parts });
-            continue;
-        }
-        let src = match read_text(path) {
-            Ok(s) => s,
+    let paths: Vec<(&String, ComponentKind)> = a
+        .files
+        .iter()
+        .map(|f| (f, ComponentKind::Plant))
+        .chain(a.spec.iter().map(|f| (f, ComponentKind::Spec)))
+        .collect();
+    let mut texts = Vec::new();
+    for (path, _) in &paths {
+        match read_text(path) {
+            Ok(text) => texts.push(text),
             Err(c) => return c,
-        };
-        let g = match read_gen_file_within(&src, &mut events, budget) {
-            Ok(g) => g,
-            Err(e) => {
-                eprint!("{}", render_plain(path, &src, &[e.diagnostic(&src)]));
-                return ExitCode::from(if e.over_budget { 3 } else { 2 });
-            }
-        };
-        budget = budget.saturating_sub(g.automaton.num_states());
-        let stem = std::path::Path::new(path).file_stem().and_then(|s| s.to_str()).unwrap_or("generator").to_string();
-        inputs.push(Input {
-            path: path.clone(),
-            src,
-            parts: vec![(stem, kind, g.automaton, Span::default(), Vec::new())],
-        });
-    }
-    // Parts of all files in one list; `owner[k]` is the file of part k.
-    let mut parts = Vec::new();
-    let mut owner = Vec::new();
-    for (i, input) in inputs.iter().enumerate() {
-        for (name, kind, automaton, span, state_spans) in &input.parts {
-            parts.push(Part { name, kind: *kind, automaton, span: *span, state_spans });
-            owner.push(i);
         }
     }
-    let header = format!(
-        "Imported by `plcsynth import` from {}.",
-        inputs.iter().map(|i| format!("`{}`", i.path)).collect::<Vec<_>>().join(", ")
-    );
-    match classic_to_sct(&parts, &events, &enforceable, &bodies, &header, ToSct { ignore_marking: a.ignore_marking }) {
+    let files: Vec<ImportFile> =
+        paths.iter().zip(&texts).map(|((name, kind), text)| ImportFile { name, text, kind: *kind }).collect();
+    let options = Import {
+        by: "`plcsynth import`",
+        to_sct: ToSct { ignore_marking: a.ignore_marking, ..ToSct::default() },
+        max_states: a.max_states,
+    };
+    match import_files(&files, &options) {
         Ok(text) => write_out(a.output.as_deref(), &text),
         Err(errors) => {
-            for e in errors {
-                let input = &inputs[owner[e.part]];
-                eprint!("{}", render_plain(&input.path, &input.src, &[e.diagnostic(&input.src)]));
+            for e in &errors {
+                let f = &files[e.file];
+                eprint!("{}", render_plain(f.name, f.text, std::slice::from_ref(&e.diagnostic)));
+            }
+            if errors.iter().any(|e| e.over_budget) {
+                return ExitCode::from(3);
             }
             eprintln!("nothing written");
             ExitCode::from(2)

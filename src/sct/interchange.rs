@@ -50,6 +50,8 @@ pub struct PartError {
     pub span: Span,
     pub message: String,
     pub notes: Vec<String>,
+    /// The error is an unmarked state: the part maps with [`ToSct::ignore_marking`].
+    pub unmarked: bool,
 }
 
 impl PartError {
@@ -143,11 +145,20 @@ fn in_comment(name: &str) -> String {
 }
 
 /// Options of [`classic_to_sct`].
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 pub struct ToSct {
     /// Read every component as if all its states were marked, instead of refusing a component
     /// with an unmarked state.
     pub ignore_marking: bool,
+    /// How the caller's user asks for `ignore_marking` (the CLI's `--ignore-marking`, the
+    /// playground's `Ignore marking`), named in the error on an unmarked state and in the header.
+    pub switch: &'static str,
+}
+
+impl Default for ToSct {
+    fn default() -> ToSct {
+        ToSct { ignore_marking: false, switch: "--ignore-marking" }
+    }
 }
 
 /// Writes classic components as a `.sct` project: `header` (one comment line per line), the
@@ -169,6 +180,7 @@ pub fn classic_to_sct(
             span,
             message,
             notes: vec![note.to_string()],
+            unmarked: false,
         };
         let a = p.automaton;
         match p.kind {
@@ -191,11 +203,14 @@ pub fn classic_to_sct(
         }
         if !options.ignore_marking {
             if let Some(s) = (0..a.num_states() as StateId).find(|&s| !a.is_marked(s)) {
-                errors.push(err(
-                    p.state_spans.get(s as usize).copied().unwrap_or(p.span),
-                    format!("state `{}` of `{}` is not marked", a.state_name(s), p.name),
-                    "the .sct language has no marking: its synthesis keeps specifications safe, it does not make them nonblocking; `--ignore-marking` reads every state as marked",
-                ));
+                errors.push(PartError {
+                    unmarked: true,
+                    ..err(
+                        p.state_spans.get(s as usize).copied().unwrap_or(p.span),
+                        format!("state `{}` of `{}` is not marked", a.state_name(s), p.name),
+                        &format!("the .sct language has no marking: its synthesis keeps specifications safe, it does not make them nonblocking; `{}` reads every state as marked", options.switch),
+                    )
+                });
             }
         }
     }
@@ -207,7 +222,7 @@ pub fn classic_to_sct(
         let _ = writeln!(o, "// {line}");
     }
     if options.ignore_marking {
-        o.push_str("// Marking ignored (--ignore-marking): every state is read as marked.\n");
+        let _ = writeln!(o, "// Marking ignored ({}): every state is read as marked.", options.switch);
     }
     // One scope for events and components (the .sct top level), one per component for states.
     let mut top = Namer::default();
@@ -313,6 +328,133 @@ pub fn classic_to_sct(
     }
     o.push_str(&body);
     Ok(o)
+}
+
+/// One file for [`import`]: its name (`….wmod` is a Supremica module, any other a libFAUDES
+/// generator), its text (see [`decode`](super::classic::wmod::decode) for a module's bytes),
+/// and for a generator what it is ([`ComponentKind::Plant`] or [`ComponentKind::Spec`]; a
+/// module says that of each of its components).
+pub struct ImportFile<'a> {
+    pub name: &'a str,
+    pub text: &'a str,
+    pub kind: ComponentKind,
+}
+
+/// Options of [`import`].
+#[derive(Clone, Copy, Debug)]
+pub struct Import<'a> {
+    /// Who imports, for the header: "Imported by {by} from `a.gen`, `b.gen`."
+    pub by: &'a str,
+    pub to_sct: ToSct,
+    /// The states the files may declare in all.
+    pub max_states: usize,
+}
+
+/// An error of [`import`]: a diagnostic of file `file`'s text.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ImportError {
+    pub file: usize,
+    pub diagnostic: Diagnostic,
+    /// The files declare more states than [`Import::max_states`].
+    pub over_budget: bool,
+    /// An unmarked state ([`PartError::unmarked`]).
+    pub unmarked: bool,
+}
+
+/// Whether a file name says Supremica module (`.wmod`, in any case).
+pub fn is_wmod(name: &str) -> bool {
+    name.to_ascii_lowercase().ends_with(".wmod")
+}
+
+/// Reads other tools' files as one `.sct` project: `plcsynth import` and the playground's
+/// *Open* both call it. Either one `.wmod` module, or any number of `.gen` generators (each a
+/// component named after its file). The first file that does not read stops the import; when
+/// all read, every component that does not map is reported ([`classic_to_sct`]).
+///
+/// ```
+/// use plcsynth::sct::classic::wmod::ComponentKind;
+/// use plcsynth::sct::interchange::{import, Import, ImportFile, ToSct};
+/// let gen = "<Generator> \"M\" <Alphabet> go +C+ done </Alphabet> <States> idle busy </States>\n\
+///            <TransRel> idle go busy busy done idle </TransRel> <InitStates> idle </InitStates>\n\
+///            <MarkedStates> idle busy </MarkedStates> </Generator>";
+/// let files = [ImportFile { name: "machine.gen", text: gen, kind: ComponentKind::Plant }];
+/// let options = Import { by: "a doc test", to_sct: ToSct::default(), max_states: 1000 };
+/// let project = import(&files, &options).unwrap();
+/// assert!(project.starts_with("// Imported by a doc test from `machine.gen`."));
+/// assert!(project.contains("plant machine {"));
+/// ```
+pub fn import(files: &[ImportFile], options: &Import) -> Result<String, Vec<ImportError>> {
+    use super::classic::gen::read_gen_file_within;
+    use super::classic::wmod::read_wmod_within;
+    let fail = |file: usize, diagnostic: Diagnostic, over_budget: bool| {
+        Err(vec![ImportError { file, diagnostic, over_budget, unmarked: false }])
+    };
+    if files.len() > 1 {
+        if let Some(k) = files.iter().position(|f| is_wmod(f.name)) {
+            let mut d = Diagnostics::new(files[k].text);
+            let item = d.error(Span::new(0, 0), "import one `.wmod` module at a time, without other files");
+            return fail(k, item.clone(), false);
+        }
+    }
+    let mut events = Events::new();
+    let mut enforceable: Vec<EventId> = Vec::new();
+    let mut bodies: Vec<(EventId, String)> = Vec::new();
+    // Per component: name, kind, automaton, span, state spans; `owner[k]` is its file.
+    let mut components = Vec::new();
+    let mut owner = Vec::new();
+    let mut budget = options.max_states;
+    for (i, f) in files.iter().enumerate() {
+        if is_wmod(f.name) {
+            let m = match read_wmod_within(f.text, &mut events, budget) {
+                Ok(m) => m,
+                Err(e) => return fail(i, e.diagnostic(f.text), e.over_budget),
+            };
+            enforceable.extend(&m.enforceable);
+            bodies.extend(m.attributes.iter().filter(|a| a.1 == SCT_ATTRIBUTE).map(|a| (a.0, a.2.clone())));
+            for c in m.components {
+                components.push((c.name, c.kind, c.automaton, c.span, c.state_spans));
+                owner.push(i);
+            }
+            continue;
+        }
+        let g = match read_gen_file_within(f.text, &mut events, budget) {
+            Ok(g) => g,
+            Err(e) => return fail(i, e.diagnostic(f.text), e.over_budget),
+        };
+        budget = budget.saturating_sub(g.automaton.num_states());
+        let stem = std::path::Path::new(f.name).file_stem().and_then(|s| s.to_str()).unwrap_or("generator").to_string();
+        components.push((stem, f.kind, g.automaton, Span::default(), Vec::new()));
+        owner.push(i);
+    }
+    let parts: Vec<Part> = components
+        .iter()
+        .map(|(name, kind, automaton, span, state_spans)| Part {
+            name,
+            kind: *kind,
+            automaton,
+            span: *span,
+            state_spans,
+        })
+        .collect();
+    let header = format!(
+        "Imported by {} from {}.",
+        options.by,
+        files.iter().map(|f| format!("`{}`", in_comment(f.name))).collect::<Vec<_>>().join(", ")
+    );
+    classic_to_sct(&parts, &events, &enforceable, &bodies, &header, options.to_sct).map_err(|errors| {
+        errors
+            .into_iter()
+            .map(|e| {
+                let file = owner[e.part];
+                ImportError {
+                    file,
+                    diagnostic: e.diagnostic(files[file].text),
+                    over_budget: false,
+                    unmarked: e.unmarked,
+                }
+            })
+            .collect()
+    })
 }
 
 /// A project as classic components: what [`write_wmod`](super::classic::wmod::write_wmod) writes.

@@ -15,7 +15,7 @@ pub mod sct;
 pub mod timed;
 
 pub use ltl::LtlSession;
-pub use sct::SctSession;
+pub use sct::{import_model, SctSession};
 pub use timed::TimedSession;
 
 use crate::diag::Diagnostic;

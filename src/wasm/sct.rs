@@ -289,3 +289,133 @@ fn summary_of(r: &SupervisorReport) -> SupervisorSummary<'_> {
         millis: r.millis,
     }
 }
+
+/// Options of [`import_model`].
+#[derive(Deserialize, Default)]
+#[serde(rename_all = "camelCase", default)]
+struct ImportOptions {
+    /// Read every state as marked instead of refusing unmarked states (`.sct` has no marking).
+    ignore_marking: bool,
+    /// The states the files may declare in all (default 250 000, as `plcsynth import`).
+    max_states: Option<usize>,
+}
+
+/// A diagnostic of one of the imported files.
+#[derive(Serialize)]
+struct FileDiagnostic<'a> {
+    file: &'a str,
+    #[serde(flatten)]
+    diagnostic: &'a Diagnostic,
+    /// As `plcsynth import` prints it: `file:line:column`, the message, the source line with a
+    /// caret under the place, the notes.
+    rendered: String,
+}
+
+/// What an import that failed throws.
+#[derive(Serialize)]
+struct ImportFailure<'a> {
+    ok: bool,
+    diagnostics: Vec<FileDiagnostic<'a>>,
+    /// Some error is an unmarked state: `ignoreMarking` would import the files.
+    unmarked: bool,
+    /// The files declare more states than the budget.
+    over_budget: bool,
+}
+
+#[derive(Serialize)]
+struct Imported {
+    /// The project's name: the first file's, with `.sct` for its extension.
+    name: String,
+    text: String,
+}
+
+/// Converts other tools' models into an editable `.sct` project, as `plcsynth import` does
+/// (`sct::interchange::import`): `files` are `{ name, bytes: Uint8Array, kind?: "plant" | "spec" }`,
+/// either one Supremica module (`.wmod`; UTF-8, or the `windows-1252` Supremica writes) or
+/// libFAUDES generators (`.gen`, each a plant unless `kind` says `spec`). Answers `{ name, text }`;
+/// throws `{ ok: false, diagnostics, unmarked, over_budget }` (each diagnostic with the `file`
+/// it is located in and its `rendered` text) when a file does not read or a component does not map.
+#[wasm_bindgen(js_name = importModel)]
+pub fn import_model(files: js_sys::Array, options: JsValue) -> Result<JsValue, JsValue> {
+    use crate::diag::{render_plain, Diagnostics, Span};
+    use crate::sct::classic::wmod::{decode, ComponentKind};
+    use crate::sct::interchange::{import, is_wmod, Import, ImportFile, ToSct};
+    let options: ImportOptions = super::options(options)?;
+    let field = |file: &JsValue, key: &str| js_sys::Reflect::get(file, &JsValue::from_str(key));
+    let mut names = Vec::new();
+    let mut bytes = Vec::new();
+    let mut kinds = Vec::new();
+    for file in files.iter() {
+        let name = field(&file, "name")?.as_string().ok_or("importModel: every file needs a `name`")?;
+        let data = field(&file, "bytes")?;
+        if !data.is_instance_of::<js_sys::Uint8Array>() {
+            return Err(JsValue::from_str(&format!("importModel: `{name}` needs its `bytes` as a Uint8Array")));
+        }
+        kinds.push(match field(&file, "kind")?.as_string().as_deref() {
+            None | Some("plant") => ComponentKind::Plant,
+            Some("spec") => ComponentKind::Spec,
+            Some(other) => {
+                return Err(JsValue::from_str(&format!("importModel: unknown kind `{other}` (plant, spec)")))
+            }
+        });
+        bytes.push(js_sys::Uint8Array::new(&data).to_vec());
+        names.push(name);
+    }
+    if names.is_empty() {
+        return Err(JsValue::from_str("importModel: no file"));
+    }
+    let fail = |errors: Vec<(usize, Diagnostic)>, texts: &[&str], unmarked: bool, over_budget: bool| {
+        let diagnostics = errors
+            .iter()
+            .map(|(i, d)| FileDiagnostic {
+                file: &names[*i],
+                diagnostic: d,
+                rendered: render_plain(&names[*i], texts[*i], std::slice::from_ref(d)),
+            })
+            .collect();
+        let failure = ImportFailure { ok: false, diagnostics, unmarked, over_budget };
+        to_js(&failure).unwrap_or_else(|e| e)
+    };
+    // A file that is neither kind, or not text: said at its start.
+    let mut texts = Vec::new();
+    for (i, (name, data)) in names.iter().zip(&bytes).enumerate() {
+        let lower = name.to_ascii_lowercase();
+        let problem = if !is_wmod(name) && !lower.ends_with(".gen") {
+            Some(format!("`{name}` is neither a Supremica module (`.wmod`) nor a libFAUDES generator (`.gen`)"))
+        } else if decode(data).is_none() {
+            Some(format!("`{name}` is not UTF-8 text (and declares no windows-1252 or ISO-8859-1 encoding)"))
+        } else {
+            None
+        };
+        if let Some(message) = problem {
+            let mut d = Diagnostics::new("");
+            let item = d.error(Span::new(0, 0), message).clone();
+            return Err(fail(vec![(i, item)], &vec![""; names.len()], false, false));
+        }
+        texts.push(decode(data).unwrap_or_default().into_owned());
+    }
+    let texts: Vec<&str> = texts.iter().map(String::as_str).collect();
+    let inputs: Vec<ImportFile> = names
+        .iter()
+        .zip(&texts)
+        .zip(&kinds)
+        .map(|((name, text), kind)| ImportFile { name, text, kind: *kind })
+        .collect();
+    let settings = Import {
+        by: "the plcsynth playground",
+        to_sct: ToSct { ignore_marking: options.ignore_marking, switch: "Ignore marking" },
+        max_states: options.max_states.unwrap_or(DEFAULT_MAX_STATES),
+    };
+    match import(&inputs, &settings) {
+        Ok(text) => {
+            let stem = std::path::Path::new(&names[0]).file_stem().and_then(|s| s.to_str()).unwrap_or("imported");
+            to_js(&Imported { name: format!("{stem}.sct"), text })
+        }
+        Err(errors) => {
+            let unmarked = errors.iter().any(|e| e.unmarked);
+            let over_budget = errors.iter().any(|e| e.over_budget);
+            let list = errors.into_iter().map(|e| (e.file, e.diagnostic)).collect();
+            Err(fail(list, &texts, unmarked, over_budget))
+        }
+    }
+}

@@ -274,7 +274,7 @@ test('header at 800 × 800: Run, Cancel, Share and Docs are inside the window an
     const hit = await page.evaluate(([s, x, y]) => document.elementFromPoint(x, y)?.closest(s) != null, [selector, b.x + b.width / 2, b.y + b.height / 2]);
     assert.ok(hit, `${selector} is not covered`);
   };
-  for (const s of ['#run', '#cancel', '#share', '#docs-link', '#examples-button', '#max-states', '#exhaustive']) await inside(s);
+  for (const s of ['#run', '#cancel', '#share', '#docs-link', '#examples-button', '#open-button', '#max-states', '#exhaustive']) await inside(s);
   assert.ok(await page.evaluate(() => document.documentElement.scrollWidth <= 800), 'no horizontal scrolling');
   await shot(page, '29-header-800');
   // The whole game takes seconds: long enough to cancel.

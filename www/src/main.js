@@ -242,6 +242,164 @@ $('#new-list').replaceChildren(
 );
 $('#new-button').addEventListener('click', () => $('#new-menu').showModal());
 
+// ---- open a file: the picker and drag and drop ------------------------------------------
+
+/** The document kind of each extension the page opens as it is; `.wmod` and `.gen` models are
+ * imported as a `.sct` project (`importModel`, as `plcsynth import`). */
+const OPEN_KINDS = { tga: 'tga', sct: 'sct', ltl: 'ltl', tlsf: 'tlsf' };
+const IMPORTED = ['wmod', 'gen'];
+const MAX_FILE_MB = 10;
+const OPENABLE = 'a .tga (timed game), .sct (supervisory control), .ltl or .tlsf (LTL) document, or a Supremica .wmod or libFAUDES .gen model to import as .sct';
+const extensionOf = (name) => (name.match(/\.([^./\\]+)$/)?.[1] ?? '').toLowerCase();
+
+/** A file the page cannot open: said in the status line and a toast, nothing else changes. */
+function refuse(message) {
+  setStatus(message, 'error');
+  toast(message, 8000);
+}
+
+/** Opens what the user picked or dropped: one document, one module, or generators together. */
+async function openFiles(list) {
+  const files = [...list];
+  if (!files.length) return;
+  const unknown = files.find((f) => !(extensionOf(f.name) in OPEN_KINDS) && !IMPORTED.includes(extensionOf(f.name)));
+  if (unknown) return refuse(`“${unknown.name}” is not a file the playground opens: choose ${OPENABLE}.`);
+  const big = files.find((f) => f.size > MAX_FILE_MB * 1024 * 1024);
+  if (big) return refuse(`“${big.name}” is ${(big.size / 1024 / 1024).toFixed(1)} MB: the playground opens files up to ${MAX_FILE_MB} MB.`);
+  const gens = files.filter((f) => extensionOf(f.name) === 'gen');
+  if (files.length > 1 && gens.length < files.length) {
+    return refuse('Open one file at a time; only libFAUDES .gen generators are opened together (as one project).');
+  }
+  const [file] = files;
+  const ext = extensionOf(file.name);
+  if (ext === 'gen') return askRoles(gens);
+  const bytes = new Uint8Array(await file.arrayBuffer());
+  if (ext === 'wmod') return importModels([{ name: file.name, bytes, kind: 'plant' }]);
+  let text;
+  try {
+    text = new TextDecoder('utf-8', { fatal: true }).decode(bytes);
+  } catch {
+    return refuse(`“${file.name}” is not UTF-8 text: the playground reads documents in UTF-8.`);
+  }
+  history.replaceState(null, '', location.pathname + location.search);
+  openSpec(text, file.name, OPEN_KINDS[ext], '');
+  setStatus(`Opened ${file.name}. Press Run or Ctrl+Enter.`);
+}
+
+/** The generators' dialog: each one a plant or a specification, and whether to ignore marking. */
+let pendingGens = [];
+function askRoles(gens) {
+  pendingGens = gens;
+  $('#import-roles').replaceChildren(
+    ...gens.map((f, i) =>
+      h(
+        'li',
+        {},
+        h('span', { class: 'file' }, f.name),
+        h(
+          'select',
+          { 'data-role': i, 'aria-label': `what ${f.name} is` },
+          h('option', { value: 'plant' }, 'plant'),
+          // A name that says so is preselected as a specification; the user sees and decides.
+          h('option', { value: 'spec', selected: /spec/i.test(f.name) }, 'specification'),
+        ),
+      ),
+    ),
+  );
+  $('#import-menu').showModal();
+}
+$('#import-go').addEventListener('click', async () => {
+  $('#import-menu').close();
+  const files = await Promise.all(
+    pendingGens.map(async (f, i) => ({ name: f.name, bytes: new Uint8Array(await f.arrayBuffer()), kind: $(`[data-role="${i}"]`).value })),
+  );
+  importModels(files, $('#import-ignore-marking').checked);
+});
+
+/** Imports `files` (`{ name, bytes, kind }`) as a `.sct` project in the checker worker. On success
+ * it opens as any document does (an edit of the open `.sct` document is kept and offered back);
+ * on errors the open document stays and the located errors are listed under the editor. */
+async function importModels(files, ignoreMarking = false) {
+  const names = files.map((f) => f.name).join(', ');
+  setStatus(`Importing ${names}…`, 'running');
+  let imported;
+  try {
+    imported = await checker.call('import', { files, options: { ignoreMarking } });
+  } catch (error) {
+    if (!error?.diagnostics) return setStatus(`${names} cannot be imported: ${error?.message ?? error}`, 'error');
+    showImportErrors(error, files, ignoreMarking);
+    const n = error.diagnostics.length;
+    return setStatus(`${names} ${files.length === 1 ? 'was' : 'were'} not imported: ${n} error${n === 1 ? '' : 's'} (listed under the editor). The open document is unchanged.`, 'error');
+  }
+  history.replaceState(null, '', location.pathname + location.search);
+  openSpec(imported.text, imported.name, 'sct', '');
+  setStatus(`Imported ${names} as the .sct project ${imported.name}: edit it, or press Run to synthesise its supervisors.`, 'done');
+}
+
+/** A refused import's diagnostics in the message list: each located in its own file, with the
+ * source line and a caret; when unmarked states are the reason, a button imports again with
+ * every state marked. The next check of the editor's text replaces the list. */
+function showImportErrors(error, files, ignoreMarking) {
+  $('#diagnostics').replaceChildren(
+    h(
+      'div',
+      { class: 'import-head', id: 'import-errors' },
+      `Not imported: ${files.map((f) => f.name).join(', ')} (the open document is unchanged)`,
+      error.unmarked && !ignoreMarking
+        ? h('button', { id: 'import-ignore-marking-again', title: 'import again, reading every state as marked', onclick: () => importModels(files, true) }, 'Ignore marking')
+        : null,
+    ),
+    ...error.diagnostics.map((d) =>
+      h(
+        'div',
+        { class: 'diag import-diag', 'data-file': d.file, 'data-line': d.line, 'data-column': d.column },
+        h('span', { class: `diag-${d.severity}` }, d.severity), ` ${d.file} line ${d.line}:${d.column}  ${d.message}`,
+        // The source line with a caret, and the notes (its first line repeats the message).
+        h('pre', {}, d.rendered.split('\n').slice(1).join('\n').trimEnd()),
+      ),
+    ),
+  );
+}
+
+$('#open-button').addEventListener('click', () => $('#open-file').click());
+$('#open-file').addEventListener('change', (event) => {
+  const files = [...event.target.files];
+  event.target.value = ''; // the same file again is a new choice
+  openFiles(files);
+});
+
+// Files dropped anywhere on the page open (CodeMirror would paste their text into the
+// document): listened for in the capture phase, before the editor sees them. Text dragged
+// within the editor is left to it.
+const draggingFiles = (event) => [...(event.dataTransfer?.types ?? [])].includes('Files');
+for (const type of ['dragenter', 'dragover']) {
+  window.addEventListener(
+    type,
+    (event) => {
+      if (!draggingFiles(event)) return;
+      event.preventDefault();
+      event.stopPropagation();
+      event.dataTransfer.dropEffect = 'copy';
+      document.body.dataset.dropping = 'true';
+    },
+    true,
+  );
+}
+window.addEventListener('dragleave', (event) => {
+  if (!event.relatedTarget) delete document.body.dataset.dropping;
+}, true);
+window.addEventListener(
+  'drop',
+  (event) => {
+    delete document.body.dataset.dropping;
+    if (!draggingFiles(event)) return;
+    event.preventDefault();
+    event.stopPropagation();
+    openFiles(event.dataTransfer.files);
+  },
+  true,
+);
+
 // ---- routing: #example/<id>, #share/v1/<target>/<data> ------------------------------------
 
 /** Opens what the address names; an autosaved edit of the same link is opened instead of the
@@ -398,7 +556,8 @@ app.simulator = simulator;
 // ---- code pane ----------------------------------------------------------------------------
 
 const DUMP_LINES = 4000;
-const fileStem = () => app.name.replace(/[^A-Za-z0-9_-]+/g, '_');
+// A document's own extension is not part of the stem (`lamp.tga` downloads as `lamp.st`).
+const fileStem = () => app.name.replace(/\.(tga|sct|ltl|tlsf)$/i, '').replace(/[^A-Za-z0-9_-]+/g, '_');
 
 /** Fills the target menu from the engine's list: for timed games the intermediate program, every
  * PLC target and the text views; for the other engines every PLC target. */

@@ -2,14 +2,15 @@
 // instances run: one checks the editor text as you type, the other solves (and is terminated to
 // cancel).
 //
-// Requests  {id, op, ...}: check {kind, source} | run {kind, source, options} | query {method, args}
+// Requests  {id, op, ...}: check {kind, source} | import {files, options} | run {kind, source, options}
+//           | query {method, args}
 // Replies   {id, ok: true, value} | {id, ok: false, error}; during `run` also
 //           {id, progress, elapsed} (at most every 50 ms, timed by the engine) and
 //           {id, compiled: {automata, warnings}} as soon as the spec compiles.
 //           `version` answers {version, targets}.
 // `kind` is the document kind: `tga` (timed games), `sct` (supervisory control), `ltl` or `tlsf`.
 import { engineOf } from './kinds.js';
-import init, { check, LtlSession, SctSession, TimedSession, targets, version } from '../pkg/plcsynth.js';
+import init, { check, importModel, LtlSession, SctSession, TimedSession, targets, version } from '../pkg/plcsynth.js';
 
 let session = null;
 let engine = null;
@@ -75,6 +76,8 @@ const engines = {
 const ops = {
   version: () => ({ version: version(), targets: targets() }),
   check: ({ kind, source }) => check(kind ?? 'tga', source),
+  // A Supremica module or libFAUDES generators as a `.sct` project (`plcsynth import`).
+  import: ({ files, options }) => importModel(files, options ?? {}),
   run({ id, kind, source, options }) {
     session?.free();
     session = null;
