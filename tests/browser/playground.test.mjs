@@ -105,7 +105,7 @@ test('the lamp example runs: verdict, counts, automata, state space and zone', a
   await shot(page, '06b-lamp-io-table');
   // Every target of the menu, each under its own file name and extension.
   const ids = await page.$$eval('#target optgroup[label=Controller] option', (os) => os.map((o) => o.value));
-  assert.deepEqual(ids, ['program', 'st', 'twincat', 'codesys', 'scl', 'scl-1500', 'il', 'stl', 'plcopen']);
+  assert.deepEqual(ids, ['program', 'st', 'twincat', 'codesys', 'scl', 'scl-1500', 'il', 'stl', 'plcopen', 'abb']);
   for (const [target, file, marker] of [
     ['program', 'lamp.txt', /DO \(turn_on\)/],
     ['codesys', 'lamp.st', /GVL_IO\.turn_on := ctrl\.turn_on/],
