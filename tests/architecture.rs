@@ -44,3 +44,95 @@ fn nothing_in_plc_but_the_lowerings_names_an_engine() {
     }
     assert!(checked >= 12, "only {checked} files checked under src/plc");
 }
+
+/// The code of `file` without its comment lines (a comment may name what code may not use).
+fn code_lines(file: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(file).expect("a readable source");
+    text.lines().filter(|l| !l.trim_start().starts_with("//")).map(str::to_string).collect()
+}
+
+fn files_under(dir: &str) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    rust_files(&Path::new(env!("CARGO_MANIFEST_DIR")).join(dir), &mut files);
+    assert!(!files.is_empty(), "no Rust files under {dir}");
+    files
+}
+
+/// Fails naming the first line of a file under `dir` (but those under `except`) holding one of
+/// `words`.
+fn assert_no_mention(dir: &str, except: &[&str], words: &[&str], rule: &str) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for file in files_under(dir) {
+        if except.iter().any(|e| file.starts_with(root.join(e))) {
+            continue;
+        }
+        for line in code_lines(&file) {
+            if let Some(word) = words.iter().find(|w| line.contains(*w)) {
+                panic!("{}: {rule}, but it uses `{word}`: {}", file.display(), line.trim());
+            }
+        }
+    }
+}
+
+/// The engines and the shared modules do no I/O and read no clock (`Instant` panics on wasm32):
+/// the CLI and the page measure and print.
+#[test]
+fn nothing_but_the_adapters_does_io_or_reads_the_clock() {
+    assert_no_mention(
+        "src",
+        // Unit tests read the test tiers' scale from the environment.
+        &["src/cli", "src/main.rs", "src/wasm", "src/zone/tests.rs"],
+        &[
+            "std::fs",
+            "std::io::std",
+            "std::net",
+            "std::process",
+            "std::env",
+            "Instant",
+            "SystemTime",
+            "println!",
+            "eprintln!",
+            "print!(",
+        ],
+        "only the CLI and the wasm adapter do I/O",
+    );
+}
+
+/// wasm-bindgen and its crates are known to the page's adapter only, clap to the CLI only.
+#[test]
+fn the_adapters_own_their_frameworks() {
+    assert_no_mention(
+        "src",
+        &["src/wasm"],
+        &["wasm_bindgen", "js_sys", "web_sys", "serde_wasm_bindgen", "console_error_panic_hook"],
+        "only src/wasm knows the browser",
+    );
+    assert_no_mention("src", &["src/cli", "src/main.rs"], &["clap::", "use clap"], "only the CLI parses arguments");
+}
+
+/// The three engines do not know each other (the timed engine is `timed` with `program`, its
+/// controller language); `zone` knows no automata; `plc::fragment`, `diag`, `dot`, `graph`,
+/// `syntax` and `rng` are shared.
+#[test]
+fn the_engines_are_independent() {
+    assert_no_mention(
+        "src/sct",
+        &[],
+        &["crate::ltl", "crate::timed", "crate::program", "crate::zone"],
+        "the SCT engine is on its own",
+    );
+    assert_no_mention(
+        "src/ltl",
+        &[],
+        &["crate::sct", "crate::timed", "crate::program", "crate::zone", "crate::plc"],
+        "the LTL engine is on its own",
+    );
+    assert_no_mention("src/timed", &[], &["crate::sct", "crate::ltl"], "the timed engine is on its own");
+    assert_no_mention("src/program", &[], &["crate::sct", "crate::ltl"], "the timed engine is on its own");
+    assert_no_mention(
+        "src/zone",
+        &[],
+        &["crate::timed", "crate::program", "crate::sct", "crate::ltl", "crate::plc"],
+        "zones know no automata",
+    );
+}

@@ -45,6 +45,8 @@ mod ltl_timed_loop;
 mod ltl_tlsf;
 #[path = "plc.rs"]
 mod plc;
+#[path = "plc_expressions.rs"]
+mod plc_expressions;
 #[path = "plc_real.rs"]
 mod plc_real;
 #[path = "plc_realtime.rs"]
