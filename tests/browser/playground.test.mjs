@@ -141,6 +141,27 @@ test('the lamp example runs: verdict, counts, automata, state space and zone', a
     assert.match(readFileSync(await d.path(), 'utf8'), /^<\?xml[^]*<TcPlcObject Version="1\.1\.0\.1">/);
   }
   await shot(page, '06c-lamp-code-twincat');
+  // The CODESYS I/O mapping list: offered for codesys and abb (whose Automation Builder takes the
+  // same list), not for the other targets; its Variable column names what the code reads.
+  assert.equal(await page.isVisible('#download-io-codesys'), false, 'no mapping list for twincat');
+  // Both name the variable by its list (the abb file's configuration globals are `GVL_IO` too).
+  for (const [target, variable] of [
+    ['codesys', 'GVL_IO.press'],
+    ['abb', 'GVL_IO.press'],
+  ]) {
+    await page.selectOption('#target', target);
+    await page.waitForSelector(`#code[data-target="${target}"][data-complete=true]`);
+    await page.waitForSelector('#download-io-codesys:not([hidden])');
+    const [mapping] = await Promise.all([page.waitForEvent('download'), page.click('#download-io-codesys')]);
+    assert.equal(mapping.suggestedFilename(), 'lamp_mapping.csv');
+    const text = readFileSync(await mapping.path(), 'utf8');
+    assert.match(text, /^Variable;Address;Type;Direction;Description\r\n/);
+    assert.ok(text.split('\r\n').some((line) => line.startsWith(`${variable};%IX124.0;BOOL;input;`)), `${target}: ${text}`);
+  }
+  await shot(page, '06d-lamp-io-codesys');
+  await page.selectOption('#target', 'st');
+  await page.waitForSelector('#code[data-target="st"][data-complete=true]');
+  assert.equal(await page.isVisible('#download-io-codesys'), false, 'no mapping list for st');
   assert.deepEqual(foreign, [], 'no request leaves the origin');
   assert.deepEqual(page.errors, []);
   await page.context().close();
