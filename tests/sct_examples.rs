@@ -4,7 +4,7 @@
 use plcsynth::diag::render_plain;
 use plcsynth::sct::model::{Config, EventKind, Method, Supervisor};
 use plcsynth::sct::{compile, Loaded};
-use plcsynth::sct::{synthesize_all, SupervisorReport};
+use plcsynth::sct::{synthesize_all, synthesize_all_within, SupervisorReport, Verdict};
 
 fn example(name: &str) -> (String, Loaded) {
     let path = format!("{}/examples/sct/{name}", env!("CARGO_MANIFEST_DIR"));
@@ -185,6 +185,42 @@ fn unrealizable_specifications_are_reported() {
     let (reps, diags) = synthesize_all(src, &loaded.unwrap(), &Config::default(), None);
     assert!(!reps[0].realizable);
     assert!(diags.iter().any(|d| d.line == 2 && d.message.contains("`H` is unrealizable")), "{diags:?}");
+    assert_eq!(Verdict::of(&reps, &diags, None), Verdict::Unrealizable);
+}
+
+/// The verdict the CLI and the page show is decided in Rust (`sct::Verdict`): every example is
+/// realizable; a budget too small, a cancellation and a conflict each give their own verdict.
+#[test]
+fn the_engine_decides_the_verdict() {
+    use plcsynth::sct::model::Budget;
+    let dir = format!("{}/examples/sct", env!("CARGO_MANIFEST_DIR"));
+    let mut names: Vec<String> =
+        std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    names.retain(|n| n.ends_with(".sct"));
+    assert!(names.len() >= 8, "{names:?}");
+    for name in &names {
+        let (src, loaded) = example(name);
+        let cfg = Config::default();
+        let run = |max_states: usize, go_on: bool| {
+            let mut progress = |_: usize| go_on;
+            let mut budget = Budget::new(max_states, &mut progress);
+            let (reps, diags, stop) = synthesize_all_within(&src, &loaded, &cfg, None, &mut budget);
+            Verdict::of(&reps, &diags, stop)
+        };
+        assert_eq!(run(cfg.max_states, true), Verdict::Realizable, "{name}");
+        assert_eq!(run(1, true), Verdict::BudgetExceeded, "{name}");
+    }
+    // A cancellation: the callback runs every few thousand states, so a bigger line.
+    let src = plcsynth::benchmarks::transfer::transfer_lines(4, 3, 2);
+    let (loaded, _) = compile(&src);
+    let loaded = loaded.unwrap();
+    let mut stop_soon = |built: usize| built < 10_000;
+    let mut budget = Budget::new(10_000_000, &mut stop_soon);
+    let cfg = Config { method: Method::Monolithic, ..Config::default() };
+    let (reps, diags, stop) = synthesize_all_within(&src, &loaded, &cfg, None, &mut budget);
+    assert_eq!(Verdict::of(&reps, &diags, stop), Verdict::Cancelled);
+    assert_eq!(Verdict::Cancelled.name(), "cancelled");
+    assert_eq!(serde_json::to_string(&Verdict::BudgetExceeded).unwrap(), "\"budget_exceeded\"");
 }
 
 #[test]

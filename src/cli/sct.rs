@@ -11,7 +11,7 @@ use plcsynth::sct::classic::wmod::{write_wmod, ComponentKind, ComponentOut};
 use plcsynth::sct::classic::{minimize, supcon as classic_supcon, supcon_within, EventId, Events, SupConError};
 use plcsynth::sct::model::dep_closure;
 use plcsynth::sct::model::{Budget, Config, Method, DEFAULT_MAX_STATES};
-use plcsynth::sct::{compile, compile_within};
+use plcsynth::sct::{compile, compile_within, Verdict};
 use plcsynth::sct::{synthesize_all, synthesize_all_within};
 use std::process::{Command, ExitCode};
 use std::time::Instant;
@@ -209,6 +209,7 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
     if a.json {
         let out = serde_json::json!({
             "file": a.file,
+            "verdict": Verdict::of(&reports, &sdiags, stop),
             "method": method,
             "supervisors": reports,
             "events": loaded.project.events,

@@ -58,5 +58,6 @@ pub use ast::EdgeKind;
 pub use check::{compile, compile_within, EventFragments, EventMeta, EventSpans, Loaded, TimerInfo, Trigger};
 pub use report::{
     synthesize_all, synthesize_all_with_progress, synthesize_all_within, JsonState, JsonTransition, SupervisorReport,
+    Verdict,
 };
 pub use runtime::{CycleInput, CycleReport, Outcome, Runtime, RuntimeError, Step};

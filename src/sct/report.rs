@@ -45,6 +45,48 @@ pub struct SupervisorReport {
     pub supervisor: model::Supervisor,
 }
 
+/// The outcome of synthesising a project, decided here once for the CLI and the page.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    /// Every specification has a supervisor with a non-empty behaviour.
+    Realizable,
+    /// Some specification's supervisor is empty: its initial state is lost.
+    Unrealizable,
+    /// The state budget stopped the run before every specification was synthesised.
+    BudgetExceeded,
+    /// The progress callback cancelled the run.
+    Cancelled,
+    /// Synthesis found errors in the project (conflicts, enforcement cycles).
+    Error,
+}
+
+impl Verdict {
+    /// The verdict of a run of [`synthesize_all_within`] from what it returned: a stop decides
+    /// first (its own error diagnostic is not an input error), then any error, then whether
+    /// every supervisor is realizable.
+    pub fn of(reports: &[SupervisorReport], diagnostics: &[Diagnostic], stop: Option<Stop>) -> Verdict {
+        match stop {
+            Some(Stop::Cancelled) => Verdict::Cancelled,
+            Some(Stop::BudgetExceeded { .. }) => Verdict::BudgetExceeded,
+            None if diagnostics.iter().any(Diagnostic::is_error) => Verdict::Error,
+            None if reports.iter().all(|r| r.realizable) => Verdict::Realizable,
+            None => Verdict::Unrealizable,
+        }
+    }
+
+    /// Its name in the JSON forms and the page (`budget_exceeded`, …).
+    pub fn name(self) -> &'static str {
+        match self {
+            Verdict::Realizable => "realizable",
+            Verdict::Unrealizable => "unrealizable",
+            Verdict::BudgetExceeded => "budget_exceeded",
+            Verdict::Cancelled => "cancelled",
+            Verdict::Error => "error",
+        }
+    }
+}
+
 /// Synthesises one supervisor per specification. Timing uses `now` (milliseconds) so that
 /// the engine stays free of clocks on targets without one; pass `None` to skip timing.
 /// All specifications share one budget of `cfg.max_states` product states; once it is spent,

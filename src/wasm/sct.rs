@@ -7,7 +7,7 @@ use crate::diag::Diagnostic;
 use crate::plc;
 use crate::sct::export::{self, module_of};
 use crate::sct::model::{Budget, Config, Method, Stop, DEFAULT_MAX_STATES};
-use crate::sct::{compile_within, synthesize_all_within, Loaded, SupervisorReport};
+use crate::sct::{compile_within, synthesize_all_within, Loaded, SupervisorReport, Verdict};
 use serde::{Deserialize, Serialize};
 use std::cell::OnceCell;
 use wasm_bindgen::prelude::*;
@@ -52,6 +52,8 @@ struct SctSummary<'a> {
     /// Errors and warnings of synthesis (conflicts of 6.4.4, enforcement cycles, the warning of
     /// 6.4.2 when one supervisor enforces what another prohibits), located in the source.
     diagnostics: &'a [Diagnostic],
+    /// `realizable`, `unrealizable`, `budget_exceeded`, `cancelled` or `error` (`sct::Verdict`).
+    verdict: Verdict,
     /// `budget` or `cancelled` when the run stopped before every specification was synthesised.
     stopped: Option<&'static str>,
     /// Product states built.
@@ -182,6 +184,7 @@ impl SctSession {
         let summary = SctSummary {
             method: if method == Method::Monolithic { "monolithic" } else { "incremental" },
             supervisors: reports.iter().map(summary_of).collect(),
+            verdict: Verdict::of(&reports, &diagnostics, stop),
             diagnostics: &diagnostics,
             stopped: stop.map(|s| match s {
                 Stop::BudgetExceeded { .. } => "budget",

@@ -12,7 +12,7 @@ import { ZoneView } from './zoneview.js';
 import { drawInto, preload } from './graphs.js';
 import { engineOf, engineLabel, kindLabel } from './languages.js';
 import { templates } from './templates.js';
-import { renderSctSummary, sctVerdict, SctAutomataView } from './sctview.js';
+import { renderSctSummary, SctAutomataView } from './sctview.js';
 import { addAssumption, drawMachine, renderLtlSummary } from './ltlview.js';
 import { SctSimulator } from './sctsim.js';
 import { Simulator } from './simulator.js';
@@ -860,7 +860,6 @@ async function run() {
     const ms = performance.now() - started;
     const ex = byId.get(app.name);
     const expected = ex && ex.source === source ? ex.expected : null;
-    if (engine === 'sct') summary.verdict = sctVerdict(summary);
     app.result = summary;
     if (engine === 'timed') {
       renderSummary($('#summary'), {

@@ -3,13 +3,7 @@
 import { h, fmtInt, fmtMs } from './dom.js';
 import { drawInto } from './graphs.js';
 
-/** The overall verdict of a synthesis: every supervisor realizable, one not, or stopped. */
-export function sctVerdict(summary) {
-  if (summary.stopped) return summary.stopped === 'cancelled' ? 'cancelled' : 'budget_exceeded';
-  if (summary.diagnostics.some((d) => d.severity === 'error')) return 'error';
-  return summary.supervisors.every((s) => s.realizable) ? 'realizable' : 'unrealizable';
-}
-
+/** The verdicts of `sct::Verdict`, in words. */
 const verdictText = {
   realizable: (n) => `Realizable: ${n} supervisor${n === 1 ? '' : 's'} synthesised, each with a non-empty behaviour`,
   unrealizable: () => 'Unrealizable: a specification has no supervisor (its initial state is lost)',
@@ -30,7 +24,8 @@ function diagnosticLink(d, onLocate) {
 }
 
 export function renderSctSummary(root, { summary, ms, expected, onLocate }) {
-  const verdict = sctVerdict(summary);
+  // Decided by the engine (sct::Verdict): every supervisor realizable, one not, stopped or an error.
+  const verdict = summary.verdict;
   const n = summary.supervisors.length;
   const list = (items) => (items.length ? items.join(', ') : '—');
   const rows = summary.supervisors.map((s) =>
