@@ -23,6 +23,8 @@ mod fuzz_regressions;
 mod ltl_checkers;
 #[path = "ltl_cli.rs"]
 mod ltl_cli;
+#[path = "ltl_compare_g4ltl.rs"]
+mod ltl_compare_g4ltl;
 #[path = "ltl_examples.rs"]
 mod ltl_examples;
 #[path = "ltl_g4ltl.rs"]

@@ -70,6 +70,11 @@ pub struct LtlArgs {
     /// predicate combinations from counter-strategies.
     #[arg(long)]
     pub no_refine: bool,
+    /// Write the specification in the input syntax G4LTL reads instead of deciding it (a TLSF
+    /// file, or ours with `<->`, `//` comments or patterns, becomes a file G4LTL can decide);
+    /// what G4LTL cannot express is refused with a located error (exit status 2).
+    #[arg(long, conflicts_with_all = ["json", "target", "suggest"])]
+    pub to_g4ltl: bool,
     /// With --suggest: add at most N assumptions (one set).
     #[arg(long, value_name = "N", default_value_t = 3, requires = "suggest", value_parser = clap::value_parser!(u64).range(1..=10))]
     pub suggest_max: u64,
@@ -107,6 +112,19 @@ pub fn ltl(a: &LtlArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    if a.to_g4ltl {
+        return match ltl::to_g4ltl(&source, &spec) {
+            Ok(text) => {
+                outln!("## {} written for G4LTL by plcsynth ltl --to-g4ltl", a.file);
+                outln!("{}", text.trim_end());
+                ExitCode::SUCCESS
+            }
+            Err(diagnostics) => {
+                eprint!("{}", render_plain(&a.file, &source, &diagnostics));
+                ExitCode::from(2)
+            }
+        };
+    }
     let solver = match a.solver {
         SolverArg::Explicit => ltl::Solver::Explicit,
         SolverArg::Antichain => ltl::Solver::Antichain,
@@ -275,12 +293,30 @@ pub struct BenchArgs {
     /// The folder of the public test data (G4LTL files in `g4ltl/`, TLSF in `tlsf/`).
     #[arg(long, default_value = "../shared/ltl")]
     pub data: std::path::PathBuf,
+    /// The folder of our examples (the table beside the paper's table 2, and --compare-g4ltl).
+    #[arg(long, default_value = "examples/ltl")]
+    pub examples: std::path::PathBuf,
+    /// Instead of the tables: decide every G4LTL demo, the SYNTCOMP instances up to n = 2 and
+    /// our examples with plcsynth and with G4LTL itself, and print both verdicts and times.
+    /// PATH: G4LTL's compiled classes (a folder, or a jar) with the jars it needs beside them
+    /// (docs/ltl-language.md, "Beside G4LTL"); needs `javac` and `java`.
+    #[arg(long, value_name = "PATH")]
+    pub compare_g4ltl: Option<std::path::PathBuf>,
+    /// With --compare-g4ltl: seconds G4LTL may spend on one file.
+    #[arg(long, value_name = "SECONDS", default_value_t = 60)]
+    pub g4ltl_timeout: u64,
+    /// With --compare-g4ltl: the largest unroll depth G4LTL tries (it starts at 1).
+    #[arg(long, value_name = "K", default_value_t = 3)]
+    pub g4ltl_max_unroll: u32,
+    /// Build the comparison from recorded driver output instead of running G4LTL (tests).
+    #[arg(long, value_name = "FILE", hide = true, conflicts_with = "compare_g4ltl")]
+    pub g4ltl_replay: Option<std::path::PathBuf>,
     #[command(flatten)]
     pub format: super::bench::Format,
 }
 
 /// G4LTL's own verdicts at unroll depths 1 and 3 (`../shared/ltl/README.md`).
-const G4LTL: &[(&str, &str, &str)] = &[
+pub(super) const G4LTL: &[(&str, &str, &str)] = &[
     ("ptii_Arbitor", "realizable", "realizable"),
     ("ptii_PriorityArbitor", "unknown", "realizable"),
     ("ptii_ErrorHandling", "unknown", "realizable"),
@@ -302,7 +338,7 @@ const G4LTL: &[(&str, &str, &str)] = &[
 /// SYNTCOMP instances: file under `tlsf/`, parameter n (if any), the known status and the
 /// reference controller size of the family's table (states of the reference solution's
 /// circuit, where listed).
-const SYNTCOMP: &[(&str, Option<i64>, &str)] = &[
+pub(super) const SYNTCOMP: &[(&str, Option<i64>, &str)] = &[
     ("simple_arbiter/simple_arbiter.tlsf", Some(2), "realizable"),
     ("simple_arbiter/simple_arbiter.tlsf", Some(3), "realizable"),
     ("simple_arbiter_unreal/simple_arbiter_unreal2.tlsf", Some(2), "unrealizable"),
@@ -484,6 +520,9 @@ const TABLE2_COLUMNS: &[Column] = &[
 /// `plcsynth bench ltl`: every listed specification, our time and sizes beside the
 /// published verdicts.
 pub fn bench(a: &BenchArgs) -> ExitCode {
+    if a.compare_g4ltl.is_some() || a.g4ltl_replay.is_some() {
+        return super::ltl_compare::compare(a);
+    }
     if a.format.headers {
         return print_headers(&[G4LTL_COLUMNS, SYNTCOMP_COLUMNS, TABLE2_COLUMNS]);
     }
@@ -550,7 +589,7 @@ pub fn bench(a: &BenchArgs) -> ExitCode {
     }
     print_header(TABLE2_COLUMNS);
     for Published { example, file, kind: td, spec_lines, time, st_lines: st, learned, learning } in TABLE2 {
-        let path = std::path::Path::new("examples/ltl").join(file);
+        let path = a.examples.join(file);
         let Ok(source) = std::fs::read_to_string(&path) else {
             eprintln!("missing {} (run from the repository's root)", path.display());
             return ExitCode::from(2);

@@ -13,6 +13,7 @@ macro_rules! outln {
 pub mod bench;
 pub mod interchange;
 pub mod ltl;
+pub mod ltl_compare;
 pub mod sct;
 pub mod timed;
 

@@ -30,6 +30,7 @@ mod suggest;
 mod symbolic;
 pub mod theory;
 mod tlsf;
+mod to_g4ltl;
 mod translate;
 
 pub use compose::{product, Group};
@@ -43,6 +44,7 @@ pub use spec::{
 };
 pub use suggest::{longest_play, suggest, Play, SuggestConfig, Suggestion, Suggestions, Template};
 pub use tlsf::compile_tlsf;
+pub use to_g4ltl::to_g4ltl;
 pub use translate::{translate, Automaton, AutomatonState, Edge};
 
 use serde::Serialize;
