@@ -55,3 +55,13 @@ fn wide_specifications_get_diagram_strategies_that_win() {
     }
     model_check(&documents);
 }
+
+/// The solvers' names, as the page's menu and `--solver` write them, name each solver once.
+#[test]
+fn every_solver_is_found_by_its_name() {
+    for solver in Solver::ALL {
+        assert_eq!(Solver::named(solver.name()), Some(solver));
+    }
+    assert_eq!(Solver::named("bdd"), None);
+    assert_eq!(Solver::default(), Solver::Explicit, "the reference solver is the default");
+}

@@ -126,6 +126,25 @@ pub enum Solver {
     Symbolic,
 }
 
+impl Solver {
+    /// Every solver, in the order the CLI and the page list them.
+    pub const ALL: [Solver; 3] = [Solver::Explicit, Solver::Antichain, Solver::Symbolic];
+
+    /// Its name on the command line (`--solver`) and in the page.
+    pub fn name(self) -> &'static str {
+        match self {
+            Solver::Explicit => "explicit",
+            Solver::Antichain => "antichain",
+            Solver::Symbolic => "symbolic",
+        }
+    }
+
+    /// The solver named `name`.
+    pub fn named(name: &str) -> Option<Solver> {
+        Solver::ALL.into_iter().find(|s| s.name() == name)
+    }
+}
+
 /// The default work budget: a few seconds natively.
 pub const DEFAULT_MAX_WORK: u64 = 1_500_000_000;
 

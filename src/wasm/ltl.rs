@@ -26,7 +26,7 @@ struct LtlOptions {
     max_k: Option<u32>,
     max_states: Option<usize>,
     max_work: Option<u64>,
-    /// `explicit` (the default) or `antichain`.
+    /// `explicit` (the default), `antichain` or `symbolic` (`ltl::Solver::named`).
     solver: Option<String>,
     /// Solve the whole specification at once (default: groups of guarantees first).
     monolithic: bool,
@@ -77,6 +77,8 @@ struct GroupView {
 #[derive(Serialize)]
 struct LtlSummary {
     verdict: Verdict,
+    /// The solver that decided it (`explicit`, `antichain`, `symbolic`).
+    solver: &'static str,
     /// `realizable at k = 1: a controller of 2 states, 3 rows`.
     summary: String,
     /// What the page shows of the specification as decided (with what refinement learned).
@@ -172,10 +174,11 @@ impl LtlSession {
         let opts: LtlOptions = super::options(options)?;
         let defaults = Config::default();
         let solver = match opts.solver.as_deref() {
-            None | Some("explicit") => ltl::Solver::Explicit,
-            Some("antichain") => ltl::Solver::Antichain,
-            Some("symbolic") => ltl::Solver::Symbolic,
-            Some(other) => return Err(JsValue::from_str(&format!("unknown solver `{other}` (explicit, antichain)"))),
+            None => ltl::Solver::default(),
+            Some(name) => ltl::Solver::named(name).ok_or_else(|| {
+                let names: Vec<&str> = ltl::Solver::ALL.iter().map(|s| s.name()).collect();
+                JsValue::from_str(&format!("unknown solver `{name}` ({})", names.join(", ")))
+            })?,
         };
         let cfg = Config {
             max_k: opts.max_k.unwrap_or(defaults.max_k),
@@ -203,6 +206,7 @@ impl LtlSession {
                 self.solved = true;
                 return to_js(&LtlSummary {
                     verdict: Verdict::Unknown,
+                    solver: solver.name(),
                     summary: format!("unknown: {message}"),
                     report: ReportView { limit: Some(message.clone()), ..ReportView::default() },
                     machine_dot: None,
@@ -239,6 +243,7 @@ impl LtlSession {
         let machine = outcome.controller.as_ref().or(outcome.counter_strategy.as_ref());
         let summary = LtlSummary {
             verdict: outcome.verdict,
+            solver: solver.name(),
             summary: ltl::summary(&outcome),
             report: self.report_view(&refined, &outcome),
             machine_dot: machine.map(|m| ltl::machine_dot(&refined, m)),

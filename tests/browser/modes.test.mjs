@@ -123,6 +123,19 @@ test('TLSF: run, and a share link of it reopens in LTL mode', async () => {
   assert.deepEqual([...page.errors, ...fresh.errors], []);
 });
 
+test('LTL: the solver menu picks the solver, and the summary names the one that decided', async () => {
+  const page = await newPage(browser, `${server.url}#example/mutex`);
+  assert.equal(await page.isVisible('#ltl-solver'), true);
+  assert.equal(await page.inputValue('#ltl-solver'), 'explicit', 'the reference solver by default');
+  for (const solver of ['symbolic', 'antichain', 'explicit']) {
+    await page.selectOption('#ltl-solver', solver);
+    assert.equal(await runAndWait(page), 'realizable', solver);
+    assert.match(await page.textContent('#ltl-solver-used'), new RegExp(`${solver} solver`));
+  }
+  await shot(page, '47b-ltl-solver');
+  assert.deepEqual(page.errors, []);
+});
+
 test('a located error in each language, and no run result from a broken text', async () => {
   const page = await newPage(browser, server.url);
   const cases = [

@@ -38,7 +38,7 @@ export function renderLtlSummary(root, { summary, ms, expected, onAddAssumption 
     expected && summary.verdict !== 'unknown'
       ? h('p', { class: 'muted' }, expected === summary.verdict ? `As the example expects (${expected}).` : `The example says it should be ${expected}.`)
       : null,
-    h('p', { id: 'ltl-summary' }, summary.summary, h('span', { class: 'muted' }, ` · ${fmtMs(summary.ms)} (round trip ${fmtMs(ms)})`)),
+    h('p', { id: 'ltl-summary' }, summary.summary, h('span', { class: 'muted', id: 'ltl-solver-used' }, ` · ${summary.solver} solver · ${fmtMs(summary.ms)} (round trip ${fmtMs(ms)})`)),
     report.ltl ? h('p', { class: 'muted' }, 'Specification as decided: ', h('code', {}, report.ltl)) : null,
     report.inputs ? h('p', { class: 'muted' }, `Inputs: ${report.inputs.join(', ') || '—'} · outputs: ${report.outputs.join(', ') || '—'}${report.semantics ? ` · ${report.semantics} semantics` : ''}`) : null,
     report.learned?.length

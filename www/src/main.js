@@ -836,7 +836,7 @@ async function run() {
   const options = {
     timed: { maxStates, progressInterval: 256, exhaustive: $('#exhaustive').checked },
     sct: { method: $('#sct-method').value, compose: $('#sct-compose').checked },
-    ltl: { suggest: $('#ltl-suggest').checked },
+    ltl: { suggest: $('#ltl-suggest').checked, solver: $('#ltl-solver').value },
   }[engine];
   const progressText = {
     timed: (p) => `Exploring… ${fmtInt(p.visited)} states visited, ${fmtInt(p.removed)} removed`,
