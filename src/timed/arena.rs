@@ -20,10 +20,6 @@ impl<T: Copy + Eq + Hash> SliceArena<T> {
         self.data.len().checked_div(self.width).unwrap_or(self.table.len())
     }
 
-    pub fn is_empty(&self) -> bool {
-        self.table.is_empty()
-    }
-
     pub fn get(&self, id: u32) -> &[T] {
         let start = id as usize * self.width;
         &self.data[start..start + self.width]

@@ -22,26 +22,28 @@
 //! assert!(result.explanation.unwrap().render().contains("!press"));
 //! ```
 
-pub mod arena;
-pub mod ast;
-pub mod check;
+mod arena;
+mod ast;
+mod check;
 pub mod explain;
 pub mod export;
-pub mod lexer;
+mod lexer;
 pub mod model;
-pub mod parser;
+mod parser;
 pub mod plant;
 pub mod precompute;
 pub mod scan;
 pub mod solve;
-pub mod timelock;
+mod timelock;
 
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use lexer::{tokenize, Tok};
 
 /// A parsed specification with every syntax diagnostic.
 pub struct Parsed {
-    pub spec: ast::Spec,
+    /// The syntax tree: internal to the engine ([`compile`] checks it into a game).
+    #[allow(dead_code)]
+    pub(crate) spec: ast::Spec,
     pub diagnostics: Vec<Diagnostic>,
 }
 
