@@ -22,6 +22,7 @@ pub mod plc;
 pub mod program;
 pub mod rng;
 pub mod sct;
+pub mod search;
 pub(crate) mod syntax;
 pub mod timed;
 #[cfg(target_arch = "wasm32")]

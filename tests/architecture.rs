@@ -129,6 +129,11 @@ fn the_engines_are_independent() {
     );
     assert_no_mention("src/timed", &[], &["crate::sct", "crate::ltl"], "the timed engine is on its own");
     assert_no_mention("src/program", &[], &["crate::sct", "crate::ltl"], "the timed engine is on its own");
+    // What the engines share knows none of them.
+    let search = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/search.rs");
+    for line in code_lines(&search) {
+        assert!(!line.contains("crate::"), "src/search.rs uses another module: {}", line.trim());
+    }
     assert_no_mention(
         "src/zone",
         &[],

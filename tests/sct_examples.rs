@@ -205,7 +205,7 @@ fn the_engine_decides_the_verdict() {
             let mut progress = |_: usize| go_on;
             let mut budget = Budget::new(max_states, &mut progress);
             let (reps, diags, stop) = synthesize_all_within(&src, &loaded, &cfg, None, &mut budget);
-            Verdict::of(&reps, &diags, stop)
+            Verdict::of(&reps, &diags, stop.as_ref())
         };
         assert_eq!(run(cfg.max_states, true), Verdict::Realizable, "{name}");
         assert_eq!(run(1, true), Verdict::BudgetExceeded, "{name}");
@@ -218,7 +218,7 @@ fn the_engine_decides_the_verdict() {
     let mut budget = Budget::new(10_000_000, &mut stop_soon);
     let cfg = Config { method: Method::Monolithic, ..Config::default() };
     let (reps, diags, stop) = synthesize_all_within(&src, &loaded, &cfg, None, &mut budget);
-    assert_eq!(Verdict::of(&reps, &diags, stop), Verdict::Cancelled);
+    assert_eq!(Verdict::of(&reps, &diags, stop.as_ref()), Verdict::Cancelled);
     assert_eq!(Verdict::Cancelled.name(), "cancelled");
     assert_eq!(serde_json::to_string(&Verdict::BudgetExceeded).unwrap(), "\"budget_exceeded\"");
 }

@@ -209,7 +209,7 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
     if a.json {
         let out = serde_json::json!({
             "file": a.file,
-            "verdict": Verdict::of(&reports, &sdiags, stop),
+            "verdict": Verdict::of(&reports, &sdiags, stop.as_ref()),
             "method": method,
             "supervisors": reports,
             "events": loaded.project.events,

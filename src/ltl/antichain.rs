@@ -14,7 +14,7 @@
 //! strategy extraction as an antichain; `Config::solver` picks, and the tests compare the two.
 
 use super::translate::Automaton;
-use super::{Stop, Work};
+use super::{Resource, Stop, Work};
 
 /// A downward-closed set of positions, kept as its maximal elements.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -142,7 +142,10 @@ pub(super) fn solve(
         }
         let next = winning.meet(&cpre, work)?;
         if next.elements.len() > max_elements {
-            return Err(Stop::Budget(super::game::position_budget(k as u32, max_elements, max_elements)));
+            return Err(Stop::budget(
+                Resource::States,
+                super::game::position_budget(k as u32, max_elements, max_elements),
+            ));
         }
         if next.same(&winning) {
             return Ok(winning);

@@ -22,7 +22,8 @@ use super::strategy::extract_from_antichain;
 use super::symbolic::{Halt, SymbolicGame};
 use super::translate::Automaton;
 use super::{
-    translate, Config, Ltl, Machine, Outcome, Progress, Semantics, SignalId, Solver, Spec, Stats, Stop, Verdict, Work,
+    translate, Config, Ltl, Machine, Outcome, Progress, Resource, Semantics, SignalId, Solver, Spec, Stats, Stop,
+    Verdict, Work,
 };
 use hashbrown::HashMap;
 
@@ -221,14 +222,20 @@ fn valuations(signals: &[SignalId]) -> Vec<u64> {
 pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) -> bool) -> Result<Outcome, Stop> {
     let signals = spec.signals.len();
     if cfg.solver == Solver::Symbolic && signals > 63 {
-        return Err(Stop::Budget(format!("{signals} signals: the symbolic games hold a letter in 64 bits")));
+        return Err(Stop::budget(
+            Resource::Size,
+            format!("{signals} signals: the symbolic games hold a letter in 64 bits"),
+        ));
     }
     if cfg.solver != Solver::Symbolic && signals > cfg.max_signals.min(63) {
-        return Err(Stop::Budget(format!(
+        return Err(Stop::budget(
+            Resource::Size,
+            format!(
             "{signals} signals: the explicit games enumerate 2^{signals} letters per position, and the limit is {} \
              (split the specification into parts with fewer signals)",
             cfg.max_signals.min(63)
-        )));
+        ),
+        ));
     }
     let name = |s: SignalId| spec.name(s).to_string();
     let formula = spec.formula();
@@ -298,7 +305,7 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) 
                     }
                 }
                 Err(Stop::Cancelled) => return Err(Stop::Cancelled),
-                Err(Stop::Budget(limit)) => {
+                Err(Stop::Budget { message: limit, .. }) => {
                     let player = if controller { "the controller's" } else { "the environment's" };
                     given_up[side] = Some(format!("{player} game at k = {k}: {limit}"));
                 }
@@ -360,7 +367,10 @@ impl Play<'_> {
                     Ok(game) => game,
                     Err(Halt::Stopped(stop)) => return Err(stop),
                     Err(Halt::OverBudget) => {
-                        return Err(Stop::Budget(position_budget(k, self.max_positions, self.max_states)))
+                        return Err(Stop::budget(
+                            Resource::States,
+                            position_budget(k, self.max_positions, self.max_states),
+                        ))
                     }
                 };
                 game.solve();
@@ -381,7 +391,7 @@ impl Play<'_> {
                 let winning = match work.capped(EXTRACTION_WORK, |work| explicit.fixpoint(work)) {
                     Ok(winning) => winning,
                     Err(Stop::Cancelled) => return Err(Stop::Cancelled),
-                    Err(Stop::Budget(_)) => game.maximal_winning(),
+                    Err(Stop::Budget { .. }) => game.maximal_winning(),
                 };
                 let strategy = extract_from_antichain(
                     automaton,
@@ -417,7 +427,10 @@ impl Play<'_> {
                     Ok(game) => game,
                     Err(Explored::Stopped(stop)) => return Err(stop),
                     Err(Explored::OverBudget) => {
-                        return Err(Stop::Budget(position_budget(k, self.max_positions, self.max_states)))
+                        return Err(Stop::budget(
+                            Resource::States,
+                            position_budget(k, self.max_positions, self.max_states),
+                        ))
                     }
                 };
                 game.solve();
@@ -431,7 +444,7 @@ impl Play<'_> {
                 match work.capped(EXTRACTION_WORK, |work| self.fixpoint(work)) {
                     Ok(winning) => (built, winning),
                     Err(Stop::Cancelled) => return Err(Stop::Cancelled),
-                    Err(Stop::Budget(_)) => (built, game.maximal_winning()),
+                    Err(Stop::Budget { .. }) => (built, game.maximal_winning()),
                 }
             }
         };

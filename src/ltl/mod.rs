@@ -170,14 +170,17 @@ impl<'a> Work<'a> {
     pub(crate) fn spend(&mut self, units: u64) -> Result<(), Stop> {
         self.used += units;
         if self.used > self.limit {
-            return Err(Stop::Budget(if self.limit < self.budget {
-                format!(
-                    "it would pass {} units of work, the end of its share (--max-work {} for the whole run)",
-                    self.limit, self.budget
-                )
-            } else {
-                format!("the run needs more than {} units of work (--max-work)", self.budget)
-            }));
+            return Err(Stop::budget(
+                Resource::Work,
+                if self.limit < self.budget {
+                    format!(
+                        "it would pass {} units of work, the end of its share (--max-work {} for the whole run)",
+                        self.limit, self.budget
+                    )
+                } else {
+                    format!("the run needs more than {} units of work (--max-work)", self.budget)
+                },
+            ));
         }
         if self.used >= self.next_report {
             self.next_report = self.used + (1 << 16);
@@ -294,23 +297,8 @@ pub struct Outcome {
     pub split: usize,
 }
 
-/// Why a run stopped without a verdict.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum Stop {
-    /// A budget of [`Config`] ran out; the message names it and how to raise it.
-    Budget(String),
-    /// The progress callback returned `false`.
-    Cancelled,
-}
-
-impl std::fmt::Display for Stop {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Stop::Budget(message) => f.write_str(message),
-            Stop::Cancelled => f.write_str("cancelled"),
-        }
-    }
-}
+/// Why a run stopped without a verdict: the shared [`crate::search::Stop`].
+pub use crate::search::{Resource, Stop};
 
 /// Decides `spec`: for k = 0, 1, …, [`Config::max_k`] plays the controller's bounded game on
 /// the automaton of the negated specification, then the environment's on the automaton of the
@@ -331,7 +319,7 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) 
         match compose::synthesize(spec, &groups, &tried, progress) {
             Ok(Ok(outcome)) => return Ok(outcome),
             Ok(Err(work)) => spent = work,
-            Err(Stop::Budget(_)) => spent = tried.max_work,
+            Err(Stop::Budget { .. }) => spent = tried.max_work,
             Err(Stop::Cancelled) => return Err(Stop::Cancelled),
         }
     }

@@ -576,7 +576,7 @@ pub fn suggest(
                     Ok(Some(o))
                 }
                 Err(Stop::Cancelled) => Err(Stop::Cancelled),
-                Err(Stop::Budget(_)) => {
+                Err(Stop::Budget { .. }) => {
                     *used += budget;
                     Ok(None)
                 }

@@ -19,7 +19,7 @@
 //!    transitions, so fewer marks mean smaller games and smaller bounds.
 
 use super::spec::{Ltl, SignalId};
-use super::{Progress, Stop, Work};
+use super::{Progress, Resource, Stop, Work};
 use hashbrown::HashMap;
 use petgraph::graph::DiGraph;
 use std::rc::Rc;
@@ -395,9 +395,12 @@ impl Arena {
         while i < states.len() {
             let terms = self.expand(states[i], work)?;
             if self.too_many_untils {
-                return Err(Stop::Budget(format!(
+                return Err(Stop::budget(
+                    Resource::Size,
+                    format!(
                     "the formula has more than {MAX_UNTILS} until or eventually subformulas; split the specification"
-                )));
+                ),
+                ));
             }
             let mut out = Vec::with_capacity(terms.len());
             for term in terms.iter() {
@@ -473,7 +476,10 @@ fn product(left: &[Term], right: &[Term]) -> Vec<Term> {
 }
 
 fn automaton_budget(max_states: usize) -> Stop {
-    Stop::Budget(format!("the Büchi automaton needs more than {max_states} states (the automaton budget)"))
+    Stop::budget(
+        Resource::States,
+        format!("the Büchi automaton needs more than {max_states} states (the automaton budget)"),
+    )
 }
 
 /// The generalised automaton: per state its formula and edges `(pos, neg, to, deferred untils)`.

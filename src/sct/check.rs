@@ -221,7 +221,7 @@ pub fn compile_within(src: &str, budget: &mut Budget) -> (Option<Loaded>, Vec<Di
             match product_of(&full, &specs, budget) {
                 Ok(acc) => product_specs.push((acc, span)),
                 Err((_, error)) => {
-                    stop = Stop::of(&error);
+                    stop = error.stop();
                     let message = match error {
                         SynthError::Cancelled => format!("cancelled while building the product `{full}`"),
                         _ => format!(

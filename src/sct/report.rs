@@ -65,10 +65,10 @@ impl Verdict {
     /// The verdict of a run of [`synthesize_all_within`] from what it returned: a stop decides
     /// first (its own error diagnostic is not an input error), then any error, then whether
     /// every supervisor is realizable.
-    pub fn of(reports: &[SupervisorReport], diagnostics: &[Diagnostic], stop: Option<Stop>) -> Verdict {
+    pub fn of(reports: &[SupervisorReport], diagnostics: &[Diagnostic], stop: Option<&Stop>) -> Verdict {
         match stop {
             Some(Stop::Cancelled) => Verdict::Cancelled,
-            Some(Stop::BudgetExceeded { .. }) => Verdict::BudgetExceeded,
+            Some(Stop::Budget { .. }) => Verdict::BudgetExceeded,
             None if diagnostics.iter().any(Diagnostic::is_error) => Verdict::Error,
             None if reports.iter().all(|r| r.realizable) => Verdict::Realizable,
             None => Verdict::Unrealizable,
@@ -138,8 +138,8 @@ pub fn synthesize_all_within(
         let t0 = now.map(|f| f());
         let sup = match model::synthesize_known(p, &knowledge, i, cfg, budget) {
             Ok(s) => s,
-            Err(SynthError::BudgetExceeded { max_states }) => {
-                stop = Some(Stop::BudgetExceeded { max_states });
+            Err(error @ SynthError::BudgetExceeded { max_states }) => {
+                stop = error.stop();
                 let rest: Vec<&str> = p.specs[i + 1..].iter().map(|s| s.name.as_str()).collect();
                 let d = diags.error(
                     loaded.spec_spans[i],
@@ -162,7 +162,7 @@ pub fn synthesize_all_within(
                 break;
             }
             Err(SynthError::Cancelled) => {
-                stop = Some(Stop::Cancelled);
+                stop = SynthError::Cancelled.stop();
                 diags.error(loaded.spec_spans[i], format!("synthesis cancelled while synthesising `{}`", spec.name));
                 break;
             }

@@ -199,7 +199,7 @@ impl LtlSession {
                 progress.finish()?;
                 return Err(JsValue::from_str("cancelled"));
             }
-            Err(Stop::Budget(message)) => {
+            Err(Stop::Budget { message, .. }) => {
                 // No verdict and no machine: the budget ended the run first.
                 progress.finish()?;
                 self.outcome = None;
@@ -232,7 +232,7 @@ impl LtlSession {
                     progress.finish()?;
                     return Err(JsValue::from_str("cancelled"));
                 }
-                Err(Stop::Budget(message)) => (None, Some(message)),
+                Err(Stop::Budget { message, .. }) => (None, Some(message)),
             }
         } else {
             (None, None)

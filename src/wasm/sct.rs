@@ -160,8 +160,7 @@ impl SctSession {
                 match self.loaded.composed("Composed", &mut budget) {
                     Ok(l) => self.composed = Some(l),
                     Err((_, error)) => {
-                        let stop = Stop::of(&error);
-                        let message = match stop {
+                        let message = match error.stop() {
                             Some(Stop::Cancelled) => "cancelled while composing the specifications".to_string(),
                             _ => format!(
                                 "composing the specifications spent the state budget of {} states",
@@ -184,12 +183,9 @@ impl SctSession {
         let summary = SctSummary {
             method: if method == Method::Monolithic { "monolithic" } else { "incremental" },
             supervisors: reports.iter().map(summary_of).collect(),
-            verdict: Verdict::of(&reports, &diagnostics, stop),
+            verdict: Verdict::of(&reports, &diagnostics, stop.as_ref()),
             diagnostics: &diagnostics,
-            stopped: stop.map(|s| match s {
-                Stop::BudgetExceeded { .. } => "budget",
-                Stop::Cancelled => "cancelled",
-            }),
+            stopped: stop.as_ref().map(Stop::name),
             states_built: built,
             ms,
         };

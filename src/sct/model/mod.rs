@@ -25,6 +25,9 @@ use crate::graph::{Successors, View};
 use petgraph::visit::{Bfs, NodeFiltered};
 use serde::Serialize;
 
+use crate::search::Resource;
+pub use crate::search::Stop;
+
 /// Event id: an index into [`Project::events`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
 pub struct EventId(pub u32);
@@ -441,20 +444,14 @@ pub enum SynthError {
     Cancelled,
 }
 
-/// Why a run stopped before its end.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Stop {
-    /// More product states than the budget allows.
-    BudgetExceeded { max_states: usize },
-    /// The progress callback asked to stop.
-    Cancelled,
-}
-
-impl Stop {
+impl SynthError {
     /// The stop behind a synthesis error, if it is one (a conflict is an input error).
-    pub fn of(error: &SynthError) -> Option<Stop> {
-        match error {
-            SynthError::BudgetExceeded { max_states } => Some(Stop::BudgetExceeded { max_states: *max_states }),
+    pub fn stop(&self) -> Option<Stop> {
+        match self {
+            SynthError::BudgetExceeded { max_states } => Some(Stop::budget(
+                Resource::States,
+                format!("the state budget of {max_states} product states is spent"),
+            )),
             SynthError::Cancelled => Some(Stop::Cancelled),
             SynthError::Conflict(_) => None,
         }
