@@ -179,7 +179,7 @@ fn assert_round_trip(a: &Automaton, events: &Events) {
     assert_eq!(a.num_transitions(), b.num_transitions(), "transition count changed");
     assert_eq!(a.init(), b.init(), "initial state changed");
     assert_eq!(a.alphabet(), b.alphabet(), "alphabet changed");
-    for s in 0..a.num_states() as classic::StateId {
+    for s in a.states() {
         assert_eq!(a.is_marked(s), b.is_marked(s), "marking of state {s} changed");
         assert_eq!(a.edges(s), b.edges(s), "transitions of state {s} changed");
     }
@@ -711,7 +711,7 @@ pub fn check_wmod(text: &str) {
             return;
         }
     };
-    let attributes: Vec<(classic::EventId, &str, String)> =
+    let attributes: Vec<(classic::ClassicEventId, &str, String)> =
         module.attributes.iter().map(|(e, k, v)| (*e, k.as_str(), v.clone())).collect();
     let out: Vec<ComponentOut> = module
         .components
@@ -727,7 +727,7 @@ pub fn check_wmod(text: &str) {
     for (a, b) in module.components.iter().zip(&back.components) {
         assert_eq!((&a.name, a.kind), (&b.name, b.kind), "component name or kind changed");
         assert_same_automaton(&a.automaton, &b.automaton);
-        for s in 0..a.automaton.num_states() as classic::StateId {
+        for s in a.automaton.states() {
             assert_eq!(a.automaton.state_name(s), b.automaton.state_name(s), "state name changed");
         }
     }
@@ -778,7 +778,7 @@ pub fn check_wmod(text: &str) {
     }
     // With the events' `.sct` properties pasted (a foreign text, so the project may be refused
     // for what it says; never a panic, and a text that is not one body is not pasted).
-    let bodies: Vec<(classic::EventId, String)> =
+    let bodies: Vec<(classic::ClassicEventId, String)> =
         module.attributes.iter().filter(|a| a.1 == wmod::SCT_ATTRIBUTE).map(|a| (a.0, a.2.clone())).collect();
     if let Ok(project) = classic_to_sct(
         &parts,
@@ -809,7 +809,7 @@ fn assert_same_automaton(a: &Automaton, b: &Automaton) {
     assert_eq!(a.num_transitions(), b.num_transitions(), "transition count changed");
     assert_eq!(a.init(), b.init(), "initial state changed");
     assert_eq!(a.alphabet(), b.alphabet(), "alphabet changed");
-    for s in 0..a.num_states() as classic::StateId {
+    for s in a.states() {
         assert_eq!(a.is_marked(s), b.is_marked(s), "marking of state {s} changed");
         assert_eq!(a.edges(s), b.edges(s), "transitions of state {s} changed");
     }
