@@ -484,8 +484,8 @@ fn has_wait_free_cycle(game: &plcsynth::timed::model::Game, p: &program::Program
         let next = (i + 1 < p.len()).then_some(i + 1);
         match p.commands[i].instruction {
             Instruction::Do { .. } => next.into_iter().collect(),
-            Instruction::If { target, .. } => next.into_iter().chain([position[target as usize] as usize]).collect(),
-            Instruction::Goto { target } => vec![position[target as usize] as usize],
+            Instruction::If { target, .. } => next.into_iter().chain([position[target.index()] as usize]).collect(),
+            Instruction::Goto { target } => vec![position[target.index()] as usize],
             Instruction::WaitUntil { condition } if is_guard(&condition) => next.into_iter().collect(),
             Instruction::WaitUntil { .. } => Vec::new(),
         }

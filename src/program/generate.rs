@@ -43,7 +43,7 @@ fn delay_conditions(game: &Game, split: &SplitGame, space: &StateSpace, to: Stat
 /// Algorithm 10 over the strategy states (initial state first, so its entry is label 0).
 pub fn generate(game: &Game, split: &SplitGame, space: &StateSpace, strategy: &Strategy) -> Generated {
     let mut program = Program::new();
-    let mut entry = vec![u32::MAX; space.states.len()];
+    let mut entry = vec![CmdId::NONE; space.states.len()];
     for &s in &strategy.states {
         entry[s as usize] = program.fresh_id();
     }

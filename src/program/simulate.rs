@@ -561,12 +561,12 @@ impl<'g> Simulation<'g> {
                         return acted;
                     }
                 }
-                Instruction::Goto { target } => self.pc = self.pos[target as usize] as usize,
+                Instruction::Goto { target } => self.pc = self.pos[target.index()] as usize,
                 Instruction::If { condition, target } => {
                     if truth(self, &condition) {
                         self.reset(c.resets);
                         self.consume(&condition);
-                        self.pc = self.pos[target as usize] as usize;
+                        self.pc = self.pos[target.index()] as usize;
                     } else {
                         self.pc += 1;
                     }

@@ -364,9 +364,9 @@ pub fn build_paced(
             Instruction::WaitUntil { condition } => Statement::Wait { test: test(&condition, &mut names, &mut diags) },
             Instruction::If { condition, target } => {
                 let test = test(&condition, &mut names, &mut diags);
-                Statement::Branch { test, target: pos[target as usize] as usize }
+                Statement::Branch { test, target: pos[target.index()] as usize }
             }
-            Instruction::Goto { target } => Statement::Jump { target: pos[target as usize] as usize },
+            Instruction::Goto { target } => Statement::Jump { target: pos[target.index()] as usize },
         };
         // Timers are known only at the end; `restarts` holds the reset clocks until then.
         steps.push((Step { statement, restarts: Vec::new(), comment, back_in_scan: false }, c.resets));
