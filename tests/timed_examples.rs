@@ -2,7 +2,7 @@
 //! properties of the winning state space checked against their definitions.
 
 use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpace, Verdict};
-use plcsynth::timed::{compile, model::Game, synthesize, Synthesis};
+use plcsynth::timed::{compile, model::Game, model::LocId, synthesize, Synthesis};
 use std::path::PathBuf;
 
 use crate::reference;
@@ -79,7 +79,7 @@ fn every_example_has_its_expected_verdict() {
     }
 }
 
-fn locations(s: &Synthesis, state: StateId) -> Vec<u32> {
+fn locations(s: &Synthesis, state: StateId) -> Vec<LocId> {
     let space = &s.solution.space;
     space.env(state).iter().enumerate().map(|(u, &sub)| s.split.units[u].sublocs[sub as usize].location).collect()
 }

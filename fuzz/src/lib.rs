@@ -8,7 +8,7 @@ use plcsynth::program::{self, optimize::Context, simulate};
 use plcsynth::sct::classic::{self, Automaton, Events};
 use plcsynth::sct::{self, classic::gen, model::Config};
 use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpace, Verdict};
-use plcsynth::timed::{compile, Synthesis};
+use plcsynth::timed::{compile, model::LocId, Synthesis};
 
 /// Product states a fuzzed `.sct` project may build: small, so that one input takes
 /// milliseconds and the fuzzer explores inputs rather than large products.
@@ -478,7 +478,7 @@ pub fn check_verdict(source: &str, seed: u64, skip_known: bool) -> Option<Verdic
 fn has_wait_free_cycle(game: &plcsynth::timed::model::Game, p: &program::Program) -> bool {
     use plcsynth::timed::model::MessageRole;
     use program::{Condition, Instruction};
-    let is_guard = |c: &Condition| matches!(c, Condition::Message { message } if game.messages[*message as usize].role == MessageRole::Guard);
+    let is_guard = |c: &Condition| matches!(c, Condition::Message { message } if game.messages[(*message).index()].role == MessageRole::Guard);
     let position = p.positions();
     let successors = |i: usize| -> Vec<usize> {
         let next = (i + 1 < p.len()).then_some(i + 1);
@@ -527,7 +527,7 @@ fn assert_winning_states_are_safe(source: &str, game: &plcsynth::timed::model::G
     let space = &s.solution.space;
     let winning = space.winning_states();
     for &st in &winning {
-        let locations: Vec<u32> =
+        let locations: Vec<LocId> =
             space.env(st).iter().enumerate().map(|(u, &sub)| s.split.units[u].sublocs[sub as usize].location).collect();
         for a in &game.assertions {
             assert!(a.holds.eval(&locations), "winning state {st} violates `{}`\nspec:\n{source}", a.text);

@@ -122,7 +122,7 @@ impl Program {
             .iter()
             .map(|c| {
                 let text = match c.instruction {
-                    Instruction::Do { request } => format!("DO ({})", game.messages[request as usize].name),
+                    Instruction::Do { request } => format!("DO ({})", game.messages[request.index()].name),
                     Instruction::If { condition, target } => {
                         format!("IF ({}) THEN GOTO {}", condition_text(game, &condition), pos[target.index()])
                     }
@@ -156,9 +156,9 @@ impl Program {
 /// (passed 2).
 pub fn condition_text(game: &Game, condition: &Condition) -> String {
     match condition {
-        Condition::Message { message } => game.messages[*message as usize].name.clone(),
+        Condition::Message { message } => game.messages[(*message).index()].name.clone(),
         Condition::Delay { clock, interval } => {
-            let name = &game.clocks[*clock as usize].name;
+            let name = &game.clocks[(*clock).index()].name;
             if interval.lower_closed {
                 format!("{{{name}}} WAIT {}", interval.lower)
             } else {
@@ -235,7 +235,7 @@ pub fn parse_listing(
                 let names = r.trim().trim_start_matches('{').trim_end_matches('}');
                 let mut bits = 0u64;
                 for n in names.split(',') {
-                    bits |= 1 << clock(n.trim()).ok_or_else(|| format!("unknown clock `{n}`"))?;
+                    bits |= 1 << clock(n.trim()).ok_or_else(|| format!("unknown clock `{n}`"))?.index();
                 }
                 (b.trim(), bits)
             }

@@ -42,14 +42,14 @@ impl Context {
         } else {
             let mut v = vec![false; n];
             for b in &game.io {
-                v[b.message as usize] = true;
+                v[b.message.index()] = true;
             }
             v
         };
         let mut dependencies = Vec::new();
         let mut declared = vec![false; n];
         for d in &game.dependencies {
-            declared[d.message as usize] = true;
+            declared[d.message.index()] = true;
             for &on in &d.on {
                 dependencies.push((d.message, on));
             }
@@ -59,10 +59,10 @@ impl Context {
         for a in &game.components {
             for e in &a.edges {
                 if e.kind != crate::timed::model::MessageKind::Synchronised {
-                    sent[e.message as usize] = true;
+                    sent[e.message.index()] = true;
                     // Urgent from the moment its location is entered: instant and unguarded (a
                     // guarded one may be enabled only later, and the controller acts before).
-                    urgent[e.message as usize] &=
+                    urgent[e.message.index()] &=
                         e.instant && e.guard.is_empty() && e.kind == crate::timed::model::MessageKind::Uncontrollable;
                 }
             }
@@ -75,13 +75,13 @@ impl Context {
     }
 
     fn urgent(&self, c: &Condition) -> bool {
-        matches!(c, Condition::Message { message } if self.urgent.get(*message as usize).copied().unwrap_or(false))
+        matches!(c, Condition::Message { message } if self.urgent.get((*message).index()).copied().unwrap_or(false))
     }
 
     fn silent(&self, c: &Condition) -> bool {
         match c {
             Condition::Delay { .. } => self.silent_delays,
-            Condition::Message { message } => !self.observable.get(*message as usize).copied().unwrap_or(true),
+            Condition::Message { message } => !self.observable.get((*message).index()).copied().unwrap_or(true),
         }
     }
 
@@ -90,7 +90,7 @@ impl Context {
         match cond {
             Condition::Delay { .. } => event == DependsOn::Time,
             Condition::Message { message } => {
-                if !self.declared.get(*message as usize).copied().unwrap_or(false) {
+                if !self.declared.get((*message).index()).copied().unwrap_or(false) {
                     return true; // undeclared: assume it may change at any time
                 }
                 self.dependencies.iter().any(|&(m, on)| {
@@ -384,7 +384,7 @@ fn waits_for_observable(program: &Program, j: usize, cx: &Context) -> bool {
     let cmds = &program.commands;
     // A guard may already hold before the silent wait ends: waiting for it proves nothing.
     let observable = |c: &Condition| {
-        matches!(c, Condition::Message { message } if !cx.guards.get(*message as usize).copied().unwrap_or(false))
+        matches!(c, Condition::Message { message } if !cx.guards.get((*message).index()).copied().unwrap_or(false))
             && !cx.silent(c)
     };
     match cmds[j].instruction {
@@ -600,7 +600,7 @@ pub fn bisimulation(program: &Program) -> Classes {
     let label = |i: usize| -> (u8, Option<Condition>, Option<u32>, u64) {
         let c = &cmds[i];
         match c.instruction {
-            Instruction::Do { request } => (0, None, Some(request), c.resets),
+            Instruction::Do { request } => (0, None, Some(request.raw()), c.resets),
             Instruction::If { condition, .. } | Instruction::WaitUntil { condition } => {
                 (1, Some(condition), None, c.resets)
             }
@@ -786,7 +786,7 @@ pub fn drop_unread_resets(program: &mut Program) {
         if let Instruction::If { condition: Condition::Delay { clock, .. }, .. }
         | Instruction::WaitUntil { condition: Condition::Delay { clock, .. } } = c.instruction
         {
-            read |= 1 << clock;
+            read |= 1 << clock.index();
         }
     }
     for c in &mut program.commands {

@@ -2,7 +2,7 @@
 //! Shapes are documented in `docs/timed-language.md` (section "JSON output").
 
 use super::explain::{describe_edge, describe_state, removal_text};
-use super::model::{ClockInterval, Game};
+use super::model::{ClockInterval, Game, LocId};
 use super::solve::{Removal, StateId, StateKind, Verdict};
 use super::Synthesis;
 use serde::Serialize;
@@ -90,7 +90,7 @@ fn constraints_text(game: &Game, list: &[ClockInterval]) -> String {
     let parts: Vec<String> = list
         .iter()
         .map(|ci| {
-            let name = &game.clocks[ci.clock as usize].name;
+            let name = &game.clocks[ci.clock.index()].name;
             let short = name.rsplit('.').next().unwrap_or(name);
             format!("{short} in {}", ci.interval)
         })
@@ -114,7 +114,7 @@ pub fn automata(game: &Game) -> Vec<AutomatonView> {
                 super::model::ComponentOrigin::Hardware => "hardware",
                 super::model::ComponentOrigin::Operator => "operator",
             },
-            initial: a.initial,
+            initial: a.initial.raw(),
             locations: a
                 .locations
                 .iter()
@@ -128,43 +128,44 @@ pub fn automata(game: &Game) -> Vec<AutomatonView> {
                 .edges
                 .iter()
                 .map(|e| EdgeView {
-                    from: e.from,
-                    to: e.to,
+                    from: e.from.raw(),
+                    to: e.to.raw(),
                     sigil: e.kind.sigil(),
-                    message: game.messages[e.message as usize].name.clone(),
+                    message: game.messages[e.message.index()].name.clone(),
                     guard: constraints_text(game, &e.guard),
-                    resets: e.resets.iter().map(|&c| clock_name(c)).collect(),
+                    resets: e.resets.iter().map(|&c| clock_name(c.raw())).collect(),
                     instant: e.instant,
                 })
                 .collect(),
         })
         .collect();
     for p in &game.plans {
-        let deadline: Vec<String> = p.clocks.iter().map(|&(c, b)| format!("{} in [0,{b}]", clock_name(c))).collect();
+        let deadline: Vec<String> =
+            p.clocks.iter().map(|&(c, b)| format!("{} in [0,{b}]", clock_name(c.raw()))).collect();
         out.push(AutomatonView {
             name: p.name.clone(),
             kind: "plan",
-            initial: p.initial,
+            initial: p.initial.raw(),
             locations: p
                 .locations
                 .iter()
                 .enumerate()
                 .map(|(i, l)| LocationView {
                     name: l.name.clone(),
-                    invariant: if i as u32 == p.failed { String::new() } else { deadline.join(" and ") },
-                    failed: i as u32 == p.failed,
+                    invariant: if LocId::new(i) == p.failed { String::new() } else { deadline.join(" and ") },
+                    failed: LocId::new(i) == p.failed,
                 })
                 .collect(),
             edges: p
                 .edges
                 .iter()
                 .map(|e| EdgeView {
-                    from: e.from,
-                    to: e.to,
+                    from: e.from.raw(),
+                    to: e.to.raw(),
                     sigil: '$',
-                    message: game.messages[e.message as usize].name.clone(),
+                    message: game.messages[e.message.index()].name.clone(),
                     guard: String::new(),
-                    resets: e.resets.iter().map(|&c| clock_name(c)).collect(),
+                    resets: e.resets.iter().map(|&c| clock_name(c.raw())).collect(),
                     instant: false,
                 })
                 .collect(),
@@ -223,11 +224,11 @@ pub fn state_view(game: &Game, synthesis: &Synthesis, s: StateId) -> StateView {
     let mut locations = Vec::new();
     for (u, &sub) in space.env(s).iter().enumerate() {
         let loc = split.units[u].sublocs[sub as usize].location;
-        locations.push(game.components[u].locations[loc as usize].name.clone());
+        locations.push(game.components[u].locations[loc.index()].name.clone());
     }
     for (p, &sub) in space.plan(s).iter().enumerate() {
         let loc = split.units[split.plant_count + p].sublocs[sub as usize].location;
-        locations.push(game.plans[p].locations[loc as usize].name.clone());
+        locations.push(game.plans[p].locations[loc.index()].name.clone());
     }
     let names: Vec<&str> = game.clocks.iter().map(|c| c.name.as_str()).collect();
     let zone = space.zone(s);

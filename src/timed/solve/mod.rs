@@ -338,7 +338,7 @@ impl<'g, 'p> Solver<'g, 'p> {
             losses: uses_dominance(game, options).then(hashbrown::HashMap::new),
             dominated: 0,
             monotone: Vec::new(),
-            deadline_clocks: game.plans.iter().flat_map(|p| &p.clocks).fold(0, |bits, &(c, _)| bits | 1 << c),
+            deadline_clocks: game.plans.iter().flat_map(|p| &p.clocks).fold(0, |bits, &(c, _)| bits | 1 << c.index()),
             queue: VecDeque::new(),
             lazy: !options.exhaustive,
             memory: options.zeno_memory,
