@@ -1,13 +1,11 @@
 //! Every example in `examples/timed/`: its verdict (from the `// Expected:` header line) and
 //! properties of the winning state space checked against their definitions.
 
-use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpace, Verdict};
+use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpace, Verdict, NONE};
 use plcsynth::timed::{compile, model::Game, model::LocId, synthesize, Synthesis};
 use std::path::PathBuf;
 
 use crate::reference;
-
-const NONE: u32 = u32::MAX;
 
 fn examples() -> Vec<(String, String)> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/timed");

@@ -7,7 +7,7 @@ use plcsynth::ltl;
 use plcsynth::program::{self, optimize::Context, simulate};
 use plcsynth::sct::classic::{self, Automaton, Events};
 use plcsynth::sct::{self, classic::gen, model::Config};
-use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpace, Verdict};
+use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpace, Verdict, NONE};
 use plcsynth::timed::{compile, model::LocId, Synthesis};
 
 /// Product states a fuzzed `.sct` project may build: small, so that one input takes
@@ -517,8 +517,6 @@ fn has_wait_free_cycle(game: &plcsynth::timed::model::Game, p: &program::Program
     }
     false
 }
-
-const NONE: StateId = StateId::MAX;
 
 /// The per-state properties of `tests/timed_examples.rs`: no winning state violates an
 /// assertion or has failed a plan, no reaction leaves the winning set, and every winning state

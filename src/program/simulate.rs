@@ -21,7 +21,7 @@ use super::{Condition, Instruction, Program};
 use crate::timed::model::{Game, Interval, LocId, MessageKind, MessageRole, MsgId};
 use crate::timed::plant::{Move as PlantMove, Plant, Violation};
 use crate::timed::precompute::SplitGame;
-use crate::timed::solve::{EdgeId, EdgeKind, Label, StateSpace};
+use crate::timed::solve::{EdgeId, EdgeKind, Label, StateSpace, NONE};
 use crate::zone::{Bound, Dbm};
 use serde::{Deserialize, Serialize};
 
@@ -946,7 +946,7 @@ pub fn replay_line(
         let e = &space.edges[id as usize];
         let target = e.to;
         let in_target = |p: &Plant| {
-            target == u32::MAX || (p.is_in(split, space, target) && feasible[k + 1].contains_point(&p.clocks, p.ticks))
+            target == NONE || (p.is_in(split, space, target) && feasible[k + 1].contains_point(&p.clocks, p.ticks))
         };
         let limit = sim.delay_room().map_or(0, |room| room.unwrap_or(horizon).min(horizon));
         let stuck = |why: &str| {
@@ -1031,7 +1031,7 @@ pub fn feasible_sets(split: &SplitGame, space: &StateSpace, line: &[EdgeId]) -> 
     let mut states = vec![space.initial];
     states.extend(line.iter().map(|&e| space.edges[e as usize].to));
     let own = |s: u32| -> Dbm {
-        if s == u32::MAX {
+        if s == NONE {
             return Dbm::unconstrained(space.dim);
         }
         let mut z = space.zone(s);
@@ -1069,7 +1069,7 @@ pub fn feasible_sets(split: &SplitGame, space: &StateSpace, line: &[EdgeId]) -> 
             EdgeKind::Guard | EdgeKind::Timeout => {}
         }
         let mut narrowed = sets[k].clone();
-        if e.to != u32::MAX && narrowed.intersect(&pre) {
+        if e.to != NONE && narrowed.intersect(&pre) {
             sets[k] = narrowed;
         }
     }

@@ -9,11 +9,11 @@
 
 use super::model::{ClockId, Game};
 use super::precompute::SplitGame;
-use super::solve::{Edge, EdgeId, EdgeKind, Label, Removal, StateId, StateKind, StateSpace};
+use super::solve::{Edge, EdgeId, EdgeKind, Label, Removal, StateId, StateKind, StateSpace, NONE};
 use serde::Serialize;
 use std::collections::VecDeque;
 
-const NONE: u32 = u32::MAX;
+/// The rank of a state the attractor has not reached.
 const UNRANKED: u32 = u32::MAX;
 
 /// One step of the explanation.
@@ -196,7 +196,7 @@ pub enum Mover {
 pub struct PlayMove {
     pub edge: EdgeId,
     pub from: StateId,
-    /// The state reached (`NONE`, `u32::MAX`, for a zeno repetition, which leads nowhere).
+    /// The state reached ([`NONE`] for a zeno repetition, which leads nowhere).
     pub to: StateId,
     pub mover: Mover,
     /// The move in words, as in the explanation.

@@ -3,7 +3,7 @@
 
 use super::explain::{describe_edge, describe_state, removal_text};
 use super::model::{ClockInterval, Game, LocId};
-use super::solve::{Removal, StateId, StateKind, Verdict};
+use super::solve::{Removal, StateId, StateKind, Verdict, NONE};
 use super::Synthesis;
 use serde::Serialize;
 use std::collections::VecDeque;
@@ -250,19 +250,19 @@ pub fn state_view(game: &Game, synthesis: &Synthesis, s: StateId) -> StateView {
 pub fn space(game: &Game, synthesis: &Synthesis, limit: usize) -> SpaceView {
     let space = &synthesis.solution.space;
     let n = space.states.len();
-    let mut index = vec![u32::MAX; n];
+    let mut queued = vec![false; n];
     let mut order = Vec::new();
     if n > 0 {
         let mut queue = VecDeque::from([space.initial]);
-        index[space.initial as usize] = 0;
+        queued[space.initial as usize] = true;
         while let Some(s) = queue.pop_front() {
             order.push(s);
             if order.len() >= limit {
                 break;
             }
             for (_, e) in space.out_edges(s) {
-                if e.to != u32::MAX && index[e.to as usize] == u32::MAX {
-                    index[e.to as usize] = 0;
+                if e.to != NONE && !queued[e.to as usize] {
+                    queued[e.to as usize] = true;
                     queue.push_back(e.to);
                 }
             }
@@ -281,12 +281,12 @@ fn view_of(game: &Game, synthesis: &Synthesis, order: &[StateId], truncated: boo
     let mut edges = Vec::new();
     for &s in order {
         for (_, e) in space.out_edges(s) {
-            if e.to != u32::MAX && !exported.contains(&e.to) {
+            if e.to != NONE && !exported.contains(&e.to) {
                 continue;
             }
             edges.push(TransitionView {
                 from: s,
-                to: (e.to != u32::MAX).then_some(e.to),
+                to: (e.to != NONE).then_some(e.to),
                 kind: e.kind,
                 label: describe_edge(game, &synthesis.split, e),
                 zeno: e.zeno,
@@ -312,7 +312,7 @@ pub fn incoming(synthesis: &Synthesis) -> Vec<Vec<StateId>> {
     let space = &synthesis.solution.space;
     let mut incoming = vec![Vec::new(); space.states.len()];
     for e in &space.edges {
-        if e.to != u32::MAX {
+        if e.to != NONE {
             incoming[e.to as usize].push(e.from);
         }
     }
@@ -343,7 +343,7 @@ pub fn neighbourhood(
         if d >= k {
             continue;
         }
-        let succ = space.out_edges(x).map(|(_, e)| e.to).filter(|&t| t != u32::MAX);
+        let succ = space.out_edges(x).map(|(_, e)| e.to).filter(|&t| t != NONE);
         let pred = incoming[x as usize].iter().copied();
         for y in succ.chain(pred).collect::<Vec<_>>() {
             if dist.contains_key(&y) {
@@ -594,7 +594,7 @@ mod tests {
 
         let incoming = incoming(&s);
         let hood = neighbourhood(&game, &s, &incoming, 0, 1, 100).unwrap();
-        let succ: Vec<StateId> = s.solution.space.out_edges(0).map(|(_, e)| e.to).filter(|&t| t != u32::MAX).collect();
+        let succ: Vec<StateId> = s.solution.space.out_edges(0).map(|(_, e)| e.to).filter(|&t| t != NONE).collect();
         assert!(succ.iter().all(|t| hood.states.iter().any(|v| v.id == *t)), "one step reaches every successor");
         assert!(!neighbourhood(&game, &s, &incoming, 0, 3, 2).unwrap().states.is_empty());
         assert!(neighbourhood(&game, &s, &incoming, 0, 3, 2).unwrap().truncated);
