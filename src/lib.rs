@@ -11,12 +11,13 @@
 //!
 //! [`diag`] holds the located diagnostics every front end reports; [`dot`] the DOT documents
 //! of the drawings the engines export; `graph` lends the engines' tables to petgraph's searches;
-//! `syntax` holds the token cursor of the recursive-descent parsers.
+//! `syntax` holds the token cursor of the recursive-descent parsers; `id` the typed table ids.
 
 pub mod benchmarks;
 pub mod diag;
 pub mod dot;
 pub(crate) mod graph;
+pub(crate) mod id;
 pub mod ltl;
 pub mod plc;
 pub mod program;

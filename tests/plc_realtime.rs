@@ -1086,11 +1086,11 @@ fn stable_guards_keep_their_dependson_and_a_program_relying_on_it_holds() {
     let (code, wiring) = lower_timed::build_wired(&game, &p, Target::St, "rt1", &source, &Options::default()).unwrap();
     let structured = lower_timed::structured(&code);
     let colour: Vec<usize> = (0..code.inputs.len())
-        .filter(|&i| wiring.inputs[i].iter().any(|&(m, _)| game.messages[m as usize].name.starts_with("c0_is_")))
+        .filter(|&i| wiring.inputs[i].iter().any(|&(m, _)| game.messages[m.index()].name.starts_with("c0_is_")))
         .collect();
     assert_eq!(colour.len(), 4, "the four colour inputs are read");
     let store = (0..code.outputs.len())
-        .find(|&k| wiring.outputs[k].iter().any(|&(m, _)| game.messages[m as usize].name == "store_class_0"))
+        .find(|&k| wiring.outputs[k].iter().any(|&(m, _)| game.messages[m.index()].name == "store_class_0"))
         .unwrap();
     let (mut unloads, mut assumed) = (0, 0);
     for seed in 0..40 {

@@ -3,7 +3,7 @@
 
 use plcsynth::program::optimize::{self, Context};
 use plcsynth::program::{self as prog, parse_listing, Program};
-use plcsynth::timed::model::Game;
+use plcsynth::timed::model::{ClockId, Game};
 use plcsynth::timed::{compile, solve::SolveOptions, synthesize};
 
 fn read(path: &str) -> String {
@@ -32,7 +32,7 @@ fn controller_from(path: &str, exhaustive: bool) -> (Game, Program) {
 /// Parses a listing, renaming the thesis's message names with `rename`.
 fn listing(game: &Game, text: &str, rename: &dyn Fn(&str) -> String) -> Program {
     parse_listing(text, &|m| game.message_id(&rename(m)), &|c| {
-        game.clocks.iter().position(|k| k.name == c).map(|i| i as u32)
+        game.clocks.iter().position(|k| k.name == c).map(ClockId::new)
     })
     .unwrap_or_else(|e| panic!("{e}"))
 }

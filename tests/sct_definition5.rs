@@ -7,7 +7,7 @@
 //! and a classic plant. Then the closed loop `G` under the SynTACS supervisor `sys^fix(H@G)`
 //! must generate exactly `SupConClosed(G, H')`.
 
-use plcsynth::sct::classic::{self, language_equal, minimize, AutomatonBuilder, Events};
+use plcsynth::sct::classic::{self, language_equal, minimize, AutomatonBuilder, ClassicEventId, Events, StateId};
 use plcsynth::sct::model::{
     self, Cond, Config, EventId, EventInfo, EventKind, Method, Plant, Prohibition, Project, Spec, Transition, NO_ORIGIN,
 };
@@ -80,15 +80,15 @@ fn classic_plant(p: &Project) -> classic::Automaton {
     let g = &p.plants[0];
     let mut b = AutomatonBuilder::new();
     for e in &g.alphabet {
-        b.add_event(classic::EventId(e.0));
+        b.add_event(ClassicEventId::from_raw(e.0));
     }
     for s in &g.states {
         b.add_state(s.clone(), true);
     }
     for t in &g.trans {
-        b.add_transition(t.src, classic::EventId(t.event.0), t.dst);
+        b.add_transition(StateId::from_raw(t.src), ClassicEventId::from_raw(t.event.0), StateId::from_raw(t.dst));
     }
-    b.set_init(g.init);
+    b.set_init(StateId::from_raw(g.init));
     b.build().unwrap()
 }
 
@@ -100,7 +100,7 @@ fn dual(p: &Project) -> classic::Automaton {
     sigma.dedup();
     let mut b = AutomatonBuilder::new();
     for &e in &sigma {
-        b.add_event(classic::EventId(e));
+        b.add_event(ClassicEventId::from_raw(e));
     }
     for s in &h.states {
         b.add_state(s.clone(), true);
@@ -111,10 +111,10 @@ fn dual(p: &Project) -> classic::Automaton {
                 continue;
             }
             let dst = h.trans.iter().find(|t| t.src == s && t.event.0 == e).map_or(s, |t| t.dst);
-            b.add_transition(s, classic::EventId(e), dst);
+            b.add_transition(StateId::from_raw(s), ClassicEventId::from_raw(e), StateId::from_raw(dst));
         }
     }
-    b.set_init(h.init);
+    b.set_init(StateId::from_raw(h.init));
     b.build().unwrap()
 }
 
@@ -123,10 +123,10 @@ fn closed_loop(p: &Project, sup: &model::Supervisor) -> classic::Automaton {
     let g = &p.plants[0];
     let mut b = AutomatonBuilder::new();
     for e in &g.alphabet {
-        b.add_event(classic::EventId(e.0));
+        b.add_event(ClassicEventId::from_raw(e.0));
     }
     let Some(si) = sup.init else {
-        return classic::Automaton::empty(g.alphabet.iter().map(|e| classic::EventId(e.0)).collect());
+        return classic::Automaton::empty(g.alphabet.iter().map(|e| ClassicEventId::from_raw(e.0)).collect());
     };
     let mut index = std::collections::HashMap::new();
     let mut queue = vec![(si, g.init)];
@@ -149,11 +149,11 @@ fn closed_loop(p: &Project, sup: &model::Supervisor) -> classic::Automaton {
             if id == next {
                 b.add_state(id.to_string(), true);
             }
-            b.add_transition(k as u32, classic::EventId(t.event.0), id);
+            b.add_transition(StateId::from_raw(k as u32), ClassicEventId::from_raw(t.event.0), StateId::from_raw(id));
         }
         k += 1;
     }
-    b.set_init(0);
+    b.set_init(StateId::new(0));
     b.build().unwrap()
 }
 
@@ -224,15 +224,19 @@ fn applying_composed_plants_equals_applying_them_in_turn() {
             let c = &q.plants[0];
             let mut b = AutomatonBuilder::new();
             for e in 0..q.events.len() as u32 {
-                b.add_event(classic::EventId(e));
+                b.add_event(ClassicEventId::from_raw(e));
             }
             for s in &c.states {
                 b.add_state(s.clone(), true);
             }
             for t in &c.trans {
-                b.add_transition(t.src, classic::EventId(t.event.0), t.dst);
+                b.add_transition(
+                    StateId::from_raw(t.src),
+                    ClassicEventId::from_raw(t.event.0),
+                    StateId::from_raw(t.dst),
+                );
             }
-            b.set_init(0);
+            b.set_init(StateId::new(0));
             b.build().unwrap()
         };
         let pq = Project { plants: vec![q.plants[0].clone()], ..q.clone() };

@@ -10,7 +10,8 @@
 use plcsynth::rng::Rng;
 use plcsynth::sct::classic::gen::{read_gen, write_gen};
 use plcsynth::sct::classic::{
-    is_controllable, language_equal, minimize, product, supcon, Automaton, AutomatonBuilder, EventId, Events,
+    is_controllable, language_equal, minimize, product, supcon, Automaton, AutomatonBuilder, ClassicEventId, Events,
+    StateId,
 };
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -18,7 +19,7 @@ use std::process::Command;
 fn random_automaton(
     rng: &mut Rng,
     ev: &Events,
-    alphabet: &[EventId],
+    alphabet: &[ClassicEventId],
     states: usize,
     density: (u64, u64),
     marked: u64,
@@ -37,7 +38,7 @@ fn random_automaton(
             let from = rng.below(s as u64) as u32;
             let e = alphabet[rng.below(alphabet.len() as u64) as usize];
             if taken.insert((from, e)) {
-                b.add_transition(from, e, s);
+                b.add_transition(StateId::from_raw(from), e, StateId::from_raw(s));
                 break;
             }
         }
@@ -51,11 +52,11 @@ fn random_automaton(
             if rng.chance(d) {
                 let t = rng.below(states as u64) as u32;
                 taken.insert((s, e));
-                b.add_transition(s, e, t);
+                b.add_transition(StateId::from_raw(s), e, StateId::from_raw(t));
             }
         }
     }
-    b.set_init(0);
+    b.set_init(StateId::new(0));
     b.build().unwrap()
 }
 
@@ -72,20 +73,19 @@ fn pruned_copy(rng: &mut Rng, plant: &Automaton, ev: &Events, keep: u64, marked:
     for s in 0..plant.num_states() {
         b.add_state(format!("h{s}"), rng.chance(marked));
     }
-    let edges: Vec<(u32, EventId, u32)> = (0..plant.num_states() as u32)
-        .flat_map(|s| plant.edges(s).iter().map(move |e| (s, e.event, e.target)))
-        .collect();
+    let edges: Vec<(StateId, ClassicEventId, StateId)> =
+        plant.states().flat_map(|s| plant.edges(s).iter().map(move |e| (s, e.event, e.target))).collect();
     // States the plant reaches from its initial state by uncontrollable events alone: a cut
     // there would leave nothing to synthesise, so the cut is chosen elsewhere if possible.
     let mut forced = vec![false; plant.num_states()];
-    let mut stack: Vec<u32> = plant.init().into_iter().collect();
+    let mut stack: Vec<StateId> = plant.init().into_iter().collect();
     while let Some(s) = stack.pop() {
-        if !std::mem::replace(&mut forced[s as usize], true) {
+        if !std::mem::replace(&mut forced[s.index()], true) {
             stack.extend(plant.edges(s).iter().filter(|e| !ev.is_controllable(e.event)).map(|e| e.target));
         }
     }
     let mut uncontrollable: Vec<usize> =
-        (0..edges.len()).filter(|&i| !ev.is_controllable(edges[i].1) && !forced[edges[i].0 as usize]).collect();
+        (0..edges.len()).filter(|&i| !ev.is_controllable(edges[i].1) && !forced[edges[i].0.index()]).collect();
     if uncontrollable.is_empty() {
         uncontrollable = (0..edges.len()).filter(|&i| !ev.is_controllable(edges[i].1)).collect();
     }
@@ -100,7 +100,7 @@ fn pruned_copy(rng: &mut Rng, plant: &Automaton, ev: &Events, keep: u64, marked:
             b.add_transition(s, e, t);
         }
     }
-    b.set_init(plant.init().unwrap_or(0));
+    b.set_init(plant.init().unwrap_or(StateId::new(0)));
     b.build().unwrap()
 }
 
@@ -123,7 +123,7 @@ fn stripped(a: &Automaton, marking: bool, transitions: bool, init: bool) -> Auto
     for &e in a.alphabet() {
         b.add_event(e);
     }
-    for s in 0..a.num_states() as u32 {
+    for s in a.states() {
         b.add_state(a.state_name(s), marking && a.is_marked(s));
         if transitions {
             for e in a.edges(s) {
@@ -152,7 +152,7 @@ fn emptied(how: Emptied, plant: Automaton, spec: Automaton, rng: &mut Rng) -> (A
                 for s in 0..1 + rng.below(3) {
                     b.add_state(format!("q{s}"), rng.chance(50));
                 }
-                b.set_init(0);
+                b.set_init(StateId::new(0));
                 b.build().unwrap()
             };
             (lone(rng), lone(rng))
@@ -206,7 +206,8 @@ fn supcon_agrees_with_libfaudes_on_random_problems() {
         // Percentage of controllable events; the pruned family (odd cases) needs controllable
         // events upstream of its cut to be informative.
         let ratio = if case % 2 == 0 { [0, 25, 50, 75, 100][(case / 2) % 5] } else { [50, 70, 85][(case / 2) % 3] };
-        let alphabet: Vec<EventId> = (0..n_events).map(|i| ev.intern(&format!("e{i}"), rng.chance(ratio))).collect();
+        let alphabet: Vec<ClassicEventId> =
+            (0..n_events).map(|i| ev.intern(&format!("e{i}"), rng.chance(ratio))).collect();
         let plant_states = 2 + rng.below([4, 12, 40][case % 3]) as usize;
         let spec_states = 1 + rng.below(6) as usize;
         let density = [30, 50, 80][(case / 3) % 3];
@@ -428,12 +429,12 @@ const STRICT: &[&str] = &["hand_state_index_zero", "hand_unknown_state"];
 
 /// Our reading of a generator in the shape `faudes_forms.py read` prints.
 fn describe(a: &Automaton, ev: &Events) -> serde_json::Value {
-    let label = |s: u32| a.state_name(s).to_string();
+    let label = |s: StateId| a.state_name(s).to_string();
     let sorted = |mut v: Vec<String>| {
         v.sort();
         v
     };
-    let states = 0..a.num_states() as u32;
+    let states = a.states();
     let mut trans: Vec<[String; 3]> = states
         .clone()
         .flat_map(|s| a.edges(s).iter().map(move |e| [label(s), ev.name(e.event).to_string(), label(e.target)]))

@@ -5,7 +5,9 @@
 
 use plcsynth::sct::classic::gen::{read_gen, write_gen};
 use plcsynth::sct::classic::wmod::{read_wmod, write_wmod, ComponentKind, ComponentOut, Module};
-use plcsynth::sct::classic::{language_equal, product, supcon, Automaton, AutomatonBuilder, EventId, Events, StateId};
+use plcsynth::sct::classic::{
+    language_equal, product, supcon, Automaton, AutomatonBuilder, ClassicEventId, Events, StateId,
+};
 use plcsynth::sct::interchange::{classic_to_sct, project_to_classic, Part, ToSct};
 use plcsynth::sct::model::{Config, Supervisor};
 use plcsynth::sct::{compile, synthesize_all};
@@ -251,7 +253,7 @@ fn through_wmod(src: &str) -> String {
             state_spans: &c.state_spans,
         })
         .collect();
-    let bodies: Vec<(EventId, String)> = m
+    let bodies: Vec<(ClassicEventId, String)> = m
         .attributes
         .iter()
         .filter(|a| a.1 == plcsynth::sct::classic::wmod::SCT_ATTRIBUTE)
@@ -398,7 +400,7 @@ fn gen_files_import_as_a_project_and_round_trip_through_wmod() {
             (b.num_states(), b.num_transitions(), b.init(), b.alphabet()),
             "{seed}"
         );
-        for s in 0..a.num_states() as StateId {
+        for s in a.states() {
             assert_eq!((a.is_marked(s), a.edges(s)), (b.is_marked(s), b.edges(s)), "{seed}");
         }
     }
@@ -442,17 +444,17 @@ fn random_automaton(
     for &(s, e, t) in trans {
         let (s, e, t) = (s % states, e % n_events, t % states);
         if seen.insert((s, e)) {
-            b.add_transition(s as StateId, EventId(e as u32), t as StateId);
+            b.add_transition(StateId::new(s), ClassicEventId::from_raw(e as u32), StateId::new(t));
             used[e] = true;
         }
     }
     for e in 0..n_events {
         if used[e] || blocked[e % blocked.len()] {
-            b.add_event(EventId(e as u32));
+            b.add_event(ClassicEventId::from_raw(e as u32));
         }
     }
     let _ = ev;
-    b.set_init(0);
+    b.set_init(StateId::new(0));
     b.build().unwrap()
 }
 
@@ -495,7 +497,7 @@ proptest! {
             prop_assert_eq!((a.num_states(), a.num_transitions(), a.init()), (b.num_states(), b.num_transitions(), b.init()));
             let names = |x: &Automaton, ev: &Events| x.alphabet().iter().map(|&e| (ev.name(e).to_string(), ev.is_controllable(e))).collect::<std::collections::BTreeSet<_>>();
             prop_assert_eq!(names(a, &ev), names(b, &ev2));
-            for s in 0..a.num_states() as StateId {
+            for s in a.states() {
                 prop_assert_eq!(a.state_name(s), b.state_name(s));
                 prop_assert_eq!(a.is_marked(s), b.is_marked(s));
                 let edges = |x: &Automaton, ev: &Events| x.edges(s).iter().map(|e| (ev.name(e.event).to_string(), e.target)).collect::<std::collections::BTreeSet<_>>();

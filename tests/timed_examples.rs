@@ -1,13 +1,11 @@
 //! Every example in `examples/timed/`: its verdict (from the `// Expected:` header line) and
 //! properties of the winning state space checked against their definitions.
 
-use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpace, Verdict};
-use plcsynth::timed::{compile, model::Game, synthesize, Synthesis};
+use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpace, Verdict, NONE};
+use plcsynth::timed::{compile, model::Game, model::LocId, synthesize, Synthesis};
 use std::path::PathBuf;
 
 use crate::reference;
-
-const NONE: u32 = u32::MAX;
 
 fn examples() -> Vec<(String, String)> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/timed");
@@ -79,7 +77,7 @@ fn every_example_has_its_expected_verdict() {
     }
 }
 
-fn locations(s: &Synthesis, state: StateId) -> Vec<u32> {
+fn locations(s: &Synthesis, state: StateId) -> Vec<LocId> {
     let space = &s.solution.space;
     space.env(state).iter().enumerate().map(|(u, &sub)| s.split.units[u].sublocs[sub as usize].location).collect()
 }

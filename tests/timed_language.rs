@@ -1,6 +1,7 @@
 //! The `.tga` language: the thesis listings, located diagnostics, robustness.
 
 use plcsynth::diag::render_plain;
+use plcsynth::timed::model::LocId;
 use plcsynth::timed::{compile, parse};
 
 fn fixture(name: &str) -> String {
@@ -216,7 +217,7 @@ fn hardware_expands_as_in_4_3_2() {
     assert_eq!(names, ["X", "Y", "moving_X_Y"]);
     assert_eq!(h.clocks.len(), 1);
     assert_eq!(h.locations[2].invariant[0].interval.to_string(), "[0,4]");
-    let msg = |e: &plcsynth::timed::model::Edge| game.messages[e.message as usize].name.clone();
+    let msg = |e: &plcsynth::timed::model::Edge| game.messages[e.message.index()].name.clone();
     assert_eq!(msg(&h.edges[0]), "moveto_Y");
     assert_eq!(h.edges[0].kind.sigil(), '?');
     assert_eq!(h.edges[0].resets, h.clocks);
@@ -231,7 +232,7 @@ fn operator_expands_as_in_4_3_3() {
     let b = &game.components[0];
     let names: Vec<&str> = b.locations.iter().map(|l| l.name.as_str()).collect();
     assert_eq!(names, ["released", "pressed", "moving_released_pressed", "moving_pressed_released"]);
-    assert_eq!(game.messages[b.edges[0].message as usize].name, "occurred_pressed");
+    assert_eq!(game.messages[(b.edges[0].message).index()].name, "occurred_pressed");
     assert_eq!(b.edges[0].kind.sigil(), '!');
     assert_eq!(b.edges[1].guard[0].interval.to_string(), "(0,inf)");
     assert_eq!(b.locations[2].invariant[0].interval.to_string(), "[0,1)");
@@ -245,16 +246,18 @@ fn plans_compile_with_algorithm_4() {
     let names: Vec<&str> = p.locations.iter().map(|l| l.name.as_str()).collect();
     assert_eq!(names, ["waitfor1", "waitfor2", "failed"]);
     let t = p.clocks[0].0;
-    let edge = |m: &str| p.edges.iter().find(|e| game.messages[e.message as usize].name == m && e.from == 0).unwrap();
-    assert_eq!(edge("a").to, 1);
+    let edge = |m: &str| {
+        p.edges.iter().find(|e| game.messages[e.message.index()].name == m && e.from == LocId::new(0)).unwrap()
+    };
+    assert_eq!(edge("a").to, LocId::new(1));
     assert!(edge("a").resets.is_empty());
     assert_eq!(edge("b").to, p.failed);
     // `c -> L1` passes the reset command and comes back to the first waitfor.
-    assert_eq!(edge("c").to, 0);
+    assert_eq!(edge("c").to, LocId::new(0));
     assert_eq!(edge("c").resets, vec![t]);
     // After the last command the plan wraps around through the reset.
-    let last = p.edges.iter().find(|e| e.from == 1).unwrap();
-    assert_eq!((last.to, last.resets.clone()), (0, vec![t]));
+    let last = p.edges.iter().find(|e| e.from == LocId::new(1)).unwrap();
+    assert_eq!((last.to, last.resets.clone()), (LocId::new(0), vec![t]));
 }
 
 mod robustness {

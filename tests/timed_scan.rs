@@ -151,30 +151,30 @@ fn the_scan_game_of_the_lamp() {
     let s = scan_game(&g, 10).unwrap();
     let roles = s.scan.as_ref().unwrap();
     assert_eq!((s.timeunit_ms, roles.scale, roles.period), (10, 100, 1));
-    let button = &s.components[s.component_id("button").unwrap() as usize];
-    let settle = button.edges.iter().find(|e| s.messages[e.message as usize].name == "press_settled").unwrap();
+    let button = &s.components[(s.component_id("button").unwrap()).index()];
+    let settle = button.edges.iter().find(|e| s.messages[e.message.index()].name == "press_settled").unwrap();
     assert_eq!(settle.guard[0].interval.to_string(), "(0,100)");
-    let lamp = &s.components[s.component_id("lamp").unwrap() as usize];
+    let lamp = &s.components[(s.component_id("lamp").unwrap()).index()];
     for request in ["turn_on", "turn_off"] {
         let m = s.message_id(request).unwrap();
-        assert_eq!(s.messages[m as usize].sender, Some(roles.plc));
+        assert_eq!(s.messages[m.index()].sender, Some(roles.plc));
         assert!(lamp.edges.iter().filter(|e| e.message == m).all(|e| e.kind == MessageKind::Synchronised));
         // Taken in one location, refused in the other.
         let targets: Vec<&str> =
-            lamp.edges.iter().filter(|e| e.message == m).map(|e| lamp.locations[e.to as usize].name.as_str()).collect();
+            lamp.edges.iter().filter(|e| e.message == m).map(|e| lamp.locations[e.to.index()].name.as_str()).collect();
         assert_eq!(targets.len(), 2, "{request}: {targets:?}");
         assert!(targets.contains(&"refused"), "{request}: {targets:?}");
         let commit = s.message_id(&format!("scan:{request}")).unwrap();
-        assert_eq!(roles.commits[commit as usize], Some(m));
-        assert_eq!(s.messages[commit as usize].role, MessageRole::Request);
+        assert_eq!(roles.commits[commit.index()], Some(m));
+        assert_eq!(s.messages[commit.index()].role, MessageRole::Request);
     }
-    let plc = &s.components[roles.plc as usize];
+    let plc = &s.components[roles.plc.index()];
     let names: Vec<&str> = plc.locations.iter().map(|l| l.name.as_str()).collect();
     assert_eq!(names, ["read", "quiet", "armed", "scheduled", "out_turn_on", "out_turn_off"]);
     // Every reaction is seen by the PLC.
     for reaction in ["press", "press_settled", "release", "release_settled"] {
         let m = s.message_id(reaction).unwrap();
-        assert!(s.messages[m as usize].synchronised.contains(&roles.plc), "{reaction}");
+        assert!(s.messages[m.index()].synchronised.contains(&roles.plc), "{reaction}");
     }
     assert!(s.assertions.iter().any(|a| a.text.starts_with("never lamp.refused")));
 }
@@ -219,7 +219,7 @@ fn a_pulsed_request_needs_a_scan_without_it_before_the_next() {
                plans { plan { clocks t 25; reset t; waitfor go; } }\n";
     let g = compile(src).unwrap().0;
     let s = scan_game(&g, 10).unwrap();
-    let plc = &s.components[s.scan.as_ref().unwrap().plc as usize];
+    let plc = &s.components[(s.scan.as_ref().unwrap().plc).index()];
     assert!(plc.locations.iter().any(|l| l.name == "read_after_go"), "{:?}", plc.locations);
     let bound = scan_bound(&g, 10, false, &SolveOptions::default(), &mut |_| true);
     assert_eq!((bound.works, bound.fails), (Some(8), Some(9)));

@@ -7,8 +7,8 @@ use plcsynth::ltl;
 use plcsynth::program::{self, optimize::Context, simulate};
 use plcsynth::sct::classic::{self, Automaton, Events};
 use plcsynth::sct::{self, classic::gen, model::Config};
-use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpace, Verdict};
-use plcsynth::timed::{compile, Synthesis};
+use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpace, Verdict, NONE};
+use plcsynth::timed::{compile, model::LocId, Synthesis};
 
 /// Product states a fuzzed `.sct` project may build: small, so that one input takes
 /// milliseconds and the fuzzer explores inputs rather than large products.
@@ -179,7 +179,7 @@ fn assert_round_trip(a: &Automaton, events: &Events) {
     assert_eq!(a.num_transitions(), b.num_transitions(), "transition count changed");
     assert_eq!(a.init(), b.init(), "initial state changed");
     assert_eq!(a.alphabet(), b.alphabet(), "alphabet changed");
-    for s in 0..a.num_states() as classic::StateId {
+    for s in a.states() {
         assert_eq!(a.is_marked(s), b.is_marked(s), "marking of state {s} changed");
         assert_eq!(a.edges(s), b.edges(s), "transitions of state {s} changed");
     }
@@ -478,14 +478,14 @@ pub fn check_verdict(source: &str, seed: u64, skip_known: bool) -> Option<Verdic
 fn has_wait_free_cycle(game: &plcsynth::timed::model::Game, p: &program::Program) -> bool {
     use plcsynth::timed::model::MessageRole;
     use program::{Condition, Instruction};
-    let is_guard = |c: &Condition| matches!(c, Condition::Message { message } if game.messages[*message as usize].role == MessageRole::Guard);
+    let is_guard = |c: &Condition| matches!(c, Condition::Message { message } if game.messages[(*message).index()].role == MessageRole::Guard);
     let position = p.positions();
     let successors = |i: usize| -> Vec<usize> {
         let next = (i + 1 < p.len()).then_some(i + 1);
         match p.commands[i].instruction {
             Instruction::Do { .. } => next.into_iter().collect(),
-            Instruction::If { target, .. } => next.into_iter().chain([position[target as usize] as usize]).collect(),
-            Instruction::Goto { target } => vec![position[target as usize] as usize],
+            Instruction::If { target, .. } => next.into_iter().chain([position[target.index()] as usize]).collect(),
+            Instruction::Goto { target } => vec![position[target.index()] as usize],
             Instruction::WaitUntil { condition } if is_guard(&condition) => next.into_iter().collect(),
             Instruction::WaitUntil { .. } => Vec::new(),
         }
@@ -518,8 +518,6 @@ fn has_wait_free_cycle(game: &plcsynth::timed::model::Game, p: &program::Program
     false
 }
 
-const NONE: StateId = StateId::MAX;
-
 /// The per-state properties of `tests/timed_examples.rs`: no winning state violates an
 /// assertion or has failed a plan, no reaction leaves the winning set, and every winning state
 /// has a live controller move or may wait.
@@ -527,7 +525,7 @@ fn assert_winning_states_are_safe(source: &str, game: &plcsynth::timed::model::G
     let space = &s.solution.space;
     let winning = space.winning_states();
     for &st in &winning {
-        let locations: Vec<u32> =
+        let locations: Vec<LocId> =
             space.env(st).iter().enumerate().map(|(u, &sub)| s.split.units[u].sublocs[sub as usize].location).collect();
         for a in &game.assertions {
             assert!(a.holds.eval(&locations), "winning state {st} violates `{}`\nspec:\n{source}", a.text);
@@ -711,7 +709,7 @@ pub fn check_wmod(text: &str) {
             return;
         }
     };
-    let attributes: Vec<(classic::EventId, &str, String)> =
+    let attributes: Vec<(classic::ClassicEventId, &str, String)> =
         module.attributes.iter().map(|(e, k, v)| (*e, k.as_str(), v.clone())).collect();
     let out: Vec<ComponentOut> = module
         .components
@@ -727,7 +725,7 @@ pub fn check_wmod(text: &str) {
     for (a, b) in module.components.iter().zip(&back.components) {
         assert_eq!((&a.name, a.kind), (&b.name, b.kind), "component name or kind changed");
         assert_same_automaton(&a.automaton, &b.automaton);
-        for s in 0..a.automaton.num_states() as classic::StateId {
+        for s in a.automaton.states() {
             assert_eq!(a.automaton.state_name(s), b.automaton.state_name(s), "state name changed");
         }
     }
@@ -778,7 +776,7 @@ pub fn check_wmod(text: &str) {
     }
     // With the events' `.sct` properties pasted (a foreign text, so the project may be refused
     // for what it says; never a panic, and a text that is not one body is not pasted).
-    let bodies: Vec<(classic::EventId, String)> =
+    let bodies: Vec<(classic::ClassicEventId, String)> =
         module.attributes.iter().filter(|a| a.1 == wmod::SCT_ATTRIBUTE).map(|a| (a.0, a.2.clone())).collect();
     if let Ok(project) = classic_to_sct(
         &parts,
@@ -809,7 +807,7 @@ fn assert_same_automaton(a: &Automaton, b: &Automaton) {
     assert_eq!(a.num_transitions(), b.num_transitions(), "transition count changed");
     assert_eq!(a.init(), b.init(), "initial state changed");
     assert_eq!(a.alphabet(), b.alphabet(), "alphabet changed");
-    for s in 0..a.num_states() as classic::StateId {
+    for s in a.states() {
         assert_eq!(a.is_marked(s), b.is_marked(s), "marking of state {s} changed");
         assert_eq!(a.edges(s), b.edges(s), "transitions of state {s} changed");
     }

@@ -3,7 +3,7 @@
 //! five automated guided vehicles.
 //! Each function returns the plant, the specification and the shared event table.
 
-use crate::sct::classic::{product, Automaton, AutomatonBuilder, EventId, Events};
+use crate::sct::classic::{product, Automaton, AutomatonBuilder, ClassicEventId, Events, StateId};
 
 /// Builds an automaton from `(from, event, to)` triples over named states; the first state
 /// listed in `states` is initial, `marked` lists the marked ones.
@@ -21,11 +21,11 @@ pub fn build(
     for s in states {
         b.add_state(*s, marked.contains(s));
     }
-    let id = |n: &str| states.iter().position(|s| *s == n).expect("state declared") as u32;
+    let id = |n: &str| states.iter().position(|s| *s == n).expect("state declared");
     for (f, e, t) in trans {
-        b.add_transition(id(f), events.get(e).expect("event declared"), id(t));
+        b.add_transition(StateId::new(id(f)), events.get(e).expect("event declared"), StateId::new(id(t)));
     }
-    b.set_init(0);
+    b.set_init(StateId::new(0));
     b.build().expect("textbook automaton is deterministic")
 }
 
@@ -73,27 +73,27 @@ pub fn small_factory() -> (Automaton, Automaton, Events) {
 /// every count is marked only at zero.
 pub fn buffer(events: &Events, up: &[&str], down: &[&str], cap: usize) -> Automaton {
     let mut b = AutomatonBuilder::new();
-    let ups: Vec<EventId> = up.iter().map(|e| events.get(e).expect("declared")).collect();
-    let downs: Vec<EventId> = down.iter().map(|e| events.get(e).expect("declared")).collect();
+    let ups: Vec<ClassicEventId> = up.iter().map(|e| events.get(e).expect("declared")).collect();
+    let downs: Vec<ClassicEventId> = down.iter().map(|e| events.get(e).expect("declared")).collect();
     for &e in ups.iter().chain(&downs) {
         b.add_event(e);
     }
     for k in 0..=cap {
         b.add_state(k.to_string(), k == 0);
     }
-    for k in 0..=cap as u32 {
-        if (k as usize) < cap {
+    for k in 0..=cap {
+        if k < cap {
             for &u in &ups {
-                b.add_transition(k, u, k + 1);
+                b.add_transition(StateId::new(k), u, StateId::new(k + 1));
             }
         }
         if k > 0 {
             for &d in &downs {
-                b.add_transition(k, d, k - 1);
+                b.add_transition(StateId::new(k), d, StateId::new(k - 1));
             }
         }
     }
-    b.set_init(0);
+    b.set_init(StateId::new(0));
     b.build().expect("buffer is deterministic")
 }
 

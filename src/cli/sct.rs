@@ -8,7 +8,7 @@ use plcsynth::diag::{render_plain, Diagnostics};
 use plcsynth::plc;
 use plcsynth::sct::classic::gen::{read_gen_file_within, write_gen, GenFile};
 use plcsynth::sct::classic::wmod::{write_wmod, ComponentKind, ComponentOut};
-use plcsynth::sct::classic::{minimize, supcon as classic_supcon, supcon_within, EventId, Events, SupConError};
+use plcsynth::sct::classic::{minimize, supcon as classic_supcon, supcon_within, ClassicEventId, Events, SupConError};
 use plcsynth::sct::model::dep_closure;
 use plcsynth::sct::model::{Budget, Config, Method, DEFAULT_MAX_STATES};
 use plcsynth::sct::{compile, compile_within, Verdict};
@@ -302,7 +302,7 @@ struct Side {
     path: String,
     src: String,
     automaton: plcsynth::sct::classic::Automaton,
-    event_spans: Box<dyn Fn(EventId) -> Option<plcsynth::diag::Span>>,
+    event_spans: Box<dyn Fn(ClassicEventId) -> Option<plcsynth::diag::Span>>,
 }
 
 /// Reads the plant or the specification of `supcon` from a `.gen` or `.wmod` file.
@@ -313,7 +313,7 @@ fn read_side(path: &str, plant: bool, events: &mut Events, max_states: usize) ->
         return Ok(Side { path: path.to_string(), src, automaton, event_spans: Box::new(move |e| m.event_span(e)) });
     }
     let (src, g) = read_gen_located(path, events, max_states)?;
-    let spans: Vec<(EventId, plcsynth::diag::Span)> =
+    let spans: Vec<(ClassicEventId, plcsynth::diag::Span)> =
         g.automaton.alphabet().iter().filter_map(|&e| g.event_span(e).map(|s| (e, s))).collect();
     let event_spans = Box::new(move |e| spans.iter().find(|(x, _)| *x == e).map(|(_, s)| *s));
     Ok(Side { path: path.to_string(), src, automaton: g.automaton, event_spans })
@@ -348,8 +348,9 @@ pub fn supcon(a: &SupconArgs) -> ExitCode {
             return ExitCode::from(3);
         }
         Err(SupConError::SpecEventsOutsidePlant(outside)) => {
-            let names =
-                |es: &[EventId]| es.iter().map(|e| format!("`{}`", events.name(*e))).collect::<Vec<_>>().join(", ");
+            let names = |es: &[ClassicEventId]| {
+                es.iter().map(|e| format!("`{}`", events.name(*e))).collect::<Vec<_>>().join(", ")
+            };
             let mut d = Diagnostics::new(&spec.src);
             let span = (spec.event_spans)(outside[0]).unwrap_or_default();
             d.error(span, format!("the specification uses events the plant does not know: {}", names(&outside)))

@@ -13,7 +13,7 @@
 
 use super::select::{Choice, Strategy};
 use super::{CmdId, Condition, Instruction, Program};
-use crate::timed::model::{ClockOwner, Game};
+use crate::timed::model::{ClockId, ClockOwner, Game};
 use crate::timed::precompute::SplitGame;
 use crate::timed::solve::{EdgeKind, Label, StateId, StateKind, StateSpace};
 
@@ -27,14 +27,14 @@ pub struct Generated {
 /// `to`".
 fn delay_conditions(game: &Game, split: &SplitGame, space: &StateSpace, to: StateId, clocks: u64) -> Vec<Condition> {
     let mut out = Vec::new();
-    for clock in (1..64u32).filter(|c| clocks >> c & 1 == 1) {
-        let (unit, sub) = match game.clocks[clock as usize].owner {
-            ClockOwner::Component(u) => (u as usize, space.env(to)[u as usize]),
+    for clock in (1..64usize).filter(|c| clocks >> c & 1 == 1).map(ClockId::new) {
+        let (unit, sub) = match game.clocks[clock.index()].owner {
+            ClockOwner::Component(u) => (u.index(), space.env(to)[u.index()]),
             ClockOwner::Plan(p) => (split.plant_count + p as usize, space.plan(to)[p as usize]),
             ClockOwner::Reference => continue,
         };
         if let Some(&(_, piece)) = split.units[unit].sublocs[sub as usize].pieces.iter().find(|(c, _)| *c == clock) {
-            out.push(Condition::Delay { clock, interval: split.pieces[clock as usize][piece as usize] });
+            out.push(Condition::Delay { clock, interval: split.pieces[clock.index()][piece as usize] });
         }
     }
     out
@@ -43,7 +43,7 @@ fn delay_conditions(game: &Game, split: &SplitGame, space: &StateSpace, to: Stat
 /// Algorithm 10 over the strategy states (initial state first, so its entry is label 0).
 pub fn generate(game: &Game, split: &SplitGame, space: &StateSpace, strategy: &Strategy) -> Generated {
     let mut program = Program::new();
-    let mut entry = vec![u32::MAX; space.states.len()];
+    let mut entry = vec![CmdId::NONE; space.states.len()];
     for &s in &strategy.states {
         entry[s as usize] = program.fresh_id();
     }

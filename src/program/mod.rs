@@ -17,11 +17,25 @@ pub mod scan;
 pub mod select;
 pub mod simulate;
 
+use crate::id::id_type;
 use crate::timed::model::{ClockId, Game, Interval, MsgId};
 use serde::Serialize;
 
-/// Stable identity of a command.
-pub type CmdId = u32;
+id_type! {
+    /// Stable identity of a command (a number in the JSON views).
+    #[derive(Default, Serialize)]
+    #[serde(transparent)]
+    pub struct CmdId;
+}
+
+impl CmdId {
+    /// No command: a jump to it leaves the program (as a jump past the last command does), and
+    /// a command built with it gets its id later. [`Program::fresh_id`] never gives it out.
+    pub const NONE: CmdId = CmdId::from_raw(u32::MAX);
+}
+
+/// The position [`Program::positions`] gives an id that no command of the program has.
+pub const NOT_PLACED: u32 = u32::MAX;
 
 /// A condition the controller tests.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
@@ -72,13 +86,13 @@ impl Program {
     /// A new id not used by any command yet (for commands built before being placed).
     pub fn fresh_id(&mut self) -> CmdId {
         let id = self.next_id;
-        self.next_id += 1;
+        self.next_id = CmdId::from_raw(id.raw() + 1);
         id
     }
 
     /// Appends a command with an id obtained from [`Program::fresh_id`].
     pub fn push_with_id(&mut self, id: CmdId, instruction: Instruction, resets: u64) {
-        self.next_id = self.next_id.max(id + 1);
+        self.next_id = self.next_id.max(CmdId::from_raw(id.raw() + 1));
         self.commands.push(Command { id, instruction, resets });
     }
 
@@ -90,11 +104,11 @@ impl Program {
         self.commands.is_empty()
     }
 
-    /// Position of every command id (`u32::MAX` for ids not in the program).
+    /// Position of every command id ([`NOT_PLACED`] for ids not in the program).
     pub fn positions(&self) -> Vec<u32> {
-        let mut pos = vec![u32::MAX; self.next_id as usize];
+        let mut pos = vec![NOT_PLACED; self.next_id.index()];
         for (i, c) in self.commands.iter().enumerate() {
-            pos[c.id as usize] = i as u32;
+            pos[c.id.index()] = i as u32;
         }
         pos
     }
@@ -108,11 +122,11 @@ impl Program {
             .iter()
             .map(|c| {
                 let text = match c.instruction {
-                    Instruction::Do { request } => format!("DO ({})", game.messages[request as usize].name),
+                    Instruction::Do { request } => format!("DO ({})", game.messages[request.index()].name),
                     Instruction::If { condition, target } => {
-                        format!("IF ({}) THEN GOTO {}", condition_text(game, &condition), pos[target as usize])
+                        format!("IF ({}) THEN GOTO {}", condition_text(game, &condition), pos[target.index()])
                     }
-                    Instruction::Goto { target } => format!("GOTO {}", pos[target as usize]),
+                    Instruction::Goto { target } => format!("GOTO {}", pos[target.index()]),
                     Instruction::WaitUntil { condition } => {
                         format!("WAITUNTIL ({})", condition_text(game, &condition))
                     }
@@ -142,9 +156,9 @@ impl Program {
 /// (passed 2).
 pub fn condition_text(game: &Game, condition: &Condition) -> String {
     match condition {
-        Condition::Message { message } => game.messages[*message as usize].name.clone(),
+        Condition::Message { message } => game.messages[(*message).index()].name.clone(),
         Condition::Delay { clock, interval } => {
-            let name = &game.clocks[*clock as usize].name;
+            let name = &game.clocks[(*clock).index()].name;
             if interval.lower_closed {
                 format!("{{{name}}} WAIT {}", interval.lower)
             } else {
@@ -221,7 +235,7 @@ pub fn parse_listing(
                 let names = r.trim().trim_start_matches('{').trim_end_matches('}');
                 let mut bits = 0u64;
                 for n in names.split(',') {
-                    bits |= 1 << clock(n.trim()).ok_or_else(|| format!("unknown clock `{n}`"))?;
+                    bits |= 1 << clock(n.trim()).ok_or_else(|| format!("unknown clock `{n}`"))?.index();
                 }
                 (b.trim(), bits)
             }

@@ -10,7 +10,7 @@
 //! programs discard these waits the same way ("all clock, delay, and intermediate events are
 //! discarded"). Finally, resets of clocks no condition reads are dropped.
 
-use super::{CmdId, Command, Condition, Instruction, Program};
+use super::{CmdId, Command, Condition, Instruction, Program, NOT_PLACED};
 use crate::timed::model::{DependsOn, Game, MessageRole, MsgId};
 use std::collections::HashSet;
 
@@ -42,14 +42,14 @@ impl Context {
         } else {
             let mut v = vec![false; n];
             for b in &game.io {
-                v[b.message as usize] = true;
+                v[b.message.index()] = true;
             }
             v
         };
         let mut dependencies = Vec::new();
         let mut declared = vec![false; n];
         for d in &game.dependencies {
-            declared[d.message as usize] = true;
+            declared[d.message.index()] = true;
             for &on in &d.on {
                 dependencies.push((d.message, on));
             }
@@ -59,10 +59,10 @@ impl Context {
         for a in &game.components {
             for e in &a.edges {
                 if e.kind != crate::timed::model::MessageKind::Synchronised {
-                    sent[e.message as usize] = true;
+                    sent[e.message.index()] = true;
                     // Urgent from the moment its location is entered: instant and unguarded (a
                     // guarded one may be enabled only later, and the controller acts before).
-                    urgent[e.message as usize] &=
+                    urgent[e.message.index()] &=
                         e.instant && e.guard.is_empty() && e.kind == crate::timed::model::MessageKind::Uncontrollable;
                 }
             }
@@ -75,13 +75,13 @@ impl Context {
     }
 
     fn urgent(&self, c: &Condition) -> bool {
-        matches!(c, Condition::Message { message } if self.urgent.get(*message as usize).copied().unwrap_or(false))
+        matches!(c, Condition::Message { message } if self.urgent.get((*message).index()).copied().unwrap_or(false))
     }
 
     fn silent(&self, c: &Condition) -> bool {
         match c {
             Condition::Delay { .. } => self.silent_delays,
-            Condition::Message { message } => !self.observable.get(*message as usize).copied().unwrap_or(true),
+            Condition::Message { message } => !self.observable.get((*message).index()).copied().unwrap_or(true),
         }
     }
 
@@ -90,7 +90,7 @@ impl Context {
         match cond {
             Condition::Delay { .. } => event == DependsOn::Time,
             Condition::Message { message } => {
-                if !self.declared.get(*message as usize).copied().unwrap_or(false) {
+                if !self.declared.get((*message).index()).copied().unwrap_or(false) {
                     return true; // undeclared: assume it may change at any time
                 }
                 self.dependencies.iter().any(|&(m, on)| {
@@ -148,8 +148,8 @@ pub fn reference_counts(program: &Program) -> Vec<u32> {
         .collect();
     for c in cmds {
         if let Some(t) = jump_target(c) {
-            let p = pos[t as usize];
-            if p != u32::MAX {
+            let p = pos[t.index()];
+            if p != NOT_PLACED {
                 r[p as usize] += 1;
             }
         }
@@ -182,8 +182,8 @@ pub fn reference_inlining(program: &mut Program) -> bool {
     let mut changed = false;
     for c in &mut program.commands {
         let Some(t) = jump_target(c) else { continue };
-        let p = pos[t as usize];
-        if p == u32::MAX {
+        let p = pos[t.index()];
+        if p == NOT_PLACED {
             continue;
         }
         let referenced = &snapshot[p as usize];
@@ -216,8 +216,8 @@ pub fn inlining(program: &mut Program) -> bool {
         if program.commands[i].resets != 0 {
             continue;
         }
-        let j = pos[l2 as usize];
-        if j == u32::MAX || j as usize + 1 >= n || r[j as usize] != 1 || j as usize == i {
+        let j = pos[l2.index()];
+        if j == NOT_PLACED || j as usize + 1 >= n || r[j as usize] != 1 || j as usize == i {
             continue;
         }
         let j = j as usize;
@@ -245,12 +245,12 @@ pub fn inlining(program: &mut Program) -> bool {
             Some(&&(at, s, dest)) if at == i => {
                 next_site.next();
                 out.push(Command { id: c.id, instruction: s.instruction, resets: s.resets });
-                out.push(Command { id: CmdId::MAX, instruction: Instruction::Goto { target: dest }, resets: 0 });
+                out.push(Command { id: CmdId::NONE, instruction: Instruction::Goto { target: dest }, resets: 0 });
             }
             _ => out.push(*c),
         }
     }
-    for c in out.iter_mut().filter(|c| c.id == CmdId::MAX) {
+    for c in out.iter_mut().filter(|c| c.id == CmdId::NONE) {
         c.id = program.fresh_id();
     }
     program.commands = out;
@@ -361,9 +361,9 @@ pub fn silent_wait_removal(program: &mut Program, cx: &Context) -> bool {
         let mut j = i + 1;
         let mut hops = 0;
         while let Instruction::Goto { target } = cmds[j].instruction {
-            let p = pos[target as usize];
+            let p = pos[target.index()];
             hops += 1;
-            if p == u32::MAX || hops > cmds.len() {
+            if p == NOT_PLACED || hops > cmds.len() {
                 break;
             }
             j = p as usize;
@@ -384,7 +384,7 @@ fn waits_for_observable(program: &Program, j: usize, cx: &Context) -> bool {
     let cmds = &program.commands;
     // A guard may already hold before the silent wait ends: waiting for it proves nothing.
     let observable = |c: &Condition| {
-        matches!(c, Condition::Message { message } if !cx.guards.get(*message as usize).copied().unwrap_or(false))
+        matches!(c, Condition::Message { message } if !cx.guards.get((*message).index()).copied().unwrap_or(false))
             && !cx.silent(c)
     };
     match cmds[j].instruction {
@@ -511,8 +511,8 @@ fn remove_if(
         vis.insert(c.id);
         match c.instruction {
             Instruction::Goto { target } => {
-                let p = pos[target as usize];
-                if p != u32::MAX {
+                let p = pos[target.index()];
+                if p != NOT_PLACED {
                     remove_if(program, pos, r, cx, p as usize, vis, t, f, edits, depth + 1);
                 }
                 return;
@@ -534,8 +534,8 @@ fn remove_if(
                 } else if t.contains(&condition) {
                     edits.to_goto.insert(c.id);
                 } else {
-                    let p = pos[target as usize];
-                    if p != u32::MAX {
+                    let p = pos[target.index()];
+                    if p != NOT_PLACED {
                         let mut t2 = t.clone();
                         t2.push(condition);
                         remove_if(program, pos, r, cx, p as usize, vis, t2, f.clone(), edits, depth + 1);
@@ -566,7 +566,7 @@ pub fn bisimulation(program: &Program) -> Classes {
     let pos = program.positions();
     let cmds = &program.commands;
     let (end, looping) = (n, n + 1);
-    let at = |t: CmdId| pos.get(t as usize).map_or(end, |&p| if p == u32::MAX { end } else { p as usize });
+    let at = |t: CmdId| pos.get(t.index()).map_or(end, |&p| if p == NOT_PLACED { end } else { p as usize });
     // The target of a GOTO without resets: such a GOTO is not a step of its own.
     let goto_target = |i: usize| match cmds.get(i) {
         Some(Command { instruction: Instruction::Goto { target }, resets: 0, .. }) if i < n => Some(*target),
@@ -600,7 +600,7 @@ pub fn bisimulation(program: &Program) -> Classes {
     let label = |i: usize| -> (u8, Option<Condition>, Option<u32>, u64) {
         let c = &cmds[i];
         match c.instruction {
-            Instruction::Do { request } => (0, None, Some(request), c.resets),
+            Instruction::Do { request } => (0, None, Some(request.raw()), c.resets),
             Instruction::If { condition, .. } | Instruction::WaitUntil { condition } => {
                 (1, Some(condition), None, c.resets)
             }
@@ -646,9 +646,10 @@ pub fn equivalent(a: &Program, b: &Program) -> bool {
     let offset = a.next_id;
     for c in &b.commands {
         let mut c = *c;
-        c.id += offset;
+        let shift = |id: CmdId| CmdId::from_raw(id.raw() + offset.raw());
+        c.id = shift(c.id);
         match &mut c.instruction {
-            Instruction::If { target, .. } | Instruction::Goto { target } => *target += offset,
+            Instruction::If { target, .. } | Instruction::Goto { target } => *target = shift(*target),
             _ => {}
         }
         both.push_with_id(c.id, c.instruction, c.resets);
@@ -656,7 +657,7 @@ pub fn equivalent(a: &Program, b: &Program) -> bool {
     // Execution of `a` must not run into `b`: end `a` explicitly with a jump nowhere.
     let stop = both.fresh_id();
     both.commands
-        .insert(a.len(), Command { id: stop, instruction: Instruction::Goto { target: u32::MAX - 1 }, resets: 0 });
+        .insert(a.len(), Command { id: stop, instruction: Instruction::Goto { target: CmdId::NONE }, resets: 0 });
     let classes = bisimulation(&both);
     let (sa, sb) = (classes.resolve(0), classes.resolve(a.len() + 1));
     let virtual_end = |i: usize| i >= both.len();
@@ -688,8 +689,8 @@ pub fn merge_equivalent(program: &mut Program) -> bool {
         return false;
     }
     let redirect = |t: CmdId| -> CmdId {
-        let p = pos.get(t as usize).copied().unwrap_or(u32::MAX);
-        if p == u32::MAX {
+        let p = pos.get(t.index()).copied().unwrap_or(NOT_PLACED);
+        if p == NOT_PLACED {
             return t;
         }
         let r = classes.resolve(p as usize);
@@ -754,8 +755,11 @@ pub fn layout(program: &mut Program) -> bool {
         let last = &cmds[seg_end(current) - 1];
         let chained = match last.instruction {
             Instruction::Goto { target } => {
-                let p = pos.get(target as usize).copied().unwrap_or(u32::MAX);
-                (p != u32::MAX).then(|| segment_of_start.get(&(p as usize)).copied()).flatten().filter(|&k| !placed[k])
+                let p = pos.get(target.index()).copied().unwrap_or(NOT_PLACED);
+                (p != NOT_PLACED)
+                    .then(|| segment_of_start.get(&(p as usize)).copied())
+                    .flatten()
+                    .filter(|&k| !placed[k])
             }
             _ => None,
         };
@@ -782,7 +786,7 @@ pub fn drop_unread_resets(program: &mut Program) {
         if let Instruction::If { condition: Condition::Delay { clock, .. }, .. }
         | Instruction::WaitUntil { condition: Condition::Delay { clock, .. } } = c.instruction
         {
-            read |= 1 << clock;
+            read |= 1 << clock.index();
         }
     }
     for c in &mut program.commands {

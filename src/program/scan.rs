@@ -67,7 +67,7 @@ impl ScanProgramError {
     /// The reason in words, naming messages and signals of `game`.
     pub fn text(&self, game: &Game, signals: &[Vec<(MsgId, bool)>]) -> String {
         let decision = |d: &Option<MsgId>| match d {
-            Some(r) => format!("send `{}`", game.messages[*r as usize].name),
+            Some(r) => format!("send `{}`", game.messages[(*r).index()].name),
             None => "send nothing".to_string(),
         };
         match self {
@@ -78,7 +78,7 @@ impl ScanProgramError {
                     .zip(image)
                     .map(|(ms, &level)| {
                         let names: Vec<&str> =
-                            ms.iter().map(|&(m, _)| game.messages[m as usize].name.as_str()).collect();
+                            ms.iter().map(|&(m, _)| game.messages[m.index()].name.as_str()).collect();
                         format!("{}={}", names.join("/"), u8::from(level))
                     })
                     .collect();
@@ -175,7 +175,7 @@ const PROGRESS_EVERY: usize = 4096;
 impl Extraction<'_> {
     /// The scan automaton's location in state `s`.
     fn plc_location(&self, s: StateId) -> LocId {
-        let plc = self.plc as usize;
+        let plc = self.plc.index();
         self.split.units[plc].sublocs[self.space.env(s)[plc] as usize].location
     }
 
@@ -183,7 +183,7 @@ impl Extraction<'_> {
     fn request_of(&self, edge: u32) -> Option<MsgId> {
         let roles = self.game.scan.as_ref()?;
         match self.space.edges[edge as usize].label {
-            Label::Message { message } => roles.commits[message as usize],
+            Label::Message { message } => roles.commits[message.index()],
             _ => None,
         }
     }
@@ -206,7 +206,7 @@ impl Extraction<'_> {
             .out_edges(s)
             .filter(|(_, e)| e.kind == EdgeKind::Request && self.space.is_live(e))
             .map(|(id, _)| {
-                let name = self.request_of(id).map(|r| self.game.messages[r as usize].name.as_str());
+                let name = self.request_of(id).map(|r| self.game.messages[r.index()].name.as_str());
                 (super::select::edge_distance(self.space, dist, id), name, id)
             })
             .collect();
@@ -290,7 +290,7 @@ impl Extraction<'_> {
                                 }
                             }
                         }
-                        let info = &self.game.messages[message as usize];
+                        let info = &self.game.messages[message.index()];
                         let mut next = sensors.clone();
                         let parts = info.sender.into_iter().chain(info.synchronised.iter().copied());
                         next.moved(self.game, message, e.instant, parts);

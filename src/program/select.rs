@@ -102,7 +102,7 @@ pub fn select(game: &Game, space: &StateSpace) -> Strategy {
                 continue;
             }
             let name = match e.label {
-                crate::timed::solve::Label::Message { message } => game.messages[message as usize].name.as_str(),
+                crate::timed::solve::Label::Message { message } => game.messages[message.index()].name.as_str(),
                 _ => "",
             };
             let key = (edge_distance(space, &dist, id), 0u8, name, id);

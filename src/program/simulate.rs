@@ -18,10 +18,10 @@
 //! counter-play, [`replay_line`], plays both sides).
 
 use super::{Condition, Instruction, Program};
-use crate::timed::model::{Game, Interval, MessageKind, MessageRole, MsgId};
+use crate::timed::model::{Game, Interval, LocId, MessageKind, MessageRole, MsgId};
 use crate::timed::plant::{Move as PlantMove, Plant, Violation};
 use crate::timed::precompute::SplitGame;
-use crate::timed::solve::{EdgeId, EdgeKind, Label, StateSpace};
+use crate::timed::solve::{EdgeId, EdgeKind, Label, StateSpace, NONE};
 use crate::zone::{Bound, Dbm};
 use serde::{Deserialize, Serialize};
 
@@ -86,7 +86,7 @@ struct TraceEntry {
     pc: usize,
     clocks: Vec<i64>,
     timers: Vec<i64>,
-    plan_locs: Vec<u32>,
+    plan_locs: Vec<LocId>,
 }
 
 /// One step of a [`Simulation`].
@@ -290,8 +290,9 @@ impl<'g> Simulation<'g> {
         seed: u64,
         record: bool,
     ) -> Simulation<'g> {
-        let guards: Vec<MsgId> = (0..game.messages.len() as MsgId)
-            .filter(|&m| game.messages[m as usize].role == MessageRole::Guard)
+        let guards: Vec<MsgId> = (0..game.messages.len())
+            .map(MsgId::new)
+            .filter(|&m| game.messages[m.index()].role == MessageRole::Guard)
             .collect();
         // Guard messages are sensor conditions (4.2.1): the environment sets them at random, anew
         // before every plant step, for the controller's IF tests. The game treats a guard check as
@@ -390,11 +391,9 @@ impl<'g> Simulation<'g> {
                         let clocks: Vec<String> = plan
                             .clocks
                             .iter()
-                            .map(|&(c, _)| {
-                                format!("{}={:.3}", game.clocks[c as usize].name, units(e.clocks[c as usize]))
-                            })
+                            .map(|&(c, _)| format!("{}={:.3}", game.clocks[c.index()].name, units(e.clocks[c.index()])))
                             .collect();
-                        format!("{}.{} {}", plan.name, plan.locations[e.plan_locs[p] as usize].name, clocks.join(" "))
+                        format!("{}.{} {}", plan.name, plan.locations[e.plan_locs[p].index()].name, clocks.join(" "))
                     })
                     .collect();
                 let clocks: Vec<String> = (1..e.clocks.len())
@@ -462,7 +461,7 @@ impl<'g> Simulation<'g> {
     }
 
     fn name(&self, m: MsgId) -> String {
-        self.game().messages[m as usize].name.clone()
+        self.game().messages[m.index()].name.clone()
     }
 
     fn progressed(&mut self) {
@@ -512,10 +511,10 @@ impl<'g> Simulation<'g> {
             let c = program.commands[self.pc];
             after_request = matches!(c.instruction, Instruction::Do { .. });
             let truth = |sim: &Self, cond: &Condition| match cond {
-                Condition::Message { message } => sim.pending == Some(*message) || sim.guard_values[*message as usize],
+                Condition::Message { message } => sim.pending == Some(*message) || sim.guard_values[(*message).index()],
                 // `{c} WAIT k`: the timer has reached k (passed k when the bound is open), as the
                 // PLC code tests it with `ET >= k`.
-                Condition::Delay { clock, interval } => reached(interval, sim.w.timers[*clock as usize]),
+                Condition::Delay { clock, interval } => reached(interval, sim.w.timers[(*clock).index()]),
             };
             match c.instruction {
                 Instruction::Do { .. }
@@ -561,12 +560,12 @@ impl<'g> Simulation<'g> {
                         return acted;
                     }
                 }
-                Instruction::Goto { target } => self.pc = self.pos[target as usize] as usize,
+                Instruction::Goto { target } => self.pc = self.pos[target.index()] as usize,
                 Instruction::If { condition, target } => {
                     if truth(self, &condition) {
                         self.reset(c.resets);
                         self.consume(&condition);
-                        self.pc = self.pos[target as usize] as usize;
+                        self.pc = self.pos[target.index()] as usize;
                     } else {
                         self.pc += 1;
                     }
@@ -677,7 +676,7 @@ impl<'g> Simulation<'g> {
             .map(|&(u, e)| {
                 let a = &game.components[u];
                 let edge = &a.edges[e];
-                format!("{}.{} → {}", a.name, a.locations[edge.from as usize].name, a.locations[edge.to as usize].name)
+                format!("{}.{} → {}", a.name, a.locations[edge.from.index()].name, a.locations[edge.to.index()].name)
             })
             .collect();
         format!("({})", parts.join(", "))
@@ -700,7 +699,7 @@ impl<'g> Simulation<'g> {
         self.sent.clear();
         for i in 0..self.guards.len() {
             let g = self.guards[i];
-            self.guard_values[g as usize] = self.rng.below(2) == 0;
+            self.guard_values[g.index()] = self.rng.below(2) == 0;
         }
     }
 
@@ -721,7 +720,7 @@ impl<'g> Simulation<'g> {
         if !reaction {
             self.report.requests += 1;
             self.requests_since_progress += 1;
-        } else if self.observable.get(m.message as usize).copied().unwrap_or(true) {
+        } else if self.observable.get(m.message.index()).copied().unwrap_or(true) {
             self.pending = Some(m.message);
         }
         if !self.check() {
@@ -830,7 +829,7 @@ impl<'g> Simulation<'g> {
                 .enumerate()
                 .map(|(u, a)| UnitLocation {
                     unit: a.name.clone(),
-                    location: a.locations[plant.locs[u] as usize].name.clone(),
+                    location: a.locations[plant.locs[u].index()].name.clone(),
                 })
                 .collect(),
             plans: game
@@ -841,8 +840,8 @@ impl<'g> Simulation<'g> {
                     let at = plant.plan_locs[p];
                     PlanView {
                         name: plan.name.clone(),
-                        location: plan.locations[at as usize].name.clone(),
-                        index: (at as usize).saturating_sub(usize::from(at > plan.failed)),
+                        location: plan.locations[at.index()].name.clone(),
+                        index: at.index().saturating_sub(usize::from(at > plan.failed)),
                         count: plan.locations.len() - 1,
                         failed: at == plan.failed,
                     }
@@ -858,7 +857,7 @@ impl<'g> Simulation<'g> {
             guards: self
                 .guards
                 .iter()
-                .map(|&g| GuardView { name: self.name(g), value: self.guard_values[g as usize] })
+                .map(|&g| GuardView { name: self.name(g), value: self.guard_values[g.index()] })
                 .collect(),
             sent: self.sent.iter().map(|&m| self.name(m)).collect(),
             requests: self.report.requests,
@@ -947,7 +946,7 @@ pub fn replay_line(
         let e = &space.edges[id as usize];
         let target = e.to;
         let in_target = |p: &Plant| {
-            target == u32::MAX || (p.is_in(split, space, target) && feasible[k + 1].contains_point(&p.clocks, p.ticks))
+            target == NONE || (p.is_in(split, space, target) && feasible[k + 1].contains_point(&p.clocks, p.ticks))
         };
         let limit = sim.delay_room().map_or(0, |room| room.unwrap_or(horizon).min(horizon));
         let stuck = |why: &str| {
@@ -1032,7 +1031,7 @@ pub fn feasible_sets(split: &SplitGame, space: &StateSpace, line: &[EdgeId]) -> 
     let mut states = vec![space.initial];
     states.extend(line.iter().map(|&e| space.edges[e as usize].to));
     let own = |s: u32| -> Dbm {
-        if s == u32::MAX {
+        if s == NONE {
             return Dbm::unconstrained(space.dim);
         }
         let mut z = space.zone(s);
@@ -1041,14 +1040,14 @@ pub fn feasible_sets(split: &SplitGame, space: &StateSpace, line: &[EdgeId]) -> 
             space.env(s).iter().enumerate().chain(space.plan(s).iter().enumerate().map(|(p, sub)| (base + p, sub)));
         for (u, &sub) in units {
             for &(c, piece) in &split.units[u].sublocs[sub as usize].pieces {
-                let iv = &split.pieces[c as usize][piece as usize];
+                let iv = &split.pieces[c.index()][piece as usize];
                 let lower = if iv.lower_closed { Bound::le(-(iv.lower as i32)) } else { Bound::lt(-(iv.lower as i32)) };
                 let upper = match iv.upper {
                     Some(u) if iv.upper_closed => Bound::le(u as i32),
                     Some(u) => Bound::lt(u as i32),
                     None => Bound::INFINITY,
                 };
-                z.constrain_interval(c as usize, lower, upper);
+                z.constrain_interval(c.index(), lower, upper);
             }
         }
         z
@@ -1070,7 +1069,7 @@ pub fn feasible_sets(split: &SplitGame, space: &StateSpace, line: &[EdgeId]) -> 
             EdgeKind::Guard | EdgeKind::Timeout => {}
         }
         let mut narrowed = sets[k].clone();
-        if e.to != u32::MAX && narrowed.intersect(&pre) {
+        if e.to != NONE && narrowed.intersect(&pre) {
             sets[k] = narrowed;
         }
     }
@@ -1090,7 +1089,7 @@ mod tests {
     }
 
     fn message(game: &Game, name: &str) -> MsgId {
-        game.messages.iter().position(|m| m.name == name).unwrap() as MsgId
+        MsgId::new(game.messages.iter().position(|m| m.name == name).unwrap())
     }
 
     /// The index of the offered move of `name`.

@@ -26,7 +26,7 @@
 
 use super::check::Loaded;
 use super::classic::wmod::{ComponentKind, ENFORCEABLE_ATTRIBUTE, SCT_ATTRIBUTE};
-use super::classic::{Automaton, AutomatonBuilder, EventId, Events, StateId};
+use super::classic::{Automaton, AutomatonBuilder, ClassicEventId, Events, StateId};
 use super::model::{self, Cond, EventKind, Supervisor};
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use hashbrown::{HashMap, HashSet};
@@ -168,8 +168,8 @@ impl Default for ToSct {
 pub fn classic_to_sct(
     parts: &[Part],
     events: &Events,
-    enforceable: &[EventId],
-    bodies: &[(EventId, String)],
+    enforceable: &[ClassicEventId],
+    bodies: &[(ClassicEventId, String)],
     header: &str,
     options: ToSct,
 ) -> Result<String, Vec<PartError>> {
@@ -202,11 +202,11 @@ pub fn classic_to_sct(
             _ => {}
         }
         if !options.ignore_marking {
-            if let Some(s) = (0..a.num_states() as StateId).find(|&s| !a.is_marked(s)) {
+            if let Some(s) = a.states().find(|&s| !a.is_marked(s)) {
                 errors.push(PartError {
                     unmarked: true,
                     ..err(
-                        p.state_spans.get(s as usize).copied().unwrap_or(p.span),
+                        p.state_spans.get(s.index()).copied().unwrap_or(p.span),
                         format!("state `{}` of `{}` is not marked", a.state_name(s), p.name),
                         &format!("the .sct language has no marking: its synthesis keeps specifications safe, it does not make them nonblocking; `{}` reads every state as marked", options.switch),
                     )
@@ -226,10 +226,10 @@ pub fn classic_to_sct(
     }
     // One scope for events and components (the .sct top level), one per component for states.
     let mut top = Namer::default();
-    let mut used: Vec<EventId> = parts.iter().flat_map(|p| p.automaton.alphabet().iter().copied()).collect();
+    let mut used: Vec<ClassicEventId> = parts.iter().flat_map(|p| p.automaton.alphabet().iter().copied()).collect();
     used.sort_unstable();
     used.dedup();
-    let event_names: HashMap<EventId, String> = used.iter().map(|&e| (e, top.name(events.name(e)))).collect();
+    let event_names: HashMap<ClassicEventId, String> = used.iter().map(|&e| (e, top.name(events.name(e)))).collect();
     let part_names: Vec<String> = parts.iter().map(|p| top.name(p.name)).collect();
     let mut body = String::new();
     if !used.is_empty() {
@@ -278,7 +278,7 @@ pub fn classic_to_sct(
     for (p, name) in parts.iter().zip(&part_names) {
         let a = p.automaton;
         let mut states = Namer::default();
-        let names: Vec<String> = (0..a.num_states() as StateId).map(|s| states.name(a.state_name(s))).collect();
+        let names: Vec<String> = a.states().map(|s| states.name(a.state_name(s))).collect();
         state_renamed.extend(states.renamed.into_iter().map(|(from, to)| (p.name, from, to)));
         let plant = p.kind == ComponentKind::Plant;
         body.push('\n');
@@ -291,15 +291,15 @@ pub fn classic_to_sct(
             let _ = writeln!(body, "  alphabet {};", alphabet.join(", "));
         }
         // The initial state first, so that it also reads as initial without the keyword.
-        let init = a.init().unwrap_or(0);
-        let order = std::iter::once(init).chain((0..a.num_states() as StateId).filter(|&s| s != init));
+        let init = a.init().unwrap_or(StateId::new(0));
+        let order = std::iter::once(init).chain(a.states().filter(|&s| s != init));
         for s in order {
             let mut items: Vec<String> = Vec::new();
             for edge in a.edges(s) {
                 if !plant && edge.target == s {
                     continue; // an allowed event stays: no .sct transition needed
                 }
-                items.push(format!("{} -> {};", event_names[&edge.event], names[edge.target as usize]));
+                items.push(format!("{} -> {};", event_names[&edge.event], names[edge.target.index()]));
             }
             if !plant {
                 let forbidden: Vec<&str> =
@@ -310,9 +310,9 @@ pub fn classic_to_sct(
             }
             let initial = if s == init { " initial" } else { "" };
             if items.is_empty() {
-                let _ = writeln!(body, "  state {}{initial};", names[s as usize]);
+                let _ = writeln!(body, "  state {}{initial};", names[s.index()]);
             } else {
-                let _ = writeln!(body, "  state {}{initial} {{ {} }}", names[s as usize], items.join(" "));
+                let _ = writeln!(body, "  state {}{initial} {{ {} }}", names[s.index()], items.join(" "));
             }
         }
         body.push_str("}\n");
@@ -397,8 +397,8 @@ pub fn import(files: &[ImportFile], options: &Import) -> Result<String, Vec<Impo
         }
     }
     let mut events = Events::new();
-    let mut enforceable: Vec<EventId> = Vec::new();
-    let mut bodies: Vec<(EventId, String)> = Vec::new();
+    let mut enforceable: Vec<ClassicEventId> = Vec::new();
+    let mut bodies: Vec<(ClassicEventId, String)> = Vec::new();
     // Per component: name, kind, automaton, span, state spans; `owner[k]` is its file.
     let mut components = Vec::new();
     let mut owner = Vec::new();
@@ -460,9 +460,9 @@ pub fn import(files: &[ImportFile], options: &Import) -> Result<String, Vec<Impo
 /// A project as classic components: what [`write_wmod`](super::classic::wmod::write_wmod) writes.
 pub struct Classic {
     pub events: Events,
-    pub enforceable: Vec<EventId>,
+    pub enforceable: Vec<ClassicEventId>,
     /// Each event's `.sct` properties (triggers, actions), for [`SCT_ATTRIBUTE`].
-    pub bodies: Vec<(EventId, String)>,
+    pub bodies: Vec<(ClassicEventId, String)>,
     /// (name, kind, automaton), plants first, then specifications, then supervisors.
     pub components: Vec<(String, ComponentKind, Automaton)>,
     /// The `.sct` parts that are not written (timers), one line each.
@@ -498,7 +498,7 @@ pub fn project_to_classic(src: &str, loaded: &Loaded, supervisors: &[&Supervisor
             enforceable.push(e);
         }
     }
-    let ev = |e: model::EventId| EventId(e.0);
+    let ev = |e: model::EventId| ClassicEventId::from_raw(e.0);
     let origin_span = |o: u32| loaded.origins.get(o as usize).copied().unwrap_or_default();
     let mut components = Vec::new();
     let mut component_names: HashMap<String, String> = HashMap::new();
@@ -518,14 +518,14 @@ pub fn project_to_classic(src: &str, loaded: &Loaded, supervisors: &[&Supervisor
         for s in &plant.states {
             b.add_state(s.clone(), true);
         }
-        b.set_init(plant.init);
+        b.set_init(StateId::from_raw(plant.init));
         for t in &plant.trans {
             if t.cond != Cond::True {
                 d.error(origin_span(t.origin), format!("plant `{}` has a conditional transition", plant.name))
                     .with_note("a Waters module has no conditions over other plants' states");
                 continue;
             }
-            b.add_transition(t.src, ev(t.event), t.dst);
+            b.add_transition(StateId::from_raw(t.src), ev(t.event), StateId::from_raw(t.dst));
         }
         let name = name_component(&mut d, &plant.name, Span::default());
         if let Ok(a) = b.build() {
@@ -562,12 +562,14 @@ pub fn project_to_classic(src: &str, loaded: &Loaded, supervisors: &[&Supervisor
         for s in &spec.states {
             b.add_state(s.clone(), true);
         }
-        b.set_init(spec.init);
+        b.set_init(StateId::from_raw(spec.init));
         for s in 0..spec.states.len() as u32 {
             for &e in &alphabet {
                 match moves.get(&(s, e)) {
-                    Some(&t) => b.add_transition(s, ev(e), t),
-                    None if !prohibited.contains(&(s, e)) => b.add_transition(s, ev(e), s),
+                    Some(&t) => b.add_transition(StateId::from_raw(s), ev(e), StateId::from_raw(t)),
+                    None if !prohibited.contains(&(s, e)) => {
+                        b.add_transition(StateId::from_raw(s), ev(e), StateId::from_raw(s))
+                    }
                     None => {}
                 }
             }
@@ -586,12 +588,13 @@ pub fn project_to_classic(src: &str, loaded: &Loaded, supervisors: &[&Supervisor
         return Err(d.items);
     }
     let mut left_out = Vec::new();
-    let bodies: Vec<(EventId, String)> = loaded
+    let bodies: Vec<(ClassicEventId, String)> = loaded
         .events
         .iter()
         .enumerate()
         .filter_map(|(i, m)| {
-            event_body(src, m.spans.name.end as usize).map(|b| (EventId(i as u32), b.trim().to_string()))
+            event_body(src, m.spans.name.end as usize)
+                .map(|b| (ClassicEventId::from_raw(i as u32), b.trim().to_string()))
         })
         .collect();
     for t in &loaded.timers {
@@ -627,7 +630,7 @@ pub fn supervisor_automaton(sup: &Supervisor) -> Automaton {
         .collect();
     alphabet.sort_unstable();
     alphabet.dedup();
-    let ev = |e: model::EventId| EventId(e.0);
+    let ev = |e: model::EventId| ClassicEventId::from_raw(e.0);
     let mut b = AutomatonBuilder::new();
     for &e in &alphabet {
         b.add_event(ev(e));
@@ -639,13 +642,13 @@ pub fn supervisor_automaton(sup: &Supervisor) -> Automaton {
         b.add_state(label_name(&s.label), true);
     }
     if let Some(i) = sup.init {
-        b.set_init(i);
+        b.set_init(StateId::from_raw(i));
     }
     for (k, s) in sup.states.iter().enumerate() {
         for &e in &alphabet {
             match s.next(e) {
-                Some(t) => b.add_transition(k as StateId, ev(e), t),
-                None if !s.prohibits(e) => b.add_transition(k as StateId, ev(e), k as StateId),
+                Some(t) => b.add_transition(StateId::new(k), ev(e), StateId::from_raw(t)),
+                None if !s.prohibits(e) => b.add_transition(StateId::new(k), ev(e), StateId::new(k)),
                 None => {}
             }
         }
@@ -656,7 +659,7 @@ pub fn supervisor_automaton(sup: &Supervisor) -> Automaton {
 impl Classic {
     /// The events' attributes for [`write_wmod`](super::classic::wmod::write_wmod):
     /// enforceability and `.sct` properties.
-    pub fn attributes(&self) -> Vec<(EventId, &'static str, String)> {
+    pub fn attributes(&self) -> Vec<(ClassicEventId, &'static str, String)> {
         let enforceable = self.enforceable.iter().map(|&e| (e, ENFORCEABLE_ATTRIBUTE, "true".to_string()));
         enforceable.chain(self.bodies.iter().map(|(e, b)| (*e, SCT_ATTRIBUTE, b.clone()))).collect()
     }

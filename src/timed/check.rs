@@ -109,7 +109,7 @@ impl Checker<'_, '_> {
         if let Some(&id) = self.message_index.get(name) {
             return id;
         }
-        let id = self.game.messages.len() as MsgId;
+        let id = MsgId::new(self.game.messages.len());
         self.game.messages.push(Message { name: name.to_string(), role, sender: None, synchronised: Vec::new() });
         self.message_index.insert(name.to_string(), id);
         id
@@ -130,7 +130,7 @@ impl Checker<'_, '_> {
                 continue;
             }
             first_decl.insert(&name.name, name.span);
-            let comp = self.game.components.len() as CompId;
+            let comp = CompId::new(self.game.components.len());
             let automaton = match component {
                 Component::Automaton(a) => self.automaton(comp, a, &mut uses),
                 Component::Hardware(h) => self.moves_unit(comp, &h.name, &h.states, &h.moves, h.span, true, &mut uses),
@@ -144,7 +144,7 @@ impl Checker<'_, '_> {
 
     fn new_clock(&mut self, name: String, owner: ClockOwner, span: Span) -> ClockId {
         self.game.clocks.push(Clock { name, owner, span });
-        (self.game.clocks.len() - 1) as ClockId
+        ClockId::new(self.game.clocks.len() - 1)
     }
 
     fn automaton(&mut self, comp: CompId, decl: &ast::AutomatonDecl, uses: &mut Vec<(MsgId, MessageUse)>) -> Automaton {
@@ -168,7 +168,7 @@ impl Checker<'_, '_> {
                 continue;
             }
             let invariant = self.constraints(unit, &n.invariant, &clock_ids);
-            loc_ids.insert(&n.name.name, locations.len() as LocId);
+            loc_ids.insert(&n.name.name, LocId::new(locations.len()));
             locations.push(Location { name: n.name.name.clone(), invariant, span: n.name.span });
         }
         if decl.nodes.is_empty() {
@@ -198,7 +198,7 @@ impl Checker<'_, '_> {
             name: unit.clone(),
             origin: ComponentOrigin::Automaton,
             locations,
-            initial: 0,
+            initial: LocId::new(0),
             clocks,
             edges,
             span: decl.span,
@@ -273,7 +273,7 @@ impl Checker<'_, '_> {
                 self.diags.error(s.span, format!("state `{}` is declared twice in `{unit}`", s.name));
                 continue;
             }
-            loc_ids.insert(s.name.clone(), locations.len() as LocId);
+            loc_ids.insert(s.name.clone(), LocId::new(locations.len()));
             locations.push(Location { name: s.name.clone(), invariant: Vec::new(), span: s.span });
         }
         if states.is_empty() {
@@ -332,7 +332,7 @@ impl Checker<'_, '_> {
                     continue;
                 }
                 seen.insert((from, to), m.span);
-                let moving = locations.len() as LocId;
+                let moving = LocId::new(locations.len());
                 let upper = Interval {
                     lower: 0,
                     lower_closed: true,
@@ -387,7 +387,7 @@ impl Checker<'_, '_> {
             }
         }
         let origin = if hardware { ComponentOrigin::Hardware } else { ComponentOrigin::Operator };
-        Automaton { name: unit.clone(), origin, locations, initial: 0, clocks: vec![clock], edges, span }
+        Automaton { name: unit.clone(), origin, locations, initial: LocId::new(0), clocks: vec![clock], edges, span }
     }
 
     /// Precondition of 3.3: each `?`/`!` message has one sender; `$` needs a sender elsewhere.
@@ -402,8 +402,8 @@ impl Checker<'_, '_> {
                     sender.insert(*msg, (u.comp, u.kind, u.span));
                 }
                 Some(&(comp, kind, span)) if comp != u.comp => {
-                    let name = self.game.messages[*msg as usize].name.clone();
-                    let other = self.game.components.get(comp as usize).map(|c| c.name.clone()).unwrap_or_default();
+                    let name = self.game.messages[(*msg).index()].name.clone();
+                    let other = self.game.components.get(comp.index()).map(|c| c.name.clone()).unwrap_or_default();
                     let at = self.where_(span);
                     self.diags.error(u.span, format!("message `{name}` is already sent by unit `{other}`")).with_note(
                         format!(
@@ -413,7 +413,7 @@ impl Checker<'_, '_> {
                     );
                 }
                 Some(&(_, kind, span)) if kind != u.kind => {
-                    let name = self.game.messages[*msg as usize].name.clone();
+                    let name = self.game.messages[(*msg).index()].name.clone();
                     let at = self.where_(span);
                     self.diags
                         .error(
@@ -426,7 +426,7 @@ impl Checker<'_, '_> {
             }
         }
         for (msg, (comp, kind, _)) in &sender {
-            let m = &mut self.game.messages[*msg as usize];
+            let m = &mut self.game.messages[(*msg).index()];
             m.sender = Some(*comp);
             m.role = if *kind == MessageKind::Controllable { MessageRole::Request } else { MessageRole::Reaction };
         }
@@ -434,7 +434,7 @@ impl Checker<'_, '_> {
             if u.kind != MessageKind::Synchronised {
                 continue;
             }
-            let name = self.game.messages[*msg as usize].name.clone();
+            let name = self.game.messages[(*msg).index()].name.clone();
             match sender.get(msg) {
                 None => {
                     self.diags
@@ -445,7 +445,7 @@ impl Checker<'_, '_> {
                     self.diags.error(u.span, format!("unit sends `{name}` and also synchronises on it"));
                 }
                 Some(_) => {
-                    let m = &mut self.game.messages[*msg as usize];
+                    let m = &mut self.game.messages[(*msg).index()];
                     if !m.synchronised.contains(&u.comp) {
                         m.synchronised.push(u.comp);
                     }
@@ -485,13 +485,13 @@ impl Checker<'_, '_> {
                     }
                     return None;
                 };
-                let automaton = &self.game.components[comp as usize];
+                let automaton = &self.game.components[comp.index()];
                 let locations: Vec<LocId> = automaton
                     .locations
                     .iter()
                     .enumerate()
                     .filter(|(_, l)| if *prefix { l.name.starts_with(&node.name) } else { l.name == node.name })
-                    .map(|(i, _)| i as LocId)
+                    .map(|(i, _)| LocId::new(i))
                     .collect();
                 if locations.is_empty() {
                     let names: Vec<&str> = automaton.locations.iter().map(|l| l.name.as_str()).collect();
@@ -541,7 +541,7 @@ impl Checker<'_, '_> {
         for g in &spec.guards {
             let pred = self.cond(&g.cond);
             if let Some(&id) = self.message_index.get(&g.message.name) {
-                let m = &self.game.messages[id as usize];
+                let m = &self.game.messages[id.index()];
                 if m.role != MessageRole::Guard {
                     self.diags
                         .error(g.message.span, format!("`{}` is a plant message and cannot be a guard", g.message.name))
@@ -600,7 +600,7 @@ impl Checker<'_, '_> {
         let mut locations = Vec::new();
         for (i, cmd) in commands.iter().enumerate() {
             if let PlanAction::Waitfor { .. } = cmd.action {
-                loc_of_cmd[i] = Some(locations.len() as LocId);
+                loc_of_cmd[i] = Some(LocId::new(locations.len()));
                 let lname =
                     cmd.label.as_ref().map_or_else(|| format!("waitfor{}", locations.len() + 1), |l| l.name.clone());
                 locations.push(PlanLocation { name: lname, span: cmd.span });
@@ -623,7 +623,7 @@ impl Checker<'_, '_> {
                 }
             }
         }
-        let failed = locations.len() as LocId;
+        let failed = LocId::new(locations.len());
         locations.push(PlanLocation { name: "failed".into(), span: plan.span });
         // From command i, follow resets (wrapping at the end) to the next waitfor.
         let resolve = |start: usize| -> (LocId, Vec<ClockId>) {
@@ -659,7 +659,7 @@ impl Checker<'_, '_> {
                     continue;
                 }
                 let message = match self.message_index.get(&item.message.name) {
-                    Some(&id) if self.game.messages[id as usize].role == MessageRole::Guard => {
+                    Some(&id) if self.game.messages[id.index()].role == MessageRole::Guard => {
                         self.diags.error(
                             item.message.span,
                             format!("`{}` is a guard condition, not a message a plan can wait for", item.message.name),
@@ -754,7 +754,7 @@ impl Checker<'_, '_> {
                     .with_note(format!("first mapped at {at}"));
                 continue;
             }
-            let request = self.game.messages[message as usize].role == MessageRole::Request;
+            let request = self.game.messages[message.index()].role == MessageRole::Request;
             let mode = match (e.mode, request) {
                 (ast::IoMode::Default, true) => ast::IoMode::Pulse,
                 (ast::IoMode::Default, false) => ast::IoMode::Level,

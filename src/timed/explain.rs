@@ -7,13 +7,13 @@
 //! controller's choices. The explanation follows, from the initial state, the plant's
 //! best moves and every controller choice.
 
-use super::model::Game;
+use super::model::{ClockId, Game};
 use super::precompute::SplitGame;
-use super::solve::{Edge, EdgeId, EdgeKind, Label, Removal, StateId, StateKind, StateSpace};
+use super::solve::{Edge, EdgeId, EdgeKind, Label, Removal, StateId, StateKind, StateSpace, NONE};
 use serde::Serialize;
 use std::collections::VecDeque;
 
-const NONE: u32 = u32::MAX;
+/// The rank of a state the attractor has not reached.
 const UNRANKED: u32 = u32::MAX;
 
 /// One step of the explanation.
@@ -196,7 +196,7 @@ pub enum Mover {
 pub struct PlayMove {
     pub edge: EdgeId,
     pub from: StateId,
-    /// The state reached (`NONE`, `u32::MAX`, for a zeno repetition, which leads nowhere).
+    /// The state reached ([`NONE`] for a zeno repetition, which leads nowhere).
     pub to: StateId,
     pub mover: Mover,
     /// The move in words, as in the explanation.
@@ -311,7 +311,7 @@ pub fn describe_state(game: &Game, split: &SplitGame, space: &StateSpace, s: Sta
     for (u, &sub) in space.env(s).iter().enumerate() {
         let unit = &split.units[u];
         let loc = unit.sublocs[sub as usize].location;
-        parts.push(format!("{}.{}", unit.name, game.components[u].locations[loc as usize].name));
+        parts.push(format!("{}.{}", unit.name, game.components[u].locations[loc.index()].name));
     }
     let plant = parts.join(", ");
     let plans: Vec<String> = space
@@ -321,7 +321,7 @@ pub fn describe_state(game: &Game, split: &SplitGame, space: &StateSpace, s: Sta
         .map(|(p, &sub)| {
             let unit = &split.units[split.plant_count + p];
             let loc = unit.sublocs[sub as usize].location;
-            format!("{}.{}", unit.name, game.plans[p].locations[loc as usize].name)
+            format!("{}.{}", unit.name, game.plans[p].locations[loc.index()].name)
         })
         .collect();
     let names: Vec<&str> = game.clocks.iter().map(|c| c.name.as_str()).collect();
@@ -347,23 +347,25 @@ pub fn describe_state(game: &Game, split: &SplitGame, space: &StateSpace, s: Sta
 /// A move in words: `!press`, `?turn_on`, `%part_present`, `time passes until c ∈ (2,4]`.
 pub fn describe_edge(game: &Game, split: &SplitGame, e: &Edge) -> String {
     match e.label {
-        Label::Message { message } => format!("{}{}", e.kind.sigil(), game.messages[message as usize].name),
+        Label::Message { message } => format!("{}{}", e.kind.sigil(), game.messages[message.index()].name),
         Label::Wait => "wait".to_string(),
         Label::Piece { clock, piece, clocks } => {
             let mut text = format!(
                 "time passes until {} ∈ {}",
-                game.clocks[clock as usize].name, split.pieces[clock as usize][piece as usize]
+                game.clocks[clock.index()].name,
+                split.pieces[clock.index()][piece as usize]
             );
             let others: Vec<&str> = (1..64)
-                .filter(|&c| c != clock && clocks >> c & 1 == 1)
-                .map(|c| game.clocks[c as usize].name.as_str())
+                .map(ClockId::new)
+                .filter(|&c| c != clock && clocks >> c.index() & 1 == 1)
+                .map(|c| game.clocks[c.index()].name.as_str())
                 .collect();
             if !others.is_empty() {
                 text.push_str(&format!(" (and, at the same instant, {} into their next pieces)", others.join(", ")));
             }
             text
         }
-        Label::Overrun { clock } => format!("timeout: {} exceeds its invariant", game.clocks[clock as usize].name),
+        Label::Overrun { clock } => format!("timeout: {} exceeds its invariant", game.clocks[clock.index()].name),
     }
 }
 

@@ -2,8 +2,8 @@
 //! Shapes are documented in `docs/timed-language.md` (section "JSON output").
 
 use super::explain::{describe_edge, describe_state, removal_text};
-use super::model::{ClockInterval, Game};
-use super::solve::{Removal, StateId, StateKind, Verdict};
+use super::model::{ClockInterval, Game, LocId};
+use super::solve::{Removal, StateId, StateKind, Verdict, NONE};
 use super::Synthesis;
 use serde::Serialize;
 use std::collections::VecDeque;
@@ -90,7 +90,7 @@ fn constraints_text(game: &Game, list: &[ClockInterval]) -> String {
     let parts: Vec<String> = list
         .iter()
         .map(|ci| {
-            let name = &game.clocks[ci.clock as usize].name;
+            let name = &game.clocks[ci.clock.index()].name;
             let short = name.rsplit('.').next().unwrap_or(name);
             format!("{short} in {}", ci.interval)
         })
@@ -114,7 +114,7 @@ pub fn automata(game: &Game) -> Vec<AutomatonView> {
                 super::model::ComponentOrigin::Hardware => "hardware",
                 super::model::ComponentOrigin::Operator => "operator",
             },
-            initial: a.initial,
+            initial: a.initial.raw(),
             locations: a
                 .locations
                 .iter()
@@ -128,43 +128,44 @@ pub fn automata(game: &Game) -> Vec<AutomatonView> {
                 .edges
                 .iter()
                 .map(|e| EdgeView {
-                    from: e.from,
-                    to: e.to,
+                    from: e.from.raw(),
+                    to: e.to.raw(),
                     sigil: e.kind.sigil(),
-                    message: game.messages[e.message as usize].name.clone(),
+                    message: game.messages[e.message.index()].name.clone(),
                     guard: constraints_text(game, &e.guard),
-                    resets: e.resets.iter().map(|&c| clock_name(c)).collect(),
+                    resets: e.resets.iter().map(|&c| clock_name(c.raw())).collect(),
                     instant: e.instant,
                 })
                 .collect(),
         })
         .collect();
     for p in &game.plans {
-        let deadline: Vec<String> = p.clocks.iter().map(|&(c, b)| format!("{} in [0,{b}]", clock_name(c))).collect();
+        let deadline: Vec<String> =
+            p.clocks.iter().map(|&(c, b)| format!("{} in [0,{b}]", clock_name(c.raw()))).collect();
         out.push(AutomatonView {
             name: p.name.clone(),
             kind: "plan",
-            initial: p.initial,
+            initial: p.initial.raw(),
             locations: p
                 .locations
                 .iter()
                 .enumerate()
                 .map(|(i, l)| LocationView {
                     name: l.name.clone(),
-                    invariant: if i as u32 == p.failed { String::new() } else { deadline.join(" and ") },
-                    failed: i as u32 == p.failed,
+                    invariant: if LocId::new(i) == p.failed { String::new() } else { deadline.join(" and ") },
+                    failed: LocId::new(i) == p.failed,
                 })
                 .collect(),
             edges: p
                 .edges
                 .iter()
                 .map(|e| EdgeView {
-                    from: e.from,
-                    to: e.to,
+                    from: e.from.raw(),
+                    to: e.to.raw(),
                     sigil: '$',
-                    message: game.messages[e.message as usize].name.clone(),
+                    message: game.messages[e.message.index()].name.clone(),
                     guard: String::new(),
-                    resets: e.resets.iter().map(|&c| clock_name(c)).collect(),
+                    resets: e.resets.iter().map(|&c| clock_name(c.raw())).collect(),
                     instant: false,
                 })
                 .collect(),
@@ -223,11 +224,11 @@ pub fn state_view(game: &Game, synthesis: &Synthesis, s: StateId) -> StateView {
     let mut locations = Vec::new();
     for (u, &sub) in space.env(s).iter().enumerate() {
         let loc = split.units[u].sublocs[sub as usize].location;
-        locations.push(game.components[u].locations[loc as usize].name.clone());
+        locations.push(game.components[u].locations[loc.index()].name.clone());
     }
     for (p, &sub) in space.plan(s).iter().enumerate() {
         let loc = split.units[split.plant_count + p].sublocs[sub as usize].location;
-        locations.push(game.plans[p].locations[loc as usize].name.clone());
+        locations.push(game.plans[p].locations[loc.index()].name.clone());
     }
     let names: Vec<&str> = game.clocks.iter().map(|c| c.name.as_str()).collect();
     let zone = space.zone(s);
@@ -249,19 +250,19 @@ pub fn state_view(game: &Game, synthesis: &Synthesis, s: StateId) -> StateView {
 pub fn space(game: &Game, synthesis: &Synthesis, limit: usize) -> SpaceView {
     let space = &synthesis.solution.space;
     let n = space.states.len();
-    let mut index = vec![u32::MAX; n];
+    let mut queued = vec![false; n];
     let mut order = Vec::new();
     if n > 0 {
         let mut queue = VecDeque::from([space.initial]);
-        index[space.initial as usize] = 0;
+        queued[space.initial as usize] = true;
         while let Some(s) = queue.pop_front() {
             order.push(s);
             if order.len() >= limit {
                 break;
             }
             for (_, e) in space.out_edges(s) {
-                if e.to != u32::MAX && index[e.to as usize] == u32::MAX {
-                    index[e.to as usize] = 0;
+                if e.to != NONE && !queued[e.to as usize] {
+                    queued[e.to as usize] = true;
                     queue.push_back(e.to);
                 }
             }
@@ -280,12 +281,12 @@ fn view_of(game: &Game, synthesis: &Synthesis, order: &[StateId], truncated: boo
     let mut edges = Vec::new();
     for &s in order {
         for (_, e) in space.out_edges(s) {
-            if e.to != u32::MAX && !exported.contains(&e.to) {
+            if e.to != NONE && !exported.contains(&e.to) {
                 continue;
             }
             edges.push(TransitionView {
                 from: s,
-                to: (e.to != u32::MAX).then_some(e.to),
+                to: (e.to != NONE).then_some(e.to),
                 kind: e.kind,
                 label: describe_edge(game, &synthesis.split, e),
                 zeno: e.zeno,
@@ -311,7 +312,7 @@ pub fn incoming(synthesis: &Synthesis) -> Vec<Vec<StateId>> {
     let space = &synthesis.solution.space;
     let mut incoming = vec![Vec::new(); space.states.len()];
     for e in &space.edges {
-        if e.to != u32::MAX {
+        if e.to != NONE {
             incoming[e.to as usize].push(e.from);
         }
     }
@@ -342,7 +343,7 @@ pub fn neighbourhood(
         if d >= k {
             continue;
         }
-        let succ = space.out_edges(x).map(|(_, e)| e.to).filter(|&t| t != u32::MAX);
+        let succ = space.out_edges(x).map(|(_, e)| e.to).filter(|&t| t != NONE);
         let pred = incoming[x as usize].iter().copied();
         for y in succ.chain(pred).collect::<Vec<_>>() {
             if dist.contains_key(&y) {
@@ -593,7 +594,7 @@ mod tests {
 
         let incoming = incoming(&s);
         let hood = neighbourhood(&game, &s, &incoming, 0, 1, 100).unwrap();
-        let succ: Vec<StateId> = s.solution.space.out_edges(0).map(|(_, e)| e.to).filter(|&t| t != u32::MAX).collect();
+        let succ: Vec<StateId> = s.solution.space.out_edges(0).map(|(_, e)| e.to).filter(|&t| t != NONE).collect();
         assert!(succ.iter().all(|t| hood.states.iter().any(|v| v.id == *t)), "one step reaches every successor");
         assert!(!neighbourhood(&game, &s, &incoming, 0, 3, 2).unwrap().states.is_empty());
         assert!(neighbourhood(&game, &s, &incoming, 0, 3, 2).unwrap().truncated);

@@ -379,7 +379,7 @@ pub fn constant_span(game: &model::Game, source: &str, clock: model::ClockId, va
             return numbers(interval.span).into_iter().find(|&(v, _)| v == value).map_or(interval.span, |(_, s)| s);
         }
     }
-    let declared = game.clocks[clock as usize].span;
+    let declared = game.clocks[clock.index()].span;
     // A plan's timeout clock is declared as `name bound`.
     numbers(declared).into_iter().rfind(|&(v, _)| v == value).map_or(declared, |(_, s)| s)
 }
@@ -430,7 +430,8 @@ mod tests {
     /// The text at each span [`constant_span`] finds for `(clock, value)`.
     fn located(source: &str, clock: &str, value: u32) -> String {
         let (game, _) = crate::timed::compile(source).expect("a valid specification");
-        let id = game.clocks.iter().position(|c| c.name == clock).expect("the clock") as model::ClockId;
+        let id =
+            crate::timed::model::ClockId::new(game.clocks.iter().position(|c| c.name == clock).expect("the clock"));
         let span = constant_span(&game, source, id, value);
         let (line, column) = Diagnostics::new(source).line_col(span.start as usize);
         format!("{line}:{column} {}", &source[span.range()])

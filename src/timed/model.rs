@@ -6,12 +6,37 @@
 //! everything else refers to dense indices.
 
 use crate::diag::Span;
+use crate::id::id_type;
 use serde::Serialize;
 
-pub type ClockId = u32;
-pub type MsgId = u32;
-pub type CompId = u32;
-pub type LocId = u32;
+id_type! {
+    /// A clock: an index into [`Game::clocks`] (0 is the zones' reference clock), and a bit of
+    /// the `resets` sets.
+    #[derive(Default, Serialize)]
+    #[serde(transparent)]
+    pub struct ClockId;
+}
+
+id_type! {
+    /// A message: an index into [`Game::messages`].
+    #[derive(Serialize)]
+    #[serde(transparent)]
+    pub struct MsgId;
+}
+
+id_type! {
+    /// A plant component: an index into [`Game::components`].
+    #[derive(Serialize)]
+    #[serde(transparent)]
+    pub struct CompId;
+}
+
+id_type! {
+    /// A location of one automaton (a component's or a plan's): an index into its locations.
+    #[derive(Serialize)]
+    #[serde(transparent)]
+    pub struct LocId;
+}
 
 /// The complete game: plant components, plans, safety predicate, guards and side information.
 #[derive(Clone, Debug, Serialize)]
@@ -184,7 +209,7 @@ impl Pred {
     pub fn eval(&self, locations: &[LocId]) -> bool {
         match self {
             Pred::Const { value } => *value,
-            Pred::At { comp, locations: set } => set.contains(&locations[*comp as usize]),
+            Pred::At { comp, locations: set } => set.contains(&locations[(*comp).index()]),
             Pred::Not { operand } => !operand.eval(locations),
             Pred::And { operands } => operands.iter().all(|p| p.eval(locations)),
             Pred::Or { operands } => operands.iter().any(|p| p.eval(locations)),
@@ -234,11 +259,11 @@ pub struct IoBinding {
 
 impl Game {
     pub fn message_id(&self, name: &str) -> Option<MsgId> {
-        self.messages.iter().position(|m| m.name == name).map(|i| i as MsgId)
+        self.messages.iter().position(|m| m.name == name).map(MsgId::new)
     }
 
     pub fn component_id(&self, name: &str) -> Option<CompId> {
-        self.components.iter().position(|c| c.name == name).map(|i| i as CompId)
+        self.components.iter().position(|c| c.name == name).map(CompId::new)
     }
 
     /// Number of zone indices: the reference clock plus every real clock.

@@ -4,7 +4,7 @@
 //! `program::simulate` drives it in eighths of a time unit with a scan after every plant step,
 //! `plc::lower::timed::realtime` in microseconds against a PLC with a real scan period.
 
-use super::model::{Game, Interval, LocId, MessageKind, MessageRole, MsgId};
+use super::model::{ClockId, CompId, Game, Interval, LocId, MessageKind, MessageRole, MsgId};
 use super::precompute::SplitGame;
 use super::solve::{StateId, StateKind, StateSpace};
 
@@ -66,10 +66,10 @@ impl Sensors {
         let holds: Vec<bool> = (0..game.messages.len())
             .map(|m| match game.messages[m].sender {
                 Some(s) if game.messages[m].role == MessageRole::Reaction => {
-                    let a = &game.components[s as usize];
+                    let a = &game.components[s.index()];
                     a.edges
                         .iter()
-                        .any(|e| e.message as usize == m && e.kind != MessageKind::Synchronised && e.to == a.initial)
+                        .any(|e| e.message.index() == m && e.kind != MessageKind::Synchronised && e.to == a.initial)
                 }
                 _ => false,
             })
@@ -78,12 +78,12 @@ impl Sensors {
             .iter()
             .map(|ms| {
                 let both = ms.iter().any(|&(_, n)| n) && ms.iter().any(|&(_, n)| !n);
-                both.then(|| ms.iter().any(|&(m, n)| !n && holds[m as usize]))
+                both.then(|| ms.iter().any(|&(m, n)| !n && holds[m.index()]))
             })
             .collect();
         let mut read = vec![false; holds.len()];
         for &(m, _) in inputs.iter().flatten() {
-            read[m as usize] = true;
+            read[m.index()] = true;
         }
         Sensors { messages: inputs.to_vec().into(), read: read.into(), latch, holds }
     }
@@ -93,7 +93,7 @@ impl Sensors {
             Some(v) => v,
             None => {
                 let ms = &self.messages[input];
-                let any = ms.iter().any(|&(m, _)| self.holds[m as usize]);
+                let any = ms.iter().any(|&(m, _)| self.holds[m.index()]);
                 if ms.iter().all(|&(_, n)| n) {
                     !any
                 } else {
@@ -123,7 +123,7 @@ impl Sensors {
 
     /// A plant move on `message` with the units `parts` happened: their reactions stop holding
     /// unless it is instant, its message holds and sets or clears its latches.
-    pub fn moved(&mut self, game: &Game, message: MsgId, instant: bool, parts: impl Iterator<Item = u32>) {
+    pub fn moved(&mut self, game: &Game, message: MsgId, instant: bool, parts: impl Iterator<Item = CompId>) {
         // `game` may extend the game the sensors were made for (a scan game): messages beyond
         // it are read by no input.
         let known = self.holds.len();
@@ -136,8 +136,8 @@ impl Sensors {
                 }
             }
         }
-        if (message as usize) < known && game.messages[message as usize].role == MessageRole::Reaction {
-            self.holds[message as usize] = true;
+        if message.index() < known && game.messages[message.index()].role == MessageRole::Reaction {
+            self.holds[message.index()] = true;
         }
         for (i, ms) in self.messages.iter().enumerate() {
             if let (Some(v), Some(&(_, negated))) = (&mut self.latch[i], ms.iter().find(|&&(k, _)| k == message)) {
@@ -206,7 +206,7 @@ impl<'g> Plant<'g> {
 
     fn guard_ok(&self, unit: usize, edge: usize) -> bool {
         let e = &self.game.components[unit].edges[edge];
-        e.guard.iter().all(|ci| self.holds(&ci.interval, self.clocks[ci.clock as usize]))
+        e.guard.iter().all(|ci| self.holds(&ci.interval, self.clocks[ci.clock.index()]))
     }
 
     /// Every move of the given kinds from the current locations, whatever the guards and clocks:
@@ -220,8 +220,8 @@ impl<'g> Plant<'g> {
                     continue;
                 }
                 let mut combos: Vec<Vec<(usize, usize)>> = vec![vec![(u, ei)]];
-                for &other in &self.game.messages[e.message as usize].synchronised {
-                    let o = other as usize;
+                for &other in &self.game.messages[e.message.index()].synchronised {
+                    let o = other.index();
                     let options: Vec<usize> = self.game.components[o]
                         .edges
                         .iter()
@@ -260,15 +260,15 @@ impl<'g> Plant<'g> {
         let mut clocks = self.clocks.clone();
         for &(u, ei) in parts {
             for &c in &self.game.components[u].edges[ei].resets {
-                clocks[c as usize] = 0;
+                clocks[c.index()] = 0;
             }
         }
         parts.iter().all(|&(u, ei)| {
             let to = self.game.components[u].edges[ei].to;
-            self.game.components[u].locations[to as usize]
+            self.game.components[u].locations[to.index()]
                 .invariant
                 .iter()
-                .all(|ci| self.holds(&ci.interval, clocks[ci.clock as usize]))
+                .all(|ci| self.holds(&ci.interval, clocks[ci.clock.index()]))
         })
     }
 
@@ -285,19 +285,19 @@ impl<'g> Plant<'g> {
                 (a, b) => a.or(b),
             };
         };
-        let reset = |c: u32| m.parts.iter().any(|&(u, ei)| self.game.components[u].edges[ei].resets.contains(&c));
+        let reset = |c: ClockId| m.parts.iter().any(|&(u, ei)| self.game.components[u].edges[ei].resets.contains(&c));
         for &(u, ei) in &m.parts {
             let e = &self.game.components[u].edges[ei];
             for ci in &e.guard {
-                meet(self.shift(&ci.interval, self.clocks[ci.clock as usize]));
+                meet(self.shift(&ci.interval, self.clocks[ci.clock.index()]));
             }
-            for ci in &self.game.components[u].locations[e.to as usize].invariant {
+            for ci in &self.game.components[u].locations[e.to.index()].invariant {
                 if reset(ci.clock) {
                     if !self.holds(&ci.interval, 0) {
                         return None;
                     }
                 } else {
-                    meet(self.shift(&ci.interval, self.clocks[ci.clock as usize]));
+                    meet(self.shift(&ci.interval, self.clocks[ci.clock.index()]));
                 }
             }
         }
@@ -313,7 +313,7 @@ impl<'g> Plant<'g> {
         for &(u, ei) in &m.parts {
             let e = &self.game.components[u].edges[ei];
             for &c in &e.resets {
-                self.clocks[c as usize] = 0;
+                self.clocks[c.index()] = 0;
             }
             self.locs[u] = e.to;
         }
@@ -321,7 +321,7 @@ impl<'g> Plant<'g> {
         for (p, plan) in self.game.plans.iter().enumerate() {
             if let Some(e) = plan.edges.iter().find(|e| e.from == self.plan_locs[p] && e.message == m.message) {
                 for &c in &e.resets {
-                    self.clocks[c as usize] = 0;
+                    self.clocks[c.index()] = 0;
                 }
                 self.plan_locs[p] = e.to;
                 progress = true;
@@ -334,8 +334,8 @@ impl<'g> Plant<'g> {
     pub fn room(&self) -> Option<i64> {
         let mut best: Option<i64> = None;
         for (u, a) in self.game.components.iter().enumerate() {
-            for ci in &a.locations[self.locs[u] as usize].invariant {
-                if let (_, Some(h)) = self.shift(&ci.interval, self.clocks[ci.clock as usize]) {
+            for ci in &a.locations[self.locs[u].index()].invariant {
+                if let (_, Some(h)) = self.shift(&ci.interval, self.clocks[ci.clock.index()]) {
                     let r = h.max(0);
                     best = Some(best.map_or(r, |b| b.min(r)));
                 }
@@ -362,7 +362,7 @@ impl<'g> Plant<'g> {
             .enumerate()
             .position(|(p, plan)| {
                 self.plan_locs[p] == plan.failed
-                    || plan.clocks.iter().any(|&(c, bound)| self.clocks[c as usize] > self.ticks_of(bound))
+                    || plan.clocks.iter().any(|&(c, bound)| self.clocks[c.index()] > self.ticks_of(bound))
             })
             .map(Violation::Plan)
     }
@@ -373,7 +373,7 @@ impl<'g> Plant<'g> {
             .plans
             .iter()
             .flat_map(|plan| plan.clocks.iter())
-            .map(|&(c, bound)| (self.ticks_of(bound) + 1 - self.clocks[c as usize]).max(0))
+            .map(|&(c, bound)| (self.ticks_of(bound) + 1 - self.clocks[c.index()]).max(0))
             .min()
     }
 
@@ -391,7 +391,7 @@ impl<'g> Plant<'g> {
                 && sub
                     .pieces
                     .iter()
-                    .all(|&(c, piece)| self.holds(&split.pieces[c as usize][piece as usize], self.clocks[c as usize]))
+                    .all(|&(c, piece)| self.holds(&split.pieces[c.index()][piece as usize], self.clocks[c.index()]))
         });
         located && space.zone(s).contains_point(&self.clocks, self.ticks)
     }

@@ -150,14 +150,14 @@ pub fn clock_usage(location_count: usize, local: &[bool], edges: &[(LocId, LocId
     let mut preds: Vec<Vec<LocId>> = vec![Vec::new(); location_count];
     for &(from, to, resets) in edges {
         if !resets {
-            preds[to as usize].push(from);
+            preds[to.index()].push(from);
         }
     }
-    let mut stack: Vec<LocId> = (0..location_count as LocId).filter(|&l| used[l as usize]).collect();
+    let mut stack: Vec<LocId> = (0..location_count).map(LocId::new).filter(|&l| used[l.index()]).collect();
     while let Some(l) = stack.pop() {
-        for &p in &preds[l as usize] {
-            if !used[p as usize] {
-                used[p as usize] = true;
+        for &p in &preds[l.index()] {
+            if !used[p.index()] {
+                used[p.index()] = true;
                 stack.push(p);
             }
         }
@@ -236,18 +236,18 @@ pub fn split(
     for a in &game.components {
         for l in &a.locations {
             for ci in &l.invariant {
-                constraints[ci.clock as usize].push(ci.interval);
+                constraints[ci.clock.index()].push(ci.interval);
             }
         }
         for e in &a.edges {
             for ci in &e.guard {
-                constraints[ci.clock as usize].push(ci.interval);
+                constraints[ci.clock.index()].push(ci.interval);
             }
         }
     }
     for p in &game.plans {
         for &(clock, bound) in &p.clocks {
-            constraints[clock as usize].push(Interval::closed(0, bound));
+            constraints[clock.index()].push(Interval::closed(0, bound));
         }
     }
     let pieces: Vec<Vec<Interval>> = constraints
@@ -396,7 +396,7 @@ impl SubLocIndex {
         let mut base = 0u64;
         let mut boxes = Vec::with_capacity(active.len());
         for (l, clocks) in active.into_iter().enumerate() {
-            let ranges: Vec<Range<u16>> = clocks.iter().map(|&c| ranges(l as LocId, c)).collect();
+            let ranges: Vec<Range<u16>> = clocks.iter().map(|&c| ranges(LocId::new(l), c)).collect();
             let mut strides = Vec::with_capacity(ranges.len());
             let mut count = 1u64;
             for r in &ranges {
@@ -439,7 +439,7 @@ impl SubLocIndex {
                 let pieces: Vec<(ClockId, u16)> = b.clocks.iter().copied().zip(combo.iter().copied()).collect();
                 meter.charge(heap_bytes(&pieces), STEP_COST + combo.len() as u64)?;
                 self.sublocs.push(SubLoc {
-                    location: l as LocId,
+                    location: LocId::new(l),
                     pieces,
                     delays: Vec::new(),
                     timeout: None,
@@ -466,7 +466,7 @@ impl SubLocIndex {
 
     /// The sub-location of `l` with every clock in its first piece (0 if there is none).
     fn initial(&self, l: LocId) -> SubLocId {
-        self.boxes[l as usize].id(|_| Some(0)).unwrap_or(0)
+        self.boxes[l.index()].id(|_| Some(0)).unwrap_or(0)
     }
 }
 
@@ -488,7 +488,7 @@ fn piece_in(pieces: &[(ClockId, u16)], clock: ClockId) -> Option<u16> {
 fn edges_by_source(location_count: usize, from: impl Iterator<Item = LocId>) -> Vec<Vec<u32>> {
     let mut out = vec![Vec::new(); location_count];
     for (e, l) in from.enumerate() {
-        out[l as usize].push(e as u32);
+        out[l.index()].push(e as u32);
     }
     out
 }
@@ -505,7 +505,7 @@ fn split_plant_unit(a: &Automaton, pieces: &[Vec<Interval>], meter: &mut SplitMe
         }
         for e in &a.edges {
             if e.guard.iter().any(|ci| ci.clock == c && !is_trivial(&ci.interval)) {
-                local[e.from as usize] = true;
+                local[e.from.index()] = true;
             }
         }
         let edges: Vec<(LocId, LocId, bool)> = a.edges.iter().map(|e| (e.from, e.to, e.resets.contains(&c))).collect();
@@ -516,7 +516,7 @@ fn split_plant_unit(a: &Automaton, pieces: &[Vec<Interval>], meter: &mut SplitMe
         }
     }
     let mut idx =
-        SubLocIndex::new(active, |l, c| allowed_pieces(&pieces[c as usize], c, &a.locations[l as usize].invariant));
+        SubLocIndex::new(active, |l, c| allowed_pieces(&pieces[c.index()], c, &a.locations[l.index()].invariant));
     if let Err(budget) = idx.build(meter) {
         return Err((budget, idx));
     }
@@ -529,9 +529,9 @@ fn split_plant_unit(a: &Automaton, pieces: &[Vec<Interval>], meter: &mut SplitMe
         let mut timeout = None;
         for &(clock, piece) in &sub.pieces {
             let next = piece + 1;
-            if (next as usize) < pieces[clock as usize].len() {
+            if (next as usize) < pieces[clock.index()].len() {
                 let target =
-                    idx.boxes[sub.location as usize].id(|c| if c == clock { Some(next) } else { piece_here(c) });
+                    idx.boxes[sub.location.index()].id(|c| if c == clock { Some(next) } else { piece_here(c) });
                 match target {
                     Some(target) => delays.push(Delay { clock, target }),
                     None => timeout = Some(clock),
@@ -539,16 +539,16 @@ fn split_plant_unit(a: &Automaton, pieces: &[Vec<Interval>], meter: &mut SplitMe
             }
         }
         let mut edges = Vec::new();
-        for &ei in &outgoing[sub.location as usize] {
+        for &ei in &outgoing[sub.location.index()] {
             let e = &a.edges[ei as usize];
             let enabled = e.guard.iter().all(|ci| match piece_here(ci.clock) {
-                Some(p) => within(&pieces[ci.clock as usize][p as usize], &ci.interval),
+                Some(p) => within(&pieces[ci.clock.index()][p as usize], &ci.interval),
                 None => is_trivial(&ci.interval),
             });
             if !enabled {
                 continue;
             }
-            let target = idx.boxes[e.to as usize].id(|c| if e.resets.contains(&c) { Some(0) } else { piece_here(c) });
+            let target = idx.boxes[e.to.index()].id(|c| if e.resets.contains(&c) { Some(0) } else { piece_here(c) });
             if let Some(target) = target {
                 edges.push(SplitEdge {
                     edge: ei,
@@ -562,7 +562,7 @@ fn split_plant_unit(a: &Automaton, pieces: &[Vec<Interval>], meter: &mut SplitMe
         }
         let bytes =
             heap_bytes(&delays) + heap_bytes(&edges) + edges.iter().map(|e| heap_bytes(&e.resets)).sum::<usize>();
-        let work = (outgoing[sub.location as usize].len() + sub.pieces.len()) as u64;
+        let work = (outgoing[sub.location.index()].len() + sub.pieces.len()) as u64;
         sub.delays = delays;
         sub.timeout = timeout;
         sub.edges = edges;
@@ -588,8 +588,8 @@ fn split_plan(
     let clocks: Vec<ClockId> = p.clocks.iter().map(|&(c, _)| c).collect();
     // A timeout clock is compared in every waiting location, so it is used everywhere but in `failed`.
     let active: Vec<Vec<ClockId>> =
-        (0..n).map(|l| if l as LocId == p.failed { Vec::new() } else { clocks.clone() }).collect();
-    let mut idx = SubLocIndex::new(active, |_, c| 0..pieces[c as usize].len() as u16);
+        (0..n).map(|l| if LocId::new(l) == p.failed { Vec::new() } else { clocks.clone() }).collect();
+    let mut idx = SubLocIndex::new(active, |_, c| 0..pieces[c.index()].len() as u16);
     let table = idx.boxes.iter().map(|b| b.count).fold(0u64, u64::saturating_add).saturating_mul(message_count as u64);
     let table_bytes = table.saturating_mul((size_of::<SubLocId>() + size_of::<u64>()) as u64);
     if let Err(budget) = meter.charge(usize::try_from(table_bytes).unwrap_or(usize::MAX), 0) {
@@ -607,7 +607,7 @@ fn split_plan(
         sub.failed = sub.location == p.failed
             || sub.pieces.iter().any(|&(c, piece)| {
                 let bound = p.clocks.iter().find(|(pc, _)| *pc == c).map(|&(_, b)| b).unwrap_or(u32::MAX);
-                !within(&pieces[c as usize][piece as usize], &Interval::closed(0, bound))
+                !within(&pieces[c.index()][piece as usize], &Interval::closed(0, bound))
             });
         if sub.failed {
             continue;
@@ -615,23 +615,24 @@ fn split_plan(
         let piece_here = |c: ClockId| piece_in(&sub.pieces, c);
         let mut delays = Vec::new();
         for &(clock, piece) in &sub.pieces {
-            if ((piece + 1) as usize) < pieces[clock as usize].len() {
+            if ((piece + 1) as usize) < pieces[clock.index()].len() {
                 let target =
-                    idx.boxes[sub.location as usize].id(|c| if c == clock { Some(piece + 1) } else { piece_here(c) });
+                    idx.boxes[sub.location.index()].id(|c| if c == clock { Some(piece + 1) } else { piece_here(c) });
                 if let Some(target) = target {
                     delays.push(Delay { clock, target });
                 }
             }
         }
-        for &ei in &outgoing[sub.location as usize] {
+        for &ei in &outgoing[sub.location.index()] {
             let e = &p.edges[ei as usize];
-            let target = idx.boxes[e.to as usize].id(|c| if e.resets.contains(&c) { Some(0) } else { piece_here(c) });
+            let target = idx.boxes[e.to.index()].id(|c| if e.resets.contains(&c) { Some(0) } else { piece_here(c) });
             if let Some(target) = target {
-                next[s * message_count + e.message as usize] = target;
-                resets[s * message_count + e.message as usize] = e.resets.iter().fold(0, |bits, &c| bits | 1 << c);
+                next[s * message_count + e.message.index()] = target;
+                resets[s * message_count + e.message.index()] =
+                    e.resets.iter().fold(0, |bits, &c| bits | 1 << c.index());
             }
         }
-        let work = (outgoing[sub.location as usize].len() + sub.pieces.len()) as u64;
+        let work = (outgoing[sub.location.index()].len() + sub.pieces.len()) as u64;
         let bytes = heap_bytes(&delays);
         sub.delays = delays;
         if let Err(budget) = meter.charge(bytes, work) {
@@ -675,7 +676,15 @@ mod tests {
     #[test]
     fn clock_usage_follows_edges_backwards_until_a_reset() {
         // 0 -> 1 -> 2 (uses c); 3 -> 1 resets c.
-        let used = clock_usage(4, &[false, false, true, false], &[(0, 1, false), (1, 2, false), (3, 1, true)]);
+        let used = clock_usage(
+            4,
+            &[false, false, true, false],
+            &[
+                (LocId::new(0), LocId::new(1), false),
+                (LocId::new(1), LocId::new(2), false),
+                (LocId::new(3), LocId::new(1), true),
+            ],
+        );
         assert_eq!(used, [true, true, true, false]);
     }
 }

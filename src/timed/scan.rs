@@ -136,20 +136,19 @@ pub fn scan_game(game: &Game, scan_ms: u64) -> Result<Game, ScanError> {
     }
     let period = period as u32;
 
-    let plc = out.components.len() as CompId;
-    let clock = out.clocks.len() as ClockId;
+    let plc = CompId::new(out.components.len());
+    let clock = ClockId::new(out.clocks.len());
     out.clocks.push(Clock { name: "plc.scan".into(), owner: ClockOwner::Component(plc), span: Span::default() });
-    let requests: Vec<MsgId> = (0..game.messages.len() as MsgId)
-        .filter(|&m| {
-            game.messages[m as usize].role == MessageRole::Request && game.messages[m as usize].sender.is_some()
-        })
+    let requests: Vec<MsgId> = (0..game.messages.len())
+        .map(MsgId::new)
+        .filter(|&m| game.messages[m.index()].role == MessageRole::Request && game.messages[m.index()].sender.is_some())
         .collect();
 
     // The plant takes each request with the delivery; where it cannot, it refuses.
     let mut refused_assertions = Vec::new();
     for (c, comp) in out.components.iter_mut().enumerate() {
         let mut refused: Option<LocId> = None;
-        let locations = comp.locations.len() as LocId;
+        let locations = comp.locations.len();
         for &r in &requests {
             let on_r: Vec<usize> = (0..comp.edges.len()).filter(|&i| comp.edges[i].message == r).collect();
             if on_r.is_empty() {
@@ -158,7 +157,7 @@ pub fn scan_game(game: &Game, scan_ms: u64) -> Result<Game, ScanError> {
             for &i in &on_r {
                 comp.edges[i].kind = MessageKind::Synchronised;
             }
-            for l in 0..locations {
+            for l in (0..locations).map(LocId::new) {
                 let guards: Vec<&[ClockInterval]> =
                     on_r.iter().map(|&i| &comp.edges[i]).filter(|e| e.from == l).map(|e| e.guard.as_slice()).collect();
                 let uncovered = complement(&guards);
@@ -167,7 +166,7 @@ pub fn scan_game(game: &Game, scan_ms: u64) -> Result<Game, ScanError> {
                 }
                 let to = *refused.get_or_insert_with(|| {
                     comp.locations.push(Location { name: "refused".into(), invariant: Vec::new(), span: comp.span });
-                    comp.locations.len() as LocId - 1
+                    LocId::new(comp.locations.len() - 1)
                 });
                 for guard in uncovered {
                     comp.edges.push(Edge {
@@ -185,7 +184,7 @@ pub fn scan_game(game: &Game, scan_ms: u64) -> Result<Game, ScanError> {
         }
         if let Some(loc) = refused {
             refused_assertions.push(AssertionRule {
-                holds: Pred::Not { operand: Box::new(Pred::At { comp: c as CompId, locations: vec![loc] }) },
+                holds: Pred::Not { operand: Box::new(Pred::At { comp: CompId::new(c), locations: vec![loc] }) },
                 text: format!("never {}.refused (a request arrives where {} cannot take it)", comp.name, comp.name),
                 span: comp.span,
             });
@@ -193,7 +192,7 @@ pub fn scan_game(game: &Game, scan_ms: u64) -> Result<Game, ScanError> {
     }
     out.assertions.extend(refused_assertions);
     for &r in &requests {
-        let m = &mut out.messages[r as usize];
+        let m = &mut out.messages[r.index()];
         if let Some(sender) = m.sender.replace(plc) {
             if !m.synchronised.contains(&sender) {
                 m.synchronised.push(sender);
@@ -203,26 +202,27 @@ pub fn scan_game(game: &Game, scan_ms: u64) -> Result<Game, ScanError> {
 
     // The scan automaton. Every plant reaction is a change the PLC sees at its next read: the
     // automaton takes `$m` with it in each location.
-    let reactions: Vec<MsgId> = (0..game.messages.len() as MsgId)
+    let reactions: Vec<MsgId> = (0..game.messages.len())
+        .map(MsgId::new)
         .filter(|&m| {
-            game.messages[m as usize].role == MessageRole::Reaction && game.messages[m as usize].sender.is_some()
+            game.messages[m.index()].role == MessageRole::Reaction && game.messages[m.index()].sender.is_some()
         })
         .collect();
     let mut message = |name: String, role: MessageRole| {
         out.messages.push(Message { name, role, sender: Some(plc), synchronised: Vec::new() });
-        out.messages.len() as MsgId - 1
+        MsgId::new(out.messages.len() - 1)
     };
     let tick = message("scan".into(), MessageRole::Reaction);
     let idle_msg = message("scan:idle".into(), MessageRole::Request);
     let commit_msgs: Vec<MsgId> = requests
         .iter()
-        .map(|&r| message(format!("scan:{}", game.messages[r as usize].name), MessageRole::Request))
+        .map(|&r| message(format!("scan:{}", game.messages[r.index()].name), MessageRole::Request))
         .collect();
     for &m in &reactions {
-        out.messages[m as usize].synchronised.push(plc);
+        out.messages[m.index()].synchronised.push(plc);
     }
     let within = |lower: u32, upper: u32| vec![ClockInterval { clock, interval: Interval::closed(lower, upper) }];
-    let (read, quiet, armed, scheduled) = (0, 1, 2, 3);
+    let (read, quiet, armed, scheduled) = (LocId::new(0), LocId::new(1), LocId::new(2), LocId::new(3));
     let location = |name: &str, invariant| Location { name: name.into(), invariant, span: Span::default() };
     let mut locations = vec![
         location("read", within(0, 0)),
@@ -253,10 +253,10 @@ pub fn scan_game(game: &Game, scan_ms: u64) -> Result<Game, ScanError> {
     let mut after: Vec<Option<(LocId, LocId)>> = vec![None; requests.len()];
     for (k, &r) in requests.iter().enumerate() {
         if pulsed(r) {
-            let name = &game.messages[r as usize].name;
-            let read_after = locations.len() as LocId;
+            let name = &game.messages[r.index()].name;
+            let read_after = LocId::new(locations.len());
             locations.push(location(&format!("read_after_{name}"), within(0, 0)));
-            let scheduled_after = locations.len() as LocId;
+            let scheduled_after = LocId::new(locations.len());
             locations.push(location(&format!("scheduled_after_{name}"), within(0, period)));
             // Idle there, the PLC reads again a scan later, where `r` is allowed again.
             edges.push(edge(read_after, scheduled, MessageKind::Controllable, idle_msg, Vec::new(), Vec::new(), true));
@@ -274,8 +274,8 @@ pub fn scan_game(game: &Game, scan_ms: u64) -> Result<Game, ScanError> {
         }
     }
     for (k, (&r, &commit)) in requests.iter().zip(&commit_msgs).enumerate() {
-        let out_r = locations.len() as LocId;
-        locations.push(location(&format!("out_{}", game.messages[r as usize].name), within(0, period)));
+        let out_r = LocId::new(locations.len());
+        locations.push(location(&format!("out_{}", game.messages[r.index()].name), within(0, period)));
         for &(from, barred) in &reads {
             if barred != Some(r) {
                 edges.push(edge(from, out_r, MessageKind::Controllable, commit, Vec::new(), Vec::new(), true));
@@ -285,7 +285,7 @@ pub fn scan_game(game: &Game, scan_ms: u64) -> Result<Game, ScanError> {
         edges.push(edge(out_r, next, MessageKind::Uncontrollable, r, within(0, period), Vec::new(), false));
     }
     for &m in &reactions {
-        for l in 0..locations.len() as LocId {
+        for l in (0..locations.len()).map(LocId::new) {
             let (to, resets) = if l == quiet { (armed, vec![clock]) } else { (l, Vec::new()) };
             edges.push(edge(l, to, MessageKind::Synchronised, m, Vec::new(), resets, false));
         }
@@ -301,7 +301,7 @@ pub fn scan_game(game: &Game, scan_ms: u64) -> Result<Game, ScanError> {
     });
     let mut commits = vec![None; out.messages.len()];
     for (&r, &c) in requests.iter().zip(&commit_msgs) {
-        commits[c as usize] = Some(r);
+        commits[c.index()] = Some(r);
     }
     out.scan = Some(ScanRoles {
         tick,
@@ -437,7 +437,7 @@ mod tests {
     /// A point on a grid of half units, inside `b`?
     fn inside(b: &[ClockInterval], point: &[u32]) -> bool {
         b.iter().all(|ci| {
-            let v = point[ci.clock as usize];
+            let v = point[ci.clock.index()];
             let i = ci.interval;
             let lo = 2 * i.lower;
             let above = if i.lower_closed { v >= lo } else { v > lo };
@@ -453,11 +453,11 @@ mod tests {
     #[test]
     fn the_complement_covers_exactly_the_points_no_guard_covers() {
         let g1 = vec![
-            ClockInterval { clock: 0, interval: iv(1, true, Some(3), false) },
-            ClockInterval { clock: 1, interval: iv(2, false, None, false) },
+            ClockInterval { clock: ClockId::new(0), interval: iv(1, true, Some(3), false) },
+            ClockInterval { clock: ClockId::new(1), interval: iv(2, false, None, false) },
         ];
-        let g2 = vec![ClockInterval { clock: 1, interval: iv(0, true, Some(1), true) }];
-        let g3 = vec![ClockInterval { clock: 0, interval: iv(4, true, Some(4), true) }];
+        let g2 = vec![ClockInterval { clock: ClockId::new(1), interval: iv(0, true, Some(1), true) }];
+        let g3 = vec![ClockInterval { clock: ClockId::new(0), interval: iv(4, true, Some(4), true) }];
         let guards: Vec<&[ClockInterval]> = vec![&g1, &g2, &g3];
         let boxes = complement(&guards);
         for x in 0..14 {

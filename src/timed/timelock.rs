@@ -23,7 +23,7 @@ pub fn warn(game: &Game, diags: &mut Diagnostics) {
     for unit in &game.components {
         let mut leaving: Vec<Vec<usize>> = vec![Vec::new(); unit.locations.len()];
         for (i, e) in unit.edges.iter().enumerate() {
-            leaving[e.from as usize].push(i);
+            leaving[e.from.index()].push(i);
         }
         initial_invariant(game, unit, diags);
         frozen_nodes(game, unit, &leaving, diags);
@@ -33,7 +33,7 @@ pub fn warn(game: &Game, diags: &mut Diagnostics) {
 
 /// The clock's name without its unit's prefix, as the user wrote it.
 fn clock_name<'g>(game: &'g Game, unit: &Automaton, c: ClockId) -> &'g str {
-    let name = &game.clocks[c as usize].name;
+    let name = &game.clocks[c.index()].name;
     name.strip_prefix(&format!("{}.", unit.name)).unwrap_or(name)
 }
 
@@ -62,7 +62,7 @@ fn intersect(a: &Interval, b: &Interval) -> Interval {
 fn satisfiable<'a>(constraints: impl IntoIterator<Item = &'a ClockInterval>, zero: u64) -> bool {
     let mut by_clock: Vec<(ClockId, Interval)> = Vec::new();
     for ci in constraints {
-        if zero >> ci.clock & 1 == 1 {
+        if zero >> ci.clock.index() & 1 == 1 {
             if !contains_zero(&ci.interval) {
                 return false;
             }
@@ -78,15 +78,15 @@ fn satisfiable<'a>(constraints: impl IntoIterator<Item = &'a ClockInterval>, zer
 
 /// A transition as written: `a -> b ?x`.
 fn transition(game: &Game, unit: &Automaton, e: &Edge) -> String {
-    let from = &unit.locations[e.from as usize].name;
-    let to = &unit.locations[e.to as usize].name;
-    format!("`{from} -> {to} {}{}`", e.kind.sigil(), game.messages[e.message as usize].name)
+    let from = &unit.locations[e.from.index()].name;
+    let to = &unit.locations[e.to.index()].name;
+    format!("`{from} -> {to} {}{}`", e.kind.sigil(), game.messages[e.message.index()].name)
 }
 
 /// The initial state has every clock at 0; an initial invariant that excludes 0 is violated
 /// from the start, and the solver judges the state as if the invariant held.
 fn initial_invariant(game: &Game, unit: &Automaton, diags: &mut Diagnostics) {
-    let node = &unit.locations[unit.initial as usize];
+    let node = &unit.locations[unit.initial.index()];
     for ci in node.invariant.iter().filter(|ci| !contains_zero(&ci.interval)) {
         let clock = clock_name(game, unit, ci.clock);
         diags
@@ -152,9 +152,9 @@ fn zero_time_cycles(game: &Game, unit: &Automaton, leaving: &[Vec<usize>], diags
         })
         .collect();
     let feasible = |cycle: &[usize]| {
-        let zero = cycle.iter().flat_map(|&i| &unit.edges[i].resets).fold(0u64, |z, &c| z | 1 << c);
+        let zero = cycle.iter().flat_map(|&i| &unit.edges[i].resets).fold(0u64, |z, &c| z | 1 << c.index());
         let guards = cycle.iter().flat_map(|&i| &unit.edges[i].guard);
-        let invariants = cycle.iter().flat_map(|&i| &unit.locations[unit.edges[i].from as usize].invariant);
+        let invariants = cycle.iter().flat_map(|&i| &unit.locations[(unit.edges[i].from).index()].invariant);
         satisfiable(guards.chain(invariants), zero)
     };
     let mut reported = vec![false; n];
@@ -177,10 +177,10 @@ fn zero_time_cycles(game: &Game, unit: &Automaton, leaving: &[Vec<usize>], diags
                 continue;
             };
             *next += 1;
-            let to = unit.edges[e].to as usize;
+            let to = (unit.edges[e].to).index();
             if to == start {
                 path.push(e);
-                let on_cycle = || path.iter().map(|&i| unit.edges[i].from as usize);
+                let on_cycle = || path.iter().map(|&i| (unit.edges[i].from).index());
                 if feasible(&path) && !on_cycle().any(|l| reported[l]) {
                     let cycle: Vec<usize> = on_cycle().collect();
                     cycle.iter().for_each(|&l| reported[l] = true);
@@ -211,7 +211,7 @@ fn report_cycle(
         );
     }
     for &i in path {
-        let from = unit.edges[i].from as usize;
+        let from = (unit.edges[i].from).index();
         if let (false, Some(ci)) = (unit.edges[i].instant, frozen[from]) {
             why.push(format!(
                 "node `{}` lets no time pass (`{} in {}`)",

@@ -114,7 +114,7 @@ fn agree(game: &Game, fast: &Synthesis, reference: &Synthesis) -> Result<Option<
 
 /// The clocks of the plans (a bit per zone index): only ever checked against a deadline.
 fn deadline_clocks(game: &Game) -> u64 {
-    game.plans.iter().flat_map(|p| &p.clocks).fold(0, |bits, &(c, _)| bits | 1 << c)
+    game.plans.iter().flat_map(|p| &p.clocks).fold(0, |bits, &(c, _)| bits | 1 << c.index())
 }
 
 /// Every winning state's plant reactions stay winning, and it has a winning request or can wait;

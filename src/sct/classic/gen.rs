@@ -26,7 +26,7 @@
 //! written under another label). Every error is located; the generator must be deterministic.
 //! The writer emits the native format with names quoted where libFAUDES would misread them.
 
-use super::{Automaton, AutomatonBuilder, BuildError, EventId, Events, StateId};
+use super::{Automaton, AutomatonBuilder, BuildError, ClassicEventId, Events, StateId};
 use crate::diag::Span;
 use hashbrown::{HashMap, HashSet};
 use std::fmt::Write as _;
@@ -44,12 +44,12 @@ pub struct GenFile {
     pub automaton: Automaton,
     /// The first mention of each event of the alphabet (in `<Alphabet>`, or in `<TransRel>`
     /// when that introduces it).
-    event_spans: HashMap<EventId, Span>,
+    event_spans: HashMap<ClassicEventId, Span>,
 }
 
 impl GenFile {
     /// Where the file first names `e`, if it is in the generator's alphabet.
-    pub fn event_span(&self, e: EventId) -> Option<Span> {
+    pub fn event_span(&self, e: ClassicEventId) -> Option<Span> {
         self.event_spans.get(&e).copied()
     }
 }
@@ -542,9 +542,9 @@ struct Reader<'s, 'e> {
     /// Each state as it is written (its name, or its index).
     labels: Vec<String>,
     max_index: u64,
-    alphabet: Vec<EventId>,
-    in_alphabet: HashSet<EventId>,
-    event_spans: HashMap<EventId, Span>,
+    alphabet: Vec<ClassicEventId>,
+    in_alphabet: HashSet<ClassicEventId>,
+    event_spans: HashMap<ClassicEventId, Span>,
 }
 
 impl<'s> Reader<'s, '_> {
@@ -552,7 +552,7 @@ impl<'s> Reader<'s, '_> {
         &self.s.toks[i]
     }
 
-    fn add_event(&mut self, name: &str, span: Span) -> EventId {
+    fn add_event(&mut self, name: &str, span: Span) -> ClassicEventId {
         let e = self.events.intern(name, false);
         if self.in_alphabet.insert(e) {
             self.alphabet.push(e);
@@ -618,7 +618,7 @@ impl<'s> Reader<'s, '_> {
     /// Controllability flags after an event (`AttributeCFlags::DoRead`): `+C+`-style options
     /// (C sets, c clears), hexadecimal flags, or XML tags `<Controllable/>` and `<Flags/>`.
     /// Returns the index after the attributes.
-    fn event_attributes(&mut self, e: EventId, mut i: usize, end: usize) -> usize {
+    fn event_attributes(&mut self, e: ClassicEventId, mut i: usize, end: usize) -> usize {
         let mut flags: Option<i64> = None;
         if i < end {
             match &self.tok(i).kind {
@@ -774,7 +774,7 @@ impl<'s> Reader<'s, '_> {
     /// Native `<TransRel>` (`vGenerator::ReadTransRel`). When no states are declared, the
     /// triples introduce them (by index or by name, not both); when the alphabet is empty,
     /// they introduce events.
-    fn read_trans_rel(&mut self, b: usize) -> Result<Vec<(StateId, EventId, StateId, Span)>, GenError> {
+    fn read_trans_rel(&mut self, b: usize) -> Result<Vec<(StateId, ClassicEventId, StateId, Span)>, GenError> {
         let end = self.s.close[b];
         let (mut new_by_index, mut new_by_name) = (self.labels.is_empty(), self.labels.is_empty());
         let new_events = self.alphabet.is_empty();
@@ -782,7 +782,7 @@ impl<'s> Reader<'s, '_> {
         let mut i = b + 1;
         while i < end {
             let start = self.tok(i).span;
-            let mut ends = [0 as StateId; 2];
+            let mut ends = [StateId::new(0); 2];
             let mut event = None;
             for (k, what) in ["a source state", "an event", "a target state"].into_iter().enumerate() {
                 if i >= end {
@@ -833,7 +833,10 @@ impl<'s> Reader<'s, '_> {
     }
 
     /// XML `<TransitionRelation>` (`vGenerator::XReadTransRel`).
-    fn read_transition_relation(&mut self, b: usize) -> Result<Vec<(StateId, EventId, StateId, Span)>, GenError> {
+    fn read_transition_relation(
+        &mut self,
+        b: usize,
+    ) -> Result<Vec<(StateId, ClassicEventId, StateId, Span)>, GenError> {
         let mut out = Vec::new();
         let sections = self.s;
         for i in sections.children(b) {
@@ -1029,7 +1032,8 @@ pub fn read_gen_file_within(src: &str, events: &mut Events, max_states: usize) -
                     span,
                     format!(
                         "a second initial state `{}` (the first is `{}`)",
-                        r.labels[st as usize], r.labels[first as usize]
+                        r.labels[st.index()],
+                        r.labels[first.index()]
                     ),
                 )
                 .note("SupCon needs deterministic generators: one initial state"));
@@ -1037,7 +1041,7 @@ pub fn read_gen_file_within(src: &str, events: &mut Events, max_states: usize) -
             _ => initial = Some(st),
         }
     }
-    let mut seen: HashMap<(StateId, EventId), StateId> = HashMap::new();
+    let mut seen: HashMap<(StateId, ClassicEventId), StateId> = HashMap::new();
     for &(x1, e, x2, span) in &trans {
         match seen.get(&(x1, e)) {
             Some(&t) if t != x2 => {
@@ -1045,10 +1049,10 @@ pub fn read_gen_file_within(src: &str, events: &mut Events, max_states: usize) -
                     span,
                     format!(
                         "state `{}` has two transitions on event `{}` (to `{}` and `{}`)",
-                        r.labels[x1 as usize],
+                        r.labels[x1.index()],
                         r.events.name(e),
-                        r.labels[t as usize],
-                        r.labels[x2 as usize]
+                        r.labels[t.index()],
+                        r.labels[x2.index()]
                     ),
                 )
                 .note("SupCon needs deterministic generators"));
@@ -1127,7 +1131,7 @@ pub fn write_gen(a: &Automaton, events: &Events, name: &str) -> String {
     }
     // State names: s<id> keeps them unique regardless of the original names.
     let state = |s: StateId| format!("s{s}");
-    let states = 0..a.num_states() as StateId;
+    let states = (0..a.num_states()).map(StateId::new);
     let mut o = format!("<Generator>\n\"{}\"\n", escape(name));
     let alphabet = a
         .alphabet()
@@ -1185,8 +1189,10 @@ x              c              +C+
         let src = "<Generator> <Alphabet> a +C+ </Alphabet> <States> 1 2 </States> <TransRel/> <InitStates> 1 </InitStates> <MarkedStates/> </Generator>";
         let mut ev = Events::new();
         let a = read_gen(src, &mut ev).unwrap();
-        assert_eq!((a.num_states(), a.num_transitions(), a.init()), (2, 0, Some(0)));
-        assert!(!a.is_marked(0) && !a.is_marked(1) && ev.is_controllable(ev.get("a").unwrap()));
+        assert_eq!((a.num_states(), a.num_transitions(), a.init()), (2, 0, Some(StateId::new(0))));
+        assert!(
+            !a.is_marked(StateId::new(0)) && !a.is_marked(StateId::new(1)) && ev.is_controllable(ev.get("a").unwrap())
+        );
     }
 
     #[test]
@@ -1206,7 +1212,7 @@ x              c              +C+
     fn writer_quotes_and_escapes_names() {
         let mut ev = Events::new();
         let names = ["true", "1x", "a<b>&\"c\"", "inf", "0x1F", "x y", "plain"];
-        let ids: Vec<EventId> = names.iter().map(|n| ev.intern(n, n.len() % 2 == 0)).collect();
+        let ids: Vec<ClassicEventId> = names.iter().map(|n| ev.intern(n, n.len() % 2 == 0)).collect();
         let mut b = AutomatonBuilder::new();
         let s = b.add_state("s", true);
         for &e in &ids {
@@ -1233,7 +1239,7 @@ x              c              +C+
     fn error(src: &str) -> (u32, u32, String, Vec<String>) {
         let e = read_gen(src, &mut Events::new()).unwrap_err();
         let d = e.diagnostic(src);
-        assert!(!d.message.contains('{') && !d.message.contains("EventId"), "debug text: {}", d.message);
+        assert!(!d.message.contains('{') && !d.message.contains("ClassicEventId"), "debug text: {}", d.message);
         (d.line, d.column, d.message, d.notes)
     }
 

@@ -3,7 +3,7 @@
 //! and state minimisation.
 //!
 //! Events live in one [`Events`] table shared by every automaton of a problem; an automaton
-//! stores its alphabet as a sorted list of [`EventId`]s and its transitions in a compressed
+//! stores its alphabet as a sorted list of [`ClassicEventId`]s and its transitions in a compressed
 //! sparse-row table sorted by (source, event), so that the transitions leaving a state are one
 //! contiguous slice and a product can merge two such slices in one pass.
 
@@ -12,23 +12,28 @@ pub mod gen;
 pub mod wmod;
 
 use crate::graph::{flags, Successors, View};
+use crate::id::id_type;
 pub use file_error::FileError;
 use hashbrown::HashMap;
 use petgraph::visit::{Dfs, NodeFiltered, Visitable};
 
-/// A compact event id: an index into [`Events`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct EventId(pub u32);
+id_type! {
+    /// A compact event id: an index into [`Events`]. Not the SynTACS model's
+    /// [`crate::sct::model::EventId`]; `sct::interchange` converts between the two.
+    pub struct ClassicEventId;
+}
 
-/// A compact state id: an index into an automaton's states.
-pub type StateId = u32;
+id_type! {
+    /// A compact state id: an index into an automaton's states.
+    pub struct StateId;
+}
 
 /// The event universe of a problem: names, and which events are controllable.
 #[derive(Clone, Debug, Default)]
 pub struct Events {
     names: Vec<String>,
     controllable: Vec<bool>,
-    index: HashMap<String, EventId>,
+    index: HashMap<String, ClassicEventId>,
 }
 
 impl Events {
@@ -38,31 +43,31 @@ impl Events {
 
     /// The id of `name`, inserting it with the given controllability if it is new. An existing
     /// event keeps its controllability; use [`Events::set_controllable`] to change it.
-    pub fn intern(&mut self, name: &str, controllable: bool) -> EventId {
+    pub fn intern(&mut self, name: &str, controllable: bool) -> ClassicEventId {
         if let Some(&id) = self.index.get(name) {
             return id;
         }
-        let id = EventId(self.names.len() as u32);
+        let id = ClassicEventId::new(self.names.len());
         self.names.push(name.to_string());
         self.controllable.push(controllable);
         self.index.insert(name.to_string(), id);
         id
     }
 
-    pub fn get(&self, name: &str) -> Option<EventId> {
+    pub fn get(&self, name: &str) -> Option<ClassicEventId> {
         self.index.get(name).copied()
     }
 
-    pub fn name(&self, e: EventId) -> &str {
-        &self.names[e.0 as usize]
+    pub fn name(&self, e: ClassicEventId) -> &str {
+        &self.names[e.index()]
     }
 
-    pub fn is_controllable(&self, e: EventId) -> bool {
-        self.controllable[e.0 as usize]
+    pub fn is_controllable(&self, e: ClassicEventId) -> bool {
+        self.controllable[e.index()]
     }
 
-    pub fn set_controllable(&mut self, e: EventId, c: bool) {
-        self.controllable[e.0 as usize] = c;
+    pub fn set_controllable(&mut self, e: ClassicEventId, c: bool) {
+        self.controllable[e.index()] = c;
     }
 
     pub fn len(&self) -> usize {
@@ -77,14 +82,14 @@ impl Events {
 /// One transition in the CSR table: the event and the target state.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub struct Edge {
-    pub event: EventId,
+    pub event: ClassicEventId,
     pub target: StateId,
 }
 
 /// A deterministic finite automaton with marked states (a "generator" in DES terms).
 #[derive(Clone, Debug)]
 pub struct Automaton {
-    alphabet: Vec<EventId>,
+    alphabet: Vec<ClassicEventId>,
     init: Option<StateId>,
     marked: Vec<bool>,
     offsets: Vec<u32>,
@@ -96,9 +101,9 @@ pub struct Automaton {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum BuildError {
     /// Two transitions leave one state on one event towards different targets.
-    Nondeterministic { state: StateId, event: EventId },
+    Nondeterministic { state: StateId, event: ClassicEventId },
     /// A transition uses an event outside the alphabet.
-    EventNotInAlphabet { event: EventId },
+    EventNotInAlphabet { event: ClassicEventId },
     /// A transition or the initial state names a state that does not exist.
     BadState { state: StateId },
 }
@@ -106,11 +111,11 @@ pub enum BuildError {
 /// Collects states and transitions in any order and builds the sorted table.
 #[derive(Clone, Debug, Default)]
 pub struct AutomatonBuilder {
-    alphabet: Vec<EventId>,
+    alphabet: Vec<ClassicEventId>,
     init: Option<StateId>,
     marked: Vec<bool>,
     names: Vec<String>,
-    trans: Vec<(StateId, EventId, StateId)>,
+    trans: Vec<(StateId, ClassicEventId, StateId)>,
 }
 
 impl AutomatonBuilder {
@@ -118,7 +123,7 @@ impl AutomatonBuilder {
         AutomatonBuilder::default()
     }
 
-    pub fn add_event(&mut self, e: EventId) {
+    pub fn add_event(&mut self, e: ClassicEventId) {
         self.alphabet.push(e);
     }
 
@@ -126,7 +131,7 @@ impl AutomatonBuilder {
     pub fn add_state(&mut self, name: impl Into<String>, marked: bool) -> StateId {
         self.names.push(name.into());
         self.marked.push(marked);
-        (self.marked.len() - 1) as StateId
+        StateId::new(self.marked.len() - 1)
     }
 
     pub fn set_init(&mut self, s: StateId) {
@@ -134,10 +139,10 @@ impl AutomatonBuilder {
     }
 
     pub fn set_marked(&mut self, s: StateId, m: bool) {
-        self.marked[s as usize] = m;
+        self.marked[s.index()] = m;
     }
 
-    pub fn add_transition(&mut self, from: StateId, e: EventId, to: StateId) {
+    pub fn add_transition(&mut self, from: StateId, e: ClassicEventId, to: StateId) {
         self.trans.push((from, e, to));
     }
 
@@ -150,7 +155,7 @@ impl AutomatonBuilder {
         self.alphabet.dedup();
         let n = self.marked.len();
         if let Some(i) = self.init {
-            if i as usize >= n {
+            if i.index() >= n {
                 return Err(BuildError::BadState { state: i });
             }
         }
@@ -164,13 +169,13 @@ impl AutomatonBuilder {
             }
         }
         for &(s, e, t) in &self.trans {
-            if s as usize >= n || t as usize >= n {
+            if s.index() >= n || t.index() >= n {
                 return Err(BuildError::BadState { state: s.max(t) });
             }
             if self.alphabet.binary_search(&e).is_err() {
                 return Err(BuildError::EventNotInAlphabet { event: e });
             }
-            offsets[s as usize + 1] += 1;
+            offsets[s.index() + 1] += 1;
             edges.push(Edge { event: e, target: t });
         }
         for i in 0..n {
@@ -189,13 +194,13 @@ impl AutomatonBuilder {
 
 impl Automaton {
     /// The automaton with no states (the empty language), over `alphabet`.
-    pub fn empty(mut alphabet: Vec<EventId>) -> Automaton {
+    pub fn empty(mut alphabet: Vec<ClassicEventId>) -> Automaton {
         alphabet.sort_unstable();
         alphabet.dedup();
         Automaton { alphabet, init: None, marked: Vec::new(), offsets: vec![0], edges: Vec::new(), names: Vec::new() }
     }
 
-    pub fn alphabet(&self) -> &[EventId] {
+    pub fn alphabet(&self) -> &[ClassicEventId] {
         &self.alphabet
     }
 
@@ -207,35 +212,40 @@ impl Automaton {
         self.marked.len()
     }
 
+    /// The state ids, in order.
+    pub fn states(&self) -> impl Iterator<Item = StateId> + Clone + use<> {
+        (0..self.num_states()).map(StateId::new)
+    }
+
     pub fn num_transitions(&self) -> usize {
         self.edges.len()
     }
 
     pub fn is_marked(&self, s: StateId) -> bool {
-        self.marked[s as usize]
+        self.marked[s.index()]
     }
 
     pub fn state_name(&self, s: StateId) -> &str {
-        &self.names[s as usize]
+        &self.names[s.index()]
     }
 
     /// The transitions leaving `s`, sorted by event.
     pub fn edges(&self, s: StateId) -> &[Edge] {
-        &self.edges[self.offsets[s as usize] as usize..self.offsets[s as usize + 1] as usize]
+        &self.edges[self.offsets[s.index()] as usize..self.offsets[s.index() + 1] as usize]
     }
 
     /// The successor of `s` on `e`, if defined.
-    pub fn step(&self, s: StateId, e: EventId) -> Option<StateId> {
+    pub fn step(&self, s: StateId, e: ClassicEventId) -> Option<StateId> {
         let out = self.edges(s);
         out.binary_search_by(|x| x.event.cmp(&e)).ok().map(|i| out[i].target)
     }
 
-    pub fn has_event(&self, e: EventId) -> bool {
+    pub fn has_event(&self, e: ClassicEventId) -> bool {
         self.alphabet.binary_search(&e).is_ok()
     }
 
     /// Runs a word from the initial state; `None` if it leaves the generated language.
-    pub fn run(&self, word: &[EventId]) -> Option<StateId> {
+    pub fn run(&self, word: &[ClassicEventId]) -> Option<StateId> {
         let mut s = self.init?;
         for &e in word {
             s = self.step(s, e)?;
@@ -247,8 +257,8 @@ impl Automaton {
     fn alphabet_mask(&self, n: usize) -> Vec<bool> {
         let mut m = vec![false; n];
         for e in &self.alphabet {
-            if (e.0 as usize) < n {
-                m[e.0 as usize] = true;
+            if e.index() < n {
+                m[e.index()] = true;
             }
         }
         m
@@ -263,19 +273,20 @@ impl Automaton {
 
     /// The same language over a larger alphabet: every event of `extra` not yet in the
     /// alphabet is added with a self-loop in every state (libFAUDES wants equal alphabets).
-    pub fn with_selfloops(&self, extra: &[EventId]) -> Automaton {
-        let new: Vec<EventId> = extra.iter().copied().filter(|e| !self.has_event(*e)).collect();
+    pub fn with_selfloops(&self, extra: &[ClassicEventId]) -> Automaton {
+        let new: Vec<ClassicEventId> = extra.iter().copied().filter(|e| !self.has_event(*e)).collect();
         let mut b = AutomatonBuilder::new();
         for &e in self.alphabet.iter().chain(&new) {
             b.add_event(e);
         }
         for s in 0..self.num_states() {
             b.add_state(self.names[s].clone(), self.marked[s]);
-            for e in self.edges(s as StateId) {
-                b.add_transition(s as StateId, e.event, e.target);
+            let s = StateId::new(s);
+            for e in self.edges(s) {
+                b.add_transition(s, e.event, e.target);
             }
             for &e in &new {
-                b.add_transition(s as StateId, e, s as StateId);
+                b.add_transition(s, e, s);
             }
         }
         if let Some(i) = self.init {
@@ -288,23 +299,22 @@ impl Automaton {
     /// states are dropped. The initial state is dropped too if `keep` rejects it.
     pub fn restrict(&self, keep: &[bool]) -> Automaton {
         let n = self.num_states();
-        let mut map = vec![u32::MAX; n];
-        let mut next = 0u32;
+        let mut map: Vec<Option<StateId>> = vec![None; n];
+        let mut next = 0usize;
         for s in 0..n {
             if keep[s] {
-                map[s] = next;
+                map[s] = Some(StateId::new(next));
                 next += 1;
             }
         }
-        let mut offsets = Vec::with_capacity(next as usize + 1);
+        let mut offsets = Vec::with_capacity(next + 1);
         offsets.push(0u32);
         let mut edges = Vec::new();
-        let mut marked = Vec::with_capacity(next as usize);
-        let mut names = Vec::with_capacity(next as usize);
+        let mut marked = Vec::with_capacity(next);
+        let mut names = Vec::with_capacity(next);
         for (s, _) in keep.iter().enumerate().take(n).filter(|(_, k)| **k) {
-            for e in self.edges(s as StateId) {
-                let t = map[e.target as usize];
-                if t != u32::MAX {
+            for e in self.edges(StateId::new(s)) {
+                if let Some(t) = map[e.target.index()] {
                     edges.push(Edge { event: e.event, target: t });
                 }
             }
@@ -312,7 +322,7 @@ impl Automaton {
             marked.push(self.marked[s]);
             names.push(self.names[s].clone());
         }
-        let init = self.init.and_then(|i| (map[i as usize] != u32::MAX).then_some(map[i as usize]));
+        let init = self.init.and_then(|i| map[i.index()]);
         if init.is_none() {
             return Automaton::empty(self.alphabet.clone());
         }
@@ -322,7 +332,7 @@ impl Automaton {
     /// States reachable from the initial state.
     pub fn reachable(&self) -> Vec<bool> {
         let graph = View(self);
-        let mut dfs = Dfs::from_parts(self.init.into_iter().collect(), graph.visit_map());
+        let mut dfs = Dfs::from_parts(self.init.into_iter().map(StateId::raw).collect(), graph.visit_map());
         while dfs.next(graph).is_some() {}
         flags(&dfs.discovered, self.num_states())
     }
@@ -362,24 +372,24 @@ struct Reverse {
 }
 
 impl Reverse {
-    fn new(a: &Automaton, mut filter: impl FnMut(EventId) -> bool) -> Reverse {
+    fn new(a: &Automaton, mut filter: impl FnMut(ClassicEventId) -> bool) -> Reverse {
         let n = a.num_states();
         let mut offsets = vec![0u32; n + 1];
         for e in &a.edges {
             if filter(e.event) {
-                offsets[e.target as usize + 1] += 1;
+                offsets[e.target.index() + 1] += 1;
             }
         }
         for i in 0..n {
             offsets[i + 1] += offsets[i];
         }
         let mut fill = offsets.clone();
-        let mut sources = vec![0; offsets[n] as usize];
+        let mut sources = vec![StateId::new(0); offsets[n] as usize];
         for s in 0..n {
-            for e in a.edges(s as StateId) {
+            for e in a.edges(StateId::new(s)) {
                 if filter(e.event) {
-                    sources[fill[e.target as usize] as usize] = s as StateId;
-                    fill[e.target as usize] += 1;
+                    sources[fill[e.target.index()] as usize] = StateId::new(s);
+                    fill[e.target.index()] += 1;
                 }
             }
         }
@@ -387,37 +397,37 @@ impl Reverse {
     }
 
     fn preds(&self, s: StateId) -> &[StateId] {
-        &self.sources[self.offsets[s as usize] as usize..self.offsets[s as usize + 1] as usize]
+        &self.sources[self.offsets[s.index()] as usize..self.offsets[s.index() + 1] as usize]
     }
 }
 
 /// States among `alive` that reach a marked alive state through alive states only.
 fn coreachable_within(a: &Automaton, rev: &Reverse, alive: &[bool]) -> Vec<bool> {
-    let graph = NodeFiltered(View(rev), |s: StateId| alive[s as usize]);
-    let marked = (0..a.num_states() as StateId).filter(|&s| alive[s as usize] && a.marked[s as usize]);
+    let graph = NodeFiltered(View(rev), |s: u32| alive[s as usize]);
+    let marked = (0..a.num_states()).filter(|&s| alive[s] && a.marked[s]).map(|s| s as u32);
     let mut dfs = Dfs::from_parts(marked.collect(), graph.visit_map());
     while dfs.next(&graph).is_some() {}
     flags(&dfs.discovered, a.num_states())
 }
 
 impl Successors for Automaton {
-    type Iter<'a> = std::iter::Map<std::slice::Iter<'a, Edge>, fn(&Edge) -> StateId>;
+    type Iter<'a> = std::iter::Map<std::slice::Iter<'a, Edge>, fn(&Edge) -> u32>;
     fn node_bound(&self) -> usize {
         self.num_states()
     }
-    fn successors(&self, s: StateId) -> Self::Iter<'_> {
-        self.edges(s).iter().map(|e| e.target)
+    fn successors(&self, s: u32) -> Self::Iter<'_> {
+        self.edges(StateId::from_raw(s)).iter().map(|e| e.target.raw())
     }
 }
 
 /// The reversed automaton: successors are the sources of the accepted edges into a state.
 impl Successors for Reverse {
-    type Iter<'a> = std::iter::Copied<std::slice::Iter<'a, StateId>>;
+    type Iter<'a> = std::iter::Map<std::slice::Iter<'a, StateId>, fn(&StateId) -> u32>;
     fn node_bound(&self) -> usize {
         self.offsets.len() - 1
     }
-    fn successors(&self, s: StateId) -> Self::Iter<'_> {
-        self.preds(s).iter().copied()
+    fn successors(&self, s: u32) -> Self::Iter<'_> {
+        self.preds(StateId::from_raw(s)).iter().map(|s| s.raw())
     }
 }
 
@@ -440,7 +450,7 @@ pub fn product(a: &Automaton, b: &Automaton, n_events: usize) -> Product {
 pub fn product_within(a: &Automaton, b: &Automaton, n_events: usize, max_states: usize) -> Result<Product, usize> {
     let in_a = a.alphabet_mask(n_events);
     let in_b = b.alphabet_mask(n_events);
-    let mut alphabet: Vec<EventId> = a.alphabet.iter().chain(&b.alphabet).copied().collect();
+    let mut alphabet: Vec<ClassicEventId> = a.alphabet.iter().chain(&b.alphabet).copied().collect();
     alphabet.sort_unstable();
     alphabet.dedup();
     let (Some(ia), Some(ib)) = (a.init, b.init) else {
@@ -448,10 +458,10 @@ pub fn product_within(a: &Automaton, b: &Automaton, n_events: usize, max_states:
     };
     let mut index: HashMap<(StateId, StateId), StateId> = HashMap::new();
     let mut pairs = vec![(ia, ib)];
-    index.insert((ia, ib), 0);
+    index.insert((ia, ib), StateId::new(0));
     let mut offsets = vec![0u32];
     let mut edges: Vec<Edge> = Vec::new();
-    let mut out: Vec<(EventId, StateId, StateId)> = Vec::new();
+    let mut out: Vec<(ClassicEventId, StateId, StateId)> = Vec::new();
     let mut k = 0usize;
     while k < pairs.len() {
         let (sa, sb) = pairs[k];
@@ -468,13 +478,13 @@ pub fn product_within(a: &Automaton, b: &Automaton, n_events: usize, max_states:
                     j += 1;
                 }
                 (Some(x), y) if y.is_none_or(|y| x < y) => {
-                    if !in_b[x.0 as usize] {
+                    if !in_b[x.index()] {
                         out.push((x, ea[i].target, sb));
                     }
                     i += 1;
                 }
                 (_, Some(y)) => {
-                    if !in_a[y.0 as usize] {
+                    if !in_a[y.index()] {
                         out.push((y, sa, eb[j].target));
                     }
                     j += 1;
@@ -483,7 +493,7 @@ pub fn product_within(a: &Automaton, b: &Automaton, n_events: usize, max_states:
             }
         }
         for &(e, ta, tb) in &out {
-            let next = pairs.len() as StateId;
+            let next = StateId::new(pairs.len());
             let t = *index.entry((ta, tb)).or_insert_with(|| {
                 pairs.push((ta, tb));
                 next
@@ -496,16 +506,16 @@ pub fn product_within(a: &Automaton, b: &Automaton, n_events: usize, max_states:
         offsets.push(edges.len() as u32);
         k += 1;
     }
-    let marked = pairs.iter().map(|&(x, y)| a.marked[x as usize] && b.marked[y as usize]).collect();
-    let names = pairs.iter().map(|&(x, y)| format!("{}|{}", a.names[x as usize], b.names[y as usize])).collect();
-    Ok(Product { automaton: Automaton { alphabet, init: Some(0), marked, offsets, edges, names }, pairs })
+    let marked = pairs.iter().map(|&(x, y)| a.marked[x.index()] && b.marked[y.index()]).collect();
+    let names = pairs.iter().map(|&(x, y)| format!("{}|{}", a.names[x.index()], b.names[y.index()])).collect();
+    Ok(Product { automaton: Automaton { alphabet, init: Some(StateId::new(0)), marked, offsets, edges, names }, pairs })
 }
 
 /// Error of the supervisor computations.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum SupConError {
     /// The specification uses events the plant does not know.
-    SpecEventsOutsidePlant(Vec<EventId>),
+    SpecEventsOutsidePlant(Vec<ClassicEventId>),
     /// `plant || spec` has more than `max_states` states.
     BudgetExceeded { max_states: usize },
 }
@@ -531,29 +541,29 @@ pub fn supcon_within(
     nonblocking: bool,
     max_states: usize,
 ) -> Result<Automaton, SupConError> {
-    let outside: Vec<EventId> = spec.alphabet.iter().copied().filter(|e| !plant.has_event(*e)).collect();
+    let outside: Vec<ClassicEventId> = spec.alphabet.iter().copied().filter(|e| !plant.has_event(*e)).collect();
     if !outside.is_empty() {
         return Err(SupConError::SpecEventsOutsidePlant(outside));
     }
-    let n_events = events.len().max(plant.alphabet.last().map_or(0, |e| e.0 as usize + 1));
+    let n_events = events.len().max(plant.alphabet.last().map_or(0, |e| e.index() + 1));
     let prod = product_within(plant, spec, n_events, max_states)
         .map_err(|max_states| SupConError::BudgetExceeded { max_states })?;
     let p = &prod.automaton;
     let n = p.num_states();
     let in_spec = spec.alphabet_mask(n_events);
-    let controllable = |e: EventId| (e.0 as usize) < events.len() && events.is_controllable(e);
+    let controllable = |e: ClassicEventId| e.index() < events.len() && events.is_controllable(e);
     // Initially bad: the plant can do an uncontrollable spec event that the product refuses.
     let mut alive = vec![true; n];
     let mut work: Vec<StateId> = Vec::new();
     for (s, &(g, _)) in prod.pairs.iter().enumerate() {
-        let pe = p.edges(s as StateId);
+        let pe = p.edges(StateId::new(s));
         for e in plant.edges(g) {
-            if controllable(e.event) || !in_spec[e.event.0 as usize] {
+            if controllable(e.event) || !in_spec[e.event.index()] {
                 continue;
             }
             if pe.binary_search_by(|x| x.event.cmp(&e.event)).is_err() {
                 alive[s] = false;
-                work.push(s as StateId);
+                work.push(StateId::new(s));
                 break;
             }
         }
@@ -567,8 +577,8 @@ pub fn supcon_within(
         // round of SupCon's loop).
         while let Some(s) = work.pop() {
             for &q in rev_u.preds(s) {
-                if alive[q as usize] {
-                    alive[q as usize] = false;
+                if alive[q.index()] {
+                    alive[q.index()] = false;
                     work.push(q);
                 }
             }
@@ -578,7 +588,7 @@ pub fn supcon_within(
         for s in 0..n {
             if alive[s] && !co[s] {
                 alive[s] = false;
-                work.push(s as StateId);
+                work.push(StateId::new(s));
             }
         }
         if work.is_empty() {
@@ -599,7 +609,7 @@ pub fn is_controllable(plant: &Automaton, sup: &Automaton, events: &Events) -> b
     (0..p.num_states()).all(|s| {
         let (g, _) = prod.pairs[s];
         plant.edges(g).iter().all(|e| {
-            events.is_controllable(e.event) || !in_sup[e.event.0 as usize] || p.step(s as StateId, e.event).is_some()
+            events.is_controllable(e.event) || !in_sup[e.event.index()] || p.step(StateId::new(s), e.event).is_some()
         })
     })
 }
@@ -610,18 +620,19 @@ pub fn is_controllable(plant: &Automaton, sup: &Automaton, events: &Events) -> b
 ///
 /// The reachable part is completed with a sink state (for missing transitions) and refined
 /// with Hopcroft's algorithm (`sct::partition`). Returns the quotient and, for every
-/// original state, its quotient state (`u32::MAX` for unreachable ones).
-pub fn minimize_with_key(a: &Automaton, key: &[u64]) -> (Automaton, Vec<StateId>) {
+/// original state, its quotient state (`None` for unreachable ones).
+pub fn minimize_with_key(a: &Automaton, key: &[u64]) -> (Automaton, Vec<Option<StateId>>) {
     let reach = a.reachable();
     let n = a.num_states();
-    let states: Vec<StateId> = (0..n as StateId).filter(|s| reach[*s as usize]).collect();
+    let states: Vec<StateId> = (0..n).filter(|&s| reach[s]).map(StateId::new).collect();
     if states.is_empty() {
-        return (Automaton::empty(a.alphabet.clone()), vec![u32::MAX; n]);
+        return (Automaton::empty(a.alphabet.clone()), vec![None; n]);
     }
     let m = states.len();
-    let mut local = vec![u32::MAX; n];
+    // Positions among the reachable states; every edge of a reachable state leads to one.
+    let mut local = vec![0u32; n];
     for (i, &s) in states.iter().enumerate() {
-        local[s as usize] = i as u32;
+        local[s.index()] = i as u32;
     }
     let k = a.alphabet.len();
     let sink = m as u32;
@@ -629,51 +640,57 @@ pub fn minimize_with_key(a: &Automaton, key: &[u64]) -> (Automaton, Vec<StateId>
     for (i, &s) in states.iter().enumerate() {
         for e in a.edges(s) {
             let ai = a.alphabet.binary_search(&e.event).expect("edge events are in the alphabet");
-            delta[i * k + ai] = local[e.target as usize];
+            delta[i * k + ai] = local[e.target.index()];
         }
     }
     // Keys: (marked, user key) made dense; the sink gets a key of its own.
     let mut dense: HashMap<(bool, u64), u64> = HashMap::new();
     let mut keys = Vec::with_capacity(m + 1);
     for &s in &states {
-        let kk = (a.marked[s as usize], key.get(s as usize).copied().unwrap_or(0));
+        let kk = (a.marked[s.index()], key.get(s.index()).copied().unwrap_or(0));
         let next = dense.len() as u64;
         keys.push(*dense.entry(kk).or_insert(next));
     }
     keys.push(u64::MAX);
     let blocks = crate::sct::partition::coarsest_partition(m + 1, k, &delta, &keys);
     let count = blocks.iter().copied().max().map_or(0, |b| b as usize + 1);
-    let mut class = vec![u32::MAX; n];
+    let mut class: Vec<Option<u32>> = vec![None; n];
     for (i, &s) in states.iter().enumerate() {
-        class[s as usize] = blocks[i];
+        class[s.index()] = Some(blocks[i]);
     }
+    let class_of = |s: StateId| class[s.index()].expect("reachable") as usize;
     // Build the quotient, numbering classes in order of first visit from the initial state.
-    let mut renum = vec![u32::MAX; count];
+    let mut renum: Vec<Option<StateId>> = vec![None; count];
     let mut rep: Vec<StateId> = Vec::new();
     let init = a.init.expect("non-empty");
     let mut b = AutomatonBuilder::new();
     for &e in &a.alphabet {
         b.add_event(e);
     }
-    renum[class[init as usize] as usize] = 0;
+    renum[class_of(init)] = Some(StateId::new(0));
     rep.push(init);
-    b.add_state(a.names[init as usize].clone(), a.marked[init as usize]);
+    b.add_state(a.names[init.index()].clone(), a.marked[init.index()]);
     let mut k = 0;
     while k < rep.len() {
         let s = rep[k];
         for e in a.edges(s) {
-            let c = class[e.target as usize] as usize;
-            if renum[c] == u32::MAX {
-                renum[c] = rep.len() as u32;
-                rep.push(e.target);
-                b.add_state(a.names[e.target as usize].clone(), a.marked[e.target as usize]);
-            }
-            b.add_transition(k as StateId, e.event, renum[c]);
+            let c = class_of(e.target);
+            let t = match renum[c] {
+                Some(t) => t,
+                None => {
+                    let t = StateId::new(rep.len());
+                    renum[c] = Some(t);
+                    rep.push(e.target);
+                    b.add_state(a.names[e.target.index()].clone(), a.marked[e.target.index()]);
+                    t
+                }
+            };
+            b.add_transition(StateId::new(k), e.event, t);
         }
         k += 1;
     }
-    b.set_init(0);
-    let map: Vec<StateId> = class.iter().map(|&c| if c == u32::MAX { u32::MAX } else { renum[c as usize] }).collect();
+    b.set_init(StateId::new(0));
+    let map: Vec<Option<StateId>> = class.iter().map(|&c| c.and_then(|c| renum[c as usize])).collect();
     (b.build().expect("quotient of a deterministic automaton is deterministic"), map)
 }
 
@@ -690,7 +707,7 @@ pub fn language_equal(a: &Automaton, b: &Automaton) -> bool {
     let mut stack = vec![(ia, ib)];
     seen.insert((ia, ib), ());
     while let Some((x, y)) = stack.pop() {
-        if a.marked[x as usize] != b.marked[y as usize] {
+        if a.marked[x.index()] != b.marked[y.index()] {
             return false;
         }
         let (ex, ey) = (a.edges(x), b.edges(y));

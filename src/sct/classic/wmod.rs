@@ -31,7 +31,7 @@
 //! `CONTROLLABLE` with the attribute `plcsynth:enforceable` in the event's `<AttributeMap>`
 //! (where Waters tools keep their own data), which this reader reads back.
 
-use super::{Automaton, AutomatonBuilder, EventId, Events, StateId};
+use super::{Automaton, AutomatonBuilder, ClassicEventId, Events, StateId};
 use crate::diag::Span;
 use hashbrown::{HashMap, HashSet};
 use std::fmt::Write as _;
@@ -102,23 +102,23 @@ pub struct Component {
 pub struct Module {
     pub name: String,
     /// The events the module declares (not propositions), in the file's order.
-    pub events: Vec<EventId>,
+    pub events: Vec<ClassicEventId>,
     /// The events marked [`ENFORCEABLE_ATTRIBUTE`].
-    pub enforceable: Vec<EventId>,
+    pub enforceable: Vec<ClassicEventId>,
     /// The events' attributes (`<AttributeMap>`): event, name, value.
-    pub attributes: Vec<(EventId, String, String)>,
+    pub attributes: Vec<(ClassicEventId, String, String)>,
     pub components: Vec<Component>,
     /// Where each event is declared.
-    event_spans: HashMap<EventId, Span>,
+    event_spans: HashMap<ClassicEventId, Span>,
 }
 
 impl Module {
     /// Where the module declares `e`, if it does.
-    pub fn event_span(&self, e: EventId) -> Option<Span> {
+    pub fn event_span(&self, e: ClassicEventId) -> Option<Span> {
         self.event_spans.get(&e).copied()
     }
 
-    pub fn is_enforceable(&self, e: EventId) -> bool {
+    pub fn is_enforceable(&self, e: ClassicEventId) -> bool {
         self.enforceable.contains(&e)
     }
 }
@@ -196,7 +196,7 @@ fn xml_error(src: &str, e: &roxmltree::Error) -> WmodError {
 /// What an event name declared in the module stands for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Declared {
-    Event(EventId),
+    Event(ClassicEventId),
     Accepting,
     Forbidden,
     /// Any other proposition (multi-coloured marking), refused where it is used.
@@ -215,7 +215,7 @@ struct Reader<'e> {
     states: usize,
     declared: HashMap<String, Declared>,
     /// Alias name → the events it stands for.
-    aliases: HashMap<String, Vec<EventId>>,
+    aliases: HashMap<String, Vec<ClassicEventId>>,
 }
 
 /// The element's start tag, for errors about the element.
@@ -452,14 +452,15 @@ impl Reader<'_> {
             let before = pending.len();
             let mut i = 0;
             while i < pending.len() {
-                let resolved: Option<Vec<EventId>> = pending[i].2.iter().try_fold(Vec::new(), |mut acc, (m, _)| {
-                    match (self.declared.get(m.as_str()), self.aliases.get(m.as_str())) {
-                        (Some(Declared::Event(e)), _) => acc.push(*e),
-                        (_, Some(es)) => acc.extend(es),
-                        _ => return None,
-                    }
-                    Some(acc)
-                });
+                let resolved: Option<Vec<ClassicEventId>> =
+                    pending[i].2.iter().try_fold(Vec::new(), |mut acc, (m, _)| {
+                        match (self.declared.get(m.as_str()), self.aliases.get(m.as_str())) {
+                            (Some(Declared::Event(e)), _) => acc.push(*e),
+                            (_, Some(es)) => acc.extend(es),
+                            _ => return None,
+                        }
+                        Some(acc)
+                    });
                 match resolved {
                     Some(es) => {
                         let (name, _, _) = pending.swap_remove(i);
@@ -515,7 +516,7 @@ impl Reader<'_> {
     }
 
     /// The events a label names (an alias stands for its events), refusing propositions.
-    fn label(&self, id: Node, parent: &str) -> Result<Vec<EventId>, WmodError> {
+    fn label(&self, id: Node, parent: &str) -> Result<Vec<ClassicEventId>, WmodError> {
         check_namespace(id)?;
         if local(id) != "SimpleIdentifier" {
             return Err(unsupported(id, parent));
@@ -677,8 +678,8 @@ impl Reader<'_> {
                     return Err(WmodError::at(
                         attr_span(n, "Initial"),
                         format!("a second initial state `{node_name}` in component `{name}` (the first is `{}`)", {
-                            let k = first as usize;
-                            by_name.iter().find(|(_, v)| v.0 == Some(k as StateId)).map_or("?", |(n, _)| n)
+                            let k = first.index();
+                            by_name.iter().find(|(_, v)| v.0 == Some(StateId::new(k))).map_or("?", |(n, _)| n)
                         }),
                     )
                     .note("SupCon needs deterministic automata: one initial state"));
@@ -694,7 +695,7 @@ impl Reader<'_> {
         if let Some((s, _)) = initial {
             b.set_init(s);
         }
-        let mut seen: HashMap<(StateId, EventId), StateId> = HashMap::new();
+        let mut seen: HashMap<(StateId, ClassicEventId), StateId> = HashMap::new();
         for edge in edges.map(elements).transpose()?.unwrap_or_default() {
             check_namespace(edge)?;
             if local(edge) != "Edge" {
@@ -713,7 +714,7 @@ impl Reader<'_> {
                     }
                 }
             }
-            let mut labels: Vec<(EventId, Span)> = Vec::new();
+            let mut labels: Vec<(ClassicEventId, Span)> = Vec::new();
             for part in elements(edge)? {
                 check_namespace(part)?;
                 if local(part) != "LabelBlock" {
@@ -803,9 +804,10 @@ pub fn write_wmod(
     comment: &str,
     components: &[ComponentOut],
     events: &Events,
-    attributes: &[(EventId, &str, String)],
+    attributes: &[(ClassicEventId, &str, String)],
 ) -> String {
-    let mut used: Vec<EventId> = components.iter().flat_map(|c| c.automaton.alphabet().iter().copied()).collect();
+    let mut used: Vec<ClassicEventId> =
+        components.iter().flat_map(|c| c.automaton.alphabet().iter().copied()).collect();
     used.sort_unstable();
     used.dedup();
     let mut o = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"yes\"?>\n");
@@ -817,7 +819,7 @@ pub fn write_wmod(
     for &e in &used {
         let kind = if events.is_controllable(e) { "CONTROLLABLE" } else { "UNCONTROLLABLE" };
         let name = escape(events.name(e));
-        let attrs: Vec<&(EventId, &str, String)> = attributes.iter().filter(|a| a.0 == e).collect();
+        let attrs: Vec<&(ClassicEventId, &str, String)> = attributes.iter().filter(|a| a.0 == e).collect();
         if attrs.is_empty() {
             let _ = writeln!(o, "<EventDecl Kind=\"{kind}\" Name=\"{name}\"/>");
             continue;
@@ -834,15 +836,15 @@ pub fn write_wmod(
         let _ = writeln!(o, "<SimpleComponent Kind=\"{}\" Name=\"{}\">\n<Graph>", c.kind.waters_name(), escape(c.name));
         let names = unique_state_names(a);
         let mut on_edge = vec![false; events.len()];
-        for s in 0..a.num_states() as StateId {
+        for s in a.states() {
             for e in a.edges(s) {
-                on_edge[e.event.0 as usize] = true;
+                on_edge[e.event.index()] = true;
             }
         }
-        let blocked: Vec<EventId> = a.alphabet().iter().copied().filter(|e| !on_edge[e.0 as usize]).collect();
+        let blocked: Vec<ClassicEventId> = a.alphabet().iter().copied().filter(|e| !on_edge[e.index()]).collect();
         // No state marked: `:accepting` in the alphabet all the same, or every state would
         // read as marked.
-        let unmarked = a.num_states() > 0 && (0..a.num_states() as StateId).all(|s| !a.is_marked(s));
+        let unmarked = a.num_states() > 0 && a.states().all(|s| !a.is_marked(s));
         if !blocked.is_empty() || unmarked {
             o.push_str("<LabelBlock>\n");
             if unmarked {
@@ -855,9 +857,9 @@ pub fn write_wmod(
         }
         if a.num_states() > 0 {
             o.push_str("<NodeList>\n");
-            for s in 0..a.num_states() as StateId {
+            for s in a.states() {
                 let initial = if a.init() == Some(s) { " Initial=\"true\"" } else { "" };
-                let name = escape(&names[s as usize]);
+                let name = escape(&names[s.index()]);
                 if a.is_marked(s) {
                     let _ = writeln!(
                         o,
@@ -871,9 +873,9 @@ pub fn write_wmod(
         }
         if a.num_transitions() > 0 {
             o.push_str("<EdgeList>\n");
-            for s in 0..a.num_states() as StateId {
+            for s in a.states() {
                 // One edge per target, labelled with all its events, as Supremica draws them.
-                let mut by_target: Vec<(StateId, Vec<EventId>)> = Vec::new();
+                let mut by_target: Vec<(StateId, Vec<ClassicEventId>)> = Vec::new();
                 for e in a.edges(s) {
                     match by_target.iter_mut().find(|(t, _)| *t == e.target) {
                         Some((_, es)) => es.push(e.event),
@@ -884,8 +886,8 @@ pub fn write_wmod(
                     let _ = writeln!(
                         o,
                         "<Edge Source=\"{}\" Target=\"{}\">\n<LabelBlock>",
-                        escape(&names[s as usize]),
-                        escape(&names[t as usize])
+                        escape(&names[s.index()]),
+                        escape(&names[t.index()])
                     );
                     for e in es {
                         let _ = writeln!(o, "<SimpleIdentifier Name=\"{}\"/>", escape(events.name(e)));
@@ -905,7 +907,7 @@ pub fn write_wmod(
 fn unique_state_names(a: &Automaton) -> Vec<String> {
     let mut taken: HashSet<String> = HashSet::new();
     let mut out = Vec::with_capacity(a.num_states());
-    for s in 0..a.num_states() as StateId {
+    for s in a.states() {
         let base = a.state_name(s);
         let base = if base.is_empty() { format!("s{s}") } else { base.to_string() };
         let mut name = base.clone();
@@ -995,8 +997,8 @@ mod tests {
         assert!(ev.is_controllable(start) && !ev.is_controllable(finish));
         let a = &plant.automaton;
         assert_eq!((a.num_states(), a.num_transitions()), (2, 3));
-        assert!(a.is_marked(0) && !a.is_marked(1));
-        assert_eq!(a.run(&[start, brk, start, finish]), Some(0));
+        assert!(a.is_marked(StateId::new(0)) && !a.is_marked(StateId::new(1)));
+        assert_eq!(a.run(&[start, brk, start, finish]), Some(StateId::new(0)));
         // The forbidden state is left out with its edge; `break` stays in the alphabet, so the
         // specification disables it; `start` is blocked (in the alphabet, on no edge).
         let s = &spec.automaton;
@@ -1010,7 +1012,7 @@ mod tests {
             }[..]
         );
         // No `:accepting` in the specification: every state marked.
-        assert!(s.is_marked(0));
+        assert!(s.is_marked(StateId::new(0)));
         assert_eq!(&SUPREMICA_STYLE[plant.span.range()], "M");
     }
 
@@ -1040,7 +1042,7 @@ mod tests {
                 (x.num_states(), x.num_transitions(), x.init()),
                 (y.num_states(), y.num_transitions(), y.init())
             );
-            for s in 0..x.num_states() as StateId {
+            for s in x.states() {
                 assert_eq!(x.is_marked(s), y.is_marked(s));
                 assert_eq!(x.state_name(s), y.state_name(s));
                 let names = |a: &Automaton, ev: &Events| {

@@ -32,14 +32,14 @@ pub(super) struct ScanArm {
 impl ScanArm {
     pub(super) fn new(game: &Game, split: &SplitGame) -> Option<ScanArm> {
         let roles = game.scan.as_ref()?;
-        let unit = roles.plc as usize;
+        let unit = roles.plc.index();
         let sublocs = &split.units[unit].sublocs;
         let find = |loc: LocId, piece: Option<bool>| {
             let position = sublocs.iter().position(|sl| {
                 sl.location == loc
                     && piece.is_none_or(|closed| {
                         sl.pieces.iter().any(|&(c, p)| {
-                            let iv = split.pieces[c as usize][p as usize];
+                            let iv = split.pieces[c.index()][p as usize];
                             c == roles.clock && iv.lower == 0 && iv.lower_closed == closed
                         })
                     })
@@ -71,7 +71,7 @@ impl Solver<'_, '_> {
             let mut clocks = 0u64;
             for (u, &s) in env.iter().enumerate() {
                 for &(c, _) in &units[u].sublocs[s as usize].pieces {
-                    clocks |= 1 << c;
+                    clocks |= 1 << c.index();
                 }
             }
             self.env_clocks.push(clocks);
@@ -88,7 +88,7 @@ impl Solver<'_, '_> {
             let mut clocks = 0u64;
             for (p, &s) in plan.iter().enumerate() {
                 for &(c, _) in &units[base + p].sublocs[s as usize].pieces {
-                    clocks |= 1 << c;
+                    clocks |= 1 << c.index();
                 }
             }
             self.plan_clocks.push(clocks);
@@ -112,10 +112,10 @@ impl Solver<'_, '_> {
         let base = self.split.plant_count;
         for (u, &s) in env.iter().enumerate().chain(plan.iter().enumerate().map(|(p, s)| (base + p, s))) {
             for &(clock, piece) in &units[u].sublocs[s as usize].pieces {
-                let iv = &self.split.pieces[clock as usize][piece as usize];
+                let iv = &self.split.pieces[clock.index()][piece as usize];
                 if let Some(upper) = iv.upper {
                     let b = if iv.upper_closed { Bound::le(upper as i32) } else { Bound::lt(upper as i32) };
-                    if !zone.constrain(clock as usize, 0, b) {
+                    if !zone.constrain(clock.index(), 0, b) {
                         return false;
                     }
                 }
@@ -328,8 +328,8 @@ impl Solver<'_, '_> {
     pub(super) fn synchronise(&mut self, env: &[SubLocId], mut partial: Vec<Move>) -> Option<Vec<Move>> {
         let Some(message) = partial.first().map(|m| m.message) else { return Some(partial) };
         let split = self.split;
-        for &other in &split.sync_units[message as usize] {
-            let other = other as usize;
+        for &other in &split.sync_units[message.index()] {
+            let other = other.index();
             let options: Vec<_> = split.units[other].sublocs[env[other] as usize]
                 .edges
                 .iter()
@@ -381,7 +381,7 @@ impl Solver<'_, '_> {
             let mut resets = m.resets;
             let mut progress = false;
             for (p, sub) in plan2.iter_mut().enumerate() {
-                let slot = *sub as usize * self.split.message_count + m.message as usize;
+                let slot = *sub as usize * self.split.message_count + m.message.index();
                 let next = self.split.plan_next[p][slot];
                 if next != STAY {
                     // Reaching a goal is progress even when the plan loops to the same location.
@@ -555,7 +555,7 @@ impl Solver<'_, '_> {
             let sub = if u < plant_count { env[u] } else { plan[u - plant_count] };
             let sl = &self.split.units[u].sublocs[sub as usize];
             for &(clock, piece) in &sl.pieces {
-                let iv = self.split.pieces[clock as usize][piece as usize];
+                let iv = self.split.pieces[clock.index()][piece as usize];
                 let Some(upper) = iv.upper else { continue };
                 exits.push(Exit {
                     unit: u,
@@ -605,7 +605,7 @@ impl Solver<'_, '_> {
         if exits[k].closed == exits[r].closed {
             let mut with = zone.clone();
             let d = exits[k].upper - exits[r].upper;
-            let (ck, cr) = (exits[k].clock as usize, exits[r].clock as usize);
+            let (ck, cr) = ((exits[k].clock).index(), (exits[r].clock).index());
             if with.constrain(ck, cr, Bound::le(d)) && with.constrain(cr, ck, Bound::le(-d)) {
                 let mut set2 = set.clone();
                 set2.push(k);
@@ -668,12 +668,12 @@ impl Solver<'_, '_> {
         if let Some(arm) = &self.scan_arm {
             if env2[arm.unit] == arm.quiet && set.iter().any(|&k| exits[k].clock != arm.clock) {
                 let first = &exits[set[0]];
-                let c = first.clock as usize;
+                let c = first.clock.index();
                 zone.up();
                 if !(zone.constrain(c, 0, Bound::le(first.upper)) && zone.constrain(0, c, Bound::le(-first.upper))) {
                     return;
                 }
-                zone.reset(arm.clock as usize);
+                zone.reset(arm.clock.index());
                 // The clock is 0 at the change: in the target it is still 0 if the piece entered
                 // starts there, and above 0 if the piece starts just after it.
                 env2[arm.unit] = if first.closed { arm.armed_after_zero } else { arm.armed_at_zero };
@@ -682,9 +682,9 @@ impl Solver<'_, '_> {
         zone.up();
         for &k in set {
             let e = &exits[k];
-            let iv = self.split.pieces[e.clock as usize][e.next_piece as usize];
+            let iv = self.split.pieces[e.clock.index()][e.next_piece as usize];
             let lower = if iv.lower_closed { Bound::le(-(iv.lower as i32)) } else { Bound::lt(-(iv.lower as i32)) };
-            if !zone.constrain(0, e.clock as usize, lower) {
+            if !zone.constrain(0, e.clock.index(), lower) {
                 return;
             }
         }
@@ -695,7 +695,7 @@ impl Solver<'_, '_> {
         self.normalise(env_id, plan_id, &mut zone);
         // Time moved some clock into its next piece: a new plant state for the zeno memory.
         let first = &exits[set[0]];
-        let clocks = set.iter().fold(0u64, |bits, &k| bits | 1 << exits[k].clock);
+        let clocks = set.iter().fold(0u64, |bits, &k| bits | 1 << exits[k].clock.index());
         let edge = Edge {
             from: s,
             to: NONE,
@@ -787,7 +787,7 @@ struct Exit {
 fn later(zone: &mut Dbm, c: &Exit, r: &Exit) -> bool {
     let d = c.upper - r.upper;
     let bound = if c.closed && !r.closed { Bound::le(d) } else { Bound::lt(d) };
-    zone.constrain(c.clock as usize, r.clock as usize, bound)
+    zone.constrain(c.clock.index(), r.clock.index(), bound)
 }
 
 pub(super) fn guard_edge(from: StateId, to: StateId, message: MsgId, instant: bool) -> Edge {
@@ -808,5 +808,5 @@ pub(super) fn guard_edge(from: StateId, to: StateId, message: MsgId, instant: bo
 }
 
 fn clock_bits(clocks: &[ClockId]) -> u64 {
-    clocks.iter().fold(0, |bits, &c| bits | 1 << c)
+    clocks.iter().fold(0, |bits, &c| bits | 1 << c.index())
 }

@@ -64,7 +64,10 @@ use std::collections::VecDeque;
 use strategy::{plan_goals, send_distances, Deferred};
 use zeno::{Vis, ZenoSets};
 
-const NONE: u32 = u32::MAX;
+/// No state, edge or stored zone: an edge's `to` for timeouts and zeno repetitions (which lead
+/// nowhere), and the unset value of the tables' optional ids (first incoming edge, deferred
+/// target, exact zone, strategy choice). The one definition; every reader of a space uses it.
+pub const NONE: u32 = u32::MAX;
 /// The strategy's alternative of a state that lets time pass (or the plant move).
 const WAIT: u32 = u32::MAX - 1;
 
@@ -338,7 +341,7 @@ impl<'g, 'p> Solver<'g, 'p> {
             losses: uses_dominance(game, options).then(hashbrown::HashMap::new),
             dominated: 0,
             monotone: Vec::new(),
-            deadline_clocks: game.plans.iter().flat_map(|p| &p.clocks).fold(0, |bits, &(c, _)| bits | 1 << c),
+            deadline_clocks: game.plans.iter().flat_map(|p| &p.clocks).fold(0, |bits, &(c, _)| bits | 1 << c.index()),
             queue: VecDeque::new(),
             lazy: !options.exhaustive,
             memory: options.zeno_memory,

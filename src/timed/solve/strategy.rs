@@ -38,8 +38,8 @@ impl Solver<'_, '_> {
             let nearest = self.plan_goals[p][sub as usize]
                 .iter()
                 .filter_map(|&m| {
-                    let sender = self.game.messages[m as usize].sender? as usize;
-                    self.send_distance[m as usize].get(locations[sender] as usize).copied()
+                    let sender = (self.game.messages[m.index()].sender?).index();
+                    self.send_distance[m.index()].get(locations[sender].index()).copied()
                 })
                 .min()
                 .unwrap_or(u16::MAX);
@@ -80,7 +80,7 @@ impl Solver<'_, '_> {
                     }
                     return (here, self.goal_distance(env, plan), true);
                 }
-                match roles.commits.get(message as usize).copied().flatten() {
+                match roles.commits.get(message.index()).copied().flatten() {
                     Some(request) if hints.contains(&Hint::Request(request)) => (1, 0, false),
                     Some(request) => self.delivery_order(env, plan, request),
                     None => (here, self.goal_distance(env, plan), false),
@@ -121,7 +121,7 @@ impl Solver<'_, '_> {
         for m in &moves {
             let mut plans_after = plans.clone();
             for (p, sub) in plans_after.iter_mut().enumerate() {
-                let next = self.split.plan_next[p][*sub as usize * self.split.message_count + request as usize];
+                let next = self.split.plan_next[p][*sub as usize * self.split.message_count + request.index()];
                 if next != STAY {
                     progress = true;
                     *sub = next;
@@ -298,7 +298,7 @@ pub(super) fn plan_goals(split: &SplitGame) -> Vec<Vec<Vec<MsgId>>> {
                     let next = &split.plan_next[p][sub * messages..(sub + 1) * messages];
                     (0..messages)
                         .filter(|&m| next[m] != STAY && !unit.sublocs[next[m] as usize].failed)
-                        .map(|m| m as MsgId)
+                        .map(MsgId::new)
                         .collect()
                 })
                 .collect()
@@ -313,7 +313,7 @@ pub(super) fn plan_goals(split: &SplitGame) -> Vec<Vec<Vec<MsgId>>> {
 pub(super) fn send_distances(game: &Game, plan_goals: &[Vec<Vec<MsgId>>]) -> Vec<Vec<u16>> {
     let mut goal = vec![false; game.messages.len()];
     for &m in plan_goals.iter().flatten().flatten() {
-        goal[m as usize] = true;
+        goal[m.index()] = true;
     }
     // Incoming edges per location, per automaton, built once for the automata that send a goal.
     let mut incoming: Vec<Option<Vec<Vec<LocId>>>> = vec![None; game.components.len()];
@@ -322,27 +322,27 @@ pub(super) fn send_distances(game: &Game, plan_goals: &[Vec<Vec<MsgId>>]) -> Vec
         .enumerate()
         .map(|(m, message)| {
             let Some(sender) = message.sender.filter(|_| goal[m]) else { return Vec::new() };
-            let automaton = &game.components[sender as usize];
-            let incoming = incoming[sender as usize].get_or_insert_with(|| {
+            let automaton = &game.components[sender.index()];
+            let incoming = incoming[sender.index()].get_or_insert_with(|| {
                 let mut lists = vec![Vec::new(); automaton.locations.len()];
                 for e in &automaton.edges {
-                    lists[e.to as usize].push(e.from);
+                    lists[e.to.index()].push(e.from);
                 }
                 lists
             });
             let mut distance = vec![u16::MAX; automaton.locations.len()];
             let mut queue = VecDeque::new();
             for e in &automaton.edges {
-                if e.message as usize == m && e.kind != MessageKind::Synchronised && distance[e.from as usize] != 1 {
-                    distance[e.from as usize] = 1;
+                if e.message.index() == m && e.kind != MessageKind::Synchronised && distance[e.from.index()] != 1 {
+                    distance[e.from.index()] = 1;
                     queue.push_back(e.from);
                 }
             }
             while let Some(loc) = queue.pop_front() {
-                let d = distance[loc as usize].saturating_add(1);
-                for &from in &incoming[loc as usize] {
-                    if distance[from as usize] == u16::MAX {
-                        distance[from as usize] = d;
+                let d = distance[loc.index()].saturating_add(1);
+                for &from in &incoming[loc.index()] {
+                    if distance[from.index()] == u16::MAX {
+                        distance[from.index()] = d;
                         queue.push_back(from);
                     }
                 }

@@ -38,7 +38,7 @@ fn signal_key(b: &IoBinding) -> (String, bool) {
 fn signal_name(game: &Game, binding: &IoBinding) -> String {
     let key = signal_key(binding);
     let same: Vec<&IoBinding> = game.io.iter().filter(|b| signal_key(b) == key).collect();
-    let name = |b: &IoBinding| game.messages[b.message as usize].name.clone();
+    let name = |b: &IoBinding| game.messages[b.message.index()].name.clone();
     match same.iter().find(|b| b.mode != IoMode::Negated) {
         Some(b) => name(b),
         None => format!("not_{}", name(same.first().copied().unwrap_or(binding))),
@@ -173,11 +173,11 @@ impl Pacing {
 /// per reaction. What the scan program may test.
 pub fn observed_signals(game: &Game) -> Vec<Vec<(MsgId, bool)>> {
     let reaction = |m: MsgId| {
-        let info = &game.messages[m as usize];
+        let info = &game.messages[m.index()];
         info.role == MessageRole::Reaction && info.sender.is_some()
     };
     if game.io.is_empty() {
-        return (0..game.messages.len() as MsgId).filter(|&m| reaction(m)).map(|m| vec![(m, false)]).collect();
+        return (0..game.messages.len()).map(MsgId::new).filter(|&m| reaction(m)).map(|m| vec![(m, false)]).collect();
     }
     let mut keys: Vec<(String, bool)> = Vec::new();
     for b in game.io.iter().filter(|b| reaction(b.message)) {
@@ -236,7 +236,7 @@ pub fn build_paced(
     let mut diags = Diagnostics::new(source);
     let time = target.time_type();
     let io_of = |m: MsgId| game.io.iter().find(|b| b.message == m);
-    let message_name = |m: MsgId| game.messages[m as usize].name.as_str();
+    let message_name = |m: MsgId| game.messages[m.index()].name.as_str();
     let mut names = Namespace::new();
     let fb_name = names.unique(name);
     let program_name = names.unique(&format!("{fb_name}_main"));
@@ -364,9 +364,9 @@ pub fn build_paced(
             Instruction::WaitUntil { condition } => Statement::Wait { test: test(&condition, &mut names, &mut diags) },
             Instruction::If { condition, target } => {
                 let test = test(&condition, &mut names, &mut diags);
-                Statement::Branch { test, target: pos[target as usize] as usize }
+                Statement::Branch { test, target: pos[target.index()] as usize }
             }
-            Instruction::Goto { target } => Statement::Jump { target: pos[target as usize] as usize },
+            Instruction::Goto { target } => Statement::Jump { target: pos[target.index()] as usize },
         };
         // Timers are known only at the end; `restarts` holds the reset clocks until then.
         steps.push((Step { statement, restarts: Vec::new(), comment, back_in_scan: false }, c.resets));
@@ -385,7 +385,7 @@ pub fn build_paced(
                 report(&mut diags, game, clock, units, message, notes);
             }
         }
-        let clock_name = &game.clocks[clock as usize].name;
+        let clock_name = &game.clocks[clock.index()].name;
         // On S5TIME a strict threshold is tested at the next S5TIME value, above the largest
         // constant: the preset reaches every threshold tested.
         let k = code_timers.len();
@@ -404,8 +404,12 @@ pub fn build_paced(
     let steps: Vec<Step> = steps
         .into_iter()
         .map(|(mut step, resets)| {
-            step.restarts =
-                timers.iter().enumerate().filter(|(_, &(clock, _))| resets >> clock & 1 == 1).map(|(i, _)| i).collect();
+            step.restarts = timers
+                .iter()
+                .enumerate()
+                .filter(|(_, &(clock, _))| resets >> clock.index() & 1 == 1)
+                .map(|(i, _)| i)
+                .collect();
             step
         })
         .collect();
@@ -510,24 +514,24 @@ fn request_facts(game: &Game, m: MsgId, inputs: &[Vec<(MsgId, bool)>]) -> Reques
     while k < sent.len() {
         let msg = sent[k];
         k += 1;
-        let info = &game.messages[msg as usize];
+        let info = &game.messages[msg.index()];
         let mut movers: Vec<CompId> = info.synchronised.clone();
         movers.extend(info.sender);
         // Clocks reset by the message's transitions belong to components that move with it.
         for a in &game.components {
             for e in a.edges.iter().filter(|e| e.message == msg) {
                 for &c in &e.resets {
-                    if let ClockOwner::Component(owner) = game.clocks[c as usize].owner {
+                    if let ClockOwner::Component(owner) = game.clocks[c.index()].owner {
                         movers.push(owner);
                     }
                 }
             }
         }
         for u in movers {
-            if std::mem::replace(&mut moved[u as usize], true) {
+            if std::mem::replace(&mut moved[u.index()], true) {
                 continue;
             }
-            for e in &game.components[u as usize].edges {
+            for e in &game.components[u.index()].edges {
                 if e.instant && e.kind == MessageKind::Uncontrollable && !sent.contains(&e.message) {
                     sent.push(e.message);
                 }
@@ -539,14 +543,14 @@ fn request_facts(game: &Game, m: MsgId, inputs: &[Vec<(MsgId, bool)>]) -> Reques
         .enumerate()
         .filter(|(_, ms)| {
             ms.iter().any(|&(x, _)| {
-                let info = &game.messages[x as usize];
+                let info = &game.messages[x.index()];
                 info.role == MessageRole::Guard
-                    || (info.role == MessageRole::Reaction && info.sender.is_some_and(|s| moved[s as usize]))
+                    || (info.role == MessageRole::Reaction && info.sender.is_some_and(|s| moved[s.index()]))
             })
         })
         .map(|(i, _)| i)
         .collect();
-    let touches = |p: &Pred| pred_components(p).iter().any(|&c| moved[c as usize]);
+    let touches = |p: &Pred| pred_components(p).iter().any(|&c| moved[c.index()]);
     let mut footprint: Vec<u32> = (0..n as u32).filter(|&c| moved[c as usize]).collect();
     let mut token = n as u32;
     for rule in &game.assertions {
@@ -609,5 +613,5 @@ fn report(diags: &mut Diagnostics, game: &Game, clock: ClockId, units: u32, mess
     for note in notes {
         d.with_note(note);
     }
-    d.with_note(format!("clock `{}` is compared with it", game.clocks[clock as usize].name)).with_note(unit_note);
+    d.with_note(format!("clock `{}` is compared with it", game.clocks[clock.index()].name)).with_note(unit_note);
 }

@@ -36,7 +36,7 @@ use crate::plc::lower::timed::{Structured, Wiring};
 use crate::plc::model::exec::{Machine, Value};
 use crate::plc::model::unit::{Place, PouKind, Stmt};
 use crate::rng::Rng;
-use crate::timed::model::{DependsOn, Game, MessageKind, MessageRole, MsgId};
+use crate::timed::model::{CompId, DependsOn, Game, MessageKind, MessageRole, MsgId};
 use crate::timed::plant::{Move, Plant, Sensors, Violation};
 use std::collections::VecDeque;
 use std::fmt;
@@ -369,7 +369,7 @@ struct GuardInput {
 impl GuardInput {
     fn of(game: &Game) -> Vec<GuardInput> {
         let guards =
-            (0..game.messages.len() as MsgId).filter(|&m| game.messages[m as usize].role == MessageRole::Guard);
+            (0..game.messages.len()).map(MsgId::new).filter(|&m| game.messages[m.index()].role == MessageRole::Guard);
         guards
             .map(|message| {
                 let on: Vec<DependsOn> = game
@@ -561,7 +561,7 @@ pub fn run(
     };
     for i in 0..run.guards.len() {
         let g = run.guards[i].message;
-        run.inputs.holds[g as usize] = run.rng.chance(50);
+        run.inputs.holds[g.index()] = run.rng.chance(50);
     }
     run.legend += &format!(
         "; timing weights {:?} (uniform, earliest, latest, after a scan, before a scan); execution {:?}",
@@ -576,7 +576,7 @@ pub fn run(
 
 impl Run<'_> {
     fn name(&self, m: MsgId) -> &str {
-        &self.game.messages[m as usize].name
+        &self.game.messages[m.index()].name
     }
 
     fn bits(v: &[bool]) -> String {
@@ -607,12 +607,12 @@ impl Run<'_> {
             .map(|&(u, ei)| {
                 let a = &self.game.components[u];
                 let e = &a.edges[ei];
-                format!("{} {} -> {}", a.name, a.locations[e.from as usize].name, a.locations[e.to as usize].name)
+                format!("{} {} -> {}", a.name, a.locations[e.from.index()].name, a.locations[e.to.index()].name)
             })
             .collect();
         format!(
             "{}{} ({})",
-            self.game.messages[m.message as usize].name,
+            self.game.messages[m.message.index()].name,
             if m.instant { " instant" } else { "" },
             parts.join(", ")
         )
@@ -640,12 +640,12 @@ impl Run<'_> {
         if self.plant.apply(m) {
             self.progressed(&closing);
         }
-        self.inputs.moved(self.game, m.message, m.instant, m.parts.iter().map(|&(u, _)| u as u32));
+        self.inputs.moved(self.game, m.message, m.instant, m.parts.iter().map(|&(u, _)| CompId::new(u)));
         self.decided = None;
         self.stalled_scans = 0;
         self.note(what);
         self.redraw_guards(m.message);
-        let request = self.game.messages[m.message as usize].role == MessageRole::Request;
+        let request = self.game.messages[m.message.index()].role == MessageRole::Request;
         self.reacted |= !request && self.inputs.image() != before;
         self.violated().or_else(|| self.settle())
     }
@@ -656,7 +656,7 @@ impl Run<'_> {
         for i in 0..self.guards.len() {
             if self.guards[i].redrawn_by(m) {
                 let g = self.guards[i].message;
-                self.inputs.holds[g as usize] = self.rng.chance(50);
+                self.inputs.holds[g.index()] = self.rng.chance(50);
             }
         }
     }
@@ -676,7 +676,7 @@ impl Run<'_> {
             if self.plant.apply(&m) {
                 self.progressed(&closing);
             }
-            self.inputs.moved(self.game, m.message, m.instant, m.parts.iter().map(|&(u, _)| u as u32));
+            self.inputs.moved(self.game, m.message, m.instant, m.parts.iter().map(|&(u, _)| CompId::new(u)));
             self.decided = None;
             self.report.reactions += 1;
             let line = format!("!{}", self.describe(&m));
@@ -789,7 +789,7 @@ impl Run<'_> {
         let low: Vec<(MsgId, bool)> = self
             .guards
             .iter()
-            .filter(|g| !self.inputs.holds[g.message as usize] && (g.changes_on.is_none() || stalled))
+            .filter(|g| !self.inputs.holds[g.message.index()] && (g.changes_on.is_none() || stalled))
             .map(|g| (g.message, g.changes_on.is_some()))
             .collect();
         if !low.is_empty() {
@@ -865,7 +865,7 @@ impl Run<'_> {
             }
             Next::RaiseGuard { message, stalled } => {
                 let before = self.inputs.image();
-                self.inputs.holds[message as usize] = true;
+                self.inputs.holds[message.index()] = true;
                 self.reacted |= self.inputs.image() != before;
                 self.report.assumed_guards += u64::from(stalled);
                 let why = if stalled { " (stalled: the game assumes it holds when checked)" } else { "" };
@@ -1020,21 +1020,21 @@ impl Run<'_> {
     /// Why request `m` cannot be taken now.
     fn refusal(&self, m: MsgId) -> String {
         let game = self.game;
-        let Some(s) = game.messages[m as usize].sender else { return "it has no sender".into() };
-        let a = &game.components[s as usize];
-        let here = &a.locations[self.plant.locs[s as usize] as usize].name;
+        let Some(s) = game.messages[m.index()].sender else { return "it has no sender".into() };
+        let a = &game.components[s.index()];
+        let here = &a.locations[self.plant.locs[s.index()].index()].name;
         let candidates: Vec<Move> =
             self.plant.candidates(&[MessageKind::Controllable]).into_iter().filter(|c| c.message == m).collect();
-        if !a.edges.iter().any(|e| e.message == m && e.from == self.plant.locs[s as usize]) {
+        if !a.edges.iter().any(|e| e.message == m && e.from == self.plant.locs[s.index()]) {
             return format!("{} has no ?{} in {here}", a.name, self.name(m));
         }
         if candidates.is_empty() {
-            let missing: Vec<String> = game.messages[m as usize]
+            let missing: Vec<String> = game.messages[m.index()]
                 .synchronised
                 .iter()
-                .map(|&o| (&game.components[o as usize], self.plant.locs[o as usize]))
+                .map(|&o| (&game.components[o.index()], self.plant.locs[o.index()]))
                 .filter(|(b, at)| !b.edges.iter().any(|e| e.message == m && e.from == *at))
-                .map(|(b, at)| format!("{} has no ${} in {}", b.name, self.name(m), b.locations[at as usize].name))
+                .map(|(b, at)| format!("{} has no ${} in {}", b.name, self.name(m), b.locations[at.index()].name))
                 .collect();
             return missing.join("; ");
         }
@@ -1042,14 +1042,14 @@ impl Run<'_> {
         for &(u, ei) in &c.parts {
             let e = &game.components[u].edges[ei];
             for ci in &e.guard {
-                let v = self.plant.clocks[ci.clock as usize];
+                let v = self.plant.clocks[ci.clock.index()];
                 if !self.plant.holds(&ci.interval, v) {
                     return format!(
                         "guard {} in {} of {} is false ({} = {:.3} units)",
-                        game.clocks[ci.clock as usize].name,
+                        game.clocks[ci.clock.index()].name,
                         ci.interval,
                         game.components[u].name,
-                        game.clocks[ci.clock as usize].name,
+                        game.clocks[ci.clock.index()].name,
                         v as f64 / self.plant.ticks as f64
                     );
                 }
