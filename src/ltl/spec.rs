@@ -274,10 +274,30 @@ impl Ltl {
     /// operand that is not an atom or a unary application is parenthesised, so the text needs no
     /// precedence table to be read back.
     pub fn to_infix(&self, name: &dyn Fn(SignalId) -> String) -> String {
+        self.written(&Notation::INFIX, name)
+    }
+
+    /// The formula in `notation`, parenthesised as [`Ltl::to_infix`] is.
+    pub(crate) fn written(&self, notation: &Notation, name: &dyn Fn(SignalId) -> String) -> String {
         let mut out = String::new();
-        write_infix(self, name, &mut out);
+        write_infix(self, notation, name, &mut out);
         out
     }
+}
+
+/// The operator words of an infix notation that [`Ltl::written`] varies (`X`, `U`, `W`, `!`,
+/// `&&`, `||` and `->` are the same in every notation it writes).
+pub(crate) struct Notation {
+    pub globally: &'static str,
+    pub finally: &'static str,
+    pub release: &'static str,
+    /// `None`: the notation has no equivalence, so `a <-> b` is written `(a -> b) && (b -> a)`.
+    pub iff: Option<&'static str>,
+}
+
+impl Notation {
+    /// Ours ([`Ltl::to_infix`]).
+    pub const INFIX: Notation = Notation { globally: "G ", finally: "F ", release: " R ", iff: Some(" <-> ") };
 }
 
 fn is_tight(f: &Ltl) -> bool {
@@ -285,32 +305,32 @@ fn is_tight(f: &Ltl) -> bool {
         || matches!(f, Ltl::And(xs) | Ltl::Or(xs) if xs.len() < 2)
 }
 
-fn write_operand(f: &Ltl, name: &dyn Fn(SignalId) -> String, out: &mut String) {
+fn write_operand(f: &Ltl, n: &Notation, name: &dyn Fn(SignalId) -> String, out: &mut String) {
     if is_tight(f) {
-        write_infix(f, name, out);
+        write_infix(f, n, name, out);
     } else {
         out.push('(');
-        write_infix(f, name, out);
+        write_infix(f, n, name, out);
         out.push(')');
     }
 }
 
-fn write_infix(f: &Ltl, name: &dyn Fn(SignalId) -> String, out: &mut String) {
+fn write_infix(f: &Ltl, n: &Notation, name: &dyn Fn(SignalId) -> String, out: &mut String) {
     match f {
         Ltl::True => out.push_str("true"),
         Ltl::False => out.push_str("false"),
         Ltl::Var(s) => out.push_str(&name(*s)),
         Ltl::Not(a) => {
             out.push('!');
-            write_operand(a, name, out);
+            write_operand(a, n, name, out);
         }
         Ltl::Next(a) | Ltl::Globally(a) | Ltl::Finally(a) => {
             out.push_str(match f {
                 Ltl::Next(_) => "X ",
-                Ltl::Globally(_) => "G ",
-                _ => "F ",
+                Ltl::Globally(_) => n.globally,
+                _ => n.finally,
             });
-            write_operand(a, name, out);
+            write_operand(a, n, name, out);
         }
         Ltl::And(xs) | Ltl::Or(xs) => {
             let (op, unit) = if matches!(f, Ltl::And(_)) { (" && ", "true") } else { (" || ", "false") };
@@ -321,19 +341,25 @@ fn write_infix(f: &Ltl, name: &dyn Fn(SignalId) -> String, out: &mut String) {
                 if i > 0 {
                     out.push_str(op);
                 }
-                write_operand(x, name, out);
+                write_operand(x, n, name, out);
             }
         }
+        // Both implications (the operands are written twice).
+        Ltl::Iff(a, b) if n.iff.is_none() => {
+            let both =
+                Ltl::And(vec![Ltl::implies((**a).clone(), (**b).clone()), Ltl::implies((**b).clone(), (**a).clone())]);
+            write_infix(&both, n, name, out);
+        }
         Ltl::Implies(a, b) | Ltl::Iff(a, b) | Ltl::Until(a, b) | Ltl::Release(a, b) | Ltl::WeakUntil(a, b) => {
-            write_operand(a, name, out);
+            write_operand(a, n, name, out);
             out.push_str(match f {
                 Ltl::Implies(..) => " -> ",
-                Ltl::Iff(..) => " <-> ",
+                Ltl::Iff(..) => n.iff.unwrap_or(" <-> "),
                 Ltl::Until(..) => " U ",
-                Ltl::Release(..) => " R ",
+                Ltl::Release(..) => n.release,
                 _ => " W ",
             });
-            write_operand(b, name, out);
+            write_operand(b, n, name, out);
         }
     }
 }

@@ -17,6 +17,7 @@
 //! t − 1 of the original play).
 
 use super::refine::timer_liveness;
+use super::spec::Notation;
 use super::{Ltl, Semantics, SignalId, SignalKind, Spec};
 use crate::diag::{Diagnostic, Diagnostics};
 
@@ -67,9 +68,7 @@ pub fn to_g4ltl(source: &str, spec: &Spec) -> Result<String, Vec<Diagnostic>> {
     let name = |s: SignalId| spec.name(s).to_string();
     let text = |f: &Ltl| {
         let f = if moore { delay_inputs(f, spec) } else { f.clone() };
-        let mut out = String::new();
-        write(&f, &name, &mut out);
-        out
+        f.written(&JPF, &name)
     };
     let mut out = String::new();
     if let Some(title) = &spec.title {
@@ -160,65 +159,9 @@ fn delay_inputs(f: &Ltl, spec: &Spec) -> Ltl {
     }
 }
 
-/// An operand: bare if it is an atom or a unary application, else in parentheses.
-fn operand(f: &Ltl, name: &dyn Fn(SignalId) -> String, out: &mut String) {
-    let tight = matches!(
-        f,
-        Ltl::True | Ltl::False | Ltl::Var(_) | Ltl::Not(_) | Ltl::Next(_) | Ltl::Globally(_) | Ltl::Finally(_)
-    ) || matches!(f, Ltl::And(xs) | Ltl::Or(xs) if xs.len() < 2);
-    if tight {
-        write(f, name, out);
-    } else {
-        out.push('(');
-        write(f, name, out);
-        out.push(')');
-    }
-}
-
-fn write(f: &Ltl, name: &dyn Fn(SignalId) -> String, out: &mut String) {
-    let binary = |a: &Ltl, op: &str, b: &Ltl, out: &mut String| {
-        operand(a, name, out);
-        out.push_str(op);
-        operand(b, name, out);
-    };
-    match f {
-        Ltl::True => out.push_str("true"),
-        Ltl::False => out.push_str("false"),
-        Ltl::Var(s) => out.push_str(&name(*s)),
-        Ltl::Not(a) | Ltl::Next(a) | Ltl::Globally(a) | Ltl::Finally(a) => {
-            out.push_str(match f {
-                Ltl::Not(_) => "!",
-                Ltl::Next(_) => "X ",
-                Ltl::Globally(_) => "[] ",
-                _ => "<> ",
-            });
-            operand(a, name, out);
-        }
-        Ltl::And(xs) | Ltl::Or(xs) => {
-            let (op, unit) = if matches!(f, Ltl::And(_)) { (" && ", "true") } else { (" || ", "false") };
-            if xs.is_empty() {
-                out.push_str(unit);
-            }
-            for (i, x) in xs.iter().enumerate() {
-                if i > 0 {
-                    out.push_str(op);
-                }
-                operand(x, name, out);
-            }
-        }
-        Ltl::Implies(a, b) => binary(a, " -> ", b, out),
-        // JPF has no `<->`: both implications (the operands are written twice).
-        Ltl::Iff(a, b) => {
-            let both =
-                Ltl::And(vec![Ltl::implies((**a).clone(), (**b).clone()), Ltl::implies((**b).clone(), (**a).clone())]);
-            write(&both, name, out);
-        }
-        Ltl::Until(a, b) => binary(a, " U ", b, out),
-        // JPF calls release `V`.
-        Ltl::Release(a, b) => binary(a, " V ", b, out),
-        Ltl::WeakUntil(a, b) => binary(a, " W ", b, out),
-    }
-}
+/// JPF's LTL2Buchi, which G4LTL's parser hands formulas to: `[]`, `<>`, release as `V`, no
+/// `<->`.
+const JPF: Notation = Notation { globally: "[] ", finally: "<> ", release: " V ", iff: None };
 
 #[cfg(test)]
 mod tests {
