@@ -74,17 +74,6 @@ impl Verdict {
             None => Verdict::Unrealizable,
         }
     }
-
-    /// Its name in the JSON forms and the page (`budget_exceeded`, …).
-    pub fn name(self) -> &'static str {
-        match self {
-            Verdict::Realizable => "realizable",
-            Verdict::Unrealizable => "unrealizable",
-            Verdict::BudgetExceeded => "budget_exceeded",
-            Verdict::Cancelled => "cancelled",
-            Verdict::Error => "error",
-        }
-    }
 }
 
 /// Synthesises one supervisor per specification. Timing uses `now` (milliseconds) so that
