@@ -39,18 +39,19 @@ Method (automata-theoretic model checking, nothing taken from the engine):
    semantics on an ultimately periodic word, no automaton), so a misreading of lbt's output
    would show up as exit 3 rather than as a wrong counterexample.
 
-Large formulas. GPVW blows up on long conjunctions, and lbt crashes (SIGSEGV, seen on the negation
-of five response guarantees `G (r -> (g || X g))` and more). The whole bad
-property is tried first (under a timeout); if lbt fails, the bad property is rewritten, by
-propositional equivalences only (De Morgan, `a -> b` = `!a || b`, distributing `&&` over `||`),
-into a disjunction of conjunctions of temporal formulas, each conjunct is translated on its own,
-and for each disjunct the machine is explored together with all the automata of its
-conjuncts at once (the synchronous product of automata accepts exactly the conjunction). For a
-controller with `ltl = A1 && ... && An -> G1 && ... && Gm` that gives one check per guarantee,
-`A1 && ... && An && !Gi`: guarantees are split, assumptions never are (the check keeps all of
-them together, so an environment that breaks one assumption to break a guarantee is not
-counted). This is exact, not an approximation: the same words are bad either way. `--split`
-forces this mode (the tests use it to check that both modes agree).
+Large formulas. GPVW blows up on long conjunctions, and lbt crashes (SIGSEGV, seen on the
+negation of five response guarantees `G (r -> (g || X g))` and more, often after seconds). The
+whole bad property is tried first (under a timeout: one second where it splits); if lbt fails
+or times out, the bad property is rewritten, by propositional equivalences only (De Morgan,
+`a -> b` = `!a || b`, distributing `&&` over `||`), into a disjunction of conjunctions of temporal
+formulas, each conjunct is translated on its own, and for each disjunct the machine is explored
+together with all the automata of its conjuncts at once (the synchronous product of automata
+accepts exactly the conjunction). For a controller with `ltl = A1 && ... && An -> G1 && ... && Gm`
+that gives one check per guarantee, `A1 && ... && An && !Gi`: guarantees are split,
+assumptions never are (the check keeps all of them together, so an environment that breaks one
+assumption to break a guarantee is not counted). This is exact, not an approximation: the same
+words are bad either way. `--split` forces this mode (the tests use it to check that both modes
+agree).
 """
 import itertools
 import json
@@ -62,6 +63,8 @@ BINARY = {"<->": 1, "->": 2, "||": 3, "&&": 4, "U": 5, "R": 5, "W": 5}
 RIGHT_ASSOC = {"->", "U", "R", "W"}
 UNARY = {"!", "G", "F", "X"}
 KEYWORDS = {"G", "F", "X", "U", "R", "W", "true", "false"}
+# How long lbt may take on the whole formula when the formula can be split instead.
+WHOLE_TRY_SECONDS = 1.0
 
 
 class Malformed(Exception):
@@ -594,8 +597,15 @@ def main(argv):
     try:
         plans = None
         if not split_only:
+            # Where the formula splits, the whole-formula translation only gets a short try:
+            # lbt spends seconds on a long conjunction before it crashes on it, and the split
+            # check decides the same words (above). Where it does not split, it gets them all.
+            whole_timeout = timeout if split_top(bad) == [[bad]] else min(timeout, WHOLE_TRY_SECONDS)
             try:
-                plans = [[automaton(bad)]]
+                prefix = to_lbt(bad, index)
+                if prefix not in cache:
+                    cache[prefix] = translate(prefix, whole_timeout)
+                plans = [[cache[prefix]]]
             except Undecided as e:
                 print(f"note: whole formula: {e}; splitting it", file=sys.stderr)
         if plans is None:
