@@ -56,8 +56,13 @@ fn every_budget_stop_exits_3_and_names_its_flag() {
     assert_eq!(code, 3, "{err}");
     let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
     assert_eq!(v["verdict"], "budget_exceeded");
-    assert_eq!(v["budget"]["budget"], "work");
-    assert_eq!(v["budget"]["limit"], 1_000_000);
+    assert_eq!(v["stop"]["stop"], "budget");
+    assert_eq!(v["stop"]["resource"], "work");
+    assert!(v["stop"]["message"].as_str().unwrap().contains("more than 1000000 units of work"), "{v}");
+    let blame = &v["blame"];
+    let blamed = &std::fs::read_to_string(&file).unwrap()
+        [blame["start"].as_u64().unwrap() as usize..blame["end"].as_u64().unwrap() as usize];
+    assert_eq!(blamed, "q", "the node to blame");
     assert!(err.contains("raise it with --max-work N"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }

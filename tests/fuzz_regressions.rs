@@ -144,8 +144,8 @@ fn generated_timed_specs_are_well_formed_and_both_verdicts_occur() {
             panic!("{}\n{source}", plcsynth::diag::render_plain("generated.tga", &source, &d));
         }
         match harness::check_verdict(&source, 1, true) {
-            Some(Verdict::Realizable) => realizable += 1,
-            Some(Verdict::Unrealizable) => unrealizable += 1,
+            Some(Ok(Verdict::Realizable)) => realizable += 1,
+            Some(Ok(Verdict::Unrealizable)) => unrealizable += 1,
             _ => {}
         }
     }

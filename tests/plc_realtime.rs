@@ -286,10 +286,10 @@ fn the_lamp_fails_at_10_ms_and_lamp_scan_holds() {
     // Synthesis says the same: the lamp is not implementable at 10 ms, lamp_scan is.
     let at_10_ms = |e: &Example| {
         let r = plcsynth::timed::synthesize_at_scan(&e.game, 10, &SolveOptions::default(), &mut |_| true).unwrap();
-        r.synthesis.solution.verdict
+        r.synthesis.solution.verdict()
     };
-    assert_eq!(at_10_ms(lamp), plcsynth::timed::solve::Verdict::Unrealizable);
-    assert_eq!(at_10_ms(lamp_scan), plcsynth::timed::solve::Verdict::Realizable);
+    assert_eq!(at_10_ms(lamp), Some(plcsynth::timed::solve::Verdict::Unrealizable));
+    assert_eq!(at_10_ms(lamp_scan), Some(plcsynth::timed::solve::Verdict::Realizable));
 }
 
 /// Runs `code` (a mutant of `e`'s STL) on seeds 0..40 and returns the first failure.
@@ -779,7 +779,7 @@ fn scan_examples() -> Vec<Example> {
             let outcome =
                 plcsynth::timed::synthesize_at_scan(&e.game, SCAN_US / 1000, &SolveOptions::default(), &mut |_| true)
                     .expect("a scan game");
-            if outcome.synthesis.solution.verdict != plcsynth::timed::solve::Verdict::Realizable {
+            if outcome.synthesis.solution.verdict() != Some(plcsynth::timed::solve::Verdict::Realizable) {
                 assert!(expected_failure(&e.name).is_some(), "{}: not implementable at 10 ms", e.name);
                 return None;
             }
@@ -876,11 +876,13 @@ fn code_of_the_scan_strategy_of_random_specs_holds_in_real_time_and_in_awlsim() 
     for seed in 0..count {
         let source = random_spec::spec(seed);
         let Ok((game, _)) = compile(&source) else { continue };
-        if synthesize(&game, &budget, &mut |_| true).solution.verdict != plcsynth::timed::solve::Verdict::Realizable {
+        if synthesize(&game, &budget, &mut |_| true).solution.verdict()
+            != Some(plcsynth::timed::solve::Verdict::Realizable)
+        {
             continue;
         }
         let outcome = plcsynth::timed::synthesize_at_scan(&game, SCAN_MS, &budget, &mut |_| true).expect("a scan game");
-        if outcome.synthesis.solution.verdict != plcsynth::timed::solve::Verdict::Realizable {
+        if outcome.synthesis.solution.verdict() != Some(plcsynth::timed::solve::Verdict::Realizable) {
             continue;
         }
         implementable += 1;
@@ -967,7 +969,7 @@ fn a_decision_shared_by_states_the_plc_reads_alike_gives_a_scan_program() {
     let (game, _) = compile(&source).unwrap();
     let budget = SolveOptions::default();
     let outcome = plcsynth::timed::synthesize_at_scan(&game, SCAN_MS, &budget, &mut |_| true).expect("a scan game");
-    assert_eq!(outcome.synthesis.solution.verdict, plcsynth::timed::solve::Verdict::Realizable);
+    assert_eq!(outcome.synthesis.solution.verdict(), Some(plcsynth::timed::solve::Verdict::Realizable));
     let scan_program = lower_timed::scan_program(&game, &outcome, &mut |_| true).unwrap_or_else(|e| panic!("{e}"));
     assert!(scan_program.shared_decisions, "the strategy's own decisions suffice: no longer the case this test is for");
     let p = scan_program.program();

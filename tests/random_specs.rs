@@ -22,7 +22,7 @@ fn check_seed(seed: u64) -> (bool, bool) {
     let source = spec(seed);
     let Ok((game, _)) = compile(&source) else { return (false, false) };
     let s = synthesize(&game, &reference::options(50_000), &mut |_| true);
-    if s.solution.verdict != Verdict::Realizable {
+    if s.solution.verdict() != Some(Verdict::Realizable) {
         return (true, false);
     }
     let p = program::controller(&game, &s).expect("a realizable game has a program");
@@ -101,9 +101,9 @@ fn scan_search_agrees_with_the_exhaustive_reference_on_random_specs() {
             Err(message) => panic!("seed {seed} at {scan_ms} ms: {message}\n{source}"),
         };
         compared += 1;
-        let zero = synthesize(&game, &reference::options(1_000_000), &mut |_| true).solution.verdict;
-        realizable += u64::from(zero == Verdict::Realizable);
-        implementable += u64::from(verdict == Verdict::Realizable);
+        let zero = synthesize(&game, &reference::options(1_000_000), &mut |_| true).solution.verdict();
+        realizable += u64::from(zero == Some(Verdict::Realizable));
+        implementable += u64::from(verdict == Some(Verdict::Realizable));
     }
     assert!(compared * 3 > count, "only {compared} of {count} random scan games compared");
     assert!(implementable * 4 > realizable, "only {implementable} of {realizable} realizable specs implementable");
@@ -122,7 +122,7 @@ fn unrealizable_random_specs_have_a_counter_play_the_plant_replays() {
         let source = spec(seed);
         let Ok((game, _)) = compile(&source) else { continue };
         let s = synthesize(&game, &reference::options(50_000), &mut |_| true);
-        if s.solution.verdict != Verdict::Unrealizable {
+        if s.solution.verdict() != Some(Verdict::Unrealizable) {
             continue;
         }
         unrealizable += 1;
@@ -210,6 +210,6 @@ fn covers_differ_from_what_they_cover_only_in_plan_clocks() {
     let (game, _) = compile(&spec(1068)).expect("seed 1068 compiles");
     let (verdict, compared) =
         reference::compare_scan_with_reference(&game, 250, 10_000).unwrap_or_else(|m| panic!("{m}"));
-    assert_eq!(verdict, Verdict::Unrealizable);
+    assert_eq!(verdict, Some(Verdict::Unrealizable));
     assert!(compared.is_some(), "within the budget");
 }

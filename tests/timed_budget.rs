@@ -4,7 +4,7 @@
 //! front end stays linear on long chains. Inputs are generated here.
 
 use plcsynth::timed::solve::{
-    Budget, SolveOptions, Stats, Verdict, DEFAULT_MAX_BYTES, DEFAULT_MAX_STATES, DEFAULT_MAX_WORK,
+    Resource, SolveOptions, Stats, Stop, Verdict, DEFAULT_MAX_BYTES, DEFAULT_MAX_STATES, DEFAULT_MAX_WORK,
 };
 use plcsynth::timed::{compile, synthesize, Synthesis};
 
@@ -50,16 +50,23 @@ fn one_step(dim: u64, units: u64) -> u64 {
     64 + dim * dim + units
 }
 
+/// The budget and message of a search that a budget stopped; fails on anything else.
+fn budget_stop(s: &Synthesis) -> (Resource, &str) {
+    match &s.solution.outcome {
+        Err(Stop::Budget { resource, message }) => (*resource, message),
+        other => panic!("a budget stop, not {other:?}"),
+    }
+}
+
 #[test]
 fn a_node_with_too_many_clocks_is_refused_before_splitting() {
     let source = self_loops(22);
     let s = run(&source, &SolveOptions::default(), &mut |_| true);
-    assert_eq!(s.solution.verdict, Verdict::BudgetExceeded);
-    let stop = s.solution.stop.expect("a budget stop");
-    assert_eq!(stop.budget, Budget::Memory);
-    assert_eq!(stop.limit, DEFAULT_MAX_BYTES as u64);
-    assert!(stop.message.contains("node `q` of `A` splits into 4194304 sub-locations (22 clocks"), "{}", stop.message);
-    let span = stop.span.expect("located at the node");
+    let (resource, message) = budget_stop(&s);
+    assert_eq!(resource, Resource::Memory);
+    assert!(message.contains(&format!("more than {} MiB", DEFAULT_MAX_BYTES >> 20)), "{message}");
+    assert!(message.contains("node `q` of `A` splits into 4194304 sub-locations (22 clocks"), "{message}");
+    let span = s.solution.blame.expect("located at the node");
     assert_eq!(&source[span.start as usize..span.end as usize], "q");
     assert!(source[..span.start as usize].ends_with("nodes "));
     // Refused from the sizes alone: nothing was built.
@@ -73,9 +80,8 @@ fn the_work_budget_stops_a_long_split() {
     let source = self_loops(22);
     let options = SolveOptions { max_bytes: 4 << 30, max_work: 2_000_000, ..SolveOptions::default() };
     let s = run(&source, &options, &mut |_| true);
-    let stop = s.solution.stop.expect("a budget stop");
-    assert_eq!((s.solution.verdict, stop.budget), (Verdict::BudgetExceeded, Budget::Work));
-    assert!(stop.span.is_some());
+    assert_eq!(budget_stop(&s).0, Resource::Work);
+    assert!(s.solution.blame.is_some());
     let stats = s.solution.stats;
     assert!(stats.work > 2_000_000 && stats.work <= 2_000_000 + 1000, "{stats:?}");
     assert_eq!(stats.visited, 0);
@@ -90,7 +96,7 @@ fn a_long_split_calls_the_progress_callback_which_can_cancel() {
         calls.push(*stats);
         false
     });
-    assert_eq!(s.solution.verdict, Verdict::Cancelled);
+    assert_eq!(s.solution.outcome, Err(Stop::Cancelled));
     assert_eq!(calls.len(), 1);
     assert_eq!(calls[0].visited, 0, "called before the first state exists");
     assert!(calls[0].work >= 1 << 20 && calls[0].work < 2 << 20, "{:?}", calls[0]);
@@ -100,7 +106,7 @@ fn a_long_split_calls_the_progress_callback_which_can_cancel() {
 fn a_split_within_the_budgets_is_solved() {
     // 2^12 sub-locations: no plan, so every plant state repeats without progress.
     let s = run(&self_loops(12), &SolveOptions::default(), &mut |_| true);
-    assert_eq!(s.solution.verdict, Verdict::Unrealizable);
+    assert_eq!(s.solution.verdict(), Some(Verdict::Unrealizable));
     assert!(s.solution.stats.bytes > 4096 * 64, "the split counts: {:?}", s.solution.stats);
 }
 
@@ -108,8 +114,10 @@ fn a_split_within_the_budgets_is_solved() {
 fn many_independent_automata_stop_at_the_work_budget() {
     let options = SolveOptions { max_work: 5_000_000, ..SolveOptions::default() };
     let s = run(&independent(40), &options, &mut |_| true);
-    let stop = s.solution.stop.expect("a budget stop");
-    assert_eq!((s.solution.verdict, stop.budget, stop.limit), (Verdict::BudgetExceeded, Budget::Work, 5_000_000));
+    let (resource, message) = budget_stop(&s);
+    assert_eq!(resource, Resource::Work);
+    assert!(message.contains("more than 5000000 units of work"), "{message}");
+    assert_eq!(s.solution.blame, None, "no declaration is to blame for a search");
     let stats = s.solution.stats;
     assert!(stats.work > 5_000_000 && stats.work <= 5_000_000 + one_step(1, 40), "{stats:?}");
     assert!(stats.visited < DEFAULT_MAX_STATES);
@@ -119,9 +127,9 @@ fn many_independent_automata_stop_at_the_work_budget() {
 fn many_independent_automata_stop_at_the_memory_budget() {
     let options = SolveOptions { max_bytes: 16 << 20, ..SolveOptions::default() };
     let s = run(&one_clock_each(30), &options, &mut |_| true);
-    let stop = s.solution.stop.expect("a budget stop");
-    assert_eq!((s.solution.verdict, stop.budget), (Verdict::BudgetExceeded, Budget::Memory));
-    assert!(stop.message.contains("more than 16 MiB"), "{}", stop.message);
+    let (resource, message) = budget_stop(&s);
+    assert_eq!(resource, Resource::Memory);
+    assert!(message.contains("more than 16 MiB"), "{message}");
     let stats = s.solution.stats;
     // Capacities double: one step past the budget at most.
     assert!(stats.bytes > 16 << 20 && stats.bytes < 40 << 20, "{stats:?}");
@@ -131,7 +139,7 @@ fn many_independent_automata_stop_at_the_memory_budget() {
 #[test]
 fn the_default_budgets_stop_forty_independent_automata() {
     let s = run(&independent(40), &SolveOptions::default(), &mut |_| true);
-    assert_eq!(s.solution.verdict, Verdict::BudgetExceeded);
+    budget_stop(&s);
     let stats = s.solution.stats;
     assert!(stats.visited <= DEFAULT_MAX_STATES + 64, "{stats:?}");
     assert!(stats.bytes < 2 * DEFAULT_MAX_BYTES, "{stats:?}");
@@ -147,7 +155,7 @@ fn the_search_reports_progress_by_work_too() {
         calls.push(*stats);
         calls.len() < 3
     });
-    assert_eq!(s.solution.verdict, Verdict::Cancelled);
+    assert_eq!(s.solution.outcome, Err(Stop::Cancelled));
     assert_eq!(calls.len(), 3);
     assert!(calls.windows(2).all(|w| w[1].work >= w[0].work + (1 << 20)), "{calls:?}");
     assert!(calls[0].visited > 0);
@@ -156,9 +164,7 @@ fn the_search_reports_progress_by_work_too() {
 #[test]
 fn a_state_budget_stop_says_so() {
     let s = run(&independent(20), &SolveOptions { max_states: 1000, ..SolveOptions::default() }, &mut |_| true);
-    let stop = s.solution.stop.expect("a budget stop");
-    assert_eq!((stop.budget, stop.limit), (Budget::States, 1000));
-    assert_eq!(stop.message, "the search stored more than 1000 states");
+    assert_eq!(budget_stop(&s), (Resource::States, "the search stored more than 1000 states"));
     assert!(s.solution.stats.visited > 1000 && s.solution.stats.visited < 1100);
 }
 
@@ -176,6 +182,6 @@ fn a_long_chain_is_solved_in_linear_time() {
     }
     source += "  }\n}\nplans { plan { waitfor m0; } }\n";
     let s = run(&source, &SolveOptions::default(), &mut |_| true);
-    assert_eq!(s.solution.verdict, Verdict::Unrealizable);
+    assert_eq!(s.solution.verdict(), Some(Verdict::Unrealizable));
     assert_eq!(s.solution.stats.expanded, n);
 }

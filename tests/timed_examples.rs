@@ -1,7 +1,7 @@
 //! Every example in `examples/timed/`: its verdict (from the `// Expected:` header line) and
 //! properties of the winning state space checked against their definitions.
 
-use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpace, Verdict, NONE};
+use plcsynth::timed::solve::{EdgeKind, Removal, Resource, SolveOptions, StateId, StateSpace, Stop, Verdict, NONE};
 use plcsynth::timed::{compile, model::Game, model::LocId, synthesize, Synthesis};
 use std::path::PathBuf;
 
@@ -68,10 +68,10 @@ fn examples_compile_without_warnings() {
 fn every_example_has_its_expected_verdict() {
     for (name, source) in checked_examples() {
         let (_, s) = solve(&source, 2_000_000);
-        assert_eq!(s.solution.verdict, expected(&source), "{name}");
+        assert_eq!(s.solution.verdict(), Some(expected(&source)), "{name}");
         assert_eq!(
             s.solution.space.is_winning(s.solution.space.initial),
-            s.solution.verdict == Verdict::Realizable,
+            s.solution.verdict() == Some(Verdict::Realizable),
             "{name}"
         );
     }
@@ -148,7 +148,7 @@ fn every_winning_state_has_a_winning_move_or_may_wait() {
 fn from_every_winning_state_a_plan_goal_is_reachable_within_the_winning_set() {
     for (name, source) in checked_examples() {
         let (game, s) = solve(&source, 2_000_000);
-        if game.plans.is_empty() || s.solution.verdict != Verdict::Realizable {
+        if game.plans.is_empty() || s.solution.verdict() != Some(Verdict::Realizable) {
             continue;
         }
         let space = &s.solution.space;
@@ -221,7 +221,7 @@ fn on_the_fly_removal_agrees_with_a_backward_fixpoint_on_the_explored_graph() {
     for (name, source) in fixpoint_examples() {
         let (_, s) = solve(&source, 2_000_000);
         let space = &s.solution.space;
-        if s.solution.verdict == Verdict::Unrealizable {
+        if s.solution.verdict() == Some(Verdict::Unrealizable) {
             // Exploration stops once the initial state is lost; compare on the initial state.
             let lost = losing_fixpoint(space);
             assert!(lost[space.initial as usize], "{name}: the fixpoint must lose the initial state too");
@@ -249,7 +249,7 @@ fn unrealizable_examples_are_explained_down_to_violations() {
     }
     for (name, source) in checked_examples() {
         let (_, s) = solve(&source, 2_000_000);
-        if s.solution.verdict != Verdict::Unrealizable {
+        if s.solution.verdict() != Some(Verdict::Unrealizable) {
             assert!(s.explanation.is_none());
             continue;
         }
@@ -278,7 +278,7 @@ fn the_two_robots_need_at_least_fourteen_seconds() {
             .unwrap()
             .replace("clocks cycle 14;", &format!("clocks cycle {bound};"));
         let (_, s) = solve(&source, 100_000);
-        assert_eq!(s.solution.verdict, verdict, "bound {bound}");
+        assert_eq!(s.solution.verdict(), Some(verdict), "bound {bound}");
     }
 }
 
@@ -290,10 +290,10 @@ fn the_budget_stops_a_large_search_with_statistics() {
     let (game, _) = compile(&source).unwrap();
     let options = SolveOptions { max_states: 1000, exhaustive: true, ..SolveOptions::default() };
     let s = synthesize(&game, &options, &mut |_| true);
-    assert_eq!(s.solution.verdict, Verdict::BudgetExceeded);
+    assert!(matches!(s.solution.outcome, Err(Stop::Budget { resource: Resource::States, .. })));
     assert!(s.solution.stats.visited > 1000 && s.solution.stats.visited < 1200, "{:?}", s.solution.stats);
     let (_, s) = solve(&source, 100);
-    assert_eq!(s.solution.verdict, Verdict::BudgetExceeded);
+    assert!(matches!(s.solution.outcome, Err(Stop::Budget { resource: Resource::States, .. })));
     assert!(s.solution.stats.visited > 100 && s.solution.stats.visited < 200, "{:?}", s.solution.stats);
 }
 
@@ -310,7 +310,7 @@ fn the_progress_callback_can_cancel() {
         assert!(stats.visited > 0);
         calls < 3
     });
-    assert_eq!(s.solution.verdict, Verdict::Cancelled);
+    assert_eq!(s.solution.outcome, Err(Stop::Cancelled));
     assert_eq!(calls, 3);
 }
 
@@ -322,7 +322,7 @@ fn both_forms_of_the_robot_arm_assertion_are_equivalent() {
     let plan = "\nplans { plan { waitfor reached_right; waitfor reached_left; } }\n";
     let (_, sa) = solve(&(a + plan), 10_000);
     let (_, sb) = solve(&(b + plan), 10_000);
-    assert_eq!(sa.solution.verdict, Verdict::Realizable);
+    assert_eq!(sa.solution.verdict(), Some(Verdict::Realizable));
     assert_eq!(sa.solution.stats.visited, sb.solution.stats.visited);
     assert_eq!(sa.solution.stats.winning, sb.solution.stats.winning);
 }
@@ -375,7 +375,7 @@ fn examples_with_a_scan_time_have_their_expected_verdict_there() {
             .unwrap_or_else(|| panic!("{name} declares a scan time but no verdict for it"));
         let expected = if line.contains("not implementable") { Verdict::Unrealizable } else { Verdict::Realizable };
         let result = plcsynth::timed::synthesize_at_scan(&game, ms, &SolveOptions::default(), &mut |_| true).unwrap();
-        assert_eq!(result.synthesis.solution.verdict, expected, "{name} at {ms} ms");
+        assert_eq!(result.synthesis.solution.verdict(), Some(expected), "{name} at {ms} ms");
     }
     assert!(declared > 0, "no example declares a scan time");
 }
@@ -405,7 +405,7 @@ fn strategy_search_agrees_with_the_exhaustive_reference() {
         // search decides every example within it (the default budget is four times larger).
         let (verdict, compared) = reference::compare_scan_with_reference(&game, scan_ms, 250_000)
             .unwrap_or_else(|e| panic!("{name} at {scan_ms} ms: {e}"));
-        assert!(matches!(verdict, Verdict::Realizable | Verdict::Unrealizable), "{name} at {scan_ms} ms: {verdict:?}");
+        assert!(verdict.is_some(), "{name} at {scan_ms} ms: {verdict:?}");
         let fits = compared.is_some();
         if !fits {
             eprintln!("{name} at {scan_ms} ms: over 250 000 states");

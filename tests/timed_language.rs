@@ -428,7 +428,7 @@ fn long_and_or_chains_are_flat() {
         on_small_stack(move || {
             let (game, _) = compile(&src).map_err(|d| format!("{d:?}")).unwrap();
             let result = plcsynth::timed::synthesize(&game, &Default::default(), &mut |_| true);
-            (result.solution.verdict, result.solution.space.states.len())
+            (result.solution.verdict(), result.solution.space.states.len())
         })
     };
     assert_eq!(solve(long), solve(short));
@@ -450,7 +450,7 @@ fn warnings(src: &str) -> Vec<String> {
 
 fn verdict(src: &str) -> plcsynth::timed::solve::Verdict {
     let (game, _) = compile(src).unwrap();
-    plcsynth::timed::synthesize(&game, &Default::default(), &mut |_| true).solution.verdict
+    plcsynth::timed::synthesize(&game, &Default::default(), &mut |_| true).solution.verdict().expect("decided")
 }
 
 /// `automaton m { … }` with a two-goal plan on `x` and `y`.

@@ -17,7 +17,7 @@ fn game(path: &str) -> plcsynth::timed::model::Game {
 
 fn verdict_at(path: &str, scan_ms: u64) -> Verdict {
     let result = synthesize_at_scan(&game(path), scan_ms, &SolveOptions::default(), &mut |_| true).unwrap();
-    result.synthesis.solution.verdict
+    result.synthesis.solution.verdict().expect("decided within the default budgets")
 }
 
 /// The thesis's lamp needs a zero-time controller: after `press` the button may settle at any
@@ -26,9 +26,9 @@ fn verdict_at(path: &str, scan_ms: u64) -> Verdict {
 #[test]
 fn the_thesis_lamp_is_realizable_but_not_implementable_at_10_ms() {
     let g = game("examples/timed/lamp.tga");
-    assert_eq!(synthesize(&g, &SolveOptions::default(), &mut |_| true).solution.verdict, Verdict::Realizable);
+    assert_eq!(synthesize(&g, &SolveOptions::default(), &mut |_| true).solution.verdict(), Some(Verdict::Realizable));
     let result = synthesize_at_scan(&g, 10, &SolveOptions::default(), &mut |_| true).unwrap();
-    assert_eq!(result.synthesis.solution.verdict, Verdict::Unrealizable);
+    assert_eq!(result.synthesis.solution.verdict(), Some(Verdict::Unrealizable));
     let text = result.synthesis.explanation.expect("a counter-play").render();
     assert!(text.contains("plc.read") && text.contains("?scan:idle"), "{text}");
     assert!(text.contains("!press_settled") && text.contains("never lamp.off and button.pressed"), "{text}");
@@ -72,7 +72,7 @@ fn the_hardware_unit_is_implementable_up_to_half_a_second() {
 fn two_robots_without_slack_are_not_implementable() {
     let options = SolveOptions { max_work: 3_000_000_000, max_states: 5_000_000, ..SolveOptions::default() };
     let result = synthesize_at_scan(&game("examples/timed/two_robots_14.tga"), 10, &options, &mut |_| true).unwrap();
-    assert_eq!(result.synthesis.solution.verdict, Verdict::Unrealizable);
+    assert_eq!(result.synthesis.solution.verdict(), Some(Verdict::Unrealizable));
 }
 
 /// Dominance (a new state lost at once when a lost state of its locations lies in its zone,
@@ -101,8 +101,8 @@ fn dominance_decides_losses_with_fewer_states_and_explains_them() {
         let with = synthesize_at_scan(&g, ms, &SolveOptions::default(), &mut |_| true).unwrap().synthesis;
         let without_options = SolveOptions { dominance: false, ..SolveOptions::default() };
         let without = synthesize_at_scan(&g, ms, &without_options, &mut |_| true).unwrap().synthesis;
-        assert_eq!(with.solution.verdict, Verdict::Unrealizable, "{path}");
-        assert_eq!(without.solution.verdict, Verdict::Unrealizable, "{path}");
+        assert_eq!(with.solution.verdict(), Some(Verdict::Unrealizable), "{path}");
+        assert_eq!(without.solution.verdict(), Some(Verdict::Unrealizable), "{path}");
         assert!(with.solution.stats.dominated > 0 && without.solution.stats.dominated == 0, "{path}");
         assert!(with.solution.stats.visited < without.solution.stats.visited, "{path}");
         let explanation = with.explanation.expect("an explanation");
@@ -129,7 +129,7 @@ fn an_untimed_specification_has_one_verdict_for_every_scan_time() {
 fn progress_at_one_instant_is_not_implementable() {
     let path = "tests/fixtures/fuzz/handed_over/v1_progress_at_one_instant.tga";
     let g = game(path);
-    assert_eq!(synthesize(&g, &SolveOptions::default(), &mut |_| true).solution.verdict, Verdict::Realizable);
+    assert_eq!(synthesize(&g, &SolveOptions::default(), &mut |_| true).solution.verdict(), Some(Verdict::Realizable));
     for ms in [1, 10, 1000] {
         assert_eq!(verdict_at(path, ms), Verdict::Unrealizable, "at {ms} ms");
     }
@@ -237,6 +237,6 @@ fn two_machines_is_bounded_exactly_within_the_default_budgets() {
     let bound = scan_bound(&g, 10, true, &SolveOptions::default(), &mut |_| true);
     assert_eq!((bound.works, bound.fails, bound.stopped), (Some(16), Some(17), false));
     let at_16 = synthesize_at_scan(&g, 16, &SolveOptions::default(), &mut |_| true).unwrap().synthesis;
-    assert_eq!(at_16.solution.verdict, Verdict::Realizable);
+    assert_eq!(at_16.solution.verdict(), Some(Verdict::Realizable));
     assert!(at_16.solution.stats.visited < 100_000, "{} states", at_16.solution.stats.visited);
 }

@@ -161,10 +161,11 @@ fn budget_exceeded_keeps_statistics() {
     let summary = s.solve(options, None).unwrap();
     assert_eq!(string(&summary, "verdict"), "budget_exceeded");
     assert!(num(&get(&summary, "stats"), "visited") >= 50.0);
-    let budget = get(&summary, "budget");
-    assert_eq!(string(&budget, "budget"), "states");
-    assert_eq!(num(&budget, "limit"), 50.0);
-    assert!(get(&budget, "span").is_null());
+    let stop = get(&summary, "stop");
+    assert_eq!(string(&stop, "stop"), "budget");
+    assert_eq!(string(&stop, "resource"), "states");
+    assert_eq!(string(&stop, "message"), "the search stored more than 50 states");
+    assert!(get(&summary, "blame").is_null());
 }
 
 #[wasm_bindgen_test]
@@ -174,14 +175,14 @@ fn memory_and_work_budgets_are_options() {
     let options = js_sys::JSON::parse(r#"{"maxWork": 10000, "exhaustive": true}"#).unwrap();
     let summary = s.solve(options, None).unwrap();
     assert_eq!(string(&summary, "verdict"), "budget_exceeded");
-    assert_eq!(string(&get(&summary, "budget"), "budget"), "work");
+    assert_eq!(string(&get(&summary, "stop"), "resource"), "work");
     assert!(num(&get(&summary, "stats"), "work") > 10000.0);
     let options = js_sys::JSON::parse(r#"{"maxMemoryMib": 1, "exhaustive": true}"#).unwrap();
     let summary = s.solve(options, None).unwrap();
-    assert_eq!(string(&get(&summary, "budget"), "budget"), "memory");
+    assert_eq!(string(&get(&summary, "stop"), "resource"), "memory");
     let summary = s.solve(JsValue::UNDEFINED, None).unwrap();
     assert_eq!(string(&summary, "verdict"), "realizable");
-    assert!(get(&summary, "budget").is_null());
+    assert!(get(&summary, "stop").is_null());
 }
 
 #[wasm_bindgen_test]
@@ -412,7 +413,7 @@ fn sct_session_draws_synthesises_and_generates_the_framework() {
     let calls = Array::new();
     let log = Function::new_with_args("p, ms", "this.push(p.built); return true;").bind0(&calls);
     let summary = s.solve(js_sys::JSON::parse(r#"{"progressMs": 0}"#).unwrap(), Some(log)).unwrap();
-    assert!(get(&summary, "stopped").is_null());
+    assert!(get(&summary, "stop").is_null());
     let sups = array(&get(&summary, "supervisors"));
     assert_eq!(sups.length(), 1);
     let sup = sups.get(0);
@@ -432,7 +433,8 @@ fn sct_session_draws_synthesises_and_generates_the_framework() {
     assert!(s.code("no-such-target", "", "", JsValue::UNDEFINED).is_err());
     // A budget too small for the products stops the run, reported and not thrown.
     let summary = s.solve(js_sys::JSON::parse(r#"{"maxStates": 1}"#).unwrap(), None).unwrap();
-    assert_eq!(string(&summary, "stopped"), "budget");
+    assert_eq!(string(&get(&summary, "stop"), "stop"), "budget");
+    assert_eq!(string(&get(&summary, "stop"), "resource"), "states");
     assert!(s.code("st", "", "", JsValue::UNDEFINED).unwrap().is_null(), "no framework for an incomplete run");
 }
 
@@ -473,6 +475,26 @@ fn ltl_session_decides_draws_and_generates_code() {
     }
     let mut s = LtlSession::new(DELAY_LINE, "tlsf").map_err(|_| "compile").unwrap();
     assert_eq!(string(&s.solve(JsValue::UNDEFINED, None).unwrap(), "verdict"), "realizable");
+    assert!(get(&summary, "stop").is_null());
+}
+
+/// A stopped LTL run reports as the other engines' sessions do: the verdict word of the stop
+/// and the shared `stop` object, not an exception.
+#[wasm_bindgen_test]
+fn ltl_stops_are_reported_as_the_other_engines_report_them() {
+    let mut s = LtlSession::new(ARBITER, "ltl").map_err(|_| "compile").unwrap();
+    let summary = s.solve(js_sys::JSON::parse(r#"{"maxWork": 10}"#).unwrap(), None).unwrap();
+    assert_eq!(string(&summary, "verdict"), "budget_exceeded");
+    assert_eq!(string(&get(&summary, "stop"), "stop"), "budget");
+    assert_eq!(string(&get(&summary, "stop"), "resource"), "work");
+    assert!(string(&get(&summary, "stop"), "message").contains("units of work"));
+    assert!(get(&summary, "machine_dot").is_null());
+    // The mutex spends enough work (about 480 000 units) to call the progress callback.
+    let mut s = LtlSession::new(include_str!("../examples/ltl/mutex.tlsf"), "tlsf").map_err(|_| "compile").unwrap();
+    let cancel = js_sys::Function::new_no_args("return false");
+    let summary = s.solve(js_sys::JSON::parse(r#"{"progressMs": 0}"#).unwrap(), Some(cancel)).unwrap();
+    assert_eq!(string(&summary, "verdict"), "cancelled");
+    assert_eq!(string(&get(&summary, "stop"), "stop"), "cancelled");
 }
 
 #[wasm_bindgen_test]
@@ -653,7 +675,7 @@ fn import_error(files: &[JsValue], options: &str) -> (JsValue, JsValue) {
 fn supervisors_of(text: &str) -> Vec<(String, bool)> {
     let mut s = SctSession::new(text, JsValue::UNDEFINED).map_err(|e| format!("{e:?}\n{text}")).unwrap();
     let summary = s.solve(JsValue::UNDEFINED, None).unwrap();
-    assert!(get(&summary, "stopped").is_null());
+    assert!(get(&summary, "stop").is_null());
     array(&get(&summary, "supervisors"))
         .iter()
         .map(|x| (string(&x, "name"), get(&x, "realizable").as_bool().unwrap()))

@@ -7,7 +7,7 @@ use plcsynth::ltl;
 use plcsynth::program::{self, optimize::Context, simulate};
 use plcsynth::sct::classic::{self, Automaton, Events};
 use plcsynth::sct::{self, classic::gen, model::Config};
-use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpace, Verdict, NONE};
+use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpace, Stop, Verdict, NONE};
 use plcsynth::timed::{compile, model::LocId, Synthesis};
 
 /// Product states a fuzzed `.sct` project may build: small, so that one input takes
@@ -411,15 +411,15 @@ const STEPS: usize = 120;
 /// seeds derived from `seed`. Any failure is a soundness bug. With `skip_known`, the one finding
 /// that belongs to the scan-time semantics (V1 in docs/fuzzing.md: a program that can cycle
 /// without waiting, relying on zero time) ends the check early instead of failing it. Returns
-/// the verdict, or `None` if the source does not compile.
-pub fn check_verdict(source: &str, seed: u64, skip_known: bool) -> Option<Verdict> {
+/// the outcome, or `None` if the source does not compile.
+pub fn check_verdict(source: &str, seed: u64, skip_known: bool) -> Option<Result<Verdict, Stop>> {
     let (game, _) = compile(source).ok()?;
     let options = SolveOptions { max_states: VERDICT_MAX_STATES, ..SolveOptions::default() };
     let s = plcsynth::timed::synthesize(&game, &options, &mut |_| true);
-    let verdict = s.solution.verdict;
-    if verdict == Verdict::BudgetExceeded {
-        return Some(verdict);
-    }
+    let verdict = match &s.solution.outcome {
+        Ok(verdict) => *verdict,
+        Err(stop) => return Some(Err(stop.clone())),
+    };
     let space = &s.solution.space;
     assert_eq!(
         space.is_winning(space.initial),
@@ -436,7 +436,7 @@ pub fn check_verdict(source: &str, seed: u64, skip_known: bool) -> Option<Verdic
     if verdict == Verdict::Unrealizable {
         assert!(s.explanation.is_some(), "unrealizable without an explanation");
         assert!(program::controller(&game, &s).is_none(), "a program for an unrealizable game");
-        return Some(verdict);
+        return Some(Ok(verdict));
     }
     let p = program::controller(&game, &s).expect("a realizable game has a program");
     for target in plcsynth::plc::Target::ALL {
@@ -456,7 +456,7 @@ pub fn check_verdict(source: &str, seed: u64, skip_known: bool) -> Option<Verdic
         // V1: the thesis's zero-time controller may act forever at one instant when each round
         // makes plan progress (5.1); a run then either fails or costs seconds in the simulator's
         // zero-time loop guard. The scan-time semantics (issue 14) is where it is decided.
-        return Some(verdict);
+        return Some(Ok(verdict));
     }
     for run in 0..RUNS {
         let report = simulate::run(&game, &p, &observable, seed.wrapping_add(run), STEPS);
@@ -469,7 +469,7 @@ pub fn check_verdict(source: &str, seed: u64, skip_known: bool) -> Option<Verdic
             report.trace[report.trace.len().saturating_sub(20)..].join("\n")
         );
     }
-    Some(verdict)
+    Some(Ok(verdict))
 }
 
 /// True if control can cycle through the program without passing a `WAITUNTIL` that waits:
@@ -558,7 +558,7 @@ fn assert_winning_states_are_safe(source: &str, game: &plcsynth::timed::model::G
 fn plan_goal_reachable_everywhere(game: &plcsynth::timed::model::Game, s: &Synthesis) -> bool {
     let space = &s.solution.space;
     let winning = space.winning_states();
-    if game.plans.is_empty() || s.solution.verdict != Verdict::Realizable {
+    if game.plans.is_empty() || !s.solution.is_realizable() {
         return true;
     }
     let mut reaches = vec![false; space.states.len()];

@@ -2,7 +2,8 @@
 //! and what every bench shares: `--markdown` (only the tables, with a caption, for the
 //! README; `scripts/readme-bench.sh`) and the tables' columns.
 
-use plcsynth::timed::{compile, solve::SolveOptions, solve::Verdict, synthesize};
+use plcsynth::timed::solve::{Solution, SolveOptions, Stop, Verdict};
+use plcsynth::timed::{compile, synthesize};
 use std::path::Path;
 use std::time::Instant;
 
@@ -167,12 +168,7 @@ pub fn timed(examples_dir: &Path, runs: usize, format: Format) -> std::process::
         let median = times[times.len() / 2];
         let s = last.expect("at least one run");
         let st = &s.solution.stats;
-        let verdict = match s.solution.verdict {
-            Verdict::Realizable => "realizable",
-            Verdict::Unrealizable => "unrealizable",
-            Verdict::BudgetExceeded => "budget exceeded",
-            Verdict::Cancelled => "cancelled",
-        };
+        let verdict = word(&s.solution, "realizable", "unrealizable");
         let (tv, tw, tc, tt) = match thesis {
             Some((v, w, c, t)) => (v.to_string(), w.to_string(), c.to_string(), format!("{t:.1}")),
             None if file.starts_with("round_table_5") => ("out of memory".into(), "–".into(), "–".into(), "–".into()),
@@ -182,8 +178,8 @@ pub fn timed(examples_dir: &Path, runs: usize, format: Format) -> std::process::
         let started = Instant::now();
         let reference = synthesize(&game, &SolveOptions { exhaustive: true, ..SolveOptions::default() }, &mut |_| true);
         let reference_ms = started.elapsed().as_secs_f64() * 1000.0;
-        let (rv, rt, speedup) = match reference.solution.verdict {
-            Verdict::BudgetExceeded => ("budget exceeded".to_string(), t(reference_ms), "–".to_string()),
+        let (rv, rt, speedup) = match reference.solution.outcome {
+            Err(_) => ("budget exceeded".to_string(), t(reference_ms), "–".to_string()),
             _ => (
                 reference.solution.stats.visited.to_string(),
                 t(reference_ms),
@@ -250,21 +246,15 @@ fn scan_table(examples_dir: &Path, runs: usize, md: bool) {
             last = Some((zero, scan));
         }
         let Some((zero, Ok(scan))) = last else { continue };
-        let word = |v: Verdict, realizable: &'static str, not: &'static str| match v {
-            Verdict::Realizable => realizable,
-            Verdict::Unrealizable => not,
-            Verdict::BudgetExceeded => "budget exceeded",
-            Verdict::Cancelled => "cancelled",
-        };
         let (zt, st) = (median(zero_times), median(scan_times));
         let (z, sc) = (&zero.solution.stats, &scan.synthesis.solution.stats);
         outln!(
             "| {name} | {} | {} | {} | {} | {scan_ms} | {} | {} | {} | {} | {:.0}× | {:.0}× |",
-            word(zero.solution.verdict, "realizable", "unrealizable"),
+            word(&zero.solution, "realizable", "unrealizable"),
             z.visited,
             z.winning,
             t(zt),
-            word(scan.synthesis.solution.verdict, "implementable", "not implementable"),
+            word(&scan.synthesis.solution, "implementable", "not implementable"),
             sc.visited,
             sc.winning,
             t(st),
@@ -279,4 +269,14 @@ fn peak_rss_kib() -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
     line.split_whitespace().nth(1)?.parse().ok()
+}
+
+/// A solution's outcome in a table: the given words for the two verdicts, else the stop.
+fn word(solution: &Solution, realizable: &'static str, not: &'static str) -> &'static str {
+    match solution.outcome {
+        Ok(Verdict::Realizable) => realizable,
+        Ok(Verdict::Unrealizable) => not,
+        Err(Stop::Budget { .. }) => "budget exceeded",
+        Err(Stop::Cancelled) => "cancelled",
+    }
 }

@@ -130,15 +130,13 @@ pub fn ltl(a: &LtlArgs) -> ExitCode {
         SolverArg::Antichain => ltl::Solver::Antichain,
         SolverArg::Symbolic => ltl::Solver::Symbolic,
     };
-    let cfg = Config {
-        max_k: a.max_k,
-        max_states: a.max_states,
-        max_work: a.max_work,
-        solver,
-        compositional: !a.monolithic,
-        refine: !a.no_refine,
-        ..Config::default()
-    };
+    let cfg = Config::default()
+        .max_k(a.max_k)
+        .max_states(a.max_states)
+        .max_work(a.max_work)
+        .solver(solver)
+        .compositional(!a.monolithic)
+        .refine(!a.no_refine);
     let outcome = match ltl::synthesize(&spec, &cfg, &mut |_| true) {
         Ok(outcome) => outcome,
         Err(stop) => {

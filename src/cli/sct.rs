@@ -182,7 +182,8 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
         MethodArg::Incremental => Method::Incremental,
         MethodArg::Monolithic => Method::Monolithic,
     };
-    let cfg = Config { method, preempt: !a.no_preemption, minimize: !a.no_minimize, max_states: a.max_states };
+    let cfg =
+        Config::default().method(method).preempt(!a.no_preemption).minimize(!a.no_minimize).max_states(a.max_states);
     let start = Instant::now();
     let clock = move || start.elapsed().as_secs_f64() * 1000.0;
     let (reports, sdiags, stop) = synthesize_all_within(&src, &loaded, &cfg, Some(&clock), &mut budget);

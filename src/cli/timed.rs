@@ -3,7 +3,7 @@
 use clap::Args;
 use plcsynth::diag::{render_plain, Diagnostics};
 use plcsynth::plc;
-use plcsynth::timed::solve::{self, Budget, BudgetStop, SolveOptions, Verdict};
+use plcsynth::timed::solve::{self, Resource, Solution, SolveOptions, Stop, Verdict};
 use plcsynth::timed::{self};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -85,18 +85,18 @@ struct ScanOutcome {
 
 impl ScanOutcome {
     fn implementable(&self) -> bool {
-        self.result.synthesis.solution.verdict == Verdict::Realizable
+        self.result.synthesis.solution.verdict() == Some(Verdict::Realizable)
     }
 
     fn verdict_text(&self) -> String {
-        match self.result.synthesis.solution.verdict {
-            Verdict::Realizable => format!("implementable at {} ms", self.scan_ms),
-            Verdict::Unrealizable => format!("not implementable at {} ms", self.scan_ms),
-            Verdict::BudgetExceeded => format!(
+        match self.result.synthesis.solution.outcome {
+            Ok(Verdict::Realizable) => format!("implementable at {} ms", self.scan_ms),
+            Ok(Verdict::Unrealizable) => format!("not implementable at {} ms", self.scan_ms),
+            Err(Stop::Budget { .. }) => format!(
                 "budget exceeded at {} ms after {} states",
                 self.scan_ms, self.result.synthesis.solution.stats.visited
             ),
-            Verdict::Cancelled => "cancelled".to_string(),
+            Err(Stop::Cancelled) => "cancelled".to_string(),
         }
     }
 
@@ -127,9 +127,9 @@ fn solve_at_scan(
         }
     };
     let millis = started.elapsed().as_secs_f64() * 1000.0;
-    let decided = matches!(result.synthesis.solution.verdict, Verdict::Realizable | Verdict::Unrealizable);
+    let decided = result.synthesis.solution.verdict().is_some();
     let bound = (with_bound && decided).then(|| {
-        let implementable = result.synthesis.solution.verdict == Verdict::Realizable;
+        let implementable = result.synthesis.solution.verdict() == Some(Verdict::Realizable);
         timed::scan_bound(game, scan_ms, implementable, options, &mut |_| true)
     });
     Ok(ScanOutcome { scan_ms, result, millis, bound })
@@ -195,38 +195,37 @@ impl PlcArgs {
 
 impl BudgetArgs {
     fn options(&self) -> SolveOptions {
-        SolveOptions {
-            max_states: self.max_states,
-            max_bytes: self.max_memory.saturating_mul(1 << 20),
-            max_work: self.max_work,
-            exhaustive: self.exhaustive,
-            zeno_memory: !self.no_zeno_memory,
-            inclusion: !self.no_inclusion,
-            dominance: !self.no_dominance,
-            ..SolveOptions::default()
-        }
+        SolveOptions::default()
+            .max_states(self.max_states)
+            .max_bytes(self.max_memory.saturating_mul(1 << 20))
+            .max_work(self.max_work)
+            .exhaustive(self.exhaustive)
+            .zeno_memory(!self.no_zeno_memory)
+            .inclusion(!self.no_inclusion)
+            .dominance(!self.no_dominance)
     }
 }
 
-/// The budget stop as a diagnostic with the flag that raises the budget, located at the
-/// declaration to blame when there is one.
-fn render_stop(file: &str, source: &str, stop: &BudgetStop) -> String {
-    let flag = match stop.budget {
-        Budget::States => "--max-states N",
-        Budget::Memory => "--max-memory MIB",
-        Budget::Work => "--max-work N",
+/// A budget stop of `solution` as a diagnostic with the flag that raises the budget, located
+/// at the declaration to blame when there is one; nothing for a decision or a cancellation.
+fn render_stop(file: &str, source: &str, solution: &Solution) -> String {
+    let Some(Stop::Budget { resource, message }) = solution.stop() else { return String::new() };
+    let flag = match resource {
+        Resource::States => "--max-states N",
+        Resource::Memory => "--max-memory MIB",
+        Resource::Work | Resource::Size => "--max-work N",
     };
-    let note = format!("this is the {} budget; raise it with {flag}", stop.budget.name());
-    match stop.span {
+    let note = format!("this is the {} budget; raise it with {flag}", resource.name());
+    match solution.blame {
         Some(span) => {
             let mut d = Diagnostics::new(source);
-            d.error(span, format!("budget exceeded: {}", stop.message)).with_note(note).with_note(
+            d.error(span, format!("budget exceeded: {message}")).with_note(note).with_note(
                 "every clock in use at a node multiplies its sub-locations by the clock's pieces (5.2.2); \
                  fewer clocks per automaton, or resets before clocks are read again, keep the split small",
             );
             render_plain(file, source, &d.items)
         }
-        None => format!("{file}: budget exceeded: {}\n  = note: {note}\n", stop.message),
+        None => format!("{file}: budget exceeded: {message}\n  = note: {note}\n"),
     }
 }
 
@@ -264,7 +263,7 @@ pub fn solve(file: &str, json: bool, budget: &BudgetArgs, scan: &ScanArgs, dump_
     let millis = started.elapsed().as_secs_f64() * 1000.0;
     let scan_ms = scan.resolve(&game);
     let at_scan = match scan_ms {
-        Some(ms) if result.solution.verdict == Verdict::Realizable => {
+        Some(ms) if result.solution.verdict() == Some(Verdict::Realizable) => {
             match solve_at_scan(file, &source, &game, ms, &options, true) {
                 Ok(outcome) => Some(outcome),
                 Err(code) => return code,
@@ -280,22 +279,22 @@ pub fn solve(file: &str, json: bool, budget: &BudgetArgs, scan: &ScanArgs, dump_
             let st = &o.result.synthesis.solution.stats;
             serde_json::json!({
                 "scan_ms": o.scan_ms,
-                "verdict": o.result.synthesis.solution.verdict,
+                "verdict": o.result.synthesis.solution.outcome_name(),
                 "implementable": o.implementable(),
                 "visited": st.visited,
                 "removed": st.removed,
                 "edges": st.edges,
                 "work": st.work,
                 "millis": o.millis,
-                "budget": o.result.synthesis.solution.stop,
+                "stop": o.result.synthesis.solution.stop(),
                 "bound": o.bound,
                 "explanation": scan_explanation,
             })
         });
         let value = serde_json::json!({
             "file": file,
-            "verdict": result.solution.verdict,
-            "realizable": result.solution.verdict == Verdict::Realizable,
+            "verdict": result.solution.outcome_name(),
+            "realizable": result.solution.verdict() == Some(Verdict::Realizable),
             "semantics": "zero-time controller",
             "visited": stats.visited,
             "expanded": stats.expanded,
@@ -305,18 +304,18 @@ pub fn solve(file: &str, json: bool, budget: &BudgetArgs, scan: &ScanArgs, dump_
             "zones": stats.zones,
             "bytes": stats.bytes,
             "work": stats.work,
-            "budget": result.solution.stop,
+            "stop": result.solution.stop(),
+            "blame": result.solution.blame,
             "millis": millis,
             "explanation": explanation,
             "scan": scan_value,
         });
         outln!("{value}");
     } else {
-        let verdict = match result.solution.verdict {
-            Verdict::Realizable => "realizable".to_string(),
-            Verdict::Unrealizable => "unrealizable".to_string(),
-            Verdict::BudgetExceeded => format!("budget exceeded after {} states", stats.visited),
-            Verdict::Cancelled => "cancelled".to_string(),
+        let verdict = match result.solution.outcome {
+            Ok(verdict) => verdict.name().to_string(),
+            Err(Stop::Budget { .. }) => format!("budget exceeded after {} states", stats.visited),
+            Err(Stop::Cancelled) => "cancelled".to_string(),
         };
         match &at_scan {
             Some(o) => outln!("{file}: {} (realizable with a zero-time controller)", o.verdict_text()),
@@ -359,17 +358,15 @@ pub fn solve(file: &str, json: bool, budget: &BudgetArgs, scan: &ScanArgs, dump_
             }
         }
     }
-    if let Some(stop) = &result.solution.stop {
-        eprint!("{}", render_stop(file, &source, stop));
+    eprint!("{}", render_stop(file, &source, &result.solution));
+    if let Some(o) = &at_scan {
+        eprint!("{}", render_stop(file, &source, &o.result.synthesis.solution));
     }
-    if let Some(stop) = at_scan.as_ref().and_then(|o| o.result.synthesis.solution.stop.as_ref()) {
-        eprint!("{}", render_stop(file, &source, stop));
-    }
-    let verdict = at_scan.as_ref().map_or(result.solution.verdict, |o| o.result.synthesis.solution.verdict);
+    let verdict = at_scan.as_ref().map_or(result.solution.verdict(), |o| o.result.synthesis.solution.verdict());
     match verdict {
-        Verdict::Realizable => ExitCode::SUCCESS,
-        Verdict::Unrealizable => ExitCode::from(1),
-        Verdict::BudgetExceeded | Verdict::Cancelled => ExitCode::from(3),
+        Some(Verdict::Realizable) => ExitCode::SUCCESS,
+        Some(Verdict::Unrealizable) => ExitCode::from(1),
+        None => ExitCode::from(3),
     }
 }
 
@@ -404,11 +401,9 @@ pub fn compile(
     };
     let result = timed::synthesize(&game, &budget.options(), &mut |_| true);
     let Some(program) = plcsynth::program::controller(&game, &result) else {
-        match result.solution.verdict {
-            Verdict::BudgetExceeded | Verdict::Cancelled => {
-                if let Some(stop) = &result.solution.stop {
-                    eprint!("{}", render_stop(file, &source, stop));
-                }
+        match result.solution.verdict() {
+            None => {
+                eprint!("{}", render_stop(file, &source, &result.solution));
                 eprintln!("{file}: budget exceeded after {} states; nothing written", result.solution.stats.visited);
                 return ExitCode::from(3);
             }
@@ -430,8 +425,8 @@ pub fn compile(
             Ok(outcome) => outcome,
             Err(code) => return code,
         };
-        match outcome.result.synthesis.solution.verdict {
-            Verdict::Realizable => match plc::lower::timed::scan_program(&game, &outcome.result, &mut |_| true) {
+        match outcome.result.synthesis.solution.verdict() {
+            Some(Verdict::Realizable) => match plc::lower::timed::scan_program(&game, &outcome.result, &mut |_| true) {
                 Ok(scan_program) => {
                     let (nodes, followed) = (scan_program.nodes.len(), scan_program.work);
                     eprintln!(
@@ -446,7 +441,7 @@ pub fn compile(
                      scan strategy: {why}"
                 ),
             },
-            Verdict::Unrealizable => {
+            Some(Verdict::Unrealizable) => {
                 let bound = timed::scan_bound(&game, ms, false, &budget.options(), &mut |_| true);
                 let outcome = ScanOutcome { bound: Some(bound), ..outcome };
                 eprintln!("{file}: {}; nothing written", outcome.verdict_text());
@@ -458,10 +453,8 @@ pub fn compile(
                 }
                 return ExitCode::from(1);
             }
-            _ => {
-                if let Some(stop) = &outcome.result.synthesis.solution.stop {
-                    eprint!("{}", render_stop(file, &source, stop));
-                }
+            None => {
+                eprint!("{}", render_stop(file, &source, &outcome.result.synthesis.solution));
                 eprintln!("{file}: {}; nothing written", outcome.verdict_text());
                 return ExitCode::from(3);
             }

@@ -149,13 +149,12 @@ impl Solver {
 pub const DEFAULT_MAX_WORK: u64 = 1_500_000_000;
 
 /// The work a run has spent against [`Config::max_work`], with the caller's progress callback
-/// asked every 2^16 units (its `false` cancels).
+/// asked every 2^16 units (its `false` cancels): the shared [`crate::search::Meter`] and the
+/// callback.
 pub(crate) struct Work<'a> {
-    used: u64,
-    /// The run's budget, and the limit now in force (lower inside [`Work::capped`]).
+    meter: Meter,
+    /// The run's budget (the meter's limit is lower inside [`Work::capped`]).
     budget: u64,
-    limit: u64,
-    next_report: u64,
     progress: &'a mut dyn FnMut(Progress) -> bool,
     /// What the callback is told besides the work.
     pub(crate) at: Progress,
@@ -163,51 +162,52 @@ pub(crate) struct Work<'a> {
 
 impl<'a> Work<'a> {
     pub(crate) fn new(limit: u64, progress: &'a mut dyn FnMut(Progress) -> bool) -> Work<'a> {
-        Work { used: 0, budget: limit, limit, next_report: 1 << 16, progress, at: Progress::default() }
+        Work { meter: Meter::new(0, limit, 1 << 16), budget: limit, progress, at: Progress::default() }
     }
 
     /// Spends `units`; stops the run past the budget or when the callback cancels.
     pub(crate) fn spend(&mut self, units: u64) -> Result<(), Stop> {
-        self.used += units;
-        if self.used > self.limit {
-            return Err(Stop::budget(
+        match self.meter.charge(units) {
+            Charge::Within => Ok(()),
+            Charge::Exceeded => Err(Stop::budget(
                 Resource::Work,
-                if self.limit < self.budget {
+                if self.meter.limit() < self.budget {
                     format!(
                         "it would pass {} units of work, the end of its share (--max-work {} for the whole run)",
-                        self.limit, self.budget
+                        self.meter.limit(),
+                        self.budget
                     )
                 } else {
                     format!("the run needs more than {} units of work (--max-work)", self.budget)
                 },
-            ));
-        }
-        if self.used >= self.next_report {
-            self.next_report = self.used + (1 << 16);
-            self.at.work = self.used;
-            if !(self.progress)(self.at) {
-                return Err(Stop::Cancelled);
+            )),
+            Charge::ReportDue => {
+                self.at.work = self.meter.used();
+                if (self.progress)(self.at) {
+                    Ok(())
+                } else {
+                    Err(Stop::Cancelled)
+                }
             }
         }
-        Ok(())
     }
 
     pub(crate) fn used(&self) -> u64 {
-        self.used
+        self.meter.used()
     }
 
     /// Units left before the budget ends the run.
     pub(crate) fn remaining(&self) -> u64 {
-        self.limit.saturating_sub(self.used)
+        self.meter.remaining()
     }
 
     /// Runs `f` with at most `units` more to spend (within the run's budget), then restores
     /// the run's budget: for optional work whose running out is not the run's end.
     pub(crate) fn capped<T>(&mut self, units: u64, f: impl FnOnce(&mut Work) -> T) -> T {
-        let limit = self.limit;
-        self.limit = limit.min(self.used.saturating_add(units));
+        let limit = self.meter.limit();
+        self.meter.set_limit(limit.min(self.meter.used().saturating_add(units)));
         let result = f(self);
-        self.limit = limit;
+        self.meter.set_limit(limit);
         result
     }
 }
@@ -217,6 +217,17 @@ impl<'a> Work<'a> {
 pub const DEFAULT_MAX_K: u32 = 8;
 /// The default budget of game positions: a run stops within seconds and a few hundred MB.
 pub const DEFAULT_MAX_STATES: usize = 200_000;
+
+crate::search::setters!(Config {
+    max_k: u32,
+    max_states: usize,
+    max_automaton_states: usize,
+    max_signals: usize,
+    solver: Solver,
+    max_work: u64,
+    compositional: bool,
+    refine: bool,
+});
 
 impl Default for Config {
     fn default() -> Config {
@@ -243,6 +254,17 @@ pub enum Verdict {
     Unrealizable,
     /// Neither player won a game up to [`Config::max_k`].
     Unknown,
+}
+
+impl Verdict {
+    /// Its name in the JSON forms and the page: `realizable`, `unrealizable` or `unknown`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Verdict::Realizable => "realizable",
+            Verdict::Unrealizable => "unrealizable",
+            Verdict::Unknown => "unknown",
+        }
+    }
 }
 
 /// Progress of a run, passed to the callback; returning `false` cancels.
@@ -297,6 +319,7 @@ pub struct Outcome {
     pub split: usize,
 }
 
+use crate::search::{Charge, Meter};
 /// Why a run stopped without a verdict: the shared [`crate::search::Stop`].
 pub use crate::search::{Resource, Stop};
 

@@ -176,7 +176,8 @@ pub fn automata(game: &Game) -> Vec<AutomatonView> {
 
 #[derive(Serialize)]
 pub struct SpaceView {
-    pub verdict: Verdict,
+    /// `realizable`, `unrealizable`, `budget_exceeded` or `cancelled` ([`super::solve::Solution::outcome_name`]).
+    pub verdict: &'static str,
     pub initial: StateId,
     /// Clock names, index 0 being the reference clock.
     pub clocks: Vec<String>,
@@ -296,7 +297,7 @@ fn view_of(game: &Game, synthesis: &Synthesis, order: &[StateId], truncated: boo
         }
     }
     SpaceView {
-        verdict: synthesis.solution.verdict,
+        verdict: synthesis.solution.outcome_name(),
         initial: space.initial,
         clocks: game.clocks.iter().map(|c| c.name.clone()).collect(),
         units: synthesis.split.units.iter().map(|u| u.name.clone()).collect(),
@@ -425,7 +426,7 @@ pub struct StrategyChoice {
 /// state it reaches, the request it makes or `wait`, initial state first; `None` when the game
 /// is not realizable.
 pub fn strategy(game: &Game, synthesis: &Synthesis) -> Option<Vec<StrategyChoice>> {
-    if synthesis.solution.verdict != Verdict::Realizable {
+    if synthesis.solution.verdict() != Some(Verdict::Realizable) {
         return None;
     }
     let space = &synthesis.solution.space;

@@ -18,7 +18,7 @@
 //! let (game, _warnings) = compile(source).expect("a valid specification");
 //! let result = synthesize(&game, &SolveOptions::default(), &mut |_stats| true);
 //! // The controller can only react after the press: no controller exists.
-//! assert_eq!(result.solution.verdict, Verdict::Unrealizable);
+//! assert_eq!(result.solution.verdict(), Some(Verdict::Unrealizable));
 //! assert!(result.explanation.unwrap().render().contains("!press"));
 //! ```
 
@@ -75,7 +75,7 @@ pub struct Synthesis {
 }
 
 /// Precomputes and solves a checked game within the budgets of `options`. A split that alone
-/// exceeds them is refused: the verdict is [`solve::Verdict::BudgetExceeded`], the state space
+/// exceeds them is refused: the outcome is a budget [`solve::Stop`], the state space
 /// is empty and the stop names the location to blame. `progress` is called during both.
 pub fn synthesize(
     game: &model::Game,
@@ -95,20 +95,20 @@ fn synthesize_guided(
     let split = match precompute::split(game, options, progress) {
         Ok(split) => split,
         Err(error) => {
-            let (verdict, stats, stop) = match error {
+            let (stop, stats, blame) = match error {
                 precompute::SplitError::TooLarge(t) => {
                     let stats = solve::Stats { bytes: t.bytes, work: t.work, ..solve::Stats::default() };
-                    (solve::Verdict::BudgetExceeded, stats, Some(solve::BudgetStop::split(&t, options)))
+                    (solve::split_stop(&t, options), stats, Some(t.span))
                 }
-                precompute::SplitError::Cancelled => (solve::Verdict::Cancelled, solve::Stats::default(), None),
+                precompute::SplitError::Cancelled => (solve::Stop::Cancelled, solve::Stats::default(), None),
             };
             let space = solve::StateSpace::empty(game.dim(), game.components.len(), game.plans.len());
-            let solution = solve::Solution { verdict, stats, space, stop };
+            let solution = solve::Solution { outcome: Err(stop), stats, space, blame };
             return Synthesis { split: precompute::unsplit(game), solution, explanation: None };
         }
     };
     let solution = solve::solve_guided(game, &split, options, guide, progress);
-    let explanation = if solution.verdict == solve::Verdict::Unrealizable {
+    let explanation = if solution.verdict() == Some(solve::Verdict::Unrealizable) {
         explain::explain(game, &split, &solution.space, solution.space.initial)
     } else {
         None
@@ -194,10 +194,10 @@ pub fn scan_guide(
             *bound -= spare;
         }
         let synthesis = synthesize(&tight, options, progress);
-        if synthesis.solution.verdict == solve::Verdict::Realizable {
+        if synthesis.solution.is_realizable() {
             return solve::ScanGuide::new(&synthesis.split, &synthesis.solution);
         }
-        if spare == 0 || synthesis.solution.verdict == solve::Verdict::Cancelled {
+        if spare == 0 || synthesis.solution.outcome == Err(solve::Stop::Cancelled) {
             return None;
         }
         spare /= 2;
@@ -263,11 +263,7 @@ pub fn scan_bound(
     // `None`: stopped at a budget or cancelled (or no scan game at that time).
     let mut verdict_at = |ms: u64| -> Option<bool> {
         let result = synthesize_at_scan(game, ms, options, progress).ok()?;
-        match result.synthesis.solution.verdict {
-            solve::Verdict::Realizable => Some(true),
-            solve::Verdict::Unrealizable => Some(false),
-            _ => None,
-        }
+        Some(result.synthesis.solution.verdict()? == solve::Verdict::Realizable)
     };
     let longest = game
         .components

@@ -18,8 +18,9 @@
 //! naming the location, when it would exceed them.
 
 use super::model::*;
-use super::solve::{Budget, Halt, SolveOptions, Stats, PROGRESS_WORK, STEP_COST};
+use super::solve::{Halt, SolveOptions, Stats, PROGRESS_WORK, STEP_COST};
 use crate::diag::Span;
+use crate::search::{Charge, Meter, Resource};
 use serde::Serialize;
 use std::mem::size_of;
 use std::ops::Range;
@@ -170,7 +171,7 @@ pub fn clock_usage(location_count: usize, local: &[bool], edges: &[(LocId, LocId
 /// split, the usual culprit (every clock in use there multiplies them).
 #[derive(Clone, Debug)]
 pub struct SplitTooLarge {
-    pub budget: Budget,
+    pub budget: Resource,
     /// The location in words, e.g. "node `q` of `A`".
     pub place: String,
     /// Where the location is declared.
@@ -196,9 +197,7 @@ pub enum SplitError {
 struct SplitMeter<'p> {
     bytes: usize,
     max_bytes: usize,
-    work: u64,
-    max_work: u64,
-    next_progress: u64,
+    work: Meter,
     progress: &'p mut dyn FnMut(&Stats) -> bool,
 }
 
@@ -206,21 +205,22 @@ impl SplitMeter<'_> {
     /// Adds `bytes` and `work`; stops when a budget is exceeded or the caller cancels.
     fn charge(&mut self, bytes: usize, work: u64) -> Result<(), Halt> {
         self.bytes += bytes;
-        self.work += work;
+        let charge = self.work.charge(work);
         if self.bytes > self.max_bytes {
-            return Err(Halt::Budget(Budget::Memory));
+            return Err(Halt::Budget(Resource::Memory));
         }
-        if self.work > self.max_work {
-            return Err(Halt::Budget(Budget::Work));
-        }
-        if self.work >= self.next_progress {
-            self.next_progress = self.work + PROGRESS_WORK;
-            let stats = Stats { bytes: self.bytes, work: self.work, ..Stats::default() };
-            if !(self.progress)(&stats) {
-                return Err(Halt::Cancelled);
+        match charge {
+            Charge::Within => Ok(()),
+            Charge::Exceeded => Err(Halt::Budget(Resource::Work)),
+            Charge::ReportDue => {
+                let stats = Stats { bytes: self.bytes, work: self.work.used(), ..Stats::default() };
+                if (self.progress)(&stats) {
+                    Ok(())
+                } else {
+                    Err(Halt::Cancelled)
+                }
             }
         }
-        Ok(())
     }
 }
 
@@ -263,9 +263,7 @@ pub fn split(
     let mut meter = SplitMeter {
         bytes: 0,
         max_bytes: options.max_bytes,
-        work: 0,
-        max_work: options.max_work,
-        next_progress: PROGRESS_WORK,
+        work: Meter::new(0, options.max_work, PROGRESS_WORK),
         progress,
     };
     let mut units = Vec::new();
@@ -280,7 +278,7 @@ pub fn split(
                 clocks: idx.boxes[l].clocks.len(),
                 sublocations: count,
                 bytes: meter.bytes,
-                work: meter.work,
+                work: meter.work.used(),
             })
         })?;
         units.push(unit);
@@ -299,7 +297,7 @@ pub fn split(
                 clocks: idx.boxes[l].clocks.len(),
                 sublocations: count,
                 bytes: meter.bytes,
-                work: meter.work,
+                work: meter.work.used(),
             })
         })?;
         units.push(unit);
@@ -317,7 +315,7 @@ pub fn split(
         plan_resets,
         message_count,
         bytes: meter.bytes,
-        work: meter.work,
+        work: meter.work.used(),
     })
 }
 
@@ -425,7 +423,7 @@ impl SubLocIndex {
             })
             .fold(0, u64::saturating_add);
         if fixed > meter.max_bytes.saturating_sub(meter.bytes) as u64 {
-            return Err(Halt::Budget(Budget::Memory));
+            return Err(Halt::Budget(Resource::Memory));
         }
         let total = self.boxes.iter().map(|b| b.count).fold(0, u64::saturating_add);
         self.sublocs.reserve_exact(total as usize);

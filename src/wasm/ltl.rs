@@ -76,7 +76,11 @@ struct GroupView {
 
 #[derive(Serialize)]
 struct LtlSummary {
-    verdict: Verdict,
+    /// `realizable`, `unrealizable`, `unknown` (no player won up to the bound), or how the run
+    /// stopped before deciding: `budget_exceeded` or `cancelled` (`search::Stop::outcome_name`).
+    verdict: &'static str,
+    /// Present when a budget or the caller stopped the run: the shared `search::Stop`.
+    stop: Option<Stop>,
     /// The solver that decided it (`explicit`, `antichain`, `symbolic`).
     solver: &'static str,
     /// `realizable at k = 1: a controller of 2 states, 3 rows`.
@@ -169,7 +173,8 @@ impl LtlSession {
     /// Decides the specification. `options`: `{ maxK?, maxStates?, maxWork?, solver?,
     /// monolithic?, noRefine?, suggest?, suggestMax?, progressMs? }`; `progress(value,
     /// elapsedMs)` is called with `{ k, positions, work }`, and its `false` cancels. A run that
-    /// a budget stops has the verdict `unknown`; a cancelled one throws `cancelled`.
+    /// a budget or the callback stops has the verdict `budget_exceeded` or `cancelled` and its
+    /// `stop`, as the other engines' sessions.
     pub fn solve(&mut self, options: JsValue, progress: Option<js_sys::Function>) -> Result<JsValue, JsValue> {
         let opts: LtlOptions = super::options(options)?;
         let defaults = Config::default();
@@ -180,35 +185,30 @@ impl LtlSession {
                 JsValue::from_str(&format!("unknown solver `{name}` ({})", names.join(", ")))
             })?,
         };
-        let cfg = Config {
-            max_k: opts.max_k.unwrap_or(defaults.max_k),
-            max_states: opts.max_states.unwrap_or(defaults.max_states),
-            max_work: opts.max_work.unwrap_or(defaults.max_work),
-            solver,
-            compositional: !opts.monolithic,
-            refine: !opts.no_refine,
-            ..defaults
-        };
+        let cfg = Config::default()
+            .max_k(opts.max_k.unwrap_or(defaults.max_k))
+            .max_states(opts.max_states.unwrap_or(defaults.max_states))
+            .max_work(opts.max_work.unwrap_or(defaults.max_work))
+            .solver(solver)
+            .compositional(!opts.monolithic)
+            .refine(!opts.no_refine);
         let mut progress = Progress::new(progress, opts.progress_ms);
         let started = super::now_ms();
         let mut report =
             |p: ltl::Progress| progress.report(|| LtlProgress { k: p.k, positions: p.positions, work: p.work });
         let outcome = match ltl::synthesize(&self.spec, &cfg, &mut report) {
             Ok(outcome) => outcome,
-            Err(Stop::Cancelled) => {
-                progress.finish()?;
-                return Err(JsValue::from_str("cancelled"));
-            }
-            Err(Stop::Budget { message, .. }) => {
-                // No verdict and no machine: the budget ended the run first.
+            Err(stop) => {
+                // No verdict and no machine: the budget or the caller ended the run first.
                 progress.finish()?;
                 self.outcome = None;
                 self.solved = true;
                 return to_js(&LtlSummary {
-                    verdict: Verdict::Unknown,
+                    verdict: stop.outcome_name(),
                     solver: solver.name(),
-                    summary: format!("unknown: {message}"),
-                    report: ReportView { limit: Some(message.clone()), ..ReportView::default() },
+                    summary: format!("no verdict: {stop}"),
+                    report: ReportView { limit: Some(stop.to_string()), ..ReportView::default() },
+                    stop: Some(stop),
                     machine_dot: None,
                     machine_text: None,
                     counter_tree: None,
@@ -242,7 +242,8 @@ impl LtlSession {
         let refined = ltl::refined(&self.spec, &outcome.refinement);
         let machine = outcome.controller.as_ref().or(outcome.counter_strategy.as_ref());
         let summary = LtlSummary {
-            verdict: outcome.verdict,
+            verdict: outcome.verdict.name(),
+            stop: None,
             solver: solver.name(),
             summary: ltl::summary(&outcome),
             report: self.report_view(&refined, &outcome),

@@ -54,8 +54,8 @@ struct SctSummary<'a> {
     diagnostics: &'a [Diagnostic],
     /// `realizable`, `unrealizable`, `budget_exceeded`, `cancelled` or `error` (`sct::Verdict`).
     verdict: Verdict,
-    /// `budget` or `cancelled` when the run stopped before every specification was synthesised.
-    stopped: Option<&'static str>,
+    /// Why the run stopped before every specification was synthesised (`search::Stop`).
+    stop: Option<&'a Stop>,
     /// Product states built.
     states_built: usize,
     ms: f64,
@@ -143,12 +143,11 @@ impl SctSession {
                 return Err(JsValue::from_str(&format!("unknown method `{other}` (incremental, monolithic)")))
             }
         };
-        let cfg = Config {
-            method,
-            preempt: opts.preempt.unwrap_or(true),
-            minimize: opts.minimize.unwrap_or(true),
-            max_states: opts.max_states.unwrap_or(DEFAULT_MAX_STATES),
-        };
+        let cfg = Config::default()
+            .method(method)
+            .preempt(opts.preempt.unwrap_or(true))
+            .minimize(opts.minimize.unwrap_or(true))
+            .max_states(opts.max_states.unwrap_or(DEFAULT_MAX_STATES));
         let mut progress = Progress::new(progress, opts.progress_ms);
         let started = progress.elapsed();
         let clock = super::now_ms;
@@ -185,7 +184,7 @@ impl SctSession {
             supervisors: reports.iter().map(summary_of).collect(),
             verdict: Verdict::of(&reports, &diagnostics, stop.as_ref()),
             diagnostics: &diagnostics,
-            stopped: stop.as_ref().map(Stop::name),
+            stop: stop.as_ref(),
             states_built: built,
             ms,
         };

@@ -9,7 +9,7 @@ use crate::program::{self, Program};
 use crate::timed::explain::{self as explain, dump, CounterPlay};
 use crate::timed::export::{self, StateView};
 use crate::timed::model::Game;
-use crate::timed::solve::{BudgetStop, SolveOptions, StateId, Stats, Verdict};
+use crate::timed::solve::{SolveOptions, StateId, Stats, Stop, Verdict};
 use crate::timed::{self, Synthesis};
 use serde::{Deserialize, Serialize};
 use std::cell::OnceCell;
@@ -31,10 +31,14 @@ struct JsSolveOptions {
 
 #[derive(Serialize)]
 struct SolveSummary {
-    verdict: Verdict,
+    /// `realizable`, `unrealizable`, `budget_exceeded` or `cancelled`
+    /// (`timed::solve::Solution::outcome_name`).
+    verdict: &'static str,
     stats: Stats,
-    /// Present when the verdict is `budget_exceeded`: which budget stopped the search.
-    budget: Option<BudgetStop>,
+    /// Present when the search stopped before deciding: the shared `search::Stop`.
+    stop: Option<Stop>,
+    /// With a budget stop of the split: the node or plan step to blame.
+    blame: Option<crate::diag::Span>,
     /// Present when the verdict is `unrealizable`.
     explanation_depth: Option<u32>,
     /// Present when the specification declares a scan time and is realizable: the verdict on
@@ -46,9 +50,9 @@ struct SolveSummary {
 struct ScanSummary {
     scan_ms: u64,
     /// `realizable` here means implementable at `scan_ms`.
-    verdict: Verdict,
+    verdict: &'static str,
     stats: Stats,
-    budget: Option<BudgetStop>,
+    stop: Option<Stop>,
     /// Why no PLC with this scan can do it, as text (the scan game's counter-play).
     explanation_text: Option<String>,
     /// The scan times around the verdict (`timed::scan_bound`), once it is decided.
@@ -192,28 +196,26 @@ impl TimedSession {
     /// Solves the game. `options`: `{ maxStates?, maxMemoryMib?, maxWork?, progressInterval? }`;
     /// `progress`, if given, is called with `Stats` every `progressInterval` expansions (and
     /// during long work on one state), and a return value of `false` cancels the run. Returns
-    /// `{ verdict, stats, budget, explanation_depth }`.
+    /// `{ verdict, stats, stop, explanation_depth, scan }`.
     pub fn solve(&mut self, options: JsValue, progress: Option<js_sys::Function>) -> Result<JsValue, JsValue> {
         let opts: JsSolveOptions = super::options(options)?;
         let defaults = SolveOptions::default();
-        let options = SolveOptions {
-            max_states: opts.max_states.unwrap_or(defaults.max_states),
-            max_bytes: opts.max_memory_mib.map_or(defaults.max_bytes, |mib| mib.saturating_mul(1 << 20)),
-            max_work: opts.max_work.unwrap_or(defaults.max_work),
-            progress_interval: opts.progress_interval.unwrap_or(defaults.progress_interval).max(1),
-            exhaustive: opts.exhaustive,
-            ..defaults
-        };
+        let options = SolveOptions::default()
+            .max_states(opts.max_states.unwrap_or(defaults.max_states))
+            .max_bytes(opts.max_memory_mib.map_or(defaults.max_bytes, |mib| mib.saturating_mul(1 << 20)))
+            .max_work(opts.max_work.unwrap_or(defaults.max_work))
+            .progress_interval(opts.progress_interval.unwrap_or(defaults.progress_interval).max(1))
+            .exhaustive(opts.exhaustive);
         let mut progress = Progress::new(progress, opts.progress_ms);
         let mut report = |stats: &Stats| progress.report(|| *stats);
         let synthesis = timed::synthesize(&self.game, &options, &mut report);
         let mut scan_program = None;
         let scan = match self.game.scan_ms {
             // A callback error cancels the run, so a realizable verdict means none occurred.
-            Some((ms, _)) if synthesis.solution.verdict == Verdict::Realizable => {
+            Some((ms, _)) if synthesis.solution.verdict() == Some(Verdict::Realizable) => {
                 timed::synthesize_at_scan(&self.game, ms, &options, &mut report).ok().map(|r| {
-                    let verdict = r.synthesis.solution.verdict;
-                    let code_from = (verdict == Verdict::Realizable).then(|| {
+                    let verdict = r.synthesis.solution.verdict();
+                    let code_from = (verdict == Some(Verdict::Realizable)).then(|| {
                         // The page's cancel button stops the extraction too.
                         let stats = r.synthesis.solution.stats;
                         match plc::lower::timed::scan_program(&self.game, &r, &mut |_| report(&stats)) {
@@ -227,14 +229,14 @@ impl TimedSession {
                     });
                     // How slow a PLC may be: the neighbouring scan times solved, as the CLI's
                     // `solve` prints them (each within the same budgets).
-                    let bound = matches!(verdict, Verdict::Realizable | Verdict::Unrealizable).then(|| {
+                    let bound = verdict.map(|verdict| {
                         timed::scan_bound(&self.game, ms, verdict == Verdict::Realizable, &options, &mut report)
                     });
                     ScanSummary {
                         scan_ms: ms,
-                        verdict,
+                        verdict: r.synthesis.solution.outcome_name(),
                         stats: r.synthesis.solution.stats,
-                        budget: r.synthesis.solution.stop.clone(),
+                        stop: r.synthesis.solution.stop().cloned(),
                         explanation_text: r.synthesis.explanation.as_ref().map(|e| e.render()),
                         bound_text: bound.and_then(|b| b.text()),
                         bound,
@@ -246,9 +248,10 @@ impl TimedSession {
         };
         progress.finish()?;
         let summary = SolveSummary {
-            verdict: synthesis.solution.verdict,
+            verdict: synthesis.solution.outcome_name(),
             stats: synthesis.solution.stats,
-            budget: synthesis.solution.stop.clone(),
+            stop: synthesis.solution.stop().cloned(),
+            blame: synthesis.solution.blame,
             explanation_depth: synthesis.explanation.as_ref().map(|e| e.depth),
             scan,
         };
@@ -258,7 +261,8 @@ impl TimedSession {
         self.strategy = OnceCell::new();
         self.checked = Default::default();
         self.sim = None;
-        self.implementable_at = summary.scan.as_ref().filter(|s| s.verdict == Verdict::Realizable).map(|s| s.scan_ms);
+        self.implementable_at =
+            summary.scan.as_ref().filter(|s| s.verdict == Verdict::Realizable.name()).map(|s| s.scan_ms);
         self.scan_program = scan_program;
         to_js(&summary)
     }

@@ -2,7 +2,7 @@
 //! --no-zeno-memory`), and the properties both must have.
 
 use plcsynth::timed::model::Game;
-use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateKind, StateSpace, Verdict};
+use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateKind, StateSpace, Stop, Verdict};
 use plcsynth::timed::{synthesize, synthesize_at_scan, Synthesis};
 use plcsynth::zone::{includes_only_lowered, Dbm};
 use std::collections::HashSet;
@@ -27,7 +27,7 @@ pub fn options(max_states: usize) -> SolveOptions {
 /// winning state has a winning request or can wait) and every cycle through them makes plan
 /// progress. Returns the visited states of the search and of the reference, or `None` if either
 /// exceeded the budget.
-pub fn compare_with_reference(game: &Game, max_states: usize) -> Result<Option<(usize, usize)>, String> {
+pub fn compare_with_reference(game: &Game, max_states: usize) -> Result<Visited, String> {
     let options = options(max_states);
     let fast = synthesize(game, &options, &mut |_| true);
     let exact = SolveOptions { exhaustive: true, zeno_memory: false, ..options };
@@ -35,23 +35,27 @@ pub fn compare_with_reference(game: &Game, max_states: usize) -> Result<Option<(
     agree(game, &fast, &reference)
 }
 
+/// The states visited by the search and by the reference, `None` if either exceeded the budget.
+pub type Visited = Option<(usize, usize)>;
+
 /// [`compare_with_reference`] for the scan game of `game` at `scan_ms`, the search guided by the
-/// zero-time strategy as `synthesize_at_scan` runs it; also returns the search's verdict.
+/// zero-time strategy as `synthesize_at_scan` runs it; also returns the search's verdict, if it
+/// reached one.
 pub fn compare_scan_with_reference(
     game: &Game,
     scan_ms: u64,
     max_states: usize,
-) -> Result<(Verdict, Option<(usize, usize)>), String> {
+) -> Result<(Option<Verdict>, Visited), String> {
     let options = options(max_states);
     let fast = synthesize_at_scan(game, scan_ms, &options, &mut |_| true).map_err(|e| e.to_string())?;
     let exact = SolveOptions { exhaustive: true, zeno_memory: false, ..options };
     let reference = synthesize(&fast.game, &exact, &mut |_| true);
-    Ok((fast.synthesis.solution.verdict, agree(&fast.game, &fast.synthesis, &reference)?))
+    Ok((fast.synthesis.solution.verdict(), agree(&fast.game, &fast.synthesis, &reference)?))
 }
 
-fn agree(game: &Game, fast: &Synthesis, reference: &Synthesis) -> Result<Option<(usize, usize)>, String> {
+fn agree(game: &Game, fast: &Synthesis, reference: &Synthesis) -> Result<Visited, String> {
     let (f, r) = (&fast.solution, &reference.solution);
-    if f.verdict == Verdict::BudgetExceeded || r.verdict == Verdict::BudgetExceeded {
+    if matches!(f.outcome, Err(Stop::Budget { .. })) || matches!(r.outcome, Err(Stop::Budget { .. })) {
         return Ok(None);
     }
     let lowered = deadline_clocks(game);
@@ -59,8 +63,8 @@ fn agree(game: &Game, fast: &Synthesis, reference: &Synthesis) -> Result<Option<
     closed(&r.space, lowered).map_err(|m| format!("reference: {m}"))?;
     progressing(&f.space).map_err(|m| format!("search: {m}"))?;
     progressing(&r.space).map_err(|m| format!("reference: {m}"))?;
-    if f.verdict != r.verdict {
-        return Err(format!("verdicts differ: {:?} against the reference's {:?}", f.verdict, r.verdict));
+    if f.outcome != r.outcome {
+        return Err(format!("verdicts differ: {:?} against the reference's {:?}", f.outcome, r.outcome));
     }
     // Winning in the reference: surviving its exact removal. (Not only the survivors reachable
     // through survivors: the search's inclusion may reach a surviving state from one whose
@@ -87,7 +91,7 @@ fn agree(game: &Game, fast: &Synthesis, reference: &Synthesis) -> Result<Option<
     // lost (not merely unexplored), and its zone lies in this one's, plan clocks lowered. Both,
     // where the reference has them, are lost there too (only where the reference wins: a lost
     // initial state ends its search before every removal is made, so its survivors need not win).
-    let reference_complete = r.verdict == Verdict::Realizable;
+    let reference_complete = r.is_realizable();
     for s in 0..f.space.states.len() as StateId {
         let Some(Removal::Dominated { by }) = f.space.states[s as usize].removal else { continue };
         let (a, b) = (key(&f.space, s), key(&f.space, by));

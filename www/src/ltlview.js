@@ -8,7 +8,9 @@ import { drawInto } from './graphs.js';
 const verdictText = {
   realizable: 'Realizable: a controller exists',
   unrealizable: 'Unrealizable: the environment has a counter-strategy',
-  unknown: 'Unknown: no player won within the bound or the budget',
+  unknown: 'Unknown: no player won within the bound',
+  budget_exceeded: 'Budget exceeded: the search stopped before deciding',
+  cancelled: 'Cancelled before deciding',
 };
 
 /**
@@ -35,7 +37,7 @@ export function renderLtlSummary(root, { summary, ms, expected, onAddAssumption 
   const report = summary.report;
   const parts = [
     h('div', { class: `verdict ${summary.verdict}`, id: 'verdict', 'data-verdict': summary.verdict }, verdictText[summary.verdict] ?? summary.verdict),
-    expected && summary.verdict !== 'unknown'
+    expected && !summary.stop && summary.verdict !== 'unknown'
       ? h('p', { class: 'muted' }, expected === summary.verdict ? `As the example expects (${expected}).` : `The example says it should be ${expected}.`)
       : null,
     h('p', { id: 'ltl-summary' }, summary.summary, h('span', { class: 'muted', id: 'ltl-solver-used' }, ` · ${summary.solver} solver · ${fmtMs(summary.ms)} (round trip ${fmtMs(ms)})`)),
@@ -118,7 +120,7 @@ function suggestionsPart(summary, onAddAssumption) {
 /** The Automata tab of LTL: the controller or counter-strategy as a Mealy machine. */
 export async function drawMachine(root, summary) {
   if (!summary?.machine_dot) {
-    root.replaceChildren(h('p', { class: 'muted' }, summary ? 'No machine: the verdict is unknown.' : 'Run the specification to see its controller as a Mealy machine.'));
+    root.replaceChildren(h('p', { class: 'muted' }, summary ? `No machine: ${summary.stop ? 'the search stopped before deciding' : 'the verdict is unknown'}.` : 'Run the specification to see its controller as a Mealy machine.'));
     return;
   }
   const title = summary.verdict === 'realizable' ? 'The controller as a Mealy machine' : 'The environment’s counter-strategy';

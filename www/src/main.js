@@ -794,7 +794,7 @@ function verdictPhrase(verdict) {
       unrealizable: 'the spec is unrealizable',
       budget_exceeded: 'the search exceeded its budget before deciding',
       cancelled: 'the search was cancelled before deciding',
-      unknown: 'the verdict is unknown (no player won within the bound or the budget)',
+      unknown: 'the verdict is unknown (no player won within the bound)',
       error: 'synthesis found errors in the project',
     }[verdict] ?? `the verdict is ${verdict}`
   );
@@ -882,7 +882,7 @@ async function run() {
     // Edited while it ran: the results are for the text that was run.
     markStale(editor.text);
     setRunning(false);
-    if (engine === 'sct' && !summary.stopped) sctAutomata.load(app.automata, await query('supervisors', []));
+    if (engine === 'sct' && !summary.stop) sctAutomata.load(app.automata, await query('supervisors', []));
     if (engine === 'sct') {
       // Both simulations need every supervisor to exist.
       sctSim.reset(summary.verdict === 'realizable', `Nothing to simulate: ${verdictPhrase(summary.verdict)}.`);

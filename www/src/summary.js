@@ -64,12 +64,13 @@ function scanPart(summary) {
 }
 
 // Which budget stopped the search; only the state budget has a field on the page.
-function budgetText(budget, maxStates) {
-  if (!budget || budget.budget === 'states') {
+/** `stop` is the engine's `{ stop: 'budget', resource, message }` (src/search.rs). */
+function budgetText(stop, maxStates) {
+  if (!stop || stop.resource === 'states') {
     return `The search stored more than ${fmtInt(maxStates)} states (the "max states" setting). The statistics so far:`;
   }
-  const what = budget.budget === 'memory' ? 'memory' : 'work';
-  return `Budget exceeded: ${budget.message} (the ${what} budget of the page). The statistics so far:`;
+  const what = stop.resource === 'memory' ? 'memory' : 'work';
+  return `Budget exceeded: ${stop.message} (the ${what} budget of the page). The statistics so far:`;
 }
 
 export function renderSummary(root, { summary, ms, expected, maxStates, onState, onReplay }) {
@@ -80,7 +81,7 @@ export function renderSummary(root, { summary, ms, expected, maxStates, onState,
     expected && summary.verdict !== 'budget_exceeded'
       ? h('p', { class: 'muted' }, expected === summary.verdict ? `As the example expects (${expected}).` : `The example says it should be ${expected}.`)
       : null,
-    summary.verdict === 'budget_exceeded' ? h('p', {}, budgetText(summary.budget, maxStates)) : null,
+    summary.verdict === 'budget_exceeded' ? h('p', {}, budgetText(summary.stop, maxStates)) : null,
     scanPart(summary),
     // Why an unrealizable spec is lost comes before the statistics: it is what the user reads.
     summary.explanationText ? whyPart(summary, onState, onReplay) : null,

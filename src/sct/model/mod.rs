@@ -25,8 +25,8 @@ use crate::graph::{Successors, View};
 use petgraph::visit::{Bfs, NodeFiltered};
 use serde::Serialize;
 
-use crate::search::Resource;
 pub use crate::search::Stop;
+use crate::search::{Charge, Meter, Resource};
 
 /// Event id: an index into [`Project::events`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
@@ -426,6 +426,8 @@ pub const DEFAULT_MAX_STATES: usize = 250_000;
 /// How many new states a product builds between two calls of the progress callback.
 const PROGRESS_INTERVAL: usize = 4096;
 
+crate::search::setters!(Config { method: Method, preempt: bool, minimize: bool, max_states: usize });
+
 impl Default for Config {
     fn default() -> Config {
         Config { method: Method::Incremental, preempt: true, minimize: true, max_states: DEFAULT_MAX_STATES }
@@ -463,36 +465,41 @@ impl SynthError {
 /// synthesis steps) and the caller's progress callback. The callback sees the number of states built so
 /// far and returns `false` to cancel. One budget can serve several specifications.
 pub struct Budget<'a> {
-    max_states: usize,
-    built: usize,
+    /// Product states built, against `max_states`, with a progress call every
+    /// [`PROGRESS_INTERVAL`] states.
+    states: Meter,
     progress: &'a mut dyn FnMut(usize) -> bool,
 }
 
 impl<'a> Budget<'a> {
     pub fn new(max_states: usize, progress: &'a mut dyn FnMut(usize) -> bool) -> Budget<'a> {
-        Budget { max_states, built: 0, progress }
+        Budget { states: Meter::new(0, max_states as u64, PROGRESS_INTERVAL as u64), progress }
     }
 
     /// Product states built so far.
     pub fn built(&self) -> usize {
-        self.built
+        self.states.used() as usize
     }
 
     /// The number of states the budget allows.
     pub fn max_states(&self) -> usize {
-        self.max_states
+        self.states.limit() as usize
     }
 
     /// Accounts for one new product state.
     fn take_one(&mut self) -> Result<(), SynthError> {
-        self.built += 1;
-        if self.built > self.max_states {
-            return Err(SynthError::BudgetExceeded { max_states: self.max_states });
+        match self.states.charge(1) {
+            Charge::Within => Ok(()),
+            Charge::Exceeded => Err(SynthError::BudgetExceeded { max_states: self.max_states() }),
+            Charge::ReportDue => {
+                let built = self.built();
+                if (self.progress)(built) {
+                    Ok(())
+                } else {
+                    Err(SynthError::Cancelled)
+                }
+            }
         }
-        if self.built % PROGRESS_INTERVAL == 0 && !(self.progress)(self.built) {
-            return Err(SynthError::Cancelled);
-        }
-        Ok(())
     }
 }
 

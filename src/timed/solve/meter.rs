@@ -1,10 +1,10 @@
 //! Budgets and metering: the work and memory a search accounts, when it calls the progress
-//! callback, why it stopped ([`Budget`], [`BudgetStop`], `Halt`), and its statistics ([`Stats`]).
+//! callback, why it stopped (`Halt`, then the shared [`Stop`]), and its statistics ([`Stats`]).
 
 use super::space::{Edge, State, StateId, StateKind};
 use super::strategy::Deferred;
 use super::{SolveOptions, Solver};
-use crate::diag::Span;
+use crate::search::{Charge, Resource, Stop};
 use crate::timed::model::*;
 use crate::timed::precompute::SplitTooLarge;
 use serde::Serialize;
@@ -16,76 +16,47 @@ pub(crate) const PROGRESS_WORK: u64 = 1 << 20;
 /// units of one zone bound: measured, this makes a unit cost 10–20 ns whatever the game's shape.
 pub(crate) const STEP_COST: u64 = 64;
 
-/// The budgets of a search ([`SolveOptions`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Budget {
-    /// States stored.
-    States,
-    /// Approximate heap bytes of the split game and the state space.
-    Memory,
-    /// Work done (see [`Stats::work`]).
-    Work,
+/// Why a search ended before deciding, while it runs (cheap to test in the loop); it becomes
+/// the shared [`Stop`] with its sentence when the search returns.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Halt {
+    /// A budget of [`SolveOptions`]: states, memory or work.
+    Budget(Resource),
+    Cancelled,
 }
 
-impl Budget {
-    /// The budget's name in messages: `state`, `memory` or `work`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Budget::States => "state",
-            Budget::Memory => "memory",
-            Budget::Work => "work",
-        }
-    }
-}
-
-/// Which budget stopped a search, and why, in words that do not depend on the caller (the CLI
-/// and the page add how to raise it).
-#[derive(Clone, Debug, Serialize)]
-pub struct BudgetStop {
-    pub budget: Budget,
-    /// The limit of that budget: states, bytes or work units.
-    pub limit: u64,
-    pub message: String,
-    /// The declaration to blame, when there is one (a node split into too many sub-locations).
-    pub span: Option<Span>,
-}
-
-impl BudgetStop {
-    /// The stop of a search that exceeded `budget` of `options`.
-    pub fn search(budget: Budget, options: &SolveOptions) -> BudgetStop {
-        let (limit, message) = match budget {
-            Budget::States => {
-                (options.max_states as u64, format!("the search stored more than {} states", options.max_states))
-            }
-            Budget::Memory => {
-                (options.max_bytes as u64, format!("the search needs more than {} of memory", mib(options.max_bytes)))
-            }
-            Budget::Work => (
-                options.max_work,
-                format!(
-                    "the search did more than {} units of work (zone bounds and state entries computed)",
-                    options.max_work
-                ),
+impl Halt {
+    /// The stop of a search that ended so under `options`, with the budget's limit in words that
+    /// do not depend on the caller (the CLI and the page add how to raise it).
+    pub(crate) fn stop(self, options: &SolveOptions) -> Stop {
+        let resource = match self {
+            Halt::Budget(resource) => resource,
+            Halt::Cancelled => return Stop::Cancelled,
+        };
+        let message = match resource {
+            Resource::States => format!("the search stored more than {} states", options.max_states),
+            Resource::Memory => format!("the search needs more than {} of memory", mib(options.max_bytes)),
+            Resource::Work | Resource::Size => format!(
+                "the search did more than {} units of work (zone bounds and state entries computed)",
+                options.max_work
             ),
         };
-        BudgetStop { budget, limit, message, span: None }
+        Stop::budget(resource, message)
     }
+}
 
-    /// The stop of a split that needed more memory or work than `options` allow.
-    pub fn split(too_large: &SplitTooLarge, options: &SolveOptions) -> BudgetStop {
-        let what = format!(
-            "{} splits into {} sub-locations ({} clocks in use there)",
-            too_large.place, too_large.sublocations, too_large.clocks
-        );
-        let (limit, message) = match too_large.budget {
-            Budget::Memory | Budget::States => {
-                (options.max_bytes as u64, format!("{what}: more than {} of memory", mib(options.max_bytes)))
-            }
-            Budget::Work => (options.max_work, format!("{what}: more than {} units of work", options.max_work)),
-        };
-        BudgetStop { budget: too_large.budget, limit, message, span: Some(too_large.span) }
-    }
+/// The stop of a split that needed more memory or work than `options` allow; the location to
+/// blame is `too_large.span`.
+pub fn split_stop(too_large: &SplitTooLarge, options: &SolveOptions) -> Stop {
+    let what = format!(
+        "{} splits into {} sub-locations ({} clocks in use there)",
+        too_large.place, too_large.sublocations, too_large.clocks
+    );
+    let message = match too_large.budget {
+        Resource::Work => format!("{what}: more than {} units of work", options.max_work),
+        _ => format!("{what}: more than {} of memory", mib(options.max_bytes)),
+    };
+    Stop::budget(too_large.budget, message)
 }
 
 /// Bytes as MiB for messages.
@@ -113,13 +84,6 @@ pub struct Stats {
     /// Work done, the split included: per candidate successor, one unit per zone bound and per
     /// state-vector entry computed plus a fixed 64 for the rest, so roughly proportional to time.
     pub work: u64,
-}
-
-/// Why a search ended before deciding.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Halt {
-    Budget(Budget),
-    Cancelled,
 }
 
 impl Solver<'_, '_> {
@@ -153,18 +117,18 @@ impl Solver<'_, '_> {
             edges: s.edges.len(),
             zones: s.zones.len(),
             bytes: self.bytes(),
-            work: self.work,
+            work: self.meter.used(),
         }
     }
 
     /// The budget the search has exceeded, if any.
-    pub(super) fn exceeded(&self) -> Option<Budget> {
+    pub(super) fn exceeded(&self) -> Option<Resource> {
         if self.space.states.len() > self.options.max_states {
-            Some(Budget::States)
+            Some(Resource::States)
         } else if self.bytes() > self.options.max_bytes {
-            Some(Budget::Memory)
-        } else if self.work > self.options.max_work {
-            Some(Budget::Work)
+            Some(Resource::Memory)
+        } else if self.meter.exceeded() {
+            Some(Resource::Work)
         } else {
             None
         }
@@ -172,7 +136,7 @@ impl Solver<'_, '_> {
 
     /// Calls the progress callback; `false` if it cancels the run.
     pub(super) fn report(&mut self) -> bool {
-        self.next_progress = self.work + PROGRESS_WORK;
+        self.meter.reported();
         let stats = self.stats();
         (self.progress)(&stats)
     }
@@ -180,15 +144,19 @@ impl Solver<'_, '_> {
     /// Accounts `units` of work. Returns `false`, with the reason in `halt`, when the search must
     /// stop: a budget is exceeded or, at a progress call during long work, the caller cancels.
     pub(super) fn charge(&mut self, units: u64) -> bool {
-        self.work += units;
-        if self.halt.is_none() && self.work > self.options.max_work {
-            self.halt = Some(Halt::Budget(Budget::Work));
-        }
-        if self.halt.is_none() && self.work >= self.next_progress {
-            if let Some(budget) = self.exceeded() {
-                self.halt = Some(Halt::Budget(budget));
-            } else if !self.report() {
-                self.halt = Some(Halt::Cancelled);
+        let charge = self.meter.charge(units);
+        if self.halt.is_none() {
+            match charge {
+                Charge::Within => {}
+                Charge::Exceeded => self.halt = Some(Halt::Budget(Resource::Work)),
+                // During long work on one state: the other budgets too, then the caller.
+                Charge::ReportDue => {
+                    if let Some(budget) = self.exceeded() {
+                        self.halt = Some(Halt::Budget(budget));
+                    } else if !self.report() {
+                        self.halt = Some(Halt::Cancelled);
+                    }
+                }
             }
         }
         self.halt.is_none()

@@ -49,13 +49,15 @@ mod space;
 mod strategy;
 mod zeno;
 
+pub use crate::search::{Resource, Stop};
 pub use guide::ScanGuide;
-pub use meter::{Budget, BudgetStop, Stats};
+pub use meter::{split_stop, Stats};
 pub(crate) use meter::{Halt, PROGRESS_WORK, STEP_COST};
 pub use space::{Edge, EdgeId, EdgeKind, Label, Removal, State, StateId, StateKind, StateSpace};
 
 use super::model::*;
 use super::precompute::{SplitGame, SubLocId};
+use crate::search::Meter;
 use crate::zone::Dbm;
 use expand::{Move, ScanArm};
 use progress::Counting;
@@ -74,7 +76,7 @@ const WAIT: u32 = u32::MAX - 1;
 /// Limits and switches of one solver run.
 #[derive(Clone, Debug)]
 pub struct SolveOptions {
-    /// Stop with [`Verdict::BudgetExceeded`] once this many states are stored.
+    /// Stop with a [`Stop::Budget`] once this many states are stored.
     pub max_states: usize,
     /// Stop once the split game and the state space take about this many heap bytes.
     pub max_bytes: usize,
@@ -117,6 +119,17 @@ pub const DEFAULT_MAX_BYTES: usize = 512 << 20;
 /// 82 million, the scan game of gear checking at 36 ms, which is not implementable, 327 million.
 pub const DEFAULT_MAX_WORK: u64 = 500_000_000;
 
+crate::search::setters!(SolveOptions {
+    max_states: usize,
+    max_bytes: usize,
+    max_work: u64,
+    progress_interval: usize,
+    exhaustive: bool,
+    zeno_memory: bool,
+    inclusion: bool,
+    dominance: bool,
+});
+
 impl Default for SolveOptions {
     fn default() -> Self {
         SolveOptions {
@@ -135,19 +148,57 @@ impl Default for SolveOptions {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Verdict {
+    /// The controller has a strategy that keeps every assertion and meets every plan.
     Realizable,
+    /// The plant has a strategy that defeats every controller.
     Unrealizable,
-    BudgetExceeded,
-    Cancelled,
 }
 
-/// The outcome of [`solve`].
+impl Verdict {
+    /// Its name in the JSON forms and the page: `realizable` or `unrealizable`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Verdict::Realizable => "realizable",
+            Verdict::Unrealizable => "unrealizable",
+        }
+    }
+}
+
+/// The outcome of [`solve`]: the decision or why there is none, and what the search built
+/// either way (the page shows the states and statistics of a stopped search too).
 pub struct Solution {
-    pub verdict: Verdict,
+    pub outcome: Result<Verdict, Stop>,
     pub stats: Stats,
     pub space: StateSpace,
-    /// With [`Verdict::BudgetExceeded`]: which budget stopped the search.
-    pub stop: Option<BudgetStop>,
+    /// With a budget stop of the split: the declaration to blame (the node or step that splits
+    /// into too many sub-locations).
+    pub blame: Option<crate::diag::Span>,
+}
+
+impl Solution {
+    /// The decision, if the search reached one.
+    pub fn verdict(&self) -> Option<Verdict> {
+        self.outcome.as_ref().ok().copied()
+    }
+
+    /// Whether the controller wins.
+    pub fn is_realizable(&self) -> bool {
+        self.verdict() == Some(Verdict::Realizable)
+    }
+
+    /// Why the search stopped before deciding, if it did.
+    pub fn stop(&self) -> Option<&Stop> {
+        self.outcome.as_ref().err()
+    }
+
+    /// How the run ended, as the CLI's JSON and the page name it: the verdict's name, or
+    /// `budget_exceeded` or `cancelled`.
+    pub fn outcome_name(&self) -> &'static str {
+        match &self.outcome {
+            Ok(verdict) => verdict.name(),
+            Err(stop) => stop.outcome_name(),
+        }
+    }
 }
 
 /// Solves the game within the budgets of `options` (the split's memory and work count). Calls
@@ -172,7 +223,7 @@ pub fn solve_guided(
     progress: &mut dyn FnMut(&Stats) -> bool,
 ) -> Solution {
     if !uses_inclusion(game, options) {
-        return solve_pass(game, split, options, guide, progress, 0);
+        return solve_pass(game, split, options, guide, progress, split.work);
     }
     // Inclusion decides most scan games with a fraction of the states, but where covers keep
     // being lost (a scan time just past the largest that works) it can cost more than storing
@@ -183,8 +234,8 @@ pub fn solve_guided(
         max_work: options.max_work / INCLUSION_SHARE as u64,
         ..options.clone()
     };
-    let first = solve_pass(game, split, &share, guide, progress, 0);
-    if first.verdict != Verdict::BudgetExceeded {
+    let first = solve_pass(game, split, &share, guide, progress, split.work);
+    if !matches!(first.outcome, Err(Stop::Budget { .. })) {
         return first;
     }
     let exact = SolveOptions { inclusion: false, ..options.clone() };
@@ -205,7 +256,8 @@ fn uses_dominance(game: &Game, options: &SolveOptions) -> bool {
 /// (see [`solve_guided`]).
 const INCLUSION_SHARE: usize = 4;
 
-/// One search within the budgets of `options`, `spent` work already counted against them.
+/// One search within the budgets of `options`, `spent` work (the split's and any earlier
+/// search's) already counted against them.
 fn solve_pass(
     game: &Game,
     split: &SplitGame,
@@ -215,27 +267,21 @@ fn solve_pass(
     spent: u64,
 ) -> Solution {
     let exact = SolveOptions { zeno_memory: false, ..options.clone() };
-    let mut solver = Solver::new(game, split, options, guide, progress);
-    solver.work += spent;
+    let mut solver = Solver::new(game, split, options, guide, progress, spent);
     let mut verdict = solver.run();
-    if verdict == Verdict::Unrealizable && solver.memory_cuts > 0 {
+    if verdict == Ok(Verdict::Unrealizable) && solver.memory_cuts > 0 {
         // The memory's cuts may have cost the controller its strategy: decide exactly.
-        let spent = solver.work;
+        let spent = solver.meter.used();
         drop(solver);
-        solver = Solver::new(game, split, &exact, guide, progress);
-        solver.work += spent;
+        solver = Solver::new(game, split, &exact, guide, progress, spent);
         verdict = solver.run();
     }
     let mut stats = solver.stats();
-    let stop = match solver.halt {
-        Some(Halt::Budget(budget)) => Some(BudgetStop::search(budget, options)),
-        _ => None,
-    };
     let space = solver.space;
-    if verdict == Verdict::Realizable || verdict == Verdict::Unrealizable {
+    if verdict.is_ok() {
         stats.winning = space.winning_states().len();
     }
-    Solution { verdict, stats, space, stop }
+    Solution { outcome: verdict.map_err(|halt| halt.stop(options)), stats, space, blame: None }
 }
 
 /// Locations, kind and the hash of the zone without the plans' clocks (see `Solver::covers`).
@@ -304,9 +350,9 @@ struct Solver<'g, 'p> {
     expanded: usize,
     moves: Vec<Move>,
     pending_edges: Vec<Edge>,
-    /// Work done so far (the split's included), and when the next progress call is due.
-    work: u64,
-    next_progress: u64,
+    /// Work done so far (the split's and earlier searches' included), and when the next progress
+    /// call is due.
+    meter: Meter,
     /// The work of one candidate successor (a zone and a state vector), and of one candidate
     /// state vector alone.
     successor_cost: u64,
@@ -325,6 +371,7 @@ impl<'g, 'p> Solver<'g, 'p> {
         options: &'g SolveOptions,
         guide: Option<&'g ScanGuide>,
         progress: &'p mut dyn FnMut(&Stats) -> bool,
+        spent: u64,
     ) -> Solver<'g, 'p> {
         let dim = game.dim();
         let plant_count = split.plant_count;
@@ -365,8 +412,7 @@ impl<'g, 'p> Solver<'g, 'p> {
             expanded: 0,
             moves: Vec::new(),
             pending_edges: Vec::new(),
-            work: split.work,
-            next_progress: split.work + PROGRESS_WORK,
+            meter: Meter::new(spent, options.max_work, PROGRESS_WORK),
             successor_cost: STEP_COST + (dim * dim + split.units.len()) as u64,
             vector_cost: STEP_COST + split.units.len() as u64,
             halt: None,
@@ -375,7 +421,7 @@ impl<'g, 'p> Solver<'g, 'p> {
         }
     }
 
-    fn run(&mut self) -> Verdict {
+    fn run(&mut self) -> Result<Verdict, Halt> {
         let plant_count = self.split.plant_count;
         let env: Vec<SubLocId> = self.split.units[..plant_count].iter().map(|u| u.initial).collect();
         let plan: Vec<SubLocId> = self.split.units[plant_count..].iter().map(|u| u.initial).collect();
@@ -390,8 +436,8 @@ impl<'g, 'p> Solver<'g, 'p> {
         // Explore, then cut the zeno cycles of what survived; in the strategy-directed search a
         // cut can make a state choose again, which needs more exploration.
         let verdict = loop {
-            if let Some(stop) = self.explore() {
-                break stop;
+            if let Some(lost) = self.explore()? {
+                break lost;
             }
             if !self.enforce_progress() {
                 break if self.space.is_winning(self.space.initial) {
@@ -401,30 +447,30 @@ impl<'g, 'p> Solver<'g, 'p> {
                 };
             }
         };
-        if self.lazy && matches!(verdict, Verdict::Realizable | Verdict::Unrealizable) {
+        if self.lazy {
             self.mark_unexplored();
         }
-        verdict
+        Ok(verdict)
     }
 
-    /// Expands queued states until none is left (`None`), the initial state is lost, or a budget
-    /// or the caller stops the search.
-    fn explore(&mut self) -> Option<Verdict> {
+    /// Expands queued states until none is left (`Ok(None)`) or the initial state is lost
+    /// (`Ok(Some(Unrealizable))`), unless a budget or the caller stops the search first.
+    fn explore(&mut self) -> Result<Option<Verdict>, Halt> {
         loop {
             if !self.space.is_winning(self.space.initial) {
-                return Some(Verdict::Unrealizable);
+                return Ok(Some(Verdict::Unrealizable));
             }
             // The reference goes breadth first (algorithm 5); the strategy-directed search
             // depth first, so that a chosen line of play is followed to its end before others.
             let next = if self.lazy { self.queue.pop_back() } else { self.queue.pop_front() };
-            let s = next?;
+            let Some(s) = next else { return Ok(None) };
             let st = &self.space.states[s as usize];
             if st.removal.is_some() || st.expanded {
                 continue;
             }
             if let Some(budget) = self.exceeded() {
                 self.halt = Some(Halt::Budget(budget));
-                return Some(Verdict::BudgetExceeded);
+                return Err(Halt::Budget(budget));
             }
             self.expansions += 1;
             if self.options.progress_interval > 0
@@ -432,7 +478,7 @@ impl<'g, 'p> Solver<'g, 'p> {
                 && !self.report()
             {
                 self.halt = Some(Halt::Cancelled);
-                return Some(Verdict::Cancelled);
+                return Err(Halt::Cancelled);
             }
             self.expand(s);
             // Strategy-directed search: a cycle without progress is found as soon as it
@@ -446,10 +492,8 @@ impl<'g, 'p> Solver<'g, 'p> {
                     self.steer_by_ranks(&ranks);
                 }
             }
-            match self.halt {
-                Some(Halt::Budget(_)) => return Some(Verdict::BudgetExceeded),
-                Some(Halt::Cancelled) => return Some(Verdict::Cancelled),
-                None => {}
+            if let Some(halt) = self.halt {
+                return Err(halt);
             }
         }
     }
