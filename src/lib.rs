@@ -20,7 +20,6 @@ pub(crate) mod graph;
 pub(crate) mod id;
 pub mod ltl;
 pub mod plc;
-pub mod program;
 pub mod rng;
 pub mod sct;
 pub mod search;

@@ -8,7 +8,7 @@ use crate::common;
 
 use plcsynth::diag::Diagnostic;
 use plcsynth::plc::{self, Code, Options, OutputFile, Target};
-use plcsynth::program;
+use plcsynth::timed::program;
 use plcsynth::timed::{compile, solve::SolveOptions, synthesize};
 use std::path::{Path, PathBuf};
 use std::process::Command;

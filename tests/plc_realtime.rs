@@ -19,8 +19,8 @@ use plcsynth::plc::lower::timed::realtime::{
 };
 use plcsynth::plc::lower::timed::{self as lower_timed, Wiring};
 use plcsynth::plc::{self, Options, Target};
-use plcsynth::program::{self, parse_listing};
 use plcsynth::timed::model::Game;
+use plcsynth::timed::program::{self, parse_listing};
 use plcsynth::timed::{compile, solve::SolveOptions, synthesize};
 use std::io::{BufRead, BufReader, Write};
 use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};

@@ -1,9 +1,9 @@
 //! Controller programs (Peter 2005, chapter 6): the thesis's expected programs and every
 //! optimisation rule with the before/after examples of 6.6.
 
-use plcsynth::program::optimize::{self, Context};
-use plcsynth::program::{self as prog, parse_listing, Program};
 use plcsynth::timed::model::{ClockId, Game};
+use plcsynth::timed::program::optimize::{self, Context};
+use plcsynth::timed::program::{self as prog, parse_listing, Program};
 use plcsynth::timed::{compile, solve::SolveOptions, synthesize};
 
 fn read(path: &str) -> String {
@@ -223,7 +223,7 @@ fn merging_folds_an_unrolled_loop() {
 
 #[test]
 fn optimisation_preserves_behaviour_on_every_example() {
-    use plcsynth::program::{generate, select};
+    use plcsynth::timed::program::{generate, select};
     for name in [
         "lamp",
         "gear_checking",
@@ -259,7 +259,7 @@ fn optimisation_preserves_behaviour_on_every_example() {
 
 #[test]
 fn generated_programs_keep_the_plant_safe_and_progressing_in_1000_random_runs() {
-    use plcsynth::program::simulate;
+    use plcsynth::timed::program::simulate;
     for name in [
         "lamp",
         "gear_checking",
@@ -294,7 +294,7 @@ fn generated_programs_keep_the_plant_safe_and_progressing_in_1000_random_runs() 
 
 #[test]
 fn the_checker_catches_a_wrong_program() {
-    use plcsynth::program::simulate::{self, Failure};
+    use plcsynth::timed::program::simulate::{self, Failure};
     // Swapping the lamp's actions violates the assertions at once.
     let game = game_of(&read("examples/timed/lamp.tga"));
     let wrong = listing(&game, "0: WAITUNTIL (press); 1: DO (turn_off); 2: GOTO 0;", &|m| m.to_string());

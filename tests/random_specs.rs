@@ -3,7 +3,7 @@
 //! plant's automata, random reactions and delays). A failure here means the solver, request
 //! selection, code generation or optimisation is unsound.
 
-use plcsynth::program::{self, optimize::Context, simulate};
+use plcsynth::timed::program::{self, optimize::Context, simulate};
 use plcsynth::timed::{compile, solve::Verdict, synthesize};
 
 use crate::reference;

@@ -3,7 +3,7 @@
 
 use plcsynth::diag::Diagnostic;
 use plcsynth::plc::{self, Target};
-use plcsynth::program;
+use plcsynth::timed::program;
 use plcsynth::timed::{compile, solve::SolveOptions, synthesize};
 use proptest::prelude::*;
 

@@ -4,9 +4,9 @@
 
 use plcsynth::diag::{render_plain, Diagnostic};
 use plcsynth::ltl;
-use plcsynth::program::{self, optimize::Context, simulate};
 use plcsynth::sct::classic::{self, Automaton, Events};
 use plcsynth::sct::{self, classic::gen, model::Config};
+use plcsynth::timed::program::{self, optimize::Context, simulate};
 use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpace, Stop, Verdict, NONE};
 use plcsynth::timed::{compile, model::LocId, Synthesis};
 

@@ -174,7 +174,7 @@ pub fn timed(examples_dir: &Path, runs: usize, format: Format) -> std::process::
             None if file.starts_with("round_table_5") => ("out of memory".into(), "–".into(), "–".into(), "–".into()),
             None => ("–".into(), "–".into(), "–".into(), "–".into()),
         };
-        let lines = plcsynth::program::controller(&game, &s).map_or("–".to_string(), |p| p.len().to_string());
+        let lines = plcsynth::timed::program::controller(&game, &s).map_or("–".to_string(), |p| p.len().to_string());
         let started = Instant::now();
         let reference = synthesize(&game, &SolveOptions { exhaustive: true, ..SolveOptions::default() }, &mut |_| true);
         let reference_ms = started.elapsed().as_secs_f64() * 1000.0;

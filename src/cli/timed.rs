@@ -400,7 +400,7 @@ pub fn compile(
         Err(code) => return code,
     };
     let result = timed::synthesize(&game, &budget.options(), &mut |_| true);
-    let Some(program) = plcsynth::program::controller(&game, &result) else {
+    let Some(program) = plcsynth::timed::program::controller(&game, &result) else {
         match result.solution.verdict() {
             None => {
                 eprint!("{}", render_stop(file, &source, &result.solution));

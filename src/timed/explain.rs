@@ -571,7 +571,7 @@ pub fn removal_text(game: &Game, split: &SplitGame, space: &StateSpace, s: State
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::program::simulate::{replay_line, Simulation};
+    use crate::timed::program::simulate::{replay_line, Simulation};
     use crate::timed::{compile, synthesize, Synthesis};
 
     fn solved(source: &str) -> (Game, Synthesis) {
@@ -627,7 +627,7 @@ mod tests {
         }
         let view = sim.view();
         assert!(
-            matches!(view.failure, Some(crate::program::simulate::Failure::PlanFailed { .. })),
+            matches!(view.failure, Some(crate::timed::program::simulate::Failure::PlanFailed { .. })),
             "{:?}\n{:#?}",
             view.failure,
             view.events

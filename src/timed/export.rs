@@ -430,13 +430,13 @@ pub fn strategy(game: &Game, synthesis: &Synthesis) -> Option<Vec<StrategyChoice
         return None;
     }
     let space = &synthesis.solution.space;
-    let strategy = crate::program::select::select(game, space);
+    let strategy = crate::timed::program::select::select(game, space);
     Some(
         strategy
             .states
             .iter()
             .map(|&st| match strategy.choice[st as usize] {
-                crate::program::select::Choice::Request(e) => {
+                crate::timed::program::select::Choice::Request(e) => {
                     let edge = &space.edges[e as usize];
                     StrategyChoice {
                         state: st,
@@ -445,7 +445,7 @@ pub fn strategy(game: &Game, synthesis: &Synthesis) -> Option<Vec<StrategyChoice
                         label: Some(describe_edge(game, &synthesis.split, edge)),
                     }
                 }
-                crate::program::select::Choice::Wait => {
+                crate::timed::program::select::Choice::Wait => {
                     StrategyChoice { state: st, choice: "wait", to: None, label: None }
                 }
             })

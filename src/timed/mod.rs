@@ -1,8 +1,10 @@
-//! The timed-game engine (Peter 2005, chapters 2–5).
+//! The timed-game engine (Peter 2005, chapters 2–6).
 //!
 //! Pipeline: [`parse`] (syntax, all diagnostics) → [`compile`] (semantic check, game model) →
 //! [`precompute`] (clock usage, unique choice intervals) → [`solve`] (forward exploration with
-//! reverse fail-state removal); [`synthesize`] runs the last two and explains a loss.
+//! reverse fail-state removal); [`synthesize`] runs the last two and explains a loss;
+//! [`program`] turns a winning strategy into the intermediate controller program (chapter 6),
+//! which `plc::lower::timed` lowers to PLC code.
 //!
 //! ```
 //! use plcsynth::timed::{compile, synthesize, solve::{SolveOptions, Verdict}};
@@ -32,6 +34,7 @@ pub mod model;
 mod parser;
 pub mod plant;
 pub mod precompute;
+pub mod program;
 pub mod scan;
 pub mod solve;
 mod timelock;

@@ -4,11 +4,11 @@
 use super::{diagnostics_error, plc_target, to_js, FileView, GeneratedCode, IoRowView, Progress};
 use crate::diag::Diagnostic;
 use crate::plc::{self, Target};
-use crate::program::simulate::{self, Choice, SimView, Simulation};
-use crate::program::{self, Program};
 use crate::timed::explain::{self as explain, dump, CounterPlay};
 use crate::timed::export::{self, StateView};
 use crate::timed::model::Game;
+use crate::timed::program::simulate::{self, Choice, SimView, Simulation};
+use crate::timed::program::{self, Program};
 use crate::timed::solve::{SolveOptions, StateId, Stats, Stop, Verdict};
 use crate::timed::{self, Synthesis};
 use serde::{Deserialize, Serialize};

@@ -2,7 +2,7 @@
 //! of one or two goals, perhaps with a deadline), shared by `tests/random_specs.rs` and the
 //! real-time checks of `tests/plc_realtime.rs`.
 
-use plcsynth::program::simulate;
+use plcsynth::timed::program::simulate;
 
 struct Gen(simulate::Rng);
 

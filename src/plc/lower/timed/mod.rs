@@ -17,10 +17,10 @@ use crate::plc::lower::timed::machine::{
 use crate::plc::{
     iec_address, is_identifier_path, print::stl, render, source_hash, Namespace, Options, Target, TimeType,
 };
-use crate::program::{Condition, Instruction, Program};
 use crate::timed::model::{
     ClockId, ClockOwner, CompId, Game, IoBinding, IoMode, IoTarget, MessageKind, MessageRole, MsgId, Pred,
 };
+use crate::timed::program::{Condition, Instruction, Program};
 
 /// The signal an io binding names, as a key: the address (`%I0.0` and `%IX0.0` alike) or the
 /// symbol text, and the direction.
@@ -140,7 +140,7 @@ pub enum Pacing {
     /// scan where nothing later in the scan depends on it ([`chain_requests`]).
     #[default]
     Chained,
-    /// A program of the scan strategy ([`crate::program::scan`]): every request and every
+    /// A program of the scan strategy ([`crate::timed::program::scan`]): every request and every
     /// backward jump ends its scan, so each scan reads, decides once and writes.
     ScanByScan,
 }
@@ -205,9 +205,9 @@ pub fn scan_program(
     game: &Game,
     scan: &crate::timed::ScanSynthesis,
     keep_going: &mut dyn FnMut(usize) -> bool,
-) -> Result<crate::program::scan::ScanProgram, String> {
+) -> Result<crate::timed::program::scan::ScanProgram, String> {
     let signals = observed_signals(game);
-    crate::program::scan::extract(game, scan, &signals, SCAN_PROGRAM_BUDGET, keep_going)
+    crate::timed::program::scan::extract(game, scan, &signals, SCAN_PROGRAM_BUDGET, keep_going)
         .map_err(|e| e.text(game, &signals))
 }
 

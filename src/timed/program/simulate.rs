@@ -1079,12 +1079,12 @@ pub fn feasible_sets(split: &SplitGame, space: &StateSpace, line: &[EdgeId]) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::program::optimize::Context;
+    use crate::timed::program::optimize::Context;
 
     fn lamp() -> (Game, Program) {
-        let (game, _) = crate::timed::compile(include_str!("../../examples/timed/lamp.tga")).unwrap();
+        let (game, _) = crate::timed::compile(include_str!("../../../examples/timed/lamp.tga")).unwrap();
         let synthesis = crate::timed::synthesize(&game, &Default::default(), &mut |_| true);
-        let program = crate::program::controller(&game, &synthesis).unwrap();
+        let program = crate::timed::program::controller(&game, &synthesis).unwrap();
         (game, program)
     }
 
@@ -1190,9 +1190,9 @@ mod tests {
 
     #[test]
     fn the_concrete_state_lies_in_a_winning_state_along_a_run() {
-        let (game, _) = crate::timed::compile(include_str!("../../examples/timed/robot_arm.tga")).unwrap();
+        let (game, _) = crate::timed::compile(include_str!("../../../examples/timed/robot_arm.tga")).unwrap();
         let synthesis = crate::timed::synthesize(&game, &Default::default(), &mut |_| true);
-        let program = crate::program::controller(&game, &synthesis).unwrap();
+        let program = crate::timed::program::controller(&game, &synthesis).unwrap();
         let observable = Context::from_game(&game).observable;
         let mut sim = Simulation::new(&game, Some(&program), &observable, 3);
         let space = &synthesis.solution.space;
