@@ -47,7 +47,7 @@ impl Halt {
 
 /// The stop of a split that needed more memory or work than `options` allow; the location to
 /// blame is `too_large.span`.
-pub fn split_stop(too_large: &SplitTooLarge, options: &SolveOptions) -> Stop {
+pub(crate) fn split_stop(too_large: &SplitTooLarge, options: &SolveOptions) -> Stop {
     let what = format!(
         "{} splits into {} sub-locations ({} clocks in use there)",
         too_large.place, too_large.sublocations, too_large.clocks

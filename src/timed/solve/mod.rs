@@ -51,8 +51,8 @@ mod zeno;
 
 pub use crate::search::{Resource, Stop};
 pub use guide::ScanGuide;
-pub use meter::{split_stop, Stats};
-pub(crate) use meter::{Halt, PROGRESS_WORK, STEP_COST};
+pub use meter::Stats;
+pub(crate) use meter::{split_stop, Halt, PROGRESS_WORK, STEP_COST};
 pub use space::{Edge, EdgeId, EdgeKind, Label, Removal, State, StateId, StateKind, StateSpace};
 
 use super::model::*;
