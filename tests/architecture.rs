@@ -135,3 +135,33 @@ fn the_engines_are_independent() {
         "zones know no automata",
     );
 }
+
+/// An engine's `testing` module holds internals for the integration tests and the fuzz harness,
+/// not API: nothing in `src/` outside the engine, and no benchmark, uses it.
+#[test]
+fn only_the_tests_use_the_engines_testing_modules() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for engine in ["ltl", "sct", "timed"] {
+        let own = root.join("src").join(engine);
+        let path = format!("{engine}::");
+        for file in files_under("src").into_iter().chain(files_under("benches")) {
+            if file.starts_with(&own) {
+                continue;
+            }
+            for line in code_lines(&file) {
+                assert!(
+                    !(line.contains(&path) && line.contains("testing")),
+                    "{}: `{engine}::testing` is for the tests, but it uses it: {}",
+                    file.display(),
+                    line.trim()
+                );
+            }
+        }
+    }
+    // The check looks for what the tests write.
+    let tests: Vec<String> = files_under("tests").iter().flat_map(|f| code_lines(f)).collect();
+    for engine in ["ltl", "sct"] {
+        let name = format!("{engine}::testing");
+        assert!(tests.iter().any(|l| l.contains(&name)), "no test uses `{name}`");
+    }
+}

@@ -3,7 +3,7 @@
 //! lines), every translation reads back with the verdict of its original, and what G4LTL cannot
 //! express is refused where it is written.
 
-use plcsynth::ltl::{self, compile_g4ltl, Config, Format, Verdict};
+use plcsynth::ltl::{self, Config, Format, Verdict};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -190,7 +190,8 @@ fn every_translation_reads_back_with_the_same_verdict() {
         };
         translated += 1;
         g4ltl_readable(&written).unwrap_or_else(|e| panic!("{}: G4LTL cannot read {e}", path.display()));
-        let (again, _) = compile_g4ltl(&written).unwrap_or_else(|d| panic!("{}: {d:?}\n{written}", path.display()));
+        let (again, _) = ltl::compile(&written, Format::G4ltl, &[])
+            .unwrap_or_else(|d| panic!("{}: {d:?}\n{written}", path.display()));
         assert_eq!(again.inputs().len(), spec.inputs().len(), "{}", path.display());
         assert_eq!(again.outputs().len(), spec.outputs().len(), "{}", path.display());
         let (before, after) = (decide(&spec), decide(&again));

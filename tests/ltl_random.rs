@@ -13,9 +13,9 @@
 //! `PLCSYNTH_RANDOM_SPECS` scales the number of cases: five times it (400 by default, as the
 //! timed tests), because an LTL case costs microseconds.
 
+use plcsynth::ltl::testing::{translate, Automaton};
 use plcsynth::ltl::{
-    self, translate, Automaton, Config, Ltl, Machine, Semantics, Signal, SignalId, SignalKind, Solver, Spec, Stop,
-    Verdict,
+    self, Config, Format, Ltl, Machine, Semantics, Signal, SignalId, SignalKind, Solver, Spec, Stop, Verdict,
 };
 use plcsynth::rng::Rng;
 
@@ -269,7 +269,7 @@ fn the_solvers_agree() {
 #[test]
 fn a_run_is_cancelled_when_the_callback_says_so() {
     let source = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/ltl/mutex.tlsf")).unwrap();
-    let (spec, _) = ltl::compile_tlsf(&source, &[]).unwrap();
+    let (spec, _) = ltl::compile(&source, Format::Tlsf, &[]).unwrap();
     let mut calls = 0;
     let result = ltl::synthesize(&spec, &Config::default(), &mut |_| {
         calls += 1;

@@ -135,7 +135,7 @@ fn a_candidate_the_counter_strategy_already_satisfies_is_not_proposed() {
     // cannot defeat it and are never tried.
     let spec = load(&example("arbiter_same_scan.ltl"));
     let outcome = decide(&spec);
-    let play = ltl::longest_play(outcome.counter_strategy.as_ref().unwrap(), 1000);
+    let play = ltl::testing::longest_play(outcome.counter_strategy.as_ref().unwrap(), 1000);
     let req1 = Ltl::Var(spec.signal_id("req1").unwrap());
     let req2 = Ltl::Var(spec.signal_id("req2").unwrap());
     let satisfied = [

@@ -6,7 +6,8 @@
 
 use crate::ltl_examples::model_check;
 use crate::ltl_random::some_play_accepted;
-use plcsynth::ltl::{self, translate, Config, Ltl, Solver, Verdict};
+use plcsynth::ltl::testing::translate;
+use plcsynth::ltl::{self, Config, Format, Ltl, Solver, Verdict};
 use std::path::PathBuf;
 
 /// Seven requests and seven grants (14 signals), with the semantics and guarantees given.
@@ -30,7 +31,7 @@ fn wide_specifications_get_diagram_strategies_that_win() {
     std::fs::create_dir_all(&dir).unwrap();
     let mut documents = Vec::new();
     for (name, source, expected) in cases {
-        let (spec, _) = ltl::compile_tlsf(&source, &[]).unwrap_or_else(|d| panic!("{name}: {d:?}"));
+        let (spec, _) = ltl::compile(&source, Format::Tlsf, &[]).unwrap_or_else(|d| panic!("{name}: {d:?}"));
         assert_eq!(spec.signals.len(), 14);
         let decide = |solver| {
             let cfg = Config { solver, ..Config::default() };

@@ -1,11 +1,11 @@
-//! The theory checker (`ltl::theory`) under random constraint sets (proptest): 1–3 variables,
+//! The theory checker (`ltl::testing::theory`) under random constraint sets (proptest): 1–3 variables,
 //! boxes with small rational bounds (sometimes integer, rarely empty), polynomials of degree
 //! ≤ 3 with small coefficients, random relations and polarities. Every `Sat` witness lies in the
 //! box and satisfies every literal under an evaluator of this file's own; every `Unsat` survives
 //! a dense grid and random rational points; linear sets over the reals are never `Unknown`;
 //! `Theory::check` agrees with `decide` and `minimal_unsat` returns an Unsat subset.
 
-use plcsynth::ltl::theory::{decide, Answer, Atom, Domain, NumVar, Poly, Rational, Rel, Theory};
+use plcsynth::ltl::testing::theory::{decide, Answer, Atom, Domain, NumVar, Poly, Rational, Rel, Theory};
 use plcsynth::rng::Rng;
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;

@@ -2,7 +2,7 @@
 //! parameter overrides; malformed input reported at line:column; random input never panics.
 
 use plcsynth::diag::{render_plain, Diagnostic};
-use plcsynth::ltl::{compile_tlsf, Semantics, SignalKind, Spec};
+use plcsynth::ltl::{self, Format, Semantics, SignalKind, Spec};
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};
 
@@ -24,6 +24,10 @@ fn tlsf_files(dir: &Path, out: &mut Vec<PathBuf>) {
 
 fn shared(name: &str) -> String {
     std::fs::read_to_string(shared_dir().join(name)).expect("shared benchmark")
+}
+
+fn compile_tlsf(source: &str, overrides: &[(String, i64)]) -> Result<(Spec, Vec<Diagnostic>), Vec<Diagnostic>> {
+    ltl::compile(source, Format::Tlsf, overrides)
 }
 
 fn compile_ok(source: &str, overrides: &[(String, i64)]) -> Spec {

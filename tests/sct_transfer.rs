@@ -169,7 +169,7 @@ fn state_budget_admits_exactly_its_size() {
 /// Cancelling a whole report keeps the supervisors finished so far and says where it stopped.
 #[test]
 fn cancelling_a_report_stops_with_a_located_error() {
-    use plcsynth::sct::synthesize_all_with_progress;
+    use plcsynth::sct::testing::synthesize_all_with_progress;
     let src = transfer_lines(4, 3, 2);
     let (l, _) = compile(&src);
     let l = l.unwrap();

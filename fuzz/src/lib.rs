@@ -69,7 +69,7 @@ pub fn check_sct(source: &str) {
 /// and located clauses; every diagnostic is located and rendered.
 pub fn check_tlsf(source: &str) {
     for overrides in [vec![], vec![("n".to_string(), 3)]] {
-        match ltl::compile_tlsf(source, &overrides) {
+        match ltl::compile(source, ltl::Format::Tlsf, &overrides) {
             Ok((spec, warnings)) => {
                 assert!(
                     !warnings.iter().any(Diagnostic::is_error),
@@ -77,7 +77,10 @@ pub fn check_tlsf(source: &str) {
                 );
                 assert_located(source, &warnings);
                 render_plain("fuzz.tlsf", source, &warnings);
-                assert!(spec.formula().depth() <= ltl::MAX_FORMULA_DEPTH, "a formula deeper than the engine takes");
+                assert!(
+                    spec.formula().depth() <= ltl::testing::MAX_FORMULA_DEPTH,
+                    "a formula deeper than the engine takes"
+                );
                 for clause in spec.assumptions.iter().chain(&spec.guarantees) {
                     assert!(clause.span.end as usize <= source.len(), "a clause located outside the source");
                 }
@@ -100,12 +103,15 @@ pub const LTL_MAX_WORK: u64 = 200_000;
 /// machine invariants (disjoint complete rows, Moore rows uniform) and lower to PLC code when
 /// it is a controller.
 pub fn check_g4ltl(source: &str) {
-    match ltl::compile_g4ltl(source) {
+    match ltl::compile(source, ltl::Format::G4ltl, &[]) {
         Ok((spec, warnings)) => {
             assert!(!warnings.iter().any(Diagnostic::is_error), "a compiled specification with an error diagnostic");
             assert_located(source, &warnings);
             render_plain("fuzz.ltl", source, &warnings);
-            assert!(spec.formula().depth() <= ltl::MAX_FORMULA_DEPTH, "a formula deeper than the engine takes");
+            assert!(
+                spec.formula().depth() <= ltl::testing::MAX_FORMULA_DEPTH,
+                "a formula deeper than the engine takes"
+            );
             let cfg = ltl::Config { max_k: 2, max_states: 2_000, max_work: LTL_MAX_WORK, ..ltl::Config::default() };
             let Ok(outcome) = ltl::synthesize(&spec, &cfg, &mut |_| true) else { return };
             for machine in outcome.controller.iter().chain(&outcome.counter_strategy) {

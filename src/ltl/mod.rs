@@ -1,17 +1,21 @@
 //! The LTL synthesis engine (Cheng et al. 2014, G4LTL-ST; appendix C).
 //!
-//! Pipeline: a front end ([`compile_g4ltl`] for G4LTL's `.ltl` lines, [`compile_tlsf`] for
-//! SYNTCOMP's TLSF) checks the text into a [`Spec`] with every diagnostic located →
-//! [`synthesize`] translates the specification and its negation into Büchi automata of our own
+//! Pipeline: [`compile`] checks a text — G4LTL's `.ltl` lines (`g4ltl`) or SYNTCOMP's TLSF
+//! (`tlsf`), by [`Format`] — into a [`Spec`] with every diagnostic located → [`synthesize`]
+//! translates the specification and its negation into Büchi automata of our own
 //! (`translate`), plays the bounded co-Büchi safety games of both players for k = 0, 1, …
-//! (`game`) and returns the verdict with the winner's finite-state strategy ([`Machine`]),
-//! minimised. The engine does no I/O and never reads the clock.
+//! (`game`) and returns an [`Outcome`]: the verdict with the winner's finite-state strategy
+//! ([`Machine`]), minimised. The views of an outcome ([`report_json`], [`render_machine`],
+//! [`render_tree`], [`machine_dot`], [`summary`]), assumption suggestions for an unrealizable
+//! specification ([`suggest`]) and G4LTL's own syntax ([`to_g4ltl`]) are the rest of the front
+//! door; `testing` holds the internals the tests check. The engine does no I/O and never
+//! reads the clock.
 //!
 //! ```
-//! use plcsynth::ltl::{compile_g4ltl, synthesize, Config, Verdict};
+//! use plcsynth::ltl::{compile, synthesize, Config, Format, Verdict};
 //! let source = "ALWAYS (req -> (grant || NEXT grant))\nALWAYS (grant -> NEXT !grant)\n\
 //!               INPUT req\nOUTPUT grant\n";
-//! let (spec, _warnings) = compile_g4ltl(source).expect("a valid specification");
+//! let (spec, _warnings) = compile(source, Format::G4ltl, &[]).expect("a valid specification");
 //! let outcome = synthesize(&spec, &Config::default(), &mut |_| true).expect("within budget");
 //! assert_eq!(outcome.verdict, Verdict::Realizable);
 //! assert!(outcome.controller.is_some());
@@ -28,24 +32,44 @@ mod spec;
 mod strategy;
 mod suggest;
 mod symbolic;
-pub mod theory;
+mod theory;
 mod tlsf;
 mod to_g4ltl;
 mod translate;
 
-pub use compose::{product, Group};
-pub use export::{machine_dot, render_machine, render_tree, report_json, summary};
-pub use g4ltl::compile_g4ltl;
-pub use machine::{Cube, Machine, Row, StateId};
-pub use refine::{refined, Learned, Refinement};
+// The checked specification and its parts.
 pub use spec::{
     Clause, Ltl, NumExpr, NumberKind, NumericId, NumericInput, Predicate, Relation, Semantics, Signal, SignalId,
-    SignalKind, Spec, Timer, MAX_FORMULA_DEPTH,
+    SignalKind, Spec, Timer,
 };
-pub use suggest::{longest_play, suggest, Play, SuggestConfig, Suggestion, Suggestions, Template};
-pub use tlsf::compile_tlsf;
+// The strategies, for the views and the PLC lowering.
+pub use machine::{Cube, Machine, Row, StateId};
+// The parts of an outcome: the assumptions refinement learned, the groups of a compositional run.
+pub use compose::Group;
+pub use refine::{refined, Learned, Refinement};
+// The views of an outcome.
+pub use export::{machine_dot, render_machine, render_tree, report_json, summary};
+// Assumption suggestions for an unrealizable specification.
+pub use suggest::{suggest, Play, SuggestConfig, Suggestion, Suggestions, Template};
+// A specification in G4LTL's own syntax (`ltl --to-g4ltl`).
 pub use to_g4ltl::to_g4ltl;
-pub use translate::{translate, Automaton, AutomatonState, Edge};
+
+use g4ltl::compile_g4ltl;
+use tlsf::compile_tlsf;
+
+/// Internals for the integration tests and the fuzz harness; not part of the API.
+#[doc(hidden)]
+pub mod testing {
+    pub use super::spec::MAX_FORMULA_DEPTH;
+    pub use super::suggest::longest_play;
+    // The Büchi automata of `synthesize`'s first step, with the types of their fields.
+    pub use super::translate::{translate, Automaton, AutomatonState, Edge};
+
+    /// The theory checker of `refine`: polynomial literals over boxes.
+    pub mod theory {
+        pub use super::super::theory::*;
+    }
+}
 
 use serde::Serialize;
 

@@ -5,18 +5,22 @@
 //! [`SupervisorReport`]s (or their JSON form). Inside, from the bottom:
 //! - [`classic`]: automata with marked states in compact sorted tables, synchronous product,
 //!   trim, SupCon/SupConClosed and minimisation — the textbook theory, used for teaching and
-//!   for cross-checking against libFAUDES; [`classic::gen`] reads and writes libFAUDES `.gen`
-//!   files.
+//!   for cross-checking against libFAUDES (and for `plcsynth supcon` and the benchmarks);
+//!   [`classic::gen`] reads and writes libFAUDES `.gen` files, [`classic::wmod`] Supremica's
+//!   `.wmod` modules.
 //! - [`model`]: the SynTACS formal model of chapter 5.8 — specifications with prohibitions,
 //!   plant models with alphabets, conditions, synthesis automata; the specification product,
 //!   plant composition, application product, synthesis steps (`sys`, `sysp`), monolithic and
 //!   incremental synthesis with preemption, and supervisor minimisation. Public, because the
-//!   model is what the thesis defines and what the tests check against its definitions.
+//!   model is what the thesis defines, what `plc::lower::sct` reads and what the tests check
+//!   against its definitions.
 //! - `lexer`, `ast`, `parser` and `check` (private): the `.sct` text format (see
 //!   `docs/sct-language.md`): logos lexer, recovering parser, name resolution over modules,
 //!   templates, timers, and every check that yields a located diagnostic.
 //! - `report` (private, re-exported here): synthesis of all specifications of a project with
 //!   per-supervisor reports.
+//! - [`interchange`]: `.sct` projects to and from classic components (`.gen`, `.wmod`), for
+//!   `plcsynth import`/`export` and the page's import.
 //! - [`stepper`]: the closed loop of plants and supervisors stepped event by event (which
 //!   events are enabled, disabled by whom, enforced), for the playground.
 //! - [`export`]: drawings of plant models, specifications and supervisors (DOT), for the
@@ -24,6 +28,8 @@
 //! - `runtime` (private, re-exported here): the reference executor of the runtime framework —
 //!   supervisors stepped cycle by cycle ([`Runtime`]): accepted, denied, unexpected and
 //!   enforced events, timers.
+//!
+//! `testing` (hidden) holds what only the integration tests use; it is not part of the API.
 //!
 //! The benchmark and teaching models built from published definitions (the textbook problems,
 //! the transfer-line family of 7.5) are not part of the engine: see [`crate::benchmarks`].
@@ -54,10 +60,16 @@ mod report;
 mod runtime;
 pub mod stepper;
 
+// The checked project: `compile` and what the lowering reads of it.
 pub use ast::EdgeKind;
 pub use check::{compile, compile_within, EventFragments, EventMeta, EventSpans, Loaded, TimerInfo, Trigger};
-pub use report::{
-    synthesize_all, synthesize_all_with_progress, synthesize_all_within, JsonState, JsonTransition, SupervisorReport,
-    Verdict,
-};
+// Synthesis of every specification, and the reports.
+pub use report::{synthesize_all, synthesize_all_within, JsonState, JsonTransition, SupervisorReport, Verdict};
+// The reference executor of the runtime framework.
 pub use runtime::{CycleInput, CycleReport, Outcome, Runtime, RuntimeError, Step};
+
+/// Internals for the integration tests and the fuzz harness; not part of the API.
+#[doc(hidden)]
+pub mod testing {
+    pub use super::report::synthesize_all_with_progress;
+}
