@@ -2,7 +2,9 @@
 //! chains, waiting and delay edges, timeouts), the interning of its discrete parts and zones,
 //! and the scan automaton's arming in a scan game.
 
-use super::space::{Class, Edge, EdgeId, EdgeKind, Label, Removal, State, StateId, StateKind, StateSpace};
+use super::space::{
+    Class, Edge, EdgeId, EdgeKind, Label, Removal, State, StateId, StateKind, StateSpace, NOT_DEFERRED, NO_ZONE,
+};
 use super::strategy::Deferred;
 use super::zeno::Vis;
 use super::{Solver, NONE};
@@ -283,7 +285,7 @@ impl Solver<'_, '_> {
             Some(to) => to,
             None => self.add_checked(env_id, plan_id, zone_id, kind, vis),
         };
-        let exact = if self.space.states[to as usize].zone == zone_id { NONE } else { zone_id };
+        let exact = if self.space.states[to as usize].zone == zone_id { NO_ZONE } else { zone_id };
         (to, exact)
     }
 
@@ -415,7 +417,7 @@ impl Solver<'_, '_> {
             // The strategy-directed search generates an option's target only once it tries it.
             let defer = self.lazy && m.kind == MessageKind::Controllable && !cut;
             let (to, exact) = if cut || defer {
-                (NONE, NONE)
+                (NONE, NO_ZONE)
             } else {
                 let (zone_id, _) = self.space.zones.intern(z.as_slice());
                 self.target(env_id, plan_id, zone_id, kind, vis)
@@ -431,7 +433,7 @@ impl Solver<'_, '_> {
                 progress,
                 class,
                 next_in: NONE,
-                deferred: NONE,
+                deferred: NOT_DEFERRED,
                 exact,
             };
             if m.kind == MessageKind::Controllable && !cut {
@@ -484,8 +486,8 @@ impl Solver<'_, '_> {
                         progress: false,
                         class: Class::Wait,
                         next_in: NONE,
-                        deferred: NONE,
-                        exact: NONE,
+                        deferred: NOT_DEFERRED,
+                        exact: NO_ZONE,
                     };
                     self.add_wait_edge(edge, st.env, st.plan, &closed, StateKind::Waiting, Vis::Same(st.vis));
                 }
@@ -657,8 +659,8 @@ impl Solver<'_, '_> {
                     progress: false,
                     class: Class::Inert,
                     next_in: NONE,
-                    deferred: NONE,
-                    exact: NONE,
+                    deferred: NOT_DEFERRED,
+                    exact: NO_ZONE,
                 });
             }
             return;
@@ -707,8 +709,8 @@ impl Solver<'_, '_> {
             progress: false,
             class: Class::Wait,
             next_in: NONE,
-            deferred: NONE,
-            exact: NONE,
+            deferred: NOT_DEFERRED,
+            exact: NO_ZONE,
         };
         self.add_wait_edge(edge, env_id, plan_id, &zone, StateKind::Interval, Vis::Extend(st.vis));
     }
@@ -802,8 +804,8 @@ pub(super) fn guard_edge(from: StateId, to: StateId, message: MsgId, instant: bo
         progress: false,
         class: Class::Option,
         next_in: NONE,
-        deferred: NONE,
-        exact: NONE,
+        deferred: NOT_DEFERRED,
+        exact: NO_ZONE,
     }
 }
 

@@ -64,9 +64,9 @@ use std::collections::VecDeque;
 use strategy::{plan_goals, send_distances, Deferred};
 use zeno::{Vis, ZenoSets};
 
-/// No state, edge or stored zone: an edge's `to` for timeouts and zeno repetitions (which lead
-/// nowhere), and the unset value of the tables' optional ids (first incoming edge, deferred
-/// target, exact zone, strategy choice). The one definition; every reader of a space uses it.
+/// No state or edge: an edge's `to` for timeouts and zeno repetitions (which lead nowhere), and
+/// the unset value of the tables' optional edge ids (first incoming edge, strategy choice). The
+/// one definition; every reader of a space uses it.
 pub const NONE: u32 = u32::MAX;
 /// The strategy's alternative of a state that lets time pass (or the plant move).
 const WAIT: u32 = u32::MAX - 1;

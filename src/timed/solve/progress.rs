@@ -4,6 +4,11 @@
 
 use super::space::{Class, Edge, EdgeId, Removal, State, StateId, StateSpace};
 use super::{Solver, NONE, WAIT};
+
+/// The rank of a state that never joins (see `Solver::progress_ranks`).
+const UNRANKED: u32 = u32::MAX;
+/// A count of wanted moves that no joining target brings down (see `Solver::progress_ranks`).
+const BLOCKED: u32 = u32::MAX;
 use std::collections::VecDeque;
 
 impl Solver<'_, '_> {
@@ -40,7 +45,7 @@ impl Solver<'_, '_> {
         let trapped: Vec<StateId> = (0..n as StateId)
             .filter(|&s| {
                 let st = &self.space.states[s as usize];
-                st.removal.is_none() && st.expanded && ranks[s as usize] == NONE
+                st.removal.is_none() && st.expanded && ranks[s as usize] == UNRANKED
             })
             .collect();
         if !trapped.is_empty() {
@@ -57,10 +62,7 @@ impl Solver<'_, '_> {
                     .iter()
                     .flat_map(|&s| self.space.out_edges(s))
                     .filter(|(_, e)| {
-                        e.exact != NONE
-                            && !e.progress
-                            && !e.zeno
-                            && in_trap.get(e.to as usize).copied().unwrap_or(false)
+                        e.is_covered() && !e.progress && !e.zeno && in_trap.get(e.to as usize).copied().unwrap_or(false)
                     })
                     .map(|(id, _)| id)
                     .collect();
@@ -107,18 +109,19 @@ impl Solver<'_, '_> {
 
     /// The inner fixpoint of `enforce_progress`: per surviving expanded state, the round in
     /// which it joined the states from which the controller can force plan progress (or, unless
-    /// `counting` is `Explored`, reach something untried), `NONE` if it never does. Along a
+    /// `counting` is `Explored`, reach something untried), [`UNRANKED`] if it never does. Along a
     /// move that makes no progress, a joining state relies only on states of lower rank.
     pub(super) fn progress_ranks(&self, counting: Counting) -> Vec<u32> {
         let optimistic = counting != Counting::Explored;
         let strategy = counting == Counting::Strategy;
         let space = &self.space;
         let n = space.states.len();
-        let mut rank = vec![NONE; n];
-        // Per state: forced moves still waiting for their target, delays still waiting
-        // (`NONE`: waiting cannot help), and whether some option is good.
+        let mut rank = vec![UNRANKED; n];
+        // Per state: forced moves still waiting for their target (`BLOCKED`: a forced move is
+        // lost), delays still waiting (`BLOCKED`: waiting cannot help), and whether some option
+        // is good.
         let mut forced_wanted = vec![0u32; n];
-        let mut waits_wanted = vec![NONE; n];
+        let mut waits_wanted = vec![BLOCKED; n];
         let mut option_good = vec![false; n];
         let mut queue = VecDeque::new();
         let joins = |f: u32, w: u32, o: bool| f == 0 && (o || w == 0);
@@ -182,10 +185,10 @@ impl Solver<'_, '_> {
             if blocked {
                 // A lost forced move: the safety removal is on its way (or, counting only what
                 // was explored, the state is left out); never counted down.
-                forced_wanted[s as usize] = NONE;
+                forced_wanted[s as usize] = BLOCKED;
                 continue;
             }
-            let waits = if wait_blocked || (wait_edges == 0 && !forced_any) { NONE } else { waits };
+            let waits = if wait_blocked || (wait_edges == 0 && !forced_any) { BLOCKED } else { waits };
             forced_wanted[s as usize] = forced;
             waits_wanted[s as usize] = waits;
             option_good[s as usize] = good;
@@ -202,16 +205,16 @@ impl Solver<'_, '_> {
                 id = e.next_in;
                 let x = e.from as usize;
                 let xs = &space.states[x];
-                if rank[x] != NONE || xs.removal.is_some() || !xs.expanded || e.zeno || e.progress {
+                if rank[x] != UNRANKED || xs.removal.is_some() || !xs.expanded || e.zeno || e.progress {
                     continue;
                 }
                 if strategy && e.class == Class::Option && edge_id != xs.choice {
                     continue;
                 }
                 match e.class {
-                    Class::Forced if forced_wanted[x] != NONE => forced_wanted[x] -= 1,
+                    Class::Forced if forced_wanted[x] != BLOCKED => forced_wanted[x] -= 1,
                     Class::Option => option_good[x] = true,
-                    Class::Wait if waits_wanted[x] != NONE => waits_wanted[x] -= 1,
+                    Class::Wait if waits_wanted[x] != BLOCKED => waits_wanted[x] -= 1,
                     Class::Forced | Class::Wait | Class::Inert => continue,
                 }
                 if joins(forced_wanted[x], waits_wanted[x], option_good[x]) {
@@ -278,7 +281,7 @@ impl Solver<'_, '_> {
                 continue;
             }
             // A guard state generated since `ranks` keeps its choice until the next round.
-            if strategy[s as usize] == NONE
+            if strategy[s as usize] == UNRANKED
                 && (s as usize) < ranks.len()
                 && (st.choice == NONE || !self.decreases(ranks, s, st.choice))
             {
@@ -365,7 +368,7 @@ impl Solver<'_, '_> {
                 let ranks = self.progress_ranks(Counting::Explored);
                 let mut marked = Vec::new();
                 for (s, st) in self.space.states.iter_mut().enumerate() {
-                    if live(st) && ranks[s] == NONE {
+                    if live(st) && ranks[s] == UNRANKED {
                         st.removal = Some(Removal::Unexplored);
                         marked.push(s as StateId);
                     }
@@ -383,31 +386,33 @@ impl Solver<'_, '_> {
         let space = &self.space;
         let nodes: Vec<StateId> =
             (0..space.states.len() as StateId).filter(|&s| live(&space.states[s as usize])).collect();
-        let mut index = vec![NONE; space.states.len()];
+        let mut index = vec![None; space.states.len()];
         let mut graph = petgraph::Graph::<(), ()>::with_capacity(nodes.len(), 0);
         for &s in &nodes {
-            index[s as usize] = graph.add_node(()).index() as u32;
+            index[s as usize] = Some(graph.add_node(()));
         }
         for &s in &nodes {
             for (_, e) in space.out_edges(s) {
-                if !e.progress && !e.zeno && e.class != Class::Inert && e.to != NONE && index[e.to as usize] != NONE {
-                    let (from, to) = (index[s as usize] as usize, index[e.to as usize] as usize);
-                    graph.add_edge(petgraph::graph::NodeIndex::new(from), petgraph::graph::NodeIndex::new(to), ());
+                if e.progress || e.zeno || e.class == Class::Inert || e.to == NONE {
+                    continue;
+                }
+                if let (Some(from), Some(to)) = (index[s as usize], index[e.to as usize]) {
+                    graph.add_edge(from, to, ());
                 }
             }
         }
         // Kosaraju: iterative, and a chain of moves without progress can be deeper than the stack.
-        let mut component = vec![NONE; space.states.len()];
+        let mut component = vec![None; space.states.len()];
         for (c, scc) in petgraph::algo::kosaraju_scc(&graph).iter().enumerate() {
             for &i in scc {
-                component[nodes[i.index()] as usize] = c as u32;
+                component[nodes[i.index()] as usize] = Some(c);
             }
         }
         drop(graph);
         let on_cycle = |space: &StateSpace, e: &Edge| {
             !e.progress
                 && e.to != NONE
-                && component[e.to as usize] != NONE
+                && component[e.to as usize].is_some()
                 && component[e.to as usize] == component[e.from as usize]
                 && space.is_winning(e.to)
         };

@@ -1,7 +1,7 @@
 //! Removal: the local rule that decides an expanded state, and the backward propagation of
 //! removed states (algorithm 6).
 
-use super::space::{Class, EdgeId, Label, Removal, StateId};
+use super::space::{Class, EdgeId, Label, Removal, StateId, NO_ZONE};
 use super::zeno::Vis;
 use super::{Solver, NONE, WAIT};
 
@@ -165,7 +165,7 @@ impl Solver<'_, '_> {
             let edge_id = id;
             let e = self.space.edges[id as usize];
             id = e.next_in;
-            if e.exact == NONE || e.zeno || self.space.states[e.from as usize].removal.is_some() {
+            if !e.is_covered() || e.zeno || self.space.states[e.from as usize].removal.is_some() {
                 kept = edge_id;
                 continue;
             }
@@ -202,7 +202,7 @@ impl Solver<'_, '_> {
         let (env, plan, kind) = (cover.env, cover.plan, cover.kind);
         let vis = self.move_vis(edge_id);
         let to = self.add_checked(env, plan, e.exact, kind, vis);
-        self.relink(edge_id, to, NONE);
+        self.relink(edge_id, to, NO_ZONE);
     }
 
     /// How the zeno memory of a move's own target is formed (as `expand` forms it).

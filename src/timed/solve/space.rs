@@ -87,24 +87,30 @@ pub struct Edge {
     pub(super) class: Class,
     pub(super) next_in: EdgeId,
     /// A controller option whose target is not generated yet: its index in the solver's
-    /// deferred targets (strategy-directed search); `NONE` once generated or in the reference.
+    /// deferred targets (strategy-directed search); [`NOT_DEFERRED`] once generated or in the
+    /// reference.
     pub(super) deferred: u32,
     /// Inclusion (scan games): `to` is a state whose zone includes the move's own target zone,
-    /// this one (interned); `NONE` when `to` is the move's own target. Should `to` be lost, the
-    /// move is given the state of its own zone (`Solver::retarget_covered`).
+    /// this one (interned); [`NO_ZONE`] when `to` is the move's own target. Should `to` be lost,
+    /// the move is given the state of its own zone (`Solver::retarget_covered`).
     pub(super) exact: u32,
 }
+
+/// [`Edge::deferred`] of a move whose target is generated (or never was deferred).
+pub(super) const NOT_DEFERRED: u32 = u32::MAX;
+/// [`Edge::exact`] of a move whose target has the move's own zone (no interned zone is meant).
+pub(super) const NO_ZONE: u32 = u32::MAX;
 
 impl Edge {
     /// A controller option the strategy-directed search never needed to try: `to` is `NONE`.
     pub fn is_unexplored(&self) -> bool {
-        self.deferred != NONE
+        self.deferred != NOT_DEFERRED
     }
 
     /// A move whose target is a state that includes its own zone (inclusion, see
     /// `SolveOptions::inclusion`; the zone is [`StateSpace::own_zone`]).
     pub fn is_covered(&self) -> bool {
-        self.exact != NONE
+        self.exact != NO_ZONE
     }
 }
 
@@ -253,7 +259,7 @@ impl StateSpace {
     /// The zone move `e` itself leads to, where its target is a state whose zone includes it
     /// (inclusion, see `SolveOptions::inclusion`); `None` where the target's zone is the move's.
     pub fn own_zone(&self, e: &Edge) -> Option<Dbm> {
-        (e.exact != NONE).then(|| Dbm::from_slice(self.dim, self.zones.get(e.exact)))
+        e.is_covered().then(|| Dbm::from_slice(self.dim, self.zones.get(e.exact)))
     }
 
     pub fn out_edges(&self, s: StateId) -> impl Iterator<Item = (EdgeId, &Edge)> {

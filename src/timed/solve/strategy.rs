@@ -3,7 +3,7 @@
 
 use super::expand::{guard_edge, Move};
 use super::guide::Hint;
-use super::space::{Class, Edge, EdgeId, Label, Removal, StateId, StateKind};
+use super::space::{Class, Edge, EdgeId, Label, Removal, StateId, StateKind, NOT_DEFERRED};
 use super::zeno::Vis;
 use super::{Solver, NONE, WAIT};
 use crate::timed::model::*;
@@ -259,7 +259,7 @@ impl Solver<'_, '_> {
     /// Generates the target of a deferred option (with its chain of guard states) and links the
     /// edge to it.
     pub(super) fn generate(&mut self, edge: EdgeId) {
-        let index = std::mem::replace(&mut self.space.edges[edge as usize].deferred, NONE);
+        let index = std::mem::replace(&mut self.space.edges[edge as usize].deferred, NOT_DEFERRED);
         let Some(d) = self.deferred[index as usize].take() else { return };
         let from = self.space.edges[edge as usize].from;
         let (target, exact) = self.target(d.env, d.plan, d.zone, d.kind, d.vis);
