@@ -79,7 +79,7 @@ fn every_example_has_its_expected_verdict() {
 
 fn locations(s: &Synthesis, state: StateId) -> Vec<LocId> {
     let space = &s.solution.space;
-    space.env(state).iter().enumerate().map(|(u, &sub)| s.split.units[u].sublocs[sub as usize].location).collect()
+    space.env(state).iter().enumerate().map(|(u, &sub)| s.split.units[u].sublocs[sub.index()].location).collect()
 }
 
 #[test]
@@ -94,7 +94,7 @@ fn no_winning_state_violates_an_assertion_or_has_a_failed_plan() {
             }
             for (p, &sub) in space.plan(st).iter().enumerate() {
                 assert!(
-                    !s.split.units[s.split.plant_count + p].sublocs[sub as usize].failed,
+                    !s.split.units[s.split.plant_count + p].sublocs[sub.index()].failed,
                     "{name}: winning state {st} has a failed plan"
                 );
             }

@@ -526,13 +526,13 @@ fn assert_winning_states_are_safe(source: &str, game: &plcsynth::timed::model::G
     let winning = space.winning_states();
     for &st in &winning {
         let locations: Vec<LocId> =
-            space.env(st).iter().enumerate().map(|(u, &sub)| s.split.units[u].sublocs[sub as usize].location).collect();
+            space.env(st).iter().enumerate().map(|(u, &sub)| s.split.units[u].sublocs[sub.index()].location).collect();
         for a in &game.assertions {
             assert!(a.holds.eval(&locations), "winning state {st} violates `{}`\nspec:\n{source}", a.text);
         }
         for (p, &sub) in space.plan(st).iter().enumerate() {
             assert!(
-                !s.split.units[s.split.plant_count + p].sublocs[sub as usize].failed,
+                !s.split.units[s.split.plant_count + p].sublocs[sub.index()].failed,
                 "winning state {st}: plan failed\nspec:\n{source}"
             );
         }

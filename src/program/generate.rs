@@ -33,7 +33,7 @@ fn delay_conditions(game: &Game, split: &SplitGame, space: &StateSpace, to: Stat
             ClockOwner::Plan(p) => (split.plant_count + p as usize, space.plan(to)[p as usize]),
             ClockOwner::Reference => continue,
         };
-        if let Some(&(_, piece)) = split.units[unit].sublocs[sub as usize].pieces.iter().find(|(c, _)| *c == clock) {
+        if let Some(&(_, piece)) = split.units[unit].sublocs[sub.index()].pieces.iter().find(|(c, _)| *c == clock) {
             out.push(Condition::Delay { clock, interval: split.pieces[clock.index()][piece as usize] });
         }
     }

@@ -176,7 +176,7 @@ impl Extraction<'_> {
     /// The scan automaton's location in state `s`.
     fn plc_location(&self, s: StateId) -> LocId {
         let plc = self.plc.index();
-        self.split.units[plc].sublocs[self.space.env(s)[plc] as usize].location
+        self.split.units[plc].sublocs[self.space.env(s)[plc].index()].location
     }
 
     /// The request a decision edge sends (`None`: idle).
@@ -218,7 +218,7 @@ impl Extraction<'_> {
     /// The plant components' locations in state `s` (the scan automaton's among them).
     fn locations(&self, s: StateId) -> Vec<LocId> {
         let env = self.space.env(s);
-        (0..self.split.plant_count).map(|u| self.split.units[u].sublocs[env[u] as usize].location).collect()
+        (0..self.split.plant_count).map(|u| self.split.units[u].sublocs[env[u].index()].location).collect()
     }
 
     /// The read states (with the sensors' memory) the plant can bring the PLC to at its next

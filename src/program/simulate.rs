@@ -1039,7 +1039,7 @@ pub fn feasible_sets(split: &SplitGame, space: &StateSpace, line: &[EdgeId]) -> 
         let units =
             space.env(s).iter().enumerate().chain(space.plan(s).iter().enumerate().map(|(p, sub)| (base + p, sub)));
         for (u, &sub) in units {
-            for &(c, piece) in &split.units[u].sublocs[sub as usize].pieces {
+            for &(c, piece) in &split.units[u].sublocs[sub.index()].pieces {
                 let iv = &split.pieces[c.index()][piece as usize];
                 let lower = if iv.lower_closed { Bound::le(-(iv.lower as i32)) } else { Bound::lt(-(iv.lower as i32)) };
                 let upper = match iv.upper {

@@ -310,7 +310,7 @@ pub fn describe_state(game: &Game, split: &SplitGame, space: &StateSpace, s: Sta
     let mut parts: Vec<String> = Vec::new();
     for (u, &sub) in space.env(s).iter().enumerate() {
         let unit = &split.units[u];
-        let loc = unit.sublocs[sub as usize].location;
+        let loc = unit.sublocs[sub.index()].location;
         parts.push(format!("{}.{}", unit.name, game.components[u].locations[loc.index()].name));
     }
     let plant = parts.join(", ");
@@ -320,7 +320,7 @@ pub fn describe_state(game: &Game, split: &SplitGame, space: &StateSpace, s: Sta
         .enumerate()
         .map(|(p, &sub)| {
             let unit = &split.units[split.plant_count + p];
-            let loc = unit.sublocs[sub as usize].location;
+            let loc = unit.sublocs[sub.index()].location;
             format!("{}.{}", unit.name, game.plans[p].locations[loc.index()].name)
         })
         .collect();
@@ -376,7 +376,7 @@ fn violation(game: &Game, split: &SplitGame, space: &StateSpace, s: StateId) -> 
             let p = &game.plans[plan as usize];
             let sub = space.plan(s)[plan as usize];
             let unit = &split.units[split.plant_count + plan as usize];
-            if unit.sublocs[sub as usize].location == p.failed {
+            if unit.sublocs[sub.index()].location == p.failed {
                 format!("{} fails: a message it forbids occurred", p.name)
             } else {
                 format!("{} fails: a timeout clock exceeded its bound", p.name)

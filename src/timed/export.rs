@@ -223,11 +223,11 @@ pub fn state_view(game: &Game, synthesis: &Synthesis, s: StateId) -> StateView {
     let (split, space) = (&synthesis.split, &synthesis.solution.space);
     let mut locations = Vec::new();
     for (u, &sub) in space.env(s).iter().enumerate() {
-        let loc = split.units[u].sublocs[sub as usize].location;
+        let loc = split.units[u].sublocs[sub.index()].location;
         locations.push(game.components[u].locations[loc.index()].name.clone());
     }
     for (p, &sub) in space.plan(s).iter().enumerate() {
-        let loc = split.units[split.plant_count + p].sublocs[sub as usize].location;
+        let loc = split.units[split.plant_count + p].sublocs[sub.index()].location;
         locations.push(game.plans[p].locations[loc.index()].name.clone());
     }
     let names: Vec<&str> = game.clocks.iter().map(|c| c.name.as_str()).collect();

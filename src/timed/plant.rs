@@ -386,7 +386,7 @@ impl<'g> Plant<'g> {
         let units = space.env(s).iter().enumerate().map(|(u, &sub)| (u, sub, self.locs[u]));
         let plans = space.plan(s).iter().enumerate().map(|(p, &sub)| (base + p, sub, self.plan_locs[p]));
         let located = units.chain(plans).all(|(u, sub, at)| {
-            let sub = &split.units[u].sublocs[sub as usize];
+            let sub = &split.units[u].sublocs[sub.index()];
             sub.location == at
                 && sub
                     .pieces

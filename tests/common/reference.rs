@@ -2,13 +2,14 @@
 //! --no-zeno-memory`), and the properties both must have.
 
 use plcsynth::timed::model::Game;
+use plcsynth::timed::precompute::SubLocId;
 use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateKind, StateSpace, Verdict};
 use plcsynth::timed::{synthesize, synthesize_at_scan, Synthesis};
 use plcsynth::zone::{includes_only_lowered, Dbm};
 use std::collections::HashSet;
 
 /// A state independent of the run that stored it: sub-locations, plans, zone and kind.
-type Key = (Vec<u32>, Vec<u32>, Dbm, StateKind);
+type Key = (Vec<SubLocId>, Vec<SubLocId>, Dbm, StateKind);
 
 fn key(space: &StateSpace, s: StateId) -> Key {
     (space.env(s).to_vec(), space.plan(s).to_vec(), space.zone(s), space.states[s as usize].kind)

@@ -9,7 +9,7 @@ use super::strategy::Deferred;
 use super::zeno::Vis;
 use super::{Solver, NONE};
 use crate::timed::model::*;
-use crate::timed::precompute::{SplitGame, SubLocId, STAY};
+use crate::timed::precompute::{SplitGame, SubLocId};
 use crate::zone::{includes_lowered, includes_only_lowered, Bound, Dbm};
 
 /// One discrete move under construction.
@@ -46,7 +46,7 @@ impl ScanArm {
                         })
                     })
             });
-            position.map(|p| p as SubLocId)
+            position.map(SubLocId::new)
         };
         Some(ScanArm {
             unit,
@@ -65,14 +65,13 @@ impl Solver<'_, '_> {
         let units = &self.split.units;
         let (env_id, new_env) = self.space.envs.intern(env);
         if new_env {
-            let locs: Vec<LocId> =
-                env.iter().enumerate().map(|(u, &s)| units[u].sublocs[s as usize].location).collect();
+            let locs: Vec<LocId> = env.iter().enumerate().map(|(u, &s)| units[u].sublocs[s.index()].location).collect();
             self.env_locations.extend_from_slice(&locs);
             let violated = self.game.assertions.iter().position(|a| !a.holds.eval(&locs)).map_or(0, |i| i as u32 + 1);
             self.env_violation.push(violated);
             let mut clocks = 0u64;
             for (u, &s) in env.iter().enumerate() {
-                for &(c, _) in &units[u].sublocs[s as usize].pieces {
+                for &(c, _) in &units[u].sublocs[s.index()].pieces {
                     clocks |= 1 << c.index();
                 }
             }
@@ -84,12 +83,12 @@ impl Solver<'_, '_> {
             let failed = plan
                 .iter()
                 .enumerate()
-                .position(|(p, &s)| units[base + p].sublocs[s as usize].failed)
+                .position(|(p, &s)| units[base + p].sublocs[s.index()].failed)
                 .map_or(0, |i| i as u32 + 1);
             self.plan_failure.push(failed);
             let mut clocks = 0u64;
             for (p, &s) in plan.iter().enumerate() {
-                for &(c, _) in &units[base + p].sublocs[s as usize].pieces {
+                for &(c, _) in &units[base + p].sublocs[s.index()].pieces {
                     clocks |= 1 << c.index();
                 }
             }
@@ -113,7 +112,7 @@ impl Solver<'_, '_> {
         let units = &self.split.units;
         let base = self.split.plant_count;
         for (u, &s) in env.iter().enumerate().chain(plan.iter().enumerate().map(|(p, s)| (base + p, s))) {
-            for &(clock, piece) in &units[u].sublocs[s as usize].pieces {
+            for &(clock, piece) in &units[u].sublocs[s.index()].pieces {
                 let iv = &self.split.pieces[clock.index()][piece as usize];
                 if let Some(upper) = iv.upper {
                     let b = if iv.upper_closed { Bound::le(upper as i32) } else { Bound::lt(upper as i32) };
@@ -299,7 +298,7 @@ impl Solver<'_, '_> {
         let split = self.split;
         let units = &split.units;
         for (u, &s) in env.iter().enumerate() {
-            for e in &units[u].sublocs[s as usize].edges {
+            for e in &units[u].sublocs[s.index()].edges {
                 if e.kind == MessageKind::Synchronised || (e.kind == MessageKind::Controllable && !requests_allowed) {
                     continue;
                 }
@@ -332,7 +331,7 @@ impl Solver<'_, '_> {
         let split = self.split;
         for &other in &split.sync_units[message.index()] {
             let other = other.index();
-            let options: Vec<_> = split.units[other].sublocs[env[other] as usize]
+            let options: Vec<_> = split.units[other].sublocs[env[other].index()]
                 .edges
                 .iter()
                 .filter(|se| se.kind == MessageKind::Synchronised && se.message == message)
@@ -383,9 +382,9 @@ impl Solver<'_, '_> {
             let mut resets = m.resets;
             let mut progress = false;
             for (p, sub) in plan2.iter_mut().enumerate() {
-                let slot = *sub as usize * self.split.message_count + m.message.index();
+                let slot = sub.index() * self.split.message_count + m.message.index();
                 let next = self.split.plan_next[p][slot];
-                if next != STAY {
+                if next != SubLocId::STAY {
                     // Reaching a goal is progress even when the plan loops to the same location.
                     progress = true;
                     resets |= self.split.plan_resets[p][slot];
@@ -555,7 +554,7 @@ impl Solver<'_, '_> {
         let mut exits: Vec<Exit> = Vec::new();
         for u in 0..self.split.units.len() {
             let sub = if u < plant_count { env[u] } else { plan[u - plant_count] };
-            let sl = &self.split.units[u].sublocs[sub as usize];
+            let sl = &self.split.units[u].sublocs[sub.index()];
             for &(clock, piece) in &sl.pieces {
                 let iv = self.split.pieces[clock.index()][piece as usize];
                 let Some(upper) = iv.upper else { continue };
@@ -641,7 +640,7 @@ impl Solver<'_, '_> {
         for &k in set {
             let e = &exits[k];
             let sub = if e.unit < plant_count { &mut env2[e.unit] } else { &mut plan2[e.unit - plant_count] };
-            let from = &self.split.units[e.unit].sublocs[*sub as usize];
+            let from = &self.split.units[e.unit].sublocs[sub.index()];
             if let Some(d) = from.delays.iter().find(|d| d.clock == e.clock) {
                 *sub = d.target;
                 continue;

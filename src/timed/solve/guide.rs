@@ -61,7 +61,7 @@ impl ScanGuide {
     pub(super) fn hints(&self, split: &SplitGame, env: &[SubLocId], plan: &[SubLocId], zone: &Dbm) -> Vec<Hint> {
         let mut key = locations(split, &env[..self.plant_count], &[]);
         key.extend(
-            plan.iter().enumerate().map(|(p, &s)| split.units[split.plant_count + p].sublocs[s as usize].location),
+            plan.iter().enumerate().map(|(p, &s)| split.units[split.plant_count + p].sublocs[s.index()].location),
         );
         let Some(candidates) = self.by_locations.get(&key) else { return Vec::new() };
         // The read's zone without the scan clock (the last one).
@@ -98,8 +98,8 @@ fn decision(space: &super::StateSpace, mut s: u32) -> Option<Hint> {
 
 /// The original locations of the plant units and plans.
 fn locations(split: &SplitGame, env: &[SubLocId], plan: &[SubLocId]) -> Vec<LocId> {
-    let plant = env.iter().enumerate().map(|(u, &s)| split.units[u].sublocs[s as usize].location);
-    let plans = plan.iter().enumerate().map(|(p, &s)| split.units[split.plant_count + p].sublocs[s as usize].location);
+    let plant = env.iter().enumerate().map(|(u, &s)| split.units[u].sublocs[s.index()].location);
+    let plans = plan.iter().enumerate().map(|(p, &s)| split.units[split.plant_count + p].sublocs[s.index()].location);
     plant.chain(plans).collect()
 }
 

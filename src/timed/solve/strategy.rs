@@ -7,7 +7,7 @@ use super::space::{Class, Edge, EdgeId, Label, Removal, StateId, StateKind, NOT_
 use super::zeno::Vis;
 use super::{Solver, NONE, WAIT};
 use crate::timed::model::*;
-use crate::timed::precompute::{SplitGame, SubLocId, STAY};
+use crate::timed::precompute::{SplitGame, SubLocId};
 use crate::zone::Dbm;
 use std::collections::VecDeque;
 
@@ -35,7 +35,7 @@ impl Solver<'_, '_> {
         let locations = self.locations_of(env_id);
         let mut total = 0u32;
         for (p, &sub) in self.space.plans.get(plan_id).iter().enumerate() {
-            let nearest = self.plan_goals[p][sub as usize]
+            let nearest = self.plan_goals[p][sub.index()]
                 .iter()
                 .filter_map(|&m| {
                     let sender = (self.game.messages[m.index()].sender?).index();
@@ -121,8 +121,8 @@ impl Solver<'_, '_> {
         for m in &moves {
             let mut plans_after = plans.clone();
             for (p, sub) in plans_after.iter_mut().enumerate() {
-                let next = self.split.plan_next[p][*sub as usize * self.split.message_count + request.index()];
-                if next != STAY {
+                let next = self.split.plan_next[p][sub.index() * self.split.message_count + request.index()];
+                if next != SubLocId::STAY {
                     progress = true;
                     *sub = next;
                 }
@@ -297,7 +297,7 @@ pub(super) fn plan_goals(split: &SplitGame) -> Vec<Vec<Vec<MsgId>>> {
                 .map(|sub| {
                     let next = &split.plan_next[p][sub * messages..(sub + 1) * messages];
                     (0..messages)
-                        .filter(|&m| next[m] != STAY && !unit.sublocs[next[m] as usize].failed)
+                        .filter(|&m| next[m] != SubLocId::STAY && !unit.sublocs[next[m].index()].failed)
                         .map(MsgId::new)
                         .collect()
                 })
