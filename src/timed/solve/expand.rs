@@ -7,7 +7,7 @@ use super::space::{
 };
 use super::strategy::Deferred;
 use super::zeno::Vis;
-use super::{Solver, NONE};
+use super::Solver;
 use crate::timed::model::*;
 use crate::timed::precompute::{SplitGame, SubLocId};
 use crate::zone::{includes_lowered, includes_only_lowered, Bound, Dbm};
@@ -169,7 +169,7 @@ impl Solver<'_, '_> {
         if let Some(&id) = self.state_index.get(&key) {
             return (id, false);
         }
-        let id = self.space.states.len() as StateId;
+        let id = StateId::new(self.space.states.len());
         let vis = match vis {
             Vis::Fresh => self.zeno.singleton(env_id),
             Vis::Extend(parent) => self.zeno.insert(parent, env_id),
@@ -204,7 +204,7 @@ impl Solver<'_, '_> {
         let key = (env_id, plan_id, kind, self.kept_key(zone_id));
         let list = self.covers.as_mut()?.get_mut(&key)?;
         let states = &self.space.states;
-        list.retain(|&s| states[s as usize].removal.is_none());
+        list.retain(|&s| states[s.index()].removal.is_none());
         let (dim, lowered) = (self.dim, self.deadline_clocks);
         let (found, compared) =
             latest_related(&self.space, list, zone_id, |cover, zone| includes_only_lowered(cover, zone, dim, lowered));
@@ -246,11 +246,11 @@ impl Solver<'_, '_> {
         vis: Vis,
     ) -> StateId {
         let (id, new) = self.add_interned(env_id, plan_id, zone_id, kind, vis);
-        if new && self.space.states[id as usize].removal.is_none() {
+        if new && self.space.states[id.index()].removal.is_none() {
             if let Some(by) = self.dominating_loss(env_id, plan_id, zone_id, kind) {
                 // Born lost, as a state that violates an assertion is: nothing points at it
                 // yet, and whoever links a move to it reads the removal.
-                self.space.states[id as usize].removal = Some(Removal::Dominated { by });
+                self.space.states[id.index()].removal = Some(Removal::Dominated { by });
                 self.removed += 1;
                 self.dominated += 1;
             }
@@ -284,7 +284,7 @@ impl Solver<'_, '_> {
             Some(to) => to,
             None => self.add_checked(env_id, plan_id, zone_id, kind, vis),
         };
-        let exact = if self.space.states[to as usize].zone == zone_id { NO_ZONE } else { zone_id };
+        let exact = if self.space.states[to.index()].zone == zone_id { NO_ZONE } else { zone_id };
         (to, exact)
     }
 
@@ -360,7 +360,7 @@ impl Solver<'_, '_> {
     }
 
     pub(super) fn expand(&mut self, s: StateId) {
-        let st = self.space.states[s as usize].clone();
+        let st = self.space.states[s.index()].clone();
         let env = self.space.envs.get(st.env).to_vec();
         let plan = self.space.plans.get(st.plan).to_vec();
         let zone = Dbm::from_slice(self.dim, self.space.zones.get(st.zone));
@@ -416,7 +416,7 @@ impl Solver<'_, '_> {
             // The strategy-directed search generates an option's target only once it tries it.
             let defer = self.lazy && m.kind == MessageKind::Controllable && !cut;
             let (to, exact) = if cut || defer {
-                (NONE, NO_ZONE)
+                (StateId::NONE, NO_ZONE)
             } else {
                 let (zone_id, _) = self.space.zones.intern(z.as_slice());
                 self.target(env_id, plan_id, zone_id, kind, vis)
@@ -431,7 +431,7 @@ impl Solver<'_, '_> {
                 zeno: cut,
                 progress,
                 class,
-                next_in: NONE,
+                next_in: EdgeId::NONE,
                 deferred: NOT_DEFERRED,
                 exact,
             };
@@ -448,7 +448,7 @@ impl Solver<'_, '_> {
                 if defer {
                     let (zone, _) = self.space.zones.intern(z.as_slice());
                     let first = match guards.first() {
-                        Some(&g) => guard_edge(s, NONE, g, m.instant),
+                        Some(&g) => guard_edge(s, StateId::NONE, g, m.instant),
                         None => edge,
                     };
                     self.pending_edges.push(Edge { deferred: self.deferred.len() as u32, ..first });
@@ -476,7 +476,7 @@ impl Solver<'_, '_> {
                     self.normalise(st.env, st.plan, &mut closed);
                     let edge = Edge {
                         from: s,
-                        to: NONE,
+                        to: StateId::NONE,
                         kind: EdgeKind::Delay,
                         label: Label::Wait,
                         resets: 0,
@@ -484,7 +484,7 @@ impl Solver<'_, '_> {
                         zeno: false,
                         progress: false,
                         class: Class::Wait,
-                        next_in: NONE,
+                        next_in: EdgeId::NONE,
                         deferred: NOT_DEFERRED,
                         exact: NO_ZONE,
                     };
@@ -538,7 +538,7 @@ impl Solver<'_, '_> {
     }
 
     pub(super) fn add_guard_state(&mut self, st: &State) -> StateId {
-        let id = self.space.states.len() as StateId;
+        let id = StateId::new(self.space.states.len());
         self.space.states.push(State::new(st.env, st.plan, st.zone, StateKind::Guard, None, st.vis));
         id
     }
@@ -649,7 +649,7 @@ impl Solver<'_, '_> {
             if e.unit < plant_count {
                 self.pending_edges.push(Edge {
                     from: s,
-                    to: NONE,
+                    to: StateId::NONE,
                     kind: EdgeKind::Timeout,
                     label: Label::Overrun { clock: e.clock },
                     resets: 0,
@@ -657,7 +657,7 @@ impl Solver<'_, '_> {
                     zeno: false,
                     progress: false,
                     class: Class::Inert,
-                    next_in: NONE,
+                    next_in: EdgeId::NONE,
                     deferred: NOT_DEFERRED,
                     exact: NO_ZONE,
                 });
@@ -699,7 +699,7 @@ impl Solver<'_, '_> {
         let clocks = set.iter().fold(0u64, |bits, &k| bits | 1 << exits[k].clock.index());
         let edge = Edge {
             from: s,
-            to: NONE,
+            to: StateId::NONE,
             kind: EdgeKind::Delay,
             label: Label::Piece { clock: first.clock, piece: first.next_piece, clocks },
             resets: 0,
@@ -707,7 +707,7 @@ impl Solver<'_, '_> {
             zeno: false,
             progress: false,
             class: Class::Wait,
-            next_in: NONE,
+            next_in: EdgeId::NONE,
             deferred: NOT_DEFERRED,
             exact: NO_ZONE,
         };
@@ -737,20 +737,20 @@ impl Solver<'_, '_> {
     }
 
     pub(super) fn commit_edges(&mut self, s: StateId, edges: Vec<Edge>) {
-        let start = self.space.edges.len() as EdgeId;
+        let start = EdgeId::new(self.space.edges.len());
         for mut e in edges {
-            let id = self.space.edges.len() as EdgeId;
+            let id = EdgeId::new(self.space.edges.len());
             e.from = s;
-            if e.to != NONE {
-                let target = &mut self.space.states[e.to as usize];
+            if e.to != StateId::NONE {
+                let target = &mut self.space.states[e.to.index()];
                 e.next_in = target.first_in;
                 target.first_in = id;
             }
             self.space.edges.push(e);
         }
-        let st = &mut self.space.states[s as usize];
+        let st = &mut self.space.states[s.index()];
         st.out_start = start;
-        st.out_end = self.space.edges.len() as EdgeId;
+        st.out_end = EdgeId::new(self.space.edges.len());
         st.expanded = true;
         self.expanded += 1;
     }
@@ -768,7 +768,7 @@ fn latest_related(
     let mut compared = 0u64;
     let found = candidates.iter().rev().copied().find(|&s| {
         compared += 1;
-        relation(space.zones.get(space.states[s as usize].zone), zone)
+        relation(space.zones.get(space.states[s.index()].zone), zone)
     });
     (found, compared)
 }
@@ -802,7 +802,7 @@ pub(super) fn guard_edge(from: StateId, to: StateId, message: MsgId, instant: bo
         zeno: false,
         progress: false,
         class: Class::Option,
-        next_in: NONE,
+        next_in: EdgeId::NONE,
         deferred: NOT_DEFERRED,
         exact: NO_ZONE,
     }
