@@ -997,10 +997,10 @@ impl<'s, 'a> Ctx<'s, 'a> {
         let graph = Lists(adj.iter().map(|ks| ks.iter().map(|&k| enf[k].dst).collect()).collect());
         // The first back edge of a depth-first search closes a cycle: back from its source up
         // the search tree to its target.
-        let mut parent = vec![u32::MAX; n];
+        let mut parent = vec![None; n];
         let found = depth_first_search(View(&graph), 0..n as u32, |event| match event {
             DfsEvent::TreeEdge(u, v) => {
-                parent[v as usize] = u;
+                parent[v as usize] = Some(u);
                 Control::Continue
             }
             DfsEvent::BackEdge(u, v) => Control::Break((u, v)),
@@ -1009,7 +1009,8 @@ impl<'s, 'a> Ctx<'s, 'a> {
         if let Some((last, entry)) = found.break_value() {
             let mut states = vec![last];
             while states[states.len() - 1] != entry {
-                states.push(parent[states[states.len() - 1] as usize]);
+                let up = parent[states[states.len() - 1] as usize];
+                states.push(up.expect("the search tree leads from a back edge's source up to its target"));
             }
             states.reverse();
             states.push(entry);

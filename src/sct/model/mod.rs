@@ -334,12 +334,13 @@ impl SynthAut {
             enforced: Vec::new(),
         };
         let Some(i) = self.init.filter(|&i| keep[i as usize]) else { return out };
-        let mut map = vec![u32::MAX; self.num_states()];
+        // The new number of every kept state reachable from the initial one.
+        let mut map = vec![None; self.num_states()];
         let mut order = Vec::new();
         let graph = NodeFiltered(View(self), |s: u32| keep[s as usize]);
         let mut bfs = Bfs::new(&graph, i);
         while let Some(s) = bfs.next(&graph) {
-            map[s as usize] = order.len() as u32;
+            map[s as usize] = Some(order.len() as u32);
             order.push(s);
         }
         for &s in &order {
@@ -347,8 +348,8 @@ impl SynthAut {
             out.trans.push(
                 self.trans[s as usize]
                     .iter()
-                    .filter(|t| map[t.dst as usize] != u32::MAX && t.cond != Cond::False)
-                    .map(|t| STrans { dst: map[t.dst as usize], ..t.clone() })
+                    .filter(|t| t.cond != Cond::False)
+                    .filter_map(|t| Some(STrans { dst: map[t.dst as usize]?, ..t.clone() }))
                     .collect(),
             );
             out.prohib.push(self.prohib[s as usize].iter().filter(|p| p.cond != Cond::False).cloned().collect());
