@@ -151,11 +151,11 @@ fn unrealizable_random_specs_have_a_counter_play_the_plant_replays() {
             assert_eq!(at, play.end_state, "seed {seed}");
             assert!(
                 matches!(
-                    space.states[at as usize].removal,
+                    space.states[at.index()].removal,
                     Some(Removal::Assertion { .. } | Removal::PlanFailed { .. } | Removal::Deadlock)
                 ),
                 "seed {seed}: ends in {:?}",
-                space.states[at as usize].removal
+                space.states[at.index()].removal
             );
         }
         let line: Vec<_> = play.moves.iter().map(|m| m.edge).collect();
@@ -168,7 +168,7 @@ fn unrealizable_random_specs_have_a_counter_play_the_plant_replays() {
         let mut sim = simulate::Simulation::new(&game, None, &[], 0);
         choices.iter().for_each(|c| sim.apply(c).unwrap());
         let violation = matches!(
-            space.states[play.end_state as usize].removal,
+            space.states[play.end_state.index()].removal,
             Some(Removal::Assertion { .. } | Removal::PlanFailed { .. })
         );
         if violation {

@@ -30,7 +30,7 @@ fn random_project(rng: &mut Rng) -> Project {
             if rng.chance(55) {
                 gt.push(Transition {
                     src: s,
-                    event: EventId(e),
+                    event: EventId::from_raw(e),
                     cond: Cond::True,
                     dst: rng.below(gn as u64) as u32,
                     origin: NO_ORIGIN,
@@ -40,7 +40,7 @@ fn random_project(rng: &mut Rng) -> Project {
     }
     let plant = Plant {
         name: "G".into(),
-        alphabet: (0..n_events as u32).map(EventId).collect(),
+        alphabet: (0..n_events).map(EventId::new).collect(),
         states: (0..gn).map(|i| format!("g{i}")).collect(),
         init: 0,
         trans: gt,
@@ -52,12 +52,14 @@ fn random_project(rng: &mut Rng) -> Project {
             match rng.below(10) {
                 0..=3 => ht.push(Transition {
                     src: s,
-                    event: EventId(e),
+                    event: EventId::from_raw(e),
                     cond: Cond::True,
                     dst: rng.below(hn as u64) as u32,
                     origin: NO_ORIGIN,
                 }),
-                4 => hp.push(Prohibition { state: s, event: EventId(e), cond: Cond::True, origin: NO_ORIGIN }),
+                4 => {
+                    hp.push(Prohibition { state: s, event: EventId::from_raw(e), cond: Cond::True, origin: NO_ORIGIN })
+                }
                 _ => {}
             }
         }
@@ -80,13 +82,13 @@ fn classic_plant(p: &Project) -> classic::Automaton {
     let g = &p.plants[0];
     let mut b = AutomatonBuilder::new();
     for e in &g.alphabet {
-        b.add_event(ClassicEventId::from_raw(e.0));
+        b.add_event(ClassicEventId::from_raw(e.raw()));
     }
     for s in &g.states {
         b.add_state(s.clone(), true);
     }
     for t in &g.trans {
-        b.add_transition(StateId::from_raw(t.src), ClassicEventId::from_raw(t.event.0), StateId::from_raw(t.dst));
+        b.add_transition(StateId::from_raw(t.src), ClassicEventId::from_raw(t.event.raw()), StateId::from_raw(t.dst));
     }
     b.set_init(StateId::from_raw(g.init));
     b.build().unwrap()
@@ -95,7 +97,8 @@ fn classic_plant(p: &Project) -> classic::Automaton {
 /// Definition 5: the dual classic specification of a prohibition-style one.
 fn dual(p: &Project) -> classic::Automaton {
     let h = &p.specs[0];
-    let mut sigma: Vec<u32> = h.trans.iter().map(|t| t.event.0).chain(h.prohib.iter().map(|q| q.event.0)).collect();
+    let mut sigma: Vec<u32> =
+        h.trans.iter().map(|t| t.event.raw()).chain(h.prohib.iter().map(|q| q.event.raw())).collect();
     sigma.sort_unstable();
     sigma.dedup();
     let mut b = AutomatonBuilder::new();
@@ -107,10 +110,10 @@ fn dual(p: &Project) -> classic::Automaton {
     }
     for s in 0..h.states.len() as u32 {
         for &e in &sigma {
-            if h.prohib.iter().any(|q| q.state == s && q.event.0 == e) {
+            if h.prohib.iter().any(|q| q.state == s && q.event.raw() == e) {
                 continue;
             }
-            let dst = h.trans.iter().find(|t| t.src == s && t.event.0 == e).map_or(s, |t| t.dst);
+            let dst = h.trans.iter().find(|t| t.src == s && t.event.raw() == e).map_or(s, |t| t.dst);
             b.add_transition(StateId::from_raw(s), ClassicEventId::from_raw(e), StateId::from_raw(dst));
         }
     }
@@ -123,10 +126,10 @@ fn closed_loop(p: &Project, sup: &model::Supervisor) -> classic::Automaton {
     let g = &p.plants[0];
     let mut b = AutomatonBuilder::new();
     for e in &g.alphabet {
-        b.add_event(ClassicEventId::from_raw(e.0));
+        b.add_event(ClassicEventId::from_raw(e.raw()));
     }
     let Some(si) = sup.init else {
-        return classic::Automaton::empty(g.alphabet.iter().map(|e| ClassicEventId::from_raw(e.0)).collect());
+        return classic::Automaton::empty(g.alphabet.iter().map(|e| ClassicEventId::from_raw(e.raw())).collect());
     };
     let mut index = std::collections::HashMap::new();
     let mut queue = vec![(si, g.init)];
@@ -149,7 +152,11 @@ fn closed_loop(p: &Project, sup: &model::Supervisor) -> classic::Automaton {
             if id == next {
                 b.add_state(id.to_string(), true);
             }
-            b.add_transition(StateId::from_raw(k as u32), ClassicEventId::from_raw(t.event.0), StateId::from_raw(id));
+            b.add_transition(
+                StateId::from_raw(k as u32),
+                ClassicEventId::from_raw(t.event.raw()),
+                StateId::from_raw(id),
+            );
         }
         k += 1;
     }
@@ -209,7 +216,7 @@ fn applying_composed_plants_equals_applying_them_in_turn() {
         let mut p = random_project(&mut rng);
         // A second plant over a random sub-alphabet.
         let mut extra = random_project(&mut rng).plants.remove(0);
-        extra.alphabet.retain(|e| (e.0 as usize) < p.events.len() && rng.chance(60));
+        extra.alphabet.retain(|e| e.index() < p.events.len() && rng.chance(60));
         extra.trans.retain(|t| extra.alphabet.contains(&t.event));
         p.plants.push(extra);
         let composed = model::plant_compose(&p, 0, 1);
@@ -232,7 +239,7 @@ fn applying_composed_plants_equals_applying_them_in_turn() {
             for t in &c.trans {
                 b.add_transition(
                     StateId::from_raw(t.src),
-                    ClassicEventId::from_raw(t.event.0),
+                    ClassicEventId::from_raw(t.event.raw()),
                     StateId::from_raw(t.dst),
                 );
             }

@@ -229,7 +229,7 @@ fn selfloops_helper_adds_missing_loops_except_impossible_ones() {
     let (loaded, d) = compile(src);
     assert!(d.is_empty(), "{d:?}");
     let p = &loaded.unwrap().project.plants[0];
-    let mut t: Vec<(u32, u32, u32)> = p.trans.iter().map(|t| (t.src, t.event.0, t.dst)).collect();
+    let mut t: Vec<(u32, u32, u32)> = p.trans.iter().map(|t| (t.src, t.event.raw(), t.dst)).collect();
     t.sort_unstable();
     assert_eq!(t, vec![(0, 0, 1), (1, 0, 1), (1, 1, 1)]);
 }

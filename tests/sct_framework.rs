@@ -202,7 +202,7 @@ fn scenario(
     let mut rng = Rng::new(seed);
     let inputs: Vec<usize> = (0..unit.signals.len()).filter(|&k| unit.signals[k].kind == SignalKind::Input).collect();
     let outputs: Vec<usize> = (0..unit.signals.len()).filter(|&k| unit.signals[k].kind != SignalKind::Input).collect();
-    let executed: Vec<EventId> = (0..plans.len()).filter(|&e| plans[e].executed).map(|e| EventId(e as u32)).collect();
+    let executed: Vec<EventId> = (0..plans.len()).filter(|&e| plans[e].executed).map(EventId::new).collect();
     let mut signals: Signals = unit.signals.iter().map(|s| (s.symbol.clone(), 0)).collect();
     let mut latch = vec![false; plans.len()];
     let mut last = signals.clone();
@@ -236,14 +236,14 @@ fn scenario(
         // The reference, step by step as 6.3.4 orders the cycle.
         let fired = |kind: EventKind, signals: &Signals, latch: &[bool]| -> Vec<EventId> {
             (0..plans.len())
-                .filter(|&e| project.kind(EventId(e as u32)) == kind)
+                .filter(|&e| project.kind(EventId::new(e)) == kind)
                 .filter(|&e| {
                     plans[e]
                         .trigger
                         .as_ref()
                         .is_some_and(|(edge, x)| fires(*edge, eval(x, signals, &last) != 0, latch[e]))
                 })
-                .map(|e| EventId(e as u32))
+                .map(EventId::new)
                 .collect()
         };
         reference.begin_cycle(dt, &fired(EventKind::Uncontrollable, &signals, &latch));
@@ -271,7 +271,7 @@ fn scenario(
         let report = reference.end_cycle();
         // Actions, in the framework's order: resets, acceptance code, enforcement, denial code.
         for &e in &denied {
-            let plan = &plans[e.0 as usize];
+            let plan = &plans[e.index()];
             if plan.trigger.is_some() && !plan.has_denial_code {
                 for r in &plan.resets {
                     signals.insert(r.clone(), before_controller[r]);
@@ -279,13 +279,13 @@ fn scenario(
             }
         }
         for &e in &accepted {
-            exec(&plans[e.0 as usize].accept, &mut signals, &last);
+            exec(&plans[e.index()].accept, &mut signals, &last);
         }
         for e in report.enforced() {
-            exec(&plans[e.0 as usize].accept, &mut signals, &last);
+            exec(&plans[e.index()].accept, &mut signals, &last);
         }
         for &e in &denied {
-            exec(&plans[e.0 as usize].denial, &mut signals, &last);
+            exec(&plans[e.index()].denial, &mut signals, &last);
         }
         for step in &report.steps {
             let (kind, counter) = match step.outcome {
@@ -311,7 +311,7 @@ fn scenario(
         last = signals.clone();
         let mut flags = BTreeMap::new();
         for (e, info) in project.events.iter().enumerate() {
-            let id = EventId(e as u32);
+            let id = EventId::new(e);
             let mut flag = |what: &str, on: bool| {
                 flags.insert(global_named(unit, &format!("{} {what} this cycle", info.name)).to_string(), on);
             };
@@ -377,7 +377,7 @@ fn run_interpreter(p: &Project, unit: &Unit, actions: &[CycleActions]) -> Vec<Ob
                 m.set_signal(k, Value::Int(v));
             }
             for &e in &a.calls {
-                let ev = Value::Int(i64::from(e.0) + 1);
+                let ev = Value::Int(i64::from(e.raw()) + 1);
                 answers.push(m.call(&execute.name, &[(ev_param.as_str(), ev)])?.as_bool());
             }
             Ok(())
@@ -514,7 +514,7 @@ fn run_awlsim(p: &Project, unit: &Unit, actions: &[CycleActions]) -> Vec<Observe
             words.push(format!("M{}={cmd}", CMD_BYTES + j));
         }
         for slot in 0..3 {
-            let ev = a.calls.get(slot).map_or(0, |e| e.0 + 1);
+            let ev = a.calls.get(slot).map_or(0, |e| e.raw() + 1);
             words.push(format!("M{}={} M{}={}", CALL_SLOTS + 2 * slot, ev >> 8, CALL_SLOTS + 2 * slot + 1, ev & 0xff));
         }
         words.push(format!("?DB{db}:0:{db_size} ?Q0:64 ?M0:{}", ANSWERS + 1));

@@ -20,8 +20,7 @@ fn random_project(rng: &mut Rng) -> Project {
     let mut plants = Vec::new();
     for g in 0..1 + rng.below(2) {
         let n = 1 + rng.below(6) as u32;
-        let alphabet: Vec<EventId> =
-            (0..n_events as u32).filter(|_| g == 0 || rng.below(2) == 0).map(EventId).collect();
+        let alphabet: Vec<EventId> = (0..n_events).filter(|_| g == 0 || rng.below(2) == 0).map(EventId::new).collect();
         let mut trans = Vec::new();
         for s in 0..n {
             for &e in &alphabet {
@@ -51,13 +50,13 @@ fn random_project(rng: &mut Rng) -> Project {
             match rng.below(10) {
                 0..=2 => ht.push(Transition {
                     src: s,
-                    event: EventId(e),
+                    event: EventId::from_raw(e),
                     cond: Cond::True,
                     dst: rng.below(hn as u64) as u32,
                     origin: NO_ORIGIN,
                 }),
                 3 if events[e as usize].kind == EventKind::Uncontrollable => {
-                    hp.push(Prohibition { state: s, event: EventId(e), cond: Cond::True, origin: NO_ORIGIN })
+                    hp.push(Prohibition { state: s, event: EventId::from_raw(e), cond: Cond::True, origin: NO_ORIGIN })
                 }
                 _ => {}
             }
@@ -106,7 +105,7 @@ fn check(p: &Project, sup: &model::Supervisor, case: usize) {
         if let Some(f) = st.enforced {
             assert!(plant_step(p, &qs, f).is_some(), "case {case}: enforces {f:?} where the plant cannot execute it");
         }
-        for e in (0..p.events.len() as u32).map(EventId) {
+        for e in (0..p.events.len()).map(EventId::new) {
             let kind = p.kind(e);
             let can_happen = match st.enforced {
                 Some(f) => kind == EventKind::Controllable || e == f,

@@ -140,8 +140,8 @@ impl<'p> Plant<'p> {
     }
 
     fn enabled(&self, kind: EventKind) -> Vec<EventId> {
-        (0..self.project.events.len() as u32)
-            .map(EventId)
+        (0..self.project.events.len())
+            .map(EventId::new)
             .filter(|&e| self.project.kind(e) == kind && self.after(e).is_some())
             .collect()
     }

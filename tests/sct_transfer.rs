@@ -50,7 +50,7 @@ fn incremental_equals_monolithic_on_small_lines() {
         let mono = synthesize(&p, i, &Config { method: Method::Monolithic, ..Config::default() }).unwrap();
         assert!(inc.realizable() && mono.realizable());
         // Same behaviour: both minimal supervisors disable the same words of length <= 6.
-        let events: Vec<_> = (0..p.events.len() as u32).map(plcsynth::sct::model::EventId).collect();
+        let events: Vec<_> = (0..p.events.len()).map(plcsynth::sct::model::EventId::new).collect();
         let mut frontier = vec![Vec::new()];
         for _ in 0..6 {
             let mut next = Vec::new();

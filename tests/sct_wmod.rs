@@ -186,7 +186,7 @@ fn same_supervisor(
     map[ia as usize] = Some(ib);
     let mut work = vec![ia];
     let names = |es: &[plcsynth::sct::model::EventId], f: &dyn Fn(u32) -> String| {
-        let mut v: Vec<String> = es.iter().map(|e| f(e.0)).collect();
+        let mut v: Vec<String> = es.iter().map(|e| f(e.raw())).collect();
         v.sort();
         v
     };
@@ -202,11 +202,11 @@ fn same_supervisor(
                 names(&y.prohibited, eb)
             ));
         }
-        if x.enforced.map(|e| ea(e.0)) != y.enforced.map(|e| eb(e.0)) {
+        if x.enforced.map(|e| ea(e.raw())) != y.enforced.map(|e| eb(e.raw())) {
             return Err(format!("state {} enforces differently", x.label));
         }
         let moves = |st: &plcsynth::sct::model::SupState, f: &dyn Fn(u32) -> String| {
-            let mut v: Vec<(String, u32)> = st.transitions.iter().map(|(e, t)| (f(e.0), *t)).collect();
+            let mut v: Vec<(String, u32)> = st.transitions.iter().map(|(e, t)| (f(e.raw()), *t)).collect();
             v.sort();
             v
         };

@@ -1,7 +1,7 @@
 //! Every example in `examples/timed/`: its verdict (from the `// Expected:` header line) and
 //! properties of the winning state space checked against their definitions.
 
-use plcsynth::timed::solve::{EdgeKind, Removal, Resource, SolveOptions, StateId, StateSpace, Stop, Verdict, NONE};
+use plcsynth::timed::solve::{EdgeKind, Removal, Resource, SolveOptions, StateId, StateSpace, Stop, Verdict};
 use plcsynth::timed::{compile, model::Game, model::LocId, synthesize, Synthesis};
 use std::path::PathBuf;
 
@@ -79,7 +79,7 @@ fn every_example_has_its_expected_verdict() {
 
 fn locations(s: &Synthesis, state: StateId) -> Vec<LocId> {
     let space = &s.solution.space;
-    space.env(state).iter().enumerate().map(|(u, &sub)| s.split.units[u].sublocs[sub as usize].location).collect()
+    space.env(state).iter().enumerate().map(|(u, &sub)| s.split.units[u].sublocs[sub.index()].location).collect()
 }
 
 #[test]
@@ -94,7 +94,7 @@ fn no_winning_state_violates_an_assertion_or_has_a_failed_plan() {
             }
             for (p, &sub) in space.plan(st).iter().enumerate() {
                 assert!(
-                    !s.split.units[s.split.plant_count + p].sublocs[sub as usize].failed,
+                    !s.split.units[s.split.plant_count + p].sublocs[sub.index()].failed,
                     "{name}: winning state {st} has a failed plan"
                 );
             }
@@ -111,12 +111,12 @@ fn no_winning_state_has_a_forced_edge_into_a_removed_state() {
             for (_, e) in space.out_edges(st) {
                 if e.kind == EdgeKind::Reaction {
                     assert!(
-                        e.to != NONE && space.is_winning(e.to),
+                        e.to != StateId::NONE && space.is_winning(e.to),
                         "{name}: winning state {st} has a reaction into a removed state or a zeno loop"
                     );
                 }
                 if e.kind == EdgeKind::Timeout {
-                    assert_eq!(e.to, NONE, "{name}: a timeout leads to the global timeout, never to a state");
+                    assert_eq!(e.to, StateId::NONE, "{name}: a timeout leads to the global timeout, never to a state");
                 }
             }
         }
@@ -134,7 +134,7 @@ fn every_winning_state_has_a_winning_move_or_may_wait() {
         for st in space.winning_states() {
             let edges: Vec<_> = space.out_edges(st).map(|(_, e)| *e).collect();
             let option = edges.iter().any(|e| {
-                matches!(e.kind, EdgeKind::Request | EdgeKind::Guard) && e.to != NONE && space.is_winning(e.to)
+                matches!(e.kind, EdgeKind::Request | EdgeKind::Guard) && e.to != StateId::NONE && space.is_winning(e.to)
             });
             let delays: Vec<_> = edges.iter().filter(|e| e.kind == EdgeKind::Delay).collect();
             let reactions = edges.iter().any(|e| e.kind == EdgeKind::Reaction);
@@ -159,26 +159,26 @@ fn from_every_winning_state_a_plan_goal_is_reachable_within_the_winning_set() {
         let mut stack = Vec::new();
         for &st in &winning {
             for (_, e) in space.out_edges(st) {
-                if e.to == NONE || !space.is_winning(e.to) {
+                if e.to == StateId::NONE || !space.is_winning(e.to) {
                     continue;
                 }
-                preds[e.to as usize].push(st);
-                if e.progress && !reaches[st as usize] {
-                    reaches[st as usize] = true;
+                preds[e.to.index()].push(st);
+                if e.progress && !reaches[st.index()] {
+                    reaches[st.index()] = true;
                     stack.push(st);
                 }
             }
         }
         while let Some(y) = stack.pop() {
-            for &x in &preds[y as usize] {
-                if !reaches[x as usize] {
-                    reaches[x as usize] = true;
+            for &x in &preds[y.index()] {
+                if !reaches[x.index()] {
+                    reaches[x.index()] = true;
                     stack.push(x);
                 }
             }
         }
         for &st in &winning {
-            assert!(reaches[st as usize], "{name}: no plan goal is reachable from winning state {st}");
+            assert!(reaches[st.index()], "{name}: no plan goal is reachable from winning state {st}");
         }
     }
 }
@@ -198,8 +198,8 @@ fn losing_fixpoint(space: &StateSpace) -> Vec<bool> {
             if lost[s] || !space.states[s].expanded {
                 continue;
             }
-            let edges: Vec<_> = space.out_edges(s as StateId).map(|(_, e)| *e).collect();
-            let dead = |e: &plcsynth::timed::solve::Edge| e.to == NONE || lost[e.to as usize];
+            let edges: Vec<_> = space.out_edges(StateId::new(s)).map(|(_, e)| *e).collect();
+            let dead = |e: &plcsynth::timed::solve::Edge| e.to == StateId::NONE || lost[e.to.index()];
             let forced_dead = edges.iter().any(|e| e.kind == EdgeKind::Reaction && dead(e));
             let option = edges.iter().any(|e| matches!(e.kind, EdgeKind::Request | EdgeKind::Guard) && !dead(e));
             let delays: Vec<_> = edges.iter().filter(|e| e.kind == EdgeKind::Delay).collect();
@@ -224,7 +224,7 @@ fn on_the_fly_removal_agrees_with_a_backward_fixpoint_on_the_explored_graph() {
         if s.solution.verdict() == Some(Verdict::Unrealizable) {
             // Exploration stops once the initial state is lost; compare on the initial state.
             let lost = losing_fixpoint(space);
-            assert!(lost[space.initial as usize], "{name}: the fixpoint must lose the initial state too");
+            assert!(lost[space.initial.index()], "{name}: the fixpoint must lose the initial state too");
             continue;
         }
         let lost = losing_fixpoint(space);

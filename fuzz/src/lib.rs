@@ -7,7 +7,7 @@ use plcsynth::ltl;
 use plcsynth::sct::classic::{self, Automaton, Events};
 use plcsynth::sct::{self, classic::gen, model::Config};
 use plcsynth::timed::program::{self, optimize::Context, simulate};
-use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpace, Stop, Verdict, NONE};
+use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpace, Stop, Verdict};
 use plcsynth::timed::{compile, model::LocId, Synthesis};
 
 /// Product states a fuzzed `.sct` project may build: small, so that one input takes
@@ -532,13 +532,13 @@ fn assert_winning_states_are_safe(source: &str, game: &plcsynth::timed::model::G
     let winning = space.winning_states();
     for &st in &winning {
         let locations: Vec<LocId> =
-            space.env(st).iter().enumerate().map(|(u, &sub)| s.split.units[u].sublocs[sub as usize].location).collect();
+            space.env(st).iter().enumerate().map(|(u, &sub)| s.split.units[u].sublocs[sub.index()].location).collect();
         for a in &game.assertions {
             assert!(a.holds.eval(&locations), "winning state {st} violates `{}`\nspec:\n{source}", a.text);
         }
         for (p, &sub) in space.plan(st).iter().enumerate() {
             assert!(
-                !s.split.units[s.split.plant_count + p].sublocs[sub as usize].failed,
+                !s.split.units[s.split.plant_count + p].sublocs[sub.index()].failed,
                 "winning state {st}: plan failed\nspec:\n{source}"
             );
         }
@@ -546,7 +546,7 @@ fn assert_winning_states_are_safe(source: &str, game: &plcsynth::timed::model::G
         for e in &edges {
             if e.kind == EdgeKind::Reaction {
                 assert!(
-                    e.to != NONE && space.is_winning(e.to),
+                    e.to != StateId::NONE && space.is_winning(e.to),
                     "winning state {st}: a reaction leaves the winning set\nspec:\n{source}"
                 );
             }
@@ -574,29 +574,29 @@ fn plan_goal_reachable_everywhere(game: &plcsynth::timed::model::Game, s: &Synth
         for (_, e) in space.out_edges(st) {
             // A tolerated timeout (the plant exceeds its invariant, 5.2.2) ends the plant's
             // obligations and so the controller's: it counts like a reached goal.
-            if e.kind == EdgeKind::Timeout && !reaches[st as usize] {
-                reaches[st as usize] = true;
+            if e.kind == EdgeKind::Timeout && !reaches[st.index()] {
+                reaches[st.index()] = true;
                 stack.push(st);
             }
             if !space.is_live(e) {
                 continue;
             }
-            preds[e.to as usize].push(st);
-            if e.progress && !reaches[st as usize] {
-                reaches[st as usize] = true;
+            preds[e.to.index()].push(st);
+            if e.progress && !reaches[st.index()] {
+                reaches[st.index()] = true;
                 stack.push(st);
             }
         }
     }
     while let Some(y) = stack.pop() {
-        for &x in &preds[y as usize] {
-            if !reaches[x as usize] {
-                reaches[x as usize] = true;
+        for &x in &preds[y.index()] {
+            if !reaches[x.index()] {
+                reaches[x.index()] = true;
                 stack.push(x);
             }
         }
     }
-    winning.iter().all(|&st| reaches[st as usize])
+    winning.iter().all(|&st| reaches[st.index()])
 }
 
 /// Zeno avoidance (5.1) on the result: among the winning states, the live edges that make no
@@ -610,24 +610,24 @@ fn assert_no_progress_free_cycle(source: &str, space: &StateSpace) {
     // 0 unvisited, 1 on the stack, 2 done.
     let mut colour = vec![0u8; space.states.len()];
     for &root in &winning {
-        if colour[root as usize] != 0 {
+        if colour[root.index()] != 0 {
             continue;
         }
-        colour[root as usize] = 1;
+        colour[root.index()] = 1;
         let mut stack = vec![(root, successors(root), 0usize)];
         while let Some((node, succ, k)) = stack.last_mut() {
             if let Some(&next) = succ.get(*k) {
                 *k += 1;
-                match colour[next as usize] {
+                match colour[next.index()] {
                     0 => {
-                        colour[next as usize] = 1;
+                        colour[next.index()] = 1;
                         stack.push((next, successors(next), 0));
                     }
                     1 => panic!("a cycle without plan progress through winning state {next}\nspec:\n{source}"),
                     _ => {}
                 }
             } else {
-                colour[*node as usize] = 2;
+                colour[node.index()] = 2;
                 stack.pop();
             }
         }
@@ -650,8 +650,8 @@ fn assert_on_the_fly_equals_fixpoint(source: &str, space: &StateSpace, verdict: 
         .collect();
     // The losing rule of one state, given the current `lost` set.
     let loses = |s: usize, lost: &[bool]| {
-        let dead = |e: &plcsynth::timed::solve::Edge| e.to == NONE || e.zeno || lost[e.to as usize];
-        let edges: Vec<_> = space.out_edges(s as StateId).map(|(_, e)| *e).collect();
+        let dead = |e: &plcsynth::timed::solve::Edge| e.to == StateId::NONE || e.zeno || lost[e.to.index()];
+        let edges: Vec<_> = space.out_edges(StateId::new(s)).map(|(_, e)| *e).collect();
         let forced_dead = edges.iter().any(|e| e.kind == EdgeKind::Reaction && dead(e));
         let option = edges.iter().any(|e| matches!(e.kind, EdgeKind::Request | EdgeKind::Guard) && !dead(e));
         let delays: Vec<_> = edges.iter().filter(|e| e.kind == EdgeKind::Delay).collect();
@@ -663,8 +663,8 @@ fn assert_on_the_fly_equals_fixpoint(source: &str, space: &StateSpace, verdict: 
     // successors is lost; the result is the least fixpoint whatever the order.
     let mut predecessors: Vec<Vec<StateId>> = vec![Vec::new(); n];
     for e in &space.edges {
-        if e.to != NONE {
-            predecessors[e.to as usize].push(e.from);
+        if e.to != StateId::NONE {
+            predecessors[e.to.index()].push(e.from);
         }
     }
     let mut work: Vec<usize> = (0..n).collect();
@@ -673,11 +673,11 @@ fn assert_on_the_fly_equals_fixpoint(source: &str, space: &StateSpace, verdict: 
             continue;
         }
         lost[s] = true;
-        work.extend(predecessors[s].iter().map(|&p| p as usize));
+        work.extend(predecessors[s].iter().map(|&p| p.index()));
     }
     if verdict == Verdict::Unrealizable {
         // Exploration stops once the initial state is lost: compare on the initial state only.
-        assert!(lost[space.initial as usize], "the fixpoint keeps the initial state the solver lost\nspec:\n{source}");
+        assert!(lost[space.initial.index()], "the fixpoint keeps the initial state the solver lost\nspec:\n{source}");
         return;
     }
     for (st, state) in space.states.iter().enumerate() {

@@ -507,7 +507,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
 
     fn resolve_event(&mut self, module: usize, path: &Path) -> Option<EventId> {
         match self.resolve(module, path, "an event", &|e| matches!(e, Entry::Event(_))) {
-            Some(Entry::Event(id)) => Some(EventId(id)),
+            Some(Entry::Event(id)) => Some(EventId::from_raw(id)),
             _ => None,
         }
     }
@@ -663,7 +663,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                 let ev = if let Some(b) = explicit(&key) {
                     self.resolve_event(module, &b.rhs)
                 } else if let Some((Entry::Event(id), _)) = self.modules[module].entries.get(bname).copied() {
-                    Some(EventId(id))
+                    Some(EventId::from_raw(id))
                 } else {
                     let at = self.loc(*bspan);
                     let mpath = self.modules[module].path.clone();
@@ -701,7 +701,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                         self.resolve_event(module, &b.rhs)
                     } else if let Some(m) = target_module {
                         match self.modules[m].entries.get(ename).copied() {
-                            Some((Entry::Event(id), _)) => Some(EventId(id)),
+                            Some((Entry::Event(id), _)) => Some(EventId::from_raw(id)),
                             _ => {
                                 let mpath = self.modules[m].path.clone();
                                 self.diags
@@ -753,14 +753,14 @@ impl<'s, 'a> Ctx<'s, 'a> {
                 self.diags.error(t.name_span, format!("timer `{}` has no `duration`", t.name));
             }
             let start = match &t.start {
-                Some(p) => self.resolve_event(module, p).map(|e| self.events[e.0 as usize].name.clone()),
+                Some(p) => self.resolve_event(module, p).map(|e| self.events[e.index()].name.clone()),
                 None => {
                     self.diags.error(t.name_span, format!("timer `{}` has no `start` event", t.name));
                     None
                 }
             };
             let stop_ids: Vec<EventId> = t.stops.iter().filter_map(|p| self.resolve_event(module, p)).collect();
-            let stop: Vec<String> = stop_ids.iter().map(|e| self.events[e.0 as usize].name.clone()).collect();
+            let stop: Vec<String> = stop_ids.iter().map(|e| self.events[e.index()].name.clone()).collect();
             out.push(TimerInfo {
                 name: qualify(&self.modules[module].path, &t.name),
                 duration_ms: t.duration_ms.unwrap_or(0),
@@ -967,7 +967,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                         spans[k],
                         format!(
                             "two unconditional transitions on `{}` leave the same state of `{name}`",
-                            self.events[t.event.0 as usize].name
+                            self.events[t.event.index()].name
                         ),
                     )
                     .with_note(format!("the other transition is at {at}"))
@@ -984,7 +984,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
         // A cycle made only of enforceable transitions could be enforced forever (5.5.5).
         let enf: Vec<&Transition> = trans
             .iter()
-            .filter(|t| self.events[t.event.0 as usize].kind == EventKind::Enforceable && t.src != t.dst)
+            .filter(|t| self.events[t.event.index()].kind == EventKind::Enforceable && t.src != t.dst)
             .collect();
         if enf.is_empty() {
             return;
@@ -997,10 +997,10 @@ impl<'s, 'a> Ctx<'s, 'a> {
         let graph = Lists(adj.iter().map(|ks| ks.iter().map(|&k| enf[k].dst).collect()).collect());
         // The first back edge of a depth-first search closes a cycle: back from its source up
         // the search tree to its target.
-        let mut parent = vec![u32::MAX; n];
+        let mut parent = vec![None; n];
         let found = depth_first_search(View(&graph), 0..n as u32, |event| match event {
             DfsEvent::TreeEdge(u, v) => {
-                parent[v as usize] = u;
+                parent[v as usize] = Some(u);
                 Control::Continue
             }
             DfsEvent::BackEdge(u, v) => Control::Break((u, v)),
@@ -1009,7 +1009,8 @@ impl<'s, 'a> Ctx<'s, 'a> {
         if let Some((last, entry)) = found.break_value() {
             let mut states = vec![last];
             while states[states.len() - 1] != entry {
-                states.push(parent[states[states.len() - 1] as usize]);
+                let up = parent[states[states.len() - 1] as usize];
+                states.push(up.expect("the search tree leads from a back edge's source up to its target"));
             }
             states.reverse();
             states.push(entry);
@@ -1104,7 +1105,8 @@ impl<'s, 'a> Ctx<'s, 'a> {
                         pspans[k],
                         format!(
                             "`{}` is both forbidden and taken in state `{}` of `{name}`",
-                            self.events[p.event.0 as usize].name, states[p.state as usize]
+                            self.events[p.event.index()].name,
+                            states[p.state as usize]
                         ),
                     )
                     .with_note(format!("the transition is at {at}"));

@@ -498,7 +498,7 @@ pub fn project_to_classic(src: &str, loaded: &Loaded, supervisors: &[&Supervisor
             enforceable.push(e);
         }
     }
-    let ev = |e: model::EventId| ClassicEventId::from_raw(e.0);
+    let ev = |e: model::EventId| ClassicEventId::from_raw(e.raw());
     let origin_span = |o: u32| loaded.origins.get(o as usize).copied().unwrap_or_default();
     let mut components = Vec::new();
     let mut component_names: HashMap<String, String> = HashMap::new();
@@ -630,7 +630,7 @@ pub fn supervisor_automaton(sup: &Supervisor) -> Automaton {
         .collect();
     alphabet.sort_unstable();
     alphabet.dedup();
-    let ev = |e: model::EventId| ClassicEventId::from_raw(e.0);
+    let ev = |e: model::EventId| ClassicEventId::from_raw(e.raw());
     let mut b = AutomatonBuilder::new();
     for &e in &alphabet {
         b.add_event(ev(e));

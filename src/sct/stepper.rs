@@ -185,8 +185,8 @@ pub fn step(project: &Project, supervisors: &[&Supervisor], trace: &[String]) ->
                 }
             })
             .collect(),
-        events: (0..project.events.len() as u32)
-            .map(EventId)
+        events: (0..project.events.len())
+            .map(EventId::new)
             .map(|e| EventView { name: project.event_name(e).to_string(), kind: project.kind(e), status: at.status(e) })
             .collect(),
         trace: trace.to_vec(),

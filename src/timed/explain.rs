@@ -9,7 +9,7 @@
 
 use super::model::{ClockId, Game};
 use super::precompute::SplitGame;
-use super::solve::{Edge, EdgeId, EdgeKind, Label, Removal, StateId, StateKind, StateSpace, NONE};
+use super::solve::{Edge, EdgeId, EdgeKind, Label, Removal, StateId, StateKind, StateSpace};
 use serde::Serialize;
 use std::collections::VecDeque;
 
@@ -51,17 +51,17 @@ pub struct Explanation {
 
 /// Builds the explanation for the removed state `from` (normally the initial state).
 pub fn explain(game: &Game, split: &SplitGame, space: &StateSpace, from: StateId) -> Option<Explanation> {
-    space.states[from as usize].removal?;
+    space.states[from.index()].removal?;
     let ranks = ranks(space);
     let mut budget = 400usize;
     let root = step(game, split, space, &ranks, from, None, 0, &mut budget);
-    Some(Explanation { root, depth: ranks.rank[from as usize] })
+    Some(Explanation { root, depth: ranks.rank[from.index()] })
 }
 
 struct Ranks {
     rank: Vec<u32>,
     /// The plant's best forced edge, or its best reaction to waiting.
-    witness: Vec<u32>,
+    witness: Vec<EdgeId>,
 }
 
 fn is_option(e: &Edge) -> bool {
@@ -76,10 +76,10 @@ fn is_wait(e: &Edge) -> bool {
 fn ranks(space: &StateSpace) -> Ranks {
     let n = space.states.len();
     let mut rank = vec![UNRANKED; n];
-    let mut witness = vec![NONE; n];
+    let mut witness = vec![EdgeId::NONE; n];
     let mut pending = vec![0u32; n];
     let mut wait_done = vec![false; n];
-    let mut preds: Vec<Vec<u32>> = vec![Vec::new(); n];
+    let mut preds: Vec<Vec<EdgeId>> = vec![Vec::new(); n];
     // States lost by dominance, per the lost state dominating them: one more than its rank.
     let mut dominated: Vec<Vec<StateId>> = vec![Vec::new(); n];
     let mut queue = VecDeque::new();
@@ -93,10 +93,10 @@ fn ranks(space: &StateSpace) -> Ranks {
         let mut waits = false;
         let mut wait_cut = false;
         let mut forced = false;
-        for (id, e) in space.out_edges(s as StateId) {
+        for (id, e) in space.out_edges(StateId::new(s)) {
             let controller_cut = e.zeno && (is_option(e) || is_wait(e));
-            if e.to != NONE && !controller_cut {
-                preds[e.to as usize].push(id);
+            if e.to != StateId::NONE && !controller_cut {
+                preds[e.to.index()].push(id);
             }
             // A request or wait cut as a zeno move (a return without progress, or a move on a
             // cycle without progress) leads nowhere: the controller loses with it at once, so it
@@ -117,35 +117,35 @@ fn ranks(space: &StateSpace) -> Ranks {
         if removal == Removal::NoMove && pending[s] == 0 && cut > 0 {
             // Every move the controller has is a zeno repetition: lost in one move.
             rank[s] = 1;
-            ones.push(s as StateId);
+            ones.push(StateId::new(s));
             continue;
         }
         match removal {
             Removal::Assertion { .. } | Removal::PlanFailed { .. } | Removal::Deadlock => {
                 rank[s] = 0;
-                queue.push_back(s as StateId);
+                queue.push_back(StateId::new(s));
             }
             Removal::ZenoLoop { edge } => {
                 rank[s] = 1;
                 witness[s] = edge;
-                ones.push(s as StateId);
+                ones.push(StateId::new(s));
             }
-            Removal::Dominated { by } => dominated[by as usize].push(s as StateId),
+            Removal::Dominated { by } => dominated[by.index()].push(StateId::new(s)),
             Removal::Forced { .. } | Removal::NoMove | Removal::Unexplored => {}
         }
     }
     queue.extend(ones);
     while let Some(y) = queue.pop_front() {
-        let r = rank[y as usize];
-        for &x in &dominated[y as usize] {
-            if rank[x as usize] == UNRANKED {
-                rank[x as usize] = r + 1;
+        let r = rank[y.index()];
+        for &x in &dominated[y.index()] {
+            if rank[x.index()] == UNRANKED {
+                rank[x.index()] = r + 1;
                 queue.push_back(x);
             }
         }
-        for &id in &preds[y as usize] {
-            let e = &space.edges[id as usize];
-            let x = e.from as usize;
+        for &id in &preds[y.index()] {
+            let e = &space.edges[id.index()];
+            let x = e.from.index();
             if space.states[x].removal.is_none() || rank[x] != UNRANKED {
                 continue;
             }
@@ -172,7 +172,7 @@ fn ranks(space: &StateSpace) -> Ranks {
             };
             if done {
                 rank[x] = r + 1;
-                queue.push_back(x as StateId);
+                queue.push_back(StateId::new(x));
             }
         }
     }
@@ -196,7 +196,7 @@ pub enum Mover {
 pub struct PlayMove {
     pub edge: EdgeId,
     pub from: StateId,
-    /// The state reached ([`NONE`] for a zeno repetition, which leads nowhere).
+    /// The state reached ([`StateId::NONE`] for a zeno repetition, which leads nowhere).
     pub to: StateId,
     pub mover: Mover,
     /// The move in words, as in the explanation.
@@ -225,9 +225,9 @@ pub struct CounterPlay {
 /// state is not lost, or lost in a way the ranks do not decide (cut cycles).
 pub fn counter_play(game: &Game, split: &SplitGame, space: &StateSpace) -> Option<CounterPlay> {
     let from = space.initial;
-    space.states.get(from as usize)?.removal?;
+    space.states.get(from.index())?.removal?;
     let ranks = ranks(space);
-    let rank = |s: StateId| if s == NONE { 0 } else { ranks.rank[s as usize] };
+    let rank = |s: StateId| if s == StateId::NONE { 0 } else { ranks.rank[s.index()] };
     if rank(from) == UNRANKED {
         return None;
     }
@@ -235,12 +235,12 @@ pub fn counter_play(game: &Game, split: &SplitGame, space: &StateSpace) -> Optio
     let mut s = from;
     // Ranks fall by one with every move, so the line has `rank(from)` moves; the bound only
     // guards against a rank table that would not.
-    for _ in 0..=ranks.rank[from as usize] {
+    for _ in 0..=ranks.rank[from.index()] {
         if let Some(end) = violation(game, split, space, s) {
             return Some(CounterPlay { moves, end, end_state: s });
         }
         let mut play = |edge: EdgeId, mover: Mover, choices: u32| {
-            let e = &space.edges[edge as usize];
+            let e = &space.edges[edge.index()];
             moves.push(PlayMove {
                 edge,
                 from: e.from,
@@ -252,24 +252,25 @@ pub fn counter_play(game: &Game, split: &SplitGame, space: &StateSpace) -> Optio
             });
             e.to
         };
-        if let Some(Removal::ZenoLoop { edge }) = space.states[s as usize].removal {
+        if let Some(Removal::ZenoLoop { edge }) = space.states[s.index()].removal {
             play(edge, Mover::Plant, 1);
             let end = format!(
                 "zeno loop: the plant can send {} and come back without plan progress, forever",
-                describe_edge(game, split, &space.edges[edge as usize])
+                describe_edge(game, split, &space.edges[edge.index()])
             );
             return Some(CounterPlay { moves, end, end_state: s });
         }
-        let w = ranks.witness[s as usize];
-        let forced = w != NONE && space.edges[w as usize].kind == EdgeKind::Reaction;
+        let w = ranks.witness[s.index()];
+        let forced = w != EdgeId::NONE && space.edges[w.index()].kind == EdgeKind::Reaction;
         // The controller's alternatives: its live options and, if the plant can make waiting
         // fail, waiting. A zeno-cut option leads nowhere and loses at once.
         let options: Vec<(EdgeId, u32)> = space
             .out_edges(s)
-            .filter(|(_, e)| is_option(e) && e.to != NONE && !e.zeno)
+            .filter(|(_, e)| is_option(e) && e.to != StateId::NONE && !e.zeno)
             .map(|(id, e)| (id, rank(e.to)))
             .collect();
-        let wait = (w != NONE && is_wait(&space.edges[w as usize])).then(|| (w, rank(space.edges[w as usize].to)));
+        let wait =
+            (w != EdgeId::NONE && is_wait(&space.edges[w.index()])).then(|| (w, rank(space.edges[w.index()].to)));
         let next = if forced {
             play(w, Mover::Plant, 1)
         } else if options.is_empty() && wait.is_none() {
@@ -278,12 +279,12 @@ pub fn counter_play(game: &Game, split: &SplitGame, space: &StateSpace) -> Optio
             let cut: Vec<EdgeId> =
                 space.out_edges(s).filter(|(_, e)| (is_option(e) || is_wait(e)) && e.zeno).map(|(id, _)| id).collect();
             let &edge = cut.first()?;
-            let mover = if is_wait(&space.edges[edge as usize]) { Mover::Wait } else { Mover::Controller };
+            let mover = if is_wait(&space.edges[edge.index()]) { Mover::Wait } else { Mover::Controller };
             play(edge, mover, cut.len() as u32);
             let end = format!(
                 "zeno loop: every move of the controller ({}) returns to a plant state visited since the last plan progress or goes round without progress",
                 cut.iter()
-                    .map(|&e| describe_edge(game, split, &space.edges[e as usize]))
+                    .map(|&e| describe_edge(game, split, &space.edges[e.index()]))
                     .collect::<Vec<_>>()
                     .join(", ")
             );
@@ -297,7 +298,7 @@ pub fn counter_play(game: &Game, split: &SplitGame, space: &StateSpace) -> Optio
             let mover = if Some(best) == wait { Mover::Wait } else { Mover::Controller };
             play(best.0, mover, choices)
         };
-        if next == NONE || space.states[next as usize].removal.is_none() {
+        if next == StateId::NONE || space.states[next.index()].removal.is_none() {
             return None; // the ranks promised a lost state
         }
         s = next;
@@ -310,7 +311,7 @@ pub fn describe_state(game: &Game, split: &SplitGame, space: &StateSpace, s: Sta
     let mut parts: Vec<String> = Vec::new();
     for (u, &sub) in space.env(s).iter().enumerate() {
         let unit = &split.units[u];
-        let loc = unit.sublocs[sub as usize].location;
+        let loc = unit.sublocs[sub.index()].location;
         parts.push(format!("{}.{}", unit.name, game.components[u].locations[loc.index()].name));
     }
     let plant = parts.join(", ");
@@ -320,7 +321,7 @@ pub fn describe_state(game: &Game, split: &SplitGame, space: &StateSpace, s: Sta
         .enumerate()
         .map(|(p, &sub)| {
             let unit = &split.units[split.plant_count + p];
-            let loc = unit.sublocs[sub as usize].location;
+            let loc = unit.sublocs[sub.index()].location;
             format!("{}.{}", unit.name, game.plans[p].locations[loc.index()].name)
         })
         .collect();
@@ -336,7 +337,7 @@ pub fn describe_state(game: &Game, split: &SplitGame, space: &StateSpace, s: Sta
         text.push_str(" | ");
         text.push_str(&zone_text);
     }
-    match space.states[s as usize].kind {
+    match space.states[s.index()].kind {
         StateKind::Waiting => text.push_str(" (waiting)"),
         StateKind::Guard => text.push_str(" (checking a guard)"),
         _ => {}
@@ -370,13 +371,13 @@ pub fn describe_edge(game: &Game, split: &SplitGame, e: &Edge) -> String {
 }
 
 fn violation(game: &Game, split: &SplitGame, space: &StateSpace, s: StateId) -> Option<String> {
-    Some(match space.states[s as usize].removal? {
+    Some(match space.states[s.index()].removal? {
         Removal::Assertion { rule } => format!("assertion violated: {}", game.assertions[rule as usize].text),
         Removal::PlanFailed { plan } => {
             let p = &game.plans[plan as usize];
             let sub = space.plan(s)[plan as usize];
             let unit = &split.units[split.plant_count + plan as usize];
-            if unit.sublocs[sub as usize].location == p.failed {
+            if unit.sublocs[sub.index()].location == p.failed {
                 format!("{} fails: a message it forbids occurred", p.name)
             } else {
                 format!("{} fails: a timeout clock exceeded its bound", p.name)
@@ -406,16 +407,16 @@ fn step(
     if let Some(reason) = violation(game, split, space, s) {
         return Step { state: s, event, locations, outcome: Outcome::Violation { reason } };
     }
-    let removal = space.states[s as usize].removal;
+    let removal = space.states[s.index()].removal;
     let outcome = match removal {
         Some(Removal::ZenoLoop { edge }) => {
-            let e = &space.edges[edge as usize];
+            let e = &space.edges[edge.index()];
             Outcome::Violation {
                 reason: format!("the plant can send {} and return to a plant state it visited since the last plan progress, or keep the plays from progress forever (zeno loop)", describe_edge(game, split, e)),
             }
         }
         Some(Removal::Forced { .. }) | Some(Removal::NoMove) if is_forced_state(space, ranks, s) => {
-            let e = &space.edges[ranks.witness[s as usize] as usize];
+            let e = &space.edges[ranks.witness[s.index()].index()];
             let next = step(game, split, space, ranks, e.to, Some(describe_edge(game, split, e)), depth + 1, budget);
             Outcome::Forced { next: Box::new(next) }
         }
@@ -426,7 +427,7 @@ fn step(
         Some(Removal::NoMove) => {
             let mut branches = Vec::new();
             for (_, e) in space.out_edges(s) {
-                if is_option(e) && e.to != NONE {
+                if is_option(e) && e.to != StateId::NONE {
                     let label = describe_edge(game, split, e);
                     if e.zeno {
                         branches.push(Step {
@@ -449,9 +450,9 @@ fn step(
                     });
                 }
             }
-            let w = ranks.witness[s as usize];
-            if w != NONE {
-                let e = &space.edges[w as usize];
+            let w = ranks.witness[s.index()];
+            if w != EdgeId::NONE {
+                let e = &space.edges[w.index()];
                 branches.push(step(
                     game,
                     split,
@@ -480,11 +481,11 @@ fn step(
 /// True if the plant can force the loss without a controller choice: by a reaction, or by
 /// passing time where the controller has no move.
 fn is_forced_state(space: &StateSpace, ranks: &Ranks, s: StateId) -> bool {
-    let w = ranks.witness[s as usize];
-    if w == NONE {
+    let w = ranks.witness[s.index()];
+    if w == EdgeId::NONE {
         return false;
     }
-    match space.edges[w as usize].kind {
+    match space.edges[w.index()].kind {
         EdgeKind::Reaction => true,
         EdgeKind::Delay => !space.out_edges(s).any(|(_, e)| is_option(e)),
         _ => false,
@@ -528,7 +529,7 @@ fn render_step(step: &Step, indent: usize, out: &mut String) {
 pub fn dump(game: &Game, split: &SplitGame, space: &StateSpace) -> String {
     let mut out = String::new();
     for (s, st) in space.states.iter().enumerate() {
-        let s = s as StateId;
+        let s = StateId::new(s);
         let status = match st.removal {
             None => "winning".to_string(),
             Some(r) => format!("removed ({})", removal_text(game, split, space, s, r)),
@@ -536,7 +537,7 @@ pub fn dump(game: &Game, split: &SplitGame, space: &StateSpace) -> String {
         let initial = if s == space.initial { " initial" } else { "" };
         out.push_str(&format!("s{s}{initial} [{status}] {}\n", describe_state(game, split, space, s)));
         for (_, e) in space.out_edges(s) {
-            let target = match (e.to == NONE, e.zeno) {
+            let target = match (e.to == StateId::NONE, e.zeno) {
                 _ if e.is_unexplored() => "not explored".to_string(),
                 (true, true) => "zeno".to_string(),
                 (true, false) => "timeout".to_string(),
@@ -558,9 +559,9 @@ fn dominated_text(by: StateId) -> String {
 pub fn removal_text(game: &Game, split: &SplitGame, space: &StateSpace, s: StateId, r: Removal) -> String {
     match r {
         Removal::Forced { edge } => {
-            format!("forced: {} leads to a removed state", describe_edge(game, split, &space.edges[edge as usize]))
+            format!("forced: {} leads to a removed state", describe_edge(game, split, &space.edges[edge.index()]))
         }
-        Removal::ZenoLoop { edge } => format!("zeno loop: {}", describe_edge(game, split, &space.edges[edge as usize])),
+        Removal::ZenoLoop { edge } => format!("zeno loop: {}", describe_edge(game, split, &space.edges[edge.index()])),
         Removal::NoMove => "every controller move fails and waiting is not possible".to_string(),
         Removal::Unexplored => "not explored: the strategy found does not pass through this state".to_string(),
         Removal::Dominated { by } => dominated_text(by),
@@ -587,7 +588,7 @@ mod tests {
         let play = counter_play(game, &s.split, space).expect("a counter-play");
         let mut at = space.initial;
         for m in &play.moves {
-            let e = &space.edges[m.edge as usize];
+            let e = &space.edges[m.edge.index()];
             assert_eq!((e.from, e.to), (m.from, m.to), "{m:?} is the edge it names");
             assert_eq!(m.from, at, "{m:?} leaves the state the line is in");
             assert!(space.out_edges(at).any(|(id, _)| id == m.edge));
@@ -596,11 +597,11 @@ mod tests {
         assert_eq!(at, play.end_state);
         assert!(
             matches!(
-                space.states[at as usize].removal,
+                space.states[at.index()].removal,
                 Some(Removal::Assertion { .. } | Removal::PlanFailed { .. } | Removal::Deadlock)
             ),
             "ends in {:?}",
-            space.states[at as usize].removal
+            space.states[at.index()].removal
         );
         let depth = s.explanation.as_ref().unwrap().depth as usize;
         assert_eq!(play.moves.len(), depth, "the line is as long as the explanation is deep");

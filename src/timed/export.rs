@@ -3,7 +3,7 @@
 
 use super::explain::{describe_edge, describe_state, removal_text};
 use super::model::{ClockInterval, Game, LocId};
-use super::solve::{Removal, StateId, StateKind, Verdict, NONE};
+use super::solve::{Removal, StateId, StateKind, Verdict};
 use super::Synthesis;
 use serde::Serialize;
 use std::collections::VecDeque;
@@ -224,16 +224,16 @@ pub fn state_view(game: &Game, synthesis: &Synthesis, s: StateId) -> StateView {
     let (split, space) = (&synthesis.split, &synthesis.solution.space);
     let mut locations = Vec::new();
     for (u, &sub) in space.env(s).iter().enumerate() {
-        let loc = split.units[u].sublocs[sub as usize].location;
+        let loc = split.units[u].sublocs[sub.index()].location;
         locations.push(game.components[u].locations[loc.index()].name.clone());
     }
     for (p, &sub) in space.plan(s).iter().enumerate() {
-        let loc = split.units[split.plant_count + p].sublocs[sub as usize].location;
+        let loc = split.units[split.plant_count + p].sublocs[sub.index()].location;
         locations.push(game.plans[p].locations[loc.index()].name.clone());
     }
     let names: Vec<&str> = game.clocks.iter().map(|c| c.name.as_str()).collect();
     let zone = space.zone(s);
-    let st = &space.states[s as usize];
+    let st = &space.states[s.index()];
     StateView {
         id: s,
         locations,
@@ -255,15 +255,15 @@ pub fn space(game: &Game, synthesis: &Synthesis, limit: usize) -> SpaceView {
     let mut order = Vec::new();
     if n > 0 {
         let mut queue = VecDeque::from([space.initial]);
-        queued[space.initial as usize] = true;
+        queued[space.initial.index()] = true;
         while let Some(s) = queue.pop_front() {
             order.push(s);
             if order.len() >= limit {
                 break;
             }
             for (_, e) in space.out_edges(s) {
-                if e.to != NONE && !queued[e.to as usize] {
-                    queued[e.to as usize] = true;
+                if e.to != StateId::NONE && !queued[e.to.index()] {
+                    queued[e.to.index()] = true;
                     queue.push_back(e.to);
                 }
             }
@@ -282,12 +282,12 @@ fn view_of(game: &Game, synthesis: &Synthesis, order: &[StateId], truncated: boo
     let mut edges = Vec::new();
     for &s in order {
         for (_, e) in space.out_edges(s) {
-            if e.to != NONE && !exported.contains(&e.to) {
+            if e.to != StateId::NONE && !exported.contains(&e.to) {
                 continue;
             }
             edges.push(TransitionView {
                 from: s,
-                to: (e.to != NONE).then_some(e.to),
+                to: e.target(),
                 kind: e.kind,
                 label: describe_edge(game, &synthesis.split, e),
                 zeno: e.zeno,
@@ -313,8 +313,8 @@ pub fn incoming(synthesis: &Synthesis) -> Vec<Vec<StateId>> {
     let space = &synthesis.solution.space;
     let mut incoming = vec![Vec::new(); space.states.len()];
     for e in &space.edges {
-        if e.to != NONE {
-            incoming[e.to as usize].push(e.from);
+        if let Some(to) = e.target() {
+            incoming[to.index()].push(e.from);
         }
     }
     incoming
@@ -332,7 +332,7 @@ pub fn neighbourhood(
     limit: usize,
 ) -> Option<SpaceView> {
     let space = &synthesis.solution.space;
-    if state as usize >= space.states.len() {
+    if state.index() >= space.states.len() {
         return None;
     }
     let mut dist: std::collections::HashMap<StateId, u32> = std::collections::HashMap::from([(state, 0)]);
@@ -344,8 +344,8 @@ pub fn neighbourhood(
         if d >= k {
             continue;
         }
-        let succ = space.out_edges(x).map(|(_, e)| e.to).filter(|&t| t != NONE);
-        let pred = incoming[x as usize].iter().copied();
+        let succ = space.out_edges(x).filter_map(|(_, e)| e.target());
+        let pred = incoming[x.index()].iter().copied();
         for y in succ.chain(pred).collect::<Vec<_>>() {
             if dist.contains_key(&y) {
                 continue;
@@ -386,7 +386,7 @@ pub fn search_states(game: &Game, synthesis: &Synthesis, query: &str, filter: &s
     let words: Vec<String> = query.split_whitespace().map(str::to_lowercase).collect();
     let mut total = 0;
     let mut rows = Vec::new();
-    for id in 0..space.states.len() as StateId {
+    for id in space.state_ids() {
         let winning = space.is_winning(id);
         if (filter == "winning" && !winning) || (filter == "removed" && winning) {
             continue;
@@ -435,9 +435,9 @@ pub fn strategy(game: &Game, synthesis: &Synthesis) -> Option<Vec<StrategyChoice
         strategy
             .states
             .iter()
-            .map(|&st| match strategy.choice[st as usize] {
+            .map(|&st| match strategy.choice[st.index()] {
                 crate::timed::program::select::Choice::Request(e) => {
-                    let edge = &space.edges[e as usize];
+                    let edge = &space.edges[e.index()];
                     StrategyChoice {
                         state: st,
                         choice: "request",
@@ -594,16 +594,16 @@ mod tests {
         assert!(removed.rows.iter().all(|r| !r.winning));
 
         let incoming = incoming(&s);
-        let hood = neighbourhood(&game, &s, &incoming, 0, 1, 100).unwrap();
-        let succ: Vec<StateId> = s.solution.space.out_edges(0).map(|(_, e)| e.to).filter(|&t| t != NONE).collect();
+        let hood = neighbourhood(&game, &s, &incoming, StateId::new(0), 1, 100).unwrap();
+        let succ: Vec<StateId> = s.solution.space.out_edges(StateId::new(0)).filter_map(|(_, e)| e.target()).collect();
         assert!(succ.iter().all(|t| hood.states.iter().any(|v| v.id == *t)), "one step reaches every successor");
-        assert!(!neighbourhood(&game, &s, &incoming, 0, 3, 2).unwrap().states.is_empty());
-        assert!(neighbourhood(&game, &s, &incoming, 0, 3, 2).unwrap().truncated);
-        assert!(neighbourhood(&game, &s, &incoming, 10_000, 1, 10).is_none());
+        assert!(!neighbourhood(&game, &s, &incoming, StateId::new(0), 3, 2).unwrap().states.is_empty());
+        assert!(neighbourhood(&game, &s, &incoming, StateId::new(0), 3, 2).unwrap().truncated);
+        assert!(neighbourhood(&game, &s, &incoming, StateId::new(10_000), 1, 10).is_none());
 
         let choices = strategy(&game, &s).unwrap();
         let view = space(&game, &s, 1000);
-        let dot = space_dot(&view, Some(0), Some(&choices));
+        let dot = space_dot(&view, Some(StateId::new(0)), Some(&choices));
         assert!(dot.contains(r#"id = "st-0""#), "{dot}");
         assert!(
             dot.contains("state winning initial selected") || dot.contains("state removed initial selected"),

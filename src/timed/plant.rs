@@ -386,7 +386,7 @@ impl<'g> Plant<'g> {
         let units = space.env(s).iter().enumerate().map(|(u, &sub)| (u, sub, self.locs[u]));
         let plans = space.plan(s).iter().enumerate().map(|(p, &sub)| (base + p, sub, self.plan_locs[p]));
         let located = units.chain(plans).all(|(u, sub, at)| {
-            let sub = &split.units[u].sublocs[sub as usize];
+            let sub = &split.units[u].sublocs[sub.index()];
             sub.location == at
                 && sub
                     .pieces
@@ -400,8 +400,7 @@ impl<'g> Plant<'g> {
     /// (entry, interval, waiting, guard: where the controller decides first), then by id. A
     /// point lies in several states when the zeno memory or the kinds tell them apart.
     pub fn locate(&self, split: &SplitGame, space: &StateSpace) -> Vec<StateId> {
-        let mut found: Vec<StateId> =
-            (0..space.states.len() as StateId).filter(|&s| self.is_in(split, space, s)).collect();
+        let mut found: Vec<StateId> = space.state_ids().filter(|&s| self.is_in(split, space, s)).collect();
         let kind_order = |k: StateKind| match k {
             StateKind::Entry => 0,
             StateKind::Interval => 1,
@@ -409,7 +408,7 @@ impl<'g> Plant<'g> {
             StateKind::Guard => 3,
         };
         found.sort_by_key(|&s| {
-            let st = &space.states[s as usize];
+            let st = &space.states[s.index()];
             (st.removal.is_some(), kind_order(st.kind), s)
         });
         found

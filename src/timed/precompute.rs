@@ -20,15 +20,23 @@
 use super::model::*;
 use super::solve::{Halt, SolveOptions, Stats, PROGRESS_WORK, STEP_COST};
 use crate::diag::Span;
+use crate::id::id_type;
 use crate::search::{Charge, Meter, Resource};
 use serde::Serialize;
 use std::mem::size_of;
 use std::ops::Range;
 
-pub type SubLocId = u32;
+id_type! {
+    /// A sub-location of one split unit: an index into its [`SplitUnit::sublocs`].
+    #[derive(Serialize)]
+    #[serde(transparent)]
+    pub struct SubLocId;
+}
 
-/// No target: the observer stays where it is.
-pub const STAY: SubLocId = u32::MAX;
+impl SubLocId {
+    /// No target in [`SplitGame::plan_next`]: the plan stays where it is.
+    pub const STAY: SubLocId = SubLocId::from_raw(u32::MAX);
+}
 
 /// The split form of the whole game.
 #[derive(Clone, Debug, Serialize)]
@@ -42,7 +50,7 @@ pub struct SplitGame {
     pub max_constant: Vec<i32>,
     /// For each message, the plant units that must take a `$` transition along with it.
     pub sync_units: Vec<Vec<CompId>>,
-    /// Plan transitions: `plan_next[plan][subloc * messages + msg]` is the target or `STAY`.
+    /// Plan transitions: `plan_next[plan][subloc * messages + msg]` is the target or [`SubLocId::STAY`].
     pub plan_next: Vec<Vec<SubLocId>>,
     /// Clocks reset by the same plan transitions, as bit sets over clock ids.
     pub plan_resets: Vec<Vec<u64>>,
@@ -324,7 +332,7 @@ pub fn unsplit(game: &Game) -> SplitGame {
     let unit = |name: &str, clocks: Vec<ClockId>| SplitUnit {
         name: name.to_string(),
         sublocs: Vec::new(),
-        initial: 0,
+        initial: SubLocId::new(0),
         clocks,
     };
     let mut units: Vec<SplitUnit> = game.components.iter().map(|a| unit(&a.name, a.clocks.clone())).collect();
@@ -378,7 +386,7 @@ impl LocationBox {
             }
             id += u64::from(p - r.start) * stride;
         }
-        Some(id as SubLocId)
+        Some(SubLocId::new(id as usize))
     }
 }
 
@@ -464,7 +472,7 @@ impl SubLocIndex {
 
     /// The sub-location of `l` with every clock in its first piece (0 if there is none).
     fn initial(&self, l: LocId) -> SubLocId {
-        self.boxes[l.index()].id(|_| Some(0)).unwrap_or(0)
+        self.boxes[l.index()].id(|_| Some(0)).unwrap_or(SubLocId::new(0))
     }
 }
 
@@ -598,7 +606,7 @@ fn split_plan(
     }
     let outgoing = edges_by_source(n, p.edges.iter().map(|e| e.from));
     let mut sublocs = std::mem::take(&mut idx.sublocs);
-    let mut next = vec![STAY; sublocs.len() * message_count];
+    let mut next = vec![SubLocId::STAY; sublocs.len() * message_count];
     let mut resets = vec![0u64; sublocs.len() * message_count];
     let mut result = Ok(());
     for (s, sub) in sublocs.iter_mut().enumerate() {

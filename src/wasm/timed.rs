@@ -303,7 +303,9 @@ impl TimedSession {
 
     /// The states within `k` steps of `state` (following edges both ways), at most `limit` of
     /// them, with the edges among them: a `SpaceView` whose `truncated` tells if `limit` cut it.
-    pub fn neighbourhood(&self, state: StateId, k: u32, limit: usize) -> Result<JsValue, JsValue> {
+    /// (State ids cross to JavaScript as plain numbers.)
+    pub fn neighbourhood(&self, state: u32, k: u32, limit: usize) -> Result<JsValue, JsValue> {
+        let state = StateId::from_raw(state);
         let s = self.synthesis()?;
         let incoming = self.incoming.get_or_init(|| export::incoming(s));
         match export::neighbourhood(&self.game, s, incoming, state, k, limit) {
@@ -539,9 +541,10 @@ impl TimedSession {
     }
 
     /// One state: `StateView`.
-    pub fn state(&self, state: StateId) -> Result<JsValue, JsValue> {
+    pub fn state(&self, state: u32) -> Result<JsValue, JsValue> {
+        let state = StateId::from_raw(state);
         let s = self.synthesis()?;
-        if state as usize >= s.solution.space.states.len() {
+        if state.index() >= s.solution.space.states.len() {
             return Err(JsValue::from_str(&format!("no state s{state}")));
         }
         to_js(&self.state_view(s, state))

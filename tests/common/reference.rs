@@ -2,16 +2,17 @@
 //! --no-zeno-memory`), and the properties both must have.
 
 use plcsynth::timed::model::Game;
+use plcsynth::timed::precompute::SubLocId;
 use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateKind, StateSpace, Stop, Verdict};
 use plcsynth::timed::{synthesize, synthesize_at_scan, Synthesis};
 use plcsynth::zone::{includes_only_lowered, Dbm};
 use std::collections::HashSet;
 
 /// A state independent of the run that stored it: sub-locations, plans, zone and kind.
-type Key = (Vec<u32>, Vec<u32>, Dbm, StateKind);
+type Key = (Vec<SubLocId>, Vec<SubLocId>, Dbm, StateKind);
 
 fn key(space: &StateSpace, s: StateId) -> Key {
-    (space.env(s).to_vec(), space.plan(s).to_vec(), space.zone(s), space.states[s as usize].kind)
+    (space.env(s).to_vec(), space.plan(s).to_vec(), space.zone(s), space.states[s.index()].kind)
 }
 
 /// The comparisons' budget: `max_states` and a work budget of 250 million, half the default, so
@@ -69,9 +70,9 @@ fn agree(game: &Game, fast: &Synthesis, reference: &Synthesis) -> Result<Visited
     // Winning in the reference: surviving its exact removal. (Not only the survivors reachable
     // through survivors: the search's inclusion may reach a surviving state from one whose
     // zone it includes, where the reference's own moves do not go.)
-    let all: HashSet<Key> = (0..r.space.states.len() as StateId).map(|s| key(&r.space, s)).collect();
+    let all: HashSet<Key> = r.space.state_ids().map(|s| key(&r.space, s)).collect();
     let survivors: HashSet<Key> =
-        (0..r.space.states.len() as StateId).filter(|&s| r.space.is_winning(s)).map(|s| key(&r.space, s)).collect();
+        r.space.state_ids().filter(|&s| r.space.is_winning(s)).map(|s| key(&r.space, s)).collect();
     if let Some(s) = f.space.winning_states().into_iter().find(|&s| !survivors.contains(&key(&f.space, s))) {
         return Err(format!("s{s} wins in the search but not in the reference"));
     }
@@ -81,7 +82,7 @@ fn agree(game: &Game, fast: &Synthesis, reference: &Synthesis) -> Result<Visited
         for (_, e) in f.space.out_edges(s).filter(|(_, e)| f.space.is_live(e)) {
             let Some(own) = f.space.own_zone(e) else { continue };
             let t = e.to;
-            let own_key = (f.space.env(t).to_vec(), f.space.plan(t).to_vec(), own, f.space.states[t as usize].kind);
+            let own_key = (f.space.env(t).to_vec(), f.space.plan(t).to_vec(), own, f.space.states[t.index()].kind);
             if all.contains(&own_key) && !survivors.contains(&own_key) {
                 return Err(format!("s{s}: the move to s{t} (including its zone) enters a zone the reference loses"));
             }
@@ -92,13 +93,13 @@ fn agree(game: &Game, fast: &Synthesis, reference: &Synthesis) -> Result<Visited
     // where the reference has them, are lost there too (only where the reference wins: a lost
     // initial state ends its search before every removal is made, so its survivors need not win).
     let reference_complete = r.is_realizable();
-    for s in 0..f.space.states.len() as StateId {
-        let Some(Removal::Dominated { by }) = f.space.states[s as usize].removal else { continue };
+    for s in f.space.state_ids() {
+        let Some(Removal::Dominated { by }) = f.space.states[s.index()].removal else { continue };
         let (a, b) = (key(&f.space, s), key(&f.space, by));
         if (&a.0, &a.1, a.3) != (&b.0, &b.1, b.3) {
             return Err(format!("s{s} is lost by dominance of s{by}, of other locations or kind"));
         }
-        if matches!(f.space.states[by as usize].removal, None | Some(Removal::Unexplored)) {
+        if matches!(f.space.states[by.index()].removal, None | Some(Removal::Unexplored)) {
             return Err(format!("s{s} is lost by dominance of s{by}, which is not lost"));
         }
         if !a.2.includes_lowered(&b.2, lowered) {
@@ -106,7 +107,7 @@ fn agree(game: &Game, fast: &Synthesis, reference: &Synthesis) -> Result<Visited
         }
         for (what, t, k) in [("dominated", s, &a), ("dominating", by, &b)] {
             if reference_complete && survivors.contains(k) {
-                let why = f.space.states[by as usize].removal;
+                let why = f.space.states[by.index()].removal;
                 return Err(format!(
                     "{what} s{t} (s{s} lost by dominance of s{by}, lost as {why:?}) wins in the reference"
                 ));

@@ -42,9 +42,10 @@ pub fn minimize_supervisor(sup: &Supervisor) -> Supervisor {
     let class = crate::sct::partition::coarsest_partition(n + 1, k, &delta, &key);
     let count = class.iter().copied().max().map_or(0, |c| c as usize + 1);
     // Build the quotient from the initial state.
-    let mut renum = vec![u32::MAX; count];
+    // Per class, its state in the quotient once reached; `reps` holds a state of each.
+    let mut renum = vec![None; count];
     let mut reps: Vec<usize> = vec![init as usize];
-    renum[class[init as usize] as usize] = 0;
+    renum[class[init as usize] as usize] = Some(0);
     let mut states = Vec::new();
     let mut k = 0;
     while k < reps.len() {
@@ -56,11 +57,11 @@ pub fn minimize_supervisor(sup: &Supervisor) -> Supervisor {
             if class[t as usize] == class[s] {
                 continue;
             }
-            if renum[c] == u32::MAX {
-                renum[c] = reps.len() as u32;
+            let target = *renum[c].get_or_insert_with(|| {
                 reps.push(t as usize);
-            }
-            transitions.push((e, renum[c]));
+                reps.len() as u32 - 1
+            });
+            transitions.push((e, target));
         }
         states.push(SupState { transitions, ..st.clone() });
         k += 1;

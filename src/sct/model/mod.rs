@@ -22,15 +22,19 @@ pub use supervisor::{SupState, Supervisor};
 pub use synth::{dep_closure, step, synthesize, synthesize_known, synthesize_within, Knowledge};
 
 use crate::graph::{Successors, View};
+use crate::id::id_type;
 use petgraph::visit::{Bfs, NodeFiltered};
 use serde::Serialize;
 
 pub use crate::search::Stop;
 use crate::search::{Charge, Meter, Resource};
 
-/// Event id: an index into [`Project::events`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
-pub struct EventId(pub u32);
+id_type! {
+    /// Event id: an index into [`Project::events`].
+    #[derive(Serialize)]
+    #[serde(transparent)]
+    pub struct EventId;
+}
 
 /// Event types of 5.3.2.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
@@ -208,15 +212,15 @@ pub struct Project {
 
 impl Project {
     pub fn kind(&self, e: EventId) -> EventKind {
-        self.events[e.0 as usize].kind
+        self.events[e.index()].kind
     }
 
     pub fn event_name(&self, e: EventId) -> &str {
-        &self.events[e.0 as usize].name
+        &self.events[e.index()].name
     }
 
     pub fn event(&self, name: &str) -> Option<EventId> {
-        self.events.iter().position(|e| e.name == name).map(|i| EventId(i as u32))
+        self.events.iter().position(|e| e.name == name).map(EventId::new)
     }
 }
 
@@ -330,12 +334,13 @@ impl SynthAut {
             enforced: Vec::new(),
         };
         let Some(i) = self.init.filter(|&i| keep[i as usize]) else { return out };
-        let mut map = vec![u32::MAX; self.num_states()];
+        // The new number of every kept state reachable from the initial one.
+        let mut map = vec![None; self.num_states()];
         let mut order = Vec::new();
         let graph = NodeFiltered(View(self), |s: u32| keep[s as usize]);
         let mut bfs = Bfs::new(&graph, i);
         while let Some(s) = bfs.next(&graph) {
-            map[s as usize] = order.len() as u32;
+            map[s as usize] = Some(order.len() as u32);
             order.push(s);
         }
         for &s in &order {
@@ -343,8 +348,8 @@ impl SynthAut {
             out.trans.push(
                 self.trans[s as usize]
                     .iter()
-                    .filter(|t| map[t.dst as usize] != u32::MAX && t.cond != Cond::False)
-                    .map(|t| STrans { dst: map[t.dst as usize], ..t.clone() })
+                    .filter(|t| t.cond != Cond::False)
+                    .filter_map(|t| Some(STrans { dst: map[t.dst as usize]?, ..t.clone() }))
                     .collect(),
             );
             out.prohib.push(self.prohib[s as usize].iter().filter(|p| p.cond != Cond::False).cloned().collect());
@@ -512,7 +517,7 @@ mod tests {
     }
 
     fn t(src: u32, e: u32, dst: u32) -> Transition {
-        Transition { src, event: EventId(e), cond: Cond::True, dst, origin: NO_ORIGIN }
+        Transition { src, event: EventId::from_raw(e), cond: Cond::True, dst, origin: NO_ORIGIN }
     }
 
     /// Figures 5.7 and 5.8: the tank. Events: 0 openInlet (c), 1 closeInlet (c),
@@ -521,10 +526,10 @@ mod tests {
         use EventKind::*;
         let mut trans =
             vec![t(0, 0, 1), t(0, 1, 0), t(1, 1, 0), t(1, 0, 1), t(1, 2, 2), t(2, 3, 2), t(2, 1, 0), t(2, 0, 2)];
-        let mut alphabet = vec![EventId(0), EventId(1), EventId(2), EventId(3)];
+        let mut alphabet = vec![EventId::new(0), EventId::new(1), EventId::new(2), EventId::new(3)];
         if with_enforceable {
             trans.push(t(2, 4, 0));
-            alphabet.push(EventId(4));
+            alphabet.push(EventId::new(4));
         }
         Project {
             events: vec![
@@ -546,7 +551,7 @@ mod tests {
                 states: vec!["S".into()],
                 init: 0,
                 trans: vec![],
-                prohib: vec![Prohibition { state: 0, event: EventId(3), cond: Cond::True, origin: NO_ORIGIN }],
+                prohib: vec![Prohibition { state: 0, event: EventId::new(3), cond: Cond::True, origin: NO_ORIGIN }],
             }],
         }
     }
@@ -558,7 +563,7 @@ mod tests {
             let s = synthesize(&p, 0, &Config { method, ..Config::default() }).unwrap();
             assert!(s.realizable());
             assert_eq!(s.run(&[]), Some(0));
-            assert!(s.run(&[EventId(0)]).is_none(), "openInlet must be disabled initially");
+            assert!(s.run(&[EventId::new(0)]).is_none(), "openInlet must be disabled initially");
             assert!(s.enforced_events().is_empty());
         }
     }
@@ -568,11 +573,11 @@ mod tests {
         let p = tank(true);
         for method in [Method::Incremental, Method::Monolithic] {
             let s = synthesize(&p, 0, &Config { method, ..Config::default() }).unwrap();
-            let after = s.run(&[EventId(0), EventId(2)]).expect("openInlet, levelAlarm allowed");
-            assert_eq!(s.states[after as usize].enforced, Some(EventId(4)));
+            let after = s.run(&[EventId::new(0), EventId::new(2)]).expect("openInlet, levelAlarm allowed");
+            assert_eq!(s.states[after as usize].enforced, Some(EventId::new(4)));
             // closeInlet is not preempted: the controller may still close the inlet itself.
-            assert!(s.run(&[EventId(0), EventId(2), EventId(1)]).is_some());
-            assert_eq!(s.enforced_events(), vec![EventId(4)]);
+            assert!(s.run(&[EventId::new(0), EventId::new(2), EventId::new(1)]).is_some());
+            assert_eq!(s.enforced_events(), vec![EventId::new(4)]);
             assert!(s.prohibited_events().iter().all(|e| p.kind(*e) != EventKind::Uncontrollable));
         }
     }
@@ -585,14 +590,14 @@ mod tests {
             states: vec!["s".into(), "t".into()],
             init: 0,
             trans: vec![t(0, 0, 1)],
-            prohib: vec![Prohibition { state: 1, event: EventId(1), cond: Cond::True, origin: NO_ORIGIN }],
+            prohib: vec![Prohibition { state: 1, event: EventId::new(1), cond: Cond::True, origin: NO_ORIGIN }],
         };
         let t2 = Spec {
             name: "H2".into(),
             states: vec!["u".into(), "v".into()],
             init: 0,
             trans: vec![t(0, 2, 1)],
-            prohib: vec![Prohibition { state: 1, event: EventId(0), cond: Cond::True, origin: NO_ORIGIN }],
+            prohib: vec![Prohibition { state: 1, event: EventId::new(0), cond: Cond::True, origin: NO_ORIGIN }],
         };
         let product = |max_states| spec_product("H", &t1, &t2, &mut Budget::new(max_states, &mut |_| true));
         let h = product(DEFAULT_MAX_STATES).unwrap();
@@ -601,12 +606,12 @@ mod tests {
         assert!(matches!(product(3), Err(SynthError::BudgetExceeded { max_states: 3 })));
         // From (s,u): a -> (t,u), c -> (s,v); (s,v) forbids a; (t,u) forbids b, c -> (t,v).
         assert_eq!(h.states.len(), 4);
-        let p = h.prohib.iter().map(|p| (h.states[p.state as usize].as_str(), p.event.0)).collect::<Vec<_>>();
+        let p = h.prohib.iter().map(|p| (h.states[p.state as usize].as_str(), p.event.raw())).collect::<Vec<_>>();
         assert!(
             p.contains(&("s|v", 0)) && p.contains(&("t|u", 1)) && p.contains(&("t|v", 1)) && p.contains(&("t|v", 0))
         );
         assert!(
-            !h.trans.iter().any(|x| h.states[x.src as usize] == "s|v" && x.event == EventId(0)),
+            !h.trans.iter().any(|x| h.states[x.src as usize] == "s|v" && x.event == EventId::new(0)),
             "prohibition dominates"
         );
     }
@@ -621,14 +626,14 @@ mod tests {
             plants: vec![
                 Plant {
                     name: "A".into(),
-                    alphabet: vec![EventId(0)],
+                    alphabet: vec![EventId::new(0)],
                     states: vec!["x".into()],
                     init: 0,
-                    trans: vec![Transition { src: 0, event: EventId(0), cond, dst: 0, origin: NO_ORIGIN }],
+                    trans: vec![Transition { src: 0, event: EventId::new(0), cond, dst: 0, origin: NO_ORIGIN }],
                 },
                 Plant {
                     name: "B".into(),
-                    alphabet: vec![EventId(1)],
+                    alphabet: vec![EventId::new(1)],
                     states: vec!["v".into(), "w".into()],
                     init: 0,
                     trans: vec![t(0, 1, 1)],
@@ -639,7 +644,7 @@ mod tests {
         };
         let g = plant_compose(&p, 0, 1);
         assert_eq!(g.states, vec!["x|v".to_string(), "x|w".to_string()]);
-        let a_moves: Vec<_> = g.trans.iter().filter(|t| t.event == EventId(0)).collect();
+        let a_moves: Vec<_> = g.trans.iter().filter(|t| t.event == EventId::new(0)).collect();
         assert_eq!(a_moves.len(), 1, "the a-loop survives only in x|v");
         assert_eq!(a_moves[0].src, 0);
         assert_eq!(a_moves[0].cond, Cond::State { plant: 2, state: 0 }, "the condition on C remains");

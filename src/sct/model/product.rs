@@ -11,8 +11,8 @@ pub fn plant_compose(project: &Project, g1: u32, g2: u32) -> Plant {
     let n = project.events.len();
     let mut in_a = vec![false; n];
     let mut in_b = vec![false; n];
-    a.alphabet.iter().for_each(|e| in_a[e.0 as usize] = true);
-    b.alphabet.iter().for_each(|e| in_b[e.0 as usize] = true);
+    a.alphabet.iter().for_each(|e| in_a[e.index()] = true);
+    b.alphabet.iter().for_each(|e| in_b[e.index()] = true);
     fn out_of(p: &Plant) -> Vec<Vec<&Transition>> {
         let mut v: Vec<Vec<&Transition>> = vec![Vec::new(); p.states.len()];
         p.trans.iter().for_each(|t| v[t.src as usize].push(t));
@@ -42,7 +42,7 @@ pub fn plant_compose(project: &Project, g1: u32, g2: u32) -> Plant {
         };
         let mut moves: Vec<(EventId, Cond, (u32, u32), u32)> = Vec::new();
         for x in &ta[q1 as usize] {
-            if !in_b[x.event.0 as usize] {
+            if !in_b[x.event.index()] {
                 moves.push((x.event, x.cond.refine(&lookup), (x.dst, q2), x.origin));
             } else {
                 for y in tb[q2 as usize].iter().filter(|y| y.event == x.event) {
@@ -51,7 +51,7 @@ pub fn plant_compose(project: &Project, g1: u32, g2: u32) -> Plant {
             }
         }
         for y in &tb[q2 as usize] {
-            if !in_a[y.event.0 as usize] {
+            if !in_a[y.event.index()] {
                 moves.push((y.event, y.cond.refine(&lookup), (q1, y.dst), y.origin));
             }
         }

@@ -321,7 +321,7 @@ impl Knowledge {
         let mut knows: Vec<Vec<u32>> = vec![Vec::new(); project.events.len()];
         for (i, p) in project.plants.iter().enumerate() {
             for e in &p.alphabet {
-                knows[e.0 as usize].push(i as u32);
+                knows[e.index()].push(i as u32);
             }
         }
         Knowledge { knows }
@@ -369,13 +369,13 @@ pub fn synthesize_known(
                     }
                     for p in &c.prohib[s] {
                         if project.kind(p.event) == EventKind::Uncontrollable {
-                            gather.extend(knows[p.event.0 as usize].iter().filter(|&&g| remaining(&applied, g)));
+                            gather.extend(knows[p.event.index()].iter().filter(|&&g| remaining(&applied, g)));
                         }
                     }
                     if cfg.preempt {
                         for t in &c.trans[s] {
                             if project.kind(t.event) == EventKind::Enforceable {
-                                gather.extend(knows[t.event.0 as usize].iter().filter(|&&g| remaining(&applied, g)));
+                                gather.extend(knows[t.event.index()].iter().filter(|&&g| remaining(&applied, g)));
                             }
                         }
                     }
@@ -410,19 +410,19 @@ pub fn dep_closure(project: &Project, spec_id: usize) -> Vec<u32> {
     let mut events = vec![false; n];
     for e in spec.trans.iter().map(|t| t.event).chain(spec.prohib.iter().map(|p| p.event)) {
         if project.kind(e) == EventKind::Uncontrollable {
-            events[e.0 as usize] = true;
+            events[e.index()] = true;
         }
     }
     let mut taken = vec![false; project.plants.len()];
     loop {
         let mut changed = false;
         for (i, g) in project.plants.iter().enumerate() {
-            if !taken[i] && g.alphabet.iter().any(|e| events[e.0 as usize]) {
+            if !taken[i] && g.alphabet.iter().any(|e| events[e.index()]) {
                 taken[i] = true;
                 changed = true;
                 for e in &g.alphabet {
                     if project.kind(*e) == EventKind::Uncontrollable {
-                        events[e.0 as usize] = true;
+                        events[e.index()] = true;
                     }
                 }
             }

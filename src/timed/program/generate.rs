@@ -33,7 +33,7 @@ fn delay_conditions(game: &Game, split: &SplitGame, space: &StateSpace, to: Stat
             ClockOwner::Plan(p) => (split.plant_count + p as usize, space.plan(to)[p as usize]),
             ClockOwner::Reference => continue,
         };
-        if let Some(&(_, piece)) = split.units[unit].sublocs[sub as usize].pieces.iter().find(|(c, _)| *c == clock) {
+        if let Some(&(_, piece)) = split.units[unit].sublocs[sub.index()].pieces.iter().find(|(c, _)| *c == clock) {
             out.push(Condition::Delay { clock, interval: split.pieces[clock.index()][piece as usize] });
         }
     }
@@ -45,11 +45,11 @@ pub fn generate(game: &Game, split: &SplitGame, space: &StateSpace, strategy: &S
     let mut program = Program::new();
     let mut entry = vec![CmdId::NONE; space.states.len()];
     for &s in &strategy.states {
-        entry[s as usize] = program.fresh_id();
+        entry[s.index()] = program.fresh_id();
     }
     let mut origin = Vec::new();
     for &s in &strategy.states {
-        let choice = strategy.choice[s as usize];
+        let choice = strategy.choice[s.index()];
         // (id, instruction, resets); the first command takes the state's entry id.
         let mut block: Vec<(Option<CmdId>, Instruction, u64)> = Vec::new();
         for (_, e) in space.out_edges(s) {
@@ -59,18 +59,18 @@ pub fn generate(game: &Game, split: &SplitGame, space: &StateSpace, strategy: &S
             if let (EdgeKind::Reaction | EdgeKind::Guard, Label::Message { message }) = (e.kind, e.label) {
                 block.push((
                     None,
-                    Instruction::If { condition: Condition::Message { message }, target: entry[e.to as usize] },
+                    Instruction::If { condition: Condition::Message { message }, target: entry[e.to.index()] },
                     e.resets,
                 ));
             }
         }
         match choice {
             Choice::Request(id) => {
-                let e = &space.edges[id as usize];
+                let e = &space.edges[id.index()];
                 if let Label::Message { message } = e.label {
                     block.push((None, Instruction::Do { request: message }, e.resets));
                 }
-                block.push((None, Instruction::Goto { target: entry[e.to as usize] }, 0));
+                block.push((None, Instruction::Goto { target: entry[e.to.index()] }, 0));
             }
             Choice::Wait => {
                 let mut continued = None;
@@ -88,7 +88,7 @@ pub fn generate(game: &Game, split: &SplitGame, space: &StateSpace, strategy: &S
                     }
                 }
                 match continued {
-                    Some(to) => block.push((None, Instruction::Goto { target: entry[to as usize] }, 0)),
+                    Some(to) => block.push((None, Instruction::Goto { target: entry[to.index()] }, 0)),
                     None => {
                         delays.sort_by_key(|(conds, _)| std::cmp::Reverse(conds.len()));
                         let heads: Vec<CmdId> = delays.iter().map(|_| program.fresh_id()).collect();
@@ -98,7 +98,7 @@ pub fn generate(game: &Game, split: &SplitGame, space: &StateSpace, strategy: &S
                             let mut id = Some(heads[k]);
                             for (j, &condition) in conds.iter().enumerate() {
                                 let last = j + 1 == conds.len();
-                                let target = if last { entry[*to as usize] } else { program.fresh_id() };
+                                let target = if last { entry[to.index()] } else { program.fresh_id() };
                                 block.push((id, Instruction::If { condition, target }, 0));
                                 if conds.len() > 1 {
                                     block.push((None, Instruction::Goto { target: next }, 0));
@@ -106,14 +106,14 @@ pub fn generate(game: &Game, split: &SplitGame, space: &StateSpace, strategy: &S
                                 id = (!last).then_some(target);
                             }
                         }
-                        block.push((Some(waiting), Instruction::Goto { target: entry[s as usize] }, 0));
+                        block.push((Some(waiting), Instruction::Goto { target: entry[s.index()] }, 0));
                     }
                 }
             }
         }
-        debug_assert!(space.states[s as usize].kind != StateKind::Guard || matches!(choice, Choice::Request(_)));
+        debug_assert!(space.states[s.index()].kind != StateKind::Guard || matches!(choice, Choice::Request(_)));
         for (k, (id, instruction, resets)) in block.into_iter().enumerate() {
-            let id = if k == 0 { entry[s as usize] } else { id.unwrap_or_else(|| program.fresh_id()) };
+            let id = if k == 0 { entry[s.index()] } else { id.unwrap_or_else(|| program.fresh_id()) };
             program.push_with_id(id, instruction, resets);
             origin.push(s);
         }

@@ -39,7 +39,7 @@ use super::{CmdId, Condition, Instruction, Program};
 use crate::timed::model::{CompId, Game, GuardRule, LocId, MsgId};
 use crate::timed::plant::Sensors;
 use crate::timed::precompute::SplitGame;
-use crate::timed::solve::{EdgeKind, Label, StateId, StateSpace};
+use crate::timed::solve::{EdgeId, EdgeKind, Label, StateId, StateSpace};
 use crate::timed::ScanSynthesis;
 use std::collections::HashMap;
 
@@ -148,7 +148,7 @@ struct Extraction<'a> {
     game: &'a Game,
     space: &'a StateSpace,
     /// Per state: the strategy's decision at a read (`Some(edge)`), `None` elsewhere.
-    decision_edge: Vec<Option<u32>>,
+    decision_edge: Vec<Option<EdgeId>>,
     /// `Some`: the space is the whole winning region (the exhaustive search), and a belief's
     /// decision is chosen among the decisions of least goal distance (request selection's rule,
     /// [`super::select`]) that all its states share, these distances per state; `None`: each
@@ -162,7 +162,7 @@ struct Extraction<'a> {
     work: usize,
     /// What follows every element and decision followed so far (an element recurs in many
     /// beliefs).
-    memo: HashMap<(Element, u32), Followed>,
+    memo: HashMap<(Element, EdgeId), Followed>,
     /// The specification's state guards (the scan game has none).
     guard_rules: &'a [GuardRule],
     /// Called with the states followed so far every [`PROGRESS_EVERY`]; `false` stops.
@@ -176,13 +176,13 @@ impl Extraction<'_> {
     /// The scan automaton's location in state `s`.
     fn plc_location(&self, s: StateId) -> LocId {
         let plc = self.plc.index();
-        self.split.units[plc].sublocs[self.space.env(s)[plc] as usize].location
+        self.split.units[plc].sublocs[self.space.env(s)[plc].index()].location
     }
 
     /// The request a decision edge sends (`None`: idle).
-    fn request_of(&self, edge: u32) -> Option<MsgId> {
+    fn request_of(&self, edge: EdgeId) -> Option<MsgId> {
         let roles = self.game.scan.as_ref()?;
-        match self.space.edges[edge as usize].label {
+        match self.space.edges[edge.index()].label {
             Label::Message { message } => roles.commits[message.index()],
             _ => None,
         }
@@ -192,16 +192,16 @@ impl Extraction<'_> {
     /// region, any winning read).
     fn is_read(&self, s: StateId) -> bool {
         match &self.distances {
-            None => self.decision_edge[s as usize].is_some(),
+            None => self.decision_edge[s.index()].is_some(),
             Some(_) => self.space.is_winning(s) && self.space.out_edges(s).any(|(_, e)| e.kind == EdgeKind::Request),
         }
     }
 
     /// The decisions the PLC may take in read state `s`, preferred first: the strategy's, or
     /// every live decision of least goal distance (ties in request selection's order).
-    fn options(&self, s: StateId) -> Vec<u32> {
-        let Some(dist) = &self.distances else { return self.decision_edge[s as usize].into_iter().collect() };
-        let mut live: Vec<(u32, Option<&str>, u32)> = self
+    fn options(&self, s: StateId) -> Vec<EdgeId> {
+        let Some(dist) = &self.distances else { return self.decision_edge[s.index()].into_iter().collect() };
+        let mut live: Vec<(u32, Option<&str>, EdgeId)> = self
             .space
             .out_edges(s)
             .filter(|(_, e)| e.kind == EdgeKind::Request && self.space.is_live(e))
@@ -218,12 +218,12 @@ impl Extraction<'_> {
     /// The plant components' locations in state `s` (the scan automaton's among them).
     fn locations(&self, s: StateId) -> Vec<LocId> {
         let env = self.space.env(s);
-        (0..self.split.plant_count).map(|u| self.split.units[u].sublocs[env[u] as usize].location).collect()
+        (0..self.split.plant_count).map(|u| self.split.units[u].sublocs[env[u].index()].location).collect()
     }
 
     /// The read states (with the sensors' memory) the plant can bring the PLC to at its next
     /// read after `element`'s decision, and the guards its request may enter.
-    fn successors(&mut self, element: &Element, decision: u32) -> Result<Followed, ScanProgramError> {
+    fn successors(&mut self, element: &Element, decision: EdgeId) -> Result<Followed, ScanProgramError> {
         let key = (element.clone(), decision);
         if let Some(known) = self.memo.get(&key) {
             return Ok(known.clone());
@@ -234,10 +234,10 @@ impl Extraction<'_> {
     }
 
     /// [`Extraction::successors`], computed.
-    fn follow(&mut self, element: &Element, decision: u32) -> Result<Followed, ScanProgramError> {
+    fn follow(&mut self, element: &Element, decision: EdgeId) -> Result<Followed, ScanProgramError> {
         let (_, sensors) = element;
         let request = self.request_of(decision);
-        let start = self.space.edges[decision as usize].to;
+        let start = self.space.edges[decision.index()].to;
         let mut out = Followed::default();
         if self.plc_location(start) == self.quiet {
             out.next.push(element.clone());
@@ -273,7 +273,7 @@ impl Extraction<'_> {
                 continue;
             }
             for (_, e) in self.space.out_edges(s) {
-                if e.to as usize >= self.space.states.len() || !self.space.is_winning(e.to) {
+                if !self.space.is_winning(e.to) {
                     continue;
                 }
                 match (e.kind, e.label) {
@@ -396,8 +396,8 @@ fn follow_beliefs(
     } else {
         let strategy = super::select::select(&scan.game, space);
         for &s in &strategy.states {
-            if let super::select::Choice::Request(e) = strategy.choice[s as usize] {
-                decision_edge[s as usize] = Some(e);
+            if let super::select::Choice::Request(e) = strategy.choice[s.index()] {
+                decision_edge[s.index()] = Some(e);
             }
         }
         None
@@ -476,9 +476,9 @@ fn follow_beliefs(
 impl Extraction<'_> {
     /// The decision of a belief (the request, `None` for idle) and, per element, the edge that
     /// takes it: the first of the first element's options that every element has.
-    fn shared_decision(&self, belief: &[Element]) -> Result<(Option<MsgId>, Vec<u32>), ScanProgramError> {
-        let options: Vec<Vec<u32>> = belief.iter().map(|e| self.options(e.0)).collect();
-        let pick = |request: Option<MsgId>| -> Option<Vec<u32>> {
+    fn shared_decision(&self, belief: &[Element]) -> Result<(Option<MsgId>, Vec<EdgeId>), ScanProgramError> {
+        let options: Vec<Vec<EdgeId>> = belief.iter().map(|e| self.options(e.0)).collect();
+        let pick = |request: Option<MsgId>| -> Option<Vec<EdgeId>> {
             options.iter().map(|o| o.iter().copied().find(|&edge| self.request_of(edge) == request)).collect()
         };
         let first = options.first().map(Vec::as_slice).unwrap_or_default();

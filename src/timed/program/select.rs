@@ -37,7 +37,7 @@ pub fn goal_distances(space: &StateSpace) -> Vec<u32> {
     let mut dist = vec![u32::MAX; n];
     let mut preds: Vec<Vec<StateId>> = vec![Vec::new(); n];
     let mut queue = VecDeque::new();
-    for s in 0..n as StateId {
+    for s in space.state_ids() {
         if !space.is_winning(s) {
             continue;
         }
@@ -45,17 +45,17 @@ pub fn goal_distances(space: &StateSpace) -> Vec<u32> {
             if !space.is_live(e) {
                 continue;
             }
-            if e.progress && dist[s as usize] == u32::MAX {
-                dist[s as usize] = 1;
+            if e.progress && dist[s.index()] == u32::MAX {
+                dist[s.index()] = 1;
                 queue.push_back(s);
             }
-            preds[e.to as usize].push(s);
+            preds[e.to.index()].push(s);
         }
     }
     while let Some(y) = queue.pop_front() {
-        for &x in &preds[y as usize] {
-            if dist[x as usize] == u32::MAX {
-                dist[x as usize] = dist[y as usize] + 1;
+        for &x in &preds[y.index()] {
+            if dist[x.index()] == u32::MAX {
+                dist[x.index()] = dist[y.index()] + 1;
                 queue.push_back(x);
             }
         }
@@ -65,12 +65,12 @@ pub fn goal_distances(space: &StateSpace) -> Vec<u32> {
 
 /// Moves from taking edge `e` to the nearest plan progress (`u32::MAX`: none known).
 pub(crate) fn edge_distance(space: &StateSpace, dist: &[u32], e: EdgeId) -> u32 {
-    let edge = &space.edges[e as usize];
+    let edge = &space.edges[e.index()];
     if edge.progress {
         1
     } else {
         // An unexplored wait edge (strategy-directed search) leads nowhere known.
-        dist.get(edge.to as usize).map_or(u32::MAX, |d| d.saturating_add(1))
+        dist.get(edge.to.index()).map_or(u32::MAX, |d| d.saturating_add(1))
     }
 }
 
@@ -90,11 +90,11 @@ pub fn select(game: &Game, space: &StateSpace) -> Strategy {
         return Strategy { states, choice };
     }
     let mut queue = VecDeque::from([space.initial]);
-    seen[space.initial as usize] = true;
+    seen[space.initial.index()] = true;
     while let Some(s) = queue.pop_front() {
         states.push(s);
         let waits: Vec<EdgeId> = wait_edges(space, s).collect();
-        let wait_viable = !waits.is_empty() && waits.iter().all(|&e| space.is_live(&space.edges[e as usize]));
+        let wait_viable = !waits.is_empty() && waits.iter().all(|&e| space.is_live(&space.edges[e.index()]));
         let wait_distance = waits.iter().map(|&e| edge_distance(space, &dist, e)).min().filter(|_| wait_viable);
         let mut best: Option<(u32, u8, &str, EdgeId)> = None;
         for (id, e) in space.out_edges(s) {
@@ -116,17 +116,17 @@ pub fn select(game: &Game, space: &StateSpace) -> Strategy {
             best = None;
         }
         if let Some((_, _, _, id)) = best {
-            choice[s as usize] = Choice::Request(id);
+            choice[s.index()] = Choice::Request(id);
         }
         // A guard state's only move is its request.
-        if space.states[s as usize].kind == StateKind::Guard {
+        if space.states[s.index()].kind == StateKind::Guard {
             if let Some((id, _)) = space.out_edges(s).next() {
-                choice[s as usize] = Choice::Request(id);
+                choice[s.index()] = Choice::Request(id);
             }
         }
-        for t in strategy_successors(space, s, choice[s as usize]) {
-            if !seen[t as usize] {
-                seen[t as usize] = true;
+        for t in strategy_successors(space, s, choice[s.index()]) {
+            if !seen[t.index()] {
+                seen[t.index()] = true;
                 queue.push_back(t);
             }
         }

@@ -21,7 +21,7 @@ use super::{Condition, Instruction, Program};
 use crate::timed::model::{Game, Interval, LocId, MessageKind, MessageRole, MsgId};
 use crate::timed::plant::{Move as PlantMove, Plant, Violation};
 use crate::timed::precompute::SplitGame;
-use crate::timed::solve::{EdgeId, EdgeKind, Label, StateSpace, NONE};
+use crate::timed::solve::{EdgeId, EdgeKind, Label, StateId, StateSpace};
 use crate::zone::{Bound, Dbm};
 use serde::{Deserialize, Serialize};
 
@@ -943,10 +943,11 @@ pub fn replay_line(
         ok
     };
     for (k, &id) in line.iter().enumerate() {
-        let e = &space.edges[id as usize];
+        let e = &space.edges[id.index()];
         let target = e.to;
         let in_target = |p: &Plant| {
-            target == NONE || (p.is_in(split, space, target) && feasible[k + 1].contains_point(&p.clocks, p.ticks))
+            target == StateId::NONE
+                || (p.is_in(split, space, target) && feasible[k + 1].contains_point(&p.clocks, p.ticks))
         };
         let limit = sim.delay_room().map_or(0, |room| room.unwrap_or(horizon).min(horizon));
         let stuck = |why: &str| {
@@ -1029,9 +1030,9 @@ pub fn replay_line(
 /// where a set would be empty (the zones' extrapolation), the state's zone stands in for it.
 pub fn feasible_sets(split: &SplitGame, space: &StateSpace, line: &[EdgeId]) -> Vec<Dbm> {
     let mut states = vec![space.initial];
-    states.extend(line.iter().map(|&e| space.edges[e as usize].to));
-    let own = |s: u32| -> Dbm {
-        if s == NONE {
+    states.extend(line.iter().map(|&e| space.edges[e.index()].to));
+    let own = |s: StateId| -> Dbm {
+        if s == StateId::NONE {
             return Dbm::unconstrained(space.dim);
         }
         let mut z = space.zone(s);
@@ -1039,7 +1040,7 @@ pub fn feasible_sets(split: &SplitGame, space: &StateSpace, line: &[EdgeId]) -> 
         let units =
             space.env(s).iter().enumerate().chain(space.plan(s).iter().enumerate().map(|(p, sub)| (base + p, sub)));
         for (u, &sub) in units {
-            for &(c, piece) in &split.units[u].sublocs[sub as usize].pieces {
+            for &(c, piece) in &split.units[u].sublocs[sub.index()].pieces {
                 let iv = &split.pieces[c.index()][piece as usize];
                 let lower = if iv.lower_closed { Bound::le(-(iv.lower as i32)) } else { Bound::lt(-(iv.lower as i32)) };
                 let upper = match iv.upper {
@@ -1054,7 +1055,7 @@ pub fn feasible_sets(split: &SplitGame, space: &StateSpace, line: &[EdgeId]) -> 
     };
     let mut sets: Vec<Dbm> = states.iter().map(|&s| own(s)).collect();
     for k in (0..line.len()).rev() {
-        let e = &space.edges[line[k] as usize];
+        let e = &space.edges[line[k].index()];
         let mut pre = sets[k + 1].clone();
         match e.kind {
             EdgeKind::Delay => pre.down(),
@@ -1069,7 +1070,7 @@ pub fn feasible_sets(split: &SplitGame, space: &StateSpace, line: &[EdgeId]) -> 
             EdgeKind::Guard | EdgeKind::Timeout => {}
         }
         let mut narrowed = sets[k].clone();
-        if e.to != NONE && narrowed.intersect(&pre) {
+        if e.to != StateId::NONE && narrowed.intersect(&pre) {
             sets[k] = narrowed;
         }
     }

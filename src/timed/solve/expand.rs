@@ -2,12 +2,14 @@
 //! chains, waiting and delay edges, timeouts), the interning of its discrete parts and zones,
 //! and the scan automaton's arming in a scan game.
 
-use super::space::{Class, Edge, EdgeId, EdgeKind, Label, Removal, State, StateId, StateKind, StateSpace};
+use super::space::{
+    Class, Edge, EdgeId, EdgeKind, Label, Removal, State, StateId, StateKind, StateSpace, NOT_DEFERRED, NO_ZONE,
+};
 use super::strategy::Deferred;
 use super::zeno::Vis;
-use super::{Solver, NONE};
+use super::Solver;
 use crate::timed::model::*;
-use crate::timed::precompute::{SplitGame, SubLocId, STAY};
+use crate::timed::precompute::{SplitGame, SubLocId};
 use crate::zone::{includes_lowered, includes_only_lowered, Bound, Dbm};
 
 /// One discrete move under construction.
@@ -44,7 +46,7 @@ impl ScanArm {
                         })
                     })
             });
-            position.map(|p| p as SubLocId)
+            position.map(SubLocId::new)
         };
         Some(ScanArm {
             unit,
@@ -63,14 +65,13 @@ impl Solver<'_, '_> {
         let units = &self.split.units;
         let (env_id, new_env) = self.space.envs.intern(env);
         if new_env {
-            let locs: Vec<LocId> =
-                env.iter().enumerate().map(|(u, &s)| units[u].sublocs[s as usize].location).collect();
+            let locs: Vec<LocId> = env.iter().enumerate().map(|(u, &s)| units[u].sublocs[s.index()].location).collect();
             self.env_locations.extend_from_slice(&locs);
             let violated = self.game.assertions.iter().position(|a| !a.holds.eval(&locs)).map_or(0, |i| i as u32 + 1);
             self.env_violation.push(violated);
             let mut clocks = 0u64;
             for (u, &s) in env.iter().enumerate() {
-                for &(c, _) in &units[u].sublocs[s as usize].pieces {
+                for &(c, _) in &units[u].sublocs[s.index()].pieces {
                     clocks |= 1 << c.index();
                 }
             }
@@ -82,12 +83,12 @@ impl Solver<'_, '_> {
             let failed = plan
                 .iter()
                 .enumerate()
-                .position(|(p, &s)| units[base + p].sublocs[s as usize].failed)
+                .position(|(p, &s)| units[base + p].sublocs[s.index()].failed)
                 .map_or(0, |i| i as u32 + 1);
             self.plan_failure.push(failed);
             let mut clocks = 0u64;
             for (p, &s) in plan.iter().enumerate() {
-                for &(c, _) in &units[base + p].sublocs[s as usize].pieces {
+                for &(c, _) in &units[base + p].sublocs[s.index()].pieces {
                     clocks |= 1 << c.index();
                 }
             }
@@ -111,7 +112,7 @@ impl Solver<'_, '_> {
         let units = &self.split.units;
         let base = self.split.plant_count;
         for (u, &s) in env.iter().enumerate().chain(plan.iter().enumerate().map(|(p, s)| (base + p, s))) {
-            for &(clock, piece) in &units[u].sublocs[s as usize].pieces {
+            for &(clock, piece) in &units[u].sublocs[s.index()].pieces {
                 let iv = &self.split.pieces[clock.index()][piece as usize];
                 if let Some(upper) = iv.upper {
                     let b = if iv.upper_closed { Bound::le(upper as i32) } else { Bound::lt(upper as i32) };
@@ -168,7 +169,7 @@ impl Solver<'_, '_> {
         if let Some(&id) = self.state_index.get(&key) {
             return (id, false);
         }
-        let id = self.space.states.len() as StateId;
+        let id = StateId::new(self.space.states.len());
         let vis = match vis {
             Vis::Fresh => self.zeno.singleton(env_id),
             Vis::Extend(parent) => self.zeno.insert(parent, env_id),
@@ -203,7 +204,7 @@ impl Solver<'_, '_> {
         let key = (env_id, plan_id, kind, self.kept_key(zone_id));
         let list = self.covers.as_mut()?.get_mut(&key)?;
         let states = &self.space.states;
-        list.retain(|&s| states[s as usize].removal.is_none());
+        list.retain(|&s| states[s.index()].removal.is_none());
         let (dim, lowered) = (self.dim, self.deadline_clocks);
         let (found, compared) =
             latest_related(&self.space, list, zone_id, |cover, zone| includes_only_lowered(cover, zone, dim, lowered));
@@ -245,11 +246,11 @@ impl Solver<'_, '_> {
         vis: Vis,
     ) -> StateId {
         let (id, new) = self.add_interned(env_id, plan_id, zone_id, kind, vis);
-        if new && self.space.states[id as usize].removal.is_none() {
+        if new && self.space.states[id.index()].removal.is_none() {
             if let Some(by) = self.dominating_loss(env_id, plan_id, zone_id, kind) {
                 // Born lost, as a state that violates an assertion is: nothing points at it
                 // yet, and whoever links a move to it reads the removal.
-                self.space.states[id as usize].removal = Some(Removal::Dominated { by });
+                self.space.states[id.index()].removal = Some(Removal::Dominated { by });
                 self.removed += 1;
                 self.dominated += 1;
             }
@@ -283,7 +284,7 @@ impl Solver<'_, '_> {
             Some(to) => to,
             None => self.add_checked(env_id, plan_id, zone_id, kind, vis),
         };
-        let exact = if self.space.states[to as usize].zone == zone_id { NONE } else { zone_id };
+        let exact = if self.space.states[to.index()].zone == zone_id { NO_ZONE } else { zone_id };
         (to, exact)
     }
 
@@ -297,7 +298,7 @@ impl Solver<'_, '_> {
         let split = self.split;
         let units = &split.units;
         for (u, &s) in env.iter().enumerate() {
-            for e in &units[u].sublocs[s as usize].edges {
+            for e in &units[u].sublocs[s.index()].edges {
                 if e.kind == MessageKind::Synchronised || (e.kind == MessageKind::Controllable && !requests_allowed) {
                     continue;
                 }
@@ -330,7 +331,7 @@ impl Solver<'_, '_> {
         let split = self.split;
         for &other in &split.sync_units[message.index()] {
             let other = other.index();
-            let options: Vec<_> = split.units[other].sublocs[env[other] as usize]
+            let options: Vec<_> = split.units[other].sublocs[env[other].index()]
                 .edges
                 .iter()
                 .filter(|se| se.kind == MessageKind::Synchronised && se.message == message)
@@ -359,7 +360,7 @@ impl Solver<'_, '_> {
     }
 
     pub(super) fn expand(&mut self, s: StateId) {
-        let st = self.space.states[s as usize].clone();
+        let st = self.space.states[s.index()].clone();
         let env = self.space.envs.get(st.env).to_vec();
         let plan = self.space.plans.get(st.plan).to_vec();
         let zone = Dbm::from_slice(self.dim, self.space.zones.get(st.zone));
@@ -381,9 +382,9 @@ impl Solver<'_, '_> {
             let mut resets = m.resets;
             let mut progress = false;
             for (p, sub) in plan2.iter_mut().enumerate() {
-                let slot = *sub as usize * self.split.message_count + m.message.index();
+                let slot = sub.index() * self.split.message_count + m.message.index();
                 let next = self.split.plan_next[p][slot];
-                if next != STAY {
+                if next != SubLocId::STAY {
                     // Reaching a goal is progress even when the plan loops to the same location.
                     progress = true;
                     resets |= self.split.plan_resets[p][slot];
@@ -415,7 +416,7 @@ impl Solver<'_, '_> {
             // The strategy-directed search generates an option's target only once it tries it.
             let defer = self.lazy && m.kind == MessageKind::Controllable && !cut;
             let (to, exact) = if cut || defer {
-                (NONE, NONE)
+                (StateId::NONE, NO_ZONE)
             } else {
                 let (zone_id, _) = self.space.zones.intern(z.as_slice());
                 self.target(env_id, plan_id, zone_id, kind, vis)
@@ -430,8 +431,8 @@ impl Solver<'_, '_> {
                 zeno: cut,
                 progress,
                 class,
-                next_in: NONE,
-                deferred: NONE,
+                next_in: EdgeId::NONE,
+                deferred: NOT_DEFERRED,
                 exact,
             };
             if m.kind == MessageKind::Controllable && !cut {
@@ -447,7 +448,7 @@ impl Solver<'_, '_> {
                 if defer {
                     let (zone, _) = self.space.zones.intern(z.as_slice());
                     let first = match guards.first() {
-                        Some(&g) => guard_edge(s, NONE, g, m.instant),
+                        Some(&g) => guard_edge(s, StateId::NONE, g, m.instant),
                         None => edge,
                     };
                     self.pending_edges.push(Edge { deferred: self.deferred.len() as u32, ..first });
@@ -475,7 +476,7 @@ impl Solver<'_, '_> {
                     self.normalise(st.env, st.plan, &mut closed);
                     let edge = Edge {
                         from: s,
-                        to: NONE,
+                        to: StateId::NONE,
                         kind: EdgeKind::Delay,
                         label: Label::Wait,
                         resets: 0,
@@ -483,9 +484,9 @@ impl Solver<'_, '_> {
                         zeno: false,
                         progress: false,
                         class: Class::Wait,
-                        next_in: NONE,
-                        deferred: NONE,
-                        exact: NONE,
+                        next_in: EdgeId::NONE,
+                        deferred: NOT_DEFERRED,
+                        exact: NO_ZONE,
                     };
                     self.add_wait_edge(edge, st.env, st.plan, &closed, StateKind::Waiting, Vis::Same(st.vis));
                 }
@@ -537,7 +538,7 @@ impl Solver<'_, '_> {
     }
 
     pub(super) fn add_guard_state(&mut self, st: &State) -> StateId {
-        let id = self.space.states.len() as StateId;
+        let id = StateId::new(self.space.states.len());
         self.space.states.push(State::new(st.env, st.plan, st.zone, StateKind::Guard, None, st.vis));
         id
     }
@@ -553,7 +554,7 @@ impl Solver<'_, '_> {
         let mut exits: Vec<Exit> = Vec::new();
         for u in 0..self.split.units.len() {
             let sub = if u < plant_count { env[u] } else { plan[u - plant_count] };
-            let sl = &self.split.units[u].sublocs[sub as usize];
+            let sl = &self.split.units[u].sublocs[sub.index()];
             for &(clock, piece) in &sl.pieces {
                 let iv = self.split.pieces[clock.index()][piece as usize];
                 let Some(upper) = iv.upper else { continue };
@@ -639,7 +640,7 @@ impl Solver<'_, '_> {
         for &k in set {
             let e = &exits[k];
             let sub = if e.unit < plant_count { &mut env2[e.unit] } else { &mut plan2[e.unit - plant_count] };
-            let from = &self.split.units[e.unit].sublocs[*sub as usize];
+            let from = &self.split.units[e.unit].sublocs[sub.index()];
             if let Some(d) = from.delays.iter().find(|d| d.clock == e.clock) {
                 *sub = d.target;
                 continue;
@@ -648,7 +649,7 @@ impl Solver<'_, '_> {
             if e.unit < plant_count {
                 self.pending_edges.push(Edge {
                     from: s,
-                    to: NONE,
+                    to: StateId::NONE,
                     kind: EdgeKind::Timeout,
                     label: Label::Overrun { clock: e.clock },
                     resets: 0,
@@ -656,9 +657,9 @@ impl Solver<'_, '_> {
                     zeno: false,
                     progress: false,
                     class: Class::Inert,
-                    next_in: NONE,
-                    deferred: NONE,
-                    exact: NONE,
+                    next_in: EdgeId::NONE,
+                    deferred: NOT_DEFERRED,
+                    exact: NO_ZONE,
                 });
             }
             return;
@@ -698,7 +699,7 @@ impl Solver<'_, '_> {
         let clocks = set.iter().fold(0u64, |bits, &k| bits | 1 << exits[k].clock.index());
         let edge = Edge {
             from: s,
-            to: NONE,
+            to: StateId::NONE,
             kind: EdgeKind::Delay,
             label: Label::Piece { clock: first.clock, piece: first.next_piece, clocks },
             resets: 0,
@@ -706,9 +707,9 @@ impl Solver<'_, '_> {
             zeno: false,
             progress: false,
             class: Class::Wait,
-            next_in: NONE,
-            deferred: NONE,
-            exact: NONE,
+            next_in: EdgeId::NONE,
+            deferred: NOT_DEFERRED,
+            exact: NO_ZONE,
         };
         self.add_wait_edge(edge, env_id, plan_id, &zone, StateKind::Interval, Vis::Extend(st.vis));
     }
@@ -736,20 +737,20 @@ impl Solver<'_, '_> {
     }
 
     pub(super) fn commit_edges(&mut self, s: StateId, edges: Vec<Edge>) {
-        let start = self.space.edges.len() as EdgeId;
+        let start = EdgeId::new(self.space.edges.len());
         for mut e in edges {
-            let id = self.space.edges.len() as EdgeId;
+            let id = EdgeId::new(self.space.edges.len());
             e.from = s;
-            if e.to != NONE {
-                let target = &mut self.space.states[e.to as usize];
+            if e.to != StateId::NONE {
+                let target = &mut self.space.states[e.to.index()];
                 e.next_in = target.first_in;
                 target.first_in = id;
             }
             self.space.edges.push(e);
         }
-        let st = &mut self.space.states[s as usize];
+        let st = &mut self.space.states[s.index()];
         st.out_start = start;
-        st.out_end = self.space.edges.len() as EdgeId;
+        st.out_end = EdgeId::new(self.space.edges.len());
         st.expanded = true;
         self.expanded += 1;
     }
@@ -767,7 +768,7 @@ fn latest_related(
     let mut compared = 0u64;
     let found = candidates.iter().rev().copied().find(|&s| {
         compared += 1;
-        relation(space.zones.get(space.states[s as usize].zone), zone)
+        relation(space.zones.get(space.states[s.index()].zone), zone)
     });
     (found, compared)
 }
@@ -801,9 +802,9 @@ pub(super) fn guard_edge(from: StateId, to: StateId, message: MsgId, instant: bo
         zeno: false,
         progress: false,
         class: Class::Option,
-        next_in: NONE,
-        deferred: NONE,
-        exact: NONE,
+        next_in: EdgeId::NONE,
+        deferred: NOT_DEFERRED,
+        exact: NO_ZONE,
     }
 }
 

@@ -7,8 +7,8 @@
 //! that first. A guide only orders the alternatives: every one is still tried before a read is
 //! given up, so the verdict is the same with or without it.
 
-use super::space::{EdgeKind, Label, StateKind};
-use super::{Solution, NONE, WAIT};
+use super::space::{EdgeId, EdgeKind, Label, StateId, StateKind};
+use super::Solution;
 use crate::timed::model::{LocId, MsgId};
 use crate::timed::precompute::{SplitGame, SubLocId};
 use crate::zone::Dbm;
@@ -38,7 +38,7 @@ impl ScanGuide {
         }
         let mut by_locations: hashbrown::HashMap<Vec<LocId>, Vec<(Dbm, Hint)>> = hashbrown::HashMap::new();
         for s in space.winning_states() {
-            let st = &space.states[s as usize];
+            let st = &space.states[s.index()];
             if st.kind == StateKind::Guard || st.kind == StateKind::Waiting {
                 continue;
             }
@@ -61,7 +61,7 @@ impl ScanGuide {
     pub(super) fn hints(&self, split: &SplitGame, env: &[SubLocId], plan: &[SubLocId], zone: &Dbm) -> Vec<Hint> {
         let mut key = locations(split, &env[..self.plant_count], &[]);
         key.extend(
-            plan.iter().enumerate().map(|(p, &s)| split.units[split.plant_count + p].sublocs[s as usize].location),
+            plan.iter().enumerate().map(|(p, &s)| split.units[split.plant_count + p].sublocs[s.index()].location),
         );
         let Some(candidates) = self.by_locations.get(&key) else { return Vec::new() };
         // The read's zone without the scan clock (the last one).
@@ -78,19 +78,19 @@ impl ScanGuide {
 
 /// What the strategy does in the winning state `s`: its request (through any guard checks), or
 /// waiting.
-fn decision(space: &super::StateSpace, mut s: u32) -> Option<Hint> {
+fn decision(space: &super::StateSpace, mut s: StateId) -> Option<Hint> {
     loop {
-        let choice = space.states[s as usize].choice;
-        if choice == WAIT {
+        let choice = space.states[s.index()].choice;
+        if choice == EdgeId::WAIT {
             return Some(Hint::Wait);
         }
-        if choice == NONE {
+        if choice == EdgeId::NONE {
             return None;
         }
-        let edge = space.edges[choice as usize];
+        let edge = space.edges[choice.index()];
         match (edge.kind, edge.label) {
             (EdgeKind::Request, Label::Message { message }) => return Some(Hint::Request(message)),
-            (EdgeKind::Guard, _) if edge.to != NONE => s = edge.to,
+            (EdgeKind::Guard, _) if edge.to != StateId::NONE => s = edge.to,
             _ => return None,
         }
     }
@@ -98,8 +98,8 @@ fn decision(space: &super::StateSpace, mut s: u32) -> Option<Hint> {
 
 /// The original locations of the plant units and plans.
 fn locations(split: &SplitGame, env: &[SubLocId], plan: &[SubLocId]) -> Vec<LocId> {
-    let plant = env.iter().enumerate().map(|(u, &s)| split.units[u].sublocs[s as usize].location);
-    let plans = plan.iter().enumerate().map(|(p, &s)| split.units[split.plant_count + p].sublocs[s as usize].location);
+    let plant = env.iter().enumerate().map(|(u, &s)| split.units[u].sublocs[s.index()].location);
+    let plans = plan.iter().enumerate().map(|(p, &s)| split.units[split.plant_count + p].sublocs[s.index()].location);
     plant.chain(plans).collect()
 }
 

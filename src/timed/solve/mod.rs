@@ -66,13 +66,6 @@ use std::collections::VecDeque;
 use strategy::{plan_goals, send_distances, Deferred};
 use zeno::{Vis, ZenoSets};
 
-/// No state, edge or stored zone: an edge's `to` for timeouts and zeno repetitions (which lead
-/// nowhere), and the unset value of the tables' optional ids (first incoming edge, deferred
-/// target, exact zone, strategy choice). The one definition; every reader of a space uses it.
-pub const NONE: u32 = u32::MAX;
-/// The strategy's alternative of a state that lets time pass (or the plant move).
-const WAIT: u32 = u32::MAX - 1;
-
 /// Limits and switches of one solver run.
 #[derive(Clone, Debug)]
 pub struct SolveOptions {
@@ -464,7 +457,7 @@ impl<'g, 'p> Solver<'g, 'p> {
             // depth first, so that a chosen line of play is followed to its end before others.
             let next = if self.lazy { self.queue.pop_back() } else { self.queue.pop_front() };
             let Some(s) = next else { return Ok(None) };
-            let st = &self.space.states[s as usize];
+            let st = &self.space.states[s.index()];
             if st.removal.is_some() || st.expanded {
                 continue;
             }

@@ -3,7 +3,12 @@
 //! not decrease the ranks.
 
 use super::space::{Class, Edge, EdgeId, Removal, State, StateId, StateSpace};
-use super::{Solver, NONE, WAIT};
+use super::Solver;
+
+/// The rank of a state that never joins (see `Solver::progress_ranks`).
+const UNRANKED: u32 = u32::MAX;
+/// A count of wanted moves that no joining target brings down (see `Solver::progress_ranks`).
+const BLOCKED: u32 = u32::MAX;
 use std::collections::VecDeque;
 
 impl Solver<'_, '_> {
@@ -37,16 +42,17 @@ impl Solver<'_, '_> {
     /// own moves, keep their plays from progress) and propagates; returns whether there were any.
     pub(super) fn remove_trapped(&mut self, ranks: &[u32]) -> bool {
         let n = self.space.states.len();
-        let trapped: Vec<StateId> = (0..n as StateId)
+        let trapped: Vec<StateId> = (0..n)
+            .map(StateId::new)
             .filter(|&s| {
-                let st = &self.space.states[s as usize];
-                st.removal.is_none() && st.expanded && ranks[s as usize] == NONE
+                let st = &self.space.states[s.index()];
+                st.removal.is_none() && st.expanded && ranks[s.index()] == UNRANKED
             })
             .collect();
         if !trapped.is_empty() {
             let mut in_trap = vec![false; n];
             for &s in &trapped {
-                in_trap[s as usize] = true;
+                in_trap[s.index()] = true;
             }
             // Inclusion: a cycle may close only because a move went to a state including its
             // zone (an earlier state of the same play, say), where the play itself moves on.
@@ -57,10 +63,7 @@ impl Solver<'_, '_> {
                     .iter()
                     .flat_map(|&s| self.space.out_edges(s))
                     .filter(|(_, e)| {
-                        e.exact != NONE
-                            && !e.progress
-                            && !e.zeno
-                            && in_trap.get(e.to as usize).copied().unwrap_or(false)
+                        e.is_covered() && !e.progress && !e.zeno && in_trap.get(e.to.index()).copied().unwrap_or(false)
                     })
                     .map(|(id, _)| id)
                     .collect();
@@ -77,20 +80,23 @@ impl Solver<'_, '_> {
                 // otherwise every alternative of the controller does, and they are cut.
                 // (A state added meanwhile, for a move whose cover was trapped, is not in the trap.)
                 let stays = |e: &Edge| {
-                    !e.progress && !e.zeno && e.to != NONE && in_trap.get(e.to as usize).copied().unwrap_or(false)
+                    !e.progress
+                        && !e.zeno
+                        && e.to != StateId::NONE
+                        && in_trap.get(e.to.index()).copied().unwrap_or(false)
                 };
-                let (start, end) = (self.space.states[s as usize].out_start, self.space.states[s as usize].out_end);
-                let culprit = (start..end).find(|&id| {
-                    self.space.edges[id as usize].class == Class::Forced && stays(&self.space.edges[id as usize])
+                let out = self.space.states[s.index()].out_ids();
+                let culprit = out.clone().find(|&id| {
+                    self.space.edges[id.index()].class == Class::Forced && stays(&self.space.edges[id.index()])
                 });
                 match culprit {
                     Some(edge) => {
-                        self.space.edges[edge as usize].zeno = true;
+                        self.space.edges[edge.index()].zeno = true;
                         self.remove(s, Removal::ZenoLoop { edge });
                     }
                     None => {
-                        for id in start..end {
-                            let e = &mut self.space.edges[id as usize];
+                        for id in out.clone() {
+                            let e = &mut self.space.edges[id.index()];
                             if matches!(e.class, Class::Option | Class::Wait) && stays(e) {
                                 e.zeno = true;
                             }
@@ -107,36 +113,37 @@ impl Solver<'_, '_> {
 
     /// The inner fixpoint of `enforce_progress`: per surviving expanded state, the round in
     /// which it joined the states from which the controller can force plan progress (or, unless
-    /// `counting` is `Explored`, reach something untried), `NONE` if it never does. Along a
+    /// `counting` is `Explored`, reach something untried), [`UNRANKED`] if it never does. Along a
     /// move that makes no progress, a joining state relies only on states of lower rank.
     pub(super) fn progress_ranks(&self, counting: Counting) -> Vec<u32> {
         let optimistic = counting != Counting::Explored;
         let strategy = counting == Counting::Strategy;
         let space = &self.space;
         let n = space.states.len();
-        let mut rank = vec![NONE; n];
-        // Per state: forced moves still waiting for their target, delays still waiting
-        // (`NONE`: waiting cannot help), and whether some option is good.
+        let mut rank = vec![UNRANKED; n];
+        // Per state: forced moves still waiting for their target (`BLOCKED`: a forced move is
+        // lost), delays still waiting (`BLOCKED`: waiting cannot help), and whether some option
+        // is good.
         let mut forced_wanted = vec![0u32; n];
-        let mut waits_wanted = vec![NONE; n];
+        let mut waits_wanted = vec![BLOCKED; n];
         let mut option_good = vec![false; n];
         let mut queue = VecDeque::new();
         let joins = |f: u32, w: u32, o: bool| f == 0 && (o || w == 0);
-        for s in 0..n as StateId {
-            let st = &space.states[s as usize];
+        for s in (0..n).map(StateId::new) {
+            let st = &space.states[s.index()];
             if st.removal.is_some() {
                 continue;
             }
             if !st.expanded {
                 if optimistic {
-                    rank[s as usize] = 0;
+                    rank[s.index()] = 0;
                     queue.push_back(s);
                 }
                 continue;
             }
             let (mut forced, mut forced_any, mut blocked) = (0u32, false, false);
             // Counting only the strategy's moves: its choice and the plant's.
-            let waiting = !strategy || st.choice == WAIT;
+            let waiting = !strategy || st.choice == EdgeId::WAIT;
             let (mut waits, mut wait_edges, mut wait_blocked) = (0u32, 0u32, !st.wait_viable || !waiting);
             let mut good = false;
             for (id, e) in space.out_edges(s) {
@@ -148,9 +155,9 @@ impl Solver<'_, '_> {
                     None
                 } else if e.is_unexplored() {
                     optimistic.then_some(true)
-                } else if e.to == NONE
-                    || space.states[e.to as usize].removal.is_some()
-                    || (!optimistic && !space.states[e.to as usize].expanded)
+                } else if e.to == StateId::NONE
+                    || space.states[e.to.index()].removal.is_some()
+                    || (!optimistic && !space.states[e.to.index()].expanded)
                 {
                     // Counting only what was explored, an unexpanded target is not known to
                     // survive (the strategy-directed search marks it unexplored at the end).
@@ -182,52 +189,53 @@ impl Solver<'_, '_> {
             if blocked {
                 // A lost forced move: the safety removal is on its way (or, counting only what
                 // was explored, the state is left out); never counted down.
-                forced_wanted[s as usize] = NONE;
+                forced_wanted[s.index()] = BLOCKED;
                 continue;
             }
-            let waits = if wait_blocked || (wait_edges == 0 && !forced_any) { NONE } else { waits };
-            forced_wanted[s as usize] = forced;
-            waits_wanted[s as usize] = waits;
-            option_good[s as usize] = good;
+            let waits = if wait_blocked || (wait_edges == 0 && !forced_any) { BLOCKED } else { waits };
+            forced_wanted[s.index()] = forced;
+            waits_wanted[s.index()] = waits;
+            option_good[s.index()] = good;
             if joins(forced, waits, good) {
-                rank[s as usize] = 0;
+                rank[s.index()] = 0;
                 queue.push_back(s);
             }
         }
         while let Some(y) = queue.pop_front() {
-            let mut id = space.states[y as usize].first_in;
-            while id != NONE {
+            let mut id = space.states[y.index()].first_in;
+            while id != EdgeId::NONE {
                 let edge_id = id;
-                let e = &space.edges[id as usize];
+                let e = &space.edges[id.index()];
                 id = e.next_in;
-                let x = e.from as usize;
+                let x = e.from.index();
                 let xs = &space.states[x];
-                if rank[x] != NONE || xs.removal.is_some() || !xs.expanded || e.zeno || e.progress {
+                if rank[x] != UNRANKED || xs.removal.is_some() || !xs.expanded || e.zeno || e.progress {
                     continue;
                 }
                 if strategy && e.class == Class::Option && edge_id != xs.choice {
                     continue;
                 }
                 match e.class {
-                    Class::Forced if forced_wanted[x] != NONE => forced_wanted[x] -= 1,
+                    Class::Forced if forced_wanted[x] != BLOCKED => forced_wanted[x] -= 1,
                     Class::Option => option_good[x] = true,
-                    Class::Wait if waits_wanted[x] != NONE => waits_wanted[x] -= 1,
+                    Class::Wait if waits_wanted[x] != BLOCKED => waits_wanted[x] -= 1,
                     Class::Forced | Class::Wait | Class::Inert => continue,
                 }
                 if joins(forced_wanted[x], waits_wanted[x], option_good[x]) {
-                    rank[x] = rank[y as usize] + 1;
-                    queue.push_back(x as StateId);
+                    rank[x] = rank[y.index()] + 1;
+                    queue.push_back(StateId::new(x));
                 }
             }
         }
         rank
     }
 
-    /// Whether alternative `alt` (an option edge or `WAIT`) of `s` is good by `ranks`: every move
-    /// it allows makes progress or reaches a lower rank (an untried move counts as good).
-    fn decreases(&self, ranks: &[u32], s: StateId, alt: u32) -> bool {
+    /// Whether alternative `alt` (an option edge or `EdgeId::WAIT`) of `s` is good by `ranks`:
+    /// every move it allows makes progress or reaches a lower rank (an untried move counts as
+    /// good).
+    fn decreases(&self, ranks: &[u32], s: StateId, alt: EdgeId) -> bool {
         // States generated after the ranks were computed are unexpanded: optimistic rank 0.
-        let rank = |t: StateId| ranks.get(t as usize).copied().unwrap_or(0);
+        let rank = |t: StateId| ranks.get(t.index()).copied().unwrap_or(0);
         let own = rank(s);
         let good = |e: &Edge| {
             if e.zeno {
@@ -236,13 +244,13 @@ impl Solver<'_, '_> {
             if e.is_unexplored() {
                 return true;
             }
-            e.to != NONE && self.space.is_winning(e.to) && (e.progress || rank(e.to) < own)
+            e.to != StateId::NONE && self.space.is_winning(e.to) && (e.progress || rank(e.to) < own)
         };
-        if alt == WAIT {
-            let st = &self.space.states[s as usize];
+        if alt == EdgeId::WAIT {
+            let st = &self.space.states[s.index()];
             st.wait_viable && self.space.out_edges(s).filter(|(_, e)| e.class == Class::Wait).all(|(_, e)| good(e))
         } else {
-            good(&self.space.edges[alt as usize])
+            good(&self.space.edges[alt.index()])
         }
     }
 
@@ -268,19 +276,19 @@ impl Solver<'_, '_> {
     /// For `steer_by_ranks`: walking the strategy breadth first from the initial state, the
     /// first state it reaches that `strategy` leaves unranked and whose choice does not
     /// decrease `ranks`, with the alternative to take instead.
-    fn first_unranked_switch(&self, ranks: &[u32], strategy: &[u32]) -> Option<(StateId, u32)> {
+    fn first_unranked_switch(&self, ranks: &[u32], strategy: &[u32]) -> Option<(StateId, EdgeId)> {
         let mut seen = vec![false; self.space.states.len()];
         let mut queue = VecDeque::from([self.space.initial]);
-        seen[self.space.initial as usize] = true;
+        seen[self.space.initial.index()] = true;
         while let Some(s) = queue.pop_front() {
-            let st = &self.space.states[s as usize];
+            let st = &self.space.states[s.index()];
             if st.removal.is_some() || !st.expanded {
                 continue;
             }
             // A guard state generated since `ranks` keeps its choice until the next round.
-            if strategy[s as usize] == NONE
-                && (s as usize) < ranks.len()
-                && (st.choice == NONE || !self.decreases(ranks, s, st.choice))
+            if strategy[s.index()] == UNRANKED
+                && s.index() < ranks.len()
+                && (st.choice == EdgeId::NONE || !self.decreases(ranks, s, st.choice))
             {
                 let mut untried = None;
                 let mut k = 0;
@@ -302,11 +310,11 @@ impl Solver<'_, '_> {
                 let follows = match e.class {
                     Class::Forced => true,
                     Class::Option => id == st.choice,
-                    Class::Wait => st.choice == WAIT,
+                    Class::Wait => st.choice == EdgeId::WAIT,
                     Class::Inert => false,
                 };
-                if follows && e.to != NONE && !seen[e.to as usize] {
-                    seen[e.to as usize] = true;
+                if follows && e.to != StateId::NONE && !seen[e.to.index()] {
+                    seen[e.to.index()] = true;
                     queue.push_back(e.to);
                 }
             }
@@ -315,31 +323,31 @@ impl Solver<'_, '_> {
     }
 
     /// Whether taking alternative `alt` of `s` needs a target generated first.
-    fn needs_generation(&self, s: StateId, alt: u32) -> bool {
-        if alt == WAIT {
+    fn needs_generation(&self, s: StateId, alt: EdgeId) -> bool {
+        if alt == EdgeId::WAIT {
             self.space.out_edges(s).any(|(_, e)| e.class == Class::Wait && e.is_unexplored())
         } else {
-            self.space.edges[alt as usize].is_unexplored()
+            self.space.edges[alt.index()].is_unexplored()
         }
     }
 
     /// Makes `alt` the choice of `s`, generating its targets if needed and queuing them.
-    fn take(&mut self, s: StateId, alt: u32) {
-        let (start, end) = (self.space.states[s as usize].out_start, self.space.states[s as usize].out_end);
-        let edges: Vec<EdgeId> = if alt == WAIT {
-            (start..end).filter(|&id| self.space.edges[id as usize].class == Class::Wait).collect()
+    fn take(&mut self, s: StateId, alt: EdgeId) {
+        let out = self.space.states[s.index()].out_ids();
+        let edges: Vec<EdgeId> = if alt == EdgeId::WAIT {
+            out.clone().filter(|&id| self.space.edges[id.index()].class == Class::Wait).collect()
         } else {
             vec![alt]
         };
         for &id in &edges {
-            if self.space.edges[id as usize].is_unexplored() {
+            if self.space.edges[id.index()].is_unexplored() {
                 self.generate(id);
             }
         }
-        self.space.states[s as usize].choice = alt;
+        self.space.states[s.index()].choice = alt;
         for &id in &edges {
-            let to = self.space.edges[id as usize].to;
-            if to != NONE {
+            let to = self.space.edges[id.index()].to;
+            if to != StateId::NONE {
                 self.demand(to);
             }
         }
@@ -365,9 +373,9 @@ impl Solver<'_, '_> {
                 let ranks = self.progress_ranks(Counting::Explored);
                 let mut marked = Vec::new();
                 for (s, st) in self.space.states.iter_mut().enumerate() {
-                    if live(st) && ranks[s] == NONE {
+                    if live(st) && ranks[s] == UNRANKED {
                         st.removal = Some(Removal::Unexplored);
-                        marked.push(s as StateId);
+                        marked.push(StateId::new(s));
                     }
                 }
                 if marked.is_empty() {
@@ -381,45 +389,46 @@ impl Solver<'_, '_> {
         };
         // Components of the winning states under their live moves without progress.
         let space = &self.space;
-        let nodes: Vec<StateId> =
-            (0..space.states.len() as StateId).filter(|&s| live(&space.states[s as usize])).collect();
-        let mut index = vec![NONE; space.states.len()];
+        let nodes: Vec<StateId> = space.state_ids().filter(|&s| live(&space.states[s.index()])).collect();
+        let mut index = vec![None; space.states.len()];
         let mut graph = petgraph::Graph::<(), ()>::with_capacity(nodes.len(), 0);
         for &s in &nodes {
-            index[s as usize] = graph.add_node(()).index() as u32;
+            index[s.index()] = Some(graph.add_node(()));
         }
         for &s in &nodes {
             for (_, e) in space.out_edges(s) {
-                if !e.progress && !e.zeno && e.class != Class::Inert && e.to != NONE && index[e.to as usize] != NONE {
-                    let (from, to) = (index[s as usize] as usize, index[e.to as usize] as usize);
-                    graph.add_edge(petgraph::graph::NodeIndex::new(from), petgraph::graph::NodeIndex::new(to), ());
+                if e.progress || e.zeno || e.class == Class::Inert || e.to == StateId::NONE {
+                    continue;
+                }
+                if let (Some(from), Some(to)) = (index[s.index()], index[e.to.index()]) {
+                    graph.add_edge(from, to, ());
                 }
             }
         }
         // Kosaraju: iterative, and a chain of moves without progress can be deeper than the stack.
-        let mut component = vec![NONE; space.states.len()];
+        let mut component = vec![None; space.states.len()];
         for (c, scc) in petgraph::algo::kosaraju_scc(&graph).iter().enumerate() {
             for &i in scc {
-                component[nodes[i.index()] as usize] = c as u32;
+                component[nodes[i.index()].index()] = Some(c);
             }
         }
         drop(graph);
         let on_cycle = |space: &StateSpace, e: &Edge| {
             !e.progress
-                && e.to != NONE
-                && component[e.to as usize] != NONE
-                && component[e.to as usize] == component[e.from as usize]
+                && e.to != StateId::NONE
+                && component[e.to.index()].is_some()
+                && component[e.to.index()] == component[e.from.index()]
                 && space.is_winning(e.to)
         };
         for s in nodes {
-            let (start, end) = (self.space.states[s as usize].out_start, self.space.states[s as usize].out_end);
-            let wait_cut = !self.decreases(ranks, s, WAIT)
-                && (start..end).any(|id| {
-                    let e = &self.space.edges[id as usize];
+            let out = self.space.states[s.index()].out_ids();
+            let wait_cut = !self.decreases(ranks, s, EdgeId::WAIT)
+                && out.clone().any(|id| {
+                    let e = &self.space.edges[id.index()];
                     e.class == Class::Wait && !e.zeno && on_cycle(&self.space, e)
                 });
-            for id in start..end {
-                let e = self.space.edges[id as usize];
+            for id in out.clone() {
+                let e = self.space.edges[id.index()];
                 let cut = !e.zeno
                     && match e.class {
                         Class::Option => on_cycle(&self.space, &e) && !self.decreases(ranks, s, id),
@@ -427,31 +436,31 @@ impl Solver<'_, '_> {
                         _ => false,
                     };
                 if cut {
-                    self.space.edges[id as usize].zeno = true;
+                    self.space.edges[id.index()].zeno = true;
                     if e.class == Class::Option && !self.lazy {
-                        self.space.states[s as usize].options_alive -= 1;
+                        self.space.states[s.index()].options_alive -= 1;
                     }
                 }
             }
             if wait_cut {
-                self.space.states[s as usize].wait_viable = false;
+                self.space.states[s.index()].wait_viable = false;
             }
             // The strategy's own choice may have been cut where another alternative gave the
             // state its rank: it moves there.
-            let choice = self.space.states[s as usize].choice;
-            let kept = |solver: &Self, alt: u32| {
-                if alt == WAIT {
-                    !wait_cut && solver.space.states[s as usize].wait_viable
+            let choice = self.space.states[s.index()].choice;
+            let kept = |solver: &Self, alt: EdgeId| {
+                if alt == EdgeId::WAIT {
+                    !wait_cut && solver.space.states[s.index()].wait_viable
                 } else {
-                    solver.space.is_live(&solver.space.edges[alt as usize])
+                    solver.space.is_live(&solver.space.edges[alt.index()])
                 }
             };
-            if self.lazy && choice != NONE && !kept(self, choice) {
+            if self.lazy && choice != EdgeId::NONE && !kept(self, choice) {
                 let mut k = 0;
                 while let Some(alt) = self.alternative(s, k) {
                     k += 1;
                     if kept(self, alt) {
-                        self.space.states[s as usize].choice = alt;
+                        self.space.states[s.index()].choice = alt;
                         break;
                     }
                 }
@@ -468,13 +477,13 @@ impl Solver<'_, '_> {
     /// the strategy can lead into an unranked one.)
     fn unexplored_closure(&mut self, mut marked: Vec<StateId>) {
         while let Some(y) = marked.pop() {
-            let mut id = self.space.states[y as usize].first_in;
-            while id != NONE {
-                let x = self.space.edges[id as usize].from;
-                id = self.space.edges[id as usize].next_in;
-                let xs = &self.space.states[x as usize];
+            let mut id = self.space.states[y.index()].first_in;
+            while id != EdgeId::NONE {
+                let x = self.space.edges[id.index()].from;
+                id = self.space.edges[id.index()].next_in;
+                let xs = &self.space.states[x.index()];
                 if xs.removal.is_none() && xs.expanded && !self.decided(x) {
-                    self.space.states[x as usize].removal = Some(Removal::Unexplored);
+                    self.space.states[x.index()].removal = Some(Removal::Unexplored);
                     marked.push(x);
                 }
             }

@@ -1,18 +1,18 @@
 //! Removal: the local rule that decides an expanded state, and the backward propagation of
 //! removed states (algorithm 6).
 
-use super::space::{Class, EdgeId, Label, Removal, StateId};
+use super::space::{Class, EdgeId, Label, Removal, StateId, NO_ZONE};
 use super::zeno::Vis;
-use super::{Solver, NONE, WAIT};
+use super::Solver;
 
 impl Solver<'_, '_> {
     /// One pass over the edges of an expanded state: what the local rule of the module doc needs.
     pub(super) fn survey(&self, s: StateId) -> Survey {
-        let st = &self.space.states[s as usize];
+        let st = &self.space.states[s.index()];
         let mut survey = Survey { wait_ok: true, all_inert: true, ..Survey::default() };
-        for id in st.out_start..st.out_end {
-            let e = &self.space.edges[id as usize];
-            let alive = e.to != NONE && self.space.states[e.to as usize].removal.is_none();
+        for id in st.out_ids() {
+            let e = &self.space.edges[id.index()];
+            let alive = e.to != StateId::NONE && self.space.states[e.to.index()].removal.is_none();
             survey.all_inert &= e.class == Class::Inert;
             match e.class {
                 Class::Forced => {
@@ -38,7 +38,7 @@ impl Solver<'_, '_> {
     /// Decides a freshly expanded state from its edges (the local rule of the module doc).
     pub(super) fn evaluate(&mut self, s: StateId) {
         let survey = self.survey(s);
-        let st = &mut self.space.states[s as usize];
+        let st = &mut self.space.states[s.index()];
         st.options_alive = survey.options_alive;
         st.wait_viable = survey.wait_viable();
         let removal = match survey.dead_forced {
@@ -54,17 +54,17 @@ impl Solver<'_, '_> {
     }
 
     pub(super) fn remove(&mut self, s: StateId, reason: Removal) {
-        let st = &mut self.space.states[s as usize];
+        let st = &mut self.space.states[s.index()];
         if st.removal.is_none() {
             st.removal = Some(reason);
             self.removed += 1;
             let key = (st.env, st.plan, st.kind);
             self.lost_queue.push(s);
             if self.losses.is_some() && self.monotone_loss(s, reason) {
-                if self.monotone.len() <= s as usize {
-                    self.monotone.resize(s as usize + 1, false);
+                if self.monotone.len() <= s.index() {
+                    self.monotone.resize(s.index() + 1, false);
                 }
-                self.monotone[s as usize] = true;
+                self.monotone[s.index()] = true;
                 if let Some(losses) = self.losses.as_mut() {
                     losses.entry(key).or_default().push(s);
                 }
@@ -83,17 +83,17 @@ impl Solver<'_, '_> {
     /// cycle without progress, or through a move cut or never tried.
     fn monotone_loss(&self, s: StateId, reason: Removal) -> bool {
         let monotone = |t: StateId| {
-            t != NONE
-                && match self.space.states[t as usize].removal {
+            t != StateId::NONE
+                && match self.space.states[t.index()].removal {
                     Some(Removal::Assertion { .. } | Removal::PlanFailed { .. } | Removal::Dominated { .. }) => true,
-                    Some(_) => self.monotone.get(t as usize).copied().unwrap_or(false),
+                    Some(_) => self.monotone.get(t.index()).copied().unwrap_or(false),
                     None => false,
                 }
         };
         match reason {
             Removal::Assertion { .. } | Removal::PlanFailed { .. } => true,
             Removal::Forced { edge } => {
-                let e = &self.space.edges[edge as usize];
+                let e = &self.space.edges[edge.index()];
                 !e.zeno && monotone(e.to)
             }
             Removal::NoMove => {
@@ -120,21 +120,21 @@ impl Solver<'_, '_> {
     pub(super) fn propagate(&mut self) {
         loop {
             if let Some(edge) = self.lost_edges.pop() {
-                let x = self.space.edges[edge as usize].from;
-                let xs = &self.space.states[x as usize];
+                let x = self.space.edges[edge.index()].from;
+                let xs = &self.space.states[x.index()];
                 if xs.removal.is_none() && xs.expanded {
                     self.lost_edge(x, edge);
                 }
                 continue;
             }
             let Some(y) = self.lost_queue.pop() else { break };
-            let mut id = self.space.states[y as usize].first_in;
-            while id != NONE {
+            let mut id = self.space.states[y.index()].first_in;
+            while id != EdgeId::NONE {
                 let edge_id = id;
-                let e = self.space.edges[id as usize];
+                let e = self.space.edges[id.index()];
                 id = e.next_in;
                 let x = e.from;
-                let xs = &self.space.states[x as usize];
+                let xs = &self.space.states[x.index()];
                 if xs.removal.is_some() || !xs.expanded || e.zeno {
                     continue; // a zeno edge was already discounted when it was cut
                 }
@@ -145,7 +145,7 @@ impl Solver<'_, '_> {
 
     /// Move `edge` of the live state `x` leads to a removed state.
     fn lost_edge(&mut self, x: StateId, edge_id: EdgeId) {
-        match self.space.edges[edge_id as usize].class {
+        match self.space.edges[edge_id.index()].class {
             Class::Forced => self.remove(x, Removal::Forced { edge: edge_id }),
             Class::Option => self.option_lost(x, edge_id),
             Class::Wait => self.wait_lost(x),
@@ -159,19 +159,19 @@ impl Solver<'_, '_> {
     /// near the largest scan time that works keeps losing too (two machines at 17 ms: 77 694
     /// states so, 323 444 and the budget when a move may hop from cover to cover).
     fn retarget_covered(&mut self, y: StateId) {
-        let mut id = self.space.states[y as usize].first_in;
-        let mut kept = NONE;
-        while id != NONE {
+        let mut id = self.space.states[y.index()].first_in;
+        let mut kept = EdgeId::NONE;
+        while id != EdgeId::NONE {
             let edge_id = id;
-            let e = self.space.edges[id as usize];
+            let e = self.space.edges[id.index()];
             id = e.next_in;
-            if e.exact == NONE || e.zeno || self.space.states[e.from as usize].removal.is_some() {
+            if !e.is_covered() || e.zeno || self.space.states[e.from.index()].removal.is_some() {
                 kept = edge_id;
                 continue;
             }
             match kept {
-                NONE => self.space.states[y as usize].first_in = e.next_in,
-                k => self.space.edges[k as usize].next_in = e.next_in,
+                EdgeId::NONE => self.space.states[y.index()].first_in = e.next_in,
+                k => self.space.edges[k.index()].next_in = e.next_in,
             }
             self.give_own_state(edge_id);
         }
@@ -180,16 +180,16 @@ impl Solver<'_, '_> {
     /// Inclusion: gives the move `edge`, into a state that includes its zone, the state of its
     /// own zone, as the search without inclusion has it (see `remove_trapped`).
     pub(super) fn unfold(&mut self, edge_id: EdgeId) {
-        let e = self.space.edges[edge_id as usize];
-        let mut id = self.space.states[e.to as usize].first_in;
-        let mut previous = NONE;
-        while id != NONE && id != edge_id {
+        let e = self.space.edges[edge_id.index()];
+        let mut id = self.space.states[e.to.index()].first_in;
+        let mut previous = EdgeId::NONE;
+        while id != EdgeId::NONE && id != edge_id {
             previous = id;
-            id = self.space.edges[id as usize].next_in;
+            id = self.space.edges[id.index()].next_in;
         }
         match previous {
-            NONE => self.space.states[e.to as usize].first_in = e.next_in,
-            p => self.space.edges[p as usize].next_in = e.next_in,
+            EdgeId::NONE => self.space.states[e.to.index()].first_in = e.next_in,
+            p => self.space.edges[p.index()].next_in = e.next_in,
         }
         self.give_own_state(edge_id);
     }
@@ -197,18 +197,18 @@ impl Solver<'_, '_> {
     /// Points the covered move `edge`, already out of its cover's in-list, at the state of its
     /// own zone (same locations and kind as the cover).
     fn give_own_state(&mut self, edge_id: EdgeId) {
-        let e = self.space.edges[edge_id as usize];
-        let cover = &self.space.states[e.to as usize];
+        let e = self.space.edges[edge_id.index()];
+        let cover = &self.space.states[e.to.index()];
         let (env, plan, kind) = (cover.env, cover.plan, cover.kind);
         let vis = self.move_vis(edge_id);
         let to = self.add_checked(env, plan, e.exact, kind, vis);
-        self.relink(edge_id, to, NONE);
+        self.relink(edge_id, to, NO_ZONE);
     }
 
     /// How the zeno memory of a move's own target is formed (as `expand` forms it).
     fn move_vis(&self, edge_id: EdgeId) -> Vis {
-        let e = &self.space.edges[edge_id as usize];
-        let from = self.space.states[e.from as usize].vis;
+        let e = &self.space.edges[edge_id.index()];
+        let from = self.space.states[e.from.index()].vis;
         if e.progress {
             Vis::Fresh
         } else if e.label == Label::Wait {
@@ -222,9 +222,9 @@ impl Solver<'_, '_> {
     /// a lost target makes the move lost (`lost_edges`, read by `propagate`); a live one is
     /// needed where the strategy relies on the move.
     fn relink(&mut self, edge_id: EdgeId, to: StateId, exact: u32) {
-        let target = &mut self.space.states[to as usize];
+        let target = &mut self.space.states[to.index()];
         let target_lost = target.removal.is_some();
-        let edge = &mut self.space.edges[edge_id as usize];
+        let edge = &mut self.space.edges[edge_id.index()];
         edge.to = to;
         edge.exact = exact;
         edge.next_in = target.first_in;
@@ -234,12 +234,12 @@ impl Solver<'_, '_> {
             self.lost_edges.push(edge_id);
             return;
         }
-        let xs = &self.space.states[e.from as usize];
+        let xs = &self.space.states[e.from.index()];
         let needed = xs.expanded
             && match e.class {
                 Class::Forced => true,
                 Class::Option => xs.choice == edge_id,
-                Class::Wait => xs.choice == WAIT,
+                Class::Wait => xs.choice == EdgeId::WAIT,
                 Class::Inert => false,
             };
         if needed {
@@ -249,7 +249,7 @@ impl Solver<'_, '_> {
 
     /// The option `edge` of the live state `x` leads to a removed state (or was cut).
     fn option_lost(&mut self, x: StateId, edge: EdgeId) {
-        let xs = &mut self.space.states[x as usize];
+        let xs = &mut self.space.states[x.index()];
         if self.lazy {
             // `choose` moves on from `tried`, past every alternative lost (this one among them:
             // the choice is not always the `tried`-th, `steer_by_ranks` may have moved it).
@@ -266,13 +266,13 @@ impl Solver<'_, '_> {
 
     /// Waiting in the live state `x` leads to a removed state (or was cut).
     fn wait_lost(&mut self, x: StateId) {
-        let xs = &mut self.space.states[x as usize];
+        let xs = &mut self.space.states[x.index()];
         if !xs.wait_viable {
             return;
         }
         xs.wait_viable = false;
         if self.lazy {
-            if xs.choice == WAIT {
+            if xs.choice == EdgeId::WAIT {
                 self.choose(x);
             }
         } else if xs.options_alive == 0 {

@@ -1,7 +1,7 @@
 //! The explored game graph: states, edges and their classes, why a state was removed, and the
 //! accessors the rest of the crate reads a solved space with.
 
-use super::NONE;
+use crate::id::id_type;
 use crate::timed::arena::SliceArena;
 use crate::timed::model::*;
 use crate::timed::precompute::SubLocId;
@@ -9,8 +9,32 @@ use crate::zone::{Bound, Dbm};
 use serde::Serialize;
 use std::collections::VecDeque;
 
-pub type StateId = u32;
-pub type EdgeId = u32;
+id_type! {
+    /// A state: an index into [`StateSpace::states`].
+    #[derive(Serialize)]
+    #[serde(transparent)]
+    pub struct StateId;
+}
+
+impl StateId {
+    /// No state: the target of a timeout or a zeno repetition, which lead nowhere.
+    pub const NONE: StateId = StateId::from_raw(u32::MAX);
+}
+
+id_type! {
+    /// An edge: an index into [`StateSpace::edges`].
+    #[derive(Serialize)]
+    #[serde(transparent)]
+    pub struct EdgeId;
+}
+
+impl EdgeId {
+    /// No edge: the end of an in-edge list, and the choice of a state that has none.
+    pub const NONE: EdgeId = EdgeId::from_raw(u32::MAX);
+    /// The choice of a state whose strategy lets time pass (or the plant move): no one edge,
+    /// but stored where the chosen option's id goes.
+    pub(super) const WAIT: EdgeId = EdgeId::from_raw(u32::MAX - 1);
+}
 
 /// What kind of move an edge is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -73,7 +97,7 @@ pub enum Label {
 #[derive(Clone, Copy, Debug)]
 pub struct Edge {
     pub from: StateId,
-    /// `NONE` for timeouts and for zeno repetitions.
+    /// [`StateId::NONE`] for timeouts and for zeno repetitions (see [`Edge::target`]).
     pub to: StateId,
     pub kind: EdgeKind,
     pub label: Label,
@@ -87,24 +111,37 @@ pub struct Edge {
     pub(super) class: Class,
     pub(super) next_in: EdgeId,
     /// A controller option whose target is not generated yet: its index in the solver's
-    /// deferred targets (strategy-directed search); `NONE` once generated or in the reference.
+    /// deferred targets (strategy-directed search); [`NOT_DEFERRED`] once generated or in the
+    /// reference.
     pub(super) deferred: u32,
     /// Inclusion (scan games): `to` is a state whose zone includes the move's own target zone,
-    /// this one (interned); `NONE` when `to` is the move's own target. Should `to` be lost, the
-    /// move is given the state of its own zone (`Solver::retarget_covered`).
+    /// this one (interned); [`NO_ZONE`] when `to` is the move's own target. Should `to` be lost,
+    /// the move is given the state of its own zone (`Solver::retarget_covered`).
     pub(super) exact: u32,
 }
 
+/// [`Edge::deferred`] of a move whose target is generated (or never was deferred).
+pub(super) const NOT_DEFERRED: u32 = u32::MAX;
+/// [`Edge::exact`] of a move whose target has the move's own zone (no interned zone is meant).
+pub(super) const NO_ZONE: u32 = u32::MAX;
+
 impl Edge {
-    /// A controller option the strategy-directed search never needed to try: `to` is `NONE`.
+    /// The state the move leads to; `None` for a timeout or a zeno repetition.
+    #[inline]
+    pub fn target(&self) -> Option<StateId> {
+        (self.to != StateId::NONE).then_some(self.to)
+    }
+
+    /// A controller option the strategy-directed search never needed to try: `to` is
+    /// [`StateId::NONE`].
     pub fn is_unexplored(&self) -> bool {
-        self.deferred != NONE
+        self.deferred != NOT_DEFERRED
     }
 
     /// A move whose target is a state that includes its own zone (inclusion, see
     /// `SolveOptions::inclusion`; the zone is [`StateSpace::own_zone`]).
     pub fn is_covered(&self) -> bool {
-        self.exact != NONE
+        self.exact != NO_ZONE
     }
 }
 
@@ -166,15 +203,17 @@ pub struct State {
     pub kind: StateKind,
     pub removal: Option<Removal>,
     pub expanded: bool,
-    pub(super) out_start: u32,
-    pub(super) out_end: u32,
+    /// The outgoing edges, `out_start..out_end` in [`StateSpace::edges`].
+    pub(super) out_start: EdgeId,
+    pub(super) out_end: EdgeId,
+    /// The first incoming edge; the list goes on through [`Edge::next_in`].
     pub(super) first_in: EdgeId,
     pub(super) options_alive: u32,
     pub(super) wait_viable: bool,
     pub(super) vis: u32,
-    /// Strategy-directed search: the alternative (option edge id, or `WAIT`) the strategy takes
-    /// here, and how many alternatives were tried and lost before it.
-    pub(super) choice: u32,
+    /// Strategy-directed search: the alternative (option edge id, or [`EdgeId::WAIT`]) the
+    /// strategy takes here, and how many alternatives were tried and lost before it.
+    pub(super) choice: EdgeId,
     pub(super) tried: u32,
 }
 
@@ -187,15 +226,21 @@ impl State {
             kind,
             removal,
             expanded: false,
-            out_start: 0,
-            out_end: 0,
-            first_in: NONE,
+            out_start: EdgeId::new(0),
+            out_end: EdgeId::new(0),
+            first_in: EdgeId::NONE,
             options_alive: 0,
             wait_viable: false,
             vis,
-            choice: NONE,
+            choice: EdgeId::NONE,
             tried: 0,
         }
+    }
+
+    /// The ids of the outgoing edges.
+    #[inline]
+    pub(super) fn out_ids(&self) -> impl Iterator<Item = EdgeId> + Clone {
+        (self.out_start.raw()..self.out_end.raw()).map(EdgeId::from_raw)
     }
 }
 
@@ -218,7 +263,7 @@ impl StateSpace {
             dim,
             states: Vec::new(),
             edges: Vec::new(),
-            initial: 0,
+            initial: StateId::new(0),
             envs: SliceArena::new(plant_count),
             plans: SliceArena::new(plan_count),
             zones: SliceArena::new(dim * dim),
@@ -228,37 +273,41 @@ impl StateSpace {
 
     /// True if state `s` exists and was not removed.
     pub fn is_winning(&self, s: StateId) -> bool {
-        self.states.get(s as usize).is_some_and(|st| st.removal.is_none())
+        self.states.get(s.index()).is_some_and(|st| st.removal.is_none())
     }
 
     /// True if the edge leads to a winning state and was not cut as a zeno loop.
     pub fn is_live(&self, e: &Edge) -> bool {
-        e.to != NONE && !e.zeno && self.is_winning(e.to)
+        e.to != StateId::NONE && !e.zeno && self.is_winning(e.to)
+    }
+
+    /// The ids of all states, in order.
+    pub fn state_ids(&self) -> impl Iterator<Item = StateId> {
+        (0..self.states.len()).map(StateId::new)
     }
 
     /// Sub-locations of the plant units in state `s`.
     pub fn env(&self, s: StateId) -> &[SubLocId] {
-        self.envs.get(self.states[s as usize].env)
+        self.envs.get(self.states[s.index()].env)
     }
 
     /// Sub-locations of the plans in state `s`.
     pub fn plan(&self, s: StateId) -> &[SubLocId] {
-        self.plans.get(self.states[s as usize].plan)
+        self.plans.get(self.states[s.index()].plan)
     }
 
     pub fn zone(&self, s: StateId) -> Dbm {
-        Dbm::from_slice(self.dim, self.zones.get(self.states[s as usize].zone))
+        Dbm::from_slice(self.dim, self.zones.get(self.states[s.index()].zone))
     }
 
     /// The zone move `e` itself leads to, where its target is a state whose zone includes it
     /// (inclusion, see `SolveOptions::inclusion`); `None` where the target's zone is the move's.
     pub fn own_zone(&self, e: &Edge) -> Option<Dbm> {
-        (e.exact != NONE).then(|| Dbm::from_slice(self.dim, self.zones.get(e.exact)))
+        e.is_covered().then(|| Dbm::from_slice(self.dim, self.zones.get(e.exact)))
     }
 
     pub fn out_edges(&self, s: StateId) -> impl Iterator<Item = (EdgeId, &Edge)> {
-        let st = &self.states[s as usize];
-        (st.out_start..st.out_end).map(move |e| (e, &self.edges[e as usize]))
+        self.states[s.index()].out_ids().map(move |e| (e, &self.edges[e.index()]))
     }
 
     pub fn plant_count(&self) -> usize {
@@ -272,14 +321,14 @@ impl StateSpace {
         if !self.is_winning(self.initial) {
             return order;
         }
-        seen[self.initial as usize] = true;
+        seen[self.initial.index()] = true;
         let mut queue = VecDeque::from([self.initial]);
         while let Some(s) = queue.pop_front() {
             order.push(s);
-            for (_, e) in self.out_edges(s) {
-                if e.to != NONE && !seen[e.to as usize] && self.is_winning(e.to) {
-                    seen[e.to as usize] = true;
-                    queue.push_back(e.to);
+            for t in self.out_edges(s).filter_map(|(_, e)| e.target()) {
+                if !seen[t.index()] && self.is_winning(t) {
+                    seen[t.index()] = true;
+                    queue.push_back(t);
                 }
             }
         }

@@ -3,11 +3,11 @@
 
 use super::expand::{guard_edge, Move};
 use super::guide::Hint;
-use super::space::{Class, Edge, EdgeId, Label, Removal, StateId, StateKind};
+use super::space::{Class, Edge, EdgeId, Label, Removal, StateId, StateKind, NOT_DEFERRED};
 use super::zeno::Vis;
-use super::{Solver, NONE, WAIT};
+use super::Solver;
 use crate::timed::model::*;
-use crate::timed::precompute::{SplitGame, SubLocId, STAY};
+use crate::timed::precompute::{SplitGame, SubLocId};
 use crate::zone::Dbm;
 use std::collections::VecDeque;
 
@@ -35,7 +35,7 @@ impl Solver<'_, '_> {
         let locations = self.locations_of(env_id);
         let mut total = 0u32;
         for (p, &sub) in self.space.plans.get(plan_id).iter().enumerate() {
-            let nearest = self.plan_goals[p][sub as usize]
+            let nearest = self.plan_goals[p][sub.index()]
                 .iter()
                 .filter_map(|&m| {
                     let sender = (self.game.messages[m.index()].sender?).index();
@@ -121,8 +121,8 @@ impl Solver<'_, '_> {
         for m in &moves {
             let mut plans_after = plans.clone();
             for (p, sub) in plans_after.iter_mut().enumerate() {
-                let next = self.split.plan_next[p][*sub as usize * self.split.message_count + request.index()];
-                if next != STAY {
+                let next = self.split.plan_next[p][sub.index() * self.split.message_count + request.index()];
+                if next != SubLocId::STAY {
                     progress = true;
                     *sub = next;
                 }
@@ -143,7 +143,7 @@ impl Solver<'_, '_> {
 
     /// Queues `s` for expansion if it still needs it.
     pub(super) fn demand(&mut self, s: StateId) {
-        let st = &self.space.states[s as usize];
+        let st = &self.space.states[s.index()];
         if st.removal.is_none() && !st.expanded {
             self.queue.push_back(s);
         }
@@ -157,10 +157,10 @@ impl Solver<'_, '_> {
             self.remove(s, removal);
             return;
         }
-        self.space.states[s as usize].wait_viable = survey.wait_viable();
-        let st = &self.space.states[s as usize];
-        for id in st.out_start..st.out_end {
-            let e = self.space.edges[id as usize];
+        self.space.states[s.index()].wait_viable = survey.wait_viable();
+        let st = &self.space.states[s.index()];
+        for id in st.out_ids() {
+            let e = self.space.edges[id.index()];
             if e.class == Class::Forced {
                 self.demand(e.to);
             }
@@ -169,18 +169,18 @@ impl Solver<'_, '_> {
     }
 
     /// The `k`-th alternative of the expanded state `s` in the order the strategy tries them:
-    /// an option edge, `WAIT`, or `None` when all are tried. Options are stored with those that
-    /// make plan progress first, then by distance to the plans' goals. Waiting comes first where
-    /// it costs nothing (no delay edge, so only the forced moves, needed anyway, follow it), else
-    /// after every option (measured: fewest states on the examples).
-    pub(super) fn alternative(&self, s: StateId, k: u32) -> Option<u32> {
-        let st = &self.space.states[s as usize];
-        let (mut first_option, mut options, mut waits, mut forced) = (NONE, 0, 0, false);
-        for id in st.out_start..st.out_end {
-            let e = &self.space.edges[id as usize];
+    /// an option edge, `EdgeId::WAIT`, or `None` when all are tried. Options are stored with
+    /// those that make plan progress first, then by distance to the plans' goals. Waiting comes
+    /// first where it costs nothing (no delay edge, so only the forced moves, needed anyway,
+    /// follow it), else after every option (measured: fewest states on the examples).
+    pub(super) fn alternative(&self, s: StateId, k: u32) -> Option<EdgeId> {
+        let st = &self.space.states[s.index()];
+        let (mut first_option, mut options, mut waits, mut forced) = (None, 0, 0, false);
+        for id in st.out_ids() {
+            let e = &self.space.edges[id.index()];
             match e.class {
                 Class::Option => {
-                    first_option = first_option.min(id);
+                    first_option.get_or_insert(id);
                     options += 1;
                 }
                 Class::Wait => waits += 1,
@@ -194,11 +194,15 @@ impl Solver<'_, '_> {
             _ => Some(options),
         };
         let option = match wait_at {
-            Some(w) if k == w => return Some(WAIT),
+            Some(w) if k == w => return Some(EdgeId::WAIT),
             Some(w) if k > w => k - 1,
             _ => k,
         };
-        (option < options).then(|| first_option + option)
+        // The options are consecutive (see `expand`).
+        match first_option {
+            Some(first) if option < options => Some(EdgeId::from_raw(first.raw() + option)),
+            _ => None,
+        }
     }
 
     /// Picks the first alternative of `s`, from the `tried`-th on, that is not lost yet,
@@ -206,68 +210,67 @@ impl Solver<'_, '_> {
     /// Without one, `s` is lost.
     pub(super) fn choose(&mut self, s: StateId) {
         loop {
-            let k = self.space.states[s as usize].tried;
+            let k = self.space.states[s.index()].tried;
             match self.alternative(s, k) {
                 None => {
-                    let st = &mut self.space.states[s as usize];
-                    st.choice = NONE;
-                    let inert =
-                        (st.out_start..st.out_end).all(|id| self.space.edges[id as usize].class == Class::Inert);
+                    let st = &mut self.space.states[s.index()];
+                    st.choice = EdgeId::NONE;
+                    let inert = st.out_ids().all(|id| self.space.edges[id.index()].class == Class::Inert);
                     self.remove(s, if inert { Removal::Deadlock } else { Removal::NoMove });
                     return;
                 }
-                Some(WAIT) => {
-                    let (start, end) = (self.space.states[s as usize].out_start, self.space.states[s as usize].out_end);
+                Some(EdgeId::WAIT) => {
+                    let out = self.space.states[s.index()].out_ids();
                     let waits: Vec<EdgeId> =
-                        (start..end).filter(|&id| self.space.edges[id as usize].class == Class::Wait).collect();
+                        out.clone().filter(|&id| self.space.edges[id.index()].class == Class::Wait).collect();
                     for &id in &waits {
-                        if self.space.edges[id as usize].is_unexplored() {
+                        if self.space.edges[id.index()].is_unexplored() {
                             self.generate(id);
                         }
                     }
-                    let st = &self.space.states[s as usize];
+                    let st = &self.space.states[s.index()];
                     let viable = if waits.is_empty() {
                         st.wait_viable
                     } else {
-                        st.wait_viable && waits.iter().all(|&id| self.space.is_live(&self.space.edges[id as usize]))
+                        st.wait_viable && waits.iter().all(|&id| self.space.is_live(&self.space.edges[id.index()]))
                     };
                     if viable {
-                        self.space.states[s as usize].choice = WAIT;
+                        self.space.states[s.index()].choice = EdgeId::WAIT;
                         for &id in &waits {
-                            self.demand(self.space.edges[id as usize].to);
+                            self.demand(self.space.edges[id.index()].to);
                         }
                         return;
                     }
-                    self.space.states[s as usize].wait_viable = false;
+                    self.space.states[s.index()].wait_viable = false;
                 }
                 Some(edge) => {
-                    if self.space.edges[edge as usize].is_unexplored() {
+                    if self.space.edges[edge.index()].is_unexplored() {
                         self.generate(edge);
                     }
-                    let e = self.space.edges[edge as usize];
+                    let e = self.space.edges[edge.index()];
                     if self.space.is_live(&e) {
-                        self.space.states[s as usize].choice = edge;
+                        self.space.states[s.index()].choice = edge;
                         self.demand(e.to);
                         return;
                     }
                 }
             }
-            self.space.states[s as usize].tried += 1;
+            self.space.states[s.index()].tried += 1;
         }
     }
 
     /// Generates the target of a deferred option (with its chain of guard states) and links the
     /// edge to it.
     pub(super) fn generate(&mut self, edge: EdgeId) {
-        let index = std::mem::replace(&mut self.space.edges[edge as usize].deferred, NONE);
+        let index = std::mem::replace(&mut self.space.edges[edge.index()].deferred, NOT_DEFERRED);
         let Some(d) = self.deferred[index as usize].take() else { return };
-        let from = self.space.edges[edge as usize].from;
+        let from = self.space.edges[edge.index()].from;
         let (target, exact) = self.target(d.env, d.plan, d.zone, d.kind, d.vis);
         let first = if d.guards.is_empty() {
-            self.space.edges[edge as usize].exact = exact;
+            self.space.edges[edge.index()].exact = exact;
             target
         } else {
-            let st = self.space.states[from as usize].clone();
+            let st = self.space.states[from.index()].clone();
             let chain: Vec<StateId> = d.guards.iter().map(|_| self.add_guard_state(&st)).collect();
             for k in (0..chain.len()).rev() {
                 let next = match chain.get(k + 1) {
@@ -279,8 +282,8 @@ impl Solver<'_, '_> {
             }
             chain[0]
         };
-        let target_state = &mut self.space.states[first as usize];
-        let e = &mut self.space.edges[edge as usize];
+        let target_state = &mut self.space.states[first.index()];
+        let e = &mut self.space.edges[edge.index()];
         e.to = first;
         e.next_in = target_state.first_in;
         target_state.first_in = edge;
@@ -297,7 +300,7 @@ pub(super) fn plan_goals(split: &SplitGame) -> Vec<Vec<Vec<MsgId>>> {
                 .map(|sub| {
                     let next = &split.plan_next[p][sub * messages..(sub + 1) * messages];
                     (0..messages)
-                        .filter(|&m| next[m] != STAY && !unit.sublocs[next[m] as usize].failed)
+                        .filter(|&m| next[m] != SubLocId::STAY && !unit.sublocs[next[m].index()].failed)
                         .map(MsgId::new)
                         .collect()
                 })

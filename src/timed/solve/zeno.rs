@@ -1,18 +1,21 @@
 //! The zeno memory (5.1): per search item, the persistent set of plant states visited since the
 //! last plan progress, and how a new state's memory is formed.
 
-use super::{Solver, NONE};
+use super::Solver;
 
 /// The zeno memory (5.1): for every search item, the set of plant states (env ids) visited since
 /// the last plan progress. The sets are persistent treaps sharing structure, so that adding a
 /// state and testing membership cost O(log n) however long a path without progress grows (a
 /// linked list made a 40 000-node chain quadratic).
 pub(super) struct ZenoSets {
-    /// (env id, left, right); a set is the id of its root node.
+    /// (env id, left, right); a set is the id of its root node, the empty set `EMPTY`.
     pub(super) nodes: Vec<(u32, u32, u32)>,
 }
 
 impl ZenoSets {
+    /// The empty set (no node).
+    const EMPTY: u32 = u32::MAX;
+
     /// A fixed pseudo-random priority per key (a bijective integer mix), so that the treap's
     /// shape does not depend on the order of insertions.
     fn priority(env: u32) -> u32 {
@@ -30,11 +33,11 @@ impl ZenoSets {
     }
 
     pub(super) fn singleton(&mut self, env: u32) -> u32 {
-        self.node(env, NONE, NONE)
+        self.node(env, Self::EMPTY, Self::EMPTY)
     }
 
     fn contains(&self, mut set: u32, env: u32) -> bool {
-        while set != NONE {
+        while set != Self::EMPTY {
             let (key, left, right) = self.nodes[set as usize];
             if env == key {
                 return true;
@@ -55,7 +58,7 @@ impl ZenoSets {
 
     /// Path-copying insertion of a key that is not in `set`.
     fn insert_new(&mut self, set: u32, env: u32) -> u32 {
-        if set == NONE {
+        if set == Self::EMPTY {
             return self.singleton(env);
         }
         let (key, left, right) = self.nodes[set as usize];
@@ -74,8 +77,8 @@ impl ZenoSets {
 
     /// The keys of `set` below and above `env` (which it does not hold), as two new sets.
     fn split(&mut self, set: u32, env: u32) -> (u32, u32) {
-        if set == NONE {
-            return (NONE, NONE);
+        if set == Self::EMPTY {
+            return (Self::EMPTY, Self::EMPTY);
         }
         let (key, left, right) = self.nodes[set as usize];
         if key < env {
@@ -132,6 +135,6 @@ mod tests {
                 assert_eq!(sets.contains(*set, key), keys.contains(&key));
             }
         }
-        assert!(!sets.contains(NONE, 5));
+        assert!(!sets.contains(ZenoSets::EMPTY, 5));
     }
 }

@@ -176,7 +176,7 @@ fn view(
             event: project.event_name(e).to_string(),
             what,
             by: match usize::try_from(denied_by) {
-                Ok(k) if k >= 1 && what == "denied" && denied_event == i64::from(e.0) + 1 => {
+                Ok(k) if k >= 1 && what == "denied" && denied_event == i64::from(e.raw()) + 1 => {
                     supervisors.get(k - 1).map(|s| s.name.clone())
                 }
                 _ => None,

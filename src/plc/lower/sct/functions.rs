@@ -103,7 +103,7 @@ pub(super) struct Framework<'a> {
 
 impl Framework<'_> {
     pub(super) fn ev(&self, e: EventId) -> String {
-        self.event_const[e.0 as usize].clone()
+        self.event_const[e.index()].clone()
     }
 
     pub(super) fn d(&self, name: &str) -> String {
@@ -413,7 +413,7 @@ pub(super) fn enforce_pou(fw: &Framework, l: &mut Lowering<'_>) -> Pou {
     // N_Enforce(by): supervisor `by` executes the event its state enforces, if any.
     let mut action_arms = Vec::new();
     for (id, f) in fw.fragments.iter().enumerate() {
-        let e = EventId(id as u32);
+        let e = EventId::new(id);
         if fw.loaded.project.kind(e) != EventKind::Enforceable || f.accept.is_empty() {
             continue;
         }

@@ -104,7 +104,7 @@ pub fn lower_mapped(
         let mut reported = Vec::new();
         for (q, state) in s.states.iter().enumerate() {
             for &(e, t) in &state.transitions {
-                let meta = &loaded.events[e.0 as usize];
+                let meta = &loaded.events[e.index()];
                 let virtual_event =
                     matches!(meta.trigger, Trigger::Virtual) && project.kind(e) != EventKind::Enforceable;
                 if virtual_event && t as usize != q && !reported.contains(&e) {
@@ -130,7 +130,7 @@ pub fn lower_mapped(
 
     // Signals, first pass: the user's names are taken before any generated one.
     for (id, f) in fragments.iter().enumerate() {
-        let e = EventId(id as u32);
+        let e = EventId::new(id);
         let (name, kind) = (project.event_name(e).to_string(), project.kind(e));
         if let Some(t) = &f.trigger {
             l.scan_expr(t, &name, Some(kind), false);
@@ -237,7 +237,7 @@ pub fn lower_mapped(
     let mut flag_occ = BTreeMap::new();
     let mut latch = BTreeMap::new();
     for (id, info) in project.events.iter().enumerate() {
-        let e = EventId(id as u32);
+        let e = EventId::new(id);
         match info.kind {
             EventKind::Controllable => {
                 let a = l.name("accepted_", &info.name, "");

@@ -59,7 +59,7 @@ pub(super) fn main_pou(fw: &Framework, l: &mut Lowering<'_>) -> Pou {
         if let (Some(t), Trigger::Detected { edge, .. }) = (&f.trigger, &fw.loaded.events[id].trigger) {
             let at = fragment_span(&fw.loaded.events[id], FragmentAt::Trigger);
             if let Some(now) = l.expr(t, at) {
-                let e = EventId(id as u32);
+                let e = EventId::new(id);
                 let before = Expr::global(&fw.latch[&e]);
                 let fires = match edge {
                     EdgeKind::Rising => now.clone().and(before.not()),
@@ -100,7 +100,7 @@ pub(super) fn main_pou(fw: &Framework, l: &mut Lowering<'_>) -> Pou {
     }
     main.push(Stmt::Comment("6. denied detected events without code on denial: their outputs are restored".into()));
     for (id, f) in fw.fragments.iter().enumerate() {
-        let e = EventId(id as u32);
+        let e = EventId::new(id);
         let meta = &fw.loaded.events[id];
         if f.resets.is_empty() || meta.code_on_denial.is_some() || !matches!(meta.trigger, Trigger::Detected { .. }) {
             continue;
@@ -117,7 +117,7 @@ pub(super) fn main_pou(fw: &Framework, l: &mut Lowering<'_>) -> Pou {
     }
     main.push(Stmt::Comment("7. code on acceptance of controllable events".into()));
     for (id, f) in fw.fragments.iter().enumerate() {
-        let e = EventId(id as u32);
+        let e = EventId::new(id);
         let Some(flag) = fw.flag_acc.get(&e) else { continue };
         if f.accept.is_empty() {
             continue;
@@ -145,7 +145,7 @@ pub(super) fn main_pou(fw: &Framework, l: &mut Lowering<'_>) -> Pou {
     }
     main.push(Stmt::Comment("9. code on denial".into()));
     for (id, f) in fw.fragments.iter().enumerate() {
-        let e = EventId(id as u32);
+        let e = EventId::new(id);
         let Some(flag) = fw.flag_den.get(&e) else { continue };
         if f.denial.is_empty() {
             continue;
