@@ -12,8 +12,8 @@ use std::hint::black_box;
 
 fn incremental(c: &mut Criterion) {
     for (k, m) in [(2, 2), (5, 2), (50, 4)] {
-        let (l, _) = compile(&transfer_lines(k, m, 2));
-        let p = l.expect("generated lines are valid").project;
+        let (l, _) = compile(&transfer_lines(k, m, 2)).unwrap_or_else(|d| panic!("{d:?}"));
+        let p = l.project;
         let cfg = Config { method: Method::Incremental, ..Config::default() };
         c.bench_function(&format!("sct incremental transfer lines {k}x{m}"), |b| {
             b.iter(|| {

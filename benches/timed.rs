@@ -1,7 +1,7 @@
 //! Solving the timed examples end to end (parse, check, precompute, solve).
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use plcsynth::timed::{compile, solve::SolveOptions, synthesize};
+use plcsynth::timed::{compile, solve::Config, synthesize};
 
 fn example(name: &str) -> String {
     std::fs::read_to_string(format!("{}/examples/timed/{name}.tga", env!("CARGO_MANIFEST_DIR"))).unwrap()
@@ -15,7 +15,7 @@ fn solving(c: &mut Criterion) {
         group.bench_function(name, |b| {
             b.iter(|| {
                 let (game, _) = compile(&source).unwrap();
-                synthesize(&game, &SolveOptions::default(), &mut |_| true).solution.stats.winning
+                synthesize(&game, &Config::default(), &mut |_| true).solution.stats.winning
             })
         });
     }

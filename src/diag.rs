@@ -36,6 +36,10 @@ pub enum Severity {
     Warning,
 }
 
+/// What every engine's `compile` returns: the checked model with the warnings, or every
+/// diagnostic (errors and warnings) when the text has an error.
+pub type Checked<T> = Result<(T, Vec<Diagnostic>), Vec<Diagnostic>>;
+
 /// One located message about the input.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct Diagnostic {

@@ -1,4 +1,11 @@
-//! What the engines' searches share: why a search ended without deciding.
+//! What the engines' searches share: the progress callback, the meter, why a search ended
+//! without deciding, and the outcome of a run.
+//!
+//! The engine contract (ARCHITECTURE.md, "One engine contract"): each engine's `mod.rs` offers
+//! `compile` (text → checked model, see [`crate::diag::Checked`]), a `Config` with builder
+//! methods ([`setters`]), and `synthesize(model, &Config, progress) -> Synthesis`, where the
+//! progress callback is an [`OnProgress`] of the engine's `Progress` and the `Synthesis`
+//! implements [`Outcome`]: a [`Decision`] of the engine or a [`Stop`].
 //!
 //! Every search meters what it builds against the budgets of its engine's `Config` and asks the
 //! caller's progress callback now and then; the callback's `false` cancels. A run that ends so
@@ -67,6 +74,49 @@ impl fmt::Display for Stop {
         match self {
             Stop::Budget { message, .. } => f.write_str(message),
             Stop::Cancelled => f.write_str("cancelled"),
+        }
+    }
+}
+
+/// The progress callback of a search: called now and then with what the search has built so
+/// far (the engine's `Progress`); returning `false` cancels the run, which then ends with
+/// [`Stop::Cancelled`].
+pub type OnProgress<'a, P> = dyn FnMut(&P) -> bool + 'a;
+
+/// An engine's verdict: a decision only (a run that did not decide ends with a [`Stop`]). Its
+/// name is its JSON form (each verdict serialises through it, so there is one list of names).
+pub trait Decision: Copy + Eq + fmt::Debug {
+    /// Its name in the CLI's JSON and the page: `realizable`, `unrealizable`, ...
+    fn name(self) -> &'static str;
+}
+
+/// How a run of an engine's `synthesize` ended: its decision or why there is none. The CLI and
+/// the page read the three engines' results through it alike. A timed or SCT `Synthesis`
+/// holds its outcome beside what the search built (a stopped search's states and reports are
+/// shown too); an LTL run that stops has nothing to show, so `ltl::synthesize` returns
+/// `Result<Synthesis, Stop>`, which implements it.
+pub trait Outcome {
+    type Verdict: Decision;
+
+    /// The decision, or why the run ended without one.
+    fn outcome(&self) -> Result<Self::Verdict, &Stop>;
+
+    /// The decision, if the run reached one.
+    fn verdict(&self) -> Option<Self::Verdict> {
+        self.outcome().ok()
+    }
+
+    /// Why the run stopped before deciding, if it did.
+    fn stop(&self) -> Option<&Stop> {
+        self.outcome().err()
+    }
+
+    /// How the run ended, in the CLI's JSON and the page: the verdict's name, or
+    /// `budget_exceeded` or `cancelled`.
+    fn outcome_name(&self) -> &'static str {
+        match self.outcome() {
+            Ok(verdict) => verdict.name(),
+            Err(stop) => stop.outcome_name(),
         }
     }
 }
@@ -163,6 +213,28 @@ macro_rules! setters {
 }
 
 pub(crate) use setters;
+
+/// Makes a verdict enum a [`Decision`] with the names given, and serialises it by them: the
+/// one place a verdict's names are written.
+macro_rules! decision {
+    ($verdict:ty { $($variant:ident => $name:literal),* $(,)? }) => {
+        impl $crate::search::Decision for $verdict {
+            fn name(self) -> &'static str {
+                match self {
+                    $(<$verdict>::$variant => $name,)*
+                }
+            }
+        }
+
+        impl serde::Serialize for $verdict {
+            fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+                serializer.serialize_str($crate::search::Decision::name(*self))
+            }
+        }
+    };
+}
+
+pub(crate) use decision;
 
 #[cfg(test)]
 mod tests {

@@ -13,7 +13,7 @@
 
 use crate::common;
 
-use plcsynth::ltl::{self, Config, Format, Outcome, Spec, Verdict};
+use plcsynth::ltl::{self, Config, Format, Spec, Synthesis, Verdict};
 use plcsynth::plc::{self, Target};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -26,7 +26,7 @@ fn shared() -> PathBuf {
     root().join("../shared/ltl")
 }
 
-fn decide(path: &Path, params: &[(String, i64)]) -> (Spec, Outcome) {
+fn decide(path: &Path, params: &[(String, i64)]) -> (Spec, Synthesis) {
     let source = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let format = Format::of_path(path.to_str().unwrap());
     let (spec, _) = ltl::compile(&source, format, params).unwrap_or_else(|d| panic!("{}: {d:?}", path.display()));
@@ -150,8 +150,8 @@ fn listed() -> Vec<Case> {
 
 /// Every listed specification decided, once for all the tests of this file (the larger
 /// instances take seconds).
-fn decided() -> &'static [(Case, Spec, Outcome)] {
-    static DECIDED: std::sync::OnceLock<Vec<(Case, Spec, Outcome)>> = std::sync::OnceLock::new();
+fn decided() -> &'static [(Case, Spec, Synthesis)] {
+    static DECIDED: std::sync::OnceLock<Vec<(Case, Spec, Synthesis)>> = std::sync::OnceLock::new();
     DECIDED.get_or_init(|| {
         listed()
             .into_iter()
@@ -289,7 +289,7 @@ fn a_mutated_controller_is_caught_by_the_model_check() {
                 for bit in 0..controller.writes.len() {
                     let mut mutant = controller.clone();
                     mutant.states[s][r].write ^= 1 << bit;
-                    let mutated = Outcome { controller: Some(mutant), ..outcome.clone() };
+                    let mutated = Synthesis { controller: Some(mutant), ..outcome.clone() };
                     let json = dir.join(format!("mutant-{file}-{s}-{r}-{bit}.json"));
                     std::fs::write(&json, ltl::report_json(&spec, &mutated).to_string()).unwrap();
                     let (code, text) = check_with("ltl_mc.py", &json);

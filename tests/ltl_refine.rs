@@ -22,7 +22,7 @@ fn compile(source: &str) -> Spec {
     ltl::compile(source, Format::G4ltl, &[]).unwrap_or_else(|d| panic!("{d:?}")).0
 }
 
-fn decide(spec: &Spec, cfg: &Config) -> ltl::Outcome {
+fn decide(spec: &Spec, cfg: &Config) -> ltl::Synthesis {
     ltl::synthesize(spec, cfg, &mut |_| true).unwrap_or_else(|s| panic!("{s}"))
 }
 

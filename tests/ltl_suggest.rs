@@ -5,7 +5,7 @@
 
 use crate::common;
 
-use plcsynth::ltl::{self, Config, Format, Ltl, Outcome, Spec, SuggestConfig, Suggestions, Template, Verdict};
+use plcsynth::ltl::{self, Config, Format, Ltl, Spec, SuggestConfig, Suggestions, Synthesis, Template, Verdict};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -21,7 +21,7 @@ fn compile(source: &str) -> Spec {
     ltl::compile(source, Format::G4ltl, &[]).unwrap_or_else(|d| panic!("{d:?}")).0
 }
 
-fn decide(spec: &Spec) -> Outcome {
+fn decide(spec: &Spec) -> Synthesis {
     ltl::synthesize(spec, &Config::default(), &mut |_| true).expect("within budget")
 }
 

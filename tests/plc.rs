@@ -9,7 +9,7 @@ use crate::common;
 use plcsynth::diag::Diagnostic;
 use plcsynth::plc::{self, Code, Options, OutputFile, Target};
 use plcsynth::timed::program;
-use plcsynth::timed::{compile, solve::SolveOptions, synthesize};
+use plcsynth::timed::{compile, solve::Config, synthesize};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -26,7 +26,7 @@ fn example(name: &str) -> String {
 /// The code model of `source` for `target`, or the diagnostics.
 fn build(source: &str, name: &str, target: Target, options: &Options) -> Result<Code, Vec<Diagnostic>> {
     let (game, _) = compile(source).unwrap();
-    let s = synthesize(&game, &SolveOptions::default(), &mut |_| true);
+    let s = synthesize(&game, &Config::default(), &mut |_| true);
     let p = program::controller(&game, &s).expect("realizable");
     plc::build(&game, &p, target, name, source, options)
 }
@@ -51,7 +51,7 @@ fn generate_waiting(timeunit: &str, bound: u32, output: &str, target: Target) ->
          plans {{ plan {{ waitfor go; waitfor back; }} }}\nio {{ go = {output}; }}\n"
     );
     let (game, _) = compile(&source).unwrap();
-    let s = synthesize(&game, &SolveOptions::default(), &mut |_| true);
+    let s = synthesize(&game, &Config::default(), &mut |_| true);
     let p = program::controller(&game, &s).expect("realizable");
     plc::generate(&game, &p, target, "waiting", &source).expect("the constant fits")
 }

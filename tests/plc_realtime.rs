@@ -11,6 +11,7 @@
 
 use crate::common;
 use crate::random_spec;
+use plcsynth::search::Outcome as _;
 
 use common::{root, venv_tool};
 use plcsynth::plc::lower::timed::machine::{Code, Effect, Statement, Test};
@@ -21,7 +22,7 @@ use plcsynth::plc::lower::timed::{self as lower_timed, Wiring};
 use plcsynth::plc::{self, Options, Target};
 use plcsynth::timed::model::Game;
 use plcsynth::timed::program::{self, parse_listing};
-use plcsynth::timed::{compile, solve::SolveOptions, synthesize};
+use plcsynth::timed::{self, compile, synthesize};
 use std::io::{BufRead, BufReader, Write};
 use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
 use std::sync::OnceLock;
@@ -86,7 +87,7 @@ struct Example {
 
 fn lowered(name: &str, source: &str) -> Example {
     let (game, _) = compile(source).unwrap_or_else(|d| panic!("{name}: {d:?}"));
-    let s = synthesize(&game, &SolveOptions::default(), &mut |_| true);
+    let s = synthesize(&game, &timed::Config::default(), &mut |_| true);
     let p = program::controller(&game, &s).unwrap_or_else(|| panic!("{name} is realizable"));
     let build = |target| {
         lower_timed::build_wired(&game, &p, target, name, source, &Options::default())
@@ -285,7 +286,7 @@ fn the_lamp_fails_at_10_ms_and_lamp_scan_holds() {
     }
     // Synthesis says the same: the lamp is not implementable at 10 ms, lamp_scan is.
     let at_10_ms = |e: &Example| {
-        let r = plcsynth::timed::synthesize_at_scan(&e.game, 10, &SolveOptions::default(), &mut |_| true).unwrap();
+        let r = plcsynth::timed::synthesize_at_scan(&e.game, 10, &timed::Config::default(), &mut |_| true).unwrap();
         r.synthesis.solution.verdict()
     };
     assert_eq!(at_10_ms(lamp), Some(plcsynth::timed::solve::Verdict::Unrealizable));
@@ -777,7 +778,7 @@ fn scan_examples() -> Vec<Example> {
         .iter()
         .filter_map(|e| {
             let outcome =
-                plcsynth::timed::synthesize_at_scan(&e.game, SCAN_US / 1000, &SolveOptions::default(), &mut |_| true)
+                plcsynth::timed::synthesize_at_scan(&e.game, SCAN_US / 1000, &timed::Config::default(), &mut |_| true)
                     .expect("a scan game");
             if outcome.synthesis.solution.verdict() != Some(plcsynth::timed::solve::Verdict::Realizable) {
                 assert!(expected_failure(&e.name).is_some(), "{}: not implementable at 10 ms", e.name);
@@ -870,7 +871,7 @@ fn code_of_the_scan_strategy_holds_in_real_time_and_in_awlsim() {
 fn code_of_the_scan_strategy_of_random_specs_holds_in_real_time_and_in_awlsim() {
     const SCAN_MS: u64 = 250;
     let count = std::env::var("PLCSYNTH_RANDOM_SPECS").ok().and_then(|v| v.parse().ok()).unwrap_or(400u64) / 4;
-    let budget = SolveOptions { max_states: 10_000, ..SolveOptions::default() };
+    let budget = timed::Config { max_states: 10_000, ..timed::Config::default() };
     let config = Config { scan_us: SCAN_MS * 1000, scans: 400, ..Config::default() };
     let (mut implementable, mut programs) = (0, Vec::new());
     for seed in 0..count {
@@ -967,7 +968,7 @@ fn a_decision_shared_by_states_the_plc_reads_alike_gives_a_scan_program() {
     const SCAN_MS: u64 = 250;
     let source = random_spec::spec(33);
     let (game, _) = compile(&source).unwrap();
-    let budget = SolveOptions::default();
+    let budget = timed::Config::default();
     let outcome = plcsynth::timed::synthesize_at_scan(&game, SCAN_MS, &budget, &mut |_| true).expect("a scan game");
     assert_eq!(outcome.synthesis.solution.verdict(), Some(plcsynth::timed::solve::Verdict::Realizable));
     let scan_program = lower_timed::scan_program(&game, &outcome, &mut |_| true).unwrap_or_else(|e| panic!("{e}"));
@@ -1001,7 +1002,7 @@ fn a_plant_that_reacts_without_end_within_a_scan_stops_the_run() {
     let source = random_spec::spec(231);
     assert!(source.contains("q0 -> q1 !a1m0;") && source.contains("q1 -> q3 !a1m5;"), "{source}");
     let (game, _) = compile(&source).unwrap();
-    let budget = SolveOptions { max_states: 10_000, ..SolveOptions::default() };
+    let budget = timed::Config { max_states: 10_000, ..timed::Config::default() };
     let outcome = plcsynth::timed::synthesize_at_scan(&game, 250, &budget, &mut |_| true).unwrap();
     let p = lower_timed::scan_program(&game, &outcome, &mut |_| true).expect("a scan program").program();
     let (code, wiring) = lower_timed::build_paced(

@@ -4,7 +4,7 @@
 use plcsynth::timed::model::{ClockId, Game};
 use plcsynth::timed::program::optimize::{self, Context};
 use plcsynth::timed::program::{self as prog, parse_listing, Program};
-use plcsynth::timed::{compile, solve::SolveOptions, synthesize};
+use plcsynth::timed::{compile, solve::Config, synthesize};
 
 fn read(path: &str) -> String {
     std::fs::read_to_string(format!("{}/{path}", env!("CARGO_MANIFEST_DIR"))).unwrap()
@@ -24,7 +24,7 @@ fn controller(path: &str) -> (Game, Program) {
 /// The program from the default search (`exhaustive` false) or from the reference.
 fn controller_from(path: &str, exhaustive: bool) -> (Game, Program) {
     let game = game_of(&read(path));
-    let s = synthesize(&game, &SolveOptions { exhaustive, ..SolveOptions::default() }, &mut |_| true);
+    let s = synthesize(&game, &Config { exhaustive, ..Config::default() }, &mut |_| true);
     let program = prog::controller(&game, &s).expect("realizable");
     (game, program)
 }
@@ -76,7 +76,7 @@ fn round_table_with_one_bin_has_the_structure_of_appendix_a() {
 #[test]
 fn unrealizable_specifications_have_no_program() {
     let game = game_of(&read("examples/timed/lamp_naive.tga"));
-    let s = synthesize(&game, &SolveOptions::default(), &mut |_| true);
+    let s = synthesize(&game, &Config::default(), &mut |_| true);
     assert!(prog::controller(&game, &s).is_none());
 }
 
@@ -235,7 +235,7 @@ fn optimisation_preserves_behaviour_on_every_example() {
         "hardware_xyz",
     ] {
         let game = game_of(&read(&format!("examples/timed/{name}.tga")));
-        let s = synthesize(&game, &SolveOptions::default(), &mut |_| true);
+        let s = synthesize(&game, &Config::default(), &mut |_| true);
         let strategy = select::select(&game, &s.solution.space);
         let raw = generate::generate(&game, &s.split, &s.solution.space, &strategy).program;
         // Without the observation rules (everything observable, nothing urgent) the six rules

@@ -3,6 +3,7 @@
 //! plant's automata, random reactions and delays). A failure here means the solver, request
 //! selection, code generation or optimisation is unsound.
 
+use plcsynth::search::Outcome as _;
 use plcsynth::timed::program::{self, optimize::Context, simulate};
 use plcsynth::timed::{compile, solve::Verdict, synthesize};
 

@@ -4,18 +4,21 @@
 use plcsynth::diag::{render_plain, Diagnostic};
 use plcsynth::sct::compile;
 use plcsynth::sct::model::Config;
-use plcsynth::sct::synthesize_all;
+use plcsynth::sct::{synthesize, Synthesis};
 use proptest::prelude::*;
 
 fn errors(src: &str) -> Vec<Diagnostic> {
-    let (loaded, diags) = compile(src);
-    let mut errs: Vec<Diagnostic> = diags.into_iter().filter(|d| d.is_error()).collect();
-    if errs.is_empty() {
-        let l = loaded.expect("no errors means a project");
-        let (_, d) = synthesize_all(src, &l, &Config::default(), None);
-        errs = d.into_iter().filter(|d| d.is_error()).collect();
+    match compile(src) {
+        Ok((l, _)) => {
+            let Synthesis { diagnostics, .. } = synthesize(src, &l, &Config::default(), None, &mut |_| true);
+            diagnostics.into_iter().filter(|d| d.is_error()).collect()
+        }
+        Err(diags) => {
+            let errs: Vec<Diagnostic> = diags.into_iter().filter(|d| d.is_error()).collect();
+            assert!(!errs.is_empty(), "a project refused without an error");
+            errs
+        }
     }
-    errs
 }
 
 /// Asserts an error containing `msg` at `line:col`.
@@ -53,9 +56,7 @@ fn ambiguous_relative_names_are_reported_with_candidates() {
 #[test]
 fn absolute_names_win_over_relative_ones() {
     let src = "module A { event x : uncontrollable; module A { event x : controllable; spec H { state s { forbid A.x; } } } }\n";
-    let (loaded, diags) = compile(src);
-    assert!(diags.iter().all(|d| !d.is_error()), "{diags:?}");
-    let l = loaded.unwrap();
+    let (l, _) = compile(src).unwrap_or_else(|diags| panic!("{diags:?}"));
     let p = &l.project.specs[0].prohib[0];
     assert_eq!(l.project.event_name(p.event), "A.x");
 }
@@ -236,8 +237,7 @@ proptest! {
                 _ => { let piece = src[at..end].to_string(); src.insert_str(end, &piece); }
             }
         }
-        let (loaded, diags) = compile(&src);
-        if loaded.is_none() {
+        if let Err(diags) = compile(&src) {
             prop_assert!(diags.iter().any(|d| d.is_error()));
         }
         let _ = errors(&src);
@@ -247,9 +247,7 @@ proptest! {
 #[test]
 fn namespace_bindings_inherit_from_modules_and_can_be_overridden() {
     let src = "template spec Mutex {\n  namespace local { op, cl }\n  namespace remote { op }\n  state idle initial { local.op -> busy; }\n  state busy { forbid remote.op; local.cl -> idle; }\n}\nmodule A { event op : controllable; event cl : controllable; }\nmodule B { event op : controllable; event open : controllable; }\ninstance M : Mutex { local = A; remote = B; remote.op = B.open; }\n";
-    let (loaded, diags) = compile(src);
-    assert!(diags.iter().all(|d| !d.is_error()), "{diags:?}");
-    let l = loaded.unwrap();
+    let (l, _) = compile(src).unwrap_or_else(|diags| panic!("{diags:?}"));
     let spec = &l.project.specs[0];
     assert_eq!(spec.name, "M");
     let forbidden: Vec<&str> = spec.prohib.iter().map(|p| l.project.event_name(p.event)).collect();
@@ -301,7 +299,7 @@ fn long_condition_chains_resolve_on_a_small_stack() {
 #[test]
 fn an_error_at_the_end_of_a_file_ending_in_cr_renders() {
     let src = "module\r";
-    let (_, diags) = compile(src);
+    let (Ok((_, diags)) | Err(diags)) = compile(src);
     let text = plcsynth::diag::render_plain("a.sct", src, &diags);
     assert!(text.starts_with("a.sct:1:"), "{text}");
 }

@@ -4,20 +4,22 @@
 use plcsynth::diag::render_plain;
 use plcsynth::sct::model::{Config, EventKind, Method, Supervisor};
 use plcsynth::sct::{compile, Loaded};
-use plcsynth::sct::{synthesize_all, synthesize_all_within, SupervisorReport, Verdict};
+use plcsynth::sct::{synthesize, synthesize_within, Outcome, Stop, SupervisorReport, Synthesis, Verdict};
+use plcsynth::search::{Decision as _, Resource};
 
 fn example(name: &str) -> (String, Loaded) {
     let path = format!("{}/examples/sct/{name}", env!("CARGO_MANIFEST_DIR"));
     let src = std::fs::read_to_string(&path).unwrap();
-    let (loaded, diags) = compile(&src);
+    let (loaded, diags) = compile(&src).unwrap_or_else(|d| panic!("{d:?}"));
     let errors: Vec<_> = diags.iter().filter(|d| d.is_error()).cloned().collect();
     assert!(errors.is_empty(), "{}", render_plain(name, &src, &errors));
-    (src.clone(), loaded.unwrap())
+    (src.clone(), loaded)
 }
 
 fn synth(name: &str, method: Method) -> (Loaded, Vec<SupervisorReport>) {
     let (src, l) = example(name);
-    let (reps, diags) = synthesize_all(&src, &l, &Config { method, ..Config::default() }, None);
+    let Synthesis { reports: reps, diagnostics: diags, .. } =
+        synthesize(&src, &l, &Config { method, ..Config::default() }, None, &mut |_| true);
     assert!(!diags.iter().any(|d| d.is_error()), "{}", render_plain(name, &src, &diags));
     (l, reps)
 }
@@ -169,8 +171,9 @@ fn enforcement_conflict_is_resolved_by_the_specification_product() {
     // Without the product: two supervisors and the 6.4.2 warning.
     let (src, _) = example("enforcement_conflict.sct");
     let src = src.replace("spec Safety = NoOverflow | PumpProtection;", "");
-    let (loaded, _) = compile(&src);
-    let (reps, diags) = synthesize_all(&src, &loaded.unwrap(), &Config::default(), None);
+    let (loaded, _) = compile(&src).unwrap_or_else(|d| panic!("{d:?}"));
+    let Synthesis { reports: reps, diagnostics: diags, .. } =
+        synthesize(&src, &loaded, &Config::default(), None, &mut |_| true);
     assert_eq!(reps.len(), 2);
     let w = diags.iter().find(|d| {
         !d.is_error() && d.message.contains("prohibits `closeInlNow`, which supervisor `NoOverflow` enforces")
@@ -181,15 +184,17 @@ fn enforcement_conflict_is_resolved_by_the_specification_product() {
 #[test]
 fn unrealizable_specifications_are_reported() {
     let src = "event u : uncontrollable;\nspec H { state s { forbid u; } }\n";
-    let (loaded, _) = compile(src);
-    let (reps, diags) = synthesize_all(src, &loaded.unwrap(), &Config::default(), None);
+    let (loaded, _) = compile(src).unwrap_or_else(|d| panic!("{d:?}"));
+    let synthesis = synthesize(src, &loaded, &Config::default(), None, &mut |_| true);
+    assert_eq!(synthesis.verdict(), Some(Verdict::Unrealizable));
+    let Synthesis { reports: reps, diagnostics: diags, .. } = synthesis;
     assert!(!reps[0].realizable);
     assert!(diags.iter().any(|d| d.line == 2 && d.message.contains("`H` is unrealizable")), "{diags:?}");
-    assert_eq!(Verdict::of(&reps, &diags, None), Verdict::Unrealizable);
 }
 
 /// The verdict the CLI and the page show is decided in Rust (`sct::Verdict`): every example is
-/// realizable; a budget too small, a cancellation and a conflict each give their own verdict.
+/// realizable; a budget too small and a cancellation stop the run without a verdict, and the
+/// outcome names them as the other engines do.
 #[test]
 fn the_engine_decides_the_verdict() {
     use plcsynth::sct::model::Budget;
@@ -201,34 +206,31 @@ fn the_engine_decides_the_verdict() {
     for name in &names {
         let (src, loaded) = example(name);
         let cfg = Config::default();
-        let run = |max_states: usize, go_on: bool| {
-            let mut progress = |_: usize| go_on;
-            let mut budget = Budget::new(max_states, &mut progress);
-            let (reps, diags, stop) = synthesize_all_within(&src, &loaded, &cfg, None, &mut budget);
-            Verdict::of(&reps, &diags, stop.as_ref())
+        let run = |max_states: usize| {
+            let mut go_on = |_: &_| true;
+            let mut budget = Budget::new(max_states, &mut go_on);
+            synthesize_within(&src, &loaded, &cfg, None, &mut budget).outcome
         };
-        assert_eq!(run(cfg.max_states, true), Verdict::Realizable, "{name}");
-        assert_eq!(run(1, true), Verdict::BudgetExceeded, "{name}");
+        assert_eq!(run(cfg.max_states), Ok(Verdict::Realizable), "{name}");
+        assert!(matches!(run(1), Err(Stop::Budget { resource: Resource::States, .. })), "{name}");
     }
     // A cancellation: the callback runs every few thousand states, so a bigger line.
     let src = plcsynth::benchmarks::transfer::transfer_lines(4, 3, 2);
-    let (loaded, _) = compile(&src);
-    let loaded = loaded.unwrap();
-    let mut stop_soon = |built: usize| built < 10_000;
-    let mut budget = Budget::new(10_000_000, &mut stop_soon);
+    let (loaded, _) = compile(&src).unwrap_or_else(|d| panic!("{d:?}"));
     let cfg = Config { method: Method::Monolithic, ..Config::default() };
-    let (reps, diags, stop) = synthesize_all_within(&src, &loaded, &cfg, None, &mut budget);
-    assert_eq!(Verdict::of(&reps, &diags, stop.as_ref()), Verdict::Cancelled);
-    assert_eq!(serde_json::to_string(&Verdict::Cancelled).unwrap(), "\"cancelled\"");
-    assert_eq!(serde_json::to_string(&Verdict::BudgetExceeded).unwrap(), "\"budget_exceeded\"");
+    let cancelled = synthesize(&src, &loaded, &cfg, None, &mut |p| p.states < 10_000);
+    assert_eq!(cancelled.outcome, Err(Stop::Cancelled));
+    assert_eq!(cancelled.outcome_name(), "cancelled");
+    assert_eq!(serde_json::to_string(&Verdict::Unrealizable).unwrap(), "\"unrealizable\"");
+    assert_eq!(Verdict::Error.name(), "error");
 }
 
 #[test]
 fn selfloops_helper_adds_missing_loops_except_impossible_ones() {
     let src = "event a : controllable;\nevent b : uncontrollable;\nplant P {\n  alphabet a, b;\n  selfloops;\n  state s { a -> t; impossible b; }\n  state t;\n}\n";
-    let (loaded, d) = compile(src);
+    let (loaded, d) = compile(src).unwrap_or_else(|e| panic!("{e:?}"));
     assert!(d.is_empty(), "{d:?}");
-    let p = &loaded.unwrap().project.plants[0];
+    let p = &loaded.project.plants[0];
     let mut t: Vec<(u32, u32, u32)> = p.trans.iter().map(|t| (t.src, t.event.raw(), t.dst)).collect();
     t.sort_unstable();
     assert_eq!(t, vec![(0, 0, 1), (1, 0, 1), (1, 1, 1)]);

@@ -17,7 +17,7 @@ use plcsynth::plc::print::stl::unit::{self as unit_stl, StlUnitOptions};
 use plcsynth::plc::{self, Target};
 use plcsynth::rng::Rng;
 use plcsynth::sct::model::{Config, EventId, EventKind, Supervisor};
-use plcsynth::sct::{compile, synthesize_all, EdgeKind, Loaded, Outcome, Runtime, Trigger};
+use plcsynth::sct::{compile, synthesize, EdgeKind, EventOutcome, Loaded, Runtime, Synthesis, Trigger};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
 use std::process::Command;
@@ -44,9 +44,8 @@ struct Project {
 }
 
 fn project(src: &str) -> Project {
-    let (loaded, diags) = compile(src);
-    let loaded = loaded.unwrap_or_else(|| panic!("{diags:?}"));
-    let (reports, d) = synthesize_all(src, &loaded, &Config::default(), None);
+    let (loaded, _) = compile(src).unwrap_or_else(|d| panic!("{d:?}"));
+    let Synthesis { reports, diagnostics: d, .. } = synthesize(src, &loaded, &Config::default(), None, &mut |_| true);
     assert!(d.iter().all(|d| !d.is_error()), "{d:?}");
     Project { src: src.to_string(), supervisors: reports.into_iter().map(|r| r.supervisor).collect(), loaded }
 }
@@ -289,11 +288,11 @@ fn scenario(
         }
         for step in &report.steps {
             let (kind, counter) = match step.outcome {
-                Outcome::Accepted => ("accepted", None),
-                Outcome::Denied { .. } => ("denied", Some(0)),
-                Outcome::Unexpected { .. } => ("unexpected", Some(1)),
-                Outcome::Enforced { .. } => ("enforced", Some(2)),
-                Outcome::EnforcedDespite { .. } => {
+                EventOutcome::Accepted => ("accepted", None),
+                EventOutcome::Denied { .. } => ("denied", Some(0)),
+                EventOutcome::Unexpected { .. } => ("unexpected", Some(1)),
+                EventOutcome::Enforced { .. } => ("enforced", Some(2)),
+                EventOutcome::EnforcedDespite { .. } => {
                     counters[3] += 1;
                     ("enforced despite", Some(2))
                 }
@@ -323,10 +322,9 @@ fn scenario(
                 EventKind::Enforceable => flag("enforced", report.enforced().any(|x| x == id)),
                 EventKind::Uncontrollable => flag(
                     "occurred",
-                    report
-                        .steps
-                        .iter()
-                        .any(|s| s.event == id && matches!(s.outcome, Outcome::Accepted | Outcome::Unexpected { .. })),
+                    report.steps.iter().any(|s| {
+                        s.event == id && matches!(s.outcome, EventOutcome::Accepted | EventOutcome::Unexpected { .. })
+                    }),
                 ),
             }
         }

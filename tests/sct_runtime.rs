@@ -5,14 +5,13 @@
 
 use plcsynth::rng::Rng;
 use plcsynth::sct::model::{Config, EventId, EventKind, Project, Transition, Truth};
-use plcsynth::sct::{compile, synthesize_all, CycleInput, Loaded, Outcome, Runtime, SupervisorReport};
+use plcsynth::sct::{compile, synthesize, CycleInput, EventOutcome, Loaded, Runtime, SupervisorReport, Synthesis};
 
 fn example(name: &str) -> (Loaded, Vec<SupervisorReport>) {
     let path = format!("{}/examples/sct/{name}", env!("CARGO_MANIFEST_DIR"));
     let src = std::fs::read_to_string(&path).unwrap();
-    let (loaded, diags) = compile(&src);
-    let loaded = loaded.unwrap_or_else(|| panic!("{name}: {diags:?}"));
-    let (reports, _) = synthesize_all(&src, &loaded, &Config::default(), None);
+    let (loaded, _) = compile(&src).unwrap_or_else(|d| panic!("{d:?}"));
+    let Synthesis { reports, .. } = synthesize(&src, &loaded, &Config::default(), None, &mut |_| true);
     (loaded, reports)
 }
 
@@ -55,7 +54,7 @@ fn the_preemptive_tank_enforces_closing_only_when_the_controller_does_not() {
     // The controller does not react to the alarm: the supervisor does.
     let r = rt.cycle(&CycleInput { uncontrollable: vec![alarm], ..Default::default() });
     assert_eq!(r.occurred().collect::<Vec<_>>(), vec![alarm, now]);
-    assert_eq!(r.steps[1].outcome, Outcome::Enforced { by: 0 });
+    assert_eq!(r.steps[1].outcome, EventOutcome::Enforced { by: 0 });
     let r = rt.cycle(&CycleInput::default());
     assert!(r.steps.is_empty(), "{r:?}");
 
@@ -251,7 +250,7 @@ fn supervision_keeps_every_example_safe_against_a_random_controller() {
                 let report = rt.end_cycle();
                 for step in &report.steps {
                     assert!(
-                        !matches!(step.outcome, Outcome::Unexpected { .. }),
+                        !matches!(step.outcome, EventOutcome::Unexpected { .. }),
                         "{name} seed {seed} cycle {cycle}: `{}` met a supervisor that prohibits it ({:?})",
                         p.event_name(step.event),
                         rt.states()

@@ -18,9 +18,9 @@ fn example_file_is_the_generated_2x2_line() {
 #[test]
 fn sizes_and_counts_follow_the_thesis_structure() {
     for (k, m) in [(2, 2), (3, 2), (2, 4)] {
-        let (l, d) = compile(&transfer_lines(k, m, 2));
+        let (l, d) = compile(&transfer_lines(k, m, 2)).unwrap_or_else(|e| panic!("{e:?}"));
         assert!(d.iter().all(|d| !d.is_error()), "{d:?}");
-        let p = l.unwrap().project;
+        let p = l.project;
         assert_eq!(p.plants.len(), k * (m + 1));
         assert_eq!(p.specs.len(), k * m + k - 1);
     }
@@ -43,8 +43,8 @@ fn possible(p: &plcsynth::sct::model::Project, w: &[plcsynth::sct::model::EventI
 
 #[test]
 fn incremental_equals_monolithic_on_small_lines() {
-    let (l, _) = compile(&transfer_lines(2, 2, 2));
-    let p = l.unwrap().project;
+    let (l, _) = compile(&transfer_lines(2, 2, 2)).unwrap_or_else(|d| panic!("{d:?}"));
+    let p = l.project;
     for i in 0..p.specs.len() {
         let inc = synthesize(&p, i, &Config { method: Method::Incremental, ..Config::default() }).unwrap();
         let mono = synthesize(&p, i, &Config { method: Method::Monolithic, ..Config::default() }).unwrap();
@@ -85,8 +85,8 @@ fn incremental_equals_monolithic_on_small_lines() {
 
 #[test]
 fn incremental_synthesis_only_applies_the_plants_it_needs() {
-    let (l, _) = compile(&transfer_lines(2, 2, 2));
-    let p = l.unwrap().project;
+    let (l, _) = compile(&transfer_lines(2, 2, 2)).unwrap_or_else(|d| panic!("{d:?}"));
+    let p = l.project;
     let cfg = Config { method: Method::Incremental, ..Config::default() };
     let used = |name: &str| {
         let i = p.specs.iter().position(|s| s.name == name).unwrap();
@@ -102,9 +102,9 @@ fn incremental_synthesis_only_applies_the_plants_it_needs() {
 
 #[test]
 fn extended_line_ignores_the_shared_sensor() {
-    let (l, d) = compile(&plcsynth::benchmarks::transfer::extended_line(3));
+    let (l, d) = compile(&plcsynth::benchmarks::transfer::extended_line(3)).unwrap_or_else(|e| panic!("{e:?}"));
     assert!(d.iter().all(|d| !d.is_error()), "{d:?}");
-    let p = l.unwrap().project;
+    let p = l.project;
     assert_eq!((p.plants.len(), p.specs.len()), (12, 4));
     let cfg = Config::default();
     let mut dep_all = false;
@@ -124,8 +124,8 @@ fn extended_line_ignores_the_shared_sensor() {
 #[test]
 fn state_budget_and_cancellation_stop_monolithic_synthesis() {
     use plcsynth::sct::model::{synthesize_within, Budget, SynthError};
-    let (l, _) = compile(&transfer_lines(4, 3, 2));
-    let p = l.unwrap().project;
+    let (l, _) = compile(&transfer_lines(4, 3, 2)).unwrap_or_else(|d| panic!("{d:?}"));
+    let p = l.project;
     let mono = Config { method: Method::Monolithic, max_states: 20_000, ..Config::default() };
     match synthesize(&p, 0, &mono) {
         Err(SynthError::BudgetExceeded { max_states }) => assert_eq!(max_states, 20_000),
@@ -136,9 +136,9 @@ fn state_budget_and_cancellation_stop_monolithic_synthesis() {
     assert!(synthesize(&p, 0, &inc).unwrap().realizable());
 
     let mut calls = 0;
-    let mut cancel_at_second = |built: usize| {
+    let mut cancel_at_second = |p: &plcsynth::sct::Progress| {
         calls += 1;
-        assert!(built > 0);
+        assert!(p.states > 0);
         calls < 2
     };
     let mut budget = Budget::new(usize::MAX, &mut cancel_at_second);
@@ -157,9 +157,9 @@ fn state_budget_admits_exactly_its_size() {
     let src = "event go : controllable;\nevent done : uncontrollable;\nevent more : controllable;\n\
                plant P { alphabet go, done, more; state A initial { go -> B; } state B { done -> C; } state C { more -> A; } }\n\
                spec H { state S { forbid more; } }";
-    let (l, d) = compile(src);
+    let (l, d) = compile(src).unwrap_or_else(|e| panic!("{e:?}"));
     assert!(d.is_empty(), "{d:?}");
-    let p = l.unwrap().project;
+    let p = l.project;
     // Monolithic synthesis applies the plant: one spec state times three plant states.
     let cfg = |max_states| Config { method: Method::Monolithic, max_states, ..Config::default() };
     assert!(synthesize(&p, 0, &cfg(3)).is_ok());
@@ -169,12 +169,12 @@ fn state_budget_admits_exactly_its_size() {
 /// Cancelling a whole report keeps the supervisors finished so far and says where it stopped.
 #[test]
 fn cancelling_a_report_stops_with_a_located_error() {
-    use plcsynth::sct::testing::synthesize_all_with_progress;
     let src = transfer_lines(4, 3, 2);
-    let (l, _) = compile(&src);
-    let l = l.unwrap();
+    let (l, _) = compile(&src).unwrap_or_else(|d| panic!("{d:?}"));
     let cfg = Config { method: Method::Monolithic, ..Config::default() };
-    let (reports, diags) = synthesize_all_with_progress(&src, &l, &cfg, None, &mut |built| built < 10_000);
+    let synthesis = plcsynth::sct::synthesize(&src, &l, &cfg, None, &mut |p| p.states < 10_000);
+    assert_eq!(synthesis.outcome, Err(plcsynth::search::Stop::Cancelled));
+    let (reports, diags) = (synthesis.reports, synthesis.diagnostics);
     assert!(reports.len() < l.project.specs.len());
     let errors: Vec<_> = diags.iter().filter(|d| d.is_error()).collect();
     assert_eq!(errors.len(), 1, "{diags:?}");

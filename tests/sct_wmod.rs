@@ -10,7 +10,7 @@ use plcsynth::sct::classic::{
 };
 use plcsynth::sct::interchange::{classic_to_sct, project_to_classic, Part, ToSct};
 use plcsynth::sct::model::{Config, Supervisor};
-use plcsynth::sct::{compile, synthesize_all};
+use plcsynth::sct::{compile, synthesize, Synthesis};
 use proptest::prelude::*;
 use std::path::PathBuf;
 use std::process::Command;
@@ -231,8 +231,7 @@ fn same_supervisor(
 /// `.sct` → `.wmod` → `.sct` through the library: the project written as a module, read back,
 /// written as a project again.
 fn through_wmod(src: &str) -> String {
-    let (loaded, diags) = compile(src);
-    let loaded = loaded.unwrap_or_else(|| panic!("{diags:?}"));
+    let (loaded, _) = compile(src).unwrap_or_else(|d| panic!("{d:?}"));
     let classic = project_to_classic(src, &loaded, &[]).unwrap_or_else(|d| panic!("{d:?}"));
     let out: Vec<ComponentOut> = classic
         .components
@@ -270,16 +269,14 @@ fn sct_to_wmod_to_sct_keeps_every_supervisor() {
     for entry in std::fs::read_dir(root().join("examples/sct")).unwrap() {
         let path = entry.unwrap().path();
         let src = std::fs::read_to_string(&path).unwrap();
-        let (loaded, _) = compile(&src);
-        let loaded = loaded.unwrap();
+        let (loaded, _) = compile(&src).unwrap_or_else(|d| panic!("{d:?}"));
         if project_to_classic(&src, &loaded, &[]).is_err() {
             continue;
         }
         let again = through_wmod(&src);
-        let (loaded2, diags) = compile(&again);
-        let loaded2 = loaded2.unwrap_or_else(|| panic!("{}: {diags:?}\n{again}", path.display()));
-        let (r1, _) = synthesize_all(&src, &loaded, &Config::default(), None);
-        let (r2, _) = synthesize_all(&again, &loaded2, &Config::default(), None);
+        let (loaded2, _) = compile(&again).unwrap_or_else(|d| panic!("{d:?}"));
+        let Synthesis { reports: r1, .. } = synthesize(&src, &loaded, &Config::default(), None, &mut |_| true);
+        let Synthesis { reports: r2, .. } = synthesize(&again, &loaded2, &Config::default(), None, &mut |_| true);
         assert_eq!(r1.len(), r2.len(), "{}", path.display());
         let p1 = &loaded.project;
         let p2 = &loaded2.project;
@@ -516,8 +513,8 @@ fn wmod_fixtures_pass_the_fuzz_check() {
     crate::harness::check_wmod(&prefixed(&src));
     for entry in std::fs::read_dir(root().join("examples/sct")).unwrap() {
         let src = std::fs::read_to_string(entry.unwrap().path()).unwrap();
-        let (loaded, _) = compile(&src);
-        let Ok(classic) = project_to_classic(&src, &loaded.unwrap(), &[]) else { continue };
+        let (loaded, _) = compile(&src).unwrap_or_else(|d| panic!("{d:?}"));
+        let Ok(classic) = project_to_classic(&src, &loaded, &[]) else { continue };
         let out: Vec<ComponentOut> = classic
             .components
             .iter()

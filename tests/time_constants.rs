@@ -4,7 +4,7 @@
 use plcsynth::diag::Diagnostic;
 use plcsynth::plc::{self, Target};
 use plcsynth::timed::program;
-use plcsynth::timed::{compile, solve::SolveOptions, synthesize};
+use plcsynth::timed::{compile, solve::Config, synthesize};
 use proptest::prelude::*;
 
 /// A controller that must wait `bound` time units before its request: one threshold, one timer.
@@ -22,7 +22,7 @@ const BOUND_AT: (u32, u32) = (6, 24);
 /// The code for every target, from one synthesis.
 fn generate_all(source: &str) -> Vec<(Target, Result<String, Vec<Diagnostic>>)> {
     let (game, _) = compile(source).expect("a valid specification");
-    let synthesis = synthesize(&game, &SolveOptions::default(), &mut |_| true);
+    let synthesis = synthesize(&game, &Config::default(), &mut |_| true);
     let program = program::controller(&game, &synthesis).expect("realizable");
     Target::ALL.into_iter().map(|t| (t, plc::generate(&game, &program, t, "limits", source))).collect()
 }

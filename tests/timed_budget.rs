@@ -3,8 +3,9 @@
 //! it stopped promptly; the progress callback is called during long work on one state; the
 //! front end stays linear on long chains. Inputs are generated here.
 
+use plcsynth::search::Outcome as _;
 use plcsynth::timed::solve::{
-    Resource, SolveOptions, Stats, Stop, Verdict, DEFAULT_MAX_BYTES, DEFAULT_MAX_STATES, DEFAULT_MAX_WORK,
+    Config, Resource, Stats, Stop, Verdict, DEFAULT_MAX_BYTES, DEFAULT_MAX_STATES, DEFAULT_MAX_WORK,
 };
 use plcsynth::timed::{compile, synthesize, Synthesis};
 
@@ -39,7 +40,7 @@ fn one_clock_each(n: usize) -> String {
     s + "}\n"
 }
 
-fn run(source: &str, options: &SolveOptions, progress: &mut dyn FnMut(&Stats) -> bool) -> Synthesis {
+fn run(source: &str, options: &Config, progress: &mut dyn FnMut(&Stats) -> bool) -> Synthesis {
     let (game, _) = compile(source).unwrap_or_else(|d| panic!("{d:?}"));
     synthesize(&game, options, progress)
 }
@@ -61,7 +62,7 @@ fn budget_stop(s: &Synthesis) -> (Resource, &str) {
 #[test]
 fn a_node_with_too_many_clocks_is_refused_before_splitting() {
     let source = self_loops(22);
-    let s = run(&source, &SolveOptions::default(), &mut |_| true);
+    let s = run(&source, &Config::default(), &mut |_| true);
     let (resource, message) = budget_stop(&s);
     assert_eq!(resource, Resource::Memory);
     assert!(message.contains(&format!("more than {} MiB", DEFAULT_MAX_BYTES >> 20)), "{message}");
@@ -78,7 +79,7 @@ fn a_node_with_too_many_clocks_is_refused_before_splitting() {
 #[test]
 fn the_work_budget_stops_a_long_split() {
     let source = self_loops(22);
-    let options = SolveOptions { max_bytes: 4 << 30, max_work: 2_000_000, ..SolveOptions::default() };
+    let options = Config { max_bytes: 4 << 30, max_work: 2_000_000, ..Config::default() };
     let s = run(&source, &options, &mut |_| true);
     assert_eq!(budget_stop(&s).0, Resource::Work);
     assert!(s.solution.blame.is_some());
@@ -90,7 +91,7 @@ fn the_work_budget_stops_a_long_split() {
 #[test]
 fn a_long_split_calls_the_progress_callback_which_can_cancel() {
     let source = self_loops(22);
-    let options = SolveOptions { max_bytes: 4 << 30, progress_interval: usize::MAX, ..SolveOptions::default() };
+    let options = Config { max_bytes: 4 << 30, progress_interval: usize::MAX, ..Config::default() };
     let mut calls = Vec::new();
     let s = run(&source, &options, &mut |stats| {
         calls.push(*stats);
@@ -105,14 +106,14 @@ fn a_long_split_calls_the_progress_callback_which_can_cancel() {
 #[test]
 fn a_split_within_the_budgets_is_solved() {
     // 2^12 sub-locations: no plan, so every plant state repeats without progress.
-    let s = run(&self_loops(12), &SolveOptions::default(), &mut |_| true);
+    let s = run(&self_loops(12), &Config::default(), &mut |_| true);
     assert_eq!(s.solution.verdict(), Some(Verdict::Unrealizable));
     assert!(s.solution.stats.bytes > 4096 * 64, "the split counts: {:?}", s.solution.stats);
 }
 
 #[test]
 fn many_independent_automata_stop_at_the_work_budget() {
-    let options = SolveOptions { max_work: 5_000_000, ..SolveOptions::default() };
+    let options = Config { max_work: 5_000_000, ..Config::default() };
     let s = run(&independent(40), &options, &mut |_| true);
     let (resource, message) = budget_stop(&s);
     assert_eq!(resource, Resource::Work);
@@ -125,7 +126,7 @@ fn many_independent_automata_stop_at_the_work_budget() {
 
 #[test]
 fn many_independent_automata_stop_at_the_memory_budget() {
-    let options = SolveOptions { max_bytes: 16 << 20, ..SolveOptions::default() };
+    let options = Config { max_bytes: 16 << 20, ..Config::default() };
     let s = run(&one_clock_each(30), &options, &mut |_| true);
     let (resource, message) = budget_stop(&s);
     assert_eq!(resource, Resource::Memory);
@@ -138,7 +139,7 @@ fn many_independent_automata_stop_at_the_memory_budget() {
 
 #[test]
 fn the_default_budgets_stop_forty_independent_automata() {
-    let s = run(&independent(40), &SolveOptions::default(), &mut |_| true);
+    let s = run(&independent(40), &Config::default(), &mut |_| true);
     budget_stop(&s);
     let stats = s.solution.stats;
     assert!(stats.visited <= DEFAULT_MAX_STATES + 64, "{stats:?}");
@@ -149,7 +150,7 @@ fn the_default_budgets_stop_forty_independent_automata() {
 #[test]
 fn the_search_reports_progress_by_work_too() {
     // Without calls by expansions, the work-based calls still come, and cancel.
-    let options = SolveOptions { progress_interval: usize::MAX, ..SolveOptions::default() };
+    let options = Config { progress_interval: usize::MAX, ..Config::default() };
     let mut calls = Vec::new();
     let s = run(&one_clock_each(20), &options, &mut |stats| {
         calls.push(*stats);
@@ -163,7 +164,7 @@ fn the_search_reports_progress_by_work_too() {
 
 #[test]
 fn a_state_budget_stop_says_so() {
-    let s = run(&independent(20), &SolveOptions { max_states: 1000, ..SolveOptions::default() }, &mut |_| true);
+    let s = run(&independent(20), &Config { max_states: 1000, ..Config::default() }, &mut |_| true);
     assert_eq!(budget_stop(&s), (Resource::States, "the search stored more than 1000 states"));
     assert!(s.solution.stats.visited > 1000 && s.solution.stats.visited < 1100);
 }
@@ -181,7 +182,7 @@ fn a_long_chain_is_solved_in_linear_time() {
         source += &format!("    n{i} -> n{} ?m{i};\n", i + 1);
     }
     source += "  }\n}\nplans { plan { waitfor m0; } }\n";
-    let s = run(&source, &SolveOptions::default(), &mut |_| true);
+    let s = run(&source, &Config::default(), &mut |_| true);
     assert_eq!(s.solution.verdict(), Some(Verdict::Unrealizable));
     assert_eq!(s.solution.stats.expanded, n);
 }

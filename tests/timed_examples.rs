@@ -1,7 +1,8 @@
 //! Every example in `examples/timed/`: its verdict (from the `// Expected:` header line) and
 //! properties of the winning state space checked against their definitions.
 
-use plcsynth::timed::solve::{EdgeKind, Removal, Resource, SolveOptions, StateId, StateSpace, Stop, Verdict};
+use plcsynth::search::Outcome as _;
+use plcsynth::timed::solve::{Config, EdgeKind, Removal, Resource, StateId, StateSpace, Stop, Verdict};
 use plcsynth::timed::{compile, model::Game, model::LocId, synthesize, Synthesis};
 use std::path::PathBuf;
 
@@ -35,7 +36,7 @@ fn expected(source: &str) -> Verdict {
 
 fn solve(source: &str, max_states: usize) -> (Game, Synthesis) {
     let (game, _warnings) = compile(source).unwrap_or_else(|d| panic!("{d:?}"));
-    let options = SolveOptions { max_states, ..SolveOptions::default() };
+    let options = Config { max_states, ..Config::default() };
     let synthesis = synthesize(&game, &options, &mut |_| true);
     (game, synthesis)
 }
@@ -288,7 +289,7 @@ fn the_budget_stops_a_large_search_with_statistics() {
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/timed/round_table_8.tga")).unwrap();
     // The reference explores the whole game, 824 640 states (the default search needs 286).
     let (game, _) = compile(&source).unwrap();
-    let options = SolveOptions { max_states: 1000, exhaustive: true, ..SolveOptions::default() };
+    let options = Config { max_states: 1000, exhaustive: true, ..Config::default() };
     let s = synthesize(&game, &options, &mut |_| true);
     assert!(matches!(s.solution.outcome, Err(Stop::Budget { resource: Resource::States, .. })));
     assert!(s.solution.stats.visited > 1000 && s.solution.stats.visited < 1200, "{:?}", s.solution.stats);
@@ -303,8 +304,7 @@ fn the_progress_callback_can_cancel() {
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/timed/round_table_8.tga")).unwrap();
     let (game, _) = compile(&source).unwrap();
     let mut calls = 0;
-    let options =
-        SolveOptions { max_states: 10_000_000, progress_interval: 100, exhaustive: true, ..SolveOptions::default() };
+    let options = Config { max_states: 10_000_000, progress_interval: 100, exhaustive: true, ..Config::default() };
     let s = synthesize(&game, &options, &mut |stats| {
         calls += 1;
         assert!(stats.visited > 0);
@@ -333,7 +333,7 @@ fn json_views_describe_automata_and_the_state_space() {
     let source = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/timed/lamp.tga")).unwrap();
     let (game, _) = compile(&source).unwrap();
     // The reference's space, with the lost states; the default search's below.
-    let s = synthesize(&game, &SolveOptions { exhaustive: true, ..SolveOptions::default() }, &mut |_| true);
+    let s = synthesize(&game, &Config { exhaustive: true, ..Config::default() }, &mut |_| true);
     let automata = serde_json::to_value(export::automata(&game)).unwrap();
     assert_eq!(automata[1]["name"], "button");
     assert_eq!(automata[1]["locations"][1]["invariant"], "c in [0,1)");
@@ -374,7 +374,7 @@ fn examples_with_a_scan_time_have_their_expected_verdict_there() {
             .find(|l| l.trim_start().starts_with("// Expected at the scan time:"))
             .unwrap_or_else(|| panic!("{name} declares a scan time but no verdict for it"));
         let expected = if line.contains("not implementable") { Verdict::Unrealizable } else { Verdict::Realizable };
-        let result = plcsynth::timed::synthesize_at_scan(&game, ms, &SolveOptions::default(), &mut |_| true).unwrap();
+        let result = plcsynth::timed::synthesize_at_scan(&game, ms, &Config::default(), &mut |_| true).unwrap();
         assert_eq!(result.synthesis.solution.verdict(), Some(expected), "{name} at {ms} ms");
     }
     assert!(declared > 0, "no example declares a scan time");

@@ -1,6 +1,7 @@
 //! The `.tga` language: the thesis listings, located diagnostics, robustness.
 
 use plcsynth::diag::render_plain;
+use plcsynth::search::Outcome as _;
 use plcsynth::timed::model::LocId;
 use plcsynth::timed::{compile, parse};
 
@@ -357,7 +358,7 @@ mod robustness {
             while !src.is_char_boundary(end) { end -= 1; }
             src.replace_range(at..end, insert);
             if let Ok((game, _)) = compile(&src) {
-                let options = plcsynth::timed::solve::SolveOptions { max_states: 20_000, ..Default::default() };
+                let options = plcsynth::timed::solve::Config { max_states: 20_000, ..Default::default() };
                 let _ = plcsynth::timed::synthesize(&game, &options, &mut |_| true);
             }
         }

@@ -1,9 +1,10 @@
 //! Timed games at a PLC's scan time (`src/timed/scan.rs`): the verdicts that follow from the
 //! examples' numbers, the bound search, the construction, and the syntax.
 
+use plcsynth::search::Outcome as _;
 use plcsynth::timed::model::{MessageKind, MessageRole};
-use plcsynth::timed::scan::scan_game;
-use plcsynth::timed::solve::{SolveOptions, Verdict};
+use plcsynth::timed::solve::{Config, Verdict};
+use plcsynth::timed::testing::scan_game;
 use plcsynth::timed::{compile, scan_bound, synthesize, synthesize_at_scan};
 use std::path::PathBuf;
 
@@ -16,7 +17,7 @@ fn game(path: &str) -> plcsynth::timed::model::Game {
 }
 
 fn verdict_at(path: &str, scan_ms: u64) -> Verdict {
-    let result = synthesize_at_scan(&game(path), scan_ms, &SolveOptions::default(), &mut |_| true).unwrap();
+    let result = synthesize_at_scan(&game(path), scan_ms, &Config::default(), &mut |_| true).unwrap();
     result.synthesis.solution.verdict().expect("decided within the default budgets")
 }
 
@@ -26,14 +27,14 @@ fn verdict_at(path: &str, scan_ms: u64) -> Verdict {
 #[test]
 fn the_thesis_lamp_is_realizable_but_not_implementable_at_10_ms() {
     let g = game("examples/timed/lamp.tga");
-    assert_eq!(synthesize(&g, &SolveOptions::default(), &mut |_| true).solution.verdict(), Some(Verdict::Realizable));
-    let result = synthesize_at_scan(&g, 10, &SolveOptions::default(), &mut |_| true).unwrap();
+    assert_eq!(synthesize(&g, &Config::default(), &mut |_| true).solution.verdict(), Some(Verdict::Realizable));
+    let result = synthesize_at_scan(&g, 10, &Config::default(), &mut |_| true).unwrap();
     assert_eq!(result.synthesis.solution.verdict(), Some(Verdict::Unrealizable));
     let text = result.synthesis.explanation.expect("a counter-play").render();
     assert!(text.contains("plc.read") && text.contains("?scan:idle"), "{text}");
     assert!(text.contains("!press_settled") && text.contains("never lamp.off and button.pressed"), "{text}");
     // No scan time helps: the bound search finds none down to 1 ms.
-    let bound = scan_bound(&g, 10, false, &SolveOptions::default(), &mut |_| true);
+    let bound = scan_bound(&g, 10, false, &Config::default(), &mut |_| true);
     assert_eq!((bound.works, bound.fails, bound.stopped), (None, Some(1), false));
 }
 
@@ -50,7 +51,7 @@ fn the_lamp_with_a_settle_time_is_implementable_exactly_below_15_ms() {
         let expected = if ms < 15 { Verdict::Realizable } else { Verdict::Unrealizable };
         assert_eq!(verdict_at(path, ms), expected, "at {ms} ms");
     }
-    let bound = scan_bound(&game(path), 10, true, &SolveOptions::default(), &mut |_| true);
+    let bound = scan_bound(&game(path), 10, true, &Config::default(), &mut |_| true);
     assert_eq!((bound.works, bound.fails), (Some(14), Some(15)));
 }
 
@@ -60,7 +61,7 @@ fn the_lamp_with_a_settle_time_is_implementable_exactly_below_15_ms() {
 #[test]
 fn the_hardware_unit_is_implementable_up_to_half_a_second() {
     let g = game("examples/timed/hardware_xyz.tga");
-    let bound = scan_bound(&g, 10, true, &SolveOptions::default(), &mut |_| true);
+    let bound = scan_bound(&g, 10, true, &Config::default(), &mut |_| true);
     assert_eq!((bound.works, bound.fails), (Some(500), Some(501)));
     assert_eq!(verdict_at("examples/timed/hardware_xyz.tga", 500), Verdict::Realizable);
     assert_eq!(verdict_at("examples/timed/hardware_xyz.tga", 501), Verdict::Unrealizable);
@@ -70,7 +71,7 @@ fn the_hardware_unit_is_implementable_up_to_half_a_second() {
 /// latency misses the deadline. (The scan game needs more than the default work budget here.)
 #[test]
 fn two_robots_without_slack_are_not_implementable() {
-    let options = SolveOptions { max_work: 3_000_000_000, max_states: 5_000_000, ..SolveOptions::default() };
+    let options = Config { max_work: 3_000_000_000, max_states: 5_000_000, ..Config::default() };
     let result = synthesize_at_scan(&game("examples/timed/two_robots_14.tga"), 10, &options, &mut |_| true).unwrap();
     assert_eq!(result.synthesis.solution.verdict(), Some(Verdict::Unrealizable));
 }
@@ -98,8 +99,8 @@ fn dominance_decides_losses_with_fewer_states_and_explains_them() {
     let mut dominated_on_a_path = false;
     for (path, ms) in [("examples/timed/two_robots_14.tga", 10), ("examples/timed/two_robots_13.tga", 10)] {
         let g = game(path);
-        let with = synthesize_at_scan(&g, ms, &SolveOptions::default(), &mut |_| true).unwrap().synthesis;
-        let without_options = SolveOptions { dominance: false, ..SolveOptions::default() };
+        let with = synthesize_at_scan(&g, ms, &Config::default(), &mut |_| true).unwrap().synthesis;
+        let without_options = Config { dominance: false, ..Config::default() };
         let without = synthesize_at_scan(&g, ms, &without_options, &mut |_| true).unwrap().synthesis;
         assert_eq!(with.solution.verdict(), Some(Verdict::Unrealizable), "{path}");
         assert_eq!(without.solution.verdict(), Some(Verdict::Unrealizable), "{path}");
@@ -109,8 +110,7 @@ fn dominance_decides_losses_with_fewer_states_and_explains_them() {
         assert!(leaves_are_failures(&explanation.root, &mut dominated_on_a_path), "{path}: {}", explanation.render());
     }
     assert!(dominated_on_a_path, "some explanation passes through a state lost by dominance");
-    let bound =
-        scan_bound(&game("examples/timed/two_robots_22.tga"), 10, true, &SolveOptions::default(), &mut |_| true);
+    let bound = scan_bound(&game("examples/timed/two_robots_22.tga"), 10, true, &Config::default(), &mut |_| true);
     assert_eq!((bound.works, bound.fails, bound.stopped), (Some(1333), Some(1334), false));
 }
 
@@ -119,7 +119,7 @@ fn dominance_decides_losses_with_fewer_states_and_explains_them() {
 fn an_untimed_specification_has_one_verdict_for_every_scan_time() {
     let g = game("examples/timed/round_table_1.tga");
     assert_eq!(verdict_at("examples/timed/round_table_1.tga", 10), Verdict::Realizable);
-    assert!(scan_bound(&g, 10, true, &SolveOptions::default(), &mut |_| true).scale_free);
+    assert!(scan_bound(&g, 10, true, &Config::default(), &mut |_| true).scale_free);
 }
 
 /// Finding V1 (docs/fuzzing.md): a controller that makes plan progress forever at one instant
@@ -129,7 +129,7 @@ fn an_untimed_specification_has_one_verdict_for_every_scan_time() {
 fn progress_at_one_instant_is_not_implementable() {
     let path = "tests/fixtures/fuzz/handed_over/v1_progress_at_one_instant.tga";
     let g = game(path);
-    assert_eq!(synthesize(&g, &SolveOptions::default(), &mut |_| true).solution.verdict(), Some(Verdict::Realizable));
+    assert_eq!(synthesize(&g, &Config::default(), &mut |_| true).solution.verdict(), Some(Verdict::Realizable));
     for ms in [1, 10, 1000] {
         assert_eq!(verdict_at(path, ms), Verdict::Unrealizable, "at {ms} ms");
     }
@@ -221,7 +221,7 @@ fn a_pulsed_request_needs_a_scan_without_it_before_the_next() {
     let s = scan_game(&g, 10).unwrap();
     let plc = &s.components[(s.scan.as_ref().unwrap().plc).index()];
     assert!(plc.locations.iter().any(|l| l.name == "read_after_go"), "{:?}", plc.locations);
-    let bound = scan_bound(&g, 10, false, &SolveOptions::default(), &mut |_| true);
+    let bound = scan_bound(&g, 10, false, &Config::default(), &mut |_| true);
     assert_eq!((bound.works, bound.fails), (Some(8), Some(9)));
 }
 
@@ -234,9 +234,9 @@ fn a_pulsed_request_needs_a_scan_without_it_before_the_next() {
 #[test]
 fn two_machines_is_bounded_exactly_within_the_default_budgets() {
     let g = game("examples/timed/two_machines.tga");
-    let bound = scan_bound(&g, 10, true, &SolveOptions::default(), &mut |_| true);
+    let bound = scan_bound(&g, 10, true, &Config::default(), &mut |_| true);
     assert_eq!((bound.works, bound.fails, bound.stopped), (Some(16), Some(17), false));
-    let at_16 = synthesize_at_scan(&g, 16, &SolveOptions::default(), &mut |_| true).unwrap().synthesis;
+    let at_16 = synthesize_at_scan(&g, 16, &Config::default(), &mut |_| true).unwrap().synthesis;
     assert_eq!(at_16.solution.verdict(), Some(Verdict::Realizable));
     assert!(at_16.solution.stats.visited < 100_000, "{} states", at_16.solution.stats.visited);
 }

@@ -7,8 +7,8 @@ use plcsynth::ltl;
 use plcsynth::sct::classic::{self, Automaton, Events};
 use plcsynth::sct::{self, classic::gen, model::Config};
 use plcsynth::timed::program::{self, optimize::Context, simulate};
-use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateSpace, Stop, Verdict};
-use plcsynth::timed::{compile, model::LocId, Synthesis};
+use plcsynth::timed::solve::{EdgeKind, Removal, StateId, StateSpace, Stop, Verdict};
+use plcsynth::timed::{self, compile, model::LocId, Synthesis};
 
 /// Product states a fuzzed `.sct` project may build: small, so that one input takes
 /// milliseconds and the fuzzer explores inputs rather than large products.
@@ -50,15 +50,21 @@ pub fn check_tga(source: &str) {
 
 /// `.sct`: load, render, and synthesise every specification within [`SCT_MAX_STATES`].
 pub fn check_sct(source: &str) {
-    let (loaded, diagnostics) = sct::compile(source);
-    assert_located(source, &diagnostics);
-    render_plain("fuzz.sct", source, &diagnostics);
-    let Some(loaded) = loaded else {
-        assert!(diagnostics.iter().any(Diagnostic::is_error), "rejected without an error diagnostic");
-        return;
+    let loaded = match sct::compile(source) {
+        Ok((loaded, warnings)) => {
+            assert_located(source, &warnings);
+            render_plain("fuzz.sct", source, &warnings);
+            loaded
+        }
+        Err(diagnostics) => {
+            assert_located(source, &diagnostics);
+            render_plain("fuzz.sct", source, &diagnostics);
+            assert!(diagnostics.iter().any(Diagnostic::is_error), "rejected without an error diagnostic");
+            return;
+        }
     };
     let config = Config { max_states: SCT_MAX_STATES, ..Config::default() };
-    let (reports, diagnostics) = sct::synthesize_all(source, &loaded, &config, None);
+    let sct::Synthesis { reports, diagnostics, .. } = sct::synthesize(source, &loaded, &config, None, &mut |_| true);
     assert_located(source, &diagnostics);
     render_plain("fuzz.sct", source, &diagnostics);
     assert!(reports.len() <= loaded.project.specs.len(), "more reports than specifications");
@@ -420,7 +426,7 @@ const STEPS: usize = 120;
 /// the outcome, or `None` if the source does not compile.
 pub fn check_verdict(source: &str, seed: u64, skip_known: bool) -> Option<Result<Verdict, Stop>> {
     let (game, _) = compile(source).ok()?;
-    let options = SolveOptions { max_states: VERDICT_MAX_STATES, ..SolveOptions::default() };
+    let options = timed::Config { max_states: VERDICT_MAX_STATES, ..timed::Config::default() };
     let s = plcsynth::timed::synthesize(&game, &options, &mut |_| true);
     let verdict = match &s.solution.outcome {
         Ok(verdict) => *verdict,
@@ -764,14 +770,15 @@ pub fn check_wmod(text: &str) {
         ToSct { ignore_marking: true, ..ToSct::default() },
     ) {
         Ok(project) => {
-            let (loaded, diagnostics) = sct::compile(&project);
-            // Enforceable events need `on accept` code, which a module without it cannot give.
-            let only_missing_code =
-                diagnostics.iter().filter(|d| d.is_error()).all(|d| d.message.contains("on accept"));
-            assert!(
-                loaded.is_some() || (!module.enforceable.is_empty() && only_missing_code),
-                "an imported project does not load: {diagnostics:?}\n{project}"
-            );
+            if let Err(diagnostics) = sct::compile(&project) {
+                // Enforceable events need `on accept` code, which a module without it cannot give.
+                let only_missing_code =
+                    diagnostics.iter().filter(|d| d.is_error()).all(|d| d.message.contains("on accept"));
+                assert!(
+                    !module.enforceable.is_empty() && only_missing_code,
+                    "an imported project does not load: {diagnostics:?}\n{project}"
+                );
+            }
         }
         Err(errors) => {
             for e in errors {
@@ -792,7 +799,7 @@ pub fn check_wmod(text: &str) {
         "fuzz",
         ToSct { ignore_marking: true, ..ToSct::default() },
     ) {
-        let (_, diagnostics) = sct::compile(&project);
+        let (Ok((_, diagnostics)) | Err(diagnostics)) = sct::compile(&project);
         assert_located(&project, &diagnostics);
     }
     let plant = module.components.iter().find(|c| c.kind == ComponentKind::Plant);

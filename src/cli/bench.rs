@@ -2,7 +2,7 @@
 //! and what every bench shares: `--markdown` (only the tables, with a caption, for the
 //! README; `scripts/readme-bench.sh`) and the tables' columns.
 
-use plcsynth::timed::solve::{Solution, SolveOptions, Stop, Verdict};
+use plcsynth::timed::solve::{Config, Solution, Stop, Verdict};
 use plcsynth::timed::{compile, synthesize};
 use std::path::Path;
 use std::time::Instant;
@@ -160,7 +160,7 @@ pub fn timed(examples_dir: &Path, runs: usize, format: Format) -> std::process::
         for _ in 0..runs.max(1) {
             let started = Instant::now();
             // The default budgets solve every example, round table 8/8 included.
-            let s = synthesize(&game, &SolveOptions::default(), &mut |_| true);
+            let s = synthesize(&game, &Config::default(), &mut |_| true);
             times.push(started.elapsed().as_secs_f64() * 1000.0);
             last = Some(s);
         }
@@ -176,7 +176,7 @@ pub fn timed(examples_dir: &Path, runs: usize, format: Format) -> std::process::
         };
         let lines = plcsynth::timed::program::controller(&game, &s).map_or("–".to_string(), |p| p.len().to_string());
         let started = Instant::now();
-        let reference = synthesize(&game, &SolveOptions { exhaustive: true, ..SolveOptions::default() }, &mut |_| true);
+        let reference = synthesize(&game, &Config { exhaustive: true, ..Config::default() }, &mut |_| true);
         let reference_ms = started.elapsed().as_secs_f64() * 1000.0;
         let (rv, rt, speedup) = match reference.solution.outcome {
             Err(_) => ("budget exceeded".to_string(), t(reference_ms), "–".to_string()),
@@ -238,10 +238,10 @@ fn scan_table(examples_dir: &Path, runs: usize, md: bool) {
         let mut last = None;
         for _ in 0..runs.max(1) {
             let started = Instant::now();
-            let zero = synthesize(&game, &SolveOptions::default(), &mut |_| true);
+            let zero = synthesize(&game, &Config::default(), &mut |_| true);
             zero_times.push(started.elapsed().as_secs_f64() * 1000.0);
             let started = Instant::now();
-            let scan = plcsynth::timed::synthesize_at_scan(&game, scan_ms, &SolveOptions::default(), &mut |_| true);
+            let scan = plcsynth::timed::synthesize_at_scan(&game, scan_ms, &Config::default(), &mut |_| true);
             scan_times.push(started.elapsed().as_secs_f64() * 1000.0);
             last = Some((zero, scan));
         }

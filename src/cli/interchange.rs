@@ -7,7 +7,7 @@ use plcsynth::sct::classic::wmod::{decode, read_wmod_within, write_wmod, Compone
 use plcsynth::sct::classic::{product_within, Automaton, Events};
 use plcsynth::sct::interchange::{import as import_files, is_wmod, project_to_classic, Import, ImportFile, ToSct};
 use plcsynth::sct::model::{Budget, Config, DEFAULT_MAX_STATES};
-use plcsynth::sct::{compile_within, synthesize_all_within};
+use plcsynth::sct::{compile_within, synthesize_within, Verdict};
 use std::process::ExitCode;
 
 #[derive(Args)]
@@ -143,7 +143,7 @@ pub fn export(a: &ExportArgs) -> ExitCode {
         Ok(s) => s,
         Err(c) => return c,
     };
-    let mut go_on = |_| true;
+    let mut go_on = |_: &_| true;
     let mut budget = Budget::new(a.max_states, &mut go_on);
     let (loaded, diags, stop) = compile_within(&src, &mut budget);
     if !diags.is_empty() {
@@ -156,17 +156,15 @@ pub fn export(a: &ExportArgs) -> ExitCode {
     let mut reports = Vec::new();
     if a.with_supervisors {
         let cfg = Config { max_states: a.max_states, ..Config::default() };
-        let (r, sdiags, stop) = synthesize_all_within(&src, &loaded, &cfg, None, &mut budget);
-        if !sdiags.is_empty() {
-            eprint!("{}", render_plain(&a.file, &src, &sdiags));
+        let synthesis = synthesize_within(&src, &loaded, &cfg, None, &mut budget);
+        if !synthesis.diagnostics.is_empty() {
+            eprint!("{}", render_plain(&a.file, &src, &synthesis.diagnostics));
         }
-        if stop.is_some() {
-            return ExitCode::from(3);
+        match synthesis.outcome {
+            Err(_) => return ExitCode::from(3),
+            Ok(Verdict::Error) => return ExitCode::from(2),
+            Ok(_) => reports = synthesis.reports,
         }
-        if sdiags.iter().any(|d| d.is_error()) {
-            return ExitCode::from(2);
-        }
-        reports = r;
     }
     let sups: Vec<_> = reports.iter().map(|r| &r.supervisor).collect();
     write_project(&a.file, &src, &loaded, &sups, false, a.output.as_deref())

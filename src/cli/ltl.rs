@@ -270,7 +270,7 @@ fn exit_code(verdict: Verdict) -> ExitCode {
 }
 
 /// Lowers the controller into a function block (`plc::lower::ltl`) and writes it for `target`.
-fn write_code(a: &LtlArgs, target: plc::Target, source: &str, spec: &ltl::Spec, outcome: &ltl::Outcome) -> ExitCode {
+fn write_code(a: &LtlArgs, target: plc::Target, source: &str, spec: &ltl::Spec, outcome: &ltl::Synthesis) -> ExitCode {
     let options = plc::lower::ltl::LowerOptions { name: a.name.clone() };
     let unit = match plc::lower::ltl::lower_outcome(source, spec, outcome, &options).expect("a controller") {
         Ok(unit) => unit,
@@ -449,7 +449,7 @@ fn measure(
     format: Format,
     params: &[(String, i64)],
     runs: usize,
-) -> Result<(f64, ltl::Outcome, Option<usize>), String> {
+) -> Result<(f64, ltl::Synthesis, Option<usize>), String> {
     let (spec, _) = ltl::compile(source, format, params).map_err(|d| format!("{} errors", d.len()))?;
     let mut times = Vec::new();
     let mut last = None;
@@ -470,7 +470,7 @@ fn measure(
     Ok((times[times.len() / 2], outcome, lines))
 }
 
-fn cells(outcome: &ltl::Outcome) -> (String, String) {
+fn cells(outcome: &ltl::Synthesis) -> (String, String) {
     let verdict = format!("{:?} (k = {})", outcome.verdict, outcome.k).to_lowercase();
     let size = outcome
         .controller

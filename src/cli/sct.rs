@@ -11,8 +11,8 @@ use plcsynth::sct::classic::wmod::{write_wmod, ComponentKind, ComponentOut};
 use plcsynth::sct::classic::{minimize, supcon as classic_supcon, supcon_within, ClassicEventId, Events, SupConError};
 use plcsynth::sct::model::dep_closure;
 use plcsynth::sct::model::{Budget, Config, Method, DEFAULT_MAX_STATES};
-use plcsynth::sct::{compile, compile_within, Verdict};
-use plcsynth::sct::{synthesize_all, synthesize_all_within};
+use plcsynth::sct::{compile, compile_within, Outcome};
+use plcsynth::sct::{synthesize, synthesize_within, Synthesis};
 use std::process::{Command, ExitCode};
 use std::time::Instant;
 
@@ -140,7 +140,7 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
         Ok(s) => s,
         Err(c) => return c,
     };
-    let mut go_on = |_| true;
+    let mut go_on = |_: &_| true;
     let mut budget = Budget::new(a.max_states, &mut go_on);
     let (loaded, diags, stop) = compile_within(&src, &mut budget);
     if !diags.is_empty() {
@@ -186,9 +186,10 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
         Config::default().method(method).preempt(!a.no_preemption).minimize(!a.no_minimize).max_states(a.max_states);
     let start = Instant::now();
     let clock = move || start.elapsed().as_secs_f64() * 1000.0;
-    let (reports, sdiags, stop) = synthesize_all_within(&src, &loaded, &cfg, Some(&clock), &mut budget);
+    let synthesis = synthesize_within(&src, &loaded, &cfg, Some(&clock), &mut budget);
+    let (reports, sdiags, stop) = (&synthesis.reports, &synthesis.diagnostics, synthesis.stop());
     if !sdiags.is_empty() {
-        eprint!("{}", render_plain(&a.file, &src, &sdiags));
+        eprint!("{}", render_plain(&a.file, &src, sdiags));
         if composed_from > 1 {
             eprintln!("note: `Composed` is the product of all {composed_from} specifications; its diagnostics point at the first");
         }
@@ -205,18 +206,19 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
         if stop.is_some() {
             return ExitCode::from(3);
         }
-        return write_framework(a, target, &src, &loaded, &reports);
+        return write_framework(a, target, &src, &loaded, reports);
     }
     if a.json {
         let out = serde_json::json!({
             "file": a.file,
-            "verdict": Verdict::of(&reports, &sdiags, stop.as_ref()),
+            "verdict": synthesis.outcome_name(),
+            "stop": stop,
             "method": method,
             "supervisors": reports,
             "events": loaded.project.events,
             "event_actions": loaded.events,
             "timers": loaded.timers,
-            "diagnostics": diags.iter().chain(&sdiags).collect::<Vec<_>>(),
+            "diagnostics": diags.iter().chain(sdiags).collect::<Vec<_>>(),
         });
         outln!("{}", serde_json::to_string_pretty(&out).unwrap_or_default());
     } else {
@@ -230,7 +232,7 @@ pub fn supervise(a: &SuperviseArgs) -> ExitCode {
             "millis"
         );
         let mut total = 0;
-        for r in &reports {
+        for r in reports {
             total += r.states;
             outln!(
                 "{:<28} {:>10} {:>7} {:>6} {:>7}  {:>9.3}  {}",
@@ -396,14 +398,13 @@ fn median(mut v: Vec<f64>) -> f64 {
 /// Median milliseconds and Σ supervisor states for all specifications of a generated line.
 fn run_lines(k: usize, m: usize, method: Method, runs: usize) -> (f64, usize, usize, usize) {
     let src = transfer_lines(k, m, 2);
-    let (loaded, _) = compile(&src);
-    let l = loaded.expect("generated transfer lines are valid");
+    let (l, _) = compile(&src).expect("generated transfer lines are valid");
     let cfg = Config { method, ..Config::default() };
     let mut times = Vec::new();
     let mut states = 0;
     for _ in 0..runs.max(1) {
         let t = Instant::now();
-        let (reps, _) = synthesize_all(&src, &l, &cfg, None);
+        let Synthesis { reports: reps, .. } = synthesize(&src, &l, &cfg, None, &mut |_| true);
         times.push(t.elapsed().as_secs_f64() * 1000.0);
         states = reps.iter().map(|r| r.states).sum();
     }
@@ -512,8 +513,7 @@ pub fn bench(a: &BenchArgs) -> ExitCode {
     }
     {
         let src = extended_line(3);
-        let (loaded, _) = compile(&src);
-        let l = loaded.expect("generated line is valid");
+        let (l, _) = compile(&src).expect("generated line is valid");
         let p = &l.project;
         let cfg = Config::default();
         let mut times = Vec::new();
@@ -521,7 +521,7 @@ pub fn bench(a: &BenchArgs) -> ExitCode {
         let mut used = 0;
         for _ in 0..a.runs.max(1) {
             let t = Instant::now();
-            let (reps, _) = synthesize_all(&src, &l, &cfg, None);
+            let Synthesis { reports: reps, .. } = synthesize(&src, &l, &cfg, None, &mut |_| true);
             times.push(t.elapsed().as_secs_f64() * 1000.0);
             states = reps.iter().map(|r| r.states).sum();
             used = reps.iter().map(|r| r.plants_used.len()).sum();

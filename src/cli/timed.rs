@@ -3,7 +3,8 @@
 use clap::Args;
 use plcsynth::diag::{render_plain, Diagnostics};
 use plcsynth::plc;
-use plcsynth::timed::solve::{self, Resource, Solution, SolveOptions, Stop, Verdict};
+use plcsynth::search::{Decision as _, Outcome as _};
+use plcsynth::timed::solve::{self, Config, Resource, Solution, Stop, Verdict};
 use plcsynth::timed::{self};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -112,7 +113,7 @@ fn solve_at_scan(
     source: &str,
     game: &timed::model::Game,
     scan_ms: u64,
-    options: &SolveOptions,
+    options: &Config,
     with_bound: bool,
 ) -> Result<ScanOutcome, ExitCode> {
     let started = Instant::now();
@@ -194,8 +195,8 @@ impl PlcArgs {
 }
 
 impl BudgetArgs {
-    fn options(&self) -> SolveOptions {
-        SolveOptions::default()
+    fn options(&self) -> Config {
+        Config::default()
             .max_states(self.max_states)
             .max_bytes(self.max_memory.saturating_mul(1 << 20))
             .max_work(self.max_work)

@@ -14,7 +14,8 @@
 
 use super::machine::{Cube, Machine, Row, StateId};
 use super::spec::{Clause, Ltl, Predicate, Signal, SignalId, SignalKind, Spec, Timer};
-use super::{refine, Config, Outcome, Progress, Refinement, Stats, Stop, Verdict};
+use super::{refine, Config, Progress, Refinement, Stats, Stop, Synthesis, Verdict};
+use crate::search::OnProgress;
 use serde::Serialize;
 use std::collections::{BTreeSet, HashMap};
 
@@ -265,8 +266,8 @@ pub(super) fn synthesize(
     spec: &Spec,
     groups: &[Vec<usize>],
     cfg: &Config,
-    progress: &mut dyn FnMut(Progress) -> bool,
-) -> Result<Result<Outcome, u64>, Stop> {
+    progress: &mut OnProgress<'_, Progress>,
+) -> Result<Result<Synthesis, u64>, Stop> {
     if groups.len() < 2 {
         return Ok(Err(0));
     }
@@ -308,7 +309,7 @@ pub(super) fn synthesize(
     if bound > MAX_PRODUCT_STATES {
         return Ok(Err(stats.work));
     }
-    Ok(Ok(Outcome {
+    Ok(Ok(Synthesis {
         verdict: Verdict::Realizable,
         k,
         controller: Some(product(&machines)),

@@ -2,13 +2,13 @@
 //! playground), and a plain-text rendering of a strategy.
 
 use super::machine::Machine;
-use super::{Outcome, Spec, Verdict};
+use super::{Spec, Synthesis, Verdict};
 use serde_json::{json, Value};
 
 /// `{"verdict", "k", "semantics", "inputs", "outputs", "ltl", "assumptions", "guarantees",
 /// "stats", then "mealy" (realizable) or "counterstrategy" (unrealizable) or "limit"
 /// (unknown)}`; `docs/ltl-language.md` describes every field.
-pub fn report_json(spec: &Spec, outcome: &Outcome) -> Value {
+pub fn report_json(spec: &Spec, outcome: &Synthesis) -> Value {
     // The result is about the specification with what the refinement loop learned.
     let spec = &super::refined(spec, &outcome.refinement);
     let name = |s| spec.name(s).to_string();
@@ -214,7 +214,7 @@ pub fn render_tree(spec: &Spec, machine: &Machine) -> String {
 }
 
 /// A one-line summary: `realizable at k = 1: controller of 2 states, 3 rows`.
-pub fn summary(outcome: &Outcome) -> String {
+pub fn summary(outcome: &Synthesis) -> String {
     let count = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
     let size = |m: &Machine| format!("{}, {}", count(m.states.len(), "state"), count(m.rows(), "row"));
     match outcome.verdict {

@@ -22,9 +22,10 @@ use super::strategy::extract_from_antichain;
 use super::symbolic::{Halt, SymbolicGame};
 use super::translate::Automaton;
 use super::{
-    translate, Config, Ltl, Machine, Outcome, Progress, Resource, Semantics, SignalId, Solver, Spec, Stats, Stop,
+    translate, Config, Ltl, Machine, Progress, Resource, Semantics, SignalId, Solver, Spec, Stats, Stop, Synthesis,
     Verdict, Work,
 };
+use crate::search::OnProgress;
 use hashbrown::HashMap;
 
 /// The successor of a lost round.
@@ -219,7 +220,7 @@ fn valuations(signals: &[SignalId]) -> Vec<u64> {
         .collect()
 }
 
-pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) -> bool) -> Result<Outcome, Stop> {
+pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut OnProgress<'_, Progress>) -> Result<Synthesis, Stop> {
     let signals = spec.signals.len();
     if cfg.solver == Solver::Symbolic && signals > 63 {
         return Err(Stop::budget(
@@ -291,7 +292,7 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) 
                         stats.work = work.used();
                         stats.strategy_states_raw = raw;
                         let verdict = if controller { Verdict::Realizable } else { Verdict::Unrealizable };
-                        return Ok(Outcome {
+                        return Ok(Synthesis {
                             verdict,
                             k,
                             controller: controller.then(|| machine.clone()),
@@ -488,8 +489,8 @@ pub(super) fn position_budget(k: u32, budget: usize, max_states: usize) -> Strin
     format!("the game at k = {k} needs more than the {budget} positions left of the budget ({max_states} in all, --max-states)")
 }
 
-fn unknown(k: u32, stats: Stats, limit: String) -> Outcome {
-    Outcome {
+fn unknown(k: u32, stats: Stats, limit: String) -> Synthesis {
+    Synthesis {
         verdict: Verdict::Unknown,
         k,
         controller: None,

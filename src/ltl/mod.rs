@@ -4,7 +4,7 @@
 //! (`tlsf`), by [`Format`] — into a [`Spec`] with every diagnostic located → [`synthesize`]
 //! translates the specification and its negation into Büchi automata of our own
 //! (`translate`), plays the bounded co-Büchi safety games of both players for k = 0, 1, …
-//! (`game`) and returns an [`Outcome`]: the verdict with the winner's finite-state strategy
+//! (`game`) and returns a [`Synthesis`] (or the [`Stop`] that ended it): the verdict with the winner's finite-state strategy
 //! ([`Machine`]), minimised. The views of an outcome ([`report_json`], [`render_machine`],
 //! [`render_tree`], [`machine_dot`], [`summary`]), assumption suggestions for an unrealizable
 //! specification ([`suggest`]) and G4LTL's own syntax ([`to_g4ltl`]) are the rest of the front
@@ -179,13 +179,13 @@ pub(crate) struct Work<'a> {
     meter: Meter,
     /// The run's budget (the meter's limit is lower inside [`Work::capped`]).
     budget: u64,
-    progress: &'a mut dyn FnMut(Progress) -> bool,
+    progress: &'a mut OnProgress<'a, Progress>,
     /// What the callback is told besides the work.
     pub(crate) at: Progress,
 }
 
 impl<'a> Work<'a> {
-    pub(crate) fn new(limit: u64, progress: &'a mut dyn FnMut(Progress) -> bool) -> Work<'a> {
+    pub(crate) fn new(limit: u64, progress: &'a mut OnProgress<'a, Progress>) -> Work<'a> {
         Work { meter: Meter::new(0, limit, 1 << 16), budget: limit, progress, at: Progress::default() }
     }
 
@@ -207,7 +207,7 @@ impl<'a> Work<'a> {
             )),
             Charge::ReportDue => {
                 self.at.work = self.meter.used();
-                if (self.progress)(self.at) {
+                if (self.progress)(&self.at) {
                     Ok(())
                 } else {
                     Err(Stop::Cancelled)
@@ -268,9 +268,10 @@ impl Default for Config {
     }
 }
 
-/// What a run decided.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
+/// What a run decided. Bounded synthesis answers `Unknown` when neither player wins a game up
+/// to the bound: a result of the games played, not a stop (a budget or a cancellation ends the
+/// run with a [`Stop`] instead).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Verdict {
     /// A controller exists (and is returned).
     Realizable,
@@ -280,14 +281,15 @@ pub enum Verdict {
     Unknown,
 }
 
-impl Verdict {
-    /// Its name in the JSON forms and the page: `realizable`, `unrealizable` or `unknown`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Verdict::Realizable => "realizable",
-            Verdict::Unrealizable => "unrealizable",
-            Verdict::Unknown => "unknown",
-        }
+crate::search::decision!(Verdict { Realizable => "realizable", Unrealizable => "unrealizable", Unknown => "unknown" });
+
+/// A run of [`synthesize`] ends with a [`Synthesis`] or a [`Stop`]: a stopped run has no
+/// strategy to show.
+impl Outcome for Result<Synthesis, Stop> {
+    type Verdict = Verdict;
+
+    fn outcome(&self) -> Result<Verdict, &Stop> {
+        self.as_ref().map(|synthesis| synthesis.verdict)
     }
 }
 
@@ -320,7 +322,7 @@ pub struct Stats {
 
 /// The result of [`synthesize`].
 #[derive(Clone, Debug)]
-pub struct Outcome {
+pub struct Synthesis {
     pub verdict: Verdict,
     /// The bound at which the verdict was reached (the last one tried when unknown).
     pub k: u32,
@@ -339,13 +341,13 @@ pub struct Outcome {
     /// specification was solved as a whole).
     pub groups: Vec<Group>,
     /// How many groups the guarantees split into (1: nothing to split). More than 1 with no
-    /// [`Outcome::groups`]: a group was not realizable alone, and the whole decided.
+    /// [`Synthesis::groups`]: a group was not realizable alone, and the whole decided.
     pub split: usize,
 }
 
-use crate::search::{Charge, Meter};
-/// Why a run stopped without a verdict: the shared [`crate::search::Stop`].
-pub use crate::search::{Resource, Stop};
+use crate::search::{Charge, Meter, OnProgress};
+/// Why a run stopped without a verdict, and how a run ended: the shared [`crate::search`] types.
+pub use crate::search::{Outcome, Resource, Stop};
 
 /// Decides `spec`: for k = 0, 1, …, [`Config::max_k`] plays the controller's bounded game on
 /// the automaton of the negated specification, then the environment's on the automaton of the
@@ -355,8 +357,8 @@ pub use crate::search::{Resource, Stop};
 ///
 /// With [`Config::compositional`], groups of guarantees that share no output are solved alone
 /// first; when every group is realizable their controllers run side by side
-/// ([`Outcome::groups`]), otherwise the whole specification is solved.
-pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut dyn FnMut(Progress) -> bool) -> Result<Outcome, Stop> {
+/// ([`Synthesis::groups`]), otherwise the whole specification is solved.
+pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut OnProgress<'_, Progress>) -> Result<Synthesis, Stop> {
     let groups = compose::split(spec);
     let split = groups.len();
     let mut spent = 0;

@@ -26,8 +26,9 @@ use super::game;
 use super::machine::{Machine, StateId};
 use super::spec::{Clause, Ltl, NumExpr, NumberKind, SignalId, Spec, Timer};
 use super::theory::{Answer, Atom, Domain, NumVar, Poly, Rational, Theory, TheoryStats, DEFAULT_BUDGET};
-use super::{Config, Outcome, Progress, Stop, Verdict};
+use super::{Config, Progress, Stop, Synthesis, Verdict};
 use crate::diag::Span;
+use crate::search::OnProgress;
 use serde::Serialize;
 use std::collections::{BTreeSet, HashSet};
 
@@ -324,8 +325,8 @@ fn expiry_before_start(t: &Timer, machine: &Machine) -> bool {
 pub(super) fn synthesize(
     spec: &Spec,
     cfg: &Config,
-    progress: &mut dyn FnMut(Progress) -> bool,
-) -> Result<Outcome, Stop> {
+    progress: &mut OnProgress<'_, Progress>,
+) -> Result<Synthesis, Stop> {
     let mut current = spec.clone();
     let mut refinement = Refinement::default();
     let mut known: HashSet<(usize, TimerFact)> = HashSet::new();

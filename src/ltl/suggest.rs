@@ -26,8 +26,9 @@
 use super::machine::{Machine, StateId};
 use super::spec::{Clause, Ltl, Semantics, SignalId, SignalKind, Spec};
 use super::translate::translate;
-use super::{synthesize, Config, Outcome, Progress, Stop, Verdict};
+use super::{synthesize, Config, Progress, Stop, Synthesis, Verdict};
 use crate::diag::Span;
+use crate::search::OnProgress;
 use petgraph::graph::{DiGraph, NodeIndex};
 use serde_json::{json, Value};
 use std::collections::{HashMap, HashSet};
@@ -221,7 +222,7 @@ pub struct Suggestion {
     /// The specification with them added (`ASSUME` clauses at the end of the assumptions).
     pub spec: Spec,
     /// Its realizable outcome: the controller they allow.
-    pub outcome: Outcome,
+    pub outcome: Synthesis,
 }
 
 impl Suggestion {
@@ -550,10 +551,10 @@ fn candidates(spec: &Spec, m: &Machine, play: &Play, cfg: &Config) -> Vec<(Ltl, 
 /// Stops only when `progress` cancels; budgets end the search with [`Suggestions::limit`].
 pub fn suggest(
     spec: &Spec,
-    outcome: &Outcome,
+    outcome: &Synthesis,
     cfg: &Config,
     scfg: &SuggestConfig,
-    progress: &mut dyn FnMut(Progress) -> bool,
+    progress: &mut OnProgress<'_, Progress>,
 ) -> Result<Suggestions, Stop> {
     let mut result = Suggestions::default();
     let Some(first_counter) = outcome.counter_strategy.clone() else {
@@ -567,7 +568,7 @@ pub fn suggest(
     let mut used = 0u64;
     // One re-synthesis: its outcome, or None when it ran out of its share.
     let attempt =
-        |s: &Spec, used: &mut u64, progress: &mut dyn FnMut(Progress) -> bool| -> Result<Option<Outcome>, Stop> {
+        |s: &Spec, used: &mut u64, progress: &mut OnProgress<'_, Progress>| -> Result<Option<Synthesis>, Stop> {
             let budget = share.min(total.saturating_sub(*used));
             let run = Config { max_work: budget, ..cfg.clone() };
             match synthesize(s, &run, progress) {

@@ -74,7 +74,7 @@ pub fn translate(
     max_states: usize,
     max_work: u64,
 ) -> Result<Automaton, Stop> {
-    translate_within(formula, name, max_states, &mut Work::new(max_work, &mut |_: Progress| true))
+    translate_within(formula, name, max_states, &mut Work::new(max_work, &mut |_: &Progress| true))
 }
 
 /// [`translate`] drawing on a run's work budget.

@@ -10,7 +10,7 @@
 use super::ast::{self, AutDecl, AutKind, CondExpr, EdgeKind, EventItem, Item, Path, StateItem};
 use super::model::{self, Budget, Cond, EventId, EventKind, Prohibition, Stop, SynthError, Transition};
 use super::parser::{self, raw_offset};
-use crate::diag::{Diagnostic, Diagnostics, Span};
+use crate::diag::{Checked, Diagnostic, Diagnostics, Span};
 use crate::graph::{Lists, View};
 use crate::plc::fragment::{self, parse_expr, parse_statements, ExprKind, FragmentError};
 use hashbrown::HashMap;
@@ -160,12 +160,14 @@ enum Lookup {
     Ambiguous(Vec<String>),
 }
 
-/// Parses and resolves a `.sct` source. Returns the project (if there were no errors) and
-/// every diagnostic (errors and warnings), in source order. Specification products written in
-/// the file may build up to [`model::DEFAULT_MAX_STATES`] states.
-pub fn compile(src: &str) -> (Option<Loaded>, Vec<Diagnostic>) {
-    let (loaded, diagnostics, _) = compile_within(src, &mut Budget::new(model::DEFAULT_MAX_STATES, &mut |_| true));
-    (loaded, diagnostics)
+/// Parses and resolves a `.sct` source: the project with its warnings, or (with an error)
+/// every diagnostic, in source order. Specification products written in the file may build up
+/// to [`model::DEFAULT_MAX_STATES`] states.
+pub fn compile(src: &str) -> Checked<Loaded> {
+    match compile_within(src, &mut Budget::new(model::DEFAULT_MAX_STATES, &mut |_| true)) {
+        (Some(loaded), diagnostics, _) => Ok((loaded, diagnostics)),
+        (None, diagnostics, _) => Err(diagnostics),
+    }
 }
 
 /// [`compile`] drawing the states of the specification products written in the file from

@@ -237,7 +237,7 @@ pub fn models(project: &Project) -> Vec<AutomatonDrawing> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sct::{compile, model::Config, synthesize_all};
+    use crate::sct::{compile, model::Config, synthesize, Synthesis};
 
     const TANK: &str = "event open : controllable;\nevent alarm : uncontrollable;\nevent spill : uncontrollable;\n\
         module Site { plant Tank { alphabet open, alarm, spill;\n\
@@ -246,9 +246,8 @@ mod tests {
 
     #[test]
     fn plants_specs_and_supervisors_are_drawn_with_their_marks() {
-        let (loaded, diagnostics) = compile(TANK);
+        let (loaded, diagnostics) = compile(TANK).unwrap_or_else(|d| panic!("{d:?}"));
         assert!(diagnostics.is_empty(), "{diagnostics:?}");
-        let loaded = loaded.unwrap();
         let drawn = models(&loaded.project);
         assert_eq!(
             drawn.iter().map(|d| (d.name.as_str(), d.kind)).collect::<Vec<_>>(),
@@ -261,7 +260,7 @@ mod tests {
         assert!(drawn[1].dot.contains("✕ spill"), "{}", drawn[1].dot);
         assert!(drawn[1].dot.contains("class = \"location prohibits\""), "{}", drawn[1].dot);
 
-        let (reports, _) = synthesize_all(TANK, &loaded, &Config::default(), None);
+        let Synthesis { reports, .. } = synthesize(TANK, &loaded, &Config::default(), None, &mut |_| true);
         let sup = supervisor(&loaded.project, &reports[0].supervisor);
         assert_eq!(sup.kind, "supervisor");
         assert_eq!(sup.states, reports[0].states);
@@ -274,8 +273,7 @@ mod tests {
         let src = "event go : controllable;\nplant V { alphabet go; state Closed { go -> Open; } state Open { } }\n\
                    plant W { alphabet go; state Low { } state High { } }\n\
                    spec S { state A { forbid go if [V.Open and not (W.Low or W.High)]; } }";
-        let (loaded, diagnostics) = compile(src);
-        let loaded = loaded.unwrap_or_else(|| panic!("{diagnostics:?}"));
+        let (loaded, _) = compile(src).unwrap_or_else(|d| panic!("{d:?}"));
         let p = &loaded.project;
         let cond = &p.specs[0].prohib[0].cond;
         assert_eq!(cond_text(p, cond), "V.Open and not (W.Low or W.High)");

@@ -1,7 +1,8 @@
 //! The supervisory-control engine (Göbe 2019, SynTACS) and classic Ramadge–Wonham synthesis.
 //!
 //! The front door is three calls: [`compile`] a `.sct` text into a checked project (with every
-//! diagnostic located), [`synthesize_all`] its specifications into supervisors, and read the
+//! diagnostic located), [`synthesize`] its specifications into supervisors with a [`Config`],
+//! and read the [`Synthesis`]: its verdict (or why the run stopped) and the
 //! [`SupervisorReport`]s (or their JSON form). Inside, from the bottom:
 //! - [`classic`]: automata with marked states in compact sorted tables, synchronous product,
 //!   trim, SupCon/SupConClosed and minimisation — the textbook theory, used for teaching and
@@ -29,22 +30,21 @@
 //!   supervisors stepped cycle by cycle ([`Runtime`]): accepted, denied, unexpected and
 //!   enforced events, timers.
 //!
-//! `testing` (hidden) holds what only the integration tests use; it is not part of the API.
-//!
 //! The benchmark and teaching models built from published definitions (the textbook problems,
 //! the transfer-line family of 7.5) are not part of the engine: see [`crate::benchmarks`].
 //! The engine does no I/O: callers pass text in and get automata, reports and diagnostics out.
 //!
 //! ```
-//! use plcsynth::sct::{compile, model::Config, synthesize_all};
+//! use plcsynth::sct::{compile, synthesize, Config, Outcome, Verdict};
 //! let src = "event open : controllable;\nevent alarm : uncontrollable;\nevent spill : uncontrollable;\n\
 //!            plant Tank { alphabet open, alarm, spill;\n\
 //!              state A { open -> B; } state B { alarm -> C; } state C { spill -> C; } }\n\
 //!            spec NoSpill { state S { forbid spill; } }";
-//! let (loaded, diagnostics) = compile(src);
-//! assert!(diagnostics.is_empty());
-//! let (reports, _) = synthesize_all(src, &loaded.unwrap(), &Config::default(), None);
-//! assert_eq!(reports[0].prohibited_events, vec!["open".to_string()]);
+//! let (loaded, warnings) = compile(src).expect("a valid project");
+//! assert!(warnings.is_empty());
+//! let synthesis = synthesize(src, &loaded, &Config::default(), None, &mut |_| true);
+//! assert_eq!(synthesis.verdict(), Some(Verdict::Realizable));
+//! assert_eq!(synthesis.reports[0].prohibited_events, vec!["open".to_string()]);
 //! ```
 
 mod ast;
@@ -64,12 +64,10 @@ pub mod stepper;
 pub use ast::EdgeKind;
 pub use check::{compile, compile_within, EventFragments, EventMeta, EventSpans, Loaded, TimerInfo, Trigger};
 // Synthesis of every specification, and the reports.
-pub use report::{synthesize_all, synthesize_all_within, JsonState, JsonTransition, SupervisorReport, Verdict};
+pub use report::{synthesize, synthesize_within, JsonState, JsonTransition, SupervisorReport, Synthesis, Verdict};
+// The engine contract (see `crate::search`): `compile` → `synthesize` with a `Config` → a
+// `Synthesis`, whose `Outcome` is a `Verdict` or a `Stop`; progress reports a `Progress`.
+pub use crate::search::{Outcome, Stop};
+pub use model::{Config, Progress};
 // The reference executor of the runtime framework.
-pub use runtime::{CycleInput, CycleReport, Outcome, Runtime, RuntimeError, Step};
-
-/// Internals for the integration tests and the fuzz harness; not part of the API.
-#[doc(hidden)]
-pub mod testing {
-    pub use super::report::synthesize_all_with_progress;
-}
+pub use runtime::{CycleInput, CycleReport, EventOutcome, Runtime, RuntimeError, Step};

@@ -6,8 +6,9 @@
 //! when one supervisor enforces an event another one prohibits (6.4.2).
 
 use super::check::Loaded;
-use super::model::{self, Budget, Config, EventId, Knowledge, Method, Stop, SynthError};
+use super::model::{self, Budget, Config, EventId, Knowledge, Method, Progress, Stop, SynthError};
 use crate::diag::{Diagnostic, Diagnostics, Span};
+use crate::search::{OnProgress, Outcome};
 use serde::Serialize;
 
 /// One supervisor transition in the JSON form.
@@ -45,76 +46,63 @@ pub struct SupervisorReport {
     pub supervisor: model::Supervisor,
 }
 
-/// The outcome of synthesising a project, decided here once for the CLI and the page.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
+/// What synthesis decided of a project. A run that a budget or the caller stopped has no
+/// verdict: its [`Synthesis::outcome`] is the [`Stop`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Verdict {
     /// Every specification has a supervisor with a non-empty behaviour.
     Realizable,
     /// Some specification's supervisor is empty: its initial state is lost.
     Unrealizable,
-    /// The state budget stopped the run before every specification was synthesised.
-    BudgetExceeded,
-    /// The progress callback cancelled the run.
-    Cancelled,
     /// Synthesis found errors in the project (conflicts, enforcement cycles).
     Error,
 }
 
-impl Verdict {
-    /// The verdict of a run of [`synthesize_all_within`] from what it returned: a stop decides
-    /// first (its own error diagnostic is not an input error), then any error, then whether
-    /// every supervisor is realizable.
-    pub fn of(reports: &[SupervisorReport], diagnostics: &[Diagnostic], stop: Option<&Stop>) -> Verdict {
-        match stop {
-            Some(Stop::Cancelled) => Verdict::Cancelled,
-            Some(Stop::Budget { .. }) => Verdict::BudgetExceeded,
-            None if diagnostics.iter().any(Diagnostic::is_error) => Verdict::Error,
-            None if reports.iter().all(|r| r.realizable) => Verdict::Realizable,
-            None => Verdict::Unrealizable,
-        }
+crate::search::decision!(Verdict { Realizable => "realizable", Unrealizable => "unrealizable", Error => "error" });
+
+/// A run of [`synthesize`]: the verdict (or the stop), a report per specification synthesised
+/// (a stopped run keeps those finished before it), and the diagnostics synthesis found.
+pub struct Synthesis {
+    pub outcome: Result<Verdict, Stop>,
+    pub reports: Vec<SupervisorReport>,
+    /// Conflicts and enforcement cycles (errors), unrealizable specifications and supervisors
+    /// that disagree (warnings), and where a stop ended the run (an error that is not an input
+    /// error).
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl Outcome for Synthesis {
+    type Verdict = Verdict;
+
+    fn outcome(&self) -> Result<Verdict, &Stop> {
+        self.outcome.as_ref().copied()
     }
 }
 
 /// Synthesises one supervisor per specification. Timing uses `now` (milliseconds) so that
 /// the engine stays free of clocks on targets without one; pass `None` to skip timing.
 /// All specifications share one budget of `cfg.max_states` product states; once it is spent,
-/// the remaining specifications get an error diagnostic instead of a report.
-pub fn synthesize_all(
+/// the remaining specifications get an error diagnostic instead of a report. `progress` is
+/// called every few thousand product states; its `false` cancels the run.
+pub fn synthesize(
     src: &str,
     loaded: &Loaded,
     cfg: &Config,
     now: Option<&dyn Fn() -> f64>,
-) -> (Vec<SupervisorReport>, Vec<Diagnostic>) {
-    synthesize_all_with_progress(src, loaded, cfg, now, &mut |_| true)
+    progress: &mut OnProgress<'_, Progress>,
+) -> Synthesis {
+    synthesize_within(src, loaded, cfg, now, &mut Budget::new(cfg.max_states, progress))
 }
 
-/// [`synthesize_all`] with a progress callback, called every few thousand product states
-/// with the number built so far; returning `false` cancels the run (the reports finished so
-/// far are returned, with an error diagnostic).
-pub fn synthesize_all_with_progress(
-    src: &str,
-    loaded: &Loaded,
-    cfg: &Config,
-    now: Option<&dyn Fn() -> f64>,
-    progress: &mut dyn FnMut(usize) -> bool,
-) -> (Vec<SupervisorReport>, Vec<Diagnostic>) {
-    let (reports, diagnostics, _) =
-        synthesize_all_within(src, loaded, cfg, now, &mut Budget::new(cfg.max_states, progress));
-    (reports, diagnostics)
-}
-
-/// [`synthesize_all`] drawing on the run's `budget` (which the specification products of the
-/// run may have drawn on already; `cfg.max_states` is not consulted). The third value is set
-/// when the budget or a cancellation stopped the run: its error diagnostic is not an input
-/// error.
-pub fn synthesize_all_within(
+/// [`synthesize`] drawing on the run's `budget`, which the specification products written in
+/// the file drew on already ([`super::compile_within`]); `cfg.max_states` is not consulted.
+pub fn synthesize_within(
     src: &str,
     loaded: &Loaded,
     cfg: &Config,
     now: Option<&dyn Fn() -> f64>,
     budget: &mut Budget,
-) -> (Vec<SupervisorReport>, Vec<Diagnostic>, Option<Stop>) {
+) -> Synthesis {
     let mut stop = None;
     let mut diags = Diagnostics::new(src);
     let p = &loaded.project;
@@ -267,5 +255,13 @@ pub fn synthesize_all_within(
             );
         }
     }
-    (out, diags.items, stop)
+    // A stop decides first (its own error diagnostic is not an input error), then any error,
+    // then whether every supervisor is realizable.
+    let outcome = match stop {
+        Some(stop) => Err(stop),
+        None if diags.has_errors() => Ok(Verdict::Error),
+        None if out.iter().all(|r| r.realizable) => Ok(Verdict::Realizable),
+        None => Ok(Verdict::Unrealizable),
+    };
+    Synthesis { outcome, reports: out, diagnostics: diags.items }
 }

@@ -44,7 +44,7 @@ pub enum RuntimeError {
 /// What happened to one event in a cycle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
-pub enum Outcome {
+pub enum EventOutcome {
     /// It occurred and every supervisor tracked it.
     Accepted,
     /// Supervisor number `supervisor` prohibits it in its current state; nothing changed.
@@ -63,7 +63,7 @@ pub enum Outcome {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub struct Step {
     pub event: EventId,
-    pub outcome: Outcome,
+    pub outcome: EventOutcome,
 }
 
 /// The report of one cycle.
@@ -75,13 +75,13 @@ pub struct CycleReport {
 impl CycleReport {
     /// Events that occurred this cycle, in order (denied ones excluded).
     pub fn occurred(&self) -> impl Iterator<Item = EventId> + '_ {
-        self.steps.iter().filter(|s| !matches!(s.outcome, Outcome::Denied { .. })).map(|s| s.event)
+        self.steps.iter().filter(|s| !matches!(s.outcome, EventOutcome::Denied { .. })).map(|s| s.event)
     }
 
     /// Events denied this cycle, with the supervisor that denied each.
     pub fn denied(&self) -> impl Iterator<Item = (EventId, usize)> + '_ {
         self.steps.iter().filter_map(|s| match s.outcome {
-            Outcome::Denied { supervisor } => Some((s.event, supervisor)),
+            EventOutcome::Denied { supervisor } => Some((s.event, supervisor)),
             _ => None,
         })
     }
@@ -90,7 +90,7 @@ impl CycleReport {
     pub fn enforced(&self) -> impl Iterator<Item = EventId> + '_ {
         self.steps
             .iter()
-            .filter(|s| matches!(s.outcome, Outcome::Enforced { .. } | Outcome::EnforcedDespite { .. }))
+            .filter(|s| matches!(s.outcome, EventOutcome::Enforced { .. } | EventOutcome::EnforcedDespite { .. }))
             .map(|s| s.event)
     }
 }
@@ -229,11 +229,11 @@ impl<'a> Runtime<'a> {
             let outcome = match self.prohibited_by(e) {
                 Some(k) => {
                     self.occur(e, Some(k));
-                    Outcome::Unexpected { supervisor: k }
+                    EventOutcome::Unexpected { supervisor: k }
                 }
                 None => {
                     self.occur(e, None);
-                    Outcome::Accepted
+                    EventOutcome::Accepted
                 }
             };
             self.report.steps.push(Step { event: e, outcome });
@@ -246,14 +246,14 @@ impl<'a> Runtime<'a> {
     pub fn execute(&mut self, e: EventId) -> bool {
         debug_assert_eq!(self.project.kind(e), EventKind::Controllable, "only controllable events are checked");
         let outcome = match self.prohibited_by(e) {
-            Some(k) => Outcome::Denied { supervisor: k },
+            Some(k) => EventOutcome::Denied { supervisor: k },
             None => {
                 self.occur(e, None);
-                Outcome::Accepted
+                EventOutcome::Accepted
             }
         };
         self.report.steps.push(Step { event: e, outcome });
-        outcome == Outcome::Accepted
+        outcome == EventOutcome::Accepted
     }
 
     /// Step 5, enforcement, and the end of the cycle: returns its report.
@@ -275,8 +275,8 @@ impl<'a> Runtime<'a> {
                 }
                 self.timers_react(f);
                 let outcome = match prohibited_by {
-                    Some(j) => Outcome::EnforcedDespite { by: k, prohibited_by: j },
-                    None => Outcome::Enforced { by: k },
+                    Some(j) => EventOutcome::EnforcedDespite { by: k, prohibited_by: j },
+                    None => EventOutcome::Enforced { by: k },
                 };
                 self.report.steps.push(Step { event: f, outcome });
                 if self.states[k] == before {

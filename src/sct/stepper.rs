@@ -196,7 +196,7 @@ pub fn step(project: &Project, supervisors: &[&Supervisor], trace: &[String]) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sct::{compile, model::Config, synthesize_all};
+    use crate::sct::{compile, model::Config, synthesize, Synthesis};
 
     fn status_of<'v>(view: &'v StepView, event: &str) -> &'v EventStatus {
         &view.events.iter().find(|e| e.name == event).unwrap().status
@@ -206,9 +206,8 @@ mod tests {
     fn the_interlocked_tank_disables_opening_and_the_plant_rules_out_the_alarm() {
         // Figure 5.7: one supervisor state that prohibits opening the inlet.
         let src = include_str!("../../examples/sct/tank_interlock.sct");
-        let (loaded, d) = compile(src);
-        let loaded = loaded.unwrap_or_else(|| panic!("{d:?}"));
-        let (reports, _) = synthesize_all(src, &loaded, &Config::default(), None);
+        let (loaded, _) = compile(src).unwrap_or_else(|e| panic!("{e:?}"));
+        let Synthesis { reports, .. } = synthesize(src, &loaded, &Config::default(), None, &mut |_| true);
         let sups: Vec<&Supervisor> = reports.iter().map(|r| &r.supervisor).collect();
         let p = &loaded.project;
         let view = step(p, &sups, &[]).unwrap();
@@ -229,9 +228,8 @@ mod tests {
     #[test]
     fn preemption_enforces_closing_and_only_the_enforcer_takes_it() {
         let src = include_str!("../../examples/sct/tank_preemption.sct");
-        let (loaded, _) = compile(src);
-        let loaded = loaded.unwrap();
-        let (reports, _) = synthesize_all(src, &loaded, &Config::default(), None);
+        let (loaded, _) = compile(src).unwrap_or_else(|d| panic!("{d:?}"));
+        let Synthesis { reports, .. } = synthesize(src, &loaded, &Config::default(), None, &mut |_| true);
         let sups: Vec<&Supervisor> = reports.iter().map(|r| &r.supervisor).collect();
         let p = &loaded.project;
         let trace: Vec<String> = ["Tank.openInlet", "Tank.levelAlarm"].map(String::from).to_vec();

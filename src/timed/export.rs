@@ -3,8 +3,8 @@
 
 use super::explain::{describe_edge, describe_state, removal_text};
 use super::model::{ClockInterval, Game, LocId};
-use super::solve::{Removal, StateId, StateKind, Verdict};
-use super::Synthesis;
+use super::solve::{Removal, StateId, StateKind};
+use super::{Outcome, Synthesis};
 use serde::Serialize;
 use std::collections::VecDeque;
 
@@ -176,7 +176,7 @@ pub fn automata(game: &Game) -> Vec<AutomatonView> {
 
 #[derive(Serialize)]
 pub struct SpaceView {
-    /// `realizable`, `unrealizable`, `budget_exceeded` or `cancelled` ([`super::solve::Solution::outcome_name`]).
+    /// `realizable`, `unrealizable`, `budget_exceeded` or `cancelled` (`search::Outcome::outcome_name`).
     pub verdict: &'static str,
     pub initial: StateId,
     /// Clock names, index 0 being the reference clock.
@@ -297,7 +297,7 @@ fn view_of(game: &Game, synthesis: &Synthesis, order: &[StateId], truncated: boo
         }
     }
     SpaceView {
-        verdict: synthesis.solution.outcome_name(),
+        verdict: synthesis.outcome_name(),
         initial: space.initial,
         clocks: game.clocks.iter().map(|c| c.name.clone()).collect(),
         units: synthesis.split.units.iter().map(|u| u.name.clone()).collect(),
@@ -426,7 +426,7 @@ pub struct StrategyChoice {
 /// state it reaches, the request it makes or `wait`, initial state first; `None` when the game
 /// is not realizable.
 pub fn strategy(game: &Game, synthesis: &Synthesis) -> Option<Vec<StrategyChoice>> {
-    if synthesis.solution.verdict() != Some(Verdict::Realizable) {
+    if !synthesis.solution.is_realizable() {
         return None;
     }
     let space = &synthesis.solution.space;
@@ -573,11 +573,11 @@ pub fn space_dot(view: &SpaceView, selected: Option<StateId>, strategy: Option<&
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::timed::{compile, solve::SolveOptions, synthesize};
+    use crate::timed::{compile, solve::Config, synthesize};
 
     fn lamp() -> (Game, Synthesis) {
         let (game, _) = compile(include_str!("../../examples/timed/lamp.tga")).unwrap();
-        let synthesis = synthesize(&game, &SolveOptions::default(), &mut |_| true);
+        let synthesis = synthesize(&game, &Config::default(), &mut |_| true);
         (game, synthesis)
     }
 

@@ -1,13 +1,17 @@
 //! The timed-game engine (Peter 2005, chapters 2–6).
 //!
 //! Pipeline: [`parse`] (syntax, all diagnostics) → [`compile`] (semantic check, game model) →
-//! [`precompute`] (clock usage, unique choice intervals) → [`solve`] (forward exploration with
-//! reverse fail-state removal); [`synthesize`] runs the last two and explains a loss;
-//! [`program`] turns a winning strategy into the intermediate controller program (chapter 6),
-//! which `plc::lower::timed` lowers to PLC code.
+//! `precompute` (clock usage, unique choice intervals) → [`solve`] (forward exploration with
+//! reverse fail-state removal); [`synthesize`] runs the last two with a [`Config`] and explains
+//! a loss ([`explain`]); [`program`] turns a winning strategy into the intermediate controller
+//! program (chapter 6), which `plc::lower::timed` lowers to PLC code. At a PLC's scan time,
+//! [`synthesize_at_scan`] solves the scan game (`scan`) and [`scan_bound`] finds the longest
+//! scan time that works. [`export`] holds the JSON views of a game and a solved space.
+//! `precompute`, `scan` and `plant` (the plant the real-time checker runs) are the engine's;
+//! `testing` (hidden) gives the tests what they check of them.
 //!
 //! ```
-//! use plcsynth::timed::{compile, synthesize, solve::{SolveOptions, Verdict}};
+//! use plcsynth::timed::{compile, synthesize, Config, Outcome, Verdict};
 //!
 //! let source = "
 //!     plant {
@@ -18,9 +22,9 @@
 //!     assertions { never lamp.off and button.pressed; }
 //!     plans { plan { waitfor press; waitfor release; } }";
 //! let (game, _warnings) = compile(source).expect("a valid specification");
-//! let result = synthesize(&game, &SolveOptions::default(), &mut |_stats| true);
+//! let result = synthesize(&game, &Config::default(), &mut |_stats| true);
 //! // The controller can only react after the press: no controller exists.
-//! assert_eq!(result.solution.verdict(), Some(Verdict::Unrealizable));
+//! assert_eq!(result.verdict(), Some(Verdict::Unrealizable));
 //! assert!(result.explanation.unwrap().render().contains("!press"));
 //! ```
 
@@ -32,15 +36,33 @@ pub mod export;
 mod lexer;
 pub mod model;
 mod parser;
-pub mod plant;
-pub mod precompute;
+pub(crate) mod plant;
+mod precompute;
 pub mod program;
-pub mod scan;
+mod scan;
 pub mod solve;
 mod timelock;
 
-use crate::diag::{Diagnostic, Diagnostics, Span};
+use crate::diag::{Checked, Diagnostic, Diagnostics, Span};
+use crate::search::OnProgress;
 use lexer::{tokenize, Tok};
+
+// The engine contract (see `crate::search`): `compile` → `synthesize` with a `Config` →
+// a `Synthesis`, whose `Outcome` is a `Verdict` or a `Stop`; progress reports the `Stats`.
+pub use crate::search::{Outcome, Stop};
+pub use solve::{Config, Stats, Verdict};
+// The types of the machinery that the front door's results carry: the split automata of a
+// `Synthesis` and why a scan game cannot be built. (`plant`, the plant the real-time checker
+// runs, is the crate's.)
+pub use precompute::SplitGame;
+pub use scan::ScanError;
+
+/// Internals for the integration tests and the fuzz harness; not part of the API.
+#[doc(hidden)]
+pub mod testing {
+    pub use super::precompute::SubLocId;
+    pub use super::scan::scan_game;
+}
 
 /// A parsed specification with every syntax diagnostic.
 pub struct Parsed {
@@ -59,7 +81,7 @@ pub fn parse(source: &str) -> Parsed {
 
 /// Parses and checks a `.tga` source. On success returns the game and the warnings; otherwise
 /// every diagnostic (syntax errors first, then semantic ones when the syntax was sound enough).
-pub fn compile(source: &str) -> Result<(model::Game, Vec<Diagnostic>), Vec<Diagnostic>> {
+pub fn compile(source: &str) -> Checked<model::Game> {
     let mut diags = Diagnostics::new(source);
     let spec = parser::parse(source, &mut diags);
     let game = check::check(&spec, &mut diags);
@@ -77,13 +99,21 @@ pub struct Synthesis {
     pub explanation: Option<explain::Explanation>,
 }
 
+impl Outcome for Synthesis {
+    type Verdict = Verdict;
+
+    fn outcome(&self) -> Result<Verdict, &Stop> {
+        self.solution.outcome()
+    }
+}
+
 /// Precomputes and solves a checked game within the budgets of `options`. A split that alone
 /// exceeds them is refused: the outcome is a budget [`solve::Stop`], the state space
 /// is empty and the stop names the location to blame. `progress` is called during both.
 pub fn synthesize(
     game: &model::Game,
-    options: &solve::SolveOptions,
-    progress: &mut dyn FnMut(&solve::Stats) -> bool,
+    options: &solve::Config,
+    progress: &mut OnProgress<'_, solve::Stats>,
 ) -> Synthesis {
     synthesize_guided(game, None, options, progress)
 }
@@ -92,8 +122,8 @@ pub fn synthesize(
 fn synthesize_guided(
     game: &model::Game,
     guide: Option<&solve::ScanGuide>,
-    options: &solve::SolveOptions,
-    progress: &mut dyn FnMut(&solve::Stats) -> bool,
+    options: &solve::Config,
+    progress: &mut OnProgress<'_, solve::Stats>,
 ) -> Synthesis {
     let split = match precompute::split(game, options, progress) {
         Ok(split) => split,
@@ -125,12 +155,12 @@ pub struct ScanSynthesis {
     pub game: model::Game,
     pub synthesis: Synthesis,
     /// The options it was solved with.
-    pub options: solve::SolveOptions,
+    pub options: solve::Config,
 }
 
 impl ScanSynthesis {
     /// Whether some move of the solution goes to a state that includes its zone rather than
-    /// to its own (inclusion, see [`solve::SolveOptions::inclusion`]).
+    /// to its own (inclusion, see [`solve::Config::inclusion`]).
     pub fn has_covers(&self) -> bool {
         self.synthesis.solution.space.edges.iter().any(|e| e.is_covered())
     }
@@ -139,23 +169,19 @@ impl ScanSynthesis {
     /// solution has covers: the strategy a PLC's code can follow read by read, where a cover's
     /// decisions, made for a larger zone, tell apart states the PLC's inputs do not. `None` if
     /// this solution has no covers (it is exact already) or the scan game cannot be built.
-    pub fn exact(&self, game: &model::Game, progress: &mut dyn FnMut(&solve::Stats) -> bool) -> Option<ScanSynthesis> {
+    pub fn exact(&self, game: &model::Game, progress: &mut OnProgress<'_, solve::Stats>) -> Option<ScanSynthesis> {
         if !self.has_covers() {
             return None;
         }
-        let options = solve::SolveOptions { inclusion: false, ..self.options.clone() };
+        let options = solve::Config { inclusion: false, ..self.options.clone() };
         synthesize_at_scan(game, self.scan_ms, &options, progress).ok()
     }
 
     /// The same scan game solved by the exhaustive search (within the same budgets): the whole
     /// winning region, where every decision's consequences are explored, not only the
     /// strategy's. `None` if the scan game cannot be built.
-    pub fn exhaustive(
-        &self,
-        game: &model::Game,
-        progress: &mut dyn FnMut(&solve::Stats) -> bool,
-    ) -> Option<ScanSynthesis> {
-        let options = solve::SolveOptions { exhaustive: true, ..self.options.clone() };
+    pub fn exhaustive(&self, game: &model::Game, progress: &mut OnProgress<'_, solve::Stats>) -> Option<ScanSynthesis> {
+        let options = solve::Config { exhaustive: true, ..self.options.clone() };
         synthesize_at_scan(game, self.scan_ms, &options, progress).ok()
     }
 }
@@ -166,8 +192,8 @@ impl ScanSynthesis {
 pub fn synthesize_at_scan(
     game: &model::Game,
     scan_ms: u64,
-    options: &solve::SolveOptions,
-    progress: &mut dyn FnMut(&solve::Stats) -> bool,
+    options: &solve::Config,
+    progress: &mut OnProgress<'_, solve::Stats>,
 ) -> Result<ScanSynthesis, scan::ScanError> {
     let scan_game = scan::scan_game(game, scan_ms)?;
     let guide = if options.exhaustive { None } else { scan_guide(game, scan_ms, options, progress) };
@@ -185,8 +211,8 @@ pub fn synthesize_at_scan(
 pub fn scan_guide(
     game: &model::Game,
     scan_ms: u64,
-    options: &solve::SolveOptions,
-    progress: &mut dyn FnMut(&solve::Stats) -> bool,
+    options: &solve::Config,
+    progress: &mut OnProgress<'_, solve::Stats>,
 ) -> Option<solve::ScanGuide> {
     let base = scan::rescaled(game, scan_ms).ok()?;
     let shortest = base.plans.iter().flat_map(|p| p.clocks.iter().map(|&(_, bound)| bound)).min().unwrap_or(0);
@@ -259,8 +285,8 @@ pub fn scan_bound(
     game: &model::Game,
     scan_ms: u64,
     implementable: bool,
-    options: &solve::SolveOptions,
-    progress: &mut dyn FnMut(&solve::Stats) -> bool,
+    options: &solve::Config,
+    progress: &mut OnProgress<'_, solve::Stats>,
 ) -> ScanBound {
     let mut bound = ScanBound::default();
     // `None`: stopped at a budget or cancelled (or no scan game at that time).

@@ -18,9 +18,10 @@
 //! naming the location, when it would exceed them.
 
 use super::model::*;
-use super::solve::{Halt, SolveOptions, Stats, PROGRESS_WORK, STEP_COST};
+use super::solve::{Config, Halt, Stats, PROGRESS_WORK, STEP_COST};
 use crate::diag::Span;
 use crate::id::id_type;
+use crate::search::OnProgress;
 use crate::search::{Charge, Meter, Resource};
 use serde::Serialize;
 use std::mem::size_of;
@@ -57,7 +58,7 @@ pub struct SplitGame {
     pub message_count: usize,
     /// Approximate heap bytes of the sub-locations and plan tables (part of the memory budget).
     pub bytes: usize,
-    /// Work spent splitting, in the units of [`SolveOptions::max_work`].
+    /// Work spent splitting, in the units of [`Config::max_work`].
     pub work: u64,
 }
 
@@ -206,7 +207,7 @@ struct SplitMeter<'p> {
     bytes: usize,
     max_bytes: usize,
     work: Meter,
-    progress: &'p mut dyn FnMut(&Stats) -> bool,
+    progress: &'p mut OnProgress<'p, Stats>,
 }
 
 impl SplitMeter<'_> {
@@ -234,11 +235,7 @@ impl SplitMeter<'_> {
 
 /// Builds the split game within the memory and work budgets of `options` (the search gets
 /// what is left of them). `progress` is called during a long split, as during the search.
-pub fn split(
-    game: &Game,
-    options: &SolveOptions,
-    progress: &mut dyn FnMut(&Stats) -> bool,
-) -> Result<SplitGame, SplitError> {
+pub fn split(game: &Game, options: &Config, progress: &mut OnProgress<'_, Stats>) -> Result<SplitGame, SplitError> {
     let dim = game.dim();
     let mut constraints: Vec<Vec<Interval>> = vec![Vec::new(); dim];
     for a in &game.components {

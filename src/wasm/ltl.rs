@@ -5,7 +5,7 @@
 
 use super::{diagnostics_error, to_js, unit_code, Progress, UnitCodeOptions};
 use crate::diag::Diagnostic;
-use crate::ltl::{self, Config, Format, Outcome, Spec, Stop, SuggestConfig, Suggestions, Verdict};
+use crate::ltl::{self, Config, Format, Outcome, Spec, Stop, SuggestConfig, Suggestions, Synthesis, Verdict};
 use crate::plc;
 use serde::{Deserialize, Serialize};
 use wasm_bindgen::prelude::*;
@@ -139,7 +139,7 @@ pub struct LtlSession {
     source: String,
     spec: Spec,
     warnings: Vec<Diagnostic>,
-    outcome: Option<Outcome>,
+    outcome: Option<Synthesis>,
     /// Whether `solve` ran (an outcome-less run was stopped by a budget).
     solved: bool,
 }
@@ -195,8 +195,10 @@ impl LtlSession {
         let mut progress = Progress::new(progress, opts.progress_ms);
         let started = super::now_ms();
         let mut report =
-            |p: ltl::Progress| progress.report(|| LtlProgress { k: p.k, positions: p.positions, work: p.work });
-        let outcome = match ltl::synthesize(&self.spec, &cfg, &mut report) {
+            |p: &ltl::Progress| progress.report(|| LtlProgress { k: p.k, positions: p.positions, work: p.work });
+        let run = ltl::synthesize(&self.spec, &cfg, &mut report);
+        let verdict = run.outcome_name();
+        let outcome = match run {
             Ok(outcome) => outcome,
             Err(stop) => {
                 // No verdict and no machine: the budget or the caller ended the run first.
@@ -204,7 +206,7 @@ impl LtlSession {
                 self.outcome = None;
                 self.solved = true;
                 return to_js(&LtlSummary {
-                    verdict: stop.outcome_name(),
+                    verdict,
                     solver: solver.name(),
                     summary: format!("no verdict: {stop}"),
                     report: ReportView { limit: Some(stop.to_string()), ..ReportView::default() },
@@ -225,7 +227,7 @@ impl LtlSession {
                 ..SuggestConfig::default()
             };
             let mut report =
-                |p: ltl::Progress| progress.report(|| LtlProgress { k: p.k, positions: p.positions, work: p.work });
+                |p: &ltl::Progress| progress.report(|| LtlProgress { k: p.k, positions: p.positions, work: p.work });
             match ltl::suggest(&self.spec, &outcome, &cfg, &scfg, &mut report) {
                 Ok(s) => (Some(self.suggestions_view(&s)), None),
                 Err(Stop::Cancelled) => {
@@ -242,7 +244,7 @@ impl LtlSession {
         let refined = ltl::refined(&self.spec, &outcome.refinement);
         let machine = outcome.controller.as_ref().or(outcome.counter_strategy.as_ref());
         let summary = LtlSummary {
-            verdict: outcome.verdict.name(),
+            verdict,
             stop: None,
             solver: solver.name(),
             summary: ltl::summary(&outcome),
@@ -302,7 +304,7 @@ fn progress_ms(started: f64) -> f64 {
 
 impl LtlSession {
     /// What the summary shows of `refined`, the specification with what refinement learned.
-    fn report_view(&self, refined: &Spec, outcome: &Outcome) -> ReportView {
+    fn report_view(&self, refined: &Spec, outcome: &Synthesis) -> ReportView {
         let names = |ids: Vec<ltl::SignalId>| ids.into_iter().map(|s| refined.name(s).to_string()).collect();
         ReportView {
             ltl: refined.formula_text(),

@@ -86,7 +86,7 @@ pub fn check(kind: &str, source: &str) -> Result<JsValue, JsValue> {
         // only up to a small budget here, so a large one cannot keep the checker busy; past it
         // the text is not wrong, and Run builds the products with the run's budget.
         "sct" => {
-            let mut go_on = |_| true;
+            let mut go_on = |_: &_| true;
             let mut budget = crate::sct::model::Budget::new(CHECK_PRODUCT_STATES, &mut go_on);
             let (loaded, diagnostics, stop) = crate::sct::compile_within(source, &mut budget);
             if stop.is_some() {

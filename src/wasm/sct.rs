@@ -7,7 +7,7 @@ use crate::diag::Diagnostic;
 use crate::plc;
 use crate::sct::export::{self, module_of};
 use crate::sct::model::{Budget, Config, Method, Stop, DEFAULT_MAX_STATES};
-use crate::sct::{compile_within, synthesize_all_within, Loaded, SupervisorReport, Verdict};
+use crate::sct::{self, compile_within, synthesize_within, Loaded, Outcome, SupervisorReport, Synthesis};
 use serde::{Deserialize, Serialize};
 use std::cell::OnceCell;
 use wasm_bindgen::prelude::*;
@@ -52,8 +52,9 @@ struct SctSummary<'a> {
     /// Errors and warnings of synthesis (conflicts of 6.4.4, enforcement cycles, the warning of
     /// 6.4.2 when one supervisor enforces what another prohibits), located in the source.
     diagnostics: &'a [Diagnostic],
-    /// `realizable`, `unrealizable`, `budget_exceeded`, `cancelled` or `error` (`sct::Verdict`).
-    verdict: Verdict,
+    /// `realizable`, `unrealizable` or `error` (`sct::Verdict`), or how the run stopped before
+    /// deciding: `budget_exceeded` or `cancelled` (`search::Outcome::outcome_name`).
+    verdict: &'static str,
     /// Why the run stopped before every specification was synthesised (`search::Stop`).
     stop: Option<&'a Stop>,
     /// Product states built.
@@ -98,7 +99,7 @@ impl SctSession {
     #[wasm_bindgen(constructor)]
     pub fn new(source: &str, options: JsValue) -> Result<SctSession, JsValue> {
         let opts: SctOptions = super::options(options)?;
-        let mut go_on = |_| true;
+        let mut go_on = |_: &_| true;
         let mut budget = Budget::new(opts.max_states.unwrap_or(DEFAULT_MAX_STATES), &mut go_on);
         let (loaded, diagnostics, _) = compile_within(source, &mut budget);
         match loaded {
@@ -151,8 +152,8 @@ impl SctSession {
         let mut progress = Progress::new(progress, opts.progress_ms);
         let started = progress.elapsed();
         let clock = super::now_ms;
-        let (reports, diagnostics, stop, built) = {
-            let mut report = |built: usize| progress.report(|| SctProgress { built });
+        let (synthesis, built) = {
+            let mut report = |p: &sct::Progress| progress.report(|| SctProgress { built: p.states });
             let mut budget = Budget::new(cfg.max_states, &mut report);
             self.composed = None;
             if opts.compose {
@@ -171,10 +172,10 @@ impl SctSession {
                 }
             }
             let loaded = self.composed.as_ref().unwrap_or(&self.loaded);
-            let (reports, diagnostics, stop) =
-                synthesize_all_within(&self.source, loaded, &cfg, Some(&clock), &mut budget);
-            (reports, diagnostics, stop, budget.built())
+            (synthesize_within(&self.source, loaded, &cfg, Some(&clock), &mut budget), budget.built())
         };
+        let (verdict, stop) = (synthesis.outcome_name(), synthesis.stop().cloned());
+        let Synthesis { reports, diagnostics, .. } = synthesis;
         let ms = progress.elapsed() - started;
         progress.finish()?;
         let input_errors = diagnostics.iter().filter(|d| d.is_error()).count() > usize::from(stop.is_some());
@@ -182,7 +183,7 @@ impl SctSession {
         let summary = SctSummary {
             method: if method == Method::Monolithic { "monolithic" } else { "incremental" },
             supervisors: reports.iter().map(summary_of).collect(),
-            verdict: Verdict::of(&reports, &diagnostics, stop.as_ref()),
+            verdict,
             diagnostics: &diagnostics,
             stop: stop.as_ref(),
             states_built: built,

@@ -4,12 +4,13 @@
 use super::{diagnostics_error, plc_target, to_js, FileView, GeneratedCode, IoRowView, Progress};
 use crate::diag::Diagnostic;
 use crate::plc::{self, Target};
+use crate::search::Outcome;
 use crate::timed::explain::{self as explain, dump, CounterPlay};
 use crate::timed::export::{self, StateView};
 use crate::timed::model::Game;
 use crate::timed::program::simulate::{self, Choice, SimView, Simulation};
 use crate::timed::program::{self, Program};
-use crate::timed::solve::{SolveOptions, StateId, Stats, Stop, Verdict};
+use crate::timed::solve::{Config, StateId, Stats, Stop, Verdict};
 use crate::timed::{self, Synthesis};
 use serde::{Deserialize, Serialize};
 use std::cell::OnceCell;
@@ -32,7 +33,7 @@ struct JsSolveOptions {
 #[derive(Serialize)]
 struct SolveSummary {
     /// `realizable`, `unrealizable`, `budget_exceeded` or `cancelled`
-    /// (`timed::solve::Solution::outcome_name`).
+    /// (`search::Outcome::outcome_name`).
     verdict: &'static str,
     stats: Stats,
     /// Present when the search stopped before deciding: the shared `search::Stop`.
@@ -199,8 +200,8 @@ impl TimedSession {
     /// `{ verdict, stats, stop, explanation_depth, scan }`.
     pub fn solve(&mut self, options: JsValue, progress: Option<js_sys::Function>) -> Result<JsValue, JsValue> {
         let opts: JsSolveOptions = super::options(options)?;
-        let defaults = SolveOptions::default();
-        let options = SolveOptions::default()
+        let defaults = Config::default();
+        let options = Config::default()
             .max_states(opts.max_states.unwrap_or(defaults.max_states))
             .max_bytes(opts.max_memory_mib.map_or(defaults.max_bytes, |mib| mib.saturating_mul(1 << 20)))
             .max_work(opts.max_work.unwrap_or(defaults.max_work))
@@ -210,11 +211,13 @@ impl TimedSession {
         let mut report = |stats: &Stats| progress.report(|| *stats);
         let synthesis = timed::synthesize(&self.game, &options, &mut report);
         let mut scan_program = None;
+        let mut implementable_at = None;
         let scan = match self.game.scan_ms {
             // A callback error cancels the run, so a realizable verdict means none occurred.
-            Some((ms, _)) if synthesis.solution.verdict() == Some(Verdict::Realizable) => {
+            Some((ms, _)) if synthesis.solution.is_realizable() => {
                 timed::synthesize_at_scan(&self.game, ms, &options, &mut report).ok().map(|r| {
-                    let verdict = r.synthesis.solution.verdict();
+                    let verdict = r.synthesis.verdict();
+                    implementable_at = r.synthesis.solution.is_realizable().then_some(ms);
                     let code_from = (verdict == Some(Verdict::Realizable)).then(|| {
                         // The page's cancel button stops the extraction too.
                         let stats = r.synthesis.solution.stats;
@@ -234,7 +237,7 @@ impl TimedSession {
                     });
                     ScanSummary {
                         scan_ms: ms,
-                        verdict: r.synthesis.solution.outcome_name(),
+                        verdict: r.synthesis.outcome_name(),
                         stats: r.synthesis.solution.stats,
                         stop: r.synthesis.solution.stop().cloned(),
                         explanation_text: r.synthesis.explanation.as_ref().map(|e| e.render()),
@@ -248,7 +251,7 @@ impl TimedSession {
         };
         progress.finish()?;
         let summary = SolveSummary {
-            verdict: synthesis.solution.outcome_name(),
+            verdict: synthesis.outcome_name(),
             stats: synthesis.solution.stats,
             stop: synthesis.solution.stop().cloned(),
             blame: synthesis.solution.blame,
@@ -261,8 +264,7 @@ impl TimedSession {
         self.strategy = OnceCell::new();
         self.checked = Default::default();
         self.sim = None;
-        self.implementable_at =
-            summary.scan.as_ref().filter(|s| s.verdict == Verdict::Realizable.name()).map(|s| s.scan_ms);
+        self.implementable_at = implementable_at;
         self.scan_program = scan_program;
         to_js(&summary)
     }

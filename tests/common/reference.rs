@@ -1,9 +1,10 @@
 //! The strategy-directed timed solver against the exact exhaustive reference (`--exhaustive
 //! --no-zeno-memory`), and the properties both must have.
 
+use plcsynth::search::Outcome as _;
 use plcsynth::timed::model::Game;
-use plcsynth::timed::precompute::SubLocId;
-use plcsynth::timed::solve::{EdgeKind, Removal, SolveOptions, StateId, StateKind, StateSpace, Stop, Verdict};
+use plcsynth::timed::solve::{Config, EdgeKind, Removal, StateId, StateKind, StateSpace, Stop, Verdict};
+use plcsynth::timed::testing::SubLocId;
 use plcsynth::timed::{synthesize, synthesize_at_scan, Synthesis};
 use plcsynth::zone::{includes_only_lowered, Dbm};
 use std::collections::HashSet;
@@ -17,8 +18,8 @@ fn key(space: &StateSpace, s: StateId) -> Key {
 
 /// The comparisons' budget: `max_states` and a work budget of 250 million, half the default, so
 /// that a game beyond the budget costs a comparison what it did before the default grew.
-pub fn options(max_states: usize) -> SolveOptions {
-    SolveOptions { max_states, max_work: 250_000_000, ..SolveOptions::default() }
+pub fn options(max_states: usize) -> Config {
+    Config { max_states, max_work: 250_000_000, ..Config::default() }
 }
 
 /// Checks, for one game solved both ways within `max_states` (the default search, and the exact
@@ -31,7 +32,7 @@ pub fn options(max_states: usize) -> SolveOptions {
 pub fn compare_with_reference(game: &Game, max_states: usize) -> Result<Visited, String> {
     let options = options(max_states);
     let fast = synthesize(game, &options, &mut |_| true);
-    let exact = SolveOptions { exhaustive: true, zeno_memory: false, ..options };
+    let exact = Config { exhaustive: true, zeno_memory: false, ..options };
     let reference = synthesize(game, &exact, &mut |_| true);
     agree(game, &fast, &reference)
 }
@@ -49,7 +50,7 @@ pub fn compare_scan_with_reference(
 ) -> Result<(Option<Verdict>, Visited), String> {
     let options = options(max_states);
     let fast = synthesize_at_scan(game, scan_ms, &options, &mut |_| true).map_err(|e| e.to_string())?;
-    let exact = SolveOptions { exhaustive: true, zeno_memory: false, ..options };
+    let exact = Config { exhaustive: true, zeno_memory: false, ..options };
     let reference = synthesize(&fast.game, &exact, &mut |_| true);
     Ok((fast.synthesis.solution.verdict(), agree(&fast.game, &fast.synthesis, &reference)?))
 }

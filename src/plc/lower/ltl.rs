@@ -27,8 +27,8 @@
 
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use crate::ltl::{
-    Cube, Machine, NumExpr, NumberKind, NumericId, Outcome, Relation, Row, SignalId, SignalKind as Direction, Spec,
-    StateId,
+    Cube, Machine, NumExpr, NumberKind, NumericId, Relation, Row, SignalId, SignalKind as Direction, Spec, StateId,
+    Synthesis,
 };
 use crate::plc::model::unit::{BinOp, Expr, Place, Pou, PouKind, Signal, SignalKind, Stmt, Type, Unit, Var};
 use crate::plc::{identifier, source_hash, Namespace};
@@ -101,7 +101,7 @@ pub fn lower(source: &str, spec: &Spec, machine: &Machine, options: &LowerOption
 pub fn lower_outcome(
     source: &str,
     spec: &Spec,
-    outcome: &Outcome,
+    outcome: &Synthesis,
     options: &LowerOptions,
 ) -> Option<Result<Unit, Vec<Diagnostic>>> {
     let machines: Vec<Machine> = outcome.groups.iter().filter_map(|g| g.controller.clone()).collect();

@@ -26,6 +26,7 @@ use crate::id::id_type;
 use petgraph::visit::{Bfs, NodeFiltered};
 use serde::Serialize;
 
+use crate::search::OnProgress;
 pub use crate::search::Stop;
 use crate::search::{Charge, Meter, Resource};
 
@@ -468,16 +469,23 @@ impl SynthError {
 /// What bounds a run: a number of product states that may still be built (every state of every
 /// specification product and application product counts, also of products later shrunk by
 /// synthesis steps) and the caller's progress callback. The callback sees the number of states built so
-/// far and returns `false` to cancel. One budget can serve several specifications.
+/// far ([`Progress`]) and returns `false` to cancel. One budget can serve several specifications.
 pub struct Budget<'a> {
     /// Product states built, against `max_states`, with a progress call every
     /// [`PROGRESS_INTERVAL`] states.
     states: Meter,
-    progress: &'a mut dyn FnMut(usize) -> bool,
+    progress: &'a mut OnProgress<'a, Progress>,
+}
+
+/// Progress of a run, passed to the callback; returning `false` cancels.
+#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+pub struct Progress {
+    /// Product states built so far.
+    pub states: usize,
 }
 
 impl<'a> Budget<'a> {
-    pub fn new(max_states: usize, progress: &'a mut dyn FnMut(usize) -> bool) -> Budget<'a> {
+    pub fn new(max_states: usize, progress: &'a mut OnProgress<'a, Progress>) -> Budget<'a> {
         Budget { states: Meter::new(0, max_states as u64, PROGRESS_INTERVAL as u64), progress }
     }
 
@@ -497,8 +505,8 @@ impl<'a> Budget<'a> {
             Charge::Within => Ok(()),
             Charge::Exceeded => Err(SynthError::BudgetExceeded { max_states: self.max_states() }),
             Charge::ReportDue => {
-                let built = self.built();
-                if (self.progress)(built) {
+                let progress = Progress { states: self.built() };
+                if (self.progress)(&progress) {
                     Ok(())
                 } else {
                     Err(SynthError::Cancelled)

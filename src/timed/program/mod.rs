@@ -171,7 +171,7 @@ pub fn condition_text(game: &Game, condition: &Condition) -> String {
 /// The optimised controller program of a solved game, or `None` if no controller exists.
 pub fn controller(game: &Game, synthesis: &crate::timed::Synthesis) -> Option<Program> {
     let space = &synthesis.solution.space;
-    if synthesis.solution.verdict() != Some(crate::timed::solve::Verdict::Realizable) {
+    if !synthesis.solution.is_realizable() {
         return None;
     }
     let strategy = select::select(game, space);

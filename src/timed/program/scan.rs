@@ -338,7 +338,7 @@ pub fn extract(
         return Err(ScanProgramError::Cancelled);
     }
     let scan = match &exact {
-        Some(exact) if matches!(exact.synthesis.solution.stop(), Some(crate::search::Stop::Budget { .. })) => {
+        Some(exact) if matches!(exact.synthesis.solution.outcome, Err(crate::search::Stop::Budget { .. })) => {
             return Err(ScanProgramError::ExactBudget)
         }
         Some(exact) => exact,
@@ -359,7 +359,7 @@ pub fn extract(
                 return Err(ScanProgramError::Cancelled);
             }
             match whole {
-                Some(whole) if whole.synthesis.solution.verdict() == Some(crate::timed::solve::Verdict::Realizable) => {
+                Some(whole) if whole.synthesis.solution.is_realizable() => {
                     match follow_beliefs(game, &whole, signals, budget, true, keep_going) {
                         Err(ScanProgramError::Budget { .. } | ScanProgramError::Ambiguous { .. }) => Err(ambiguous),
                         other => other,
@@ -384,9 +384,7 @@ fn follow_beliefs(
     keep_going: &mut dyn FnMut(usize) -> bool,
 ) -> Result<ScanProgram, ScanProgramError> {
     let space = &scan.synthesis.solution.space;
-    if scan.synthesis.solution.verdict() != Some(crate::timed::solve::Verdict::Realizable)
-        || !space.is_winning(space.initial)
-    {
+    if !scan.synthesis.solution.is_realizable() || !space.is_winning(space.initial) {
         return Err(ScanProgramError::NotImplementable);
     }
     let roles = scan.game.scan.as_ref().ok_or(ScanProgramError::NotImplementable)?;

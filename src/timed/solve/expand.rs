@@ -196,7 +196,7 @@ impl Solver<'_, '_> {
         (id, true)
     }
 
-    /// Inclusion (see `SolveOptions::inclusion`): a surviving state of these locations and kind
+    /// Inclusion (see `Config::inclusion`): a surviving state of these locations and kind
     /// whose zone includes zone `zone_id` once its plan clocks may be lower (a plan clock only
     /// ever meets a deadline, so a lower one only helps the controller), the latest such first;
     /// lost states leave the lists as they are met.
@@ -236,7 +236,7 @@ impl Solver<'_, '_> {
     }
 
     /// [`Self::add_interned`], and a new state lost at once if a lost state dominates it (see
-    /// `SolveOptions::dominance`).
+    /// `Config::dominance`).
     pub(super) fn add_checked(
         &mut self,
         env_id: u32,

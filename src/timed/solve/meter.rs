@@ -3,7 +3,7 @@
 
 use super::space::{Edge, State, StateId, StateKind};
 use super::strategy::Deferred;
-use super::{SolveOptions, Solver};
+use super::{Config, Solver};
 use crate::search::{Charge, Resource, Stop};
 use crate::timed::model::*;
 use crate::timed::precompute::SplitTooLarge;
@@ -20,7 +20,7 @@ pub(crate) const STEP_COST: u64 = 64;
 /// the shared [`Stop`] with its sentence when the search returns.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Halt {
-    /// A budget of [`SolveOptions`]: states, memory or work.
+    /// A budget of [`Config`]: states, memory or work.
     Budget(Resource),
     Cancelled,
 }
@@ -28,7 +28,7 @@ pub(crate) enum Halt {
 impl Halt {
     /// The stop of a search that ended so under `options`, with the budget's limit in words that
     /// do not depend on the caller (the CLI and the page add how to raise it).
-    pub(crate) fn stop(self, options: &SolveOptions) -> Stop {
+    pub(crate) fn stop(self, options: &Config) -> Stop {
         let resource = match self {
             Halt::Budget(resource) => resource,
             Halt::Cancelled => return Stop::Cancelled,
@@ -47,7 +47,7 @@ impl Halt {
 
 /// The stop of a split that needed more memory or work than `options` allow; the location to
 /// blame is `too_large.span`.
-pub(crate) fn split_stop(too_large: &SplitTooLarge, options: &SolveOptions) -> Stop {
+pub(crate) fn split_stop(too_large: &SplitTooLarge, options: &Config) -> Stop {
     let what = format!(
         "{} splits into {} sub-locations ({} clocks in use there)",
         too_large.place, too_large.sublocations, too_large.clocks
@@ -74,7 +74,7 @@ pub struct Stats {
     pub winning: usize,
     /// States removed as losing.
     pub removed: usize,
-    /// Of those, states lost on arrival by dominance (`SolveOptions::dominance`), not expanded.
+    /// Of those, states lost on arrival by dominance (`Config::dominance`), not expanded.
     pub dominated: usize,
     pub edges: usize,
     /// Distinct zones stored.

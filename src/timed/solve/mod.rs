@@ -49,7 +49,8 @@ mod space;
 mod strategy;
 mod zeno;
 
-pub use crate::search::{Resource, Stop};
+use crate::search::OnProgress;
+pub use crate::search::{Outcome, Resource, Stop};
 pub use guide::ScanGuide;
 pub use meter::Stats;
 pub(crate) use meter::{split_stop, Halt, PROGRESS_WORK, STEP_COST};
@@ -61,14 +62,13 @@ use crate::search::Meter;
 use crate::zone::Dbm;
 use expand::{Move, ScanArm};
 use progress::Counting;
-use serde::Serialize;
 use std::collections::VecDeque;
 use strategy::{plan_goals, send_distances, Deferred};
 use zeno::{Vis, ZenoSets};
 
 /// Limits and switches of one solver run.
 #[derive(Clone, Debug)]
-pub struct SolveOptions {
+pub struct Config {
     /// Stop with a [`Stop::Budget`] once this many states are stored.
     pub max_states: usize,
     /// Stop once the split game and the state space take about this many heap bytes.
@@ -112,7 +112,7 @@ pub const DEFAULT_MAX_BYTES: usize = 512 << 20;
 /// 82 million, the scan game of gear checking at 36 ms, which is not implementable, 327 million.
 pub const DEFAULT_MAX_WORK: u64 = 500_000_000;
 
-crate::search::setters!(SolveOptions {
+crate::search::setters!(Config {
     max_states: usize,
     max_bytes: usize,
     max_work: u64,
@@ -123,9 +123,9 @@ crate::search::setters!(SolveOptions {
     dominance: bool,
 });
 
-impl Default for SolveOptions {
+impl Default for Config {
     fn default() -> Self {
-        SolveOptions {
+        Config {
             max_states: DEFAULT_MAX_STATES,
             max_bytes: DEFAULT_MAX_BYTES,
             max_work: DEFAULT_MAX_WORK,
@@ -138,8 +138,7 @@ impl Default for SolveOptions {
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Verdict {
     /// The controller has a strategy that keeps every assertion and meets every plan.
     Realizable,
@@ -147,15 +146,7 @@ pub enum Verdict {
     Unrealizable,
 }
 
-impl Verdict {
-    /// Its name in the JSON forms and the page: `realizable` or `unrealizable`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Verdict::Realizable => "realizable",
-            Verdict::Unrealizable => "unrealizable",
-        }
-    }
-}
+crate::search::decision!(Verdict { Realizable => "realizable", Unrealizable => "unrealizable" });
 
 /// The outcome of [`solve`]: the decision or why there is none, and what the search built
 /// either way (the page shows the states and statistics of a stopped search too).
@@ -168,41 +159,25 @@ pub struct Solution {
     pub blame: Option<crate::diag::Span>,
 }
 
-impl Solution {
-    /// The decision, if the search reached one.
-    pub fn verdict(&self) -> Option<Verdict> {
-        self.outcome.as_ref().ok().copied()
-    }
+impl Outcome for Solution {
+    type Verdict = Verdict;
 
+    fn outcome(&self) -> Result<Verdict, &Stop> {
+        self.outcome.as_ref().copied()
+    }
+}
+
+impl Solution {
     /// Whether the controller wins.
     pub fn is_realizable(&self) -> bool {
-        self.verdict() == Some(Verdict::Realizable)
-    }
-
-    /// Why the search stopped before deciding, if it did.
-    pub fn stop(&self) -> Option<&Stop> {
-        self.outcome.as_ref().err()
-    }
-
-    /// How the run ended, as the CLI's JSON and the page name it: the verdict's name, or
-    /// `budget_exceeded` or `cancelled`.
-    pub fn outcome_name(&self) -> &'static str {
-        match &self.outcome {
-            Ok(verdict) => verdict.name(),
-            Err(stop) => stop.outcome_name(),
-        }
+        self.outcome == Ok(Verdict::Realizable)
     }
 }
 
 /// Solves the game within the budgets of `options` (the split's memory and work count). Calls
 /// `progress` every `options.progress_interval` expansions, and during long work on one state,
 /// with the statistics so far; returning `false` cancels the run.
-pub fn solve(
-    game: &Game,
-    split: &SplitGame,
-    options: &SolveOptions,
-    progress: &mut dyn FnMut(&Stats) -> bool,
-) -> Solution {
+pub fn solve(game: &Game, split: &SplitGame, options: &Config, progress: &mut OnProgress<'_, Stats>) -> Solution {
     solve_guided(game, split, options, None, progress)
 }
 
@@ -211,9 +186,9 @@ pub fn solve(
 pub fn solve_guided(
     game: &Game,
     split: &SplitGame,
-    options: &SolveOptions,
+    options: &Config,
     guide: Option<&ScanGuide>,
-    progress: &mut dyn FnMut(&Stats) -> bool,
+    progress: &mut OnProgress<'_, Stats>,
 ) -> Solution {
     if !uses_inclusion(game, options) {
         return solve_pass(game, split, options, guide, progress, split.work);
@@ -221,7 +196,7 @@ pub fn solve_guided(
     // Inclusion decides most scan games with a fraction of the states, but where covers keep
     // being lost (a scan time just past the largest that works) it can cost more than storing
     // every zone: it gets a quarter of every budget, then the search without it the rest.
-    let share = SolveOptions {
+    let share = Config {
         max_states: options.max_states / INCLUSION_SHARE,
         max_bytes: options.max_bytes / INCLUSION_SHARE,
         max_work: options.max_work / INCLUSION_SHARE as u64,
@@ -231,17 +206,17 @@ pub fn solve_guided(
     if !matches!(first.outcome, Err(Stop::Budget { .. })) {
         return first;
     }
-    let exact = SolveOptions { inclusion: false, ..options.clone() };
+    let exact = Config { inclusion: false, ..options.clone() };
     solve_pass(game, split, &exact, guide, progress, first.stats.work)
 }
 
 /// Whether a search of `game` with `options` uses inclusion: scan games, strategy-directed.
-fn uses_inclusion(game: &Game, options: &SolveOptions) -> bool {
+fn uses_inclusion(game: &Game, options: &Config) -> bool {
     options.inclusion && !options.exhaustive && game.scan.is_some()
 }
 
 /// Whether a search of `game` with `options` uses dominance: scan games, strategy-directed.
-fn uses_dominance(game: &Game, options: &SolveOptions) -> bool {
+fn uses_dominance(game: &Game, options: &Config) -> bool {
     options.dominance && !options.exhaustive && game.scan.is_some()
 }
 
@@ -254,12 +229,12 @@ const INCLUSION_SHARE: usize = 4;
 fn solve_pass(
     game: &Game,
     split: &SplitGame,
-    options: &SolveOptions,
+    options: &Config,
     guide: Option<&ScanGuide>,
-    progress: &mut dyn FnMut(&Stats) -> bool,
+    progress: &mut OnProgress<'_, Stats>,
     spent: u64,
 ) -> Solution {
-    let exact = SolveOptions { zeno_memory: false, ..options.clone() };
+    let exact = Config { zeno_memory: false, ..options.clone() };
     let mut solver = Solver::new(game, split, options, guide, progress, spent);
     let mut verdict = solver.run();
     if verdict == Ok(Verdict::Unrealizable) && solver.memory_cuts > 0 {
@@ -283,18 +258,18 @@ type CoverKey = (u32, u32, StateKind, u64);
 struct Solver<'g, 'p> {
     game: &'g Game,
     split: &'g SplitGame,
-    options: &'g SolveOptions,
-    progress: &'p mut dyn FnMut(&Stats) -> bool,
+    options: &'g Config,
+    progress: &'p mut OnProgress<'p, Stats>,
     space: StateSpace,
     state_index: hashbrown::HashMap<(u32, u32, u32, StateKind), StateId>,
-    /// Inclusion (see `SolveOptions::inclusion`), when on: the states per discrete part, kind
+    /// Inclusion (see `Config::inclusion`), when on: the states per discrete part, kind
     /// and [`Solver::kept_key`] of the zone. A cover's zone agrees with the zone it takes on
     /// every clock but the plans', so only states of the same key can cover one another, and a
     /// lookup compares a handful of zones, not every zone of the locations.
     covers: Option<hashbrown::HashMap<CoverKey, Vec<StateId>>>,
     /// Per interned zone, its key once computed (zones recur in many states).
     kept_keys: Vec<Option<u64>>,
-    /// Dominance (see `SolveOptions::dominance`), when on: the lost states per discrete part
+    /// Dominance (see `Config::dominance`), when on: the lost states per discrete part
     /// and kind.
     losses: Option<hashbrown::HashMap<(u32, u32, StateKind), Vec<StateId>>>,
     /// States lost on arrival by dominance.
@@ -309,7 +284,7 @@ struct Solver<'g, 'p> {
     queue: VecDeque<StateId>,
     /// Strategy-directed search rather than the exhaustive reference.
     lazy: bool,
-    /// Cut moves by the zeno memory (see `SolveOptions::zeno_memory`), and how many were cut.
+    /// Cut moves by the zeno memory (see `Config::zeno_memory`), and how many were cut.
     memory: bool,
     memory_cuts: usize,
     deferred: Vec<Option<Deferred>>,
@@ -361,9 +336,9 @@ impl<'g, 'p> Solver<'g, 'p> {
     fn new(
         game: &'g Game,
         split: &'g SplitGame,
-        options: &'g SolveOptions,
+        options: &'g Config,
         guide: Option<&'g ScanGuide>,
-        progress: &'p mut dyn FnMut(&Stats) -> bool,
+        progress: &'p mut OnProgress<'p, Stats>,
         spent: u64,
     ) -> Solver<'g, 'p> {
         let dim = game.dim();

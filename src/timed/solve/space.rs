@@ -139,7 +139,7 @@ impl Edge {
     }
 
     /// A move whose target is a state that includes its own zone (inclusion, see
-    /// `SolveOptions::inclusion`; the zone is [`StateSpace::own_zone`]).
+    /// `Config::inclusion`; the zone is [`StateSpace::own_zone`]).
     pub fn is_covered(&self) -> bool {
         self.exact != NO_ZONE
     }
@@ -166,7 +166,7 @@ pub enum Removal {
     Unexplored,
     /// Lost on arrival because state `by`, of the same locations and kind, is lost and its zone
     /// lies in this one's once plan clocks may be lower there (dominance, the dual of
-    /// inclusion: see `SolveOptions::dominance`). Not expanded.
+    /// inclusion: see `Config::dominance`). Not expanded.
     Dominated { by: StateId },
 }
 
@@ -301,7 +301,7 @@ impl StateSpace {
     }
 
     /// The zone move `e` itself leads to, where its target is a state whose zone includes it
-    /// (inclusion, see `SolveOptions::inclusion`); `None` where the target's zone is the move's.
+    /// (inclusion, see `Config::inclusion`); `None` where the target's zone is the move's.
     pub fn own_zone(&self, e: &Edge) -> Option<Dbm> {
         e.is_covered().then(|| Dbm::from_slice(self.dim, self.zones.get(e.exact)))
     }

@@ -211,7 +211,7 @@ fn view(
 mod tests {
     use super::*;
     use crate::plc::lower::sct::{lower_mapped, FrameworkOptions};
-    use crate::sct::{compile, model::Config, synthesize_all, Outcome, Runtime};
+    use crate::sct::{compile, model::Config, synthesize, EventOutcome, Runtime, Synthesis};
 
     const TANK: &str = include_str!("../../../../examples/sct/tank_preemption.sct");
 
@@ -227,9 +227,8 @@ mod tests {
     #[test]
     fn a_denied_event_names_its_supervisor_and_its_output_is_reset() {
         let src = include_str!("../../../../examples/sct/tank_interlock.sct");
-        let (loaded, _) = compile(src);
-        let loaded = loaded.unwrap();
-        let (reports, _) = synthesize_all(src, &loaded, &Config::default(), None);
+        let (loaded, _) = compile(src).unwrap_or_else(|d| panic!("{d:?}"));
+        let Synthesis { reports, .. } = synthesize(src, &loaded, &Config::default(), None, &mut |_| true);
         let sups: Vec<&Supervisor> = reports.iter().map(|r| &r.supervisor).collect();
         let (unit, map) = lower_mapped(src, &loaded, &sups, &FrameworkOptions::default()).unwrap();
         let views = run(&unit, &map, &loaded.project, &sups, &[cycle(10, &[], &[("Q_Inlet", 1)])]).unwrap();
@@ -245,9 +244,8 @@ mod tests {
     /// stepped through `sct::Runtime` give the same answers.
     #[test]
     fn the_tank_framework_denies_resets_and_enforces_as_the_reference_executor() {
-        let (loaded, d) = compile(TANK);
-        let loaded = loaded.unwrap_or_else(|| panic!("{d:?}"));
-        let (reports, _) = synthesize_all(TANK, &loaded, &Config::default(), None);
+        let (loaded, _) = compile(TANK).unwrap_or_else(|e| panic!("{e:?}"));
+        let Synthesis { reports, .. } = synthesize(TANK, &loaded, &Config::default(), None, &mut |_| true);
         let sups: Vec<&Supervisor> = reports.iter().map(|r| &r.supervisor).collect();
         let (unit, map) = lower_mapped(TANK, &loaded, &sups, &FrameworkOptions::default()).unwrap();
         let p = &loaded.project;
@@ -280,7 +278,7 @@ mod tests {
         assert!(report
             .steps
             .iter()
-            .any(|s| s.event == ev("Tank.closeInlNow") && matches!(s.outcome, Outcome::Enforced { .. })));
+            .any(|s| s.event == ev("Tank.closeInlNow") && matches!(s.outcome, EventOutcome::Enforced { .. })));
         assert_eq!(
             views[1].supervisors[0].state,
             sups[0].states[rt.states()[0] as usize].label,
