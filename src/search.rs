@@ -85,7 +85,7 @@ pub type OnProgress<'a, P> = dyn FnMut(&P) -> bool + 'a;
 
 /// An engine's verdict: a decision only (a run that did not decide ends with a [`Stop`]). Its
 /// name is its JSON form (each verdict serialises through it, so there is one list of names).
-pub trait Decision: Copy + Eq + fmt::Debug {
+pub trait Decision: Copy + Eq + fmt::Debug + Serialize {
     /// Its name in the CLI's JSON and the page: `realizable`, `unrealizable`, ...
     fn name(self) -> &'static str;
 }

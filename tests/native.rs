@@ -15,6 +15,8 @@ mod reference;
 mod architecture;
 #[path = "cli.rs"]
 mod cli;
+#[path = "engine_contract.rs"]
+mod engine_contract;
 #[path = "fragment.rs"]
 mod fragment;
 #[path = "fuzz_regressions.rs"]
