@@ -208,6 +208,8 @@ pub struct State {
     pub(super) out_end: EdgeId,
     /// The first incoming edge; the list goes on through [`Edge::next_in`].
     pub(super) first_in: EdgeId,
+    /// Exhaustive reference: how many options lead to surviving states (the strategy-directed
+    /// search keeps its choice instead).
     pub(super) options_alive: u32,
     pub(super) wait_viable: bool,
     pub(super) vis: u32,
