@@ -35,14 +35,14 @@
 //!
 //! The parts. The core, which both searches run: `space` (states, edges, removals: what a
 //! solved space holds), `meter` (budgets, work, progress calls, statistics), `expand`
-//! (successor generation, discrete parts and zones), `removal` (what the local rule reads, and
-//! backward propagation), `progress` (the nested fixpoint, its ranks and the zeno cut), `zeno` (the zeno
-//! memory). The searches, behind the [`Search`] trait the core asks where they part:
-//! `exhaustive` (the reference: breadth first, every reachable state, decided eagerly) and
-//! `directed` (the strategy-directed search: depth first, what the strategy needs, decided
-//! lazily, steered by the ranks), with `strategy` (its order of alternatives and its choice)
-//! and `guide` (a zero-time strategy as a scan game's first choices). This file holds the
-//! options, the entry point, the [`Search`] trait and the search loop.
+//! (successor generation, discrete parts and zones), `removal` (what the local rule reads,
+//! and backward propagation), `progress` (the nested fixpoint, its ranks and the zeno cut),
+//! `zeno` (the zeno memory). The searches, behind the `Search` trait the core asks where they
+//! part: `exhaustive` (the reference: breadth first, every reachable state, decided eagerly)
+//! and `directed` (the strategy-directed search: depth first, what the strategy needs,
+//! decided lazily, steered by the ranks), with `strategy` (its order of alternatives and its
+//! choice) and `guide` (a zero-time strategy as a scan game's first choices). This file holds
+//! the options, the entry point, the `Search` trait and the search loop.
 
 mod directed;
 mod exhaustive;
