@@ -1,13 +1,14 @@
 //! Expansion: successor generation of a state (discrete moves with `$` synchronisation, guard
 //! chains, waiting and delay edges, timeouts), the interning of its discrete parts and zones,
-//! and the scan automaton's arming in a scan game.
+//! and the scan automaton's arming in a scan game. Whether a move's target is generated at once
+//! and how the new state is decided are the search's (`Search::deferred_targets`, `decide`).
 
 use super::space::{
     Class, Edge, EdgeId, EdgeKind, Label, Removal, State, StateId, StateKind, StateSpace, NOT_DEFERRED, NO_ZONE,
 };
 use super::strategy::Deferred;
 use super::zeno::Vis;
-use super::Solver;
+use super::{Search, Solver};
 use crate::timed::model::*;
 use crate::timed::precompute::{SplitGame, SubLocId};
 use crate::zone::{includes_lowered, includes_only_lowered, Bound, Dbm};
@@ -58,7 +59,7 @@ impl ScanArm {
     }
 }
 
-impl Solver<'_, '_> {
+impl<S: Search> Solver<'_, '_, S> {
     // ----- discrete parts and zones ------------------------------------------------------------
 
     pub(super) fn intern_discrete(&mut self, env: &[SubLocId], plan: &[SubLocId]) -> (u32, u32) {
@@ -155,8 +156,8 @@ impl Solver<'_, '_> {
         self.add_interned(env_id, plan_id, zone_id, kind, vis)
     }
 
-    /// [`Self::find_or_add`] with the zone interned. Only the reference queues new states: the
-    /// strategy-directed search expands what its strategy needs (`demand`).
+    /// [`Self::find_or_add`] with the zone interned. The search hears of a new state to expand
+    /// (`Search::reached`).
     pub(super) fn add_interned(
         &mut self,
         env_id: u32,
@@ -190,8 +191,8 @@ impl Solver<'_, '_> {
         }
         if removal.is_some() {
             self.removed += 1;
-        } else if kind != StateKind::Guard && !self.lazy {
-            self.queue.push_back(id);
+        } else if kind != StateKind::Guard {
+            self.search.reached(id);
         }
         (id, true)
     }
@@ -413,17 +414,9 @@ impl Solver<'_, '_> {
                 && self.plan_failure[plan_id as usize] == 0;
             self.memory_cuts += usize::from(cut);
             let vis = if progress { Vis::Fresh } else { Vis::Extend(st.vis) };
-            // The strategy-directed search generates an option's target only once it tries it.
-            let defer = self.lazy && m.kind == MessageKind::Controllable && !cut;
-            let (to, exact) = if cut || defer {
-                (StateId::NONE, NO_ZONE)
-            } else {
-                let (zone_id, _) = self.space.zones.intern(z.as_slice());
-                self.target(env_id, plan_id, zone_id, kind, vis)
-            };
-            let edge = Edge {
+            let mut edge = Edge {
                 from: s,
-                to,
+                to: StateId::NONE,
                 kind: edge_kind,
                 label,
                 resets,
@@ -433,32 +426,42 @@ impl Solver<'_, '_> {
                 class,
                 next_in: EdgeId::NONE,
                 deferred: NOT_DEFERRED,
-                exact,
+                exact: NO_ZONE,
             };
-            if m.kind == MessageKind::Controllable && !cut {
-                let before = self.locations_of(st.env).to_vec();
-                let after = self.locations_of(env_id).to_vec();
-                let guards: Vec<MsgId> = self
-                    .game
-                    .guards
-                    .iter()
-                    .filter(|g| g.cond.eval(&after) && !g.cond.eval(&before))
-                    .map(|g| g.message)
-                    .collect();
-                if defer {
-                    let (zone, _) = self.space.zones.intern(z.as_slice());
-                    let first = match guards.first() {
-                        Some(&g) => guard_edge(s, StateId::NONE, g, m.instant),
-                        None => edge,
-                    };
-                    self.pending_edges.push(Edge { deferred: self.deferred.len() as u32, ..first });
-                    let (env, plan) = (env_id, plan_id);
-                    self.deferred.push(Some(Deferred { env, plan, zone, kind, vis, request: edge, guards, repeats }));
-                    continue;
-                }
-                if !guards.is_empty() {
-                    guard_chains.push((self.pending_edges.len(), guards));
-                }
+            if cut {
+                // Leads nowhere (`Edge::target`).
+                self.pending_edges.push(edge);
+                continue;
+            }
+            let (zone_id, _) = self.space.zones.intern(z.as_slice());
+            if m.kind != MessageKind::Controllable {
+                (edge.to, edge.exact) = self.target(env_id, plan_id, zone_id, kind, vis);
+                self.pending_edges.push(edge);
+                continue;
+            }
+            let before = self.locations_of(st.env).to_vec();
+            let after = self.locations_of(env_id).to_vec();
+            let guards: Vec<MsgId> = self
+                .game
+                .guards
+                .iter()
+                .filter(|g| g.cond.eval(&after) && !g.cond.eval(&before))
+                .map(|g| g.message)
+                .collect();
+            // A search that defers targets generates an option's target only once it tries it.
+            if let Some(deferred) = self.search.deferred_targets() {
+                let first = match guards.first() {
+                    Some(&g) => guard_edge(s, StateId::NONE, g, m.instant),
+                    None => edge,
+                };
+                self.pending_edges.push(Edge { deferred: deferred.len() as u32, ..first });
+                let (env, plan, zone) = (env_id, plan_id, zone_id);
+                deferred.push(Some(Deferred { env, plan, zone, kind, vis, request: edge, guards, repeats }));
+                continue;
+            }
+            (edge.to, edge.exact) = self.target(env_id, plan_id, zone_id, kind, vis);
+            if !guards.is_empty() {
+                guard_chains.push((self.pending_edges.len(), guards));
             }
             self.pending_edges.push(edge);
         }
@@ -512,28 +515,14 @@ impl Solver<'_, '_> {
                     None => Edge { from: chain[k], ..request },
                 };
                 self.commit_edges(chain[k], vec![edge]);
-                self.evaluate(chain[k]);
+                S::decide(self, chain[k]);
                 self.propagate();
             }
             own[index] = guard_edge(s, chain[0], guards[0], request.instant);
         }
-        if self.lazy {
-            // Alternatives in the order the strategy tries them (see `alternative`).
-            // Among options: plan progress first, then the nearer to the plans' goals.
-            let hints = self.guide_hints(&own, &env, &plan, &zone);
-            let keys: Vec<(u8, u32, bool)> = own.iter().map(|e| self.try_order(e, &hints)).collect();
-            if self.halt.is_some() {
-                return;
-            }
-            let mut order: Vec<usize> = (0..own.len()).collect();
-            order.sort_by_key(|&i| keys[i]);
-            let own: Vec<Edge> = order.into_iter().map(|i| own[i]).collect();
-            self.commit_edges(s, own);
-            self.evaluate_lazy(s);
-        } else {
-            self.commit_edges(s, own);
-            self.evaluate(s);
-        }
+        let Some(own) = S::order(self, own, &env, &plan, &zone) else { return };
+        self.commit_edges(s, own);
+        S::decide(self, s);
         self.propagate();
     }
 
@@ -714,13 +703,13 @@ impl Solver<'_, '_> {
         self.add_wait_edge(edge, env_id, plan_id, &zone, StateKind::Interval, Vis::Extend(st.vis));
     }
 
-    /// Adds a wait edge into the given state: generated at once in the reference, deferred in the
-    /// strategy-directed search until the strategy tries waiting.
+    /// Adds a wait edge into the given state: generated at once, unless the search defers
+    /// targets until it tries waiting (`Search::deferred_targets`).
     fn add_wait_edge(&mut self, edge: Edge, env: u32, plan: u32, zone: &Dbm, kind: StateKind, vis: Vis) {
-        if self.lazy {
-            let (zone, _) = self.space.zones.intern(zone.as_slice());
-            self.pending_edges.push(Edge { deferred: self.deferred.len() as u32, ..edge });
-            self.deferred.push(Some(Deferred {
+        let (zone, _) = self.space.zones.intern(zone.as_slice());
+        if let Some(deferred) = self.search.deferred_targets() {
+            self.pending_edges.push(Edge { deferred: deferred.len() as u32, ..edge });
+            deferred.push(Some(Deferred {
                 env,
                 plan,
                 zone,
@@ -731,7 +720,7 @@ impl Solver<'_, '_> {
                 repeats: false,
             }));
         } else {
-            let to = self.find_or_add(env, plan, zone, kind, vis).0;
+            let to = self.add_interned(env, plan, zone, kind, vis).0;
             self.pending_edges.push(Edge { to, ..edge });
         }
     }

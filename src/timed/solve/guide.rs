@@ -1,4 +1,5 @@
-//! The zero-time game's winning strategy read as a guide for the scan game's search.
+//! The zero-time game's winning strategy read as a guide for the scan game's strategy-directed
+//! search (`directed`).
 //!
 //! A scan game's controller decides at each read what to commit; the plant has not moved yet,
 //! so the search's sense of direction (plan progress, distance to the goals) cannot tell the

@@ -2,8 +2,7 @@
 //! callback, why it stopped (`Halt`, then the shared [`Stop`]), and its statistics ([`Stats`]).
 
 use super::space::{Edge, State, StateId, StateKind};
-use super::strategy::Deferred;
-use super::{Config, Solver};
+use super::{Config, Search, Solver};
 use crate::search::{Charge, Resource, Stop};
 use crate::timed::model::*;
 use crate::timed::precompute::SplitTooLarge;
@@ -86,7 +85,7 @@ pub struct Stats {
     pub work: u64,
 }
 
-impl Solver<'_, '_> {
+impl<S: Search> Solver<'_, '_, S> {
     /// Approximate heap bytes of the split game and the state space (capacities, so the figure
     /// grows in steps as vectors double).
     fn bytes(&self) -> usize {
@@ -98,8 +97,7 @@ impl Solver<'_, '_> {
             + s.plans.heap_bytes()
             + s.zones.heap_bytes()
             + self.state_index.capacity() * (std::mem::size_of::<((u32, u32, u32, StateKind), StateId)>() + 1)
-            + self.queue.capacity() * std::mem::size_of::<StateId>()
-            + self.deferred.capacity() * std::mem::size_of::<Option<Deferred>>()
+            + self.search.heap_bytes()
             + self.zeno.nodes.capacity() * std::mem::size_of::<(u32, u32, u32)>()
             + self.env_locations.capacity() * std::mem::size_of::<LocId>()
             + (self.env_violation.capacity() + self.plan_failure.capacity()) * std::mem::size_of::<u32>()

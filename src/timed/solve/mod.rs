@@ -1,11 +1,12 @@
-//! Solving the timed safety game (Peter 2005, 5.3). The reference (`exhaustive`) is the thesis's
-//! on-the-fly forward exploration of the combined state space (algorithm 5, breadth first) with
-//! incremental reverse removal of losing states (algorithm 6). The default search builds one
-//! strategy instead: forced successors are always explored, the controller's alternatives one
-//! at a time (`alternative` gives the order), the next only when the chosen one is lost, which
-//! the reverse removal reports through the same in-edge lists (a local fixpoint computation in
-//! the manner of Liu and Smolka, as UPPAAL TIGA's on-the-fly algorithm). Targets of untried
-//! options and delays are not generated (`Edge::is_unexplored`).
+//! Solving the timed safety game (Peter 2005, 5.3). Two searches share one core. The reference
+//! (`exhaustive`) is the thesis's on-the-fly forward exploration of the combined state space
+//! (algorithm 5, breadth first) with incremental reverse removal of losing states (algorithm 6).
+//! The default search (`directed`) builds one strategy instead: forced successors are always
+//! explored, the controller's alternatives one at a time (`alternative` gives the order), the
+//! next only when the chosen one is lost, which the reverse removal reports through the same
+//! in-edge lists (a local fixpoint computation in the manner of Liu and Smolka, as UPPAAL
+//! TIGA's on-the-fly algorithm). Targets of untried options and delays are not generated
+//! (`Edge::is_unexplored`).
 //!
 //! A state is a vector of sub-locations (one per plant unit and per plan) and a clock zone.
 //! Its outgoing edges fall in three classes:
@@ -31,15 +32,20 @@
 //! `progress`).
 //! Transitions marked `instant` are urgent: while one is enabled, no other transition and no
 //! delay is possible; an instant reaction goes before an instant request.
-
 //!
-//! The parts: `space` (states, edges, removals: what a solved space holds), `meter` (budgets,
-//! work, progress calls, statistics), `expand` (successor generation, discrete parts and
-//! zones), `removal` (the local rule and backward propagation), `strategy` (the
-//! strategy-directed search's choices), `progress` (the nested fixpoint, its ranks and the zeno
-//! cut), `zeno` (the zeno memory). This file holds the options, the entry point and the search
-//! loop.
+//! The parts. The core, which both searches run: `space` (states, edges, removals: what a
+//! solved space holds), `meter` (budgets, work, progress calls, statistics), `expand`
+//! (successor generation, discrete parts and zones), `removal` (what the local rule reads,
+//! and backward propagation), `progress` (the nested fixpoint, its ranks and the zeno cut),
+//! `zeno` (the zeno memory). The searches, behind the `Search` trait the core asks where they
+//! part: `exhaustive` (the reference: breadth first, every reachable state, decided eagerly)
+//! and `directed` (the strategy-directed search: depth first, what the strategy needs,
+//! decided lazily, steered by the ranks), with `strategy` (its order of alternatives and its
+//! choice) and `guide` (a zero-time strategy as a scan game's first choices). This file holds
+//! the options, the entry point, the `Search` trait and the search loop.
 
+mod directed;
+mod exhaustive;
 mod expand;
 mod guide;
 mod meter;
@@ -60,10 +66,11 @@ use super::model::*;
 use super::precompute::{SplitGame, SubLocId};
 use crate::search::Meter;
 use crate::zone::Dbm;
+use directed::Directed;
+use exhaustive::Exhaustive;
 use expand::{Move, ScanArm};
 use progress::Counting;
-use std::collections::VecDeque;
-use strategy::{plan_goals, send_distances, Deferred};
+use strategy::Deferred;
 use zeno::{Vis, ZenoSets};
 
 /// Limits and switches of one solver run.
@@ -234,14 +241,30 @@ fn solve_pass(
     progress: &mut OnProgress<'_, Stats>,
     spent: u64,
 ) -> Solution {
+    if options.exhaustive {
+        search_pass(game, split, options, progress, spent, Exhaustive::new)
+    } else {
+        search_pass(game, split, options, progress, spent, || Directed::new(game, split, guide))
+    }
+}
+
+/// [`solve_pass`] with the search `new_search` makes (a fresh one for the second search).
+fn search_pass<S: Search>(
+    game: &Game,
+    split: &SplitGame,
+    options: &Config,
+    progress: &mut OnProgress<'_, Stats>,
+    spent: u64,
+    new_search: impl Fn() -> S,
+) -> Solution {
     let exact = Config { zeno_memory: false, ..options.clone() };
-    let mut solver = Solver::new(game, split, options, guide, progress, spent);
+    let mut solver = Solver::new(game, split, options, new_search(), progress, spent);
     let mut verdict = solver.run();
     if verdict == Ok(Verdict::Unrealizable) && solver.memory_cuts > 0 {
         // The memory's cuts may have cost the controller its strategy: decide exactly.
         let spent = solver.meter.used();
         drop(solver);
-        solver = Solver::new(game, split, &exact, guide, progress, spent);
+        solver = Solver::new(game, split, &exact, new_search(), progress, spent);
         verdict = solver.run();
     }
     let mut stats = solver.stats();
@@ -252,10 +275,71 @@ fn solve_pass(
     Solution { outcome: verdict.map_err(|halt| halt.stop(options)), stats, space, blame: None }
 }
 
+/// What the two searches do differently, asked by the core (expansion, removal, the progress
+/// condition) where they part: which states are expanded and in what order, whether a move's
+/// target is generated when the move is found or when the search tries it, how a freshly
+/// expanded state is decided, and what the loss of one of its alternatives changes.
+/// [`Exhaustive`] is the thesis's reference, [`Directed`] the default; the solver is generic
+/// over the search, so each question is a direct call, settled when the solver is compiled.
+trait Search: Sized {
+    /// What `progress_ranks` counts on while the search runs (`enforce_progress`).
+    const COUNTING: Counting;
+
+    /// The next queued state to expand; `None` when nothing is left.
+    fn next_state(&mut self) -> Option<StateId>;
+
+    /// The new state `s` (not removed, not a guard state) was just stored.
+    fn reached(&mut self, s: StateId);
+
+    /// The strategy relies on the state `s` (the initial state, or a move it takes).
+    fn need(solver: &mut Solver<'_, '_, Self>, s: StateId);
+
+    /// Where the targets of moves not tried yet are kept until the search tries them
+    /// (`Edge::deferred` indexes it); `None` if every target is generated when the move is.
+    fn deferred_targets(&mut self) -> Option<&mut Vec<Option<Deferred>>>;
+
+    /// The alternatives of a freshly expanded state in `env`, `plan` and `zone` in the order
+    /// they are stored; `None` if a budget or the caller stopped the work.
+    fn order(
+        solver: &mut Solver<'_, '_, Self>,
+        edges: Vec<Edge>,
+        env: &[SubLocId],
+        plan: &[SubLocId],
+        zone: &Dbm,
+    ) -> Option<Vec<Edge>>;
+
+    /// Decides the freshly expanded state `s`, its edges committed (removes it if it is lost).
+    fn decide(solver: &mut Solver<'_, '_, Self>, s: StateId);
+
+    /// After each expansion (and its propagation).
+    fn after_expansion(solver: &mut Solver<'_, '_, Self>);
+
+    /// An alternative of the live expanded state `x` leads to a removed state or was cut: the
+    /// option edge `alt`, or waiting (`EdgeId::WAIT`, `wait_viable` already cleared).
+    fn alternative_lost(solver: &mut Solver<'_, '_, Self>, x: StateId, alt: EdgeId);
+
+    /// After a round of the progress condition that removed nothing, `ranks` its ranks:
+    /// whether the search changed its strategy or has more to explore.
+    fn steer(solver: &mut Solver<'_, '_, Self>, ranks: &[u32]) -> bool;
+
+    /// The ranks the final zeno cut goes by, from those of the last round.
+    fn final_ranks(solver: &mut Solver<'_, '_, Self>, ranks: Vec<u32>) -> Vec<u32>;
+
+    /// The final cut took `options_cut` options of the winning state `s` (and perhaps waiting).
+    fn after_cut(solver: &mut Solver<'_, '_, Self>, s: StateId, options_cut: u32);
+
+    /// The search reached its verdict.
+    fn finish(solver: &mut Solver<'_, '_, Self>);
+
+    /// Heap bytes of the search's own tables (see `Solver::bytes`).
+    fn heap_bytes(&self) -> usize;
+}
+
 /// Locations, kind and the hash of the zone without the plans' clocks (see `Solver::covers`).
 type CoverKey = (u32, u32, StateKind, u64);
 
-struct Solver<'g, 'p> {
+/// One search of the game: the core's tables, and the search `S` (see [`Search`]).
+struct Solver<'g, 'p, S> {
     game: &'g Game,
     split: &'g SplitGame,
     options: &'g Config,
@@ -279,23 +363,12 @@ struct Solver<'g, 'p> {
     /// The plans' clocks (a bit per zone index): checked only against deadlines, so a state
     /// with them higher covers one with them lower (inclusion).
     deadline_clocks: u64,
-    /// States to expand: all reachable ones in the reference (breadth first), those the strategy
-    /// needs in the strategy-directed search (depth first).
-    queue: VecDeque<StateId>,
-    /// Strategy-directed search rather than the exhaustive reference.
-    lazy: bool,
+    /// The search: its queue of states to expand, and what only it keeps.
+    search: S,
     /// Cut moves by the zeno memory (see `Config::zeno_memory`), and how many were cut.
     memory: bool,
     memory_cuts: usize,
-    deferred: Vec<Option<Deferred>>,
     expansions: usize,
-    /// Per message with a sender: per location of the sender, how many transitions it needs at
-    /// least before it can send the message (`u16::MAX` if never); the search's sense of
-    /// direction towards the plans' goals.
-    send_distance: Vec<Vec<u16>>,
-    /// Per plan and sub-location: the messages that take the plan to its next goal (not to
-    /// failure).
-    plan_goals: Vec<Vec<Vec<MsgId>>>,
     zeno: ZenoSets,
     /// Per env id: 1 + index of the first violated assertion, or 0.
     env_violation: Vec<u32>,
@@ -309,9 +382,6 @@ struct Solver<'g, 'p> {
     lost_queue: Vec<StateId>,
     /// Moves given a lost target in place of a lost cover (`retarget_covered`), to propagate.
     lost_edges: Vec<EdgeId>,
-    /// Strategy-directed search: the number of states at which to look for cycles without
-    /// progress next (see `explore`).
-    next_progress_check: usize,
     dim: usize,
     max_constants: Vec<i32>,
     removed: usize,
@@ -328,22 +398,19 @@ struct Solver<'g, 'p> {
     halt: Option<Halt>,
     /// In a scan game: the scan automaton's quiet and armed sub-locations (see `scan::ScanRoles`).
     scan_arm: Option<ScanArm>,
-    /// In a scan game: the zero-time strategy that orders the commitments at a read.
-    guide: Option<&'g ScanGuide>,
 }
 
-impl<'g, 'p> Solver<'g, 'p> {
+impl<'g, 'p, S: Search> Solver<'g, 'p, S> {
     fn new(
         game: &'g Game,
         split: &'g SplitGame,
         options: &'g Config,
-        guide: Option<&'g ScanGuide>,
+        search: S,
         progress: &'p mut OnProgress<'p, Stats>,
         spent: u64,
-    ) -> Solver<'g, 'p> {
+    ) -> Solver<'g, 'p, S> {
         let dim = game.dim();
         let plant_count = split.plant_count;
-        let goals = if options.exhaustive { Vec::new() } else { plan_goals(split) };
         Solver {
             game,
             split,
@@ -357,14 +424,10 @@ impl<'g, 'p> Solver<'g, 'p> {
             dominated: 0,
             monotone: Vec::new(),
             deadline_clocks: game.plans.iter().flat_map(|p| &p.clocks).fold(0, |bits, &(c, _)| bits | 1 << c.index()),
-            queue: VecDeque::new(),
-            lazy: !options.exhaustive,
+            search,
             memory: options.zeno_memory,
             memory_cuts: 0,
-            deferred: Vec::new(),
             expansions: 0,
-            send_distance: if options.exhaustive { Vec::new() } else { send_distances(game, &goals) },
-            plan_goals: goals,
             zeno: ZenoSets { nodes: Vec::new() },
             env_violation: Vec::new(),
             plan_failure: Vec::new(),
@@ -373,7 +436,6 @@ impl<'g, 'p> Solver<'g, 'p> {
             plan_clocks: Vec::new(),
             lost_queue: Vec::new(),
             lost_edges: Vec::new(),
-            next_progress_check: 16,
             dim,
             max_constants: vec![-1; dim],
             removed: 0,
@@ -385,7 +447,6 @@ impl<'g, 'p> Solver<'g, 'p> {
             vector_cost: STEP_COST + split.units.len() as u64,
             halt: None,
             scan_arm: ScanArm::new(game, split),
-            guide,
         }
     }
 
@@ -398,9 +459,7 @@ impl<'g, 'p> Solver<'g, 'p> {
         self.normalise(env_id, plan_id, &mut zone);
         let kind = if self.is_closed(&env, &plan, &zone) { StateKind::Interval } else { StateKind::Entry };
         self.space.initial = self.find_or_add(env_id, plan_id, &zone, kind, Vis::Fresh).0;
-        if self.lazy {
-            self.demand(self.space.initial);
-        }
+        S::need(self, self.space.initial);
         // Explore, then cut the zeno cycles of what survived; in the strategy-directed search a
         // cut can make a state choose again, which needs more exploration.
         let verdict = loop {
@@ -415,9 +474,7 @@ impl<'g, 'p> Solver<'g, 'p> {
                 };
             }
         };
-        if self.lazy {
-            self.mark_unexplored();
-        }
+        S::finish(self);
         Ok(verdict)
     }
 
@@ -428,10 +485,7 @@ impl<'g, 'p> Solver<'g, 'p> {
             if !self.space.is_winning(self.space.initial) {
                 return Ok(Some(Verdict::Unrealizable));
             }
-            // The reference goes breadth first (algorithm 5); the strategy-directed search
-            // depth first, so that a chosen line of play is followed to its end before others.
-            let next = if self.lazy { self.queue.pop_back() } else { self.queue.pop_front() };
-            let Some(s) = next else { return Ok(None) };
+            let Some(s) = self.search.next_state() else { return Ok(None) };
             let st = &self.space.states[s.index()];
             if st.removal.is_some() || st.expanded {
                 continue;
@@ -449,30 +503,9 @@ impl<'g, 'p> Solver<'g, 'p> {
                 return Err(Halt::Cancelled);
             }
             self.expand(s);
-            // Strategy-directed search: a cycle without progress is found as soon as it
-            // closes, not when the whole strategy is explored, so that a doomed choice is given
-            // up before much is explored below it. Checked when the space has grown by a quarter
-            // since the last check (amortised linear).
-            if self.lazy && self.space.states.len() >= self.next_progress_check {
-                self.next_progress_check = self.space.states.len() + self.space.states.len() / 4 + 16;
-                let ranks = self.progress_ranks(Counting::Optimistic);
-                if !self.remove_trapped(&ranks) {
-                    self.steer_by_ranks(&ranks);
-                }
-            }
+            S::after_expansion(self);
             if let Some(halt) = self.halt {
                 return Err(halt);
-            }
-        }
-    }
-
-    /// Strategy-directed search: states that were created but never needed are marked, so that
-    /// the surviving states are exactly those whose every continuation under the strategy was
-    /// explored.
-    fn mark_unexplored(&mut self) {
-        for st in &mut self.space.states {
-            if st.removal.is_none() && !st.expanded {
-                st.removal = Some(Removal::Unexplored);
             }
         }
     }

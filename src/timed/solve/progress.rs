@@ -1,17 +1,18 @@
 //! The progress condition: the nested fixpoint (attractor ranks, `progress_ranks`), the removal
-//! of trapped states, steering the strategy by ranks, and the final zeno cut of moves that do
-//! not decrease the ranks.
+//! of trapped states, and the final zeno cut of moves that do not decrease the ranks. The
+//! strategy-directed search's use of the ranks (steering its choices, marking what it left
+//! unexplored) is in `directed`.
 
 use super::space::{Class, Edge, EdgeId, Removal, State, StateId, StateSpace};
-use super::Solver;
-
-/// The rank of a state that never joins (see `Solver::progress_ranks`).
-const UNRANKED: u32 = u32::MAX;
-/// A count of wanted moves that no joining target brings down (see `Solver::progress_ranks`).
-const BLOCKED: u32 = u32::MAX;
+use super::{Search, Solver};
 use std::collections::VecDeque;
 
-impl Solver<'_, '_> {
+/// The rank of a state that never joins (see `Solver::progress_ranks`).
+pub(super) const UNRANKED: u32 = u32::MAX;
+/// A count of wanted moves that no joining target brings down (see `Solver::progress_ranks`).
+const BLOCKED: u32 = u32::MAX;
+
+impl<S: Search> Solver<'_, '_, S> {
     /// Progress (5.1, made exact): a winning strategy must, besides staying safe, make the plans
     /// progress again and again: every cycle of its plays must take a plan transition. This is
     /// a Büchi condition on top of the safety game, solved as the nested fixpoint
@@ -20,21 +21,21 @@ impl Solver<'_, '_> {
     /// forever and are removed, the removal propagated, until nothing more is lost.
     ///
     /// In the strategy-directed search the ranks are optimistic (an untried alternative or an
-    /// unexpanded state counts as progress), so what they remove is lost in the whole game;
-    /// `steer_by_ranks` then moves each choice of the strategy onto a rank-decreasing
-    /// alternative, exploring what that needs. When nothing is removed and the strategy needs
-    /// nothing new, every cycle of it makes progress.
+    /// unexpanded state counts as progress, `Search::COUNTING`), so what they remove is lost in
+    /// the whole game; `Search::steer` then moves each choice of the strategy onto a
+    /// rank-decreasing alternative, exploring what that needs. When nothing is removed and the
+    /// strategy needs nothing new, every cycle of it makes progress.
     ///
     /// One round: returns whether anything changed (removed, chosen anew or queued).
     pub(super) fn enforce_progress(&mut self) -> bool {
-        let ranks = self.progress_ranks(if self.lazy { Counting::Optimistic } else { Counting::Explored });
+        let ranks = self.progress_ranks(S::COUNTING);
         if self.remove_trapped(&ranks) {
             return true;
         }
-        if self.lazy && self.steer_by_ranks(&ranks) {
+        if S::steer(self, &ranks) {
             return true;
         }
-        self.keep_rank_decreasing(&ranks);
+        self.keep_rank_decreasing(ranks);
         false
     }
 
@@ -233,7 +234,7 @@ impl Solver<'_, '_> {
     /// Whether alternative `alt` (an option edge or `EdgeId::WAIT`) of `s` is good by `ranks`:
     /// every move it allows makes progress or reaches a lower rank (an untried move counts as
     /// good).
-    fn decreases(&self, ranks: &[u32], s: StateId, alt: EdgeId) -> bool {
+    pub(super) fn decreases(&self, ranks: &[u32], s: StateId, alt: EdgeId) -> bool {
         // States generated after the ranks were computed are unexpanded: optimistic rank 0.
         let rank = |t: StateId| ranks.get(t.index()).copied().unwrap_or(0);
         let own = rank(s);
@@ -254,139 +255,15 @@ impl Solver<'_, '_> {
         }
     }
 
-    /// Strategy-directed search, after a round that removed nothing: while the strategy lets
-    /// some play cycle without progress (a state it reaches that its own moves do not rank),
-    /// the first such state, from the initial state, whose choice does not decrease the
-    /// (optimistic) rank of the whole explored game moves onto one that does, an explored one
-    /// where possible. One switch at a time: leaving a cycle at one state mends it for the
-    /// others. Returns whether anything changed (a choice, or something to explore).
-    pub(super) fn steer_by_ranks(&mut self, ranks: &[u32]) -> bool {
-        let mut changed = false;
-        // Each switch is onto a decreasing choice, so a state switches once; the bound only
-        // guards against what generating targets may change on the way (the next round sees it).
-        for _ in 0..ranks.len() {
-            let strategy = self.progress_ranks(Counting::Strategy);
-            let Some((s, alt)) = self.first_unranked_switch(ranks, &strategy) else { break };
-            self.take(s, alt);
-            changed = true;
-        }
-        changed || !self.queue.is_empty()
-    }
-
-    /// For `steer_by_ranks`: walking the strategy breadth first from the initial state, the
-    /// first state it reaches that `strategy` leaves unranked and whose choice does not
-    /// decrease `ranks`, with the alternative to take instead.
-    fn first_unranked_switch(&self, ranks: &[u32], strategy: &[u32]) -> Option<(StateId, EdgeId)> {
-        let mut seen = vec![false; self.space.states.len()];
-        let mut queue = VecDeque::from([self.space.initial]);
-        seen[self.space.initial.index()] = true;
-        while let Some(s) = queue.pop_front() {
-            let st = &self.space.states[s.index()];
-            if st.removal.is_some() || !st.expanded {
-                continue;
-            }
-            // A guard state generated since `ranks` keeps its choice until the next round.
-            if strategy[s.index()] == UNRANKED
-                && s.index() < ranks.len()
-                && (st.choice == EdgeId::NONE || !self.decreases(ranks, s, st.choice))
-            {
-                let mut untried = None;
-                let mut k = 0;
-                while let Some(alt) = self.alternative(s, k) {
-                    k += 1;
-                    if !self.decreases(ranks, s, alt) {
-                        continue;
-                    }
-                    if !self.needs_generation(s, alt) {
-                        return Some((s, alt));
-                    }
-                    untried.get_or_insert(alt);
-                }
-                if let Some(alt) = untried {
-                    return Some((s, alt));
-                }
-            }
-            for (id, e) in self.space.out_edges(s) {
-                let follows = match e.class {
-                    Class::Forced => true,
-                    Class::Option => id == st.choice,
-                    Class::Wait => st.choice == EdgeId::WAIT,
-                    Class::Inert => false,
-                };
-                if follows && e.to != StateId::NONE && !seen[e.to.index()] {
-                    seen[e.to.index()] = true;
-                    queue.push_back(e.to);
-                }
-            }
-        }
-        None
-    }
-
-    /// Whether taking alternative `alt` of `s` needs a target generated first.
-    fn needs_generation(&self, s: StateId, alt: EdgeId) -> bool {
-        if alt == EdgeId::WAIT {
-            self.space.out_edges(s).any(|(_, e)| e.class == Class::Wait && e.is_unexplored())
-        } else {
-            self.space.edges[alt.index()].is_unexplored()
-        }
-    }
-
-    /// Makes `alt` the choice of `s`, generating its targets if needed and queuing them.
-    fn take(&mut self, s: StateId, alt: EdgeId) {
-        let out = self.space.states[s.index()].out_ids();
-        let edges: Vec<EdgeId> = if alt == EdgeId::WAIT {
-            out.clone().filter(|&id| self.space.edges[id.index()].class == Class::Wait).collect()
-        } else {
-            vec![alt]
-        };
-        for &id in &edges {
-            if self.space.edges[id.index()].is_unexplored() {
-                self.generate(id);
-            }
-        }
-        self.space.states[s.index()].choice = alt;
-        for &id in &edges {
-            let to = self.space.edges[id.index()].to;
-            if to != StateId::NONE {
-                self.demand(to);
-            }
-        }
-    }
-
     /// The end of the search: in every winning state, the alternatives that do not decrease the
     /// rank and lie on a cycle without progress are cut (as zeno moves), so that whatever the
     /// program selects among the moves left, every cycle of its plays makes plan progress.
     /// (Moves that decrease the rank form no cycle; a move on no such cycle cannot close one; so
     /// moves that cannot hurt, like a request the thesis's programs make on the way, are kept.)
-    /// In the strategy-directed search, surviving states outside the ranks (needed by no
-    /// strategy, and not decided) are marked unexplored.
-    fn keep_rank_decreasing(&mut self, ranks: &[u32]) {
+    /// The ranks are the search's final ones (`Search::final_ranks`).
+    fn keep_rank_decreasing(&mut self, ranks: Vec<u32>) {
         let live = |st: &State| st.removal.is_none() && st.expanded;
-        let final_ranks;
-        let ranks = if self.lazy {
-            // The greatest fixpoint over what was explored: a state left out is marked
-            // unexplored, with the survivors that rely on it (`unexplored_closure`); that can
-            // leave out a state whose rank rested on a move with progress into one (progress
-            // counts into surviving states only), so until nothing changes. The strategy's own
-            // states are never left out: its moves rank them.
-            final_ranks = loop {
-                let ranks = self.progress_ranks(Counting::Explored);
-                let mut marked = Vec::new();
-                for (s, st) in self.space.states.iter_mut().enumerate() {
-                    if live(st) && ranks[s] == UNRANKED {
-                        st.removal = Some(Removal::Unexplored);
-                        marked.push(StateId::new(s));
-                    }
-                }
-                if marked.is_empty() {
-                    break ranks;
-                }
-                self.unexplored_closure(marked);
-            };
-            &final_ranks
-        } else {
-            ranks
-        };
+        let ranks = &S::final_ranks(self, ranks);
         // Components of the winning states under their live moves without progress.
         let space = &self.space;
         let nodes: Vec<StateId> = space.state_ids().filter(|&s| live(&space.states[s.index()])).collect();
@@ -421,6 +298,7 @@ impl Solver<'_, '_> {
                 && space.is_winning(e.to)
         };
         for s in nodes {
+            let mut options_cut = 0;
             let out = self.space.states[s.index()].out_ids();
             let wait_cut = !self.decreases(ranks, s, EdgeId::WAIT)
                 && out.clone().any(|id| {
@@ -437,81 +315,14 @@ impl Solver<'_, '_> {
                     };
                 if cut {
                     self.space.edges[id.index()].zeno = true;
-                    if e.class == Class::Option && !self.lazy {
-                        self.space.states[s.index()].options_alive -= 1;
-                    }
+                    options_cut += u32::from(e.class == Class::Option);
                 }
             }
             if wait_cut {
                 self.space.states[s.index()].wait_viable = false;
             }
-            // The strategy's own choice may have been cut where another alternative gave the
-            // state its rank: it moves there.
-            let choice = self.space.states[s.index()].choice;
-            let kept = |solver: &Self, alt: EdgeId| {
-                if alt == EdgeId::WAIT {
-                    !wait_cut && solver.space.states[s.index()].wait_viable
-                } else {
-                    solver.space.is_live(&solver.space.edges[alt.index()])
-                }
-            };
-            if self.lazy && choice != EdgeId::NONE && !kept(self, choice) {
-                let mut k = 0;
-                while let Some(alt) = self.alternative(s, k) {
-                    k += 1;
-                    if kept(self, alt) {
-                        self.space.states[s.index()].choice = alt;
-                        break;
-                    }
-                }
-            }
+            S::after_cut(self, s, options_cut);
         }
-    }
-}
-
-impl Solver<'_, '_> {
-    /// Strategy-directed search: a surviving state that relies on a state just marked
-    /// unexplored is not decided either, so it is marked too, backwards from `marked`: a plant
-    /// reaction into one, or no request into a survivor and no waiting whose delays all survive.
-    /// (Plan progress gives a state its rank whatever the move's target, so a ranked state off
-    /// the strategy can lead into an unranked one.)
-    fn unexplored_closure(&mut self, mut marked: Vec<StateId>) {
-        while let Some(y) = marked.pop() {
-            let mut id = self.space.states[y.index()].first_in;
-            while id != EdgeId::NONE {
-                let x = self.space.edges[id.index()].from;
-                id = self.space.edges[id.index()].next_in;
-                let xs = &self.space.states[x.index()];
-                if xs.removal.is_none() && xs.expanded && !self.decided(x) {
-                    self.space.states[x.index()].removal = Some(Removal::Unexplored);
-                    marked.push(x);
-                }
-            }
-        }
-    }
-
-    /// Whether the surviving state `s` keeps its plant reactions among the survivors and has a
-    /// request into a survivor or can wait among them.
-    fn decided(&self, s: StateId) -> bool {
-        let space = &self.space;
-        let (mut option, mut delays, mut delays_live, mut reaction) = (false, false, true, false);
-        for (_, e) in space.out_edges(s) {
-            match e.class {
-                Class::Forced => {
-                    if !space.is_live(e) {
-                        return false;
-                    }
-                    reaction = true;
-                }
-                Class::Option => option |= space.is_live(e),
-                Class::Wait => {
-                    delays = true;
-                    delays_live &= space.is_live(e);
-                }
-                Class::Inert => {}
-            }
-        }
-        option || if delays { delays_live } else { reaction }
     }
 }
 

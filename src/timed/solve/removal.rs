@@ -1,11 +1,12 @@
-//! Removal: the local rule that decides an expanded state, and the backward propagation of
-//! removed states (algorithm 6).
+//! Removal: the survey of an expanded state's edges that the local rule reads, and the
+//! backward propagation of removed states (algorithm 6); how a lost alternative changes its
+//! state is the search's (`Search::alternative_lost`).
 
 use super::space::{Class, EdgeId, Label, Removal, StateId, NO_ZONE};
 use super::zeno::Vis;
-use super::Solver;
+use super::{Search, Solver};
 
-impl Solver<'_, '_> {
+impl<S: Search> Solver<'_, '_, S> {
     /// One pass over the edges of an expanded state: what the local rule of the module doc needs.
     pub(super) fn survey(&self, s: StateId) -> Survey {
         let st = &self.space.states[s.index()];
@@ -33,24 +34,6 @@ impl Solver<'_, '_> {
             }
         }
         survey
-    }
-
-    /// Decides a freshly expanded state from its edges (the local rule of the module doc).
-    pub(super) fn evaluate(&mut self, s: StateId) {
-        let survey = self.survey(s);
-        let st = &mut self.space.states[s.index()];
-        st.options_alive = survey.options_alive;
-        st.wait_viable = survey.wait_viable();
-        let removal = match survey.dead_forced {
-            Some(removal) => Some(removal),
-            None if survey.options_alive == 0 && !st.wait_viable => {
-                Some(if survey.all_inert { Removal::Deadlock } else { Removal::NoMove })
-            }
-            None => None,
-        };
-        if let Some(r) = removal {
-            self.remove(s, r);
-        }
     }
 
     pub(super) fn remove(&mut self, s: StateId, reason: Removal) {
@@ -243,25 +226,13 @@ impl Solver<'_, '_> {
                 Class::Inert => false,
             };
         if needed {
-            self.demand(to);
+            S::need(self, to);
         }
     }
 
     /// The option `edge` of the live state `x` leads to a removed state (or was cut).
     fn option_lost(&mut self, x: StateId, edge: EdgeId) {
-        let xs = &mut self.space.states[x.index()];
-        if self.lazy {
-            // `choose` moves on from `tried`, past every alternative lost (this one among them:
-            // the choice is not always the `tried`-th, `steer_by_ranks` may have moved it).
-            if xs.choice == edge {
-                self.choose(x);
-            }
-        } else {
-            xs.options_alive -= 1;
-            if xs.options_alive == 0 && !xs.wait_viable {
-                self.remove(x, Removal::NoMove);
-            }
-        }
+        S::alternative_lost(self, x, edge);
     }
 
     /// Waiting in the live state `x` leads to a removed state (or was cut).
@@ -271,13 +242,7 @@ impl Solver<'_, '_> {
             return;
         }
         xs.wait_viable = false;
-        if self.lazy {
-            if xs.choice == EdgeId::WAIT {
-                self.choose(x);
-            }
-        } else if xs.options_alive == 0 {
-            self.remove(x, Removal::NoMove);
-        }
+        S::alternative_lost(self, x, EdgeId::WAIT);
     }
 }
 
@@ -287,11 +252,11 @@ pub(super) struct Survey {
     forced_any: bool,
     /// The removal a lost forced move causes (the first such move).
     pub(super) dead_forced: Option<Removal>,
-    options_alive: u32,
+    pub(super) options_alive: u32,
     wait_edges: u32,
     wait_ok: bool,
     /// No edge, or only timeouts.
-    all_inert: bool,
+    pub(super) all_inert: bool,
 }
 
 impl Survey {

@@ -110,9 +110,9 @@ pub struct Edge {
     pub progress: bool,
     pub(super) class: Class,
     pub(super) next_in: EdgeId,
-    /// A controller option whose target is not generated yet: its index in the solver's
-    /// deferred targets (strategy-directed search); [`NOT_DEFERRED`] once generated or in the
-    /// reference.
+    /// A move whose target is not generated yet: its index in the search's deferred targets
+    /// (`Search::deferred_targets`, strategy-directed search); [`NOT_DEFERRED`] once generated
+    /// or in the reference.
     pub(super) deferred: u32,
     /// Inclusion (scan games): `to` is a state whose zone includes the move's own target zone,
     /// this one (interned); [`NO_ZONE`] when `to` is the move's own target. Should `to` be lost,
@@ -132,7 +132,7 @@ impl Edge {
         (self.to != StateId::NONE).then_some(self.to)
     }
 
-    /// A controller option the strategy-directed search never needed to try: `to` is
+    /// A controller option or delay the strategy-directed search never needed to try: `to` is
     /// [`StateId::NONE`].
     pub fn is_unexplored(&self) -> bool {
         self.deferred != NOT_DEFERRED
@@ -208,6 +208,8 @@ pub struct State {
     pub(super) out_end: EdgeId,
     /// The first incoming edge; the list goes on through [`Edge::next_in`].
     pub(super) first_in: EdgeId,
+    /// Exhaustive reference: how many options lead to surviving states (the strategy-directed
+    /// search keeps its choice instead).
     pub(super) options_alive: u32,
     pub(super) wait_viable: bool,
     pub(super) vis: u32,

@@ -1,18 +1,22 @@
-//! The strategy-directed search: the order in which a state's alternatives are tried (towards
-//! the plans' goals), the choice of one, and the generation of deferred option targets.
+//! The strategy of the strategy-directed search (`directed`): the order in which a state's
+//! alternatives are tried (towards the plans' goals; at a scan game's read, the guide's and
+//! the delivery's), the choice of one, and the generation of deferred targets when their
+//! move is tried.
 
+use super::directed::Directed;
 use super::expand::{guard_edge, Move};
 use super::guide::Hint;
 use super::space::{Class, Edge, EdgeId, Label, Removal, StateId, StateKind, NOT_DEFERRED};
 use super::zeno::Vis;
-use super::Solver;
+use super::{Search, Solver};
 use crate::timed::model::*;
 use crate::timed::precompute::{SplitGame, SubLocId};
 use crate::zone::Dbm;
 use std::collections::VecDeque;
 
-/// The target of a controller option not generated yet (strategy-directed search): the state's
-/// key, how its zeno memory is formed, the request edge, and the guards checked before it.
+/// The target of a move not generated yet (a controller option or a delay, in a search that
+/// defers them: `Search::deferred_targets`): the state's key, how its zeno memory is formed,
+/// the request edge, and the guards checked before it.
 pub(super) struct Deferred {
     pub(super) env: u32,
     pub(super) plan: u32,
@@ -25,9 +29,7 @@ pub(super) struct Deferred {
     pub(super) repeats: bool,
 }
 
-impl Solver<'_, '_> {
-    // ----- strategy-directed search ----------------------------------------------------------
-
+impl Solver<'_, '_, Directed<'_>> {
     /// How far the plant state `env_id` is from the goals of the plans in `plan_id`: per plan,
     /// the fewest transitions before some sender can send a message that takes the plan to its
     /// next goal, summed over the plans.
@@ -35,11 +37,11 @@ impl Solver<'_, '_> {
         let locations = self.locations_of(env_id);
         let mut total = 0u32;
         for (p, &sub) in self.space.plans.get(plan_id).iter().enumerate() {
-            let nearest = self.plan_goals[p][sub.index()]
+            let nearest = self.search.plan_goals[p][sub.index()]
                 .iter()
                 .filter_map(|&m| {
                     let sender = (self.game.messages[m.index()].sender?).index();
-                    self.send_distance[m.index()].get(locations[sender].index()).copied()
+                    self.search.send_distance[m.index()].get(locations[sender].index()).copied()
                 })
                 .min()
                 .unwrap_or(u16::MAX);
@@ -59,7 +61,7 @@ impl Solver<'_, '_> {
         match e.class {
             Class::Forced => (0, 0, false),
             Class::Option if e.is_unexplored() => {
-                let d = self.deferred[e.deferred as usize].as_ref().expect("a deferred target");
+                let d = self.search.deferred[e.deferred as usize].as_ref().expect("a deferred target");
                 let (env, plan, repeats) = (d.env, d.plan, d.repeats);
                 let here = if e.progress {
                     2
@@ -94,7 +96,7 @@ impl Solver<'_, '_> {
 
     /// The guide's decisions for a read whose alternatives are `edges` (none elsewhere).
     pub(super) fn guide_hints(&self, edges: &[Edge], env: &[SubLocId], plan: &[SubLocId], zone: &Dbm) -> Vec<Hint> {
-        let (Some(guide), Some(roles)) = (self.guide, self.game.scan.as_ref()) else { return Vec::new() };
+        let (Some(guide), Some(roles)) = (self.search.guide, self.game.scan.as_ref()) else { return Vec::new() };
         let read = edges.iter().any(|e| e.class == Class::Option && e.label == Label::Message { message: roles.idle });
         if !read {
             return Vec::new();
@@ -139,33 +141,6 @@ impl Solver<'_, '_> {
         } else {
             (if progress { 2 } else { 3 }, distance, false)
         }
-    }
-
-    /// Queues `s` for expansion if it still needs it.
-    pub(super) fn demand(&mut self, s: StateId) {
-        let st = &self.space.states[s.index()];
-        if st.removal.is_none() && !st.expanded {
-            self.queue.push_back(s);
-        }
-    }
-
-    /// Decides a freshly expanded state of the strategy-directed search: lost if a forced move
-    /// is; otherwise its forced successors are needed and it chooses its first alternative.
-    pub(super) fn evaluate_lazy(&mut self, s: StateId) {
-        let survey = self.survey(s);
-        if let Some(removal) = survey.dead_forced {
-            self.remove(s, removal);
-            return;
-        }
-        self.space.states[s.index()].wait_viable = survey.wait_viable();
-        let st = &self.space.states[s.index()];
-        for id in st.out_ids() {
-            let e = self.space.edges[id.index()];
-            if e.class == Class::Forced {
-                self.demand(e.to);
-            }
-        }
-        self.choose(s);
     }
 
     /// The `k`-th alternative of the expanded state `s` in the order the strategy tries them:
@@ -263,7 +238,7 @@ impl Solver<'_, '_> {
     /// edge to it.
     pub(super) fn generate(&mut self, edge: EdgeId) {
         let index = std::mem::replace(&mut self.space.edges[edge.index()].deferred, NOT_DEFERRED);
-        let Some(d) = self.deferred[index as usize].take() else { return };
+        let Some(d) = self.search.deferred[index as usize].take() else { return };
         let from = self.space.edges[edge.index()].from;
         let (target, exact) = self.target(d.env, d.plan, d.zone, d.kind, d.vis);
         let first = if d.guards.is_empty() {
@@ -278,7 +253,7 @@ impl Solver<'_, '_> {
                     None => Edge { from: chain[k], to: target, exact, ..d.request },
                 };
                 self.commit_edges(chain[k], vec![next]);
-                self.evaluate_lazy(chain[k]);
+                Directed::decide(self, chain[k]);
             }
             chain[0]
         };

@@ -1,7 +1,7 @@
 //! The zeno memory (5.1): per search item, the persistent set of plant states visited since the
 //! last plan progress, and how a new state's memory is formed.
 
-use super::Solver;
+use super::{Search, Solver};
 
 /// The zeno memory (5.1): for every search item, the set of plant states (env ids) visited since
 /// the last plan progress. The sets are persistent treaps sharing structure, so that adding a
@@ -102,7 +102,7 @@ pub(super) enum Vis {
     Same(u32),
 }
 
-impl Solver<'_, '_> {
+impl<S: Search> Solver<'_, '_, S> {
     /// True if the plant state `env_id` is in the zeno memory `vis`.
     pub(super) fn visited(&self, vis: u32, env_id: u32) -> bool {
         self.zeno.contains(vis, env_id)
