@@ -215,6 +215,16 @@ impl Pred {
             Pred::Or { operands } => operands.iter().any(|p| p.eval(locations)),
         }
     }
+
+    /// Marks in `read` (one flag per plant component) the components whose location it reads.
+    pub fn mark_components(&self, read: &mut [bool]) {
+        match self {
+            Pred::Const { .. } => {}
+            Pred::At { comp, .. } => read[comp.index()] = true,
+            Pred::Not { operand } => operand.mark_components(read),
+            Pred::And { operands } | Pred::Or { operands } => operands.iter().for_each(|p| p.mark_components(read)),
+        }
+    }
 }
 
 /// An assertion: `holds` must be true in every state of a winning strategy.

@@ -68,8 +68,39 @@ impl<S: Search> Solver<'_, '_, S> {
         if new_env {
             let locs: Vec<LocId> = env.iter().enumerate().map(|(u, &s)| units[u].sublocs[s.index()].location).collect();
             self.env_locations.extend_from_slice(&locs);
-            let violated = self.game.assertions.iter().position(|a| !a.holds.eval(&locs)).map_or(0, |i| i as u32 + 1);
-            self.env_violation.push(violated);
+            // In a scan game many env ids (the scan automaton's phases, the sensors' memory) agree
+            // on the locations the assertions and guards read, and so on what they say:
+            // evaluated once per such vector. (In a zero-time game few do, and the vectors would
+            // only take memory.)
+            let first = self.env_guards.len();
+            let same_as = self.predicate_locations.as_mut().and_then(|(vectors, first_env)| {
+                let key: Vec<LocId> = self.predicate_components.iter().map(|&c| locs[c]).collect();
+                let (key_id, new_key) = vectors.intern(&key);
+                if new_key {
+                    first_env.push(env_id);
+                    None
+                } else {
+                    Some(first_env[key_id as usize])
+                }
+            });
+            match same_as {
+                Some(same) => {
+                    self.env_violation.push(self.env_violation[same as usize]);
+                    let words = same as usize * self.guard_words..(same as usize + 1) * self.guard_words;
+                    self.env_guards.extend_from_within(words);
+                }
+                None => {
+                    let violated =
+                        self.game.assertions.iter().position(|a| !a.holds.eval(&locs)).map_or(0, |i| i as u32 + 1);
+                    self.env_violation.push(violated);
+                    self.env_guards.resize(first + self.guard_words, 0);
+                    for (i, g) in self.game.guards.iter().enumerate() {
+                        if g.cond.eval(&locs) {
+                            self.env_guards[first + i / 64] |= 1 << (i % 64);
+                        }
+                    }
+                }
+            }
             let mut clocks = 0u64;
             for (u, &s) in env.iter().enumerate() {
                 for &(c, _) in &units[u].sublocs[s.index()].pieces {
@@ -96,6 +127,22 @@ impl<S: Search> Solver<'_, '_, S> {
             self.plan_clocks.push(clocks);
         }
         (env_id, plan_id)
+    }
+
+    /// The messages of the state guards a move from `before` to `after` (env ids) enters: those
+    /// that hold after it and not before, in the order the specification lists them.
+    fn entered_guards(&self, before: u32, after: u32) -> Vec<MsgId> {
+        let words = self.guard_words;
+        let (before, after) = (before as usize * words, after as usize * words);
+        let mut entered = Vec::new();
+        for w in 0..words {
+            let mut bits = self.env_guards[after + w] & !self.env_guards[before + w];
+            while bits != 0 {
+                entered.push(self.game.guards[w * 64 + bits.trailing_zeros() as usize].message);
+                bits &= bits - 1;
+            }
+        }
+        entered
     }
 
     /// Extrapolates with the maximal constants of the clocks in use; unused clocks are freed
@@ -439,15 +486,7 @@ impl<S: Search> Solver<'_, '_, S> {
                 self.pending_edges.push(edge);
                 continue;
             }
-            let before = self.locations_of(st.env).to_vec();
-            let after = self.locations_of(env_id).to_vec();
-            let guards: Vec<MsgId> = self
-                .game
-                .guards
-                .iter()
-                .filter(|g| g.cond.eval(&after) && !g.cond.eval(&before))
-                .map(|g| g.message)
-                .collect();
+            let guards = self.entered_guards(st.env, env_id);
             // A search that defers targets generates an option's target only once it tries it.
             if let Some(deferred) = self.search.deferred_targets() {
                 let first = match guards.first() {

@@ -101,7 +101,11 @@ impl<S: Search> Solver<'_, '_, S> {
             + self.zeno.nodes.capacity() * std::mem::size_of::<(u32, u32, u32)>()
             + self.env_locations.capacity() * std::mem::size_of::<LocId>()
             + (self.env_violation.capacity() + self.plan_failure.capacity()) * std::mem::size_of::<u32>()
-            + (self.env_clocks.capacity() + self.plan_clocks.capacity()) * std::mem::size_of::<u64>()
+            + (self.env_clocks.capacity() + self.plan_clocks.capacity() + self.env_guards.capacity())
+                * std::mem::size_of::<u64>()
+            + self.predicate_locations.as_ref().map_or(0, |(vectors, first_env)| {
+                vectors.heap_bytes() + first_env.capacity() * std::mem::size_of::<u32>()
+            })
     }
 
     pub(super) fn stats(&self) -> Stats {

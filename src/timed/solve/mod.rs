@@ -62,6 +62,7 @@ pub use meter::Stats;
 pub(crate) use meter::{split_stop, Halt, PROGRESS_WORK, STEP_COST};
 pub use space::{Edge, EdgeId, EdgeKind, Label, Removal, State, StateId, StateKind, StateSpace};
 
+use super::arena::SliceArena;
 use super::model::*;
 use super::precompute::{SplitGame, SubLocId};
 use crate::search::Meter;
@@ -218,6 +219,15 @@ pub fn solve_guided(
 }
 
 /// Whether a search of `game` with `options` uses inclusion: scan games, strategy-directed.
+/// The plant components whose location some assertion or state guard reads, in order.
+fn predicate_components(game: &Game) -> Vec<usize> {
+    let mut read = vec![false; game.components.len()];
+    for pred in game.assertions.iter().map(|a| &a.holds).chain(game.guards.iter().map(|g| &g.cond)) {
+        pred.mark_components(&mut read);
+    }
+    read.iter().enumerate().filter(|&(_, &r)| r).map(|(c, _)| c).collect()
+}
+
 fn uses_inclusion(game: &Game, options: &Config) -> bool {
     options.inclusion && !options.exhaustive && game.scan.is_some()
 }
@@ -376,6 +386,16 @@ struct Solver<'g, 'p, S> {
     plan_failure: Vec<u32>,
     /// Per env id: the original locations of the plant units (for predicates), flat.
     env_locations: Vec<LocId>,
+    /// Per env id: which state guards (4.2.1) hold there, a bit per guard, `guard_words` words
+    /// per env id. A request enters a guard where it holds after and not before: evaluated once
+    /// per env id rather than twice per controllable move.
+    env_guards: Vec<u64>,
+    guard_words: usize,
+    /// In a scan game: the vectors of the locations of the `predicate_components` met, and per
+    /// vector the first env id with it (whose assertion and guard entries the others copy).
+    predicate_locations: Option<(SliceArena<LocId>, Vec<u32>)>,
+    /// The plant components whose location some assertion or guard reads.
+    predicate_components: Vec<usize>,
     /// Clocks used per env id and per plan vector id, as bit sets.
     env_clocks: Vec<u64>,
     plan_clocks: Vec<u64>,
@@ -432,6 +452,11 @@ impl<'g, 'p, S: Search> Solver<'g, 'p, S> {
             env_violation: Vec::new(),
             plan_failure: Vec::new(),
             env_locations: Vec::new(),
+            env_guards: Vec::new(),
+            guard_words: game.guards.len().div_ceil(64),
+            predicate_locations: ScanArm::new(game, split)
+                .map(|_| (SliceArena::new(predicate_components(game).len()), Vec::new())),
+            predicate_components: predicate_components(game),
             env_clocks: Vec::new(),
             plan_clocks: Vec::new(),
             lost_queue: Vec::new(),
