@@ -389,25 +389,29 @@ impl Dbm {
             return;
         }
         let n = self.dim;
-        let mut changed = false;
+        // Between active clocks the bounds beyond the constants are cut, which needs a closure
+        // afterwards. An inactive clock is freed: on its own that keeps the zone canonical, and
+        // the closure after a cut gives the same zone whether the freed clocks' columns were
+        // restored from column 0 before it or by it (the path through clock 0 is there in both).
+        let mut cut = false;
+        for i in 1..n {
+            if max[i] < 0 {
+                self.free(i);
+            }
+        }
         for i in 0..n {
             let mi = if i == 0 { 0 } else { max[i] };
-            let upper_cut = Bound::le(mi.max(0));
+            if mi < 0 {
+                continue;
+            }
+            let upper_cut = Bound::le(mi);
             for j in 0..n {
-                if i == j {
+                let mj = if j == 0 { 0 } else { max[j] };
+                if i == j || mj < 0 {
                     continue;
                 }
-                let mj = if j == 0 { 0 } else { max[j] };
                 let b = self.m[i * n + j];
-                let nb = if mi < 0 || mj < 0 {
-                    // An inactive clock keeps only `x ≥ 0`; the closure
-                    // below restores its column from column 0.
-                    if i == 0 {
-                        LE0
-                    } else {
-                        INF
-                    }
-                } else if b > upper_cut {
+                let nb = if b > upper_cut {
                     INF
                 } else if b < Bound::lt(-mj) {
                     Bound::lt(-mj)
@@ -416,11 +420,11 @@ impl Dbm {
                 };
                 if nb != b {
                     self.m[i * n + j] = nb;
-                    changed = true;
+                    cut = true;
                 }
             }
         }
-        if changed {
+        if cut {
             self.close();
         }
     }

@@ -635,6 +635,38 @@ proptest! {
         });
     }
 
+    /// The extrapolation frees inactive clocks without a closure and closes only after a cut:
+    /// the zone is the one of the textbook form, every bound cut or freed and then one closure.
+    #[test]
+    fn extrapolate_max_is_the_textbook_closure(z in zone(), max in prop::collection::vec(-1..=8i32, 4)) {
+        let n = z.dim();
+        let max = &max[..n];
+        let mut e = z.clone();
+        e.extrapolate_max(max);
+        if !z.is_empty() {
+            let mut m: Vec<Bound> = z.as_slice().to_vec();
+            for i in 0..n {
+                let mi = if i == 0 { 0 } else { max[i] };
+                for j in (0..n).filter(|&j| j != i) {
+                    let mj = if j == 0 { 0 } else { max[j] };
+                    let b = m[i * n + j];
+                    m[i * n + j] = if mi < 0 || mj < 0 {
+                        if i == 0 { Bound::le(0) } else { Bound::INFINITY }
+                    } else if b > Bound::le(mi.max(0)) {
+                        Bound::INFINITY
+                    } else if b < Bound::lt(-mj) {
+                        Bound::lt(-mj)
+                    } else {
+                        b
+                    };
+                }
+            }
+            let mut textbook = Dbm::from_slice(n, &m);
+            textbook.close();
+            prop_assert_eq!(e.as_slice(), textbook.as_slice());
+        }
+    }
+
     #[test]
     fn extrapolate_lu_sound(z in zone(), l in prop::collection::vec(-1..=8i32, 4), u in prop::collection::vec(-1..=8i32, 4)) {
         let n = z.dim();
