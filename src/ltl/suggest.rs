@@ -679,7 +679,7 @@ pub fn suggest(
             }
         }
     }
-    result.found.sort_by_key(|s| s.key());
+    crate::sort::sort_by_key(&mut result.found, |s| s.key());
     let mut seen = HashSet::new();
     result.found.retain(|s| seen.insert(s.added.clone()));
     Ok(result)

@@ -201,7 +201,7 @@ impl Poly {
         let mut terms = BTreeMap::new();
         for (m, c) in &self.terms {
             let mut renamed: Monomial = m.iter().map(|&(v, e)| Some((*map.get(&v)?, e))).collect::<Option<_>>()?;
-            renamed.sort();
+            crate::sort::sort(&mut renamed);
             terms.insert(renamed, *c);
         }
         Some(Poly { terms })
@@ -271,7 +271,7 @@ impl<F: Fn(NumVar) -> String> fmt::Display for PolyDisplay<'_, F> {
         if terms.is_empty() {
             return write!(f, "0");
         }
-        terms.sort_by(|(a, _), (b, _)| graded_lex(a, b));
+        crate::sort::sort_by(&mut terms, |(a, _), (b, _)| graded_lex(a, b));
         for (i, (m, c)) in terms.into_iter().enumerate() {
             let negative = c.signum() < 0;
             let magnitude = if negative { c.checked_neg().unwrap_or(*c) } else { *c };

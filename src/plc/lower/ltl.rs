@@ -767,7 +767,7 @@ pub(crate) fn cover(on: &[Cube], decided: &[Cube]) -> Vec<Cube> {
     }
     // Irredundant: the most specific cubes go first when the others cover them.
     let mut order: Vec<usize> = (0..cubes.len()).collect();
-    order.sort_by_key(|&k| std::cmp::Reverse(cubes[k].care.count_ones()));
+    crate::sort::sort_by_key(&mut order, |&k| std::cmp::Reverse(cubes[k].care.count_ones()));
     let mut keep = vec![true; cubes.len()];
     for k in order {
         keep[k] = false;

@@ -40,7 +40,7 @@ fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut B
         g_out[t.src as usize].push(t);
     }
     for v in &mut g_out {
-        v.sort_by_key(|t| t.event);
+        crate::sort::sort_by_key(v, |t| t.event);
     }
     let mut plants = c.plants.clone();
     plants.push(g_id);
@@ -140,7 +140,7 @@ fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut B
         }
         // Prohibitions dominate: a transition on an unconditionally prohibited event is dropped.
         new_trans.retain(|(e, _, _, _)| !new_prohib.iter().any(|p| p.event == *e && p.cond.is_true()));
-        new_trans.sort_by_key(|t| (t.0, t.2));
+        crate::sort::sort_by_key(&mut new_trans, |t| (t.0, t.2));
         new_trans.dedup_by(|b, a| a.0 == b.0 && a.2 == b.2 && a.1.is_true() && b.1.is_true());
         // Determinism: two unconditional transitions on one event.
         for w in new_trans.windows(2) {
@@ -167,7 +167,7 @@ fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut B
                 }));
             }
         }
-        new_prohib.sort_by_key(|p| p.event);
+        crate::sort::sort_by_key(&mut new_prohib, |p| p.event);
         let mut row = Vec::with_capacity(new_trans.len());
         for (e, cond, pair, origin) in new_trans.drain(..) {
             let id = match index.entry(pair) {
@@ -284,7 +284,7 @@ pub fn step(project: &Project, a: &SynthAut, preempt: bool) -> (SynthAut, bool) 
                     b.prohib[s].push(p);
                 }
             }
-            b.prohib[s].sort_by_key(|p| p.event);
+            crate::sort::sort_by_key(&mut b.prohib[s], |p| p.event);
         }
     }
     if !changed {

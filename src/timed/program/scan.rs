@@ -309,7 +309,7 @@ impl Extraction<'_> {
 
 /// The canonical order of a belief's elements.
 fn canonical(mut belief: Vec<Element>) -> Vec<Element> {
-    belief.sort_by(|a, b| a.0.cmp(&b.0).then_with(|| a.1.memory().cmp(&b.1.memory())));
+    crate::sort::sort_by(&mut belief, |a, b| a.0.cmp(&b.0).then_with(|| a.1.memory().cmp(&b.1.memory())));
     belief.dedup();
     belief
 }
@@ -453,7 +453,7 @@ fn follow_beliefs(
                 }
             }
         }
-        by_image.sort_by(|a, b| a.0.cmp(&b.0));
+        crate::sort::sort_by(&mut by_image, |a, b| a.0.cmp(&b.0));
         let mut next = Vec::new();
         for (image, group) in by_image {
             let group = canonical(group);
