@@ -203,7 +203,10 @@ fn globalise(m: &Machine, global: &[SignalId]) -> Machine {
 /// parts' rows whose cubes agree.
 pub fn product(machines: &[Machine]) -> Machine {
     let union = |f: fn(&Machine) -> &Vec<SignalId>| -> Vec<SignalId> {
-        machines.iter().flat_map(|m| f(m).iter().copied()).collect::<BTreeSet<_>>().into_iter().collect()
+        let mut ids: Vec<SignalId> = machines.iter().flat_map(|m| f(m).iter().copied()).collect();
+        ids.sort_unstable();
+        ids.dedup();
+        ids
     };
     let (reads, writes) = (union(|m| &m.reads), union(|m| &m.writes));
     let position = |ids: &[SignalId], s: SignalId| ids.iter().position(|&x| x == s).expect("in the union");
