@@ -7,7 +7,10 @@
 //! which is instantiated once for the whole crate, and then permuting the slice in place.
 //!
 //! A stable sort's result is determined by the comparator alone (equal elements keep their
-//! order), so these functions give exactly what `<[T]>::sort_by` and friends give.
+//! order), so these functions give exactly what `<[T]>::sort_by` and friends give. The crate
+//! sorts through them only, `sort_unstable` included (ipnsort is as large again per type): its
+//! call sites sort ids, integers and tuples of them, whose equal elements are identical, so the
+//! order among equals cannot show there either.
 
 use std::cmp::Ordering;
 

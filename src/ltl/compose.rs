@@ -94,7 +94,7 @@ pub(super) fn split(spec: &Spec) -> Vec<Vec<usize>> {
     match groups.first_mut() {
         Some(first) => {
             first.extend(loose);
-            first.sort_unstable();
+            crate::sort::sort(first);
         }
         None => groups.push(loose),
     }
@@ -204,7 +204,7 @@ fn globalise(m: &Machine, global: &[SignalId]) -> Machine {
 pub fn product(machines: &[Machine]) -> Machine {
     let union = |f: fn(&Machine) -> &Vec<SignalId>| -> Vec<SignalId> {
         let mut ids: Vec<SignalId> = machines.iter().flat_map(|m| f(m).iter().copied()).collect();
-        ids.sort_unstable();
+        crate::sort::sort(&mut ids);
         ids.dedup();
         ids
     };

@@ -238,7 +238,7 @@ impl Suggestion {
 
     fn key(&self) -> (usize, Vec<usize>, usize, usize, u32) {
         let mut ranks: Vec<usize> = self.templates.iter().map(|t| t.rank()).collect();
-        ranks.sort_unstable_by(|a, b| b.cmp(a)); // the strongest template counts first
+        crate::sort::sort_by(&mut ranks, |a, b| b.cmp(a)); // the strongest template counts first
         let m = self.controller();
         (self.added.len(), ranks, m.states.len(), m.rows(), self.outcome.k)
     }

@@ -885,7 +885,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                 }
             }
         }
-        alphabet.sort_unstable();
+        crate::sort::sort(&mut alphabet);
         alphabet.dedup();
         let mut trans: Vec<Transition> = Vec::new();
         let mut spans: Vec<Span> = Vec::new();

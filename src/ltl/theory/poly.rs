@@ -141,7 +141,7 @@ impl Poly {
     /// The variables that occur, sorted.
     pub fn vars(&self) -> Vec<NumVar> {
         let mut vars: Vec<NumVar> = self.terms.keys().flat_map(|m| m.iter().map(|&(v, _)| v)).collect();
-        vars.sort_unstable();
+        crate::sort::sort(&mut vars);
         vars.dedup();
         vars
     }

@@ -125,7 +125,7 @@ pub fn lower_machines(
     }
     let written: Vec<SignalId> = machines.iter().flat_map(|m| m.writes.iter().copied()).collect();
     let mut distinct = written.clone();
-    distinct.sort_unstable();
+    crate::sort::sort(&mut distinct);
     distinct.dedup();
     if distinct.len() != written.len() {
         diags.error(Span::default(), "two state machines write one output");

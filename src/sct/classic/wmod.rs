@@ -808,7 +808,7 @@ pub fn write_wmod(
 ) -> String {
     let mut used: Vec<ClassicEventId> =
         components.iter().flat_map(|c| c.automaton.alphabet().iter().copied()).collect();
-    used.sort_unstable();
+    crate::sort::sort(&mut used);
     used.dedup();
     let mut o = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"yes\"?>\n");
     let _ = writeln!(o, "<Module Name=\"{}\" xmlns=\"{NS_MODULE}\" xmlns:B=\"{NS_BASE}\">", escape(module_name));

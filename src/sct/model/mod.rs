@@ -373,7 +373,7 @@ impl SynthAut {
                 p.cond.plants(&mut v);
             }
         }
-        v.sort_unstable();
+        crate::sort::sort(&mut v);
         v.dedup();
         v
     }

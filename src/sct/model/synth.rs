@@ -27,12 +27,12 @@ type NewTrans = (EventId, Cond, (u32, u32), [u32; 2]);
 fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut Budget) -> Result<SynthAut, SynthError> {
     let g = &project.plants[g_id as usize];
     let mut g_alphabet = g.alphabet.clone();
-    g_alphabet.sort_unstable();
+    crate::sort::sort(&mut g_alphabet);
     g_alphabet.dedup();
     let in_g = |e: EventId| g_alphabet.binary_search(&e).is_ok();
     let in_c = |e: EventId| c.plant_alphabet.binary_search(&e).is_ok();
     let mut plant_alphabet: Vec<EventId> = c.plant_alphabet.iter().chain(&g_alphabet).copied().collect();
-    plant_alphabet.sort_unstable();
+    crate::sort::sort(&mut plant_alphabet);
     plant_alphabet.dedup();
     // Plant transitions per state, sorted by event.
     let mut g_out: Vec<Vec<&Transition>> = vec![Vec::new(); g.states.len()];
@@ -147,7 +147,7 @@ fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut B
             if w[0].0 == w[1].0 && w[0].1.is_true() && w[1].1.is_true() && w[0].2 != w[1].2 {
                 let mut origins: Vec<u32> =
                     w[0].3.iter().chain(w[1].3.iter()).copied().filter(|&o| o != NO_ORIGIN).collect();
-                origins.sort_unstable();
+                crate::sort::sort(&mut origins);
                 origins.dedup();
                 let mut tup: Vec<u32> = ctuple.to_vec();
                 tup.push(qg);
@@ -380,7 +380,7 @@ pub fn synthesize_known(
                         }
                     }
                 }
-                gather.sort_unstable();
+                crate::sort::sort(&mut gather);
                 gather.dedup();
                 if gather.is_empty() {
                     break;

@@ -210,7 +210,7 @@ impl Extraction<'_> {
                 (super::select::edge_distance(self.space, dist, id), name, id)
             })
             .collect();
-        live.sort_unstable();
+        crate::sort::sort(&mut live);
         let least = live.first().map(|o| o.0);
         live.into_iter().take_while(|o| Some(o.0) == least).map(|o| o.2).collect()
     }
@@ -302,7 +302,7 @@ impl Extraction<'_> {
                 }
             }
         }
-        out.guards.sort_unstable();
+        crate::sort::sort(&mut out.guards);
         Ok(())
     }
 }
@@ -463,7 +463,7 @@ fn follow_beliefs(
             });
             next.push((image, id));
         }
-        guards.sort_unstable();
+        crate::sort::sort(&mut guards);
         guards.dedup();
         nodes.push(Node { decision, guards, next, states: belief.len() });
     }
