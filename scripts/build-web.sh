@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the static playground into www/: the release wasm (size-optimised profile `wasm`,
-# LTO, then wasm-opt -Oz when binaryen is installed) as www/pkg, and the JS bundles (esbuild,
+# LTO, then wasm-opt --merge-similar-functions -Oz when binaryen is installed) as www/pkg, and the JS bundles (esbuild,
 # with the examples embedded) as www/dist. Run scripts/setup-web.sh first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -27,7 +27,9 @@ elif command -v wasm-opt >/dev/null && (( $(wasm-opt --version | grep -o '[0-9]\
 fi
 if [[ -n "$wasm_opt" ]]; then
     rm -rf www/pkg.opt && cp -r www/pkg.tmp www/pkg.opt
-    if "$wasm_opt" -Oz --enable-bulk-memory --enable-nontrapping-float-to-int --enable-sign-ext \
+    # --merge-similar-functions first: functions that differ only in constants (generic
+    # instances of one layout) become one with a parameter, which -Oz alone does not do.
+    if "$wasm_opt" --merge-similar-functions -Oz --enable-bulk-memory --enable-nontrapping-float-to-int --enable-sign-ext \
         --enable-mutable-globals --enable-reference-types --enable-multivalue \
         -o www/pkg.opt/plcsynth_bg.wasm "$wasm" && node scripts/check-wasm.mjs www/pkg.opt; then
         mv www/pkg.opt/plcsynth_bg.wasm "$wasm"

@@ -23,6 +23,7 @@ pub mod plc;
 pub mod rng;
 pub mod sct;
 pub mod search;
+pub(crate) mod sort;
 pub(crate) mod syntax;
 pub mod timed;
 #[cfg(target_arch = "wasm32")]

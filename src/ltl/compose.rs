@@ -94,7 +94,7 @@ pub(super) fn split(spec: &Spec) -> Vec<Vec<usize>> {
     match groups.first_mut() {
         Some(first) => {
             first.extend(loose);
-            first.sort_unstable();
+            crate::sort::sort(first);
         }
         None => groups.push(loose),
     }
@@ -203,7 +203,10 @@ fn globalise(m: &Machine, global: &[SignalId]) -> Machine {
 /// parts' rows whose cubes agree.
 pub fn product(machines: &[Machine]) -> Machine {
     let union = |f: fn(&Machine) -> &Vec<SignalId>| -> Vec<SignalId> {
-        machines.iter().flat_map(|m| f(m).iter().copied()).collect::<BTreeSet<_>>().into_iter().collect()
+        let mut ids: Vec<SignalId> = machines.iter().flat_map(|m| f(m).iter().copied()).collect();
+        crate::sort::sort(&mut ids);
+        ids.dedup();
+        ids
     };
     let (reads, writes) = (union(|m| &m.reads), union(|m| &m.writes));
     let position = |ids: &[SignalId], s: SignalId| ids.iter().position(|&x| x == s).expect("in the union");

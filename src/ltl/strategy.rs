@@ -133,7 +133,7 @@ pub(super) type Table = Vec<Vec<(u64, u32)>>;
 /// Valuations ordered as a PLC engineer would like ties broken: fewer signals set first.
 fn by_fewest_set(count: usize) -> Vec<usize> {
     let mut order: Vec<usize> = (0..count).collect();
-    order.sort_by_key(|&v| (v.count_ones(), v));
+    crate::sort::sort_by_key(&mut order, |&v| (v.count_ones(), v));
     order
 }
 

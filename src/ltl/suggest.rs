@@ -238,7 +238,7 @@ impl Suggestion {
 
     fn key(&self) -> (usize, Vec<usize>, usize, usize, u32) {
         let mut ranks: Vec<usize> = self.templates.iter().map(|t| t.rank()).collect();
-        ranks.sort_unstable_by(|a, b| b.cmp(a)); // the strongest template counts first
+        crate::sort::sort_by(&mut ranks, |a, b| b.cmp(a)); // the strongest template counts first
         let m = self.controller();
         (self.added.len(), ranks, m.states.len(), m.rows(), self.outcome.k)
     }
@@ -679,7 +679,7 @@ pub fn suggest(
             }
         }
     }
-    result.found.sort_by_key(|s| s.key());
+    crate::sort::sort_by_key(&mut result.found, |s| s.key());
     let mut seen = HashSet::new();
     result.found.retain(|s| seen.insert(s.added.clone()));
     Ok(result)

@@ -129,7 +129,7 @@ impl Term {
         }
         let mut next = self.next.clone();
         next.extend_from_slice(&other.next);
-        next.sort_unstable();
+        crate::sort::sort(&mut next);
         next.dedup();
         Some(Term { pos, neg, next, pending: self.pending | other.pending })
     }
@@ -228,7 +228,7 @@ impl Arena {
                 _ => flat.push(p),
             }
         }
-        flat.sort_unstable();
+        crate::sort::sort(&mut flat);
         flat.dedup();
         let complementary = flat.iter().any(|&a| {
             let Node::Lit(s, v) = *self.node(a) else { return false };

@@ -249,7 +249,7 @@ pub fn compile_within(src: &str, budget: &mut Budget) -> (Option<Loaded>, Vec<Di
         spec_spans.push(span);
     }
     let mut items = std::mem::take(&mut cx.diags.items);
-    items.sort_by_key(|d| (d.span.start, d.span.end));
+    crate::sort::sort_by_key(&mut items, |d| (d.span.start, d.span.end));
     if items.iter().any(Diagnostic::is_error) {
         return (None, items, stop);
     }
@@ -885,7 +885,7 @@ impl<'s, 'a> Ctx<'s, 'a> {
                 }
             }
         }
-        alphabet.sort_unstable();
+        crate::sort::sort(&mut alphabet);
         alphabet.dedup();
         let mut trans: Vec<Transition> = Vec::new();
         let mut spans: Vec<Span> = Vec::new();

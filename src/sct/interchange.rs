@@ -227,7 +227,7 @@ pub fn classic_to_sct(
     // One scope for events and components (the .sct top level), one per component for states.
     let mut top = Namer::default();
     let mut used: Vec<ClassicEventId> = parts.iter().flat_map(|p| p.automaton.alphabet().iter().copied()).collect();
-    used.sort_unstable();
+    crate::sort::sort(&mut used);
     used.dedup();
     let event_names: HashMap<ClassicEventId, String> = used.iter().map(|&e| (e, top.name(events.name(e)))).collect();
     let part_names: Vec<String> = parts.iter().map(|p| top.name(p.name)).collect();
@@ -535,7 +535,7 @@ pub fn project_to_classic(src: &str, loaded: &Loaded, supervisors: &[&Supervisor
     for (k, spec) in p.specs.iter().enumerate() {
         let mut alphabet: Vec<model::EventId> =
             spec.trans.iter().map(|t| t.event).chain(spec.prohib.iter().map(|x| x.event)).collect();
-        alphabet.sort_unstable();
+        crate::sort::sort(&mut alphabet);
         alphabet.dedup();
         let mut moves: HashMap<(u32, model::EventId), u32> = HashMap::new();
         let mut prohibited: HashSet<(u32, model::EventId)> = HashSet::new();
@@ -628,7 +628,7 @@ pub fn supervisor_automaton(sup: &Supervisor) -> Automaton {
         .iter()
         .flat_map(|s| s.transitions.iter().map(|t| t.0).chain(s.prohibited.iter().copied()).chain(s.enforced))
         .collect();
-    alphabet.sort_unstable();
+    crate::sort::sort(&mut alphabet);
     alphabet.dedup();
     let ev = |e: model::EventId| ClassicEventId::from_raw(e.raw());
     let mut b = AutomatonBuilder::new();

@@ -33,7 +33,7 @@ pub fn coarsest_partition(n: usize, k: usize, delta: &[u32], key: &[u64]) -> Vec
     }
     // Refinable partition: `elems` is a permutation, each block a contiguous range of it.
     let mut elems: Vec<u32> = (0..n as u32).collect();
-    elems.sort_by_key(|&s| key[s as usize]);
+    crate::sort::sort_by_key(&mut elems, |&s| key[s as usize]);
     let mut loc = vec![0u32; n];
     let mut block = vec![0u32; n];
     let mut start: Vec<u32> = Vec::new();

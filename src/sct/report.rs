@@ -181,7 +181,7 @@ pub fn synthesize_within(
                 .flat_map(|&s| sup.states[s as usize].enforced_origin.iter().copied())
                 .filter_map(|o| loaded.origins.get(o as usize).copied())
                 .collect();
-            spans.sort_by_key(|s| s.start);
+            crate::sort::sort_by_key(&mut spans, |s| s.start);
             spans.dedup();
             let at = spans.first().copied().unwrap_or(loaded.spec_spans[i]);
             let evs: Vec<String> = cycle.iter().filter_map(|&s| sup.states[s as usize].enforced).map(name).collect();

@@ -458,7 +458,7 @@ impl Checker<'_, '_> {
     /// deterministic order whatever the declaration order.
     fn sort_synchronised(&mut self) {
         for m in &mut self.game.messages {
-            m.synchronised.sort_unstable();
+            crate::sort::sort(&mut m.synchronised);
         }
     }
 

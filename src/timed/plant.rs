@@ -407,7 +407,7 @@ impl<'g> Plant<'g> {
             StateKind::Waiting => 2,
             StateKind::Guard => 3,
         };
-        found.sort_by_key(|&s| {
+        crate::sort::sort_by_key(&mut found, |&s| {
             let st = &space.states[s.index()];
             (st.removal.is_some(), kind_order(st.kind), s)
         });

@@ -137,7 +137,7 @@ pub fn unique_choice_pieces(constraints: &[Interval]) -> Vec<Interval> {
             cuts.push(hi + 1);
         }
     }
-    cuts.sort_unstable();
+    crate::sort::sort(&mut cuts);
     cuts.dedup();
     let mut pieces = Vec::with_capacity(cuts.len());
     for (k, &lo) in cuts.iter().enumerate() {

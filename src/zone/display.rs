@@ -54,7 +54,7 @@ impl Dbm {
         // keep an edge only
         // if the others no longer imply the same canonical matrix. Dropping is
         // monotone, so no kept edge becomes redundant later.
-        kept.sort_by_key(|&(i, j)| (i == 0 || j == 0, std::cmp::Reverse(i.max(j)), i, j));
+        crate::sort::sort_by_key(&mut kept, |&(i, j)| (i == 0 || j == 0, std::cmp::Reverse(i.max(j)), i, j));
         let mut k = 0;
         let mut trial = base.clone();
         while k < kept.len() {
@@ -71,7 +71,7 @@ impl Dbm {
                 k += 1;
             }
         }
-        kept.sort_by_key(|&(i, j)| (i != 0 && j != 0, i.max(j), i.min(j), i));
+        crate::sort::sort_by_key(&mut kept, |&(i, j)| (i != 0 && j != 0, i.max(j), i.min(j), i));
         kept.into_iter().map(|(i, j)| Constraint { i, j, bound: self.get(i, j) }).collect()
     }
 

@@ -35,7 +35,7 @@ pub struct Theory {
 /// Sorted, without duplicates: the cache key.
 fn sorted(combination: &[(usize, bool)]) -> Vec<(usize, bool)> {
     let mut key = combination.to_vec();
-    key.sort_unstable();
+    crate::sort::sort(&mut key);
     key.dedup();
     key
 }

@@ -5,7 +5,7 @@ use super::interval::Interval;
 use super::rational::Rational;
 use serde::Serialize;
 use std::cmp::Ordering;
-use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::collections::{BTreeMap, HashMap};
 use std::fmt;
 
 /// Index of a numeric variable (the caller's numbering, 0..n).
@@ -39,7 +39,9 @@ impl Poly {
     }
 
     pub fn var(v: NumVar) -> Poly {
-        Poly { terms: BTreeMap::from([(vec![(v, 1)], Rational::ONE)]) }
+        let mut terms = BTreeMap::new();
+        terms.insert(vec![(v, 1)], Rational::ONE);
+        Poly { terms }
     }
 
     /// The terms as (monomial: sorted (variable, exponent) pairs, coefficient), none zero.
@@ -138,8 +140,10 @@ impl Poly {
 
     /// The variables that occur, sorted.
     pub fn vars(&self) -> Vec<NumVar> {
-        let set: BTreeSet<NumVar> = self.terms.keys().flat_map(|m| m.iter().map(|&(v, _)| v)).collect();
-        set.into_iter().collect()
+        let mut vars: Vec<NumVar> = self.terms.keys().flat_map(|m| m.iter().map(|&(v, _)| v)).collect();
+        crate::sort::sort(&mut vars);
+        vars.dedup();
+        vars
     }
 
     /// Floating-point value (NaN when a variable has no value): for display and heuristics only.
@@ -201,7 +205,7 @@ impl Poly {
         let mut terms = BTreeMap::new();
         for (m, c) in &self.terms {
             let mut renamed: Monomial = m.iter().map(|&(v, e)| Some((*map.get(&v)?, e))).collect::<Option<_>>()?;
-            renamed.sort();
+            crate::sort::sort(&mut renamed);
             terms.insert(renamed, *c);
         }
         Some(Poly { terms })
@@ -227,7 +231,8 @@ fn add_term(terms: &mut BTreeMap<Monomial, Rational>, m: Monomial, c: Rational) 
 }
 
 fn mul_monomial(a: &Monomial, b: &Monomial) -> Option<Monomial> {
-    let mut exponents: BTreeMap<NumVar, u32> = a.iter().copied().collect();
+    let mut exponents: BTreeMap<NumVar, u32> = BTreeMap::new();
+    exponents.extend(a.iter().copied());
     for &(v, e) in b {
         let slot = exponents.entry(v).or_insert(0);
         *slot = slot.checked_add(e)?;
@@ -271,7 +276,7 @@ impl<F: Fn(NumVar) -> String> fmt::Display for PolyDisplay<'_, F> {
         if terms.is_empty() {
             return write!(f, "0");
         }
-        terms.sort_by(|(a, _), (b, _)| graded_lex(a, b));
+        crate::sort::sort_by(&mut terms, |(a, _), (b, _)| graded_lex(a, b));
         for (i, (m, c)) in terms.into_iter().enumerate() {
             let negative = c.signum() < 0;
             let magnitude = if negative { c.checked_neg().unwrap_or(*c) } else { *c };

@@ -401,11 +401,12 @@ impl<'a, 'd, 's> Evaluator<'a, 'd, 's> {
             Binary::SetMinus | Binary::Cap | Binary::Cup => {
                 let (x, y) = (self.set_of(a, lhs.span)?, self.set_of(b, rhs.span)?);
                 self.charge((x.len() + y.len()) as u64, span)?;
-                let set = match op {
-                    Binary::SetMinus => x.difference(&y).copied().collect(),
-                    Binary::Cap => x.intersection(&y).copied().collect(),
-                    _ => x.union(&y).copied().collect(),
-                };
+                let mut set = BTreeSet::new();
+                match op {
+                    Binary::SetMinus => set.extend(x.difference(&y)),
+                    Binary::Cap => set.extend(x.intersection(&y)),
+                    _ => set.extend(x.union(&y)),
+                }
                 return Ok(Value::Set(set));
             }
             Binary::Implies => Ltl::implies,

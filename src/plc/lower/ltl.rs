@@ -124,7 +124,10 @@ pub fn lower_machines(
         check(spec, machine, &mut diags);
     }
     let written: Vec<SignalId> = machines.iter().flat_map(|m| m.writes.iter().copied()).collect();
-    if written.iter().collect::<BTreeSet<_>>().len() != written.len() {
+    let mut distinct = written.clone();
+    crate::sort::sort(&mut distinct);
+    distinct.dedup();
+    if distinct.len() != written.len() {
         diags.error(Span::default(), "two state machines write one output");
     }
     if machines.is_empty() {
@@ -427,8 +430,8 @@ fn numeric_vars(e: &NumExpr) -> Vec<NumericId> {
 /// inputs' bounds decide). IEC has no implicit conversion, so a predicate mixing the two is
 /// refused, as is one whose INT arithmetic could overflow or divide.
 fn predicate_expr(spec: &Spec, p: &crate::ltl::Predicate, names: &[Option<String>]) -> Result<Expr, String> {
-    let kinds: BTreeSet<NumberKind> =
-        numeric_vars(&p.lhs).into_iter().chain(numeric_vars(&p.rhs)).map(|v| spec.numeric[v.0 as usize].kind).collect();
+    let mut kinds: BTreeSet<NumberKind> = BTreeSet::new();
+    kinds.extend(numeric_vars(&p.lhs).into_iter().chain(numeric_vars(&p.rhs)).map(|v| spec.numeric[v.0 as usize].kind));
     let has_decimal = |e: &NumExpr| num_any(e, &|x| matches!(x, NumExpr::Const(t) if t.parse::<i64>().is_err()));
     let real = kinds.contains(&NumberKind::Real) || has_decimal(&p.lhs) || has_decimal(&p.rhs);
     if real && kinds.contains(&NumberKind::Int) {
@@ -596,7 +599,8 @@ fn check(spec: &Spec, machine: &Machine, diags: &mut Diagnostics<'_>) {
 
 /// The states reachable from the initial one, in the machine's order.
 fn reachable(machine: &Machine) -> Vec<StateId> {
-    let mut seen = BTreeSet::from([machine.init]);
+    let mut seen = BTreeSet::new();
+    seen.insert(machine.init);
     let mut todo = vec![machine.init];
     while let Some(s) = todo.pop() {
         for row in &machine.states[s.index()] {
@@ -767,7 +771,7 @@ pub(crate) fn cover(on: &[Cube], decided: &[Cube]) -> Vec<Cube> {
     }
     // Irredundant: the most specific cubes go first when the others cover them.
     let mut order: Vec<usize> = (0..cubes.len()).collect();
-    order.sort_by_key(|&k| std::cmp::Reverse(cubes[k].care.count_ones()));
+    crate::sort::sort_by_key(&mut order, |&k| std::cmp::Reverse(cubes[k].care.count_ones()));
     let mut keep = vec![true; cubes.len()];
     for k in order {
         keep[k] = false;

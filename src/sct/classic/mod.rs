@@ -151,7 +151,7 @@ impl AutomatonBuilder {
     }
 
     pub fn build(mut self) -> Result<Automaton, BuildError> {
-        self.alphabet.sort_unstable();
+        crate::sort::sort(&mut self.alphabet);
         self.alphabet.dedup();
         let n = self.marked.len();
         if let Some(i) = self.init {
@@ -159,7 +159,7 @@ impl AutomatonBuilder {
                 return Err(BuildError::BadState { state: i });
             }
         }
-        self.trans.sort_unstable();
+        crate::sort::sort(&mut self.trans);
         self.trans.dedup();
         let mut offsets = vec![0u32; n + 1];
         let mut edges = Vec::with_capacity(self.trans.len());
@@ -195,7 +195,7 @@ impl AutomatonBuilder {
 impl Automaton {
     /// The automaton with no states (the empty language), over `alphabet`.
     pub fn empty(mut alphabet: Vec<ClassicEventId>) -> Automaton {
-        alphabet.sort_unstable();
+        crate::sort::sort(&mut alphabet);
         alphabet.dedup();
         Automaton { alphabet, init: None, marked: Vec::new(), offsets: vec![0], edges: Vec::new(), names: Vec::new() }
     }
@@ -451,7 +451,7 @@ pub fn product_within(a: &Automaton, b: &Automaton, n_events: usize, max_states:
     let in_a = a.alphabet_mask(n_events);
     let in_b = b.alphabet_mask(n_events);
     let mut alphabet: Vec<ClassicEventId> = a.alphabet.iter().chain(&b.alphabet).copied().collect();
-    alphabet.sort_unstable();
+    crate::sort::sort(&mut alphabet);
     alphabet.dedup();
     let (Some(ia), Some(ib)) = (a.init, b.init) else {
         return Ok(Product { automaton: Automaton::empty(alphabet), pairs: Vec::new() });

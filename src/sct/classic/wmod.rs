@@ -808,7 +808,7 @@ pub fn write_wmod(
 ) -> String {
     let mut used: Vec<ClassicEventId> =
         components.iter().flat_map(|c| c.automaton.alphabet().iter().copied()).collect();
-    used.sort_unstable();
+    crate::sort::sort(&mut used);
     used.dedup();
     let mut o = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"yes\"?>\n");
     let _ = writeln!(o, "<Module Name=\"{}\" xmlns=\"{NS_MODULE}\" xmlns:B=\"{NS_BASE}\">", escape(module_name));
@@ -1007,7 +1007,7 @@ mod tests {
             s.alphabet(),
             &{
                 let mut v = vec![start, brk];
-                v.sort();
+                crate::sort::sort(&mut v);
                 v
             }[..]
         );
@@ -1050,13 +1050,13 @@ mod tests {
                 };
                 let mut l = names(x, &ev);
                 let mut r = names(y, &ev2);
-                l.sort();
-                r.sort();
+                crate::sort::sort(&mut l);
+                crate::sort::sort(&mut r);
                 assert_eq!(l, r);
             }
             let alpha = |a: &Automaton, ev: &Events| {
                 let mut v: Vec<String> = a.alphabet().iter().map(|&e| ev.name(e).to_string()).collect();
-                v.sort();
+                crate::sort::sort(&mut v);
                 v
             };
             assert_eq!(alpha(x, &ev), alpha(y, &ev2));

@@ -14,7 +14,7 @@ pub fn minimize_supervisor(sup: &Supervisor) -> Supervisor {
         .iter()
         .flat_map(|s| s.transitions.iter().map(|t| t.0).chain(s.prohibited.iter().copied()).chain(s.enforced))
         .collect();
-    events.sort_unstable();
+    crate::sort::sort(&mut events);
     events.dedup();
     let k = events.len();
     let sink = n as u32;
@@ -33,7 +33,7 @@ pub fn minimize_supervisor(sup: &Supervisor) -> Supervisor {
         .iter()
         .map(|s| {
             let mut p = s.prohibited.clone();
-            p.sort_unstable();
+            crate::sort::sort(&mut p);
             let next = keys.len() as u64;
             *keys.entry((p, s.enforced)).or_insert(next)
         })

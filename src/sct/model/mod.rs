@@ -297,10 +297,10 @@ impl SynthAut {
             prohib[p.state as usize].push(SProhib { event: p.event, cond: p.cond.clone(), origin: p.origin });
         }
         for v in &mut trans {
-            v.sort_by_key(|t| t.event);
+            crate::sort::sort_by_key(v, |t| t.event);
         }
         for v in &mut prohib {
-            v.sort_by_key(|p| p.event);
+            crate::sort::sort_by_key(v, |p| p.event);
         }
         let a = SynthAut {
             plants: Vec::new(),
@@ -373,7 +373,7 @@ impl SynthAut {
                 p.cond.plants(&mut v);
             }
         }
-        v.sort_unstable();
+        crate::sort::sort(&mut v);
         v.dedup();
         v
     }

@@ -20,7 +20,7 @@ pub fn plant_compose(project: &Project, g1: u32, g2: u32) -> Plant {
     }
     let (ta, tb) = (out_of(a), out_of(b));
     let mut alphabet: Vec<EventId> = a.alphabet.iter().chain(&b.alphabet).copied().collect();
-    alphabet.sort_unstable();
+    crate::sort::sort(&mut alphabet);
     alphabet.dedup();
     let mut out =
         Plant { name: format!("{}||{}", a.name, b.name), alphabet, states: Vec::new(), init: 0, trans: Vec::new() };
@@ -122,7 +122,7 @@ pub fn spec_product(name: &str, a: &Spec, b: &Spec, budget: &mut Budget) -> Resu
             .chain(pa[q1 as usize].iter().map(|p| p.event))
             .chain(pb[q2 as usize].iter().map(|p| p.event))
             .collect();
-        evs.sort_unstable();
+        crate::sort::sort(&mut evs);
         evs.dedup();
         let mut moves: Vec<(EventId, Cond, (u32, u32), u32)> = Vec::new();
         for e in evs {

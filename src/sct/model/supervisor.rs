@@ -71,7 +71,7 @@ impl Supervisor {
     /// Events enforced somewhere, sorted and deduplicated.
     pub fn enforced_events(&self) -> Vec<EventId> {
         let mut v: Vec<EventId> = self.states.iter().filter_map(|s| s.enforced).collect();
-        v.sort_unstable();
+        crate::sort::sort(&mut v);
         v.dedup();
         v
     }
@@ -79,7 +79,7 @@ impl Supervisor {
     /// Events prohibited somewhere, sorted and deduplicated.
     pub fn prohibited_events(&self) -> Vec<EventId> {
         let mut v: Vec<EventId> = self.states.iter().flat_map(|s| s.prohibited.iter().copied()).collect();
-        v.sort_unstable();
+        crate::sort::sort(&mut v);
         v.dedup();
         v
     }

@@ -27,12 +27,12 @@ type NewTrans = (EventId, Cond, (u32, u32), [u32; 2]);
 fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut Budget) -> Result<SynthAut, SynthError> {
     let g = &project.plants[g_id as usize];
     let mut g_alphabet = g.alphabet.clone();
-    g_alphabet.sort_unstable();
+    crate::sort::sort(&mut g_alphabet);
     g_alphabet.dedup();
     let in_g = |e: EventId| g_alphabet.binary_search(&e).is_ok();
     let in_c = |e: EventId| c.plant_alphabet.binary_search(&e).is_ok();
     let mut plant_alphabet: Vec<EventId> = c.plant_alphabet.iter().chain(&g_alphabet).copied().collect();
-    plant_alphabet.sort_unstable();
+    crate::sort::sort(&mut plant_alphabet);
     plant_alphabet.dedup();
     // Plant transitions per state, sorted by event.
     let mut g_out: Vec<Vec<&Transition>> = vec![Vec::new(); g.states.len()];
@@ -40,7 +40,7 @@ fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut B
         g_out[t.src as usize].push(t);
     }
     for v in &mut g_out {
-        v.sort_by_key(|t| t.event);
+        crate::sort::sort_by_key(v, |t| t.event);
     }
     let mut plants = c.plants.clone();
     plants.push(g_id);
@@ -140,14 +140,14 @@ fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut B
         }
         // Prohibitions dominate: a transition on an unconditionally prohibited event is dropped.
         new_trans.retain(|(e, _, _, _)| !new_prohib.iter().any(|p| p.event == *e && p.cond.is_true()));
-        new_trans.sort_by_key(|t| (t.0, t.2));
+        crate::sort::sort_by_key(&mut new_trans, |t| (t.0, t.2));
         new_trans.dedup_by(|b, a| a.0 == b.0 && a.2 == b.2 && a.1.is_true() && b.1.is_true());
         // Determinism: two unconditional transitions on one event.
         for w in new_trans.windows(2) {
             if w[0].0 == w[1].0 && w[0].1.is_true() && w[1].1.is_true() && w[0].2 != w[1].2 {
                 let mut origins: Vec<u32> =
                     w[0].3.iter().chain(w[1].3.iter()).copied().filter(|&o| o != NO_ORIGIN).collect();
-                origins.sort_unstable();
+                crate::sort::sort(&mut origins);
                 origins.dedup();
                 let mut tup: Vec<u32> = ctuple.to_vec();
                 tup.push(qg);
@@ -167,7 +167,7 @@ fn apply(project: &Project, spec: &Spec, c: &SynthAut, g_id: u32, budget: &mut B
                 }));
             }
         }
-        new_prohib.sort_by_key(|p| p.event);
+        crate::sort::sort_by_key(&mut new_prohib, |p| p.event);
         let mut row = Vec::with_capacity(new_trans.len());
         for (e, cond, pair, origin) in new_trans.drain(..) {
             let id = match index.entry(pair) {
@@ -284,7 +284,7 @@ pub fn step(project: &Project, a: &SynthAut, preempt: bool) -> (SynthAut, bool) 
                     b.prohib[s].push(p);
                 }
             }
-            b.prohib[s].sort_by_key(|p| p.event);
+            crate::sort::sort_by_key(&mut b.prohib[s], |p| p.event);
         }
     }
     if !changed {
@@ -380,7 +380,7 @@ pub fn synthesize_known(
                         }
                     }
                 }
-                gather.sort_unstable();
+                crate::sort::sort(&mut gather);
                 gather.dedup();
                 if gather.is_empty() {
                     break;

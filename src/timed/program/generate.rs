@@ -90,7 +90,7 @@ pub fn generate(game: &Game, split: &SplitGame, space: &StateSpace, strategy: &S
                 match continued {
                     Some(to) => block.push((None, Instruction::Goto { target: entry[to.index()] }, 0)),
                     None => {
-                        delays.sort_by_key(|(conds, _)| std::cmp::Reverse(conds.len()));
+                        crate::sort::sort_by_key(&mut delays, |(conds, _)| std::cmp::Reverse(conds.len()));
                         let heads: Vec<CmdId> = delays.iter().map(|_| program.fresh_id()).collect();
                         let waiting = program.fresh_id();
                         for (k, (conds, to)) in delays.iter().enumerate() {

@@ -210,7 +210,7 @@ impl Extraction<'_> {
                 (super::select::edge_distance(self.space, dist, id), name, id)
             })
             .collect();
-        live.sort_unstable();
+        crate::sort::sort(&mut live);
         let least = live.first().map(|o| o.0);
         live.into_iter().take_while(|o| Some(o.0) == least).map(|o| o.2).collect()
     }
@@ -302,14 +302,14 @@ impl Extraction<'_> {
                 }
             }
         }
-        out.guards.sort_unstable();
+        crate::sort::sort(&mut out.guards);
         Ok(())
     }
 }
 
 /// The canonical order of a belief's elements.
 fn canonical(mut belief: Vec<Element>) -> Vec<Element> {
-    belief.sort_by(|a, b| a.0.cmp(&b.0).then_with(|| a.1.memory().cmp(&b.1.memory())));
+    crate::sort::sort_by(&mut belief, |a, b| a.0.cmp(&b.0).then_with(|| a.1.memory().cmp(&b.1.memory())));
     belief.dedup();
     belief
 }
@@ -453,7 +453,7 @@ fn follow_beliefs(
                 }
             }
         }
-        by_image.sort_by(|a, b| a.0.cmp(&b.0));
+        crate::sort::sort_by(&mut by_image, |a, b| a.0.cmp(&b.0));
         let mut next = Vec::new();
         for (image, group) in by_image {
             let group = canonical(group);
@@ -463,7 +463,7 @@ fn follow_beliefs(
             });
             next.push((image, id));
         }
-        guards.sort_unstable();
+        crate::sort::sort(&mut guards);
         guards.dedup();
         nodes.push(Node { decision, guards, next, states: belief.len() });
     }

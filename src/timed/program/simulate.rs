@@ -1178,7 +1178,7 @@ mod tests {
         let mut sim = Simulation::new(&game, None, &[], 0);
         assert_eq!(sim.view().mode, "free");
         let mut names: Vec<String> = sim.moves().into_iter().map(|m| m.message).collect();
-        names.sort();
+        crate::sort::sort(&mut names);
         assert_eq!(names, ["press", "turn_on"]);
         // Pressing without turning the lamp on: once the button has settled, an assertion fails.
         sim.apply(&pick(&sim, "press")).unwrap();

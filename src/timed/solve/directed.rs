@@ -92,7 +92,7 @@ impl Search for Directed<'_> {
             return None;
         }
         let mut order: Vec<usize> = (0..edges.len()).collect();
-        order.sort_by_key(|&i| keys[i]);
+        crate::sort::sort_by_key(&mut order, |&i| keys[i]);
         Some(order.into_iter().map(|i| edges[i]).collect())
     }
 

@@ -105,7 +105,8 @@ pub fn run(
     supervisors: &[&Supervisor],
     cycles: &[CycleInput],
 ) -> Result<Vec<CycleView>, String> {
-    let index: BTreeMap<&str, usize> = unit.signals.iter().enumerate().map(|(k, s)| (s.symbol.as_str(), k)).collect();
+    let mut index: BTreeMap<&str, usize> = BTreeMap::new();
+    index.extend(unit.signals.iter().enumerate().map(|(k, s)| (s.symbol.as_str(), k)));
     let find =
         |symbol: &str| index.get(symbol).copied().ok_or_else(|| format!("the framework has no signal `{symbol}`"));
     let mut machine = Machine::new(unit).map_err(|e| e.0)?;

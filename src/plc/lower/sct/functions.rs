@@ -347,12 +347,13 @@ pub(super) fn uncontrollable_pou(fw: &Framework) -> Pou {
             ],
         ),
     ];
-    let uncontrollable_flags: BTreeMap<EventId, String> = fw
-        .flag_occ
-        .iter()
-        .filter(|(&e, _)| fw.loaded.project.kind(e) == EventKind::Uncontrollable)
-        .map(|(&e, g)| (e, g.clone()))
-        .collect();
+    let mut uncontrollable_flags: BTreeMap<EventId, String> = BTreeMap::new();
+    uncontrollable_flags.extend(
+        fw.flag_occ
+            .iter()
+            .filter(|(&e, _)| fw.loaded.project.kind(e) == EventKind::Uncontrollable)
+            .map(|(&e, g)| (e, g.clone())),
+    );
     body.extend(fw.flag_chain(&uncontrollable_flags, &fw.lv.ev));
     Pou {
         kind: PouKind::Function { returns: Some(Type::Bool) },
@@ -483,12 +484,13 @@ pub(super) fn enforce_pou(fw: &Framework, l: &mut Lowering<'_>) -> Pou {
     }
     enforce.push(counter_up(&fw.d("enforcements")));
     enforce.push(Stmt::assign(Place::global(fw.d("last_enforced_event")), Expr::local(&fw.lv.f)));
-    let enforced_flags: BTreeMap<EventId, String> = fw
-        .flag_occ
-        .iter()
-        .filter(|(&e, _)| fw.loaded.project.kind(e) == EventKind::Enforceable)
-        .map(|(&e, g)| (e, g.clone()))
-        .collect();
+    let mut enforced_flags: BTreeMap<EventId, String> = BTreeMap::new();
+    enforced_flags.extend(
+        fw.flag_occ
+            .iter()
+            .filter(|(&e, _)| fw.loaded.project.kind(e) == EventKind::Enforceable)
+            .map(|(&e, g)| (e, g.clone())),
+    );
     enforce.extend(fw.flag_chain(&enforced_flags, &fw.lv.f));
     if !action_arms.is_empty() {
         enforce.push(Stmt::Comment("the enforced event's code".into()));

@@ -58,15 +58,11 @@ pub fn check(unit: &Unit, options: &StlUnitOptions) -> Vec<String> {
     if unit.pous.iter().filter(|p| p.kind == PouKind::Program).count() > 1 {
         errors.push("the unit has more than one program".into());
     }
-    let externals: std::collections::BTreeSet<&str> = unit
-        .globals
-        .iter()
-        .chain(unit.pous.iter().flat_map(|p| &p.locals))
-        .filter_map(|v| match &v.ty {
-            Type::Instance(name) if unit.pou(name).is_none() => Some(name.as_str()),
-            _ => None,
-        })
-        .collect();
+    let mut externals: std::collections::BTreeSet<&str> = std::collections::BTreeSet::new();
+    externals.extend(unit.globals.iter().chain(unit.pous.iter().flat_map(|p| &p.locals)).filter_map(|v| match &v.ty {
+        Type::Instance(name) if unit.pou(name).is_none() => Some(name.as_str()),
+        _ => None,
+    }));
     if externals.len() > 1 {
         errors.push(format!("instances of several external block types {externals:?}: STL knows one controller FB"));
     }

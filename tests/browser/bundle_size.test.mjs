@@ -1,0 +1,21 @@
+// The playground's size budget (README, issue 29): the wasm of all three engines as
+// scripts/build-web.sh writes it, after wasm-opt, at most 1.5 MB. A size check, not a timed
+// one; it needs no browser.
+//
+// The bundle is still over the budget (1 634 238 bytes at the last measure), so this holds it
+// to a ceiling just above that, which a change that grows it fails, and prints how far it is
+// from the budget; the ceiling comes down to the budget as issue 29's work does.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { statSync } from 'node:fs';
+import { join } from 'node:path';
+import { root } from './harness.mjs';
+
+const BUDGET = 1_500_000;
+const CEILING = 1_650_000;
+
+test('the wasm bundle does not grow past its ceiling on the way to the 1.5 MB budget', (t) => {
+  const bytes = statSync(join(root, 'www', 'pkg', 'plcsynth_bg.wasm')).size;
+  t.diagnostic(`www/pkg/plcsynth_bg.wasm: ${bytes} bytes, ${bytes - BUDGET} over the ${BUDGET}-byte budget`);
+  assert.ok(bytes <= CEILING, `www/pkg/plcsynth_bg.wasm is ${bytes} bytes, over the ceiling of ${CEILING} (budget ${BUDGET})`);
+});
