@@ -390,15 +390,10 @@ impl Dbm {
         }
         let n = self.dim;
         // Between active clocks the bounds beyond the constants are cut, which needs a closure
-        // afterwards. An inactive clock is freed: on its own that keeps the zone canonical, and
-        // the closure after a cut gives the same zone whether the freed clocks' columns were
-        // restored from column 0 before it or by it (the path through clock 0 is there in both).
+        // afterwards. Without a cut, freeing the inactive clocks keeps the zone canonical on its
+        // own (the active clocks' part of a canonical zone is canonical, and a freed column is
+        // column 0), so the cubic closure runs only after a cut.
         let mut cut = false;
-        for i in 1..n {
-            if max[i] < 0 {
-                self.free(i);
-            }
-        }
         for i in 0..n {
             let mi = if i == 0 { 0 } else { max[i] };
             if mi < 0 {
@@ -424,9 +419,22 @@ impl Dbm {
                 }
             }
         }
-        if cut {
-            self.close();
+        let inactive = (1..n).filter(|&c| max[c] < 0);
+        if !cut {
+            inactive.for_each(|c| self.free(c));
+            return;
         }
+        // After a cut a freed column must come from the cut column 0: an inactive clock keeps
+        // only `x ≥ 0`, and the closure restores its column.
+        for c in inactive {
+            for k in 0..n {
+                if k != c {
+                    self.m[c * n + k] = INF;
+                    self.m[k * n + c] = if k == 0 { LE0 } else { INF };
+                }
+            }
+        }
+        self.close();
     }
 
     /// Extra_LU+ (Behrmann, Bouyer, Larsen, Pelánek 2004) with per-clock

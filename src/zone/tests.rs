@@ -190,6 +190,13 @@ fn extrapolation_by_hand() {
     let mut f = z.clone();
     f.extrapolate_max(&[0, 10, -1]);
     assert_eq!(f.to_string(), "x1 ∈ [7,9]");
+    // A cut and a freed clock together: x2's column comes from the cut column 0 (x1 - x2 is
+    // unbounded once x1 > 5 forgets its upper bound), not from column 0 before the cut.
+    let mut h = z.clone();
+    h.extrapolate_max(&[0, 5, -1]);
+    assert!(is_canonical(&h));
+    assert_eq!(h.to_string(), "x1 > 5");
+    assert_eq!(h.get(1, 2), Bound::INFINITY);
     // LU: x1 has no lower-bound guard above 2 and upper-bound guards up to 8:
     // every valuation has x1 > L, so its upper bounds go; x1 ≥ 7 stays.
     let mut g = z.clone();
