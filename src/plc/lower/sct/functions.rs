@@ -110,6 +110,18 @@ impl Framework<'_> {
         self.diag[name].clone()
     }
 
+    /// The occurrence flags of the events of `kind`. (Filled by insertion: a `collect` into a
+    /// B-tree instantiates its sort and bulk build for the page's wasm once more.)
+    fn occurrence_flags(&self, kind: EventKind) -> BTreeMap<EventId, String> {
+        let mut flags = BTreeMap::new();
+        for (&e, g) in &self.flag_occ {
+            if self.loaded.project.kind(e) == kind {
+                flags.insert(e, g.clone());
+            }
+        }
+        flags
+    }
+
     /// Sets the flag of the event `selector` holds: an IF chain over the events in `flags`.
     fn flag_chain(&self, flags: &BTreeMap<EventId, String>, selector: &str) -> Vec<Stmt> {
         let arms: Vec<(Expr, Vec<Stmt>)> = flags
@@ -347,14 +359,7 @@ pub(super) fn uncontrollable_pou(fw: &Framework) -> Pou {
             ],
         ),
     ];
-    let mut uncontrollable_flags: BTreeMap<EventId, String> = BTreeMap::new();
-    uncontrollable_flags.extend(
-        fw.flag_occ
-            .iter()
-            .filter(|(&e, _)| fw.loaded.project.kind(e) == EventKind::Uncontrollable)
-            .map(|(&e, g)| (e, g.clone())),
-    );
-    body.extend(fw.flag_chain(&uncontrollable_flags, &fw.lv.ev));
+    body.extend(fw.flag_chain(&fw.occurrence_flags(EventKind::Uncontrollable), &fw.lv.ev));
     Pou {
         kind: PouKind::Function { returns: Some(Type::Bool) },
         name: fw.fun.uncontrollable.clone(),
@@ -484,14 +489,7 @@ pub(super) fn enforce_pou(fw: &Framework, l: &mut Lowering<'_>) -> Pou {
     }
     enforce.push(counter_up(&fw.d("enforcements")));
     enforce.push(Stmt::assign(Place::global(fw.d("last_enforced_event")), Expr::local(&fw.lv.f)));
-    let mut enforced_flags: BTreeMap<EventId, String> = BTreeMap::new();
-    enforced_flags.extend(
-        fw.flag_occ
-            .iter()
-            .filter(|(&e, _)| fw.loaded.project.kind(e) == EventKind::Enforceable)
-            .map(|(&e, g)| (e, g.clone())),
-    );
-    enforce.extend(fw.flag_chain(&enforced_flags, &fw.lv.f));
+    enforce.extend(fw.flag_chain(&fw.occurrence_flags(EventKind::Enforceable), &fw.lv.f));
     if !action_arms.is_empty() {
         enforce.push(Stmt::Comment("the enforced event's code".into()));
         enforce.push(Stmt::If { arms: action_arms, otherwise: Vec::new() });
