@@ -431,6 +431,8 @@ impl<'g, 'p, S: Search> Solver<'g, 'p, S> {
     ) -> Solver<'g, 'p, S> {
         let dim = game.dim();
         let plant_count = split.plant_count;
+        let scan_arm = ScanArm::new(game, split);
+        let predicate_components = predicate_components(game);
         Solver {
             game,
             split,
@@ -454,9 +456,8 @@ impl<'g, 'p, S: Search> Solver<'g, 'p, S> {
             env_locations: Vec::new(),
             env_guards: Vec::new(),
             guard_words: game.guards.len().div_ceil(64),
-            predicate_locations: ScanArm::new(game, split)
-                .map(|_| (SliceArena::new(predicate_components(game).len()), Vec::new())),
-            predicate_components: predicate_components(game),
+            predicate_locations: scan_arm.is_some().then(|| (SliceArena::new(predicate_components.len()), Vec::new())),
+            predicate_components,
             env_clocks: Vec::new(),
             plan_clocks: Vec::new(),
             lost_queue: Vec::new(),
@@ -471,7 +472,7 @@ impl<'g, 'p, S: Search> Solver<'g, 'p, S> {
             successor_cost: STEP_COST + (dim * dim + split.units.len()) as u64,
             vector_cost: STEP_COST + split.units.len() as u64,
             halt: None,
-            scan_arm: ScanArm::new(game, split),
+            scan_arm,
         }
     }
 
