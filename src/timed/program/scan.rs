@@ -84,7 +84,7 @@ impl ScanProgramError {
                     .collect();
                 format!(
                     "the PLC reads the same inputs ({}) in two states where the scan strategy must {} and {}: \
-                     it needs to know more than its inputs say (a timer)",
+                     the game's controller tells them apart by the plant's clocks, which the PLC does not read",
                     if levels.is_empty() { "none".to_string() } else { levels.join(", ") },
                     decision(&decisions[0]),
                     decision(&decisions[1]),
