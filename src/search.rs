@@ -3,7 +3,7 @@
 //!
 //! The engine contract (ARCHITECTURE.md, "One engine contract"): each engine's `mod.rs` offers
 //! `compile` (text → checked model, see [`crate::diag::Checked`]), a `Config` with builder
-//! methods ([`setters`]), and `synthesize(model, &Config, progress) -> Synthesis`, where the
+//! methods (`setters!`), and `synthesize(model, &Config, progress) -> Synthesis`, where the
 //! progress callback is an [`OnProgress`] of the engine's `Progress` and the `Synthesis`
 //! implements [`Outcome`]: a [`Decision`] of the engine or a [`Stop`].
 //!

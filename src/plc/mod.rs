@@ -95,7 +95,7 @@ pub fn render_files(code: &Code, target: Target, options: &Options) -> Vec<Outpu
 
 /// The files of a `unit` for `target`: one for most targets; TwinCAT writes a `.TcPOU` per POU
 /// and a `.TcGVL` for the globals. A unit of the jump-list shape (one block running a step list,
-/// wired by its program, [`print::steps`]) prints in IL and STL in the layout of Peter 2005,
+/// wired by its program, `print::steps`) prints in IL and STL in the layout of Peter 2005,
 /// 6.7.2; other units print in STL as [`print::stl::unit`] lays them out (what STL cannot hold is
 /// refused with its `check`'s reasons) and are refused in Instruction List: it is deprecated in
 /// IEC 61131-3 (3rd edition) and no SCL or ST tool needs it for structured code (the SyRF

@@ -149,7 +149,7 @@ fn synthesize_guided(
     Synthesis { split, solution, explanation }
 }
 
-/// A verdict at a PLC scan time: the scan game (see [`scan`]) and its solution.
+/// A verdict at a PLC scan time: the scan game (see `scan`) and its solution.
 pub struct ScanSynthesis {
     pub scan_ms: u64,
     pub game: model::Game,

@@ -28,7 +28,7 @@ use std::mem::size_of;
 use std::ops::Range;
 
 id_type! {
-    /// A sub-location of one split unit: an index into its [`SplitUnit::sublocs`].
+    /// A sub-location of one split unit: an index into its `SplitUnit::sublocs`.
     #[derive(Serialize)]
     #[serde(transparent)]
     pub struct SubLocId;

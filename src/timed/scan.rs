@@ -77,7 +77,7 @@ pub struct ScanRoles {
 /// Why no scan game is built.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum ScanError {
-    /// A rescaled constant exceeds [`MAX_CONSTANT`].
+    /// A rescaled constant exceeds `MAX_CONSTANT`.
     TooFine { constant: u64, scaled: u64, scale: u64 },
     /// The scan time is zero.
     Zero,

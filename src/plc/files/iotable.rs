@@ -21,7 +21,7 @@ pub struct IoRow {
     pub meaning: String,
 }
 
-/// The rows of a step-list unit (a lowered timed controller, [`StepBlock`]): one per variable
+/// The rows of a step-list unit (a lowered timed controller, `StepBlock`): one per variable
 /// of its block, inputs first, then outputs, in the order of the block's interface; none for a
 /// unit of another shape (whose signals [`signal_rows`] lists).
 pub fn io_table(unit: &Unit) -> Vec<IoRow> {

@@ -1,7 +1,7 @@
 //! IEC 61131-3 Instruction List: the same function block as the ST target, with the control
 //! structure of 6.7.2 — a jump list on the step variable at the top, each wait storing its
 //! position and ending the scan while its condition is false. It prints units of the jump-list
-//! shape ([`StepBlock`]).
+//! shape (`StepBlock`).
 
 use crate::plc::model::unit::Next;
 use crate::plc::print::steps::{Action, Bit, Cond, Drive, StepBlock, Wire};

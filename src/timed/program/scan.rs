@@ -1,9 +1,9 @@
 //! The controller program of a scan game's winning strategy: code whose every scan reads its
-//! inputs, takes one decision and writes, as the scan game's PLC does ([`crate::timed::scan`]),
+//! inputs, takes one decision and writes, as the scan game's PLC does (`crate::timed::scan`),
 //! so that a PLC running it stays inside the game's semantics by construction.
 //!
 //! The scan game's controller sees the plant's whole state at each read; a PLC sees its input
-//! levels (the I/O contract, [`Sensors`]). The extraction follows the strategy from read to
+//! levels (the I/O contract, `Sensors`). The extraction follows the strategy from read to
 //! read: between two reads the plant may move in every way the game allows (its reactions, the
 //! delivery of the request, time passing), and at the next read the PLC learns only the levels.
 //! So the program tracks a *belief*: the read states of the strategy, each with the sensors'

@@ -1,6 +1,6 @@
 //! Closed-loop checking: a controller program run against the plant it was made for.
 //!
-//! The plant is the specification's own automata ([`crate::timed::plant`]), with concrete
+//! The plant is the specification's own automata (`crate::timed::plant`), with concrete
 //! clock values in eighths of a time unit; the controller is an interpreter of the intermediate
 //! program under the scan-cycle model of 6.3: after every plant step it runs, in zero time,
 //! until it waits. The plant chooses at random among its enabled reactions and delays within

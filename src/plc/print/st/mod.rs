@@ -1,7 +1,7 @@
 //! Structured Text: plain IEC 61131-3, CODESYS V3 / TwinCAT 3, and Siemens SCL for S7-300/400
 //! and for S7-1200/1500 (TIA Portal external sources).
 //!
-//! The printer is [`unit`]: it writes any [`crate::plc::model::unit::Unit`] — a step list as a
+//! The printer is [`mod@unit`]: it writes any [`crate::plc::model::unit::Unit`] — a step list as a
 //! `CASE` over its position inside a `WHILE` loop that runs one scan per call — in each of the
 //! [`Dialect`]s.
 

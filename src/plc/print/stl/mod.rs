@@ -1,11 +1,11 @@
 //! Siemens S7 Statement List (AWL), as in Peter 2005, 6.7.2, for a unit of the jump-list shape
-//! ([`crate::plc::print::steps`]): an organisation block (`OB 1`, or with [`Options::fb`] a
+//! (`crate::plc::print::steps`): an organisation block (`OB 1`, or with [`Options::fb`] a
 //! function block with its instance data block called from the OB) whose position is kept in a
 //! marker byte (`MB 0` by default, [`Options::marker_byte`]) and entered through a `JL` jump
 //! list over the resumption points; a wait stores its position and ends the cycle (`JCN end`)
 //! while its condition is false; requests `SET` / `S` / `R` outputs. Labels are four letters
 //! numbered by step (`aaaa` is step 0, `aaac` step 2), as in the thesis's listing. Other units
-//! print as [`unit`] lays them out.
+//! print as [`mod@unit`] lays them out.
 //!
 //! Beyond the thesis: the cycle ends where the step list says (after a request that a later test
 //! or request of the cycle depends on, say, so that the next test reads inputs taken after the
@@ -13,7 +13,7 @@
 //! restarted by calling `SD` with RLO 0 (resolution 10 ms). Inputs and outputs without a binding
 //! get memory bits from byte `marker_byte + 10` on (M 10.0), then each pulsed output a bit for
 //! its value at the last output write: a pulse while that bit is set stores its own position and
-//! ends the cycle (`AN M …`, `JCN end`), to pulse in the next. [`clashes`] finds user `%M`
+//! ends the cycle (`AN M …`, `JCN end`), to pulse in the next. `clashes` finds user `%M`
 //! bindings on those bytes and thresholds beyond the CPU's timers.
 
 pub mod unit;
