@@ -212,7 +212,7 @@ test('code that fails a real-time run at the declared scan time is not offered',
   await setEditorText(page, `scan 250 ms;\n${watchdog}`);
   assert.equal(await runAndWait(page), 'realizable');
   await page.waitForFunction(() => document.querySelector('#scan-verdict')?.dataset.verdict === 'realizable');
-  assert.match(await page.textContent('#scan-code-from'), /Code from the zero-time strategy, checked in real time: .*a timer/);
+  assert.match(await page.textContent('#scan-code-from'), /Code from the zero-time strategy, checked in real time: .*clocks, which the PLC does not read/);
   await page.click('[data-tab=code]');
   await page.selectOption('#target', 'stl');
   await page.waitForSelector('#code[data-target="stl"][data-complete=true]');
