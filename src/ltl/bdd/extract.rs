@@ -132,7 +132,7 @@ fn moves(
     let level_of = |s: crate::ltl::SignalId| enc.signal_level[s.index()];
     // Per written signal: its value as a function of the read signals.
     let mut writes: Vec<Bdd> = vec![Bdd::FALSE; game.writes.len()];
-    let mut by: Vec<Option<Bdd>> = vec![None; enc.base as usize];
+    let mut by: Vec<Option<Bdd>> = vec![None; enc.levels()];
     let own = if game.protagonist_first { enc.first.clone() } else { enc.second.clone() };
     for level in own.clone() {
         let index = game.writes.iter().position(|&s| level_of(s) == level).expect("the protagonist's signal");
