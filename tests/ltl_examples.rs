@@ -274,6 +274,46 @@ fn the_symbolic_solver_decides_every_listed_specification() {
     model_check(&documents);
 }
 
+/// The bdd solver (`--solver bdd`) on every listed specification, within a smaller work
+/// budget: where it decides, the verdict and the bound of the explicit solver (the reference)
+/// and a strategy the model check confirms; where its diagrams outgrow the budget it says so
+/// (unknown, with the limit), and those specifications are named here.
+#[test]
+fn the_bdd_solver_decides_the_listed_specifications_as_the_explicit_one() {
+    let dir = scratch().join("bdd");
+    std::fs::create_dir_all(&dir).unwrap();
+    let cfg = Config { solver: ltl::Solver::Bdd, max_work: 20_000_000, ..Config::default() };
+    let mut documents = Vec::new();
+    let mut beyond = Vec::new();
+    for (i, ((path, params, expected), spec, explicit)) in decided().iter().enumerate() {
+        let name = label(path, params);
+        let outcome = match ltl::synthesize(spec, &cfg, &mut |_| true) {
+            Ok(outcome) if outcome.verdict != Verdict::Unknown => outcome,
+            Ok(outcome) => {
+                let limit = outcome.limit.unwrap_or_default();
+                assert!(limit.contains("BDD nodes") || limit.contains("--max-work"), "{name}: {limit}");
+                beyond.push(name);
+                continue;
+            }
+            Err(stop) => {
+                assert!(matches!(stop, ltl::Stop::Budget { .. }), "{name}: {stop}");
+                beyond.push(name);
+                continue;
+            }
+        };
+        assert_eq!(outcome.verdict, *expected, "{name}: {}", ltl::summary(&outcome));
+        assert_eq!((outcome.verdict, outcome.k), (explicit.verdict, explicit.k), "{name}: bdd against explicit");
+        let machine = outcome.controller.as_ref().or(outcome.counter_strategy.as_ref()).expect("a strategy");
+        machine.validate().unwrap_or_else(|e| panic!("{name}: {e}"));
+        let json = dir.join(format!("{i}.json"));
+        std::fs::write(&json, ltl::report_json(spec, &outcome).to_string()).unwrap();
+        documents.push((name, json));
+    }
+    eprintln!("bdd: {} decided as the explicit solver does; beyond its budget: {beyond:?}", documents.len());
+    assert!(documents.len() * 4 >= decided().len() * 3, "only {} decided; beyond: {beyond:?}", documents.len());
+    model_check(&documents);
+}
+
 #[test]
 fn a_mutated_controller_is_caught_by_the_model_check() {
     let dir = scratch();

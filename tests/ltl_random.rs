@@ -241,6 +241,11 @@ fn the_symbolic_solver_wins_with_its_strategies_too() {
     strategies_win(Solver::Symbolic, 19);
 }
 
+#[test]
+fn the_bdd_solver_wins_with_its_strategies_too() {
+    strategies_win(Solver::Bdd, 23);
+}
+
 /// The solvers decide the same games: the same verdict at the same bound on every
 /// specification all finish (the symbolic solver also builds the explicit one's positions).
 #[test]
@@ -256,9 +261,11 @@ fn the_solvers_agree() {
                 .ok()
                 .filter(|o| o.limit.as_deref().is_none_or(|l| l.contains("--max-k")))
         };
-        if let (Some(a), Some(b), Some(c)) = (run(Solver::Explicit), run(Solver::Antichain), run(Solver::Symbolic)) {
+        let solved = (run(Solver::Explicit), run(Solver::Antichain), run(Solver::Symbolic), run(Solver::Bdd));
+        if let (Some(a), Some(b), Some(c), Some(d)) = solved {
             assert_eq!((a.verdict, a.k), (b.verdict, b.k), "case {case}: {}", spec.formula_text());
             assert_eq!((a.verdict, a.k), (c.verdict, c.k), "case {case}: {}", spec.formula_text());
+            assert_eq!((a.verdict, a.k), (d.verdict, d.k), "case {case}: bdd: {}", spec.formula_text());
             assert_eq!(a.stats.positions, c.stats.positions, "case {case}: {}", spec.formula_text());
             compared += 1;
         }

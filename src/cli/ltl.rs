@@ -12,6 +12,7 @@ pub enum SolverArg {
     Explicit,
     Antichain,
     Symbolic,
+    Bdd,
 }
 
 #[derive(Args)]
@@ -32,8 +33,10 @@ pub struct LtlArgs {
     #[arg(long, value_name = "N", default_value_t = ltl::DEFAULT_MAX_WORK)]
     pub max_work: u64,
     /// How the bounded games are solved: `explicit` (every reachable position; the default),
-    /// `antichain` (the fixpoint on maximal winning positions) or `symbolic` (the explicit
-    /// solver's positions, letters as decision diagrams: no 2^n enumeration, up to 63 signals).
+    /// `antichain` (the fixpoint on maximal winning positions), `symbolic` (the explicit
+    /// solver's positions, letters as decision diagrams: no 2^n enumeration, up to 63 signals)
+    /// or `bdd` (positions and letters as BDDs: no position enumerated; `--max-states N` caps
+    /// each game's diagram at 16·N nodes).
     #[arg(long, value_enum, default_value = "explicit")]
     pub solver: SolverArg,
     /// Override a TLSF parameter, e.g. `--param n=3` (repeatable).
@@ -129,6 +132,7 @@ pub fn ltl(a: &LtlArgs) -> ExitCode {
         SolverArg::Explicit => ltl::Solver::Explicit,
         SolverArg::Antichain => ltl::Solver::Antichain,
         SolverArg::Symbolic => ltl::Solver::Symbolic,
+        SolverArg::Bdd => ltl::Solver::Bdd,
     };
     let cfg = Config::default()
         .max_k(a.max_k)

@@ -18,12 +18,13 @@
 //! extraction (`strategy`) reuse a winning position for every position below it.
 
 use super::antichain::{self, Antichain};
+use super::bdd::{self, Played};
 use super::strategy::extract_from_antichain;
 use super::symbolic::{Halt, SymbolicGame};
 use super::translate::Automaton;
 use super::{
-    translate, Config, Ltl, Machine, Progress, Resource, Semantics, SignalId, Solver, Spec, Stats, Stop, Synthesis,
-    Verdict, Work,
+    translate, Config, Ltl, Progress, Resource, Semantics, SignalId, Solver, Spec, Stats, Stop, Synthesis, Verdict,
+    Work,
 };
 use crate::search::OnProgress;
 use hashbrown::HashMap;
@@ -222,13 +223,14 @@ fn valuations(signals: &[SignalId]) -> Vec<u64> {
 
 pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut OnProgress<'_, Progress>) -> Result<Synthesis, Stop> {
     let signals = spec.signals.len();
-    if cfg.solver == Solver::Symbolic && signals > 63 {
+    let letters_symbolic = matches!(cfg.solver, Solver::Symbolic | Solver::Bdd);
+    if letters_symbolic && signals > 63 {
         return Err(Stop::budget(
             Resource::Size,
             format!("{signals} signals: the symbolic games hold a letter in 64 bits"),
         ));
     }
-    if cfg.solver != Solver::Symbolic && signals > cfg.max_signals.min(63) {
+    if !letters_symbolic && signals > cfg.max_signals.min(63) {
         return Err(Stop::budget(
             Resource::Size,
             format!(
@@ -246,10 +248,10 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut OnProgress<'_, Progr
     let (inputs, outputs) = (spec.inputs(), spec.outputs());
     let controller_first = spec.semantics == Semantics::Moore;
     let (first_signals, second_signals) = if controller_first { (&outputs, &inputs) } else { (&inputs, &outputs) };
-    // The symbolic solver never enumerates the valuations.
-    let (first, second) = match cfg.solver {
-        Solver::Symbolic => (Vec::new(), Vec::new()),
-        _ => (valuations(first_signals), valuations(second_signals)),
+    // The symbolic solvers never enumerate the valuations.
+    let (first, second) = match letters_symbolic {
+        true => (Vec::new(), Vec::new()),
+        false => (valuations(first_signals), valuations(second_signals)),
     };
     let mut stats = Stats {
         automaton_states: against.states.len(),
@@ -285,8 +287,9 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut OnProgress<'_, Progr
             };
             let share = work.remaining() / 3 * 2;
             match work.capped(share, |work| game.play(cfg.solver, work)) {
-                Ok((built, won)) => {
+                Ok(Played { positions: built, nodes, strategy: won }) => {
                     positions += built;
+                    stats.bdd_nodes = stats.bdd_nodes.max(nodes);
                     if let Some((raw, machine)) = won {
                         stats.positions = positions;
                         stats.work = work.used();
@@ -351,9 +354,24 @@ struct Play<'a> {
 impl Play<'_> {
     /// Solves the game: the positions built, and the protagonist's strategy if it wins (with
     /// its size before minimisation). A budget stop ends only this game.
-    fn play(&self, solver: Solver, work: &mut Work) -> Result<(usize, Option<(usize, Machine)>), Stop> {
+    fn play(&self, solver: Solver, work: &mut Work) -> Result<Played, Stop> {
         let (k, automaton) = (self.k, self.automaton);
+        let played = |positions, strategy| Played { positions, nodes: 0, strategy };
         let winning = match solver {
+            Solver::Bdd => {
+                let game = bdd::Game {
+                    automaton,
+                    k,
+                    first: self.first_signals,
+                    second: self.second_signals,
+                    protagonist_first: self.protagonist_first,
+                    reads: self.reads,
+                    writes: self.writes,
+                    max_nodes: self.max_states.saturating_mul(bdd::NODES_PER_POSITION),
+                    max_positions: self.max_positions,
+                };
+                return bdd::play(&game, work);
+            }
             Solver::Symbolic => {
                 let explored = SymbolicGame::explore(
                     automaton,
@@ -377,11 +395,11 @@ impl Play<'_> {
                 game.solve();
                 let built = game.positions();
                 if !game.won() {
-                    return Ok((built, None));
+                    return Ok(played(built, None));
                 }
                 let signals = self.first_signals.len() + self.second_signals.len();
                 if signals > EXPLICIT_EXTRACTION_SIGNALS {
-                    return Ok((built, Some(game.strategy(self.reads, self.writes, self.protagonist_first))));
+                    return Ok(played(built, Some(game.strategy(self.reads, self.writes, self.protagonist_first))));
                 }
                 // Few signals: the letters are cheap to enumerate, and the strategy is extracted
                 // as the explicit solver's is, over the maximal winning positions (those of the
@@ -404,13 +422,13 @@ impl Play<'_> {
                     self.reads,
                     self.writes,
                 );
-                return Ok((built, Some(strategy)));
+                return Ok(played(built, Some(strategy)));
             }
             Solver::Antichain => {
                 let winning = self.fixpoint(work)?;
                 let built = winning.elements.len();
                 if !winning.contains(&self.initial()) {
-                    return Ok((built, None));
+                    return Ok(played(built, None));
                 }
                 (built, winning)
             }
@@ -437,7 +455,7 @@ impl Play<'_> {
                 game.solve();
                 let built = game.positions.len();
                 if game.lost[0] {
-                    return Ok((built, None));
+                    return Ok(played(built, None));
                 }
                 // The strategy is read off the maximal winning positions. Those of the whole
                 // game (the antichain fixpoint) lie higher than the explored ones and give
@@ -460,7 +478,7 @@ impl Play<'_> {
             self.reads,
             self.writes,
         );
-        Ok((built, Some(strategy)))
+        Ok(played(built, Some(strategy)))
     }
 
     fn fixpoint(&self, work: &mut Work) -> Result<Antichain, Stop> {

@@ -22,6 +22,7 @@
 //! ```
 
 mod antichain;
+mod bdd;
 mod compose;
 mod export;
 mod g4ltl;
@@ -111,7 +112,8 @@ pub fn compile(
 pub struct Config {
     /// The largest bound k of the co-Büchi counters tried; k grows from 0.
     pub max_k: u32,
-    /// Game positions (counter vectors) built in all games of the run together.
+    /// Game positions (counter vectors) built in all games of the run together; the `bdd`
+    /// solver holds each game's diagram to `max_states × 16` nodes.
     pub max_states: usize,
     /// States of each Büchi automaton built by the translation.
     pub max_automaton_states: usize,
@@ -148,11 +150,15 @@ pub enum Solver {
     /// from the initial one explored as the explicit solver does, but a position's successors
     /// split only on the signals its runs' guards name, so no step enumerates 2^n letters.
     Symbolic,
+    /// Positions and letters both as binary decision diagrams (`bdd`, Ehlers' Unbeast): the
+    /// game solved as a greatest fixpoint on sets of positions, so no position is enumerated
+    /// but those a strategy visits. For games whose counters make too many positions.
+    Bdd,
 }
 
 impl Solver {
     /// Every solver, in the order the CLI and the page list them.
-    pub const ALL: [Solver; 3] = [Solver::Explicit, Solver::Antichain, Solver::Symbolic];
+    pub const ALL: [Solver; 4] = [Solver::Explicit, Solver::Antichain, Solver::Symbolic, Solver::Bdd];
 
     /// Its name on the command line (`--solver`) and in the page.
     pub fn name(self) -> &'static str {
@@ -160,6 +166,7 @@ impl Solver {
             Solver::Explicit => "explicit",
             Solver::Antichain => "antichain",
             Solver::Symbolic => "symbolic",
+            Solver::Bdd => "bdd",
         }
     }
 
@@ -311,11 +318,13 @@ pub struct Stats {
     pub automaton_states: usize,
     /// States of the Büchi automaton of the specification (the environment's game).
     pub dual_automaton_states: usize,
-    /// Game positions built in all games (explicit solver), or antichain elements of the
-    /// winning sets (antichain solver).
+    /// Game positions built in all games (explicit solver), antichain elements of the
+    /// winning sets (antichain solver), or positions its strategies visited (bdd solver).
     pub positions: usize,
     /// States of the strategy before minimisation.
     pub strategy_states_raw: usize,
+    /// The most nodes one game's decision diagram held (`bdd` solver; 0 for the others).
+    pub bdd_nodes: usize,
     /// Work spent ([`Config::max_work`]).
     pub work: u64,
 }

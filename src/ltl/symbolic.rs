@@ -422,7 +422,7 @@ impl Builder<'_, '_> {
 
 /// Merges machine states whose rows agree (same cubes and writes, next states in the same
 /// class), refining until stable; states numbered breadth-first from the initial one.
-fn merge(table: &[Vec<(Cube, u64, u32)>]) -> Vec<Vec<Row>> {
+pub(super) fn merge(table: &[Vec<(Cube, u64, u32)>]) -> Vec<Vec<Row>> {
     let n = table.len();
     let number = |keys: Vec<Vec<(u64, u64, u64, u32)>>| -> Vec<u32> {
         let mut ids: HashMap<Vec<(u64, u64, u64, u32)>, u32> = HashMap::new();

@@ -26,7 +26,7 @@ struct LtlOptions {
     max_k: Option<u32>,
     max_states: Option<usize>,
     max_work: Option<u64>,
-    /// `explicit` (the default), `antichain` or `symbolic` (`ltl::Solver::named`).
+    /// `explicit` (the default), `antichain`, `symbolic` or `bdd` (`ltl::Solver::named`).
     solver: Option<String>,
     /// Solve the whole specification at once (default: groups of guarantees first).
     monolithic: bool,
@@ -81,7 +81,7 @@ struct LtlSummary {
     verdict: &'static str,
     /// Present when a budget or the caller stopped the run: the shared `search::Stop`.
     stop: Option<Stop>,
-    /// The solver that decided it (`explicit`, `antichain`, `symbolic`).
+    /// The solver that decided it (`explicit`, `antichain`, `symbolic`, `bdd`).
     solver: &'static str,
     /// `realizable at k = 1: a controller of 2 states, 3 rows`.
     summary: String,

@@ -1,0 +1,236 @@
+//! The winner's machine from the solved diagram: one state per explicit position reached
+//! under the strategy from the initial one (a position below one the machine has reuses that
+//! one's moves, as in `strategy`), its moves chosen symbolically.
+//!
+//! At a position `p`, `good(p, letter)` (safe letters into the winning region) is a diagram
+//! over the letter alone. A protagonist that moves second fixes its signals one at a time, in
+//! the diagram's order, each as a function of what it reads: true only where false cannot be
+//! completed to a good letter (so outputs stay off unless needed). One that moves first picks
+//! one valuation of its signals that is good against every reply, false preferred the same way.
+//! The successor bits with the writes substituted are then functions of the read signals
+//! alone, and a decision on the read signals (splitting on the topmost one any of them still
+//! reads) gives the rows as disjoint cubes, each with one write and one successor.
+
+use super::diagram::{Bdd, Diagram};
+use super::{Encoding, Game, Round};
+use crate::ltl::game::advance;
+use crate::ltl::machine::{Cube, Machine, StateId};
+use crate::ltl::strategy::{self, machine_from_table, Table};
+use crate::ltl::symbolic::merge;
+use crate::ltl::{Resource, Stop, Work};
+use hashbrown::HashMap;
+
+/// Up to this many read signals the rows go through a table of every valuation, minimised and
+/// covered as the explicit solver's strategies are (4 096 entries per state).
+const TABLE_READS: usize = 12;
+
+/// A row before the machine: read cube, written value, next position (an index into the
+/// members).
+type Rows = Vec<(Cube, u64, u32)>;
+
+/// The strategy from `init` (which the protagonist wins): its states before minimisation, the
+/// positions visited, and the machine.
+pub(super) fn strategy(
+    d: &mut Diagram,
+    enc: &Encoding,
+    round: &Round,
+    good: Bdd,
+    game: &Game,
+    init: &[i8],
+    work: &mut Work,
+) -> Result<(usize, usize, Machine), Stop> {
+    let mut members: Vec<Vec<i8>> = vec![init.to_vec()];
+    let mut member_of: HashMap<Vec<i8>, u32> = HashMap::new();
+    member_of.insert(init.to_vec(), 0);
+    let mut table: Vec<Rows> = Vec::new();
+    let mut visited = 1;
+    let mut i = 0;
+    while i < members.len() {
+        let leaves = moves(d, enc, round, good, game, &members[i], work)?;
+        let mut rows = Rows::new();
+        for (read, write, next) in leaves {
+            let state = match member_of.get(&next) {
+                Some(&m) => m,
+                None => {
+                    visited += 1;
+                    // A position below a member is won by that member's moves (fewer runs,
+                    // counters no larger, and successors keep the order).
+                    let above = members.iter().position(|m| below(&next, m));
+                    let m = above.unwrap_or_else(|| {
+                        members.push(next.clone());
+                        members.len() - 1
+                    }) as u32;
+                    member_of.insert(next, m);
+                    m
+                }
+            };
+            rows.push((read, write, state));
+        }
+        if members.len() > game.max_positions {
+            return Err(Stop::budget(
+                Resource::States,
+                format!(
+                    "the strategy at k = {} needs more than the {} positions left of the budget (--max-states)",
+                    game.k, game.max_positions
+                ),
+            ));
+        }
+        table.push(rows);
+        i += 1;
+    }
+    let raw = table.len();
+    let (reads, writes) = (game.reads, game.writes);
+    let machine = if reads.len() <= TABLE_READS {
+        let explicit: Table = table
+            .iter()
+            .map(|rows| {
+                let mut moves = vec![(0, 0); 1 << reads.len()];
+                for &(read, write, next) in rows {
+                    for v in strategy::members(reads.len(), read) {
+                        moves[v] = (write, next);
+                    }
+                }
+                moves
+            })
+            .collect();
+        machine_from_table(&explicit, reads, writes, game.protagonist_first)
+    } else {
+        let machine = Machine {
+            reads: reads.to_vec(),
+            writes: writes.to_vec(),
+            moves_first: game.protagonist_first,
+            init: StateId(0),
+            states: merge(&table),
+        };
+        debug_assert_eq!(machine.validate(), Ok(()));
+        machine
+    };
+    Ok((raw, visited, machine))
+}
+
+fn below(a: &[i8], b: &[i8]) -> bool {
+    a.iter().zip(b).all(|(x, y)| x <= y)
+}
+
+/// The protagonist's moves at `position`: (read cube, written value, successor position).
+fn moves(
+    d: &mut Diagram,
+    enc: &Encoding,
+    round: &Round,
+    good: Bdd,
+    game: &Game,
+    position: &[i8],
+    work: &mut Work,
+) -> Result<Vec<(Cube, u64, Vec<i8>)>, Stop> {
+    let values = enc.position_values(position);
+    let mut options = d.restrict(good, &values, work)?;
+    debug_assert_ne!(options, Bdd::FALSE, "a member is winning");
+    let mut next = Vec::with_capacity(round.next.len());
+    for &f in &round.next {
+        next.push(d.restrict(f, &values, work)?);
+    }
+    let level_of = |s: crate::ltl::SignalId| enc.signal_level[s.index()];
+    // Per written signal: its value as a function of the read signals.
+    let mut writes: Vec<Bdd> = vec![Bdd::FALSE; game.writes.len()];
+    let mut by: Vec<Option<Bdd>> = vec![None; enc.levels()];
+    let own = if game.protagonist_first { enc.first.clone() } else { enc.second.clone() };
+    for level in own.clone() {
+        let index = game.writes.iter().position(|&s| level_of(s) == level).expect("the protagonist's signal");
+        let off = d.restrict_one(options, level, false, work)?;
+        let on = d.restrict_one(options, level, true, work)?;
+        let value = if game.protagonist_first {
+            // One value for every reply: false if some completion of the remaining own signals
+            // is good against every reply.
+            let rest = level + 1..own.end;
+            let replies = d.quantify(off, enc.second.clone(), false, work)?;
+            let possible = d.quantify(replies, rest, true, work)?;
+            if possible == Bdd::FALSE {
+                Bdd::TRUE
+            } else {
+                Bdd::FALSE
+            }
+        } else {
+            // Where false can still be completed by the remaining own signals, false.
+            let possible = d.quantify(off, level + 1..own.end, true, work)?;
+            d.not(possible, work)?
+        };
+        options = d.ite(value, on, off, work)?;
+        writes[index] = value;
+        by[level as usize] = Some(value);
+    }
+    for f in &mut next {
+        *f = d.compose(*f, &by, work)?;
+    }
+    // The decision on the read signals.
+    let mut functions = writes.clone();
+    functions.extend_from_slice(&next);
+    let mut leaves = Vec::new();
+    let mut fixed: Vec<(u32, bool)> = Vec::new();
+    split(d, enc, game, position, &functions, &mut fixed, &mut leaves, work)?;
+    Ok(leaves)
+}
+
+/// The leaves of the decision on the read signals below `fixed`: where every function is
+/// constant, one row.
+#[allow(clippy::too_many_arguments)]
+fn split(
+    d: &mut Diagram,
+    enc: &Encoding,
+    game: &Game,
+    position: &[i8],
+    functions: &[Bdd],
+    fixed: &mut Vec<(u32, bool)>,
+    leaves: &mut Vec<(Cube, u64, Vec<i8>)>,
+    work: &mut Work,
+) -> Result<(), Stop> {
+    work.spend(1 + functions.len() as u64)?;
+    let top = functions.iter().map(|&f| d.level(f)).min().unwrap_or(u32::MAX);
+    if functions.iter().all(|f| f.is_constant()) {
+        let writes = game.writes.len();
+        let write = (0..writes).filter(|&i| functions[i] == Bdd::TRUE).fold(0u64, |m, i| m | 1 << i);
+        let successor = enc.position(|level| functions[writes + (level - enc.base) as usize] == Bdd::TRUE);
+        let mut read = Cube::ANY;
+        for &(level, value) in fixed.iter() {
+            let index = game.reads.iter().position(|s| enc.signal_level[s.index()] == level).expect("a read signal");
+            read.care |= 1 << index;
+            read.value |= u64::from(value) << index;
+        }
+        if cfg!(debug_assertions) {
+            // The explicit round on one letter of the row agrees.
+            let value_at = |level: u32| fixed.iter().any(|&(l, v)| l == level && v);
+            let mut letter = enc.letter(value_at);
+            for (i, s) in game.writes.iter().enumerate() {
+                letter |= (write >> i & 1) << s.index();
+            }
+            let mut next = vec![0i8; position.len()];
+            assert!(advance(game.automaton, game.k as i8, position, letter, &mut next), "a strategy's round is safe");
+            assert_eq!(next, successor, "the symbolic successor is the explicit one");
+        }
+        leaves.push((read, write, successor));
+        return Ok(());
+    }
+    let branch = |d: &mut Diagram, value: bool| -> Vec<Bdd> {
+        functions
+            .iter()
+            .map(|&f| {
+                if d.level(f) == top {
+                    let (lo, hi) = d.branches(f);
+                    if value {
+                        hi
+                    } else {
+                        lo
+                    }
+                } else {
+                    f
+                }
+            })
+            .collect()
+    };
+    for value in [false, true] {
+        let cofactors = branch(d, value);
+        fixed.push((top, value));
+        split(d, enc, game, position, &cofactors, fixed, leaves, work)?;
+        fixed.pop();
+    }
+    Ok(())
+}

@@ -1,0 +1,343 @@
+//! The bounded games solved fully symbolically with binary decision diagrams (`--solver bdd`),
+//! in the manner of Ehlers' Unbeast: positions and letters are both variables of one diagram,
+//! and the safety game is the greatest fixpoint `W = νX. CPre(X)` computed on sets of
+//! positions, never on one position at a time.
+//!
+//! **Positions.** A position of [`super::game`] maps each automaton state `q` to a counter
+//! `c(q)` in `-1..=k`. Here it is a "thermometer" of `k + 1` bits per state:
+//! `b[q][j] = (c(q) ≥ j)`, so `b[q][0]` says a run is in `q`. The counter of a successor is
+//! the maximum over the enabled edges `e = (q, guard, q')` of `c(q) + acc(e)`, so a successor
+//! bit is a plain disjunction, monotone in the position:
+//! `b'[q'][0] = ∨ guard(e) ∧ b[q][0]` and `b'[q'][j] = ∨ guard(e) ∧ b[q][j - acc(e)]` (j ≥ 1).
+//! The round is lost (`advance` returns `false`) when an enabled accepting edge leaves a state
+//! whose counter is `k`, or an enabled edge enters a state that accepts every word.
+//!
+//! **Order of variables.** The bits of each automaton state together, `b[q][0]` to `b[q][k]`,
+//! then the letter at the bottom, the first mover's signals above the second's (the quantifiers
+//! are then peeled off from the bottom up, each node of a position's cofactor quantified on
+//! its own). With the letter on top instead, a set of positions after substitution became a
+//! decision tree over the letter with a set of positions at each leaf, and load_balancer
+//! (n = 3) passed 3.2 million nodes at k = 1.
+//!
+//! **The fixpoint.** `CPre(X)` is `X` with every position bit replaced by its successor
+//! function (one simultaneous substitution, no next-state variables), conjoined with the safe
+//! letters, and the letter quantified in the turn order: `∀ first ∃ second` when the
+//! protagonist moves second, `∃ first ∀ second` when it moves first. The iteration stops as
+//! soon as the initial position drops out (the protagonist loses) or nothing changes.
+//!
+//! **Strategies** are read off per explicit position reached under the strategy (`extract`):
+//! few, since a strategy commits to one move per position.
+//!
+//! The explicit solver stays the reference: the successor functions are checked against
+//! [`super::game::advance`] here, and the verdicts and bounds in `tests/ltl_random.rs` and
+//! `tests/ltl_examples.rs`.
+
+mod diagram;
+mod extract;
+
+use super::machine::Machine;
+use super::spec::SignalId;
+use super::translate::Automaton;
+use super::{Resource, Stop, Work};
+use diagram::{Bdd, Diagram};
+use std::ops::Range;
+
+/// BDD nodes a game may hold per position of `--max-states`: a node costs about 32 bytes with
+/// its hash-table entry, a position of the explicit game a few hundred (its counter vector, its
+/// index entry and a successor per letter), so the default budget stays within a few hundred MB.
+pub(super) const NODES_PER_POSITION: usize = 16;
+
+/// Most variables a game may have (position bits and signals): the diagram's operations recurse
+/// once per level, and the WebAssembly stack is small.
+const MAX_LEVELS: usize = 20_000;
+
+/// One bounded game, as [`super::game`] describes it.
+pub(super) struct Game<'a> {
+    pub automaton: &'a Automaton,
+    pub k: u32,
+    /// The first mover's signals and the second's.
+    pub first: &'a [SignalId],
+    pub second: &'a [SignalId],
+    pub protagonist_first: bool,
+    /// The protagonist's opponent's signals and its own, for its strategy.
+    pub reads: &'a [SignalId],
+    pub writes: &'a [SignalId],
+    /// Nodes the diagram may hold.
+    pub max_nodes: usize,
+    /// Positions the strategy extraction may visit.
+    pub max_positions: usize,
+}
+
+/// The result of one game.
+pub(super) struct Played {
+    /// Positions the strategy extraction visited (none when the game is lost).
+    pub positions: usize,
+    /// The most nodes the diagram held.
+    pub nodes: usize,
+    /// The protagonist's strategy, with its number of states before minimisation, if it wins.
+    pub strategy: Option<(usize, Machine)>,
+}
+
+/// Which variable sits at which level.
+pub(super) struct Encoding {
+    /// Per signal id, its level (`u32::MAX`: not in the game).
+    signal_level: [u32; 64],
+    first: Range<u32>,
+    second: Range<u32>,
+    /// The level of `b[0][0]` (0: the position bits on top, the letter below them).
+    base: u32,
+    /// Bits per automaton state: `k + 1`.
+    width: u32,
+    states: usize,
+}
+
+impl Encoding {
+    pub(super) fn new(automaton: &Automaton, k: u32, first: &[SignalId], second: &[SignalId]) -> Encoding {
+        let width = k + 1;
+        let base = 0;
+        let letter = base + automaton.states.len() as u32 * width;
+        let mut signal_level = [u32::MAX; 64];
+        for (i, s) in first.iter().chain(second).enumerate() {
+            signal_level[s.index()] = letter + i as u32;
+        }
+        let (f, s) = (first.len() as u32, second.len() as u32);
+        Encoding {
+            signal_level,
+            first: letter..letter + f,
+            second: letter + f..letter + f + s,
+            base,
+            width,
+            states: automaton.states.len(),
+        }
+    }
+
+    fn levels(&self) -> usize {
+        self.second.end as usize
+    }
+
+    /// The level of `b[q][j]`.
+    fn bit(&self, q: usize, j: u32) -> u32 {
+        self.base + q as u32 * self.width + j
+    }
+
+    /// The position bits of a counter vector, by level (the letter's levels free).
+    fn position_values(&self, position: &[i8]) -> Vec<Option<bool>> {
+        let mut values = vec![None; self.levels()];
+        for (q, &c) in position.iter().enumerate() {
+            for j in 0..self.width {
+                values[self.bit(q, j) as usize] = Some(i32::from(c) >= j as i32);
+            }
+        }
+        values
+    }
+
+    /// The counter vector whose bits `bit(level)` gives (the highest set bit of each state).
+    fn position(&self, bit: impl Fn(u32) -> bool) -> Vec<i8> {
+        (0..self.states).map(|q| (0..self.width).rev().find(|&j| bit(self.bit(q, j))).map_or(-1, |j| j as i8)).collect()
+    }
+
+    /// The signal mask of a letter whose levels `bit(level)` gives.
+    fn letter(&self, bit: impl Fn(u32) -> bool) -> u64 {
+        (0..64).filter(|&s| self.signal_level[s] != u32::MAX && bit(self.signal_level[s])).fold(0, |m, s| m | 1 << s)
+    }
+}
+
+/// One round as functions of the position and the letter.
+pub(super) struct Round {
+    /// `next[q * (k + 1) + j]`: the successor's bit `b'[q][j]`.
+    next: Vec<Bdd>,
+    /// The letters (with the positions) on which the protagonist loses the round.
+    lost: Bdd,
+}
+
+/// Builds the successor functions and the lost rounds (see the module's documentation).
+fn round(d: &mut Diagram, enc: &Encoding, automaton: &Automaton, work: &mut Work) -> Result<Round, Stop> {
+    let width = enc.width;
+    let mut next = vec![Bdd::FALSE; enc.states * width as usize];
+    let mut lost = Bdd::FALSE;
+    for (q, state) in automaton.states.iter().enumerate() {
+        for e in &state.edges {
+            let literals: Vec<(u32, bool)> = (0..64)
+                .filter(|&s| (e.pos | e.neg) >> s & 1 == 1)
+                .map(|s| (enc.signal_level[s], e.pos >> s & 1 == 1))
+                .collect();
+            let guard = d.cube(&literals)?;
+            let acc = u32::from(e.accepting);
+            for j in 0..width {
+                let from = if j == 0 { 0 } else { j - acc };
+                let here = d.literal(enc.bit(q, from), true)?;
+                let term = d.and(guard, here, work)?;
+                let slot = e.to as usize * width as usize + j as usize;
+                next[slot] = d.or(next[slot], term, work)?;
+            }
+            // A counter past k, or a run in a state that accepts every word.
+            let losing_from = if automaton.states[e.to as usize].universal {
+                Some(0)
+            } else if e.accepting {
+                Some(width - 1)
+            } else {
+                None
+            };
+            if let Some(j) = losing_from {
+                let here = d.literal(enc.bit(q, j), true)?;
+                let term = d.and(guard, here, work)?;
+                lost = d.or(lost, term, work)?;
+            }
+        }
+    }
+    Ok(Round { next, lost })
+}
+
+/// The initial position: a run in the initial state with counter 0 (none in an automaton that
+/// accepts nothing).
+fn initial(automaton: &Automaton) -> Vec<i8> {
+    let mut init = vec![-1i8; automaton.states.len()];
+    if !automaton.is_empty() {
+        init[automaton.init as usize] = 0;
+    }
+    init
+}
+
+/// Solves `game`: the greatest fixpoint of the controllable predecessor, then, if the
+/// protagonist wins, its strategy. A budget stop ends only this game.
+pub(super) fn play(game: &Game, work: &mut Work) -> Result<Played, Stop> {
+    let automaton = game.automaton;
+    let enc = Encoding::new(automaton, game.k, game.first, game.second);
+    if enc.levels() > MAX_LEVELS {
+        return Err(Stop::budget(
+            Resource::Size,
+            format!(
+                "the game at k = {} has {} variables ({} automaton states × {} counter bits), more than {MAX_LEVELS}",
+                game.k,
+                enc.levels(),
+                enc.states,
+                enc.width
+            ),
+        ));
+    }
+    let mut d = Diagram::new(game.max_nodes);
+    let mut round = round(&mut d, &enc, automaton, work)?;
+    let mut safe = d.not(round.lost, work)?;
+    let init = initial(automaton);
+    let init_values = enc.position_values(&init);
+    let at_init = |level: u32| init_values.get(level as usize).copied().flatten().unwrap_or(false);
+    // Position bits at their successor functions.
+    let mut substitution: Vec<Option<Bdd>> = vec![None; enc.levels()];
+    let mut winning = Bdd::TRUE;
+    let mut live = d.len();
+    let good = loop {
+        work.at.positions = d.len();
+        for (i, &f) in round.next.iter().enumerate() {
+            substitution[enc.base as usize + i] = Some(f);
+        }
+        let moved = d.compose(winning, &substitution, work)?;
+        let good = d.and(safe, moved, work)?;
+        let (first, second) = (enc.first.clone(), enc.second.clone());
+        let pre = if game.protagonist_first {
+            let all_replies = d.quantify(good, second, false, work)?;
+            d.quantify(all_replies, first, true, work)?
+        } else {
+            let some_reply = d.quantify(good, second, true, work)?;
+            d.quantify(some_reply, first, false, work)?
+        };
+        if !d.eval(pre, at_init) {
+            return Ok(Played { positions: 0, nodes: d.peak(), strategy: None });
+        }
+        if pre == winning {
+            break good;
+        }
+        winning = pre;
+        // Drop the garbage of finished iterations once it outweighs what is live.
+        if d.len() > 2 * live + (1 << 16) {
+            let mut roots: Vec<Bdd> = round.next.clone();
+            roots.extend([safe, round.lost, winning]);
+            d.compact(&mut roots);
+            winning = roots.pop().expect("pushed");
+            round.lost = roots.pop().expect("pushed");
+            safe = roots.pop().expect("pushed");
+            round.next = roots;
+            live = d.len();
+        }
+    };
+    let (raw, positions, machine) = extract::strategy(&mut d, &enc, &round, good, game, &init, work)?;
+    Ok(Played { positions, nodes: d.peak(), strategy: Some((raw, machine)) })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ltl::game::advance;
+    use crate::ltl::translate::{AutomatonState, Edge};
+    use crate::ltl::Progress;
+    use crate::rng::Rng;
+
+    /// A random automaton over `signals` signals: a few states, random guards (cubes), marks
+    /// and universal states.
+    fn random_automaton(rng: &mut Rng, signals: u32) -> Automaton {
+        let n = 1 + rng.below(5) as usize;
+        let states = (0..n)
+            .map(|_| {
+                let edges = (0..rng.below(4))
+                    .map(|_| {
+                        let (mut pos, mut neg) = (0u64, 0u64);
+                        for s in 0..signals {
+                            match rng.below(3) {
+                                0 => pos |= 1 << s,
+                                1 => neg |= 1 << s,
+                                _ => {}
+                            }
+                        }
+                        Edge { pos, neg, to: rng.below(n as u64) as u32, accepting: rng.below(2) == 0 }
+                    })
+                    .collect();
+                AutomatonState { label: String::new(), edges, universal: rng.below(8) == 0 }
+            })
+            .collect();
+        Automaton { init: rng.below(n as u64) as u32, states }
+    }
+
+    /// The symbolic round agrees with `game::advance` on every position (reachable or not) and
+    /// every letter: lost exactly when `advance` says so, else the successor's bits.
+    #[test]
+    fn the_symbolic_round_is_the_explicit_successor() {
+        let mut rng = Rng::new(29);
+        let mut progress = |_: &Progress| true;
+        let mut work = Work::new(u64::MAX, &mut progress);
+        let first = [SignalId(1), SignalId(0)];
+        let second = [SignalId(2)];
+        let mut compared = 0;
+        for _ in 0..300 {
+            let automaton = random_automaton(&mut rng, 3);
+            let k = rng.below(3) as u32;
+            let enc = Encoding::new(&automaton, k, &first, &second);
+            let mut d = Diagram::new(100_000);
+            let round = round(&mut d, &enc, &automaton, &mut work).unwrap();
+            let n = automaton.states.len();
+            let counters = (k as u64 + 2).pow(n as u32);
+            for code in 0..counters {
+                let position: Vec<i8> =
+                    (0..n).map(|q| ((code / (k as u64 + 2).pow(q as u32)) % (k as u64 + 2)) as i8 - 1).collect();
+                let values = enc.position_values(&position);
+                for letter in 0..8u64 {
+                    let at = |level: u32| {
+                        if level >= enc.first.start {
+                            let s = (0..3).find(|&s| enc.signal_level[s] == level).expect("a signal");
+                            letter >> s & 1 == 1
+                        } else {
+                            values[level as usize].expect("a position bit")
+                        }
+                    };
+                    let mut next = vec![0i8; n];
+                    let safe = advance(&automaton, k as i8, &position, letter, &mut next);
+                    assert_eq!(!d.eval(round.lost, at), safe, "{automaton:?} k = {k} at {position:?} on {letter}");
+                    if safe {
+                        let symbolic = enc.position(|level| d.eval(round.next[(level - enc.base) as usize], at));
+                        assert_eq!(symbolic, next, "{automaton:?} k = {k} at {position:?} on {letter}");
+                    }
+                    compared += 1;
+                }
+            }
+        }
+        assert!(compared > 10_000, "{compared}");
+    }
+}
