@@ -22,7 +22,9 @@ pub(super) struct Antichain {
     pub elements: Vec<Box<[i8]>>,
 }
 
-fn below(a: &[i8], b: &[i8]) -> bool {
+/// The positions' order: `a` is at least as good for the protagonist as `b` (every run of `a`
+/// is a run of `b`, with a counter no larger).
+pub(super) fn below(a: &[i8], b: &[i8]) -> bool {
     a.iter().zip(b).all(|(x, y)| x <= y)
 }
 

@@ -7,7 +7,7 @@
 //! states are maximal winning positions (an antichain, Filiot, Jin and Raskin), and a move
 //! goes to a state above its successor, preferring one the machine already has.
 
-use super::antichain::Antichain;
+use super::antichain::{below, Antichain};
 use super::game::advance;
 use super::machine::{Cube, Machine, Row, StateId};
 use super::spec::SignalId;
@@ -121,10 +121,6 @@ pub(super) fn machine_from_table(table: &Table, reads: &[SignalId], writes: &[Si
     let machine = Machine { reads: reads.to_vec(), writes: writes.to_vec(), moves_first, init: StateId(0), states };
     debug_assert_eq!(machine.validate(), Ok(()));
     machine
-}
-
-fn below(a: &[i8], b: &[i8]) -> bool {
-    a.iter().zip(b).all(|(x, y)| x <= y)
 }
 
 /// Per machine state and valuation of the read signals: the value written and the next state.

@@ -15,7 +15,7 @@
 //! The explicit solver ([`super::game`]) stays the reference; `tests/ltl_symbolic.rs` compares
 //! the two.
 
-use super::antichain::Antichain;
+use super::antichain::{below, Antichain};
 use super::machine::{Cube, Machine, Row, StateId};
 use super::spec::SignalId;
 use super::strategy::{machine_from_table, members, Table};
@@ -254,34 +254,7 @@ impl SymbolicGame {
             table.push(rows);
             i += 1;
         }
-        let raw = table.len();
-        if reads.len() <= TABLE_READS {
-            // Few read signals: the rows as a table per valuation, minimised and covered as the
-            // explicit solver's strategies are (fewer states and rows than the diagram's cubes).
-            let explicit: Table = table
-                .iter()
-                .map(|rows| {
-                    let mut moves = vec![(0, 0); 1 << reads.len()];
-                    for &(read, write, next) in rows {
-                        for v in members(reads.len(), read) {
-                            moves[v] = (write, next);
-                        }
-                    }
-                    moves
-                })
-                .collect();
-            return (raw, machine_from_table(&explicit, reads, writes, protagonist_first));
-        }
-        let states = merge(&table);
-        let machine = Machine {
-            reads: reads.to_vec(),
-            writes: writes.to_vec(),
-            moves_first: protagonist_first,
-            init: StateId(0),
-            states,
-        };
-        debug_assert_eq!(machine.validate(), Ok(()));
-        (raw, machine)
+        (table.len(), machine_from_rows(&table, reads, writes, protagonist_first))
     }
 
     /// The rows below `node`: every branch of the opponent's signals, a winning branch of the
@@ -318,10 +291,6 @@ impl SymbolicGame {
             }
         }
     }
-}
-
-fn below(a: &[i8], b: &[i8]) -> bool {
-    a.iter().zip(b).all(|(x, y)| x <= y)
 }
 
 /// Flags a move index in a memo key as enabled.
@@ -420,9 +389,40 @@ impl Builder<'_, '_> {
     }
 }
 
+/// The machine of a strategy given as rows per state (read cube, written value, next state;
+/// state 0 initial). Up to [`TABLE_READS`] read signals the rows go through a table per
+/// valuation, minimised and covered as the explicit solver's strategies are (fewer states and
+/// rows than the diagram's cubes); beyond, states with equal rows are merged.
+pub(super) fn machine_from_rows(
+    table: &[Vec<(Cube, u64, u32)>],
+    reads: &[SignalId],
+    writes: &[SignalId],
+    moves_first: bool,
+) -> Machine {
+    if reads.len() <= TABLE_READS {
+        let explicit: Table = table
+            .iter()
+            .map(|rows| {
+                let mut moves = vec![(0, 0); 1 << reads.len()];
+                for &(read, write, next) in rows {
+                    for v in members(reads.len(), read) {
+                        moves[v] = (write, next);
+                    }
+                }
+                moves
+            })
+            .collect();
+        return machine_from_table(&explicit, reads, writes, moves_first);
+    }
+    let machine =
+        Machine { reads: reads.to_vec(), writes: writes.to_vec(), moves_first, init: StateId(0), states: merge(table) };
+    debug_assert_eq!(machine.validate(), Ok(()));
+    machine
+}
+
 /// Merges machine states whose rows agree (same cubes and writes, next states in the same
 /// class), refining until stable; states numbered breadth-first from the initial one.
-pub(super) fn merge(table: &[Vec<(Cube, u64, u32)>]) -> Vec<Vec<Row>> {
+fn merge(table: &[Vec<(Cube, u64, u32)>]) -> Vec<Vec<Row>> {
     let n = table.len();
     let number = |keys: Vec<Vec<(u64, u64, u64, u32)>>| -> Vec<u32> {
         let mut ids: HashMap<Vec<(u64, u64, u64, u32)>, u32> = HashMap::new();

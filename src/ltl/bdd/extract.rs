@@ -13,16 +13,12 @@
 
 use super::diagram::{Bdd, Diagram};
 use super::{Encoding, Game, Round};
+use crate::ltl::antichain::below;
 use crate::ltl::game::advance;
-use crate::ltl::machine::{Cube, Machine, StateId};
-use crate::ltl::strategy::{self, machine_from_table, Table};
-use crate::ltl::symbolic::merge;
+use crate::ltl::machine::{Cube, Machine};
+use crate::ltl::symbolic::machine_from_rows;
 use crate::ltl::{Resource, Stop, Work};
 use hashbrown::HashMap;
-
-/// Up to this many read signals the rows go through a table of every valuation, minimised and
-/// covered as the explicit solver's strategies are (4 096 entries per state).
-const TABLE_READS: usize = 12;
 
 /// A row before the machine: read cube, written value, next position (an index into the
 /// members).
@@ -79,37 +75,8 @@ pub(super) fn strategy(
         i += 1;
     }
     let raw = table.len();
-    let (reads, writes) = (game.reads, game.writes);
-    let machine = if reads.len() <= TABLE_READS {
-        let explicit: Table = table
-            .iter()
-            .map(|rows| {
-                let mut moves = vec![(0, 0); 1 << reads.len()];
-                for &(read, write, next) in rows {
-                    for v in strategy::members(reads.len(), read) {
-                        moves[v] = (write, next);
-                    }
-                }
-                moves
-            })
-            .collect();
-        machine_from_table(&explicit, reads, writes, game.protagonist_first)
-    } else {
-        let machine = Machine {
-            reads: reads.to_vec(),
-            writes: writes.to_vec(),
-            moves_first: game.protagonist_first,
-            init: StateId(0),
-            states: merge(&table),
-        };
-        debug_assert_eq!(machine.validate(), Ok(()));
-        machine
-    };
+    let machine = machine_from_rows(&table, game.reads, game.writes, game.protagonist_first);
     Ok((raw, visited, machine))
-}
-
-fn below(a: &[i8], b: &[i8]) -> bool {
-    a.iter().zip(b).all(|(x, y)| x <= y)
 }
 
 /// The protagonist's moves at `position`: (read cube, written value, successor position).
