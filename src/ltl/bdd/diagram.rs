@@ -1,7 +1,7 @@
 //! A small package of reduced ordered binary decision diagrams: one shared node table
 //! (hash-consed, so equal functions are equal ids), a lossy computed table, and the operations
 //! the bounded games need — conjunction, disjunction, negation, if-then-else, quantification
-//! of a range of levels, simultaneous substitution (vector composition) and cofactors.
+//! of a set of levels, simultaneous substitution (vector composition) and cofactors.
 //!
 //! Every operation draws on the run's [`Work`] (a unit per recursive step, charged in batches)
 //! and stops with a [`Stop`] when the node table would pass its cap, so a large game ends as a
@@ -77,6 +77,16 @@ pub(crate) struct Diagram {
     peak: usize,
     /// Steps not yet charged to the run's work.
     steps: u64,
+    /// Level sets made so far (their ids key the computed table).
+    sets: u32,
+}
+
+/// Variables to quantify, by level: made by [`Diagram::level_set`], whose id names it in the
+/// computed table.
+pub(crate) struct LevelSet {
+    id: u32,
+    /// Per level up to the deepest member, whether it is one.
+    member: Vec<bool>,
 }
 
 impl Diagram {
@@ -89,6 +99,7 @@ impl Diagram {
             max_nodes: max_nodes.max(2),
             peak: 2,
             steps: 0,
+            sets: 0,
         }
     }
 
@@ -280,40 +291,49 @@ impl Diagram {
         Ok(r)
     }
 
-    /// `∃ levels. f` (or `∀` when `!exists`) for the variables with a level in `levels`.
-    pub(crate) fn quantify(
-        &mut self,
-        f: Bdd,
-        levels: std::ops::Range<u32>,
-        exists: bool,
-        work: &mut Work,
-    ) -> Result<Bdd, Stop> {
+    /// The set of the variables at `levels`, for [`Diagram::quantify`].
+    pub(crate) fn level_set(&mut self, levels: impl IntoIterator<Item = u32>) -> LevelSet {
+        self.sets += 1;
+        let mut member = Vec::new();
+        for level in levels {
+            let l = level as usize;
+            if member.len() <= l {
+                member.resize(l + 1, false);
+            }
+            member[l] = true;
+        }
+        LevelSet { id: self.sets, member }
+    }
+
+    /// `∃ set. f` (or `∀` when `!exists`) for the variables of `set`, wherever they lie in the
+    /// order.
+    pub(crate) fn quantify(&mut self, f: Bdd, set: &LevelSet, exists: bool, work: &mut Work) -> Result<Bdd, Stop> {
         let level = self.level(f);
-        if level >= levels.end || levels.is_empty() {
+        if level as usize >= set.member.len() {
             return Ok(f);
         }
         let op = if exists { Op::Exists } else { Op::ForAll };
-        if let Some(r) = self.cached(op, f.0, levels.start, levels.end) {
+        if let Some(r) = self.cached(op, f.0, set.id, 0) {
             return Ok(r);
         }
         self.tick(work)?;
         let Node { lo, hi, .. } = self.nodes[f.0 as usize];
-        let lo = self.quantify(lo, levels.clone(), exists, work)?;
-        let r = if level < levels.start {
-            let hi = self.quantify(hi, levels.clone(), exists, work)?;
+        let lo = self.quantify(lo, set, exists, work)?;
+        let r = if !set.member[level as usize] {
+            let hi = self.quantify(hi, set, exists, work)?;
             self.make(level, lo, hi)?
         } else if lo == Bdd::TRUE && exists || lo == Bdd::FALSE && !exists {
             // The other branch cannot change the result.
             lo
         } else {
-            let hi = self.quantify(hi, levels.clone(), exists, work)?;
+            let hi = self.quantify(hi, set, exists, work)?;
             if exists {
                 self.or(lo, hi, work)?
             } else {
                 self.and(lo, hi, work)?
             }
         };
-        self.remember(op, f.0, levels.start, levels.end, r);
+        self.remember(op, f.0, set.id, 0, r);
         Ok(r)
     }
 
@@ -470,12 +490,20 @@ mod tests {
             assert_eq!(d.eval(c, |l| truth(v, l)), expected_c);
         }
         // ∃ x0 x1. c and ∀ x0 x1. c, against enumeration.
-        let some = d.quantify(c, 0..2, true, &mut work).unwrap();
-        let all = d.quantify(c, 0..2, false, &mut work).unwrap();
+        let top = d.level_set(0..2);
+        let some = d.quantify(c, &top, true, &mut work).unwrap();
+        let all = d.quantify(c, &top, false, &mut work).unwrap();
         for v in 0..16u32 {
             let values: Vec<bool> = (0..4).map(|w| d.eval(c, |l| truth((v & !3) | w, l))).collect();
             assert_eq!(d.eval(some, |l| truth(v, l)), values.iter().any(|&b| b));
             assert_eq!(d.eval(all, |l| truth(v, l)), values.iter().all(|&b| b));
+        }
+        // ∃ x0 x3. c: a set with a gap, quantified in one pass.
+        let apart = d.level_set([3, 0]);
+        let some = d.quantify(c, &apart, true, &mut work).unwrap();
+        for v in 0..16u32 {
+            let any = (0..4).any(|w| d.eval(c, |l| truth((v & 0b0110) | (w & 1) | (w >> 1) << 3, l)));
+            assert_eq!(d.eval(some, |l| truth(v, l)), any);
         }
         // c[x3 := x0 ∧ x2, x1 := ¬x1] at once.
         let mut by = vec![None; 4];

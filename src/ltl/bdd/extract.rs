@@ -100,17 +100,18 @@ fn moves(
     // Per written signal: its value as a function of the read signals.
     let mut writes: Vec<Bdd> = vec![Bdd::FALSE; game.writes.len()];
     let mut by: Vec<Option<Bdd>> = vec![None; enc.levels()];
-    let own = if game.protagonist_first { enc.first.clone() } else { enc.second.clone() };
-    for level in own.clone() {
+    let own = if game.protagonist_first { &enc.first } else { &enc.second };
+    let replies = d.level_set(enc.second.iter().copied());
+    for (i, &level) in own.iter().enumerate() {
         let index = game.writes.iter().position(|&s| level_of(s) == level).expect("the protagonist's signal");
         let off = d.restrict_one(options, level, false, work)?;
         let on = d.restrict_one(options, level, true, work)?;
+        let rest = d.level_set(own[i + 1..].iter().copied());
         let value = if game.protagonist_first {
             // One value for every reply: false if some completion of the remaining own signals
             // is good against every reply.
-            let rest = level + 1..own.end;
-            let replies = d.quantify(off, enc.second.clone(), false, work)?;
-            let possible = d.quantify(replies, rest, true, work)?;
+            let against_all = d.quantify(off, &replies, false, work)?;
+            let possible = d.quantify(against_all, &rest, true, work)?;
             if possible == Bdd::FALSE {
                 Bdd::TRUE
             } else {
@@ -118,7 +119,7 @@ fn moves(
             }
         } else {
             // Where false can still be completed by the remaining own signals, false.
-            let possible = d.quantify(off, level + 1..own.end, true, work)?;
+            let possible = d.quantify(off, &rest, true, work)?;
             d.not(possible, work)?
         };
         options = d.ite(value, on, off, work)?;
@@ -155,7 +156,7 @@ fn split(
     if functions.iter().all(|f| f.is_constant()) {
         let writes = game.writes.len();
         let write = (0..writes).filter(|&i| functions[i] == Bdd::TRUE).fold(0u64, |m, i| m | 1 << i);
-        let successor = enc.position(|level| functions[writes + (level - enc.base) as usize] == Bdd::TRUE);
+        let successor = enc.position(|bit| functions[writes + bit] == Bdd::TRUE);
         let mut read = Cube::ANY;
         for &(level, value) in fixed.iter() {
             let index = game.reads.iter().position(|s| enc.signal_level[s.index()] == level).expect("a read signal");

@@ -13,11 +13,13 @@
 //! whose counter is `k`, or an enabled edge enters a state that accepts every word.
 //!
 //! **Order of variables.** The bits of each automaton state together, `b[q][0]` to `b[q][k]`,
-//! then the letter at the bottom, the first mover's signals above the second's (the quantifiers
-//! are then peeled off from the bottom up, each node of a position's cofactor quantified on
-//! its own). With the letter on top instead, a set of positions after substitution became a
-//! decision tree over the letter with a set of positions at each leaf, and load_balancer
-//! (n = 3) passed 3.2 million nodes at k = 1.
+//! and the signals between the states, each near the states whose guards read it (`order`).
+//! Two fixed orders were measured first and both blow up on a conjunction over clients: with
+//! all counters above the letter, a diagram must remember every client's counter before it
+//! reads a signal (simple_arbiter n = 6 passed 3.2 million nodes at k = 3); with the letter on
+//! top, a set of positions became a decision tree over the letter (load_balancer n = 3 passed
+//! 3.2 million nodes at k = 1). The quantifiers are applied to level sets wherever the levels
+//! lie.
 //!
 //! **The fixpoint.** `CPre(X)` is `X` with every position bit replaced by its successor
 //! function (one simultaneous substitution, no next-state variables), conjoined with the safe
@@ -40,7 +42,6 @@ use super::spec::SignalId;
 use super::translate::Automaton;
 use super::{Resource, Stop, Work};
 use diagram::{Bdd, Diagram};
-use std::ops::Range;
 
 /// BDD nodes a game may hold per position of `--max-states`: a node costs about 32 bytes with
 /// its hash-table entry, a position of the explicit game a few hundred (its counter vector, its
@@ -82,42 +83,66 @@ pub(super) struct Played {
 pub(super) struct Encoding {
     /// Per signal id, its level (`u32::MAX`: not in the game).
     signal_level: [u32; 64],
-    first: Range<u32>,
-    second: Range<u32>,
-    /// The level of `b[0][0]` (0: the position bits on top, the letter below them).
-    base: u32,
+    /// The levels of the first mover's signals and the second's, each ascending.
+    first: Vec<u32>,
+    second: Vec<u32>,
+    /// `bit_level[q * width + j]`: the level of `b[q][j]`.
+    bit_level: Vec<u32>,
     /// Bits per automaton state: `k + 1`.
     width: u32,
     states: usize,
 }
 
+/// A unit of the variable order: an automaton state's counter bits (kept together, lowest
+/// first) or one signal.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Unit {
+    State(usize),
+    Signal(SignalId),
+}
+
 impl Encoding {
     pub(super) fn new(automaton: &Automaton, k: u32, first: &[SignalId], second: &[SignalId]) -> Encoding {
         let width = k + 1;
-        let base = 0;
-        let letter = base + automaton.states.len() as u32 * width;
         let mut signal_level = [u32::MAX; 64];
-        for (i, s) in first.iter().chain(second).enumerate() {
-            signal_level[s.index()] = letter + i as u32;
+        let mut bit_level = vec![0; automaton.states.len() * width as usize];
+        let mut level = 0;
+        for unit in order(automaton, first, second) {
+            match unit {
+                Unit::State(q) => {
+                    for j in 0..width as usize {
+                        bit_level[q * width as usize + j] = level;
+                        level += 1;
+                    }
+                }
+                Unit::Signal(s) => {
+                    signal_level[s.index()] = level;
+                    level += 1;
+                }
+            }
         }
-        let (f, s) = (first.len() as u32, second.len() as u32);
+        let levels_of = |signals: &[SignalId]| {
+            let mut levels: Vec<u32> = signals.iter().map(|s| signal_level[s.index()]).collect();
+            levels.sort_unstable();
+            levels
+        };
         Encoding {
+            first: levels_of(first),
+            second: levels_of(second),
             signal_level,
-            first: letter..letter + f,
-            second: letter + f..letter + f + s,
-            base,
+            bit_level,
             width,
             states: automaton.states.len(),
         }
     }
 
     fn levels(&self) -> usize {
-        self.second.end as usize
+        self.bit_level.len() + self.first.len() + self.second.len()
     }
 
     /// The level of `b[q][j]`.
     fn bit(&self, q: usize, j: u32) -> u32 {
-        self.base + q as u32 * self.width + j
+        self.bit_level[q * self.width as usize + j as usize]
     }
 
     /// The position bits of a counter vector, by level (the letter's levels free).
@@ -131,15 +156,113 @@ impl Encoding {
         values
     }
 
-    /// The counter vector whose bits `bit(level)` gives (the highest set bit of each state).
-    fn position(&self, bit: impl Fn(u32) -> bool) -> Vec<i8> {
-        (0..self.states).map(|q| (0..self.width).rev().find(|&j| bit(self.bit(q, j))).map_or(-1, |j| j as i8)).collect()
+    /// The counter vector whose bits `bit(q * (k + 1) + j)` gives (the highest set bit of each
+    /// state).
+    fn position(&self, bit: impl Fn(usize) -> bool) -> Vec<i8> {
+        let width = self.width as usize;
+        (0..self.states).map(|q| (0..width).rev().find(|&j| bit(q * width + j)).map_or(-1, |j| j as i8)).collect()
     }
 
     /// The signal mask of a letter whose levels `bit(level)` gives.
     fn letter(&self, bit: impl Fn(u32) -> bool) -> u64 {
         (0..64).filter(|&s| self.signal_level[s] != u32::MAX && bit(self.signal_level[s])).fold(0, |m, s| m | 1 << s)
     }
+}
+
+/// The variable order: what a successor bit or a lost round reads lies close together.
+///
+/// Each automaton state's successor bits read the guards of the edges into it and the bits of
+/// their sources; a lost round reads the guard and the source of a losing edge. Those sets are
+/// the hyperedges of a linear arrangement, improved by the FORCE heuristic (Aloul, Markov and
+/// Sakallah 2003): each unit moves to the mean of the centres of its hyperedges, and the order
+/// with the smallest total span is kept. For a conjunction over clients this puts each client's
+/// signals beside its counters, where the fixed order (all counters above the letter) made the
+/// diagrams remember every counter until the letter was read: exponential in the clients.
+fn order(automaton: &Automaton, first: &[SignalId], second: &[SignalId]) -> Vec<Unit> {
+    let signals: Vec<SignalId> = first.iter().chain(second).copied().collect();
+    let n = automaton.states.len();
+    // Units 0..n are the states, n.. the signals.
+    let unit_of_signal = |s: u32| signals.iter().position(|x| x.0 == s).map(|i| n + i);
+    let guard_units = |e: &super::translate::Edge| -> Vec<usize> {
+        (0..64).filter(|&s| (e.pos | e.neg) >> s & 1 == 1).filter_map(unit_of_signal).collect()
+    };
+    // Per state, what its successor bits read; then per state, what its losing edges read (one
+    // hyperedge for all of them: they are one disjunction, and a hyperedge per edge would pull
+    // the signals of a many-edged guard, such as mutual exclusion, into one cluster).
+    let mut edges: Vec<Vec<usize>> = vec![vec![]; 2 * n];
+    for (q, state) in automaton.states.iter().enumerate() {
+        for e in &state.edges {
+            let to = e.to as usize;
+            let slot = if automaton.states[to].universal { n + q } else { to };
+            edges[slot].extend(guard_units(e));
+            edges[slot].extend([q, if slot == to { to } else { q }]);
+        }
+    }
+    for e in &mut edges {
+        e.sort_unstable();
+        e.dedup();
+    }
+    edges.retain(|e| e.len() > 1);
+    // The first arrangement: states in their order, each after the signals it reads first.
+    let units = n + signals.len();
+    let mut arrangement: Vec<usize> = Vec::with_capacity(units);
+    let mut placed = vec![false; units];
+    for q in 0..n {
+        for &u in edges.get(q).into_iter().flatten() {
+            if u >= n && !placed[u] {
+                placed[u] = true;
+                arrangement.push(u);
+            }
+        }
+        placed[q] = true;
+        arrangement.push(q);
+    }
+    arrangement.extend((n..units).filter(|&u| !placed[u]));
+    let span = |arrangement: &[usize]| -> u64 {
+        let mut at = vec![0usize; units];
+        for (i, &u) in arrangement.iter().enumerate() {
+            at[u] = i;
+        }
+        edges
+            .iter()
+            .map(|e| {
+                let (lo, hi) = e.iter().fold((usize::MAX, 0), |(lo, hi), &u| (lo.min(at[u]), hi.max(at[u])));
+                (hi - lo) as u64
+            })
+            .sum()
+    };
+    let mut best = (span(&arrangement), arrangement.clone());
+    let mut stale = 0;
+    for _ in 0..50 {
+        let mut at = vec![0f64; units];
+        for (i, &u) in arrangement.iter().enumerate() {
+            at[u] = i as f64;
+        }
+        let mut sum = vec![0f64; units];
+        let mut count = vec![0u32; units];
+        for e in &edges {
+            let centre = e.iter().map(|&u| at[u]).sum::<f64>() / e.len() as f64;
+            for &u in e {
+                sum[u] += centre;
+                count[u] += 1;
+            }
+        }
+        let target: Vec<f64> =
+            (0..units).map(|u| if count[u] == 0 { at[u] } else { sum[u] / f64::from(count[u]) }).collect();
+        // Ties keep the current order (a stable sort).
+        arrangement.sort_by(|&a, &b| target[a].total_cmp(&target[b]));
+        let cost = span(&arrangement);
+        if cost < best.0 {
+            best = (cost, arrangement.clone());
+            stale = 0;
+        } else {
+            stale += 1;
+            if stale == 5 {
+                break;
+            }
+        }
+    }
+    best.1.into_iter().map(|u| if u < n { Unit::State(u) } else { Unit::Signal(signals[u - n]) }).collect()
 }
 
 /// One round as functions of the position and the letter.
@@ -223,23 +346,35 @@ pub(super) fn play(game: &Game, work: &mut Work) -> Result<Played, Stop> {
     let at_init = |level: u32| init_values.get(level as usize).copied().flatten().unwrap_or(false);
     // Position bits at their successor functions.
     let mut substitution: Vec<Option<Bdd>> = vec![None; enc.levels()];
-    let mut winning = Bdd::TRUE;
+    // Only counter vectors are positions: a set bit `b[q][j]` has `b[q][j - 1]` set. The
+    // successors of a position are positions, so the fixpoint may ignore the other bit vectors,
+    // and leaving them out keeps the diagrams of the sets small.
+    let mut valid = Bdd::TRUE;
+    for q in 0..enc.states {
+        for j in 1..enc.width {
+            let (low, high) = (d.literal(enc.bit(q, j - 1), true)?, d.literal(enc.bit(q, j), false)?);
+            let either = d.or(low, high, work)?;
+            valid = d.and(valid, either, work)?;
+        }
+    }
+    let mut winning = valid;
+    let (first, second) = (d.level_set(enc.first.iter().copied()), d.level_set(enc.second.iter().copied()));
     let mut live = d.len();
     let good = loop {
         work.at.positions = d.len();
         for (i, &f) in round.next.iter().enumerate() {
-            substitution[enc.base as usize + i] = Some(f);
+            substitution[enc.bit_level[i] as usize] = Some(f);
         }
         let moved = d.compose(winning, &substitution, work)?;
         let good = d.and(safe, moved, work)?;
-        let (first, second) = (enc.first.clone(), enc.second.clone());
         let pre = if game.protagonist_first {
-            let all_replies = d.quantify(good, second, false, work)?;
-            d.quantify(all_replies, first, true, work)?
+            let all_replies = d.quantify(good, &second, false, work)?;
+            d.quantify(all_replies, &first, true, work)?
         } else {
-            let some_reply = d.quantify(good, second, true, work)?;
-            d.quantify(some_reply, first, false, work)?
+            let some_reply = d.quantify(good, &second, true, work)?;
+            d.quantify(some_reply, &first, false, work)?
         };
+        let pre = d.and(pre, valid, work)?;
         if !d.eval(pre, at_init) {
             return Ok(Played { positions: 0, nodes: d.peak(), strategy: None });
         }
@@ -250,11 +385,12 @@ pub(super) fn play(game: &Game, work: &mut Work) -> Result<Played, Stop> {
         // Drop the garbage of finished iterations once it outweighs what is live.
         if d.len() > 2 * live + (1 << 16) {
             let mut roots: Vec<Bdd> = round.next.clone();
-            roots.extend([safe, round.lost, winning]);
+            roots.extend([valid, safe, round.lost, winning]);
             d.compact(&mut roots);
             winning = roots.pop().expect("pushed");
             round.lost = roots.pop().expect("pushed");
             safe = roots.pop().expect("pushed");
+            valid = roots.pop().expect("pushed");
             round.next = roots;
             live = d.len();
         }
@@ -320,7 +456,7 @@ mod tests {
                 let values = enc.position_values(&position);
                 for letter in 0..8u64 {
                     let at = |level: u32| {
-                        if level >= enc.first.start {
+                        if enc.first.contains(&level) || enc.second.contains(&level) {
                             let s = (0..3).find(|&s| enc.signal_level[s] == level).expect("a signal");
                             letter >> s & 1 == 1
                         } else {
@@ -331,7 +467,7 @@ mod tests {
                     let safe = advance(&automaton, k as i8, &position, letter, &mut next);
                     assert_eq!(!d.eval(round.lost, at), safe, "{automaton:?} k = {k} at {position:?} on {letter}");
                     if safe {
-                        let symbolic = enc.position(|level| d.eval(round.next[(level - enc.base) as usize], at));
+                        let symbolic = enc.position(|bit| d.eval(round.next[bit], at));
                         assert_eq!(symbolic, next, "{automaton:?} k = {k} at {position:?} on {letter}");
                     }
                     compared += 1;
