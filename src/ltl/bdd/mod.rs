@@ -195,20 +195,23 @@ fn order(automaton: &Automaton, first: &[SignalId], second: &[SignalId]) -> Vec<
             let to = e.to as usize;
             let slot = if automaton.states[to].universal { n + q } else { to };
             edges[slot].extend(guard_units(e));
-            edges[slot].extend([q, if slot == to { to } else { q }]);
+            edges[slot].push(q);
+            if slot == to {
+                edges[slot].push(to);
+            }
         }
     }
     for e in &mut edges {
         e.sort_unstable();
         e.dedup();
     }
-    edges.retain(|e| e.len() > 1);
-    // The first arrangement: states in their order, each after the signals it reads first.
+    // The first arrangement: states in their order, each after the signals its successor bits
+    // read.
     let units = n + signals.len();
     let mut arrangement: Vec<usize> = Vec::with_capacity(units);
     let mut placed = vec![false; units];
-    for q in 0..n {
-        for &u in edges.get(q).into_iter().flatten() {
+    for (q, reads) in edges.iter().take(n).enumerate() {
+        for &u in reads {
             if u >= n && !placed[u] {
                 placed[u] = true;
                 arrangement.push(u);
@@ -218,6 +221,7 @@ fn order(automaton: &Automaton, first: &[SignalId], second: &[SignalId]) -> Vec<
         arrangement.push(q);
     }
     arrangement.extend((n..units).filter(|&u| !placed[u]));
+    edges.retain(|e| e.len() > 1);
     let span = |arrangement: &[usize]| -> u64 {
         let mut at = vec![0usize; units];
         for (i, &u) in arrangement.iter().enumerate() {
@@ -234,23 +238,23 @@ fn order(automaton: &Automaton, first: &[SignalId], second: &[SignalId]) -> Vec<
     let mut best = (span(&arrangement), arrangement.clone());
     let mut stale = 0;
     for _ in 0..50 {
-        let mut at = vec![0f64; units];
+        // Positions and centres in 1/1024ths, integers: the same order natively and in wasm.
+        let mut at = vec![0u64; units];
         for (i, &u) in arrangement.iter().enumerate() {
-            at[u] = i as f64;
+            at[u] = i as u64;
         }
-        let mut sum = vec![0f64; units];
-        let mut count = vec![0u32; units];
+        let mut sum = vec![0u64; units];
+        let mut count = vec![0u64; units];
         for e in &edges {
-            let centre = e.iter().map(|&u| at[u]).sum::<f64>() / e.len() as f64;
+            let centre = e.iter().map(|&u| at[u] << 10).sum::<u64>() / e.len() as u64;
             for &u in e {
                 sum[u] += centre;
                 count[u] += 1;
             }
         }
-        let target: Vec<f64> =
-            (0..units).map(|u| if count[u] == 0 { at[u] } else { sum[u] / f64::from(count[u]) }).collect();
-        // Ties keep the current order (a stable sort).
-        arrangement.sort_by(|&a, &b| target[a].total_cmp(&target[b]));
+        let target: Vec<u64> = (0..units).map(|u| sum[u].checked_div(count[u]).unwrap_or(at[u] << 10)).collect();
+        // Ties keep the current order.
+        arrangement.sort_unstable_by_key(|&u| (target[u], at[u]));
         let cost = span(&arrangement);
         if cost < best.0 {
             best = (cost, arrangement.clone());
