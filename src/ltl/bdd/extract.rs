@@ -11,7 +11,7 @@
 //! alone, and a decision on the read signals (splitting on the topmost one any of them still
 //! reads) gives the rows as disjoint cubes, each with one write and one successor.
 
-use super::diagram::{Bdd, Diagram};
+use super::diagram::{Bdd, Diagram, LevelSet};
 use super::{Encoding, Game, Round};
 use crate::ltl::antichain::below;
 use crate::ltl::game::advance;
@@ -40,9 +40,10 @@ pub(super) fn strategy(
     member_of.insert(init.to_vec(), 0);
     let mut table: Vec<Rows> = Vec::new();
     let mut visited = 1;
+    let sets = OwnSets::new(d, enc, game);
     let mut i = 0;
     while i < members.len() {
-        let leaves = moves(d, enc, round, good, game, &members[i], work)?;
+        let leaves = moves(d, enc, round, good, game, &sets, &members[i], work)?;
         let mut rows = Rows::new();
         for (read, write, next) in leaves {
             let state = match member_of.get(&next) {
@@ -79,13 +80,34 @@ pub(super) fn strategy(
     Ok((raw, visited, machine))
 }
 
+/// The level sets the moves quantify, made once per game so that the computed table serves
+/// every position.
+struct OwnSets {
+    /// The second mover's signals.
+    replies: LevelSet,
+    /// Per own signal (ascending levels), the own signals below it.
+    rest: Vec<LevelSet>,
+}
+
+impl OwnSets {
+    fn new(d: &mut Diagram, enc: &Encoding, game: &Game) -> OwnSets {
+        let own = if game.protagonist_first { &enc.first } else { &enc.second };
+        OwnSets {
+            replies: d.level_set(enc.second.iter().copied()),
+            rest: (0..own.len()).map(|i| d.level_set(own[i + 1..].iter().copied())).collect(),
+        }
+    }
+}
+
 /// The protagonist's moves at `position`: (read cube, written value, successor position).
+#[allow(clippy::too_many_arguments)]
 fn moves(
     d: &mut Diagram,
     enc: &Encoding,
     round: &Round,
     good: Bdd,
     game: &Game,
+    sets: &OwnSets,
     position: &[i8],
     work: &mut Work,
 ) -> Result<Vec<(Cube, u64, Vec<i8>)>, Stop> {
@@ -101,17 +123,15 @@ fn moves(
     let mut writes: Vec<Bdd> = vec![Bdd::FALSE; game.writes.len()];
     let mut by: Vec<Option<Bdd>> = vec![None; enc.levels()];
     let own = if game.protagonist_first { &enc.first } else { &enc.second };
-    let replies = d.level_set(enc.second.iter().copied());
     for (i, &level) in own.iter().enumerate() {
         let index = game.writes.iter().position(|&s| level_of(s) == level).expect("the protagonist's signal");
         let off = d.restrict_one(options, level, false, work)?;
         let on = d.restrict_one(options, level, true, work)?;
-        let rest = d.level_set(own[i + 1..].iter().copied());
         let value = if game.protagonist_first {
             // One value for every reply: false if some completion of the remaining own signals
             // is good against every reply.
-            let against_all = d.quantify(off, &replies, false, work)?;
-            let possible = d.quantify(against_all, &rest, true, work)?;
+            let against_all = d.quantify(off, &sets.replies, false, work)?;
+            let possible = d.quantify(against_all, &sets.rest[i], true, work)?;
             if possible == Bdd::FALSE {
                 Bdd::TRUE
             } else {
@@ -119,7 +139,7 @@ fn moves(
             }
         } else {
             // Where false can still be completed by the remaining own signals, false.
-            let possible = d.quantify(off, &rest, true, work)?;
+            let possible = d.quantify(off, &sets.rest[i], true, work)?;
             d.not(possible, work)?
         };
         options = d.ite(value, on, off, work)?;

@@ -222,16 +222,21 @@ fn order(automaton: &Automaton, first: &[SignalId], second: &[SignalId]) -> Vec<
     }
     arrangement.extend((n..units).filter(|&u| !placed[u]));
     edges.retain(|e| e.len() > 1);
-    let span = |arrangement: &[usize]| -> u64 {
-        let mut at = vec![0usize; units];
+    // Where each unit stands in an arrangement.
+    let places = |arrangement: &[usize]| -> Vec<u64> {
+        let mut at = vec![0u64; units];
         for (i, &u) in arrangement.iter().enumerate() {
-            at[u] = i;
+            at[u] = i as u64;
         }
+        at
+    };
+    let span = |arrangement: &[usize]| -> u64 {
+        let at = places(arrangement);
         edges
             .iter()
             .map(|e| {
-                let (lo, hi) = e.iter().fold((usize::MAX, 0), |(lo, hi), &u| (lo.min(at[u]), hi.max(at[u])));
-                (hi - lo) as u64
+                let (lo, hi) = e.iter().fold((u64::MAX, 0), |(lo, hi), &u| (lo.min(at[u]), hi.max(at[u])));
+                hi - lo
             })
             .sum()
     };
@@ -239,10 +244,7 @@ fn order(automaton: &Automaton, first: &[SignalId], second: &[SignalId]) -> Vec<
     let mut stale = 0;
     for _ in 0..50 {
         // Positions and centres in 1/1024ths, integers: the same order natively and in wasm.
-        let mut at = vec![0u64; units];
-        for (i, &u) in arrangement.iter().enumerate() {
-            at[u] = i as u64;
-        }
+        let at = places(&arrangement);
         let mut sum = vec![0u64; units];
         let mut count = vec![0u64; units];
         for e in &edges {
