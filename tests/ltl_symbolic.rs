@@ -83,3 +83,29 @@ fn every_solver_is_found_by_its_name() {
     assert_eq!(Solver::named("unbeast"), None);
     assert_eq!(Solver::default(), Solver::Explicit, "the reference solver is the default");
 }
+
+/// The environment's automaton (of φ, a conjunction of responses under mutual exclusion) grows
+/// with the number of clients where the controller's (of ¬φ) does not: when the first passes
+/// the automaton budget, only the environment's game is given up, and the controller's still
+/// decides (before, the run ended there: simple_arbiter n = 10 stopped in the translation).
+#[test]
+fn an_environment_automaton_over_budget_costs_only_the_environments_game() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/ltl/tlsf/simple_arbiter/simple_arbiter.tlsf");
+    let source = std::fs::read_to_string(path).unwrap();
+    let (spec, _) = ltl::compile(&source, Format::Tlsf, &[("n".to_string(), 4)]).unwrap();
+    let decide = |cfg: &Config| ltl::synthesize(&spec, cfg, &mut |_| true);
+    let full = decide(&Config::default()).unwrap();
+    assert_eq!(full.verdict, Verdict::Realizable);
+    let (against, towards) = (full.stats.automaton_states, full.stats.dual_automaton_states);
+    assert!(towards > against, "the premise: {towards} states for φ, {against} for ¬φ");
+    for solver in [Solver::Explicit, Solver::Bdd] {
+        let narrow = Config { solver, max_automaton_states: against, ..Config::default() };
+        let outcome = decide(&narrow).unwrap_or_else(|stop| panic!("{solver:?}: the run ended: {stop}"));
+        assert_eq!((outcome.verdict, outcome.k), (full.verdict, full.k), "{solver:?}");
+        assert!(outcome.controller.is_some(), "{solver:?}");
+        assert_eq!(outcome.stats.dual_automaton_states, 0, "{solver:?}: no automaton for the environment");
+    }
+    // Both over the budget: the run ends, with the budget named.
+    let neither = Config { max_automaton_states: 1, ..Config::default() };
+    assert!(matches!(decide(&neither), Err(ltl::Stop::Budget { .. })));
+}

@@ -243,8 +243,30 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut OnProgress<'_, Progr
     let name = |s: SignalId| spec.name(s).to_string();
     let formula = spec.formula();
     let mut work = Work::new(cfg.max_work, progress);
-    let against = translate::translate_within(&Ltl::not(formula.clone()), &name, cfg.max_automaton_states, &mut work)?;
-    let towards = translate::translate_within(&formula, &name, cfg.max_automaton_states, &mut work)?;
+    // Each player's automaton within half of what is left: the dual of a large conjunction
+    // (the environment's, a disjunction of eventualities) can grow exponentially where the
+    // controller's stays small, and losing it should cost only the environment's game.
+    let translate_for = |formula: &Ltl, work: &mut Work| {
+        let share = work.remaining() / 2;
+        work.capped(share, |work| translate::translate_within(formula, &name, cfg.max_automaton_states, work))
+    };
+    let against = translate_for(&Ltl::not(formula.clone()), &mut work);
+    let towards = translate_for(&formula, &mut work);
+    let (against, towards) = match (against, towards) {
+        (Err(stop), Err(_)) => return Err(stop),
+        (Err(Stop::Cancelled), _) | (_, Err(Stop::Cancelled)) => return Err(Stop::Cancelled),
+        pair => pair,
+    };
+    // A player whose game outgrew its share of the budgets plays no more; the other goes on, so
+    // that an exploding game of the environment does not hide a controller, nor the reverse.
+    let mut given_up: [Option<String>; 2] = [None, None];
+    for (side, automaton) in [&against, &towards].into_iter().enumerate() {
+        if let Err(Stop::Budget { message, .. }) = automaton {
+            let player = if side == 0 { "the controller's" } else { "the environment's" };
+            given_up[side] = Some(format!("{player} automaton: {message}"));
+        }
+    }
+    let (against, towards) = (against.ok(), towards.ok());
     let (inputs, outputs) = (spec.inputs(), spec.outputs());
     let controller_first = spec.semantics == Semantics::Moore;
     let (first_signals, second_signals) = if controller_first { (&outputs, &inputs) } else { (&inputs, &outputs) };
@@ -254,26 +276,24 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut OnProgress<'_, Progr
         false => (valuations(first_signals), valuations(second_signals)),
     };
     let mut stats = Stats {
-        automaton_states: against.states.len(),
-        dual_automaton_states: towards.states.len(),
+        automaton_states: against.as_ref().map_or(0, |a| a.states.len()),
+        dual_automaton_states: towards.as_ref().map_or(0, |a| a.states.len()),
         ..Stats::default()
     };
     let max_k = cfg.max_k.min(100);
     let mut positions = 0usize;
-    // A player whose game outgrew its share of the budgets plays no more; the other goes on, so
-    // that an exploding game of the environment does not hide a controller, nor the reverse.
-    let mut given_up: [Option<String>; 2] = [None, None];
     let mut decided_up_to = None;
     for k in 0..=max_k {
         // The controller's game, then the environment's, each on the automaton its opponent
         // wants accepted.
         for (side, controller) in [(0, true), (1, false)] {
-            if given_up[side].is_some() {
+            let automaton = if controller { &against } else { &towards };
+            let Some(automaton) = automaton.as_ref().filter(|_| given_up[side].is_none()) else {
                 continue;
-            }
+            };
             work.at.k = k;
             let game = Play {
-                automaton: if controller { &against } else { &towards },
+                automaton,
                 k,
                 first: &first,
                 second: &second,
