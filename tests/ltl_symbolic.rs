@@ -109,3 +109,25 @@ fn an_environment_automaton_over_budget_costs_only_the_environments_game() {
     let neither = Config { max_automaton_states: 1, ..Config::default() };
     assert!(matches!(decide(&neither), Err(ltl::Stop::Budget { .. })));
 }
+
+/// The bdd solver builds no positions while it solves: its progress reports the diagram's
+/// nodes instead (the page shows them as such), and the explicit solver's its positions.
+#[test]
+fn the_bdd_solver_reports_diagram_nodes_not_positions() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/ltl/tlsf/simple_arbiter/simple_arbiter.tlsf");
+    let source = std::fs::read_to_string(path).unwrap();
+    let (spec, _) = ltl::compile(&source, Format::Tlsf, &[("n".to_string(), 4)]).unwrap();
+    for (solver, diagram) in [(Solver::Bdd, true), (Solver::Explicit, false)] {
+        let mut reports = Vec::new();
+        let cfg = Config { solver, ..Config::default() };
+        let outcome = ltl::synthesize(&spec, &cfg, &mut |p| {
+            reports.push((p.positions, p.nodes));
+            true
+        })
+        .unwrap();
+        assert_eq!(outcome.verdict, Verdict::Realizable);
+        assert!(!reports.is_empty(), "{solver:?}: no progress reported");
+        assert_eq!(reports.iter().any(|r| r.1 > 0), diagram, "{solver:?}: nodes {reports:?}");
+        assert_eq!(reports.iter().any(|r| r.0 > 0), !diagram, "{solver:?}: positions {reports:?}");
+    }
+}

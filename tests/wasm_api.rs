@@ -498,6 +498,23 @@ fn ltl_stops_are_reported_as_the_other_engines_report_them() {
 }
 
 #[wasm_bindgen_test]
+fn ltl_progress_carries_positions_and_diagram_nodes() {
+    // The mutex spends enough work (about 480 000 units) to be reported (every 65 536 units);
+    // `nodes` is the bdd solver's (tests/ltl_symbolic.rs), 0 for the explicit one.
+    let mut s = LtlSession::new(include_str!("../examples/ltl/mutex.tlsf"), "tlsf").map_err(|_| "compile").unwrap();
+    let calls = Array::new();
+    let log = Function::new_with_args("p, ms", "this.push(p); return true;").bind0(&calls);
+    let summary = s.solve(js_sys::JSON::parse(r#"{"progressMs": 0}"#).unwrap(), Some(log)).unwrap();
+    assert_eq!(string(&summary, "verdict"), "realizable");
+    assert!(calls.length() > 0, "no progress reported");
+    for key in ["k", "positions", "nodes", "work"] {
+        assert!(calls.iter().all(|p| get(&p, key).as_f64().is_some()), "{key}");
+    }
+    assert!(calls.iter().any(|p| get(&p, "positions").as_f64() > Some(0.0)));
+    assert!(calls.iter().all(|p| get(&p, "nodes").as_f64() == Some(0.0)));
+}
+
+#[wasm_bindgen_test]
 fn ltl_unrealizable_has_a_counter_strategy_and_suggestions() {
     let mut s = LtlSession::new(ARBITER_SAME_SCAN, "ltl").map_err(|_| "compile").unwrap();
     let summary = s.solve(js_sys::JSON::parse(r#"{"suggest": true}"#).unwrap(), None).unwrap();

@@ -305,8 +305,11 @@ impl Outcome for Result<Synthesis, Stop> {
 pub struct Progress {
     /// The bound being tried.
     pub k: u32,
-    /// Game positions built so far in this run.
+    /// Game positions built so far in this run (the explicit and symbolic solvers).
     pub positions: usize,
+    /// Nodes the current game's decision diagram holds (the bdd solver, which builds no
+    /// positions while it solves).
+    pub nodes: usize,
     /// Work spent so far ([`Config::max_work`]).
     pub work: u64,
 }

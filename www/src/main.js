@@ -841,7 +841,10 @@ async function run() {
   const progressText = {
     timed: (p) => `Exploring… ${fmtInt(p.visited)} states visited, ${fmtInt(p.removed)} removed`,
     sct: (p) => `Synthesising… ${fmtInt(p.built)} product states built`,
-    ltl: (p) => `Solving… k = ${p.k}, ${fmtInt(p.positions)} game positions`,
+    ltl: (p) =>
+      p.nodes > 0
+        ? `Solving… k = ${p.k}, ${fmtInt(p.nodes)} BDD nodes`
+        : `Solving… k = ${p.k}, ${fmtInt(p.positions)} game positions`,
   }[engine];
   try {
     const summary = await solver.call(

@@ -367,7 +367,7 @@ pub(super) fn play(game: &Game, work: &mut Work) -> Result<Played, Stop> {
     let (first, second) = (d.level_set(enc.first.iter().copied()), d.level_set(enc.second.iter().copied()));
     let mut live = d.len();
     let good = loop {
-        work.at.positions = d.len();
+        work.at.nodes = d.len();
         for (i, &f) in round.next.iter().enumerate() {
             substitution[enc.bit_level[i] as usize] = Some(f);
         }
