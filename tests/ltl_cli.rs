@@ -178,3 +178,35 @@ fn suggest_max_reports_that_no_set_that_small_was_found() {
     assert_eq!(doc["suggestions"], serde_json::json!([]));
     assert!(doc["suggest_limit"].as_str().unwrap().starts_with("no set of at most 1 assumption found"), "{doc}");
 }
+
+/// `bench ltl --scale` with no time to spend: every instance of the families is read with its
+/// parameters and gets a row, each run is cancelled at its first progress report (the verdicts
+/// themselves are tested in tests/ltl_examples.rs), and a decided one would have to agree with
+/// SYNTCOMP's status.
+#[test]
+fn the_scale_table_has_a_row_per_instance_and_no_verdict_against_the_status() {
+    let out = plcsynth(&["bench", "ltl", "--scale", "--scale-timeout", "0"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    let rows: Vec<Vec<&str>> = text
+        .lines()
+        .filter(|l| l.starts_with("| ") && !l.starts_with("| SYNTCOMP"))
+        .map(|l| l.trim_matches('|').split(" | ").map(str::trim).collect())
+        .collect();
+    assert_eq!(rows.len(), 20, "{text}");
+    for row in &rows {
+        assert_eq!(row.len(), 7, "{row:?}");
+        let status = row[2];
+        assert_eq!(status == "unrealizable", row[0].contains("_unreal"), "{row:?}");
+        for verdict in [row[3], row[5]] {
+            assert!(!verdict.contains("errors"), "{row:?}");
+            if verdict.starts_with("realizable") || verdict.starts_with("unrealizable") {
+                assert!(verdict.starts_with(&format!("{status} ")), "{row:?}");
+            } else {
+                let known = ["stopped after 0 s", "unknown (", "refused ("];
+                assert!(known.iter().any(|k| verdict.starts_with(k)), "{row:?}");
+            }
+        }
+    }
+    assert!(text.contains("stopped after 0 s"), "{text}");
+}

@@ -310,6 +310,15 @@ pub struct BenchArgs {
     /// With --compare-g4ltl: the largest unroll depth G4LTL tries (it starts at 1).
     #[arg(long, value_name = "K", default_value_t = 3)]
     pub g4ltl_max_unroll: u32,
+    /// Instead of the tables: SYNTCOMP's parametric families at growing n (simple_arbiter up
+    /// to n = 12, full_arbiter and load_balancer up to 5, the prioritized and round-robin
+    /// arbiters at 4, the `_unreal` variants), each decided once by the explicit and the bdd
+    /// solver at the default budgets.
+    #[arg(long, conflicts_with = "compare_g4ltl")]
+    pub scale: bool,
+    /// With --scale: seconds one solver may spend on one instance before it is cancelled.
+    #[arg(long, value_name = "SECONDS", default_value_t = 60)]
+    pub scale_timeout: u64,
     /// Build the comparison from recorded driver output instead of running G4LTL (tests).
     #[arg(long, value_name = "FILE", hide = true, conflicts_with = "compare_g4ltl")]
     pub g4ltl_replay: Option<std::path::PathBuf>,
@@ -524,6 +533,9 @@ const TABLE2_COLUMNS: &[Column] = &[
 pub fn bench(a: &BenchArgs) -> ExitCode {
     if a.compare_g4ltl.is_some() || a.g4ltl_replay.is_some() {
         return super::ltl_compare::compare(a);
+    }
+    if a.scale {
+        return super::ltl_scale::scale(a);
     }
     if a.format.headers {
         return print_headers(&[G4LTL_COLUMNS, SYNTCOMP_COLUMNS, TABLE2_COLUMNS]);

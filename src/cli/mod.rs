@@ -14,6 +14,7 @@ pub mod bench;
 pub mod interchange;
 pub mod ltl;
 pub mod ltl_compare;
+pub mod ltl_scale;
 pub mod sct;
 pub mod timed;
 
