@@ -235,7 +235,8 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut OnProgress<'_, Progr
             Resource::Size,
             format!(
             "{signals} signals: the explicit games enumerate 2^{signals} letters per position, and the limit is {} \
-             (split the specification into parts with fewer signals)",
+             (the symbolic and bdd solvers do not enumerate letters: `--solver symbolic` or `bdd`; or split the \
+             specification into parts with fewer signals)",
             cfg.max_signals.min(63)
         ),
         ));

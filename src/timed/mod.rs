@@ -205,9 +205,16 @@ pub fn synthesize_at_scan(
 /// the zero-time controller does not win. A PLC reacts up to a scan or two late at every step,
 /// so a zero-time strategy that meets a plan's deadline with nothing to spare leads the scan
 /// search into a long dead end; the guide is the strategy of the zero-time game (in the scan
-/// game's time units) with every plan deadline shortened by a spare: half the shortest deadline,
-/// else a quarter, and so on down to none, the first that keeps it realizable (within a factor
-/// of two of the most time a strategy can spare, in a few solves).
+/// game's time units) with every plan deadline shortened by a spare, the largest of half the
+/// shortest deadline, a quarter, and so on, that keeps it realizable (within a factor of two of
+/// the most time a strategy can spare).
+///
+/// The spares are searched by bisection, after the game without a spare (which decides whether
+/// there is a guide at all). Proving a tightened game lost explores every alternative, where a
+/// win is found along one strategy, so a tightened game gets [`GUIDE_BUDGET_FACTOR`] times the
+/// states and work of the game without a spare, and one that needs more counts as lost: the
+/// guide may then spare less than it could, and only the work to reach the verdict changes,
+/// never the verdict.
 pub fn scan_guide(
     game: &model::Game,
     scan_ms: u64,
@@ -216,22 +223,44 @@ pub fn scan_guide(
 ) -> Option<solve::ScanGuide> {
     let base = scan::rescaled(game, scan_ms).ok()?;
     let shortest = base.plans.iter().flat_map(|p| p.clocks.iter().map(|&(_, bound)| bound)).min().unwrap_or(0);
-    let mut spare = shortest / 2;
-    loop {
+    let loose = synthesize(&base, options, progress);
+    if !loose.solution.is_realizable() {
+        return None;
+    }
+    // The spares, largest first: half the shortest deadline, a quarter, ..., 1.
+    let spares: Vec<_> = std::iter::successors(Some(shortest / 2), |&s| Some(s / 2)).take_while(|&s| s > 0).collect();
+    let stats = &loose.solution.stats;
+    let capped = solve::Config {
+        max_states: options.max_states.min(stats.visited.saturating_mul(GUIDE_BUDGET_FACTOR).max(1)),
+        max_work: options.max_work.min(stats.work.saturating_mul(GUIDE_BUDGET_FACTOR as u64).max(1)),
+        ..options.clone()
+    };
+    // The first spare that wins lies in `lo..=hi` (`hi = spares.len()`: none does, only 0).
+    let (mut lo, mut hi) = (0, spares.len());
+    let mut best = loose;
+    while lo < hi {
+        let mid = (lo + hi) / 2;
         let mut tight = base.clone();
         for (_, bound) in tight.plans.iter_mut().flat_map(|p| p.clocks.iter_mut()) {
-            *bound -= spare;
+            *bound -= spares[mid];
         }
-        let synthesis = synthesize(&tight, options, progress);
-        if synthesis.solution.is_realizable() {
-            return solve::ScanGuide::new(&synthesis.split, &synthesis.solution);
-        }
-        if spare == 0 || synthesis.solution.outcome == Err(solve::Stop::Cancelled) {
+        let synthesis = synthesize(&tight, &capped, progress);
+        if synthesis.solution.outcome == Err(solve::Stop::Cancelled) {
             return None;
         }
-        spare /= 2;
+        if synthesis.solution.is_realizable() {
+            best = synthesis;
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
     }
+    solve::ScanGuide::new(&best.split, &best.solution)
 }
+
+/// How many times the states and the work of the zero-time game without a spare a tightened
+/// game of [`scan_guide`] may take.
+const GUIDE_BUDGET_FACTOR: usize = 2;
 
 /// The scan times around a verdict: the longest found to work and the shortest found not to.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
