@@ -210,3 +210,13 @@ fn the_scale_table_has_a_row_per_instance_and_no_verdict_against_the_status() {
     }
     assert!(text.contains("stopped after 0 s"), "{text}");
 }
+
+/// A specification wider than the explicit games' letter limit is refused with the way on: the
+/// solvers that do not enumerate letters.
+#[test]
+fn too_many_signals_for_the_explicit_games_names_the_symbolic_solvers() {
+    let out = plcsynth(&["ltl", "../shared/ltl/tlsf/simple_arbiter/simple_arbiter.tlsf", "--param", "n=12"]);
+    assert_ne!(out.status.code(), Some(0));
+    let text = format!("{}{}", stdout(&out), stderr(&out));
+    assert!(text.contains("24 signals") && text.contains("--solver symbolic"), "{text}");
+}
