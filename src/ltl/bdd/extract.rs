@@ -41,9 +41,11 @@ pub(super) fn strategy(
     let mut table: Vec<Rows> = Vec::new();
     let mut visited = 1;
     let sets = OwnSets::new(d, enc, game);
+    // The positions below some member, over the position bits: a move into them adds no state.
+    let mut known = below_cube(d, enc, init)?;
     let mut i = 0;
     while i < members.len() {
-        let leaves = moves(d, enc, round, good, game, &sets, &members[i], work)?;
+        let leaves = moves(d, enc, round, good, game, &sets, known, &members[i], work)?;
         let mut rows = Rows::new();
         for (read, write, next) in leaves {
             let state = match member_of.get(&next) {
@@ -53,10 +55,15 @@ pub(super) fn strategy(
                     // A position below a member is won by that member's moves (fewer runs,
                     // counters no larger, and successors keep the order).
                     let above = members.iter().position(|m| below(&next, m));
-                    let m = above.unwrap_or_else(|| {
-                        members.push(next.clone());
-                        members.len() - 1
-                    }) as u32;
+                    let m = match above {
+                        Some(m) => m,
+                        None => {
+                            let cube = below_cube(d, enc, &next)?;
+                            known = d.or(known, cube, work)?;
+                            members.push(next.clone());
+                            members.len() - 1
+                        }
+                    } as u32;
                     member_of.insert(next, m);
                     m
                 }
@@ -87,6 +94,8 @@ struct OwnSets {
     replies: LevelSet,
     /// Per own signal (ascending levels), the own signals below it.
     rest: Vec<LevelSet>,
+    /// All own signals.
+    own: LevelSet,
 }
 
 impl OwnSets {
@@ -95,6 +104,7 @@ impl OwnSets {
         OwnSets {
             replies: d.level_set(enc.second.iter().copied()),
             rest: (0..own.len()).map(|i| d.level_set(own[i + 1..].iter().copied())).collect(),
+            own: d.level_set(own.iter().copied()),
         }
     }
 }
@@ -108,6 +118,7 @@ fn moves(
     good: Bdd,
     game: &Game,
     sets: &OwnSets,
+    known: Bdd,
     position: &[i8],
     work: &mut Work,
 ) -> Result<Vec<(Cube, u64, Vec<i8>)>, Stop> {
@@ -117,6 +128,19 @@ fn moves(
     let mut next = Vec::with_capacity(round.next.len());
     for &f in &round.next {
         next.push(d.restrict(f, &values, work)?);
+    }
+    if !game.protagonist_first {
+        // Replying to a letter, prefer the moves into positions the strategy has already (or
+        // below them): they add no state, and the machine stays small. Only an order among
+        // good moves, so the strategy still wins.
+        let mut by_next: Vec<Option<Bdd>> = vec![None; enc.levels()];
+        for (i, &f) in next.iter().enumerate() {
+            by_next[enc.bit_level[i] as usize] = Some(f);
+        }
+        let into_known = d.compose(known, &by_next, work)?;
+        let preferred = d.and(options, into_known, work)?;
+        let somewhere = d.quantify(preferred, &sets.own, true, work)?;
+        options = d.ite(somewhere, preferred, options, work)?;
     }
     let level_of = |s: crate::ltl::SignalId| enc.signal_level[s.index()];
     // Per written signal: its value as a function of the read signals.
@@ -221,4 +245,18 @@ fn split(
         fixed.pop();
     }
     Ok(())
+}
+
+/// The positions at or below `position` (counters no larger), over the position bits: every
+/// bit above a state's counter is clear.
+fn below_cube(d: &mut Diagram, enc: &Encoding, position: &[i8]) -> Result<Bdd, Stop> {
+    let mut literals = Vec::new();
+    for (q, &c) in position.iter().enumerate() {
+        for j in 0..enc.width {
+            if i32::from(c) < j as i32 {
+                literals.push((enc.bit(q, j), false));
+            }
+        }
+    }
+    d.cube(&literals)
 }

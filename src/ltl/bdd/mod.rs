@@ -28,7 +28,8 @@
 //! soon as the initial position drops out (the protagonist loses) or nothing changes.
 //!
 //! **Strategies** are read off per explicit position reached under the strategy (`extract`):
-//! few, since a strategy commits to one move per position.
+//! few, since a strategy commits to one move per position, and fewer as a reply prefers a move
+//! into a position the strategy already has.
 //!
 //! The explicit solver stays the reference: the successor functions are checked against
 //! [`super::game::advance`] here, and the verdicts and bounds in `tests/ltl_random.rs` and
