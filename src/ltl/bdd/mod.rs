@@ -402,6 +402,14 @@ pub(super) fn play(game: &Game, work: &mut Work) -> Result<Played, Stop> {
             live = d.len();
         }
     };
+    // The extraction builds diagrams of its own per position: start it without the fixpoint's
+    // garbage, which may be most of the node budget.
+    let mut roots: Vec<Bdd> = round.next.clone();
+    roots.extend([round.lost, good]);
+    d.compact(&mut roots);
+    let good = roots.pop().expect("pushed");
+    round.lost = roots.pop().expect("pushed");
+    round.next = roots;
     let (raw, positions, machine) = extract::strategy(&mut d, &enc, &round, good, game, &init, work)?;
     Ok(Played { positions, nodes: d.peak(), strategy: Some((raw, machine)) })
 }
