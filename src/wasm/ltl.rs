@@ -125,16 +125,6 @@ struct Signals {
     outputs: Vec<String>,
 }
 
-/// Progress of a run: the bound tried, positions built (or diagram nodes held, bdd solver)
-/// and work spent.
-#[derive(Serialize)]
-struct LtlProgress {
-    k: u32,
-    positions: usize,
-    nodes: usize,
-    work: u64,
-}
-
 /// A checked LTL specification and, once decided, the outcome.
 #[wasm_bindgen]
 pub struct LtlSession {
@@ -174,7 +164,7 @@ impl LtlSession {
 
     /// Decides the specification. `options`: `{ maxK?, maxStates?, maxWork?, solver?,
     /// monolithic?, noRefine?, suggest?, suggestMax?, progressMs? }`; `progress(value,
-    /// elapsedMs)` is called with `{ k, positions, nodes, work }`, and its `false` cancels. A run that
+    /// elapsedMs)` is called with `ltl::Progress`, `{ k, positions, nodes, work }`, and its `false` cancels. A run that
     /// a budget or the callback stops has the verdict `budget_exceeded` or `cancelled` and its
     /// `stop`, as the other engines' sessions.
     pub fn solve(&mut self, options: JsValue, progress: Option<js_sys::Function>) -> Result<JsValue, JsValue> {
@@ -196,9 +186,7 @@ impl LtlSession {
             .refine(!opts.no_refine);
         let mut progress = Progress::new(progress, opts.progress_ms);
         let started = super::now_ms();
-        let mut report = |p: &ltl::Progress| {
-            progress.report(|| LtlProgress { k: p.k, positions: p.positions, nodes: p.nodes, work: p.work })
-        };
+        let mut report = |p: &ltl::Progress| progress.report(|| *p);
         let run = ltl::synthesize(&self.spec, &cfg, &mut report);
         let verdict = run.outcome_name();
         let outcome = match run {
@@ -229,9 +217,7 @@ impl LtlSession {
                 max_assumptions: opts.suggest_max.unwrap_or(3).clamp(1, 10),
                 ..SuggestConfig::default()
             };
-            let mut report = |p: &ltl::Progress| {
-                progress.report(|| LtlProgress { k: p.k, positions: p.positions, nodes: p.nodes, work: p.work })
-            };
+            let mut report = |p: &ltl::Progress| progress.report(|| *p);
             match ltl::suggest(&self.spec, &outcome, &cfg, &scfg, &mut report) {
                 Ok(s) => (Some(self.suggestions_view(&s)), None),
                 Err(Stop::Cancelled) => {

@@ -133,11 +133,7 @@ fn moves(
         // Replying to a letter, prefer the moves into positions the strategy has already (or
         // below them): they add no state, and the machine stays small. Only an order among
         // good moves, so the strategy still wins.
-        let mut by_next: Vec<Option<Bdd>> = vec![None; enc.levels()];
-        for (i, &f) in next.iter().enumerate() {
-            by_next[enc.bit_level[i] as usize] = Some(f);
-        }
-        let into_known = d.compose(known, &by_next, work)?;
+        let into_known = d.compose(known, &enc.at_successors(&next), work)?;
         let preferred = d.and(options, into_known, work)?;
         let somewhere = d.quantify(preferred, &sets.own, true, work)?;
         options = d.ite(somewhere, preferred, options, work)?;

@@ -146,6 +146,16 @@ impl Encoding {
         self.bit_level[q * self.width as usize + j as usize]
     }
 
+    /// The substitution of every position bit by its successor function (`next`, indexed as
+    /// `bit_level`), for [`Diagram::compose`].
+    fn at_successors(&self, next: &[Bdd]) -> Vec<Option<Bdd>> {
+        let mut by: Vec<Option<Bdd>> = vec![None; self.levels()];
+        for (i, &f) in next.iter().enumerate() {
+            by[self.bit_level[i] as usize] = Some(f);
+        }
+        by
+    }
+
     /// The position bits of a counter vector, by level (the letter's levels free).
     fn position_values(&self, position: &[i8]) -> Vec<Option<bool>> {
         let mut values = vec![None; self.levels()];
@@ -351,8 +361,6 @@ pub(super) fn play(game: &Game, work: &mut Work) -> Result<Played, Stop> {
     let init = initial(automaton);
     let init_values = enc.position_values(&init);
     let at_init = |level: u32| init_values.get(level as usize).copied().flatten().unwrap_or(false);
-    // Position bits at their successor functions.
-    let mut substitution: Vec<Option<Bdd>> = vec![None; enc.levels()];
     // Only counter vectors are positions: a set bit `b[q][j]` has `b[q][j - 1]` set. The
     // successors of a position are positions, so the fixpoint may ignore the other bit vectors,
     // and leaving them out keeps the diagrams of the sets small.
@@ -369,10 +377,7 @@ pub(super) fn play(game: &Game, work: &mut Work) -> Result<Played, Stop> {
     let mut live = d.len();
     let good = loop {
         work.at.nodes = d.len();
-        for (i, &f) in round.next.iter().enumerate() {
-            substitution[enc.bit_level[i] as usize] = Some(f);
-        }
-        let moved = d.compose(winning, &substitution, work)?;
+        let moved = d.compose(winning, &enc.at_successors(&round.next), work)?;
         let good = d.and(safe, moved, work)?;
         let pre = if game.protagonist_first {
             let all_replies = d.quantify(good, &second, false, work)?;
