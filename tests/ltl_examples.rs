@@ -314,6 +314,74 @@ fn the_bdd_solver_decides_the_listed_specifications_as_the_explicit_one() {
     model_check(&documents);
 }
 
+/// The GR(1) game (`--solver gr1`) on every listed specification in its fragment: the known
+/// verdict, and the controller (and the counter-strategy, when the bounded games found one)
+/// confirmed by the model check. Outside the fragment it refuses, naming the conjunct.
+#[test]
+fn the_gr1_game_decides_the_listed_specifications_in_its_fragment() {
+    let dir = scratch().join("gr1");
+    std::fs::create_dir_all(&dir).unwrap();
+    let cfg = Config { solver: ltl::Solver::Gr1, ..Config::default() };
+    let (mut documents, mut outside) = (Vec::new(), Vec::new());
+    for (i, (path, params, expected)) in listed().into_iter().enumerate() {
+        let name = label(&path, &params);
+        let source = std::fs::read_to_string(&path).unwrap();
+        let (spec, _) = ltl::compile(&source, Format::of_path(path.to_str().unwrap()), &params).unwrap();
+        let outcome = match ltl::synthesize(&spec, &cfg, &mut |_| true) {
+            Ok(outcome) => outcome,
+            Err(ltl::Stop::Budget { message, .. }) if message.contains("outside the GR(1) fragment") => {
+                outside.push(name);
+                continue;
+            }
+            Err(stop) => panic!("{name}: {stop}"),
+        };
+        assert_eq!(outcome.verdict, expected, "{name}: {}", ltl::summary(&outcome));
+        if expected == Verdict::Realizable {
+            assert!(outcome.controller.is_some(), "{name}: {}", ltl::summary(&outcome));
+        }
+        if let Some(machine) = outcome.controller.as_ref().or(outcome.counter_strategy.as_ref()) {
+            machine.validate().unwrap_or_else(|e| panic!("{name}: {e}"));
+            let json = dir.join(format!("{i}.json"));
+            std::fs::write(&json, ltl::report_json(&spec, &outcome).to_string()).unwrap();
+            documents.push((name, json));
+        }
+    }
+    eprintln!("gr1: {} decided with a machine; outside the fragment: {outside:?}", documents.len());
+    assert!(documents.len() >= 30, "only {} decided; outside: {outside:?}", documents.len());
+    model_check(&documents);
+}
+
+/// SYNTCOMP's families at the sizes of issue 29 (up to 24 signals), decided by the GR(1) game
+/// with SYNTCOMP's status; the bounded games decide none of the larger ones within the default
+/// budgets (`plcsynth bench ltl --scale` prints both).
+#[test]
+fn the_gr1_game_decides_the_families_at_syntcomp_sizes() {
+    let tlsf = shared().join("tlsf");
+    let cfg = Config { solver: ltl::Solver::Gr1, ..Config::default() };
+    let n = |v: i64| vec![("n".to_string(), v)];
+    for (file, params, expected) in [
+        ("simple_arbiter/simple_arbiter.tlsf", n(8), Verdict::Realizable),
+        ("simple_arbiter/simple_arbiter.tlsf", n(12), Verdict::Realizable),
+        ("full_arbiter/full_arbiter.tlsf", n(4), Verdict::Realizable),
+        ("full_arbiter/full_arbiter.tlsf", n(5), Verdict::Realizable),
+        ("load_balancer/load_balancer.tlsf", n(4), Verdict::Realizable),
+        ("load_balancer/load_balancer.tlsf", n(5), Verdict::Realizable),
+        ("prioritized_arbiter/prioritized_arbiter.tlsf", n(4), Verdict::Realizable),
+        ("round_robin_arbiter/round_robin_arbiter.tlsf", n(4), Verdict::Realizable),
+        ("simple_arbiter_unreal/simple_arbiter_unreal2.tlsf", n(4), Verdict::Unrealizable),
+        ("prioritized_arbiter_unreal/prioritized_arbiter_unreal2.tlsf", n(4), Verdict::Unrealizable),
+    ] {
+        let path = tlsf.join(file);
+        let name = label(&path, &params);
+        let source = std::fs::read_to_string(&path).unwrap();
+        let (spec, _) = ltl::compile(&source, Format::Tlsf, &params).unwrap();
+        // The counter-strategy search after an unrealizable verdict is the bounded games'.
+        let cfg = Config { max_work: 300_000_000, ..cfg.clone() };
+        let outcome = ltl::synthesize(&spec, &cfg, &mut |_| true).unwrap_or_else(|stop| panic!("{name}: {stop}"));
+        assert_eq!(outcome.verdict, expected, "{name}: {}", ltl::summary(&outcome));
+    }
+}
+
 #[test]
 fn a_mutated_controller_is_caught_by_the_model_check() {
     let dir = scratch();

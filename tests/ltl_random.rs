@@ -318,3 +318,78 @@ fn strategies_win(solver: Solver, seed: u64) {
     }
     assert!(realizable > cases() / 20 && unrealizable > cases() / 20, "{realizable} / {unrealizable}");
 }
+
+/// A random proposition over `signals`, at most one `X` deep.
+fn random_prop(rng: &mut Rng, signals: u32, depth: u32) -> Ltl {
+    if depth == 0 || rng.chance(30) {
+        let v = Ltl::Var(SignalId(rng.below(signals as u64) as u32));
+        return if rng.chance(50) { Ltl::not(v) } else { v };
+    }
+    let sub = |rng: &mut Rng| random_prop(rng, signals, depth - 1);
+    match rng.below(5) {
+        0 | 1 => Ltl::And(vec![sub(rng), sub(rng)]),
+        2 | 3 => Ltl::Or(vec![sub(rng), sub(rng)]),
+        _ => Ltl::next(random_prop(rng, signals, 0)),
+    }
+}
+
+/// A random conjunct of the GR(1) fragment (`--solver gr1`).
+fn random_gr1_conjunct(rng: &mut Rng, signals: u32) -> Ltl {
+    let p = |rng: &mut Rng| random_prop(rng, signals, 2);
+    match rng.below(9) {
+        0 => p(rng),
+        1 | 2 => Ltl::globally(p(rng)),
+        3 => Ltl::globally(Ltl::finally(p(rng))),
+        4 => Ltl::globally(Ltl::implies(p(rng), Ltl::finally(p(rng)))),
+        5 => Ltl::globally(Ltl::implies(p(rng), Ltl::next(Ltl::until(p(rng), p(rng))))),
+        6 => Ltl::release(p(rng), p(rng)),
+        7 => Ltl::globally(Ltl::implies(p(rng), Ltl::weak_until(p(rng), p(rng)))),
+        _ => Ltl::not(Ltl::finally(Ltl::globally(p(rng)))),
+    }
+}
+
+/// The GR(1) game (`--solver gr1`) on random specifications of its fragment: it always
+/// decides, where the explicit bounded games decide it agrees with them, and its controllers
+/// win (no play of a controller is accepted by the automaton of the negation). Its
+/// counter-strategies come from the bounded games, checked in `strategies_win`.
+#[test]
+fn the_gr1_game_decides_its_fragment_as_the_bounded_games_do() {
+    let mut rng = Rng::new(29);
+    let names = |s: SignalId| ["i0", "i1", "o0", "o1"][s.index()].to_string();
+    let (mut agreed, mut beyond_bound, mut realizable) = (0, 0, 0);
+    for case in 0..cases() / 4 {
+        let semantics = if case % 3 == 0 { Semantics::Moore } else { Semantics::Mealy };
+        let mut spec = random_spec(&mut rng, semantics);
+        let clause = |formula| ltl::Clause { formula, span: Default::default() };
+        spec.assumptions = (0..rng.below(3)).map(|_| clause(random_gr1_conjunct(&mut rng, 4))).collect();
+        spec.guarantees = (0..1 + rng.below(3)).map(|_| clause(random_gr1_conjunct(&mut rng, 4))).collect();
+        let text = spec.formula_text();
+        let gr1 = Config { solver: Solver::Gr1, ..Config::default() };
+        let outcome =
+            ltl::synthesize(&spec, &gr1, &mut |_| true).unwrap_or_else(|stop| panic!("case {case}: {stop}: {text}"));
+        assert_ne!(outcome.verdict, Verdict::Unknown, "case {case}: {text}");
+        let bounded = Config { max_k: 4, max_states: 20_000, compositional: false, ..Config::default() };
+        match ltl::synthesize(&spec, &bounded, &mut |_| true) {
+            Ok(explicit) if explicit.verdict != Verdict::Unknown => {
+                assert_eq!(outcome.verdict, explicit.verdict, "case {case}: gr1 against explicit: {text}");
+                agreed += 1;
+            }
+            _ => beyond_bound += 1,
+        }
+        if outcome.verdict == Verdict::Realizable {
+            realizable += 1;
+            let controller = outcome
+                .controller
+                .as_ref()
+                .unwrap_or_else(|| panic!("case {case}: no controller: {:?}: {text}", outcome.limit));
+            controller.validate().unwrap();
+            assert_eq!(controller.moves_first, semantics == Semantics::Moore);
+            let negation = translate(&Ltl::not(spec.formula()), &names, 100_000, u64::MAX).unwrap();
+            assert!(!some_play_accepted(controller, &negation), "case {case}: the gr1 controller violates {text}");
+        }
+    }
+    eprintln!(
+        "gr1: {agreed} agreed with the explicit games, {beyond_bound} beyond their bound, {realizable} realizable"
+    );
+    assert!(agreed > cases() / 8 && realizable > cases() / 40, "{agreed} agreed, {realizable} realizable");
+}

@@ -13,6 +13,7 @@ pub enum SolverArg {
     Antichain,
     Symbolic,
     Bdd,
+    Gr1,
 }
 
 #[derive(Args)]
@@ -133,6 +134,7 @@ pub fn ltl(a: &LtlArgs) -> ExitCode {
         SolverArg::Antichain => ltl::Solver::Antichain,
         SolverArg::Symbolic => ltl::Solver::Symbolic,
         SolverArg::Bdd => ltl::Solver::Bdd,
+        SolverArg::Gr1 => ltl::Solver::Gr1,
     };
     let cfg = Config::default()
         .max_k(a.max_k)

@@ -1,6 +1,6 @@
 //! `plcsynth bench ltl --scale`: SYNTCOMP's parametric families at growing n, each instance
-//! decided once by the explicit solver (the reference) and by the bdd solver, every run cut
-//! off after a wall-clock limit (cancelled through the progress callback, as the page's
+//! decided once by the explicit solver (the reference), the bdd solver and the GR(1) game,
+//! every run cut off after a wall-clock limit (cancelled through the progress callback, as the page's
 //! cancel button does).
 
 use super::bench::print_header;
@@ -21,24 +21,28 @@ const INSTANCES: &[(&str, Params, &str)] = &[
     ("simple_arbiter/simple_arbiter.tlsf", &[("n", 8)], "realizable"),
     ("simple_arbiter/simple_arbiter.tlsf", &[("n", 10)], "realizable"),
     ("simple_arbiter/simple_arbiter.tlsf", &[("n", 12)], "realizable"),
+    ("simple_arbiter/simple_arbiter.tlsf", &[("n", 20)], "realizable"),
     ("simple_arbiter_unreal/simple_arbiter_unreal1.tlsf", &[("n", 4), ("u", 2)], "unrealizable"),
     ("simple_arbiter_unreal/simple_arbiter_unreal2.tlsf", &[("n", 4)], "unrealizable"),
     ("simple_arbiter_unreal/simple_arbiter_unreal2.tlsf", &[("n", 8)], "unrealizable"),
     ("full_arbiter/full_arbiter.tlsf", &[("n", 3)], "realizable"),
     ("full_arbiter/full_arbiter.tlsf", &[("n", 4)], "realizable"),
     ("full_arbiter/full_arbiter.tlsf", &[("n", 5)], "realizable"),
+    ("full_arbiter/full_arbiter.tlsf", &[("n", 8)], "realizable"),
     ("load_balancer/load_balancer.tlsf", &[("n", 3)], "realizable"),
     ("load_balancer/load_balancer.tlsf", &[("n", 4)], "realizable"),
     ("load_balancer/load_balancer.tlsf", &[("n", 5)], "realizable"),
+    ("load_balancer/load_balancer.tlsf", &[("n", 10)], "realizable"),
     ("prioritized_arbiter/prioritized_arbiter.tlsf", &[("n", 3)], "realizable"),
     ("prioritized_arbiter/prioritized_arbiter.tlsf", &[("n", 4)], "realizable"),
     ("prioritized_arbiter_unreal/prioritized_arbiter_unreal1.tlsf", &[("n", 3), ("u", 4)], "unrealizable"),
     ("prioritized_arbiter_unreal/prioritized_arbiter_unreal2.tlsf", &[("n", 4)], "unrealizable"),
     ("round_robin_arbiter/round_robin_arbiter.tlsf", &[("n", 3)], "realizable"),
     ("round_robin_arbiter/round_robin_arbiter.tlsf", &[("n", 4)], "realizable"),
+    ("round_robin_arbiter/round_robin_arbiter.tlsf", &[("n", 8)], "realizable"),
 ];
 
-const SOLVERS: [Solver; 2] = [Solver::Explicit, Solver::Bdd];
+const SOLVERS: [Solver; 3] = [Solver::Explicit, Solver::Bdd, Solver::Gr1];
 
 const COLUMNS: &[Column] = &[
     ("SYNTCOMP instance", false),
@@ -48,6 +52,8 @@ const COLUMNS: &[Column] = &[
     ("explicit [s]", true),
     ("bdd", false),
     ("bdd [s]", true),
+    ("gr1", false),
+    ("gr1 [s]", true),
 ];
 
 /// One run's cell: the verdict with its bound and strategy size, or why it ended.
@@ -57,9 +63,14 @@ fn cell(result: &Result<ltl::Synthesis, Stop>, limit: Duration, elapsed: Duratio
             format!("unknown ({})", short_reason(outcome.limit.as_deref().unwrap_or("no verdict")))
         }
         Ok(outcome) => {
-            let states =
-                outcome.controller.as_ref().or(outcome.counter_strategy.as_ref()).map_or(0, |m| m.states.len());
-            format!("{:?} (k = {}, {states} states)", outcome.verdict, outcome.k).to_lowercase()
+            let verdict = format!("{:?}", outcome.verdict).to_lowercase();
+            let bound = if outcome.stats.gr1 { String::new() } else { format!("k = {}, ", outcome.k) };
+            match outcome.controller.as_ref().or(outcome.counter_strategy.as_ref()) {
+                Some(m) => format!("{verdict} ({bound}{} states)", m.states.len()),
+                None => {
+                    format!("{verdict} ({bound}no machine: {})", short_reason(outcome.limit.as_deref().unwrap_or("")))
+                }
+            }
         }
         Err(Stop::Cancelled) if elapsed >= limit => format!("stopped after {} s", limit.as_secs()),
         Err(Stop::Budget { message, .. }) => format!("refused ({})", short_reason(message)),
@@ -113,7 +124,7 @@ pub fn scale(a: &BenchArgs) -> ExitCode {
         let spec = match ltl::compile(&source, Format::Tlsf, &params) {
             Ok((spec, _)) => spec,
             Err(diagnostics) => {
-                outln!("| {label} | | {status} | {} errors | | | |", diagnostics.len());
+                outln!("| {label} | | {status} | {} errors | | | | | |", diagnostics.len());
                 continue;
             }
         };

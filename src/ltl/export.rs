@@ -217,19 +217,18 @@ pub fn render_tree(spec: &Spec, machine: &Machine) -> String {
 pub fn summary(outcome: &Synthesis) -> String {
     let count = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
     let size = |m: &Machine| format!("{}, {}", count(m.states.len(), "state"), count(m.rows(), "row"));
+    // A gr1 run decides without a bound and may decide without building the machine.
+    let at = if outcome.stats.gr1 { " (GR(1) game)".to_string() } else { format!(" at k = {}", outcome.k) };
+    let missing = || format!("not built: {}", outcome.limit.as_deref().unwrap_or("no machine"));
     match outcome.verdict {
-        Verdict::Realizable => {
-            format!(
-                "realizable at k = {}: a controller of {}",
-                outcome.k,
-                size(outcome.controller.as_ref().expect("a controller"))
-            )
-        }
-        Verdict::Unrealizable => format!(
-            "unrealizable at k = {}: the environment wins with a counter-strategy of {}",
-            outcome.k,
-            size(outcome.counter_strategy.as_ref().expect("a counter-strategy"))
-        ),
+        Verdict::Realizable => match &outcome.controller {
+            Some(m) => format!("realizable{at}: a controller of {}", size(m)),
+            None => format!("realizable{at}: the controller was {}", missing()),
+        },
+        Verdict::Unrealizable => match &outcome.counter_strategy {
+            Some(m) => format!("unrealizable{at}: the environment wins with a counter-strategy of {}", size(m)),
+            None => format!("unrealizable{at}: the environment's counter-strategy was {}", missing()),
+        },
         Verdict::Unknown => {
             format!("unknown at k = {}: {}", outcome.k, outcome.limit.as_deref().unwrap_or("no player won"))
         }

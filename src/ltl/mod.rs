@@ -27,6 +27,7 @@ mod compose;
 mod export;
 mod g4ltl;
 mod game;
+mod gr1;
 mod machine;
 mod refine;
 mod spec;
@@ -154,11 +155,16 @@ pub enum Solver {
     /// game solved as a greatest fixpoint on sets of positions, so no position is enumerated
     /// but those a strategy visits. For games whose counters make too many positions.
     Bdd,
+    /// GR(1) games over deterministic monitors of the conjuncts (`gr1`): no counter bound,
+    /// positions and letters as decision diagrams. Only for specifications whose conjuncts
+    /// are invariants, responses, `U`/`W`/`R` obligations and `G F` conditions; decides those
+    /// outright, at SYNTCOMP's arbiter sizes.
+    Gr1,
 }
 
 impl Solver {
     /// Every solver, in the order the CLI and the page list them.
-    pub const ALL: [Solver; 4] = [Solver::Explicit, Solver::Antichain, Solver::Symbolic, Solver::Bdd];
+    pub const ALL: [Solver; 5] = [Solver::Explicit, Solver::Antichain, Solver::Symbolic, Solver::Bdd, Solver::Gr1];
 
     /// Its name on the command line (`--solver`) and in the page.
     pub fn name(self) -> &'static str {
@@ -167,6 +173,7 @@ impl Solver {
             Solver::Antichain => "antichain",
             Solver::Symbolic => "symbolic",
             Solver::Bdd => "bdd",
+            Solver::Gr1 => "gr1",
         }
     }
 
@@ -330,6 +337,10 @@ pub struct Stats {
     pub bdd_nodes: usize,
     /// Work spent ([`Config::max_work`]).
     pub work: u64,
+    /// Decided as a GR(1) game (`--solver gr1`): no bound k, and the automaton counts are 0.
+    pub gr1: bool,
+    /// State bits of the GR(1) game's monitors.
+    pub monitor_bits: usize,
 }
 
 /// The result of [`synthesize`].
@@ -338,13 +349,17 @@ pub struct Synthesis {
     pub verdict: Verdict,
     /// The bound at which the verdict was reached (the last one tried when unknown).
     pub k: u32,
-    /// The controller: reads the inputs, writes the outputs. `Some` exactly when realizable.
+    /// The controller: reads the inputs, writes the outputs. `Some` exactly when realizable,
+    /// except after a GR(1) game whose strategy outgrew its table (then [`Synthesis::limit`]
+    /// says so).
     pub controller: Option<Machine>,
     /// The environment's counter-strategy: reads the outputs, writes the inputs. `Some` exactly
-    /// when unrealizable.
+    /// when unrealizable, except after a GR(1) game (it builds none; the bounded games are
+    /// tried for one, and [`Synthesis::limit`] says when they found none).
     pub counter_strategy: Option<Machine>,
     pub stats: Stats,
-    /// For an unknown verdict: which bound or budget ended the run, and the flag that raises it.
+    /// For an unknown verdict: which bound or budget ended the run, and the flag that raises it;
+    /// for a decided one without its machine, why it is missing.
     pub limit: Option<String>,
     /// The assumptions the refinement loop learned: the controller or counter-strategy is one
     /// of the specification with them ([`refined`]).

@@ -616,7 +616,8 @@ pub fn suggest(
             let ext = extended(spec, &added);
             let Some(o) = attempt(&ext, &mut used, progress)? else { continue };
             match o.verdict {
-                Verdict::Realizable => {
+                // A verdict without its machine (a gr1 run past its table) suggests nothing.
+                Verdict::Realizable if o.controller.is_some() => {
                     // Not vacuous: the environment can meet the extended assumptions.
                     let meets = attempt(&environment_side(&ext), &mut used, progress)?;
                     if meets.is_none_or(|m| m.verdict != Verdict::Realizable) {
@@ -628,7 +629,9 @@ pub fn suggest(
                     result.found.push(Suggestion { added, templates, spec: ext, outcome: o });
                 }
                 Verdict::Unrealizable if fallback.is_none() && o.counter_strategy.as_ref() != Some(&counter) => {
-                    fallback = Some((f, t, o.counter_strategy.expect("unrealizable")));
+                    if let Some(other) = o.counter_strategy {
+                        fallback = Some((f, t, other));
+                    }
                 }
                 _ => {}
             }

@@ -35,7 +35,7 @@
 //! [`super::game::advance`] here, and the verdicts and bounds in `tests/ltl_random.rs` and
 //! `tests/ltl_examples.rs`.
 
-mod diagram;
+pub(super) mod diagram;
 mod extract;
 
 use super::machine::Machine;

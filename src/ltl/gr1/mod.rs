@@ -1,0 +1,589 @@
+//! GR(1) games over deterministic monitors (`--solver gr1`): the symbolic route for
+//! specifications whose conjuncts are invariants, responses, `U`/`W`/`R` obligations and
+//! `G F` conditions, as SYNTCOMP's arbiter families are (Piterman, Pnueli and Sa'ar 2006;
+//! Bloem et al. 2012).
+//!
+//! Each conjunct becomes an exact deterministic monitor (`monitor`): state bits, safety
+//! conditions on a step and justice conditions. The game's positions are valuations of the
+//! bits, held as binary decision diagrams (`bdd::diagram`), so neither positions nor letters
+//! are enumerated, and no counter bound k is needed: the game is decided outright.
+//!
+//! **Winning condition.** With `ρe`, `ρs` the safety conditions of assumptions and
+//! guarantees and `Je`, `Js` their justices, the controller wins a play exactly when
+//! `(G ρe ∧ ∧ GF Je) → (G ρs ∧ ∧ GF Js)`: the implication of the specification itself, not
+//! the "strict" reading in which the controller must keep its invariants even after the
+//! environment broke its own. So a move that breaks `ρe` wins outright, and a move that
+//! breaks `ρs` sets a sticky bit `v` that no controller justice survives: `G ρs` is
+//! `G F ¬v`, and after breaking it the controller wins only by keeping the environment from
+//! its justices (which a specification such as `G F (i ∧ X ¬o) → G ¬i` allows). With that, the
+//! verdict in both directions is exact, and one strategy extraction serves every case.
+//!
+//! **Fixpoint.** `W = νZ. ∧_l μY. ∨_k νX. CPre((Js_l ∧ ¬v ∧ Z') ∨ Y' ∨ (¬Je_k ∧ X'))`, where
+//! `'` is the successor (each bit replaced by its next-state function, `v' = v ∨ ¬ρs`) and
+//! `CPre(T) = ∀ inputs ∃ outputs. ¬ρe ∨ T` (under Moore semantics `∃ outputs ∀ inputs`).
+//! Justices are conditions on a step (the letter included), which the successor substitution
+//! allows directly.
+//!
+//! **Strategies** are read off the last round's rings per explicit position reached, with
+//! a memory of the justice `l` being pursued: reach `Js_l` inside `Z` (then pursue `l + 1`),
+//! else descend a ring of `Y_l`, else stay in the ring's `X` while the environment misses
+//! its justice `k`.
+
+mod monitor;
+
+use super::bdd::diagram::{Bdd, Diagram, LevelSet};
+use super::bdd::NODES_PER_POSITION;
+use super::machine::{Cube, Machine};
+use super::spec::{Semantics, SignalId, Spec};
+use super::symbolic::machine_from_rows;
+use super::{Config, Resource, Stats, Stop, Synthesis, Verdict, Work};
+use hashbrown::HashMap;
+use monitor::{Monitors, Prop};
+
+/// Decides `spec` as a GR(1) game, or stops: a specification outside the fragment stops with
+/// the clause and the reason.
+pub(super) fn synthesize(spec: &Spec, cfg: &Config, work: &mut Work) -> Result<Synthesis, Stop> {
+    let monitors = monitor::monitors(spec).map_err(|outside| {
+        let text = outside.clause.formula.to_infix(&|s| spec.name(s).to_string());
+        Stop::budget(
+            Resource::Size,
+            format!(
+                "`{text}` is outside the GR(1) fragment ({}); `--solver bdd` plays the bounded games on any specification",
+                outside.reason
+            ),
+        )
+    })?;
+    let mut game = Game::new(spec, &monitors, cfg.max_states.saturating_mul(NODES_PER_POSITION), work)?;
+    let won = game.winning(work)?;
+    let mut stats =
+        Stats { bdd_nodes: game.d.peak(), gr1: true, monitor_bits: monitors.bits.len(), ..Stats::default() };
+    let synthesis = |verdict, controller, stats: Stats| Synthesis {
+        verdict,
+        k: 0,
+        controller,
+        counter_strategy: None,
+        stats,
+        limit: None,
+        refinement: Default::default(),
+        groups: Vec::new(),
+        split: 1,
+    };
+    if !won {
+        stats.work = work.used();
+        return Ok(synthesis(Verdict::Unrealizable, None, stats));
+    }
+    // The strategy as a table may be far larger than the game (one state per monitor
+    // valuation reached): past its budget the verdict stands without it.
+    let share = work.remaining() / 2;
+    let built = work.capped(share, |work| game.strategy(cfg.max_states, work));
+    stats.bdd_nodes = game.d.peak();
+    let outcome = match built {
+        Ok((visited, raw, machine)) => {
+            stats.positions = visited;
+            stats.strategy_states_raw = raw;
+            synthesis(Verdict::Realizable, Some(machine), stats)
+        }
+        Err(Stop::Cancelled) => return Err(Stop::Cancelled),
+        Err(Stop::Budget { message, .. }) => {
+            let mut outcome = synthesis(Verdict::Realizable, None, stats);
+            outcome.limit = Some(message);
+            outcome
+        }
+    };
+    let mut outcome = outcome;
+    outcome.stats.work = work.used();
+    Ok(outcome)
+}
+
+/// One ring of `Y_l`: the positions won by then, and per environment justice `k` the `X`
+/// that won them.
+struct Ring {
+    y: Bdd,
+    x: Vec<Bdd>,
+}
+
+/// The game in the diagram: its conditions as functions, and the fixpoint's results.
+struct Game<'a> {
+    spec: &'a Spec,
+    monitors: &'a Monitors,
+    d: Diagram,
+    /// Per signal id, its level; per bit, its level.
+    signal_level: Vec<u32>,
+    bit_level: Vec<u32>,
+    inputs: LevelSet,
+    outputs: LevelSet,
+    moore: bool,
+    /// The next-state function of each bit, indexed by the bit's level (`None`: a signal).
+    by: Vec<Option<Bdd>>,
+    /// `¬ρe`: the steps that win whatever follows.
+    broken: Bdd,
+    je: Vec<Bdd>,
+    /// The controller's justices, each with `¬v`.
+    js: Vec<Bdd>,
+    /// The winning region and, per controller justice, the rings of the last round.
+    z: Bdd,
+    rings: Vec<Vec<Ring>>,
+    /// Nodes after the last compaction: the next is due at twice as many.
+    compacted: usize,
+}
+
+impl<'a> Game<'a> {
+    fn new(spec: &'a Spec, monitors: &'a Monitors, max_nodes: usize, work: &mut Work) -> Result<Game<'a>, Stop> {
+        // The variable order: clause by clause (fewest signals first), its signals then its
+        // bits, so that a response's request, grant and open bit sit together.
+        let mut order: Vec<&(Vec<SignalId>, Vec<usize>)> = monitors.groups.iter().collect();
+        order.sort_by_key(|(signals, _)| signals.len());
+        let mut signal_level = vec![u32::MAX; spec.signals.len()];
+        // The monitors' bits, then `v` (the guarantees' invariants broken once).
+        let mut bit_level = vec![u32::MAX; monitors.bits.len() + 1];
+        let mut level = 0;
+        for (signals, bits) in order {
+            for s in signals {
+                if signal_level[s.index()] == u32::MAX {
+                    signal_level[s.index()] = level;
+                    level += 1;
+                }
+            }
+            for &b in bits {
+                bit_level[b] = level;
+                level += 1;
+            }
+        }
+        for l in signal_level.iter_mut().chain(bit_level.iter_mut()).filter(|l| **l == u32::MAX) {
+            *l = level;
+            level += 1;
+        }
+        let mut d = Diagram::new(max_nodes);
+        let levels = |ids: Vec<SignalId>| ids.into_iter().map(|s| signal_level[s.index()]).collect::<Vec<_>>();
+        let inputs = d.level_set(levels(spec.inputs()));
+        let outputs = d.level_set(levels(spec.outputs()));
+        let mut game = Game {
+            spec,
+            monitors,
+            d,
+            signal_level,
+            bit_level,
+            inputs,
+            outputs,
+            moore: spec.semantics == Semantics::Moore,
+            by: vec![None; level as usize],
+            broken: Bdd::FALSE,
+            je: Vec::new(),
+            js: Vec::new(),
+            z: Bdd::TRUE,
+            rings: Vec::new(),
+            compacted: 0,
+        };
+        for (b, bit) in monitors.bits.iter().enumerate() {
+            let f = game.prop(&bit.next, work)?;
+            game.by[game.bit_level[b] as usize] = Some(f);
+        }
+        let rho_e = game.all(&monitors.env.safety, work)?;
+        game.broken = game.d.not(rho_e, work)?;
+        let rho_s = game.all(&monitors.sys.safety, work)?;
+        let v_level = game.bit_level[monitors.bits.len()];
+        let v = game.d.literal(v_level, true)?;
+        let kept = game.d.not(v, work)?;
+        let broken_s = game.d.not(rho_s, work)?;
+        game.by[v_level as usize] = Some(game.d.or(v, broken_s, work)?);
+        for (side, out) in [(&monitors.env.justice, &mut game.je), (&monitors.sys.justice, &mut game.js)] {
+            let mut made = Vec::new();
+            for p in side {
+                made.push(game_prop(&mut game.d, &game.signal_level, &game.bit_level, p, work)?);
+            }
+            if made.is_empty() {
+                made.push(Bdd::TRUE);
+            }
+            *out = made;
+        }
+        for f in game.js.iter_mut() {
+            *f = game.d.and(*f, kept, work)?;
+        }
+        game.compacted = game.d.len();
+        Ok(game)
+    }
+
+    fn prop(&mut self, p: &Prop, work: &mut Work) -> Result<Bdd, Stop> {
+        game_prop(&mut self.d, &self.signal_level, &self.bit_level, p, work)
+    }
+
+    fn all(&mut self, ps: &[Prop], work: &mut Work) -> Result<Bdd, Stop> {
+        let mut f = Bdd::TRUE;
+        for p in ps {
+            let g = self.prop(p, work)?;
+            f = self.d.and(f, g, work)?;
+        }
+        Ok(f)
+    }
+
+    /// `f` of the successor position.
+    fn next(&mut self, f: Bdd, work: &mut Work) -> Result<Bdd, Stop> {
+        self.d.compose(f, &self.by, work)
+    }
+
+    /// Quantifies the letter in turn order: `first` over the first mover's signals (`∃` when
+    /// the first mover is the one choosing).
+    fn turn(&mut self, f: Bdd, controller_chooses: bool, work: &mut Work) -> Result<Bdd, Stop> {
+        // The second mover's signals are quantified first (innermost).
+        let (inner, outer) = if self.moore { (&self.inputs, &self.outputs) } else { (&self.outputs, &self.inputs) };
+        // The controller chooses the outputs; the environment the inputs.
+        let inner_is_output = !self.moore;
+        let inner_exists = inner_is_output == controller_chooses;
+        let g = self.d.quantify(f, inner, inner_exists, work)?;
+        self.d.quantify(g, outer, !inner_exists, work)
+    }
+
+    /// `CPre(T)`: the positions from which the controller makes the step winning or lands in
+    /// `T` (a function of the step and the successor).
+    fn cpre(&mut self, target: Bdd, work: &mut Work) -> Result<Bdd, Stop> {
+        let good = self.d.or(self.broken, target, work)?;
+        self.turn(good, true, work)
+    }
+
+    /// The initial position: the monitors' initial bits, and `v` clear.
+    fn initial(&self) -> Vec<bool> {
+        self.monitors.bits.iter().map(|b| b.init).chain([false]).collect()
+    }
+
+    /// Solves the game; `true` when the controller wins from the initial position. The rings
+    /// of the last round are kept for the strategy.
+    fn winning(&mut self, work: &mut Work) -> Result<bool, Stop> {
+        let init = self.initial();
+        let mut z = Bdd::TRUE;
+        loop {
+            let mut z_next = self.next(z, work)?;
+            let mut new_z = Bdd::TRUE;
+            let mut rings = Vec::with_capacity(self.js.len());
+            for l in 0..self.js.len() {
+                let mut progress = self.d.and(self.js[l], z_next, work)?;
+                let mut y = Bdd::FALSE;
+                let mut ladder = Vec::new();
+                loop {
+                    let y_next = self.next(y, work)?;
+                    let start = self.d.or(progress, y_next, work)?;
+                    let mut ring = Ring { y, x: Vec::with_capacity(self.je.len()) };
+                    for k in 0..self.je.len() {
+                        let missed = self.d.not(self.je[k], work)?;
+                        let mut x = z;
+                        loop {
+                            let x_next = self.next(x, work)?;
+                            let stay = self.d.and(missed, x_next, work)?;
+                            let target = self.d.or(start, stay, work)?;
+                            let new_x = self.cpre(target, work)?;
+                            let new_x = self.d.and(new_x, x, work)?;
+                            if new_x == x {
+                                break;
+                            }
+                            x = new_x;
+                        }
+                        ring.y = self.d.or(ring.y, x, work)?;
+                        ring.x.push(x);
+                    }
+                    if ring.y == y {
+                        break;
+                    }
+                    y = ring.y;
+                    ladder.push(ring);
+                    work.at.nodes = self.d.len();
+                    let live = &mut [&mut z, &mut z_next, &mut y, &mut new_z, &mut progress];
+                    self.maybe_compact(live, &mut rings, &mut ladder);
+                }
+                new_z = self.d.and(new_z, y, work)?;
+                rings.push(ladder);
+            }
+            let done = new_z == z;
+            z = new_z;
+            self.rings = rings;
+            if !self.holds_at(z, &init) {
+                return Ok(false);
+            }
+            if done {
+                break;
+            }
+        }
+        self.z = z;
+        Ok(true)
+    }
+
+    /// Drops the garbage of finished iterations once the table has doubled.
+    fn maybe_compact(&mut self, live: &mut [&mut Bdd], rings: &mut [Vec<Ring>], ladder: &mut [Ring]) {
+        if self.d.len() < 2 * self.compacted {
+            return;
+        }
+        let mut roots: Vec<Bdd> = Vec::new();
+        roots.extend(self.by.iter().flatten());
+        roots.extend([self.broken, self.z]);
+        roots.extend(self.je.iter().chain(&self.js));
+        roots.extend(live.iter().map(|f| **f));
+        for ring in rings.iter().flatten().chain(ladder.iter()) {
+            roots.push(ring.y);
+            roots.extend(&ring.x);
+        }
+        self.d.compact(&mut roots);
+        let mut it = roots.into_iter();
+        for f in self.by.iter_mut().flatten() {
+            *f = it.next().expect("a root");
+        }
+        for f in [&mut self.broken, &mut self.z] {
+            *f = it.next().expect("a root");
+        }
+        for f in self.je.iter_mut().chain(self.js.iter_mut()) {
+            *f = it.next().expect("a root");
+        }
+        for f in live.iter_mut() {
+            **f = it.next().expect("a root");
+        }
+        for ring in rings.iter_mut().flatten().chain(ladder.iter_mut()) {
+            ring.y = it.next().expect("a root");
+            for x in &mut ring.x {
+                *x = it.next().expect("a root");
+            }
+        }
+        self.compacted = self.d.len().max(1 << 16);
+    }
+
+    /// The controller's strategy from the initial position, as a machine: one state per
+    /// explicit position and pursued justice reached, at most `max_positions`. Returns the
+    /// positions visited, the states before minimisation and the machine.
+    fn strategy(&mut self, max_positions: usize, work: &mut Work) -> Result<(usize, usize, Machine), Stop> {
+        let init = self.initial();
+        let mut members: Vec<(Vec<bool>, usize)> = vec![(init.clone(), 0)];
+        let mut member_of: HashMap<(Vec<bool>, usize), u32> = HashMap::new();
+        member_of.insert((init, 0), 0);
+        // A position outside the winning region is reached only after the environment broke
+        // an assumption: from there anything goes, and one state writes false for ever.
+        let mut sink = None;
+        let mut table: Vec<Vec<(Cube, u64, u32)>> = Vec::new();
+        let mut rows_made = 0usize;
+        let (reads, writes) = (self.spec.inputs(), self.spec.outputs());
+        let mut i = 0;
+        while i < members.len() {
+            if Some(i as u32) == sink {
+                table.push(vec![(Cube::ANY, 0, i as u32)]);
+                i += 1;
+                continue;
+            }
+            let (position, l) = members[i].clone();
+            let leaves = self.moves(&position, l, work)?;
+            let mut rows = Vec::with_capacity(leaves.len());
+            for (read, write, next, progressed) in leaves {
+                let key = (next, if progressed { (l + 1) % self.js.len() } else { l });
+                let state = match member_of.get(&key) {
+                    Some(&s) => s,
+                    None if !self.holds_at(self.z, &key.0) => *sink.get_or_insert_with(|| {
+                        members.push((Vec::new(), 0));
+                        members.len() as u32 - 1
+                    }),
+                    None => {
+                        members.push(key.clone());
+                        member_of.insert(key, members.len() as u32 - 1);
+                        members.len() as u32 - 1
+                    }
+                };
+                rows.push((read, write, state));
+            }
+            rows_made += rows.len();
+            if members.len() + rows_made > max_positions {
+                return Err(Stop::budget(
+                    Resource::States,
+                    format!(
+                        "its table would pass {max_positions} states and rows together (--max-states; a state per \
+                         monitor valuation and pursued justice reached, a row per input cube)"
+                    ),
+                ));
+            }
+            table.push(rows);
+            i += 1;
+        }
+        let raw = table.len();
+        Ok((members.len(), raw, machine_from_rows(&table, &reads, &writes, self.moore)))
+    }
+
+    fn values(&self, position: &[bool]) -> Vec<Option<bool>> {
+        let mut values = vec![None; self.by.len()];
+        for (b, &v) in position.iter().enumerate() {
+            values[self.bit_level[b] as usize] = Some(v);
+        }
+        values
+    }
+
+    fn holds_at(&self, f: Bdd, position: &[bool]) -> bool {
+        let values = self.values(position);
+        self.d.eval(f, |level| values[level as usize] == Some(true))
+    }
+
+    /// The controller's moves at `(position, l)`: rows of (read cube, written value,
+    /// successor position, whether justice `l` was reached on the step).
+    fn moves(&mut self, position: &[bool], l: usize, work: &mut Work) -> Result<Vec<Leaf>, Stop> {
+        let values = self.values(position);
+        let at = |d: &Diagram, f: Bdd| d.eval(f, |level| values[level as usize] == Some(true));
+        // The ring of Y_l that won the position, and the X in it.
+        let ladder = &self.rings[l];
+        let r = ladder.iter().position(|ring| at(&self.d, ring.y)).expect("a winning position is in every Y_l");
+        let k = ladder[r].x.iter().position(|&x| at(&self.d, x)).expect("a ring is the union of its X");
+        let below = if r == 0 { Bdd::FALSE } else { ladder[r - 1].y };
+        let x = ladder[r].x[k];
+        let d = &mut self.d;
+        // The successor functions here: functions of the letter alone.
+        let mut here: Vec<Option<Bdd>> = vec![None; self.by.len()];
+        for (level, f) in self.by.iter().enumerate() {
+            if let Some(f) = f {
+                here[level] = Some(d.restrict(*f, &values, work)?);
+            }
+        }
+        let broken = d.restrict(self.broken, &values, work)?;
+        // Reach the pursued justice inside the winning region.
+        let js = d.restrict(self.js[l], &values, work)?;
+        let z_next = d.compose(self.z, &here, work)?;
+        let reach = d.and(js, z_next, work)?;
+        let progress = d.or(broken, reach, work)?;
+        // Else descend to the ring below, else stay in this ring's X while the environment
+        // misses its justice k.
+        let below_next = d.compose(below, &here, work)?;
+        let x_next = d.compose(x, &here, work)?;
+        let missed = d.not(self.je[k], work)?;
+        let missed = d.restrict(missed, &values, work)?;
+        let stay = d.and(missed, x_next, work)?;
+        let fallback = d.or(below_next, stay, work)?;
+        let either = d.or(progress, fallback, work)?;
+        let options = if self.moore {
+            // One output for every input: one that progresses against all, if there is one.
+            let always = d.quantify(progress, &self.inputs, false, work)?;
+            let some = d.quantify(always, &self.outputs, true, work)?;
+            if some == Bdd::FALSE {
+                either
+            } else {
+                progress
+            }
+        } else {
+            // Per input, progress where the input allows it.
+            let possible = d.quantify(progress, &self.outputs, true, work)?;
+            d.ite(possible, progress, fallback, work)?
+        };
+        debug_assert_eq!(self.turn(options, true, work)?, Bdd::TRUE, "a ring's position has a move for every input");
+        // The outputs one at a time in the diagram's order, each as a function of the inputs:
+        // true only where false cannot be completed (under Moore semantics, a constant good
+        // against every input).
+        let d = &mut self.d;
+        let outputs = self.spec.outputs();
+        let mut output_levels: Vec<(u32, usize)> =
+            outputs.iter().enumerate().map(|(i, s)| (self.signal_level[s.index()], i)).collect();
+        output_levels.sort();
+        let mut options = options;
+        let mut writes = vec![Bdd::FALSE; outputs.len()];
+        let mut by_output: Vec<Option<Bdd>> = vec![None; self.by.len()];
+        for (n, &(level, index)) in output_levels.iter().enumerate() {
+            let rest = d.level_set(output_levels[n + 1..].iter().map(|&(l, _)| l));
+            let off = d.restrict_one(options, level, false, work)?;
+            let on = d.restrict_one(options, level, true, work)?;
+            let value = if self.moore {
+                let against_all = d.quantify(off, &self.inputs, false, work)?;
+                if d.quantify(against_all, &rest, true, work)? == Bdd::FALSE {
+                    Bdd::TRUE
+                } else {
+                    Bdd::FALSE
+                }
+            } else {
+                let possible = d.quantify(off, &rest, true, work)?;
+                d.not(possible, work)?
+            };
+            options = d.ite(value, on, off, work)?;
+            writes[index] = value;
+            by_output[level as usize] = Some(value);
+        }
+        let mut functions = writes;
+        for b in 0..position.len() {
+            let f = here[self.bit_level[b] as usize].expect("a bit's successor");
+            functions.push(d.compose(f, &by_output, work)?);
+        }
+        functions.push(d.compose(progress, &by_output, work)?);
+        let mut leaves = Vec::new();
+        let inputs = self.spec.inputs();
+        let read_index: HashMap<u32, usize> =
+            inputs.iter().enumerate().map(|(i, s)| (self.signal_level[s.index()], i)).collect();
+        split(d, &read_index, outputs.len(), &functions, &mut Vec::new(), &mut leaves, work)?;
+        Ok(leaves)
+    }
+}
+
+/// A row of a strategy state before the machine: read cube, written value, successor
+/// position, whether the pursued justice was reached.
+type Leaf = (Cube, u64, Vec<bool>, bool);
+
+/// The leaves of the decision on the inputs below `fixed`: where every function (the writes,
+/// then the successor bits, then the progress flag) is constant, one row.
+fn split(
+    d: &mut Diagram,
+    read_index: &HashMap<u32, usize>,
+    writes: usize,
+    functions: &[Bdd],
+    fixed: &mut Vec<(u32, bool)>,
+    leaves: &mut Vec<Leaf>,
+    work: &mut Work,
+) -> Result<(), Stop> {
+    work.spend(1 + functions.len() as u64)?;
+    if functions.iter().all(|f| f.is_constant()) {
+        let write = (0..writes).filter(|&i| functions[i] == Bdd::TRUE).fold(0u64, |m, i| m | 1 << i);
+        let bits = functions.len() - writes - 1;
+        let next = (0..bits).map(|b| functions[writes + b] == Bdd::TRUE).collect();
+        let mut read = Cube::ANY;
+        for &(level, value) in fixed.iter() {
+            let index = read_index[&level];
+            read.care |= 1 << index;
+            read.value |= u64::from(value) << index;
+        }
+        leaves.push((read, write, next, functions[functions.len() - 1] == Bdd::TRUE));
+        return Ok(());
+    }
+    let top = functions.iter().map(|&f| d.level(f)).min().expect("a function");
+    debug_assert!(read_index.contains_key(&top), "only inputs are left");
+    for value in [false, true] {
+        let cofactors: Vec<Bdd> = functions
+            .iter()
+            .map(|&f| {
+                if d.level(f) == top {
+                    let (lo, hi) = d.branches(f);
+                    if value {
+                        hi
+                    } else {
+                        lo
+                    }
+                } else {
+                    f
+                }
+            })
+            .collect();
+        fixed.push((top, value));
+        split(d, read_index, writes, &cofactors, fixed, leaves, work)?;
+        fixed.pop();
+    }
+    Ok(())
+}
+
+/// The function of `p` in the diagram.
+fn game_prop(d: &mut Diagram, signal_level: &[u32], bit_level: &[u32], p: &Prop, work: &mut Work) -> Result<Bdd, Stop> {
+    Ok(match p {
+        Prop::Const(b) => {
+            if *b {
+                Bdd::TRUE
+            } else {
+                Bdd::FALSE
+            }
+        }
+        Prop::Signal(s) => d.literal(signal_level[s.index()], true)?,
+        Prop::Bit(b) => d.literal(bit_level[*b], true)?,
+        Prop::Not(q) => {
+            let f = game_prop(d, signal_level, bit_level, q, work)?;
+            d.not(f, work)?
+        }
+        Prop::And(ps) | Prop::Or(ps) => {
+            let conjunction = matches!(p, Prop::And(_));
+            let mut f = if conjunction { Bdd::TRUE } else { Bdd::FALSE };
+            for q in ps {
+                let g = game_prop(d, signal_level, bit_level, q, work)?;
+                f = if conjunction { d.and(f, g, work)? } else { d.or(f, g, work)? };
+            }
+            f
+        }
+    })
+}
