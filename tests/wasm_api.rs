@@ -514,6 +514,23 @@ fn ltl_progress_carries_positions_and_diagram_nodes() {
     assert!(calls.iter().all(|p| get(&p, "nodes").as_f64() == Some(0.0)));
 }
 
+/// The GR(1) game in the page: SYNTCOMP's simple arbiter with 12 clients (24 signals, which
+/// the bounded games do not decide) is realizable; its controller table is past the budget
+/// given, and the summary says so instead of showing a machine.
+#[wasm_bindgen_test]
+fn ltl_gr1_decides_an_arbiter_of_24_signals() {
+    let source = include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/ltl/tlsf/simple_arbiter/simple_arbiter.tlsf"))
+        .replace("n = 2;", "n = 12;");
+    let mut s = LtlSession::new(&source, "tlsf").map_err(|_| "compile").unwrap();
+    let options = js_sys::JSON::parse(r#"{"solver": "gr1", "maxStates": 2000}"#).unwrap();
+    let summary = s.solve(options, None).unwrap();
+    assert_eq!(string(&summary, "verdict"), "realizable");
+    assert_eq!(string(&summary, "solver"), "gr1");
+    assert!(string(&summary, "summary").contains("GR(1) game"), "{}", string(&summary, "summary"));
+    assert!(string(&summary, "summary").contains("not built"), "{}", string(&summary, "summary"));
+    assert!(get(&summary, "machine_dot").is_null());
+}
+
 #[wasm_bindgen_test]
 fn ltl_unrealizable_has_a_counter_strategy_and_suggestions() {
     let mut s = LtlSession::new(ARBITER_SAME_SCAN, "ltl").map_err(|_| "compile").unwrap();

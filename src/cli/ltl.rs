@@ -36,8 +36,10 @@ pub struct LtlArgs {
     /// How the bounded games are solved: `explicit` (every reachable position; the default),
     /// `antichain` (the fixpoint on maximal winning positions), `symbolic` (the explicit
     /// solver's positions, letters as decision diagrams: no 2^n enumeration, up to 63 signals)
-    /// or `bdd` (positions and letters as BDDs: no position enumerated; `--max-states N` caps
-    /// each game's diagram at 16·N nodes).
+    /// `bdd` (positions and letters as BDDs: no position enumerated; `--max-states N` caps
+    /// each game's diagram at 16·N nodes), or `gr1` (no bounded games: a GR(1) game over
+    /// monitors of the conjuncts, for invariants, responses and until/release obligations;
+    /// other specifications are refused with the conjunct named).
     #[arg(long, value_enum, default_value = "explicit")]
     pub solver: SolverArg,
     /// Override a TLSF parameter, e.g. `--param n=3` (repeatable).

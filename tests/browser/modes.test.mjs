@@ -127,7 +127,7 @@ test('LTL: the solver menu picks the solver, and the summary names the one that 
   const page = await newPage(browser, `${server.url}#example/mutex`);
   assert.equal(await page.isVisible('#ltl-solver'), true);
   assert.equal(await page.inputValue('#ltl-solver'), 'explicit', 'the reference solver by default');
-  for (const solver of ['symbolic', 'antichain', 'bdd', 'explicit']) {
+  for (const solver of ['symbolic', 'antichain', 'bdd', 'gr1', 'explicit']) {
     await page.selectOption('#ltl-solver', solver);
     assert.equal(await runAndWait(page), 'realizable', solver);
     assert.match(await page.textContent('#ltl-solver-used'), new RegExp(`${solver} solver`));

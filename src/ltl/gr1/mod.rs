@@ -131,8 +131,9 @@ impl<'a> Game<'a> {
     fn new(spec: &'a Spec, monitors: &'a Monitors, max_nodes: usize, work: &mut Work) -> Result<Game<'a>, Stop> {
         // The variable order: clause by clause (fewest signals first), its signals then its
         // bits, so that a response's request, grant and open bit sit together.
-        let mut order: Vec<&(Vec<SignalId>, Vec<usize>)> = monitors.groups.iter().collect();
-        order.sort_by_key(|(signals, _)| signals.len());
+        // (A counting order rather than a sort: the page's bundle carries no sort instance for it.)
+        let widest = monitors.groups.iter().map(|(signals, _)| signals.len()).max().unwrap_or(0);
+        let order = (0..=widest).flat_map(|w| monitors.groups.iter().filter(move |(signals, _)| signals.len() == w));
         let mut signal_level = vec![u32::MAX; spec.signals.len()];
         // The monitors' bits, then `v` (the guarantees' invariants broken once).
         let mut bit_level = vec![u32::MAX; monitors.bits.len() + 1];
@@ -348,8 +349,8 @@ impl<'a> Game<'a> {
     fn strategy(&mut self, max_positions: usize, work: &mut Work) -> Result<(usize, usize, Machine), Stop> {
         let init = self.initial();
         let mut members: Vec<(Vec<bool>, usize)> = vec![(init.clone(), 0)];
-        let mut member_of: HashMap<(Vec<bool>, usize), u32> = HashMap::new();
-        member_of.insert((init, 0), 0);
+        let mut member_of: HashMap<Vec<i8>, u32> = HashMap::new();
+        member_of.insert(key_of(&init, 0), 0);
         // A position outside the winning region is reached only after the environment broke
         // an assumption: from there anything goes, and one state writes false for ever.
         let mut sink = None;
@@ -367,15 +368,16 @@ impl<'a> Game<'a> {
             let leaves = self.moves(&position, l, work)?;
             let mut rows = Vec::with_capacity(leaves.len());
             for (read, write, next, progressed) in leaves {
-                let key = (next, if progressed { (l + 1) % self.js.len() } else { l });
+                let pursued = if progressed { (l + 1) % self.js.len() } else { l };
+                let key = key_of(&next, pursued);
                 let state = match member_of.get(&key) {
                     Some(&s) => s,
-                    None if !self.holds_at(self.z, &key.0) => *sink.get_or_insert_with(|| {
+                    None if !self.holds_at(self.z, &next) => *sink.get_or_insert_with(|| {
                         members.push((Vec::new(), 0));
                         members.len() as u32 - 1
                     }),
                     None => {
-                        members.push(key.clone());
+                        members.push((next, pursued));
                         member_of.insert(key, members.len() as u32 - 1);
                         members.len() as u32 - 1
                     }
@@ -466,9 +468,13 @@ impl<'a> Game<'a> {
         // against every input).
         let d = &mut self.d;
         let outputs = self.spec.outputs();
-        let mut output_levels: Vec<(u32, usize)> =
-            outputs.iter().enumerate().map(|(i, s)| (self.signal_level[s.index()], i)).collect();
-        output_levels.sort();
+        // The outputs by level, ascending.
+        let mut output_levels: Vec<(u32, usize)> = Vec::with_capacity(outputs.len());
+        for level in 0..self.by.len() as u32 {
+            if let Some(i) = outputs.iter().position(|s| self.signal_level[s.index()] == level) {
+                output_levels.push((level, i));
+            }
+        }
         let mut options = options;
         let mut writes = vec![Bdd::FALSE; outputs.len()];
         let mut by_output: Vec<Option<Bdd>> = vec![None; self.by.len()];
@@ -499,11 +505,20 @@ impl<'a> Game<'a> {
         functions.push(d.compose(progress, &by_output, work)?);
         let mut leaves = Vec::new();
         let inputs = self.spec.inputs();
-        let read_index: HashMap<u32, usize> =
-            inputs.iter().enumerate().map(|(i, s)| (self.signal_level[s.index()], i)).collect();
+        let mut read_index: Vec<Option<usize>> = vec![None; self.by.len()];
+        for (i, s) in inputs.iter().enumerate() {
+            read_index[self.signal_level[s.index()] as usize] = Some(i);
+        }
         split(d, &read_index, outputs.len(), &functions, &mut Vec::new(), &mut leaves, work)?;
         Ok(leaves)
     }
+}
+
+/// The key of a strategy state: the position's bits, then the pursued justice's bytes (the
+/// bdd extraction's key type, so that the page's bundle carries one hash table instance).
+fn key_of(position: &[bool], pursued: usize) -> Vec<i8> {
+    let bits = position.iter().map(|&b| i8::from(b));
+    bits.chain((pursued as u32).to_le_bytes().map(|b| b as i8)).collect()
 }
 
 /// A row of a strategy state before the machine: read cube, written value, successor
@@ -514,7 +529,7 @@ type Leaf = (Cube, u64, Vec<bool>, bool);
 /// then the successor bits, then the progress flag) is constant, one row.
 fn split(
     d: &mut Diagram,
-    read_index: &HashMap<u32, usize>,
+    read_index: &[Option<usize>],
     writes: usize,
     functions: &[Bdd],
     fixed: &mut Vec<(u32, bool)>,
@@ -528,7 +543,7 @@ fn split(
         let next = (0..bits).map(|b| functions[writes + b] == Bdd::TRUE).collect();
         let mut read = Cube::ANY;
         for &(level, value) in fixed.iter() {
-            let index = read_index[&level];
+            let index = read_index[level as usize].expect("an input");
             read.care |= 1 << index;
             read.value |= u64::from(value) << index;
         }
@@ -536,7 +551,7 @@ fn split(
         return Ok(());
     }
     let top = functions.iter().map(|&f| d.level(f)).min().expect("a function");
-    debug_assert!(read_index.contains_key(&top), "only inputs are left");
+    debug_assert!(read_index[top as usize].is_some(), "only inputs are left");
     for value in [false, true] {
         let cofactors: Vec<Bdd> = functions
             .iter()

@@ -22,7 +22,6 @@
 //! yet discharged ask the same of the future, so one bit says whether any is open.
 
 use crate::ltl::spec::{Clause, Ltl, SignalId, Spec};
-use hashbrown::HashMap;
 
 /// A Boolean function of the monitors' state bits and the current step's signals.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -118,7 +117,7 @@ pub(super) struct Outside {
 
 /// The monitors of `spec`, or the first clause outside the fragment.
 pub(super) fn monitors(spec: &Spec) -> Result<Monitors, Outside> {
-    let mut builder = Builder { bits: Vec::new(), history: HashMap::new(), age: Vec::new(), groups: Vec::new() };
+    let mut builder = Builder { bits: Vec::new(), history: Vec::new(), age: Vec::new(), groups: Vec::new() };
     let mut env = Conditions::default();
     let mut sys = Conditions::default();
     for (clauses, side) in [(&spec.assumptions, &mut env), (&spec.guarantees, &mut sys)] {
@@ -426,7 +425,7 @@ fn disjuncts_of<'a>(f: &'a Ltl, shift: u32, out: &mut Vec<(&'a Ltl, u32)>) {
 struct Builder {
     bits: Vec<Bit>,
     /// `(signal, k)`: the bit holding the signal's value `k ≥ 1` steps ago.
-    history: HashMap<(SignalId, u32), usize>,
+    history: Vec<((SignalId, u32), usize)>,
     /// `age[k - 1]`: the bit saying that at least `k` steps have passed.
     age: Vec<usize>,
     groups: Vec<(Vec<SignalId>, Vec<usize>)>,
@@ -443,12 +442,12 @@ impl Builder {
         if k == 0 {
             return Prop::Signal(s);
         }
-        if let Some(&b) = self.history.get(&(s, k)) {
+        if let Some(&(_, b)) = self.history.iter().find(|(key, _)| *key == (s, k)) {
             return Prop::Bit(b);
         }
         let next = self.history(s, k - 1);
         let b = self.bit(false, next);
-        self.history.insert((s, k), b);
+        self.history.push(((s, k), b));
         Prop::Bit(b)
     }
 
@@ -498,6 +497,14 @@ impl Builder {
         for p in &looks {
             atoms(p, &mut signals);
         }
+        // Each once, in order of appearance.
+        let mut once = Vec::with_capacity(signals.len());
+        for s in signals {
+            if !once.contains(&s) {
+                once.push(s);
+            }
+        }
+        let signals = once;
         // The judged step exists (always), or is step 0 (once).
         let active = if shape.always {
             self.age(delay)
@@ -536,8 +543,6 @@ impl Builder {
                 side.safety.push(Prop::or(vec![Prop::not(pending), b]));
             }
         }
-        signals.sort();
-        signals.dedup();
         self.groups.push((signals, (first_bit..self.bits.len()).collect()));
     }
 }
@@ -553,6 +558,7 @@ fn atoms(p: &Look, out: &mut Vec<SignalId>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use hashbrown::HashMap;
     use crate::ltl::{compile, Format};
 
     fn of(source: &str) -> Result<Monitors, Outside> {
