@@ -519,8 +519,9 @@ fn ltl_progress_carries_positions_and_diagram_nodes() {
 /// given, and the summary says so instead of showing a machine.
 #[wasm_bindgen_test]
 fn ltl_gr1_decides_an_arbiter_of_24_signals() {
-    let source = include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/ltl/tlsf/simple_arbiter/simple_arbiter.tlsf"))
-        .replace("n = 2;", "n = 12;");
+    let source =
+        include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/ltl/tlsf/simple_arbiter/simple_arbiter.tlsf"))
+            .replace("n = 2;", "n = 12;");
     let mut s = LtlSession::new(&source, "tlsf").map_err(|_| "compile").unwrap();
     let options = js_sys::JSON::parse(r#"{"solver": "gr1", "maxStates": 2000}"#).unwrap();
     let summary = s.solve(options, None).unwrap();

@@ -558,8 +558,8 @@ fn atoms(p: &Look, out: &mut Vec<SignalId>) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hashbrown::HashMap;
     use crate::ltl::{compile, Format};
+    use hashbrown::HashMap;
 
     fn of(source: &str) -> Result<Monitors, Outside> {
         let (spec, _) = compile(source, Format::G4ltl, &[]).expect("a valid specification");
