@@ -349,14 +349,14 @@ fn random_gr1_conjunct(rng: &mut Rng, signals: u32) -> Ltl {
 }
 
 /// The GR(1) game (`--solver gr1`) on random specifications of its fragment: it always
-/// decides, where the explicit bounded games decide it agrees with them, and its controllers
-/// win (no play of a controller is accepted by the automaton of the negation). Its
-/// counter-strategies come from the bounded games, checked in `strategies_win`.
+/// decides, where the explicit bounded games decide it agrees with them, and its strategies
+/// win: no play of a controller is accepted by the automaton of the negation, none of a
+/// counter-strategy by the automaton of the specification.
 #[test]
 fn the_gr1_game_decides_its_fragment_as_the_bounded_games_do() {
     let mut rng = Rng::new(29);
     let names = |s: SignalId| ["i0", "i1", "o0", "o1"][s.index()].to_string();
-    let (mut agreed, mut beyond_bound, mut realizable) = (0, 0, 0);
+    let (mut agreed, mut beyond_bound, mut realizable, mut unrealizable) = (0, 0, 0, 0);
     for case in 0..cases() / 4 {
         let semantics = if case % 3 == 0 { Semantics::Moore } else { Semantics::Mealy };
         let mut spec = random_spec(&mut rng, semantics);
@@ -386,10 +386,24 @@ fn the_gr1_game_decides_its_fragment_as_the_bounded_games_do() {
             assert_eq!(controller.moves_first, semantics == Semantics::Moore);
             let negation = translate(&Ltl::not(spec.formula()), &names, 100_000, u64::MAX).unwrap();
             assert!(!some_play_accepted(controller, &negation), "case {case}: the gr1 controller violates {text}");
+        } else {
+            unrealizable += 1;
+            let counter = outcome
+                .counter_strategy
+                .as_ref()
+                .unwrap_or_else(|| panic!("case {case}: no counter-strategy: {:?}: {text}", outcome.limit));
+            counter.validate().unwrap();
+            assert_eq!(counter.moves_first, semantics == Semantics::Mealy);
+            let automaton = translate(&spec.formula(), &names, 100_000, u64::MAX).unwrap();
+            assert!(!some_play_accepted(counter, &automaton), "case {case}: the gr1 counter-strategy lets {text} hold");
         }
     }
     eprintln!(
-        "gr1: {agreed} agreed with the explicit games, {beyond_bound} beyond their bound, {realizable} realizable"
+        "gr1: {agreed} agreed with the explicit games, {beyond_bound} beyond their bound, {realizable} realizable, \
+         {unrealizable} unrealizable"
     );
-    assert!(agreed > cases() / 8 && realizable > cases() / 40, "{agreed} agreed, {realizable} realizable");
+    assert!(
+        agreed > cases() / 8 && realizable > cases() / 40 && unrealizable > cases() / 40,
+        "{agreed} agreed, {realizable} realizable, {unrealizable} unrealizable"
+    );
 }

@@ -357,38 +357,10 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut OnProgress<'_, Progr
     Ok(unknown(max_k, stats, limit))
 }
 
-/// `spec` as a GR(1) game. The GR(1) solver builds no counter-strategy, so an unrealizable
-/// verdict asks the bounded games for one within the budget left (explicit when the letters
-/// can be enumerated, bdd otherwise); they can only agree, the verdict being exact.
+/// `spec` as a GR(1) game (`gr1`), with its own budget meter.
 fn decide_gr1(spec: &Spec, cfg: &Config, progress: &mut OnProgress<'_, Progress>) -> Result<Synthesis, Stop> {
-    let (mut decided, used) = {
-        let mut work = Work::new(cfg.max_work, progress);
-        let decided = super::gr1::synthesize(spec, cfg, &mut work)?;
-        (decided, work.used())
-    };
-    if decided.verdict != Verdict::Unrealizable {
-        return Ok(decided);
-    }
-    let solver = if spec.signals.len() <= cfg.max_signals.min(63) { Solver::Explicit } else { Solver::Bdd };
-    let bounded = Config { solver, max_work: cfg.max_work.saturating_sub(used), ..cfg.clone() };
-    let found = match synthesize(spec, &bounded, progress) {
-        Ok(found) => found,
-        Err(Stop::Cancelled) => return Err(Stop::Cancelled),
-        Err(Stop::Budget { message, .. }) => {
-            decided.limit = Some(format!("the bounded games looked for one and stopped: {message}"));
-            return Ok(decided);
-        }
-    };
-    debug_assert_ne!(found.verdict, Verdict::Realizable, "the bounded games contradict the GR(1) game");
-    if let (Verdict::Unrealizable, Some(counter)) = (found.verdict, found.counter_strategy) {
-        decided.counter_strategy = Some(counter);
-        decided.k = found.k;
-        decided.stats.work += found.stats.work;
-    } else {
-        let why = found.limit.unwrap_or_else(|| "no counter-strategy".to_string());
-        decided.limit = Some(format!("the bounded games looked for one ({} solver) and stopped: {why}", solver.name()));
-    }
-    Ok(decided)
+    let mut work = Work::new(cfg.max_work, progress);
+    super::gr1::synthesize(spec, cfg, &mut work)
 }
 
 /// One bounded game of one player.

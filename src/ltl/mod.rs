@@ -354,8 +354,7 @@ pub struct Synthesis {
     /// says so).
     pub controller: Option<Machine>,
     /// The environment's counter-strategy: reads the outputs, writes the inputs. `Some` exactly
-    /// when unrealizable, except after a GR(1) game (it builds none; the bounded games are
-    /// tried for one, and [`Synthesis::limit`] says when they found none).
+    /// when unrealizable, with the same exception as the controller's.
     pub counter_strategy: Option<Machine>,
     pub stats: Stats,
     /// For an unknown verdict: which bound or budget ended the run, and the flag that raises it;

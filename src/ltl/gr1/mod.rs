@@ -68,29 +68,29 @@ pub(super) fn synthesize(spec: &Spec, cfg: &Config, work: &mut Work) -> Result<S
         groups: Vec::new(),
         split: 1,
     };
-    if !won {
-        stats.work = work.used();
-        return Ok(synthesis(Verdict::Unrealizable, None, stats));
-    }
+    let verdict = if won { Verdict::Realizable } else { Verdict::Unrealizable };
     // The strategy as a table may be far larger than the game (one state per monitor
     // valuation reached): past its budget the verdict stands without it.
     let share = work.remaining() / 2;
-    let built = work.capped(share, |work| game.strategy(cfg.max_states, work));
+    let built = work.capped(share, |work| {
+        let side = if won { Side::Controller } else { Side::Environment(game.losing(work)?) };
+        game.strategy(&side, cfg.max_states, work)
+    });
     stats.bdd_nodes = game.d.peak();
-    let outcome = match built {
+    let mut outcome = synthesis(verdict, None, stats);
+    match built {
         Ok((visited, raw, machine)) => {
-            stats.positions = visited;
-            stats.strategy_states_raw = raw;
-            synthesis(Verdict::Realizable, Some(machine), stats)
+            outcome.stats.positions = visited;
+            outcome.stats.strategy_states_raw = raw;
+            if won {
+                outcome.controller = Some(machine);
+            } else {
+                outcome.counter_strategy = Some(machine);
+            }
         }
         Err(Stop::Cancelled) => return Err(Stop::Cancelled),
-        Err(Stop::Budget { message, .. }) => {
-            let mut outcome = synthesis(Verdict::Realizable, None, stats);
-            outcome.limit = Some(message);
-            outcome
-        }
-    };
-    let mut outcome = outcome;
+        Err(Stop::Budget { message, .. }) => outcome.limit = Some(message),
+    }
     outcome.stats.work = work.used();
     Ok(outcome)
 }
@@ -100,6 +100,22 @@ pub(super) fn synthesize(spec: &Spec, cfg: &Config, work: &mut Work) -> Result<S
 struct Ring {
     y: Bdd,
     x: Vec<Bdd>,
+}
+
+/// The environment's winning region, ranked for its strategy: per rank `a` (positions it wins
+/// with at most `a` changes of the controller justice it starves), the region below and, per
+/// controller justice `l`, the positions where it keeps `Js_l` away (`Ȳ`) with, per
+/// assumption justice `k`, the rings of its way to `Je_k` inside them.
+struct Rank {
+    below: Bdd,
+    starved: Vec<(Bdd, Vec<Vec<Bdd>>)>,
+}
+
+/// Whose strategy is read off: the controller's from the winning region's rings, or the
+/// environment's from the ranks of its own region.
+enum Side {
+    Controller,
+    Environment(Vec<Rank>),
 }
 
 /// The game in the diagram: its conditions as functions, and the fixpoint's results.
@@ -343,20 +359,40 @@ impl<'a> Game<'a> {
         self.compacted = self.d.len().max(1 << 16);
     }
 
-    /// The controller's strategy from the initial position, as a machine: one state per
-    /// explicit position and pursued justice reached, at most `max_positions`. Returns the
-    /// positions visited, the states before minimisation and the machine.
-    fn strategy(&mut self, max_positions: usize, work: &mut Work) -> Result<(usize, usize, Machine), Stop> {
+    /// The winner's strategy from the initial position, as a machine: one state per explicit
+    /// position and memory reached (the pursued justice `l`; for the environment also its
+    /// own `k`), at most `max_positions` states and rows together. Returns the positions
+    /// visited, the states before minimisation and the machine.
+    fn strategy(
+        &mut self,
+        side: &Side,
+        max_positions: usize,
+        work: &mut Work,
+    ) -> Result<(usize, usize, Machine), Stop> {
         let init = self.initial();
-        let mut members: Vec<(Vec<bool>, usize)> = vec![(init.clone(), 0)];
+        let start = self.memory_at(side, &init, (0, 0));
+        let mut members: Vec<(Vec<bool>, Memory)> = vec![(init.clone(), start)];
         let mut member_of: HashMap<Vec<i8>, u32> = HashMap::new();
-        member_of.insert(key_of(&init, 0), 0);
-        // A position outside the winning region is reached only after the environment broke
-        // an assumption: from there anything goes, and one state writes false for ever.
+        member_of.insert(key_of(&init, start), 0);
+        // A position outside the winner's region is reached only after the loser broke its
+        // invariants (the environment its assumptions): from there anything goes, and one
+        // state writes false for ever.
         let mut sink = None;
         let mut table: Vec<Vec<(Cube, u64, u32)>> = Vec::new();
         let mut rows_made = 0usize;
-        let (reads, writes) = (self.spec.inputs(), self.spec.outputs());
+        let controller = matches!(side, Side::Controller);
+        let (inputs, outputs) = (self.spec.inputs(), self.spec.outputs());
+        let (reads, writes) = if controller { (inputs, outputs) } else { (outputs, inputs) };
+        let region = match side {
+            Side::Controller => self.z,
+            Side::Environment(ranks) => {
+                let mut won = Bdd::FALSE;
+                for (y, _) in ranks.iter().flat_map(|rank| &rank.starved) {
+                    won = self.d.or(won, *y, work)?;
+                }
+                won
+            }
+        };
         let mut i = 0;
         while i < members.len() {
             if Some(i as u32) == sink {
@@ -364,20 +400,35 @@ impl<'a> Game<'a> {
                 i += 1;
                 continue;
             }
-            let (position, l) = members[i].clone();
-            let leaves = self.moves(&position, l, work)?;
+            let (position, memory) = members[i].clone();
+            let leaves = match side {
+                Side::Controller => self.moves(&position, memory.0, work)?,
+                Side::Environment(ranks) => self.counter_moves(ranks, &position, memory, work)?,
+            };
             let mut rows = Vec::with_capacity(leaves.len());
             for (read, write, next, progressed) in leaves {
-                let pursued = if progressed { (l + 1) % self.js.len() } else { l };
-                let key = key_of(&next, pursued);
+                let memory = match side {
+                    Side::Controller if progressed => ((memory.0 + 1) % self.js.len(), 0),
+                    Side::Environment(_) if progressed => (memory.0, (memory.1 + 1) % self.je.len()),
+                    _ => memory,
+                };
+                if !self.holds_at(region, &next) {
+                    rows.push((
+                        read,
+                        write,
+                        *sink.get_or_insert_with(|| {
+                            members.push((Vec::new(), (0, 0)));
+                            members.len() as u32 - 1
+                        }),
+                    ));
+                    continue;
+                }
+                let memory = self.memory_at(side, &next, memory);
+                let key = key_of(&next, memory);
                 let state = match member_of.get(&key) {
                     Some(&s) => s,
-                    None if !self.holds_at(self.z, &next) => *sink.get_or_insert_with(|| {
-                        members.push((Vec::new(), 0));
-                        members.len() as u32 - 1
-                    }),
                     None => {
-                        members.push((next, pursued));
+                        members.push((next, memory));
                         member_of.insert(key, members.len() as u32 - 1);
                         members.len() as u32 - 1
                     }
@@ -390,7 +441,7 @@ impl<'a> Game<'a> {
                     Resource::States,
                     format!(
                         "its table would pass {max_positions} states and rows together (--max-states; a state per \
-                         monitor valuation and pursued justice reached, a row per input cube)"
+                         monitor valuation and memory reached, a row per cube of the opponent's signals)"
                     ),
                 ));
             }
@@ -398,7 +449,30 @@ impl<'a> Game<'a> {
             i += 1;
         }
         let raw = table.len();
-        Ok((members.len(), raw, machine_from_rows(&table, &reads, &writes, self.moore)))
+        Ok((members.len(), raw, machine_from_rows(&table, &reads, &writes, controller == self.moore)))
+    }
+
+    /// The memory the winner keeps at `position`: the controller's as it is; the
+    /// environment's `l` kept while the position is in its rank's `Ȳ_l`, else the first `l`
+    /// whose `Ȳ_l` holds it (and `k` from 0).
+    fn memory_at(&self, side: &Side, position: &[bool], memory: Memory) -> Memory {
+        let Side::Environment(ranks) = side else { return memory };
+        let rank = self.rank_of(ranks, position);
+        let starved = &ranks[rank].starved;
+        if self.holds_at(starved[memory.0].0, position) {
+            return memory;
+        }
+        let l =
+            starved.iter().position(|(y, _)| self.holds_at(*y, position)).expect("a ranked position starves some Js");
+        (l, 0)
+    }
+
+    /// The lowest rank whose `Ȳ`s hold `position`.
+    fn rank_of(&self, ranks: &[Rank], position: &[bool]) -> usize {
+        ranks
+            .iter()
+            .position(|rank| rank.starved.iter().any(|(y, _)| self.holds_at(*y, position)))
+            .expect("a position the environment wins has a rank")
     }
 
     fn values(&self, position: &[bool]) -> Vec<Option<bool>> {
@@ -463,27 +537,89 @@ impl<'a> Game<'a> {
             d.ite(possible, progress, fallback, work)?
         };
         debug_assert_eq!(self.turn(options, true, work)?, Bdd::TRUE, "a ring's position has a move for every input");
-        // The outputs one at a time in the diagram's order, each as a function of the inputs:
-        // true only where false cannot be completed (under Moore semantics, a constant good
-        // against every input).
+        self.resolve(options, progress, &here, position.len(), true, work)
+    }
+
+    /// The environment's moves at `(position, (l, k))`: keep the controller from `Js_l`
+    /// (except into a lower rank) inside `Ȳ_l`, and go down the rings towards `Je_k`; the
+    /// flag says `Je_k` was met on the step.
+    fn counter_moves(
+        &mut self,
+        ranks: &[Rank],
+        position: &[bool],
+        memory: Memory,
+        work: &mut Work,
+    ) -> Result<Vec<Leaf>, Stop> {
+        let (l, k) = memory;
+        let values = self.values(position);
+        let rank = &ranks[self.rank_of(ranks, position)];
+        let (starved, ladders) = &rank.starved[l];
+        let ladder = &ladders[k];
+        let at = |d: &Diagram, f: Bdd| d.eval(f, |level| values[level as usize] == Some(true));
+        let j = ladder.iter().position(|&x| at(&self.d, x)).expect("a position of Ȳ is in each of its X̄");
+        let lower = if j == 0 { Bdd::FALSE } else { ladder[j - 1] };
+        let (below, starved) = (rank.below, *starved);
         let d = &mut self.d;
-        let outputs = self.spec.outputs();
-        // The outputs by level, ascending.
-        let mut output_levels: Vec<(u32, usize)> = Vec::with_capacity(outputs.len());
-        for level in 0..self.by.len() as u32 {
-            if let Some(i) = outputs.iter().position(|s| self.signal_level[s.index()] == level) {
-                output_levels.push((level, i));
+        let mut here: Vec<Option<Bdd>> = vec![None; self.by.len()];
+        for (level, f) in self.by.iter().enumerate() {
+            if let Some(f) = f {
+                here[level] = Some(d.restrict(*f, &values, work)?);
+            }
+        }
+        let kept = d.not(self.broken, work)?;
+        let kept = d.restrict(kept, &values, work)?;
+        let met = d.restrict(self.je[k], &values, work)?;
+        let reached = d.restrict(self.js[l], &values, work)?;
+        let below_next = d.compose(below, &here, work)?;
+        let starved_next = d.compose(starved, &here, work)?;
+        let lower_next = d.compose(lower, &here, work)?;
+        // ¬Js_l ∨ Z̄', inside Ȳ', towards Je_k or a lower ring, keeping ρe.
+        let avoided = d.not(reached, work)?;
+        let avoided = d.or(avoided, below_next, work)?;
+        let onward = d.or(met, lower_next, work)?;
+        let good = d.and(avoided, starved_next, work)?;
+        let good = d.and(good, onward, work)?;
+        let good = d.and(kept, good, work)?;
+        debug_assert_eq!(self.turn(good, false, work)?, Bdd::TRUE, "a ranked position has a move against every reply");
+
+        self.resolve(good, met, &here, position.len(), false, work)
+    }
+
+    /// The protagonist's signals fixed one at a time in the diagram's order, each as a
+    /// function of what it reads: true only where false cannot be completed to an option
+    /// (moving first, a constant good against every reply), then the rows from a decision
+    /// on the read signals: (read cube, written value, successor position, `flag` on the
+    /// step).
+    fn resolve(
+        &mut self,
+        options: Bdd,
+        flag: Bdd,
+        here: &[Option<Bdd>],
+        bits: usize,
+        controller: bool,
+        work: &mut Work,
+    ) -> Result<Vec<Leaf>, Stop> {
+        let Game { d, inputs, outputs, spec, signal_level, bit_level, by, moore, .. } = self;
+        let (own, opponent) =
+            if controller { (spec.outputs(), spec.inputs()) } else { (spec.inputs(), spec.outputs()) };
+        let replies = if controller { &*inputs } else { &*outputs };
+        let own_first = controller == *moore;
+        // The own signals by level, ascending.
+        let mut own_levels: Vec<(u32, usize)> = Vec::with_capacity(own.len());
+        for level in 0..by.len() as u32 {
+            if let Some(i) = own.iter().position(|s| signal_level[s.index()] == level) {
+                own_levels.push((level, i));
             }
         }
         let mut options = options;
-        let mut writes = vec![Bdd::FALSE; outputs.len()];
-        let mut by_output: Vec<Option<Bdd>> = vec![None; self.by.len()];
-        for (n, &(level, index)) in output_levels.iter().enumerate() {
-            let rest = d.level_set(output_levels[n + 1..].iter().map(|&(l, _)| l));
+        let mut writes = vec![Bdd::FALSE; own.len()];
+        let mut by_own: Vec<Option<Bdd>> = vec![None; by.len()];
+        for (n, &(level, index)) in own_levels.iter().enumerate() {
+            let rest = d.level_set(own_levels[n + 1..].iter().map(|&(l, _)| l));
             let off = d.restrict_one(options, level, false, work)?;
             let on = d.restrict_one(options, level, true, work)?;
-            let value = if self.moore {
-                let against_all = d.quantify(off, &self.inputs, false, work)?;
+            let value = if own_first {
+                let against_all = d.quantify(off, replies, false, work)?;
                 if d.quantify(against_all, &rest, true, work)? == Bdd::FALSE {
                     Bdd::TRUE
                 } else {
@@ -495,37 +631,98 @@ impl<'a> Game<'a> {
             };
             options = d.ite(value, on, off, work)?;
             writes[index] = value;
-            by_output[level as usize] = Some(value);
+            by_own[level as usize] = Some(value);
         }
         let mut functions = writes;
-        for b in 0..position.len() {
-            let f = here[self.bit_level[b] as usize].expect("a bit's successor");
-            functions.push(d.compose(f, &by_output, work)?);
+        for &level in bit_level.iter().take(bits) {
+            let f = here[level as usize].expect("a bit's successor");
+            functions.push(d.compose(f, &by_own, work)?);
         }
-        functions.push(d.compose(progress, &by_output, work)?);
+        functions.push(d.compose(flag, &by_own, work)?);
+        let mut read_index: Vec<Option<usize>> = vec![None; by.len()];
+        for (i, s) in opponent.iter().enumerate() {
+            read_index[signal_level[s.index()] as usize] = Some(i);
+        }
         let mut leaves = Vec::new();
-        let inputs = self.spec.inputs();
-        let mut read_index: Vec<Option<usize>> = vec![None; self.by.len()];
-        for (i, s) in inputs.iter().enumerate() {
-            read_index[self.signal_level[s.index()] as usize] = Some(i);
-        }
-        split(d, &read_index, outputs.len(), &functions, &mut Vec::new(), &mut leaves, work)?;
+        split(d, &read_index, own.len(), &functions, &mut Vec::new(), &mut leaves, work)?;
         Ok(leaves)
+    }
+
+    /// The environment's winning region, the complement of the controller's, ranked:
+    /// `μZ̄. ∨_l νȲ. ∧_k μX̄. EPre((¬Js_l ∨ Z̄') ∧ Ȳ' ∧ (Je_k ∨ X̄'))`, with
+    /// `EPre(T) = ∃ inputs ∀ outputs. ρe ∧ T` (Moore: `∀ outputs ∃ inputs`).
+    fn losing(&mut self, work: &mut Work) -> Result<Vec<Rank>, Stop> {
+        let kept = self.d.not(self.broken, work)?;
+        let mut z = Bdd::FALSE;
+        let mut ranks: Vec<Rank> = Vec::new();
+        loop {
+            let z_next = self.next(z, work)?;
+            let mut grown = z;
+            let mut starved = Vec::with_capacity(self.js.len());
+            for l in 0..self.js.len() {
+                let reached = self.d.not(self.js[l], work)?;
+                let avoided = self.d.or(reached, z_next, work)?;
+                let mut y = Bdd::TRUE;
+                let ladders = loop {
+                    let y_next = self.next(y, work)?;
+                    let base = self.d.and(avoided, y_next, work)?;
+                    let base = self.d.and(kept, base, work)?;
+                    let mut all = Bdd::TRUE;
+                    let mut ladders = Vec::with_capacity(self.je.len());
+                    for k in 0..self.je.len() {
+                        let mut x = Bdd::FALSE;
+                        let mut ladder = Vec::new();
+                        loop {
+                            let x_next = self.next(x, work)?;
+                            let onward = self.d.or(self.je[k], x_next, work)?;
+                            let target = self.d.and(base, onward, work)?;
+                            let new_x = self.turn(target, false, work)?;
+                            let new_x = self.d.or(new_x, x, work)?;
+                            if new_x == x {
+                                break;
+                            }
+                            x = new_x;
+                            ladder.push(x);
+                        }
+                        all = self.d.and(all, x, work)?;
+                        ladders.push(ladder);
+                    }
+                    let new_y = self.d.and(all, y, work)?;
+                    if new_y == y {
+                        break ladders;
+                    }
+                    y = new_y;
+                };
+                grown = self.d.or(grown, y, work)?;
+                starved.push((y, ladders));
+            }
+            work.at.nodes = self.d.len();
+            if grown == z {
+                return Ok(ranks);
+            }
+            ranks.push(Rank { below: z, starved });
+            z = grown;
+        }
     }
 }
 
-/// The key of a strategy state: the position's bits, then the pursued justice's bytes (the
+/// What a strategy state remembers besides its position: the controller justice pursued (or
+/// starved, for the environment) and the environment's justice pursued.
+type Memory = (usize, usize);
+
+/// The key of a strategy state: the position's bits, then the memory's bytes (the
 /// bdd extraction's key type, so that the page's bundle carries one hash table instance).
-fn key_of(position: &[bool], pursued: usize) -> Vec<i8> {
+fn key_of(position: &[bool], memory: Memory) -> Vec<i8> {
     let bits = position.iter().map(|&b| i8::from(b));
-    bits.chain((pursued as u32).to_le_bytes().map(|b| b as i8)).collect()
+    let memory = [memory.0 as u32, memory.1 as u32].into_iter().flat_map(u32::to_le_bytes);
+    bits.chain(memory.map(|b| b as i8)).collect()
 }
 
 /// A row of a strategy state before the machine: read cube, written value, successor
-/// position, whether the pursued justice was reached.
+/// position, whether the pursued justice was met on the step.
 type Leaf = (Cube, u64, Vec<bool>, bool);
 
-/// The leaves of the decision on the inputs below `fixed`: where every function (the writes,
+/// The leaves of the decision on the read signals below `fixed`: where every function (the writes,
 /// then the successor bits, then the progress flag) is constant, one row.
 fn split(
     d: &mut Diagram,
@@ -543,7 +740,7 @@ fn split(
         let next = (0..bits).map(|b| functions[writes + b] == Bdd::TRUE).collect();
         let mut read = Cube::ANY;
         for &(level, value) in fixed.iter() {
-            let index = read_index[level as usize].expect("an input");
+            let index = read_index[level as usize].expect("a read signal");
             read.care |= 1 << index;
             read.value |= u64::from(value) << index;
         }
@@ -551,7 +748,7 @@ fn split(
         return Ok(());
     }
     let top = functions.iter().map(|&f| d.level(f)).min().expect("a function");
-    debug_assert!(read_index[top as usize].is_some(), "only inputs are left");
+    debug_assert!(read_index[top as usize].is_some(), "only read signals are left");
     for value in [false, true] {
         let cofactors: Vec<Bdd> = functions
             .iter()
