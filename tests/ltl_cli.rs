@@ -193,7 +193,7 @@ fn the_scale_table_has_a_row_per_instance_and_no_verdict_against_the_status() {
         .filter(|l| l.starts_with("| ") && !l.starts_with("| SYNTCOMP"))
         .map(|l| l.trim_matches('|').split(" | ").map(str::trim).collect())
         .collect();
-    assert_eq!(rows.len(), 25, "{text}");
+    assert_eq!(rows.len(), 24, "{text}");
     for row in &rows {
         assert_eq!(row.len(), 9, "{row:?}");
         let status = row[2];
