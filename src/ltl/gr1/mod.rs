@@ -374,6 +374,13 @@ impl<'a> Game<'a> {
         let mut members: Vec<(Vec<bool>, Memory)> = vec![(init.clone(), start)];
         let mut member_of: HashMap<Vec<i8>, u32> = HashMap::new();
         member_of.insert(key_of(&init, start), 0);
+        // Per pursued justice, the positions the controller's machine has a state for: a move
+        // into one adds no state.
+        let mut known = vec![Bdd::FALSE; self.js.len()];
+        if matches!(side, Side::Controller) {
+            let cube = self.cube(&init)?;
+            known[0] = cube;
+        }
         // A position outside the winner's region is reached only after the loser broke its
         // invariants (the environment its assumptions): from there anything goes, and one
         // state writes false for ever.
@@ -402,7 +409,7 @@ impl<'a> Game<'a> {
             }
             let (position, memory) = members[i].clone();
             let leaves = match side {
-                Side::Controller => self.moves(&position, memory.0, work)?,
+                Side::Controller => self.moves(&position, memory.0, &known, work)?,
                 Side::Environment(ranks) => self.counter_moves(ranks, &position, memory, work)?,
             };
             let mut rows = Vec::with_capacity(leaves.len());
@@ -428,6 +435,10 @@ impl<'a> Game<'a> {
                 let state = match member_of.get(&key) {
                     Some(&s) => s,
                     None => {
+                        if matches!(side, Side::Controller) {
+                            let cube = self.cube(&next)?;
+                            known[memory.0] = self.d.or(known[memory.0], cube, work)?;
+                        }
                         members.push((next, memory));
                         member_of.insert(key, members.len() as u32 - 1);
                         members.len() as u32 - 1
@@ -490,7 +501,13 @@ impl<'a> Game<'a> {
 
     /// The controller's moves at `(position, l)`: rows of (read cube, written value,
     /// successor position, whether justice `l` was reached on the step).
-    fn moves(&mut self, position: &[bool], l: usize, work: &mut Work) -> Result<Vec<Leaf>, Stop> {
+    /// The position as a cube over the bits.
+    fn cube(&mut self, position: &[bool]) -> Result<Bdd, Stop> {
+        let literals: Vec<(u32, bool)> = position.iter().enumerate().map(|(b, &v)| (self.bit_level[b], v)).collect();
+        self.d.cube(&literals)
+    }
+
+    fn moves(&mut self, position: &[bool], l: usize, known: &[Bdd], work: &mut Work) -> Result<Vec<Leaf>, Stop> {
         let values = self.values(position);
         let at = |d: &Diagram, f: Bdd| d.eval(f, |level| values[level as usize] == Some(true));
         // The ring of Y_l that won the position, and the X in it.
@@ -537,6 +554,21 @@ impl<'a> Game<'a> {
             d.ite(possible, progress, fallback, work)?
         };
         debug_assert_eq!(self.turn(options, true, work)?, Bdd::TRUE, "a ring's position has a move for every input");
+        let options = if self.moore {
+            options
+        } else {
+            // Among the good moves for an input, prefer one into a position the machine has
+            // (with the memory it would have there): it adds no state, and the machine stays
+            // small. Only an order among good moves, so the strategy still wins.
+            let d = &mut self.d;
+            let next_l = (l + 1) % self.js.len();
+            let stays = d.compose(known[l], &here, work)?;
+            let advances = d.compose(known[next_l], &here, work)?;
+            let into_known = d.ite(progress, advances, stays, work)?;
+            let preferred = d.and(options, into_known, work)?;
+            let somewhere = d.quantify(preferred, &self.outputs, true, work)?;
+            d.ite(somewhere, preferred, options, work)?
+        };
         self.resolve(options, progress, &here, position.len(), true, work)
     }
 
