@@ -131,6 +131,10 @@ test('LTL: the solver menu picks the solver, and the summary names the one that 
     await page.selectOption('#ltl-solver', solver);
     assert.equal(await runAndWait(page), 'realizable', solver);
     assert.match(await page.textContent('#ltl-solver-used'), new RegExp(`${solver} solver`));
+    if (solver === 'gr1') {
+      assert.match(await page.textContent('#ltl-summary'), /GR\(1\) game/);
+      await shot(page, '47c-ltl-gr1');
+    }
   }
   await shot(page, '47b-ltl-solver');
   assert.deepEqual(page.errors, []);

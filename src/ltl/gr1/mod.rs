@@ -38,12 +38,12 @@ use super::spec::{Semantics, SignalId, Spec};
 use super::symbolic::machine_from_rows;
 use super::{Config, Resource, Stats, Stop, Synthesis, Verdict, Work};
 use hashbrown::HashMap;
-use monitor::{Monitors, Prop};
+use monitor::{Justice, Monitors, Prop};
 
 /// Decides `spec` as a GR(1) game, or stops: a specification outside the fragment stops with
 /// the clause and the reason.
 pub(super) fn synthesize(spec: &Spec, cfg: &Config, work: &mut Work) -> Result<Synthesis, Stop> {
-    let monitors = monitor::monitors(spec).map_err(|outside| {
+    let monitors = monitor::monitors(spec, Justice::Before).map_err(|outside| {
         let text = outside.clause.formula.to_infix(&|s| spec.name(s).to_string());
         Stop::budget(
             Resource::Size,
@@ -53,22 +53,20 @@ pub(super) fn synthesize(spec: &Spec, cfg: &Config, work: &mut Work) -> Result<S
             ),
         )
     })?;
-    let mut game = Game::new(spec, &monitors, cfg.max_states.saturating_mul(NODES_PER_POSITION), work)?;
+    let max_nodes = cfg.max_states.saturating_mul(NODES_PER_POSITION);
+    let mut game = Game::new(spec, &monitors, max_nodes, work)?;
     let won = game.winning(work)?;
-    let mut stats =
-        Stats { bdd_nodes: game.d.peak(), gr1: true, monitor_bits: monitors.bits.len(), ..Stats::default() };
-    let synthesis = |verdict, controller, stats: Stats| Synthesis {
-        verdict,
+    let mut outcome = Synthesis {
+        verdict: if won { Verdict::Realizable } else { Verdict::Unrealizable },
         k: 0,
-        controller,
+        controller: None,
         counter_strategy: None,
-        stats,
+        stats: Stats { gr1: true, monitor_bits: monitors.bits.len(), ..Stats::default() },
         limit: None,
         refinement: Default::default(),
         groups: Vec::new(),
         split: 1,
     };
-    let verdict = if won { Verdict::Realizable } else { Verdict::Unrealizable };
     // The strategy as a table may be far larger than the game (one state per monitor
     // valuation reached): past its budget the verdict stands without it.
     let share = work.remaining() / 2;
@@ -76,20 +74,40 @@ pub(super) fn synthesize(spec: &Spec, cfg: &Config, work: &mut Work) -> Result<S
         let side = if won { Side::Controller } else { Side::Environment(game.losing(work)?) };
         game.strategy(&side, cfg.max_states, work)
     });
-    stats.bdd_nodes = game.d.peak();
-    let mut outcome = synthesis(verdict, None, stats);
-    match built {
-        Ok((visited, raw, machine)) => {
-            outcome.stats.positions = visited;
-            outcome.stats.strategy_states_raw = raw;
-            if won {
-                outcome.controller = Some(machine);
-            } else {
-                outcome.counter_strategy = Some(machine);
-            }
-        }
+    outcome.stats.bdd_nodes = game.d.peak();
+    let mut built = match built {
+        Ok(built) => Some(built),
         Err(Stop::Cancelled) => return Err(Stop::Cancelled),
-        Err(Stop::Budget { message, .. }) => outcome.limit = Some(message),
+        Err(Stop::Budget { message, .. }) => {
+            outcome.limit = Some(message);
+            None
+        }
+    };
+    if won && outcome.limit.is_none() {
+        // The same game with each obligation's justice met after the step: its controller is
+        // often smaller (the arbiters'), sometimes larger (full_arbiter's); the smaller is kept.
+        let eager = monitor::monitors(spec, Justice::After).expect("the same fragment");
+        let share = work.remaining() / 3;
+        let other = work.capped(share, |work| {
+            let mut game = Game::new(spec, &eager, max_nodes, work)?;
+            let won = game.winning(work)?;
+            debug_assert!(won, "the justices' two forms decide the same game");
+            game.strategy(&Side::Controller, cfg.max_states, work)
+        });
+        match other {
+            Ok(other) if built.as_ref().is_some_and(|b| other.2.states.len() < b.2.states.len()) => built = Some(other),
+            Err(Stop::Cancelled) => return Err(Stop::Cancelled),
+            _ => {}
+        }
+    }
+    if let Some((visited, raw, machine)) = built {
+        outcome.stats.positions = visited;
+        outcome.stats.strategy_states_raw = raw;
+        if won {
+            outcome.controller = Some(machine);
+        } else {
+            outcome.counter_strategy = Some(machine);
+        }
     }
     outcome.stats.work = work.used();
     Ok(outcome)

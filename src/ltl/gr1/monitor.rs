@@ -116,8 +116,8 @@ pub(super) struct Outside {
 }
 
 /// The monitors of `spec`, or the first clause outside the fragment.
-pub(super) fn monitors(spec: &Spec) -> Result<Monitors, Outside> {
-    let mut builder = Builder { bits: Vec::new(), history: Vec::new(), age: Vec::new(), groups: Vec::new() };
+pub(super) fn monitors(spec: &Spec, justice: Justice) -> Result<Monitors, Outside> {
+    let mut builder = Builder { bits: Vec::new(), history: Vec::new(), age: Vec::new(), groups: Vec::new(), justice };
     let mut env = Conditions::default();
     let mut sys = Conditions::default();
     for (clauses, side) in [(&spec.assumptions, &mut env), (&spec.guarantees, &mut sys)] {
@@ -422,7 +422,19 @@ fn disjuncts_of<'a>(f: &'a Ltl, shift: u32, out: &mut Vec<(&'a Ltl, u32)>) {
     }
 }
 
+/// When an obligation's justice is met: with nothing open before the step, or nothing left
+/// open after it. Both are exact (`¬waiting` now is `¬open` next) and decide the same game;
+/// they differ in the strategies read off: a controller pursuing `After` answers a request in
+/// its own step (the arbiters' machines halve), one pursuing `Before` may count an idle step
+/// (full_arbiter's are a third of the size).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Justice {
+    Before,
+    After,
+}
+
 struct Builder {
+    justice: Justice,
     bits: Vec<Bit>,
     /// `(signal, k)`: the bit holding the signal's value `k ≥ 1` steps ago.
     history: Vec<((SignalId, u32), usize)>,
@@ -530,9 +542,12 @@ impl Builder {
                 // Pending and not discharged now: `a` must hold, and it stays open.
                 let waiting = Prop::and(vec![pending, Prop::not(b)]);
                 self.bit(false, waiting.clone());
-                side.safety.push(Prop::or(vec![Prop::not(waiting), a]));
+                side.safety.push(Prop::or(vec![Prop::not(waiting.clone()), a]));
                 if strong {
-                    side.justice.push(Prop::not(Prop::Bit(open)));
+                    side.justice.push(match self.justice {
+                        Justice::Before => Prop::not(Prop::Bit(open)),
+                        Justice::After => Prop::not(waiting),
+                    });
                 }
             }
             Some(Temporal::Release(a, b)) => {
@@ -563,7 +578,7 @@ mod tests {
 
     fn of(source: &str) -> Result<Monitors, Outside> {
         let (spec, _) = compile(source, Format::G4ltl, &[]).expect("a valid specification");
-        monitors(&spec)
+        monitors(&spec, Justice::Before)
     }
 
     #[test]
@@ -677,10 +692,12 @@ mod tests {
                 guarantees: vec![Clause { formula: f.clone(), span: Default::default() }],
                 ..Spec::default()
             };
-            let m = monitors(&spec).expect("in the fragment");
             let loop_start = start % letters.len();
             let play = crate::ltl::Play { states: Vec::new(), letters, loop_start };
-            proptest::prop_assert_eq!(accepts(&m, &play), play.satisfies(&f), "{:?}", f);
+            for justice in [Justice::Before, Justice::After] {
+                let m = monitors(&spec, justice).expect("in the fragment");
+                proptest::prop_assert_eq!(accepts(&m, &play), play.satisfies(&f), "{:?} {:?}", justice, f);
+            }
         }
     }
 
