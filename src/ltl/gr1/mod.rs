@@ -86,12 +86,16 @@ pub(super) fn synthesize(spec: &Spec, cfg: &Config, work: &mut Work) -> Result<S
     if won && outcome.limit.is_none() {
         // The same game with each obligation's justice met after the step: its controller is
         // often smaller (the arbiters'), sometimes larger (full_arbiter's); the smaller is kept.
+        drop(game);
         let eager = monitor::monitors(spec, Justice::After).expect("the same fragment");
         let share = work.remaining() / 3;
         let other = work.capped(share, |work| {
             let mut game = Game::new(spec, &eager, max_nodes, work)?;
             let won = game.winning(work)?;
             debug_assert!(won, "the justices' two forms decide the same game");
+            if !won {
+                return Err(Stop::budget(Resource::Size, "the second reading lost (a bug: the first one's is kept)"));
+            }
             game.strategy(&Side::Controller, cfg.max_states, work)
         });
         match other {
@@ -256,8 +260,9 @@ impl<'a> Game<'a> {
         self.d.compose(f, &self.by, work)
     }
 
-    /// Quantifies the letter in turn order: `first` over the first mover's signals (`∃` when
-    /// the first mover is the one choosing).
+    /// Quantifies the letter in turn order, the second mover's signals innermost: the
+    /// controller's outputs `∃` and the environment's inputs `∀` when `controller_chooses`,
+    /// the reverse otherwise.
     fn turn(&mut self, f: Bdd, controller_chooses: bool, work: &mut Work) -> Result<Bdd, Stop> {
         // The second mover's signals are quantified first (innermost).
         let (inner, outer) = if self.moore { (&self.inputs, &self.outputs) } else { (&self.outputs, &self.inputs) };
