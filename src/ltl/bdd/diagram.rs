@@ -124,10 +124,15 @@ impl Diagram {
         self.nodes[f.0 as usize].level
     }
 
-    /// The cofactors of `f` on its top variable.
-    pub(crate) fn branches(&self, f: Bdd) -> (Bdd, Bdd) {
-        let node = self.nodes[f.0 as usize];
-        (node.lo, node.hi)
+    /// `f` with the variable at `level` (which no variable of `f` lies above) set to `value`:
+    /// one step of a decision read top-down.
+    pub(crate) fn cofactor_at(&self, f: Bdd, level: u32, value: bool) -> Bdd {
+        let (lo, hi) = self.cofactors_at(f, level);
+        if value {
+            hi
+        } else {
+            lo
+        }
     }
 
     /// The two cofactors of `f` on the variable at `level` (which no variable of `f` lies above).

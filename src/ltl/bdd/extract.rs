@@ -217,25 +217,8 @@ fn split(
         leaves.push((read, write, successor));
         return Ok(());
     }
-    let branch = |d: &mut Diagram, value: bool| -> Vec<Bdd> {
-        functions
-            .iter()
-            .map(|&f| {
-                if d.level(f) == top {
-                    let (lo, hi) = d.branches(f);
-                    if value {
-                        hi
-                    } else {
-                        lo
-                    }
-                } else {
-                    f
-                }
-            })
-            .collect()
-    };
     for value in [false, true] {
-        let cofactors = branch(d, value);
+        let cofactors: Vec<Bdd> = functions.iter().map(|&f| d.cofactor_at(f, top, value)).collect();
         fixed.push((top, value));
         split(d, enc, game, position, &cofactors, fixed, leaves, work)?;
         fixed.pop();

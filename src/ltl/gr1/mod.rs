@@ -805,21 +805,7 @@ fn split(
     let top = functions.iter().map(|&f| d.level(f)).min().expect("a function");
     debug_assert!(read_index[top as usize].is_some(), "only read signals are left");
     for value in [false, true] {
-        let cofactors: Vec<Bdd> = functions
-            .iter()
-            .map(|&f| {
-                if d.level(f) == top {
-                    let (lo, hi) = d.branches(f);
-                    if value {
-                        hi
-                    } else {
-                        lo
-                    }
-                } else {
-                    f
-                }
-            })
-            .collect();
+        let cofactors: Vec<Bdd> = functions.iter().map(|&f| d.cofactor_at(f, top, value)).collect();
         fixed.push((top, value));
         split(d, read_index, writes, &cofactors, fixed, leaves, work)?;
         fixed.pop();

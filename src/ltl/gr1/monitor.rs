@@ -394,18 +394,20 @@ fn shape(f: &Ltl) -> Result<Shape, &'static str> {
     checked(Shape { always, otherwise, temporal })
 }
 
-fn checked(shape: Shape) -> Result<Shape, &'static str> {
-    let reach = [Some(&shape.otherwise)]
-        .into_iter()
-        .chain(match &shape.temporal {
+impl Shape {
+    /// Its propositions: the alternative, then the obligation's operands.
+    fn looks(&self) -> Vec<&Look> {
+        let operands = match &self.temporal {
             Some(Temporal::Until(a, b) | Temporal::WeakUntil(a, b) | Temporal::Release(a, b)) => [Some(a), Some(b)],
             Some(Temporal::InfinitelyOften(q)) => [Some(q), None],
             None => [None, None],
-        })
-        .flatten()
-        .map(Look::reach)
-        .max()
-        .unwrap_or(0);
+        };
+        [Some(&self.otherwise)].into_iter().chain(operands).flatten().collect()
+    }
+}
+
+fn checked(shape: Shape) -> Result<Shape, &'static str> {
+    let reach = shape.looks().into_iter().map(Look::reach).max().unwrap_or(0);
     if reach > MAX_REACH {
         return Err("more than 64 nested X");
     }
@@ -495,15 +497,7 @@ impl Builder {
 
     fn compile(&mut self, shape: Shape, side: &mut Conditions) {
         let first_bit = self.bits.len();
-        let looks: Vec<&Look> = [Some(&shape.otherwise)]
-            .into_iter()
-            .chain(match &shape.temporal {
-                Some(Temporal::Until(a, b) | Temporal::WeakUntil(a, b) | Temporal::Release(a, b)) => [Some(a), Some(b)],
-                Some(Temporal::InfinitelyOften(q)) => [Some(q), None],
-                None => [None, None],
-            })
-            .flatten()
-            .collect();
+        let looks = shape.looks();
         let delay = looks.iter().map(|p| p.reach()).max().unwrap_or(0);
         let mut signals = Vec::new();
         for p in &looks {
