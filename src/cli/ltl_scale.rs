@@ -1,7 +1,7 @@
 //! `plcsynth bench ltl --scale`: SYNTCOMP's parametric families at growing n, each instance
 //! decided once by the explicit solver (the reference), the bdd solver and the GR(1) game,
-//! every run cut off after a wall-clock limit (cancelled through the progress callback, as the page's
-//! cancel button does).
+//! every run cut off after a wall-clock limit (cancelled through the progress callback, as
+//! the page's cancel button does).
 
 use super::bench::print_header;
 use super::bench::Column;

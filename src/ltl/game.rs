@@ -241,11 +241,11 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut OnProgress<'_, Progr
         ),
         ));
     }
-    let name = |s: SignalId| spec.name(s).to_string();
-    let formula = spec.formula();
     if cfg.solver == Solver::Gr1 {
         return decide_gr1(spec, cfg, progress);
     }
+    let name = |s: SignalId| spec.name(s).to_string();
+    let formula = spec.formula();
     let mut work = Work::new(cfg.max_work, progress);
     // Each player's automaton within half of what is left: the dual of a large conjunction
     // (the environment's, a disjunction of eventualities) can grow exponentially where the
