@@ -397,10 +397,11 @@ impl<'a> Game<'a> {
         let mut members: Vec<(Vec<bool>, Memory)> = vec![(init.clone(), start)];
         let mut member_of: HashMap<Vec<i8>, u32> = HashMap::new();
         member_of.insert(key_of(&init, start), 0);
+        let controller = matches!(side, Side::Controller);
         // Per pursued justice, the positions the controller's machine has a state for: a move
         // into one adds no state.
         let mut known = vec![Bdd::FALSE; self.js.len()];
-        if matches!(side, Side::Controller) {
+        if controller {
             let cube = self.cube(&init)?;
             known[0] = cube;
         }
@@ -410,7 +411,6 @@ impl<'a> Game<'a> {
         let mut sink = None;
         let mut table: Vec<Vec<(Cube, u64, u32)>> = Vec::new();
         let mut rows_made = 0usize;
-        let controller = matches!(side, Side::Controller);
         let (inputs, outputs) = (self.spec.inputs(), self.spec.outputs());
         let (reads, writes) = if controller { (inputs, outputs) } else { (outputs, inputs) };
         let region = match side {
@@ -458,7 +458,7 @@ impl<'a> Game<'a> {
                 let state = match member_of.get(&key) {
                     Some(&s) => s,
                     None => {
-                        if matches!(side, Side::Controller) {
+                        if controller {
                             let cube = self.cube(&next)?;
                             known[memory.0] = self.d.or(known[memory.0], cube, work)?;
                         }
@@ -530,6 +530,18 @@ impl<'a> Game<'a> {
         self.d.cube(&literals)
     }
 
+    /// The successor functions at a position (`values` fixing its bits): functions of the
+    /// letter alone, indexed by level as `by`.
+    fn successors_at(&mut self, values: &[Option<bool>], work: &mut Work) -> Result<Vec<Option<Bdd>>, Stop> {
+        let mut here = vec![None; self.by.len()];
+        for (level, f) in self.by.iter().enumerate() {
+            if let Some(f) = f {
+                here[level] = Some(self.d.restrict(*f, values, work)?);
+            }
+        }
+        Ok(here)
+    }
+
     fn moves(&mut self, position: &[bool], l: usize, known: &[Bdd], work: &mut Work) -> Result<Vec<Leaf>, Stop> {
         let values = self.values(position);
         let at = |d: &Diagram, f: Bdd| d.eval(f, |level| values[level as usize] == Some(true));
@@ -539,14 +551,8 @@ impl<'a> Game<'a> {
         let k = ladder[r].x.iter().position(|&x| at(&self.d, x)).expect("a ring is the union of its X");
         let below = if r == 0 { Bdd::FALSE } else { ladder[r - 1].y };
         let x = ladder[r].x[k];
+        let here = self.successors_at(&values, work)?;
         let d = &mut self.d;
-        // The successor functions here: functions of the letter alone.
-        let mut here: Vec<Option<Bdd>> = vec![None; self.by.len()];
-        for (level, f) in self.by.iter().enumerate() {
-            if let Some(f) = f {
-                here[level] = Some(d.restrict(*f, &values, work)?);
-            }
-        }
         let broken = d.restrict(self.broken, &values, work)?;
         // Reach the pursued justice inside the winning region.
         let js = d.restrict(self.js[l], &values, work)?;
@@ -614,13 +620,8 @@ impl<'a> Game<'a> {
         let j = ladder.iter().position(|&x| at(&self.d, x)).expect("a position of Ȳ is in each of its X̄");
         let lower = if j == 0 { Bdd::FALSE } else { ladder[j - 1] };
         let (below, starved) = (rank.below, *starved);
+        let here = self.successors_at(&values, work)?;
         let d = &mut self.d;
-        let mut here: Vec<Option<Bdd>> = vec![None; self.by.len()];
-        for (level, f) in self.by.iter().enumerate() {
-            if let Some(f) = f {
-                here[level] = Some(d.restrict(*f, &values, work)?);
-            }
-        }
         let kept = d.not(self.broken, work)?;
         let kept = d.restrict(kept, &values, work)?;
         let met = d.restrict(self.je[k], &values, work)?;
