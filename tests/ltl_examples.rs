@@ -321,8 +321,9 @@ fn the_bdd_solver_decides_the_listed_specifications_as_the_explicit_one() {
 fn the_gr1_game_decides_the_listed_specifications_in_its_fragment() {
     let dir = scratch().join("gr1");
     std::fs::create_dir_all(&dir).unwrap();
-    let cfg = Config { solver: ltl::Solver::Gr1, ..Config::default() };
+    let cfg = Config { solver: ltl::Solver::Gr1, circuit: true, ..Config::default() };
     let (mut documents, mut outside) = (Vec::new(), Vec::new());
+    let mut circuits = 0;
     for (i, (path, params, expected)) in listed().into_iter().enumerate() {
         let name = label(&path, &params);
         let source = std::fs::read_to_string(&path).unwrap();
@@ -343,11 +344,30 @@ fn the_gr1_game_decides_the_listed_specifications_in_its_fragment() {
             machine.validate().unwrap_or_else(|e| panic!("{name}: {e}"));
             let json = dir.join(format!("{i}.json"));
             std::fs::write(&json, ltl::report_json(&spec, &outcome).to_string()).unwrap();
-            documents.push((name, json));
+            documents.push((name.clone(), json));
+        }
+        // The same controller as a circuit, unfolded into its table for the model check.
+        if expected == Verdict::Realizable {
+            let circuit = outcome.circuit.as_ref().unwrap_or_else(|| panic!("{name}: no circuit: {:?}", outcome.limit));
+            let table =
+                circuit.to_machine(100_000).unwrap_or_else(|| panic!("{name}: the circuit's table is too large"));
+            table.validate().unwrap_or_else(|e| panic!("{name}: the circuit's table: {e}"));
+            let as_table = Synthesis { controller: Some(table), circuit: None, ..outcome.clone() };
+            let json = dir.join(format!("{i}-circuit.json"));
+            std::fs::write(&json, ltl::report_json(&spec, &as_table).to_string()).unwrap();
+            documents.push((format!("{name} (circuit)"), json));
+            circuits += 1;
         }
     }
-    eprintln!("gr1: {} decided with a machine; outside the fragment: {outside:?}", documents.len());
-    assert!(documents.len() >= 30, "only {} decided; outside: {outside:?}", documents.len());
+    eprintln!(
+        "gr1: {} strategies ({circuits} of them circuits) to check; outside the fragment: {outside:?}",
+        documents.len()
+    );
+    assert!(
+        documents.len() >= 30 + circuits && circuits >= 20,
+        "only {} decided; outside: {outside:?}",
+        documents.len()
+    );
     model_check(&documents);
 }
 
@@ -357,11 +377,12 @@ fn the_gr1_game_decides_the_listed_specifications_in_its_fragment() {
 #[test]
 fn the_gr1_game_decides_the_families_at_syntcomp_sizes() {
     let tlsf = shared().join("tlsf");
-    let cfg = Config { solver: ltl::Solver::Gr1, ..Config::default() };
+    let cfg = Config { solver: ltl::Solver::Gr1, circuit: true, ..Config::default() };
     let n = |v: i64| vec![("n".to_string(), v)];
     for (file, params, expected) in [
         ("simple_arbiter/simple_arbiter.tlsf", n(8), Verdict::Realizable),
         ("simple_arbiter/simple_arbiter.tlsf", n(12), Verdict::Realizable),
+        ("load_balancer/load_balancer.tlsf", n(10), Verdict::Realizable),
         ("full_arbiter/full_arbiter.tlsf", n(4), Verdict::Realizable),
         ("full_arbiter/full_arbiter.tlsf", n(5), Verdict::Realizable),
         ("load_balancer/load_balancer.tlsf", n(4), Verdict::Realizable),
@@ -375,11 +396,97 @@ fn the_gr1_game_decides_the_families_at_syntcomp_sizes() {
         let name = label(&path, &params);
         let source = std::fs::read_to_string(&path).unwrap();
         let (spec, _) = ltl::compile(&source, Format::Tlsf, &params).unwrap();
-        // The counter-strategy search after an unrealizable verdict is the bounded games'.
-        let cfg = Config { max_work: 300_000_000, ..cfg.clone() };
         let outcome = ltl::synthesize(&spec, &cfg, &mut |_| true).unwrap_or_else(|stop| panic!("{name}: {stop}"));
         assert_eq!(outcome.verdict, expected, "{name}: {}", ltl::summary(&outcome));
+        if expected == Verdict::Realizable {
+            let circuit = outcome.circuit.as_ref().unwrap_or_else(|| panic!("{name}: {}", ltl::summary(&outcome)));
+            let kept = bounded_check(&spec, circuit, 60).unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert!(kept > 0 || spec.assumptions.is_empty(), "{name}: no play kept the assumptions");
+            eprintln!("{name}: {}; {kept} of 60 plays kept the assumptions", ltl::summary(&outcome));
+        }
     }
+}
+
+/// The bounded check fails circuits that break the specification: one that never grants the
+/// first client, one that grants two clients at once.
+#[test]
+fn a_mutated_circuit_fails_the_bounded_check() {
+    let path = shared().join("tlsf/simple_arbiter/simple_arbiter.tlsf");
+    let source = std::fs::read_to_string(&path).unwrap();
+    let (spec, _) = ltl::compile(&source, Format::Tlsf, &[("n".to_string(), 12)]).unwrap();
+    let cfg = Config { solver: ltl::Solver::Gr1, circuit: true, ..Config::default() };
+    let circuit = ltl::synthesize(&spec, &cfg, &mut |_| true).unwrap().circuit.expect("a circuit");
+    assert_eq!(bounded_check(&spec, &circuit, 20), Ok(20));
+    let mut starving = circuit.clone();
+    for goal in &mut starving.goals {
+        goal.writes[0] = ltl::Logic::Const(false);
+    }
+    let error = bounded_check(&spec, &starving, 20).unwrap_err();
+    assert!(error.contains("violates"), "{error}");
+    let mut greedy = circuit.clone();
+    greedy.goals[0].writes[1] = greedy.goals[0].writes[0].clone();
+    let error = bounded_check(&spec, &greedy, 20).unwrap_err();
+    assert!(error.contains("violates"), "{error}");
+}
+
+/// A bounded check of a controller circuit against the specification's own semantics, for
+/// circuits whose table is too large for the model check: `runs` environments, each a fixed
+/// pseudo-random function from the circuit's state to the inputs (with its own bias towards
+/// true), so that each closed loop is an ultimately periodic play; each such play must satisfy
+/// the whole formula, evaluated on the lasso (`Play::satisfies`, no code shared with the
+/// solver). Returns how many plays kept the assumptions (where the guarantees were at stake).
+fn bounded_check(spec: &Spec, circuit: &ltl::Circuit, runs: u64) -> Result<usize, String> {
+    use std::collections::HashMap;
+    let formula = spec.formula();
+    let assumptions = ltl::Ltl::all(spec.assumptions.iter().map(|c| c.formula.clone()).collect());
+    let mix = |mut x: u64| {
+        // splitmix64's finaliser
+        x = (x ^ (x >> 30)).wrapping_mul(0xbf58476d1ce4e5b9);
+        x = (x ^ (x >> 27)).wrapping_mul(0x94d049bb133111eb);
+        x ^ (x >> 31)
+    };
+    let mut kept = 0;
+    let mut checked = 0;
+    for run in 0..runs {
+        // Per run and input, how often it is true (in 1/1000): some inputs held, some never
+        // set, so that assumptions such as `G F idle` can be kept.
+        let bias = |s: ltl::SignalId| [500, 0, 1000, 50, 950, 200][(mix(run << 8 | u64::from(s.0)) % 6) as usize];
+        let mut seen: HashMap<ltl::CircuitState, usize> = HashMap::new();
+        let mut state = circuit.initial();
+        let mut letters: Vec<u64> = Vec::new();
+        let loop_start = loop {
+            if let Some(&start) = seen.get(&state) {
+                break Some(start);
+            }
+            if letters.len() >= 5_000 {
+                break None;
+            }
+            seen.insert(state.clone(), letters.len());
+            let key = state.latches.iter().fold(mix(run ^ state.goal as u64), |h, &b| mix(h ^ u64::from(b)) ^ h << 1);
+            let input = |s: ltl::SignalId| mix(key ^ u64::from(s.0).wrapping_mul(0x9e3779b97f4a7c15)) % 1000 < bias(s);
+            let (writes, next) = circuit.step(&state, &input);
+            let mut letter = 0u64;
+            for &s in &circuit.reads {
+                letter |= u64::from(input(s)) << s.0;
+            }
+            for (&s, &w) in circuit.writes.iter().zip(&writes) {
+                letter |= u64::from(w) << s.0;
+            }
+            letters.push(letter);
+            state = next;
+        };
+        let Some(loop_start) = loop_start else { continue };
+        let play = ltl::Play { states: Vec::new(), letters, loop_start };
+        checked += 1;
+        if !play.satisfies(&formula) {
+            return Err(format!("run {run}: the circuit's play violates the specification: {}", play.describe(spec)));
+        }
+        kept += usize::from(play.satisfies(&assumptions));
+    }
+    if checked * 2 < runs as usize {
+        return Err(format!("only {checked} of {runs} plays closed a loop within 5 000 steps"));
+    }
+    Ok(kept)
 }
 
 #[test]

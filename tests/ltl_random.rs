@@ -356,7 +356,7 @@ fn random_gr1_conjunct(rng: &mut Rng, signals: u32) -> Ltl {
 fn the_gr1_game_decides_its_fragment_as_the_bounded_games_do() {
     let mut rng = Rng::new(29);
     let names = |s: SignalId| ["i0", "i1", "o0", "o1"][s.index()].to_string();
-    let (mut agreed, mut beyond_bound, mut realizable, mut unrealizable) = (0, 0, 0, 0);
+    let (mut agreed, mut beyond_bound, mut realizable, mut unrealizable, mut circuits) = (0, 0, 0, 0, 0);
     for case in 0..cases() / 4 {
         let semantics = if case % 3 == 0 { Semantics::Moore } else { Semantics::Mealy };
         let mut spec = random_spec(&mut rng, semantics);
@@ -364,7 +364,7 @@ fn the_gr1_game_decides_its_fragment_as_the_bounded_games_do() {
         spec.assumptions = (0..rng.below(3)).map(|_| clause(random_gr1_conjunct(&mut rng, 4))).collect();
         spec.guarantees = (0..1 + rng.below(3)).map(|_| clause(random_gr1_conjunct(&mut rng, 4))).collect();
         let text = spec.formula_text();
-        let gr1 = Config { solver: Solver::Gr1, ..Config::default() };
+        let gr1 = Config { solver: Solver::Gr1, circuit: true, ..Config::default() };
         let outcome =
             ltl::synthesize(&spec, &gr1, &mut |_| true).unwrap_or_else(|stop| panic!("case {case}: {stop}: {text}"));
         assert_ne!(outcome.verdict, Verdict::Unknown, "case {case}: {text}");
@@ -386,6 +386,13 @@ fn the_gr1_game_decides_its_fragment_as_the_bounded_games_do() {
             assert_eq!(controller.moves_first, semantics == Semantics::Moore);
             let negation = translate(&Ltl::not(spec.formula()), &names, 100_000, u64::MAX).unwrap();
             assert!(!some_play_accepted(controller, &negation), "case {case}: the gr1 controller violates {text}");
+            // The same strategy as a circuit, unfolded into its table.
+            let circuit = outcome.circuit.as_ref().unwrap_or_else(|| panic!("case {case}: no circuit: {text}"));
+            let table = circuit.to_machine(100_000).expect("a small table");
+            table.validate().unwrap();
+            assert_eq!(table.moves_first, semantics == Semantics::Moore);
+            assert!(!some_play_accepted(&table, &negation), "case {case}: the gr1 circuit violates {text}");
+            circuits += 1;
         } else {
             unrealizable += 1;
             let counter = outcome
@@ -399,8 +406,8 @@ fn the_gr1_game_decides_its_fragment_as_the_bounded_games_do() {
         }
     }
     eprintln!(
-        "gr1: {agreed} agreed with the explicit games, {beyond_bound} beyond their bound, {realizable} realizable, \
-         {unrealizable} unrealizable"
+        "gr1: {agreed} agreed with the explicit games, {beyond_bound} beyond their bound, {realizable} realizable \
+         ({circuits} circuits checked), {unrealizable} unrealizable"
     );
     assert!(
         agreed > cases() / 8 && realizable > cases() / 40 && unrealizable > cases() / 40,

@@ -23,6 +23,8 @@ mod fragment;
 mod fuzz_regressions;
 #[path = "ltl_checkers.rs"]
 mod ltl_checkers;
+#[path = "ltl_circuit.rs"]
+mod ltl_circuit;
 #[path = "ltl_cli.rs"]
 mod ltl_cli;
 #[path = "ltl_compare_g4ltl.rs"]

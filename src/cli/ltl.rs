@@ -81,6 +81,11 @@ pub struct LtlArgs {
     /// what G4LTL cannot express is refused with a located error (exit status 2).
     #[arg(long, conflicts_with_all = ["json", "target", "suggest"])]
     pub to_g4ltl: bool,
+    /// With --solver gr1: build the controller as a circuit (latches, and per goal the
+    /// outputs as Boolean functions) and generate code from it, even when its table fits.
+    /// Without the flag gr1 builds the circuit only when the table would pass --max-states.
+    #[arg(long)]
+    pub circuit: bool,
     /// With --suggest: add at most N assumptions (one set).
     #[arg(long, value_name = "N", default_value_t = 3, requires = "suggest", value_parser = clap::value_parser!(u64).range(1..=10))]
     pub suggest_max: u64,
@@ -144,7 +149,8 @@ pub fn ltl(a: &LtlArgs) -> ExitCode {
         .max_work(a.max_work)
         .solver(solver)
         .compositional(!a.monolithic)
-        .refine(!a.no_refine);
+        .refine(!a.no_refine)
+        .circuit(a.circuit);
     let outcome = match ltl::synthesize(&spec, &cfg, &mut |_| true) {
         Ok(outcome) => outcome,
         Err(stop) => {
@@ -153,7 +159,7 @@ pub fn ltl(a: &LtlArgs) -> ExitCode {
         }
     };
     if let Some(target) = a.target {
-        if outcome.controller.is_none() {
+        if outcome.controller.is_none() && outcome.circuit.is_none() {
             eprintln!("{}: {}; no code written", a.file, ltl::summary(&outcome));
             return exit_code(outcome.verdict);
         }
@@ -214,6 +220,10 @@ pub fn ltl(a: &LtlArgs) -> ExitCode {
         if let Some(m) = &outcome.controller {
             outln!("controller (state: inputs / outputs -> next):");
             outln!("{}", ltl::render_machine(&spec, m).trim_end());
+        }
+        if let Some(c) = &outcome.circuit {
+            outln!("controller circuit (latches, then per goal the outputs):");
+            outln!("{}", c.render(&spec).trim_end());
         }
         if let Some(m) = &outcome.counter_strategy {
             outln!("the environment's counter-strategy, unfolded from its initial state:");

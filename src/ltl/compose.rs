@@ -317,6 +317,7 @@ pub(super) fn synthesize(
         k,
         controller: Some(product(&machines)),
         counter_strategy: None,
+        circuit: None,
         stats,
         limit: None,
         refinement,

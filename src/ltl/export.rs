@@ -28,6 +28,9 @@ pub fn report_json(spec: &Spec, outcome: &Synthesis) -> Value {
     if let Some(machine) = &outcome.controller {
         doc["mealy"] = machine.to_json(spec);
     }
+    if let Some(circuit) = &outcome.circuit {
+        doc["circuit"] = circuit.to_json(spec);
+    }
     if let Some(machine) = &outcome.counter_strategy {
         let mut counter = machine.to_json(spec);
         counter["moves_first"] = json!(machine.moves_first);
@@ -221,10 +224,24 @@ pub fn summary(outcome: &Synthesis) -> String {
     let at = if outcome.stats.gr1 { " (GR(1) game)".to_string() } else { format!(" at k = {}", outcome.k) };
     let missing = || format!("not built: {}", outcome.limit.as_deref().unwrap_or("no machine"));
     match outcome.verdict {
-        Verdict::Realizable => match &outcome.controller {
-            Some(m) => format!("realizable{at}: a controller of {}", size(m)),
-            None => format!("realizable{at}: the controller was {}", missing()),
-        },
+        Verdict::Realizable => {
+            let circuit = |c: &super::Circuit| {
+                let latches = c.latches.len();
+                format!("{latches} latch{} and {}", if latches == 1 { "" } else { "es" }, count(c.goals.len(), "goal"))
+            };
+            match (&outcome.controller, &outcome.circuit) {
+                (Some(m), None) => format!("realizable{at}: a controller of {}", size(m)),
+                (Some(m), Some(c)) => {
+                    format!("realizable{at}: a controller of {}; as a circuit, {}", size(m), circuit(c))
+                }
+                (None, Some(c)) => format!(
+                    "realizable{at}: a controller circuit of {} (no table: {})",
+                    circuit(c),
+                    outcome.limit.as_deref().unwrap_or("not built")
+                ),
+                (None, None) => format!("realizable{at}: the controller was {}", missing()),
+            }
+        }
         Verdict::Unrealizable => match &outcome.counter_strategy {
             Some(m) => format!("unrealizable{at}: the environment wins with a counter-strategy of {}", size(m)),
             None => format!("unrealizable{at}: the environment's counter-strategy was {}", missing()),

@@ -23,6 +23,7 @@
 
 mod antichain;
 mod bdd;
+mod circuit;
 mod compose;
 mod export;
 mod g4ltl;
@@ -45,6 +46,7 @@ pub use spec::{
     SignalKind, Spec, Timer,
 };
 // The strategies, for the views and the PLC lowering.
+pub use circuit::{Circuit, CircuitState, Goal, Latch, Logic};
 pub use machine::{Cube, Machine, Row, StateId};
 // The parts of an outcome: the assumptions refinement learned, the groups of a compositional run.
 pub use compose::Group;
@@ -133,6 +135,10 @@ pub struct Config {
     /// Refine the abstraction of timers and predicates from counter-strategies (`refine`);
     /// without it the verdict is that of the Boolean abstraction.
     pub refine: bool,
+    /// A GR(1) run builds its controller as a [`Circuit`] even when the table fits (which it
+    /// builds too): the PLC code is then the circuit's, and the specification is solved as a
+    /// whole (the groups of a compositional run would each have their own).
+    pub circuit: bool,
 }
 
 /// The solvers of the bounded games; they decide the same games (the tests compare them). The
@@ -265,6 +271,7 @@ crate::search::setters!(Config {
     max_work: u64,
     compositional: bool,
     refine: bool,
+    circuit: bool,
 });
 
 impl Default for Config {
@@ -278,6 +285,7 @@ impl Default for Config {
             solver: Solver::Explicit,
             compositional: true,
             refine: true,
+            circuit: false,
         }
     }
 }
@@ -356,6 +364,9 @@ pub struct Synthesis {
     /// The environment's counter-strategy: reads the outputs, writes the inputs. `Some` exactly
     /// when unrealizable, with the same exception as the controller's.
     pub counter_strategy: Option<Machine>,
+    /// The controller as a circuit (a GR(1) run only): built when its table would pass the
+    /// budget, or when [`Config::circuit`] asks for it.
+    pub circuit: Option<Circuit>,
     pub stats: Stats,
     /// For an unknown verdict: which bound or budget ended the run, and the flag that raises it;
     /// for a decided one without its machine, why it is missing.
@@ -388,7 +399,9 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut OnProgress<'_, Progr
     let groups = compose::split(spec);
     let split = groups.len();
     let mut spent = 0;
-    if cfg.compositional && split > 1 {
+    // A circuit is one controller: the groups' circuits are not run side by side.
+    let circuit = cfg.solver == Solver::Gr1 && cfg.circuit;
+    if cfg.compositional && split > 1 && !circuit {
         let mut tried = Config { max_work: cfg.max_work / 2, ..cfg.clone() };
         tried.max_states = cfg.max_states / 2;
         match compose::synthesize(spec, &groups, &tried, progress) {

@@ -29,6 +29,7 @@
 //! else descend a ring of `Y_l`, else stay in the ring's `X` while the environment misses
 //! its justice `k`.
 
+mod circuit;
 mod monitor;
 
 use super::bdd::diagram::{Bdd, Diagram, LevelSet};
@@ -61,6 +62,7 @@ pub(super) fn synthesize(spec: &Spec, cfg: &Config, work: &mut Work) -> Result<S
         k: 0,
         controller: None,
         counter_strategy: None,
+        circuit: None,
         stats: Stats { gr1: true, monitor_bits: monitors.bits.len(), ..Stats::default() },
         limit: None,
         refinement: Default::default(),
@@ -83,7 +85,21 @@ pub(super) fn synthesize(spec: &Spec, cfg: &Config, work: &mut Work) -> Result<S
             None
         }
     };
-    if won && outcome.limit.is_none() {
+    if won && (cfg.circuit || built.is_none()) {
+        // The controller as a circuit: its size follows the specification's, not the number of
+        // monitor valuations reached.
+        let share = work.remaining() / 2;
+        match work.capped(share, |work| game.circuit(cfg.max_states, work)) {
+            Ok(circuit) => outcome.circuit = Some(circuit),
+            Err(Stop::Cancelled) => return Err(Stop::Cancelled),
+            Err(Stop::Budget { message, .. }) => {
+                let table = outcome.limit.take().map(|t| format!("; its table: {t}")).unwrap_or_default();
+                outcome.limit = Some(format!("the circuit: {message}{table}"));
+            }
+        }
+        outcome.stats.bdd_nodes = game.d.peak();
+    }
+    if won && outcome.limit.is_none() && built.is_some() {
         // The same game with each obligation's justice met after the step: its controller is
         // often smaller (the arbiters'), sometimes larger (full_arbiter's); the smaller is kept.
         drop(game);
@@ -825,7 +841,7 @@ fn game_prop(d: &mut Diagram, signal_level: &[u32], bit_level: &[u32], p: &Prop,
             }
         }
         Prop::Signal(s) => d.literal(signal_level[s.index()], true)?,
-        Prop::Bit(b) => d.literal(bit_level[*b], true)?,
+        Prop::Latch(b) => d.literal(bit_level[*b], true)?,
         Prop::Not(q) => {
             let f = game_prop(d, signal_level, bit_level, q, work)?;
             d.not(f, work)?

@@ -23,68 +23,17 @@
 
 use crate::ltl::spec::{Clause, Ltl, SignalId, Spec};
 
-/// A Boolean function of the monitors' state bits and the current step's signals.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub(super) enum Prop {
-    Const(bool),
-    Signal(SignalId),
-    Bit(usize),
-    Not(Box<Prop>),
-    And(Vec<Prop>),
-    Or(Vec<Prop>),
-}
-
-impl Prop {
-    pub(super) fn not(p: Prop) -> Prop {
-        match p {
-            Prop::Const(b) => Prop::Const(!b),
-            Prop::Not(q) => *q,
-            p => Prop::Not(Box::new(p)),
-        }
-    }
-
-    pub(super) fn and(parts: Vec<Prop>) -> Prop {
-        Prop::junction(parts, true)
-    }
-
-    pub(super) fn or(parts: Vec<Prop>) -> Prop {
-        Prop::junction(parts, false)
-    }
-
-    fn junction(parts: Vec<Prop>, conjunction: bool) -> Prop {
-        let mut kept = Vec::with_capacity(parts.len());
-        for part in parts {
-            match part {
-                Prop::Const(b) if b == conjunction => {}
-                Prop::Const(_) => return Prop::Const(!conjunction),
-                part => kept.push(part),
-            }
-        }
-        match kept.len() {
-            0 => Prop::Const(conjunction),
-            1 => kept.pop().expect("one part"),
-            _ if conjunction => Prop::And(kept),
-            _ => Prop::Or(kept),
-        }
-    }
-
-    /// Its value under the bits' and signals' values.
-    #[cfg(test)]
-    pub(super) fn eval(&self, bit: &impl Fn(usize) -> bool, signal: &impl Fn(SignalId) -> bool) -> bool {
-        match self {
-            Prop::Const(b) => *b,
-            Prop::Signal(s) => signal(*s),
-            Prop::Bit(b) => bit(*b),
-            Prop::Not(p) => !p.eval(bit, signal),
-            Prop::And(ps) => ps.iter().all(|p| p.eval(bit, signal)),
-            Prop::Or(ps) => ps.iter().any(|p| p.eval(bit, signal)),
-        }
-    }
-}
+/// A Boolean function of the monitors' state bits (the circuit's latches) and the current
+/// step's signals.
+pub(super) use crate::ltl::circuit::Logic as Prop;
 
 /// A state bit of the monitors.
 #[derive(Clone, Debug)]
 pub(super) struct Bit {
+    /// An identifier that says what it holds (`r0_prev`, `open_2`).
+    pub name: String,
+    /// What it holds, in words.
+    pub comment: String,
     pub init: bool,
     pub next: Prop,
 }
@@ -94,6 +43,8 @@ pub(super) struct Bit {
 pub(super) struct Conditions {
     pub safety: Vec<Prop>,
     pub justice: Vec<Prop>,
+    /// Per justice, the conjunct it comes from.
+    pub labels: Vec<String>,
 }
 
 /// The monitors of a whole specification: the environment's conditions are its assumptions',
@@ -117,7 +68,16 @@ pub(super) struct Outside {
 
 /// The monitors of `spec`, or the first clause outside the fragment.
 pub(super) fn monitors(spec: &Spec, justice: Justice) -> Result<Monitors, Outside> {
-    let mut builder = Builder { bits: Vec::new(), history: Vec::new(), age: Vec::new(), groups: Vec::new(), justice };
+    let names = spec.signals.iter().map(|s| s.name.clone()).collect();
+    let mut builder = Builder {
+        bits: Vec::new(),
+        history: Vec::new(),
+        age: Vec::new(),
+        groups: Vec::new(),
+        justice,
+        names,
+        obligations: 0,
+    };
     let mut env = Conditions::default();
     let mut sys = Conditions::default();
     for (clauses, side) in [(&spec.assumptions, &mut env), (&spec.guarantees, &mut sys)] {
@@ -127,7 +87,8 @@ pub(super) fn monitors(spec: &Spec, justice: Justice) -> Result<Monitors, Outsid
             for conjunct in conjuncts {
                 let shape = shape(&conjunct)
                     .map_err(|reason| Outside { clause: clause.clone(), reason: reason.to_string() })?;
-                builder.compile(shape, side);
+                let text = conjunct.to_infix(&|s| spec.name(s).to_string());
+                builder.compile(shape, &text, side);
             }
         }
     }
@@ -443,11 +404,15 @@ struct Builder {
     /// `age[k - 1]`: the bit saying that at least `k` steps have passed.
     age: Vec<usize>,
     groups: Vec<(Vec<SignalId>, Vec<usize>)>,
+    /// The signals' names, for the bits' names.
+    names: Vec<String>,
+    /// Open bits made so far.
+    obligations: usize,
 }
 
 impl Builder {
-    fn bit(&mut self, init: bool, next: Prop) -> usize {
-        self.bits.push(Bit { init, next });
+    fn bit(&mut self, init: bool, next: Prop, name: String, comment: String) -> usize {
+        self.bits.push(Bit { name, comment, init, next });
         self.bits.len() - 1
     }
 
@@ -457,12 +422,15 @@ impl Builder {
             return Prop::Signal(s);
         }
         if let Some(&(_, b)) = self.history.iter().find(|(key, _)| *key == (s, k)) {
-            return Prop::Bit(b);
+            return Prop::Latch(b);
         }
         let next = self.history(s, k - 1);
-        let b = self.bit(false, next);
+        let signal = &self.names[s.index()];
+        let name = if k == 1 { format!("{signal}_prev") } else { format!("{signal}_prev{k}") };
+        let comment = format!("{signal} {k} step{} ago", if k == 1 { "" } else { "s" });
+        let b = self.bit(false, next, name, comment);
         self.history.push(((s, k), b));
-        Prop::Bit(b)
+        Prop::Latch(b)
     }
 
     /// Whether at least `k` steps have passed.
@@ -471,11 +439,13 @@ impl Builder {
             return Prop::Const(true);
         }
         while self.age.len() < k as usize {
-            let next = self.age(self.age.len() as u32);
-            let b = self.bit(false, next);
+            let k = self.age.len() + 1;
+            let next = self.age(k as u32 - 1);
+            let comment = format!("at least {k} step{} done", if k == 1 { "" } else { "s" });
+            let b = self.bit(false, next, format!("after_{k}"), comment);
             self.age.push(b);
         }
-        Prop::Bit(self.age[k as usize - 1])
+        Prop::Latch(self.age[k as usize - 1])
     }
 
     /// A lookahead proposition judged `delay` steps late.
@@ -487,7 +457,7 @@ impl Builder {
                 if *positive {
                     value
                 } else {
-                    Prop::not(value)
+                    Prop::negated(value)
                 }
             }
             Look::And(ps) => Prop::and(ps.iter().map(|p| self.late(p, delay)).collect()),
@@ -495,7 +465,8 @@ impl Builder {
         }
     }
 
-    fn compile(&mut self, shape: Shape, side: &mut Conditions) {
+    /// Adds the monitor of one conjunct (`text`, for the names of its bits).
+    fn compile(&mut self, shape: Shape, text: &str, side: &mut Conditions) {
         let first_bit = self.bits.len();
         let looks = shape.looks();
         let delay = looks.iter().map(|p| p.reach()).max().unwrap_or(0);
@@ -516,43 +487,55 @@ impl Builder {
             self.age(delay)
         } else {
             let (from, to) = (self.age(delay), self.age(delay + 1));
-            Prop::and(vec![from, Prop::not(to)])
+            Prop::and(vec![from, Prop::negated(to)])
         };
         let otherwise = self.late(&shape.otherwise, delay);
-        let trigger = Prop::and(vec![active.clone(), Prop::not(otherwise)]);
+        let trigger = Prop::and(vec![active.clone(), Prop::negated(otherwise)]);
         let strong = matches!(shape.temporal, Some(Temporal::Until(..)));
         match shape.temporal {
-            None => side.safety.push(Prop::not(trigger)),
+            None => side.safety.push(Prop::negated(trigger)),
             Some(Temporal::InfinitelyOften(q)) => {
                 // Prefix-independent: judged from the first step that has one on.
                 let from = self.age(delay);
                 let q = self.late(&q, delay);
                 side.justice.push(Prop::and(vec![from, q]));
+                side.labels.push(text.to_string());
             }
             Some(Temporal::Until(a, b) | Temporal::WeakUntil(a, b)) => {
                 let (a, b) = (self.late(&a, delay), self.late(&b, delay));
                 let open = self.bits.len();
-                let pending = Prop::or(vec![Prop::Bit(open), trigger]);
+                let pending = Prop::or(vec![Prop::Latch(open), trigger]);
                 // Pending and not discharged now: `a` must hold, and it stays open.
-                let waiting = Prop::and(vec![pending, Prop::not(b)]);
-                self.bit(false, waiting.clone());
-                side.safety.push(Prop::or(vec![Prop::not(waiting.clone()), a]));
+                let waiting = Prop::and(vec![pending, Prop::negated(b)]);
+                let (name, comment) = self.open_bit(text);
+                self.bit(false, waiting.clone(), name, comment);
+                side.safety.push(Prop::or(vec![Prop::negated(waiting.clone()), a]));
                 if strong {
+                    side.labels.push(text.to_string());
                     side.justice.push(match self.justice {
-                        Justice::Before => Prop::not(Prop::Bit(open)),
-                        Justice::After => Prop::not(waiting),
+                        Justice::Before => Prop::negated(Prop::Latch(open)),
+                        Justice::After => Prop::negated(waiting),
                     });
                 }
             }
             Some(Temporal::Release(a, b)) => {
                 let (a, b) = (self.late(&a, delay), self.late(&b, delay));
                 let open = self.bits.len();
-                let pending = Prop::or(vec![Prop::Bit(open), trigger]);
-                self.bit(false, Prop::and(vec![pending.clone(), Prop::not(a)]));
-                side.safety.push(Prop::or(vec![Prop::not(pending), b]));
+                let pending = Prop::or(vec![Prop::Latch(open), trigger]);
+                let (name, comment) = self.open_bit(text);
+                self.bit(false, Prop::and(vec![pending.clone(), Prop::negated(a)]), name, comment);
+                side.safety.push(Prop::or(vec![Prop::negated(pending), b]));
             }
         }
         self.groups.push((signals, (first_bit..self.bits.len()).collect()));
+    }
+}
+
+impl Builder {
+    /// The name and comment of the next obligation's open bit.
+    fn open_bit(&mut self, conjunct: &str) -> (String, String) {
+        self.obligations += 1;
+        (format!("open_{}", self.obligations), format!("an obligation of {conjunct} is open"))
     }
 }
 

@@ -27,8 +27,8 @@
 
 use crate::diag::{Diagnostic, Diagnostics, Span};
 use crate::ltl::{
-    Cube, Machine, NumExpr, NumberKind, NumericId, Relation, Row, SignalId, SignalKind as Direction, Spec, StateId,
-    Synthesis,
+    Circuit, Cube, Logic, Machine, NumExpr, NumberKind, NumericId, Relation, Row, SignalId, SignalKind as Direction,
+    Spec, StateId, Synthesis,
 };
 use crate::plc::model::unit::{BinOp, Expr, Place, Pou, PouKind, Signal, SignalKind, Stmt, Type, Unit, Var};
 use crate::plc::{identifier, source_hash, Namespace};
@@ -104,6 +104,9 @@ pub fn lower_outcome(
     outcome: &Synthesis,
     options: &LowerOptions,
 ) -> Option<Result<Unit, Vec<Diagnostic>>> {
+    if let Some(circuit) = &outcome.circuit {
+        return Some(lower_circuit(source, spec, circuit, options));
+    }
     let machines: Vec<Machine> = outcome.groups.iter().filter_map(|g| g.controller.clone()).collect();
     if machines.len() > 1 {
         return Some(lower_machines(source, spec, &machines, options));
@@ -119,18 +122,64 @@ pub fn lower_machines(
     machines: &[Machine],
     options: &LowerOptions,
 ) -> Result<Unit, Vec<Diagnostic>> {
+    lower_controller(source, spec, Controller::Machines(machines), options)
+}
+
+/// Lowers a controller circuit (a GR(1) run's, see [`crate::ltl::Circuit`]): its latches are
+/// BOOL variables of the block, its goal an INT; per scan the outputs of the current goal, the
+/// goal's advance, then every latch's next value at once.
+pub fn lower_circuit(
+    source: &str,
+    spec: &Spec,
+    circuit: &Circuit,
+    options: &LowerOptions,
+) -> Result<Unit, Vec<Diagnostic>> {
+    lower_controller(source, spec, Controller::Circuit(circuit), options)
+}
+
+/// What becomes the block's body: state machines side by side, or one circuit.
+#[derive(Clone, Copy)]
+enum Controller<'a> {
+    Machines(&'a [Machine]),
+    Circuit(&'a Circuit),
+}
+
+fn lower_controller(
+    source: &str,
+    spec: &Spec,
+    controller: Controller<'_>,
+    options: &LowerOptions,
+) -> Result<Unit, Vec<Diagnostic>> {
     let mut diags = Diagnostics::new(source);
-    for machine in machines {
-        check(spec, machine, &mut diags);
-    }
-    let written: Vec<SignalId> = machines.iter().flat_map(|m| m.writes.iter().copied()).collect();
+    let (machines, all_reads, written): (&[Machine], Vec<SignalId>, Vec<SignalId>) = match controller {
+        Controller::Machines(machines) => {
+            for machine in machines {
+                if let Err(problem) = machine.validate() {
+                    diags.error(
+                        Span::default(),
+                        format!("the controller is not a complete deterministic machine: {problem}"),
+                    );
+                }
+                check(spec, &machine.reads, &machine.writes, &mut diags);
+            }
+            (
+                machines,
+                machines.iter().flat_map(|m| m.reads.iter().copied()).collect(),
+                machines.iter().flat_map(|m| m.writes.iter().copied()).collect(),
+            )
+        }
+        Controller::Circuit(circuit) => {
+            check(spec, &circuit.reads, &circuit.writes, &mut diags);
+            (&[], circuit.reads.clone(), circuit.writes.clone())
+        }
+    };
     let mut distinct = written.clone();
     crate::sort::sort(&mut distinct);
     distinct.dedup();
     if distinct.len() != written.len() {
         diags.error(Span::default(), "two state machines write one output");
     }
-    if machines.is_empty() {
+    if machines.is_empty() && matches!(controller, Controller::Machines(_)) {
         diags.error(Span::default(), "no state machine to lower");
     }
     if diags.has_errors() {
@@ -159,7 +208,7 @@ pub fn lower_machines(
     let mut input_name: std::collections::HashMap<SignalId, String> = Default::default();
     // In the machines' own order (a single machine's reads stay as they are), each once.
     let mut reads_in_order: Vec<SignalId> = Vec::new();
-    for &s in machines.iter().flat_map(|m| m.reads.iter()) {
+    for &s in &all_reads {
         if !reads_in_order.contains(&s) {
             reads_in_order.push(s);
         }
@@ -301,6 +350,13 @@ pub fn lower_machines(
             .with_init(Expr::Int(i64::from(machine.init.0))),
         );
     }
+    if let Controller::Circuit(circuit) = controller {
+        let sources: Vec<Source> = circuit.reads.iter().map(|&s| source_of(s)).collect();
+        let output_names: Vec<String> = circuit.writes.iter().map(|s| output_name[s].clone()).collect();
+        let (circuit_locals, circuit_body) = circuit_code(circuit, &sources, &output_names, &mut names);
+        locals.extend(circuit_locals);
+        body.extend(circuit_body);
+    }
     let started: Vec<&TimerUse> = timers.iter().filter(|t| t.start.is_some()).collect();
     if !started.is_empty() {
         body.push(Stmt::Comment("a timer started in this scan restarts: a rising edge on IN".into()));
@@ -318,8 +374,17 @@ pub fn lower_machines(
     for t in &timers {
         locals.push(Var::new(&t.instance, Type::Ton, format!("timer {} ({} ms)", t.name, t.preset_ms)));
     }
-    let moore = machines.iter().all(|m| m.moves_first);
-    let turn = if moore {
+    let moore = match controller {
+        Controller::Machines(machines) => machines.iter().all(|m| m.moves_first),
+        Controller::Circuit(circuit) => circuit.moves_first,
+    };
+    let turn = if matches!(controller, Controller::Circuit(_)) {
+        if moore {
+            "a circuit of latches, Moore: the outputs do not depend on the inputs of the same scan"
+        } else {
+            "a circuit of latches, Mealy: reads the inputs and answers in the same scan"
+        }
+    } else if moore {
         "Moore machine: a state's outputs do not depend on the inputs of the same scan"
     } else {
         "Mealy machine: reads the inputs and answers in the same scan"
@@ -396,6 +461,16 @@ pub fn lower_machines(
         format!("Generated by plcsynth {} from an LTL specification.", env!("CARGO_PKG_VERSION")),
         format!("Specification hash (FNV-1a 64): {}", source_hash(source)),
     ];
+    if let Controller::Circuit(circuit) = controller {
+        header.push(format!(
+            "Controller: a circuit of {} latches and {} goals (GR(1) strategy), {}; reads {}; writes {}.",
+            circuit.latches.len(),
+            circuit.goals.len(),
+            if circuit.moves_first { "Moore" } else { "Mealy" },
+            if circuit.reads.is_empty() { "nothing".into() } else { signal_list(&circuit.reads) },
+            if circuit.writes.is_empty() { "nothing".into() } else { signal_list(&circuit.writes) },
+        ));
+    }
     for (k, machine) in machines.iter().enumerate() {
         header.push(format!(
             "{}: {} states ({} reachable), {}; reads {}; writes {}.",
@@ -409,6 +484,174 @@ pub fn lower_machines(
     }
     header.push("Do not edit: change the specification and generate again.".to_string());
     Ok(Unit { name: block, header, gvl, constants, globals: Vec::new(), signals, pous: vec![fb, main] })
+}
+
+/// The circuit's variables and statements: per goal its outputs and its advance (a `CASE` over
+/// the goal when there are several), then every latch's next value, computed from this scan's
+/// latches, inputs and outputs.
+fn circuit_code(circuit: &Circuit, sources: &[Source], outputs: &[String], names: &mut Names) -> (Vec<Var>, Vec<Stmt>) {
+    let latch_names: Vec<String> = circuit.latches.iter().map(|l| names.fresh(&l.name, MAX_NAME)).collect();
+    let many = circuit.goals.len() > 1;
+    let goal_name = if many { names.fresh("goal", MAX_NAME) } else { String::new() };
+    let lowering = CircuitLowering { circuit, sources, outputs, latches: &latch_names };
+    let mut locals: Vec<Var> = circuit
+        .latches
+        .iter()
+        .zip(&latch_names)
+        .map(|(l, name)| Var::new(name, Type::Bool, &l.comment).with_init(Expr::Bool(l.init)))
+        .collect();
+    let mut body = Vec::new();
+    // An output every goal computes alike is assigned once, before the goals; one that some
+    // goal holds FALSE is FALSE unless the goal pursued sets it.
+    let alike: Vec<bool> =
+        (0..outputs.len()).map(|j| circuit.goals.iter().all(|g| g.writes[j] == circuit.goals[0].writes[j])).collect();
+    let by_default: Vec<bool> = (0..outputs.len())
+        .map(|j| !alike[j] && circuit.goals.iter().any(|g| g.writes[j] == Logic::Const(false)))
+        .collect();
+    let mut before = Vec::new();
+    for (j, name) in outputs.iter().enumerate() {
+        if alike[j] {
+            before.push(Stmt::assign(Place::local(name), lowering.expr(&circuit.goals[0].writes[j])));
+        } else if by_default[j] {
+            before.push(Stmt::assign(Place::local(name), Expr::Bool(false)));
+        }
+    }
+    if many && !before.is_empty() {
+        body.push(Stmt::Comment("outputs alike in every goal, and FALSE unless the goal pursued sets them".into()));
+        body.extend(before);
+    }
+    let goal_code = |g: usize| {
+        let goal = &circuit.goals[g];
+        let mut stmts: Vec<Stmt> = outputs
+            .iter()
+            .zip(&goal.writes)
+            .enumerate()
+            .filter(|&(j, (_, f))| !many || !(alike[j] || by_default[j] && *f == Logic::Const(false)))
+            .map(|(_, (name, f))| Stmt::assign(Place::local(name), lowering.expr(f)))
+            .collect();
+        if many {
+            let advance = Stmt::assign(Place::local(&goal_name), Expr::Int(((g + 1) % circuit.goals.len()) as i64));
+            match &goal.reached {
+                Logic::Const(false) => {}
+                Logic::Const(true) => stmts.push(advance),
+                reached => stmts.push(Stmt::when(lowering.expr(reached), vec![advance])),
+            }
+        }
+        stmts
+    };
+    if many {
+        body.push(Stmt::Comment("the outputs of the goal pursued; the next goal once it is reached".into()));
+        let arms = (0..circuit.goals.len())
+            .map(|g| {
+                let mut arm = vec![Stmt::Comment(format!("goal {g}: {}", circuit.goals[g].comment))];
+                arm.extend(goal_code(g));
+                (vec![g as i64], arm)
+            })
+            .collect();
+        body.push(Stmt::Case { selector: Expr::local(&goal_name), arms, otherwise: Vec::new() });
+        locals.push(
+            Var::new(
+                &goal_name,
+                Type::Int,
+                format!("the goal pursued, 0 to {} (each in turn, once reached)", circuit.goals.len() - 1),
+            )
+            .with_init(Expr::Int(0)),
+        );
+    } else {
+        body.push(Stmt::Comment("the outputs".into()));
+        body.extend(goal_code(0));
+    }
+    if circuit.latches.is_empty() {
+        return (locals, body);
+    }
+    // Every latch takes its next value at once: a latch is assigned after the latches that
+    // read it, and through a temporary where they read each other in a cycle.
+    let order = update_order(circuit);
+    body.push(Stmt::Comment("the latches' next values, from this scan's inputs and outputs".into()));
+    match order {
+        Some(order) => {
+            for b in order {
+                body.push(Stmt::assign(Place::local(&latch_names[b]), lowering.expr(&circuit.latches[b].next)));
+            }
+        }
+        None => {
+            let temps: Vec<String> = latch_names.iter().map(|n| names.fresh(&format!("next_{n}"), MAX_NAME)).collect();
+            for (b, temp) in temps.iter().enumerate() {
+                body.push(Stmt::assign(Place::local(temp), lowering.expr(&circuit.latches[b].next)));
+                locals.push(Var::new(temp, Type::Bool, format!("the next value of {}", latch_names[b])));
+            }
+            for (name, temp) in latch_names.iter().zip(&temps) {
+                body.push(Stmt::assign(Place::local(name), Expr::local(temp)));
+            }
+        }
+    }
+    (locals, body)
+}
+
+/// An order of the latches in which each is assigned before every other latch its next value
+/// reads (so that it reads the old value); `None` when they read each other in a cycle.
+fn update_order(circuit: &Circuit) -> Option<Vec<usize>> {
+    let n = circuit.latches.len();
+    // `readers[b]`: the latches whose next value reads `b`; each must come before `b`.
+    let mut waiting_for = vec![0usize; n];
+    let mut readers: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for (a, latch) in circuit.latches.iter().enumerate() {
+        let mut read = Vec::new();
+        latch.next.latches(&mut read);
+        read.sort_unstable();
+        read.dedup();
+        for b in read.into_iter().filter(|&b| b != a) {
+            readers[b].push(a);
+            waiting_for[b] += 1;
+        }
+    }
+    let mut ready: Vec<usize> = (0..n).rev().filter(|&b| waiting_for[b] == 0).collect();
+    let mut order = Vec::with_capacity(n);
+    while let Some(a) = ready.pop() {
+        order.push(a);
+        let mut read = Vec::new();
+        circuit.latches[a].next.latches(&mut read);
+        read.sort_unstable();
+        read.dedup();
+        for b in read.into_iter().filter(|&b| b != a) {
+            waiting_for[b] -= 1;
+            if waiting_for[b] == 0 {
+                ready.push(b);
+            }
+        }
+    }
+    (order.len() == n).then_some(order)
+}
+
+/// What the circuit's expressions need to know.
+struct CircuitLowering<'a> {
+    circuit: &'a Circuit,
+    sources: &'a [Source],
+    outputs: &'a [String],
+    latches: &'a [String],
+}
+
+impl CircuitLowering<'_> {
+    fn expr(&self, f: &Logic) -> Expr {
+        match f {
+            Logic::Const(b) => Expr::Bool(*b),
+            Logic::Latch(b) => Expr::local(&self.latches[*b]),
+            Logic::Signal(s) => match self.circuit.reads.iter().position(|r| r == s) {
+                Some(i) => match &self.sources[i] {
+                    Source::Input(name) => Expr::local(name),
+                    Source::Expired(timer) => Expr::read(Place::local(timer).member("Q")),
+                },
+                None => {
+                    let j =
+                        self.circuit.writes.iter().position(|w| w == s).expect("a signal the circuit reads or writes");
+                    Expr::local(&self.outputs[j])
+                }
+            },
+            Logic::Not(p) => self.expr(p).not(),
+            Logic::And(ps) => ps.iter().map(|p| self.expr(p)).reduce(Expr::and).unwrap_or(Expr::Bool(true)),
+            Logic::Or(ps) => ps.iter().map(|p| self.expr(p)).reduce(Expr::or).unwrap_or(Expr::Bool(false)),
+        }
+    }
 }
 
 /// The numeric inputs an expression reads.
@@ -559,14 +802,10 @@ fn num_expr(e: &NumExpr, names: &[Option<String>], real: bool) -> Result<Expr, S
     })
 }
 
-/// What keeps `machine` from being lowered as a controller of `spec`.
-fn check(spec: &Spec, machine: &Machine, diags: &mut Diagnostics<'_>) {
-    if let Err(problem) = machine.validate() {
-        diags.error(Span::default(), format!("the controller is not a complete deterministic machine: {problem}"));
-    }
-    for (list, want, verb) in
-        [(&machine.reads, Direction::Input, "reads"), (&machine.writes, Direction::Output, "writes")]
-    {
+/// What keeps a controller reading `reads` and writing `writes` from being lowered as a
+/// controller of `spec`.
+fn check(spec: &Spec, reads: &[SignalId], writes: &[SignalId], diags: &mut Diagnostics<'_>) {
+    for (list, want, verb) in [(reads, Direction::Input, "reads"), (writes, Direction::Output, "writes")] {
         for &s in list {
             match spec.signals.get(s.index()) {
                 None => {
