@@ -218,3 +218,15 @@ fn the_circuits_code_parses_and_validates() {
     }
     common::blark_all(&python, &root(), &st_files);
 }
+
+/// The block docs/ltl-plc.md shows ("Circuits") is the generated one.
+#[test]
+fn the_documented_circuit_is_the_generated_code() {
+    let (source, spec, circuit) = family("simple_arbiter/simple_arbiter.tlsf", 3);
+    let unit = lower("simple_arbiter_3", &source, &spec, &circuit);
+    let text = &plc::render_unit_files(&unit, Target::St, &plc::Options::default()).unwrap()[0].text;
+    let start = text.find("FUNCTION_BLOCK").unwrap();
+    let end = text.find("END_FUNCTION_BLOCK").unwrap() + "END_FUNCTION_BLOCK".len();
+    let doc = std::fs::read_to_string(root().join("docs/ltl-plc.md")).unwrap();
+    assert!(doc.contains(&text[start..end]), "docs/ltl-plc.md shows another block than:\n{}", &text[start..end]);
+}

@@ -383,6 +383,7 @@ fn the_gr1_game_decides_the_families_at_syntcomp_sizes() {
         ("simple_arbiter/simple_arbiter.tlsf", n(8), Verdict::Realizable),
         ("simple_arbiter/simple_arbiter.tlsf", n(12), Verdict::Realizable),
         ("load_balancer/load_balancer.tlsf", n(10), Verdict::Realizable),
+        ("simple_arbiter/simple_arbiter.tlsf", n(20), Verdict::Realizable),
         ("full_arbiter/full_arbiter.tlsf", n(4), Verdict::Realizable),
         ("full_arbiter/full_arbiter.tlsf", n(5), Verdict::Realizable),
         ("load_balancer/load_balancer.tlsf", n(4), Verdict::Realizable),

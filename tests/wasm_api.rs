@@ -516,7 +516,8 @@ fn ltl_progress_carries_positions_and_diagram_nodes() {
 
 /// The GR(1) game in the page: SYNTCOMP's simple arbiter with 12 clients (24 signals, which
 /// the bounded games do not decide) is realizable; its controller table is past the budget
-/// given, and the summary says so instead of showing a machine.
+/// given, so the controller comes as a circuit, shown as text, and its function block is the
+/// code.
 #[wasm_bindgen_test]
 fn ltl_gr1_decides_an_arbiter_of_24_signals() {
     let source =
@@ -528,8 +529,12 @@ fn ltl_gr1_decides_an_arbiter_of_24_signals() {
     assert_eq!(string(&summary, "verdict"), "realizable");
     assert_eq!(string(&summary, "solver"), "gr1");
     assert!(string(&summary, "summary").contains("GR(1) game"), "{}", string(&summary, "summary"));
-    assert!(string(&summary, "summary").contains("not built"), "{}", string(&summary, "summary"));
+    assert!(string(&summary, "summary").contains("circuit of 12 latches"), "{}", string(&summary, "summary"));
     assert!(get(&summary, "machine_dot").is_null());
+    assert!(string(&summary, "circuit_text").contains("g_11 = open_12"), "{}", string(&summary, "circuit_text"));
+    let code = s.code("st", "", JsValue::UNDEFINED).unwrap();
+    let text = string(&array(&get(&code, "files")).get(0), "text");
+    assert!(text.contains("CASE goal OF") && text.contains("open_12 := (open_12 OR r_11) AND NOT g_11;"), "{text}");
 }
 
 #[wasm_bindgen_test]

@@ -65,9 +65,10 @@ fn cell(result: &Result<ltl::Synthesis, Stop>, limit: Duration, elapsed: Duratio
         Ok(outcome) => {
             let verdict = format!("{:?}", outcome.verdict).to_lowercase();
             let bound = if outcome.stats.gr1 { String::new() } else { format!("k = {}, ", outcome.k) };
-            match outcome.controller.as_ref().or(outcome.counter_strategy.as_ref()) {
-                Some(m) => format!("{verdict} ({bound}{} states)", m.states.len()),
-                None => {
+            match (outcome.controller.as_ref().or(outcome.counter_strategy.as_ref()), &outcome.circuit) {
+                (Some(m), _) => format!("{verdict} ({bound}{} states)", m.states.len()),
+                (None, Some(c)) => format!("{verdict} (circuit: {} latches, {} goals)", c.latches.len(), c.goals.len()),
+                (None, None) => {
                     format!("{verdict} ({bound}no machine: {})", short_reason(outcome.limit.as_deref().unwrap_or("")))
                 }
             }

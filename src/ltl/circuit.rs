@@ -251,7 +251,7 @@ impl Circuit {
         let mut out = String::new();
         for l in &self.latches {
             out.push_str(&format!(
-                "latch {} (initially {}; {}): next = {}\n",
+                "latch {} (initially {}): {}\n  next = {}\n",
                 l.name,
                 l.init,
                 l.comment,

@@ -26,10 +26,12 @@ struct LtlOptions {
     max_k: Option<u32>,
     max_states: Option<usize>,
     max_work: Option<u64>,
-    /// `explicit` (the default), `antichain`, `symbolic` or `bdd` (`ltl::Solver::named`).
+    /// `explicit` (the default), `antichain`, `symbolic`, `bdd` or `gr1` (`ltl::Solver::named`).
     solver: Option<String>,
     /// Solve the whole specification at once (default: groups of guarantees first).
     monolithic: bool,
+    /// With the `gr1` solver: build the controller as a circuit, and its code from it.
+    circuit: bool,
     /// Decide the Boolean abstraction only (no refinement from counter-strategies).
     no_refine: bool,
     /// After an unrealizable verdict, search assumptions that make it realizable.
@@ -93,6 +95,8 @@ struct LtlSummary {
     machine_text: Option<String>,
     /// The counter-strategy unfolded as a tree (a plain sequence of inputs reads as a lasso).
     counter_tree: Option<String>,
+    /// The controller as a circuit (`gr1` solver): its latches, then per goal the outputs.
+    circuit_text: Option<String>,
     groups: Vec<GroupView>,
     suggestions: Option<SuggestionsView>,
     /// Why suggestions stopped early (a budget), if they did.
@@ -163,7 +167,7 @@ impl LtlSession {
     }
 
     /// Decides the specification. `options`: `{ maxK?, maxStates?, maxWork?, solver?,
-    /// monolithic?, noRefine?, suggest?, suggestMax?, progressMs? }`; `progress(value,
+    /// monolithic?, circuit?, noRefine?, suggest?, suggestMax?, progressMs? }`; `progress(value,
     /// elapsedMs)` is called with `ltl::Progress`, `{ k, positions, nodes, work }`, and its `false` cancels. A run that
     /// a budget or the callback stops has the verdict `budget_exceeded` or `cancelled` and its
     /// `stop`, as the other engines' sessions.
@@ -183,7 +187,8 @@ impl LtlSession {
             .max_work(opts.max_work.unwrap_or(defaults.max_work))
             .solver(solver)
             .compositional(!opts.monolithic)
-            .refine(!opts.no_refine);
+            .refine(!opts.no_refine)
+            .circuit(opts.circuit);
         let mut progress = Progress::new(progress, opts.progress_ms);
         let started = super::now_ms();
         let mut report = |p: &ltl::Progress| progress.report(|| *p);
@@ -205,6 +210,7 @@ impl LtlSession {
                     machine_dot: None,
                     machine_text: None,
                     counter_tree: None,
+                    circuit_text: None,
                     groups: Vec::new(),
                     suggestions: None,
                     suggest_stopped: None,
@@ -242,6 +248,7 @@ impl LtlSession {
             machine_dot: machine.map(|m| ltl::machine_dot(&refined, m)),
             machine_text: machine.map(|m| ltl::render_machine(&refined, m)),
             counter_tree: outcome.counter_strategy.as_ref().map(|m| ltl::render_tree(&refined, m)),
+            circuit_text: outcome.circuit.as_ref().map(|c| c.render(&refined)),
             groups: if outcome.groups.len() > 1 {
                 outcome
                     .groups

@@ -15,8 +15,10 @@ const BUDGET = 1_500_000;
 // 1.65 MB until the bdd solver (+23 104 bytes, ARCHITECTURE.md) raised it; 1.675 MB until the
 // GR(1) solver (+45 557 bytes: 1 672 491 → 1 718 048, with its counter-strategies and its
 // second reading of the justices; the only route that decides SYNTCOMP's arbiters at their
-// sizes in the page) raised it again.
-const CEILING = 1_720_000;
+// sizes in the page) raised it again; 1.72 MB until the GR(1) controllers as circuits
+// (+31 109 bytes: 1 718 048 → 1 749 157; the symbolic extraction, the sums of products, the
+// reachable positions, the circuit's function block) raised it once more.
+const CEILING = 1_750_000;
 
 test('the wasm bundle does not grow past its ceiling on the way to the 1.5 MB budget', (t) => {
   const bytes = statSync(join(root, 'www', 'pkg', 'plcsynth_bg.wasm')).size;

@@ -133,6 +133,7 @@ test('LTL: the solver menu picks the solver, and the summary names the one that 
     assert.match(await page.textContent('#ltl-solver-used'), new RegExp(`${solver} solver`));
     if (solver === 'gr1') {
       assert.match(await page.textContent('#ltl-summary'), /GR\(1\) game/);
+      assert.match(await page.textContent('#circuit-text'), /^latch /, 'the controller as a circuit');
       await shot(page, '47c-ltl-gr1');
     }
   }

@@ -70,6 +70,15 @@ export function renderLtlSummary(root, { summary, ms, expected, onAddAssumption 
           h('pre', { class: 'explanation', id: 'counter-tree' }, summary.counter_tree),
         )
       : null,
+    summary.circuit_text
+      ? h(
+          'section',
+          { id: 'ltl-circuit' },
+          h('h3', {}, 'The controller as a circuit (its function block is the code)'),
+          h('p', { class: 'muted' }, 'Latches remember what the monitors of the guarantees need; the controller pursues one goal (a guarantee’s “infinitely often”) at a time, and each output is a Boolean function of the latches and the inputs of the scan.'),
+          h('pre', { class: 'code', id: 'circuit-text' }, summary.circuit_text),
+        )
+      : null,
     summary.machine_text
       ? h(
           'section',
@@ -120,7 +129,8 @@ function suggestionsPart(summary, onAddAssumption) {
 /** The Automata tab of LTL: the controller or counter-strategy as a Mealy machine. */
 export async function drawMachine(root, summary) {
   if (!summary?.machine_dot) {
-    root.replaceChildren(h('p', { class: 'muted' }, summary ? `No machine: ${summary.stop ? 'the search stopped before deciding' : 'the verdict is unknown'}.` : 'Run the specification to see its controller as a Mealy machine.'));
+    const why = summary?.circuit_text ? 'the controller is a circuit (in the Summary), its table too large to draw' : summary?.stop ? 'the search stopped before deciding' : summary?.verdict === 'unknown' ? 'the verdict is unknown' : 'it was not built';
+    root.replaceChildren(h('p', { class: 'muted' }, summary ? `No machine: ${why}.` : 'Run the specification to see its controller as a Mealy machine.'));
     return;
   }
   const title = summary.verdict === 'realizable' ? 'The controller as a Mealy machine' : 'The environment’s counter-strategy';

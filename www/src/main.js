@@ -836,7 +836,8 @@ async function run() {
   const options = {
     timed: { maxStates, progressInterval: 256, exhaustive: $('#exhaustive').checked },
     sct: { method: $('#sct-method').value, compose: $('#sct-compose').checked },
-    ltl: { suggest: $('#ltl-suggest').checked, solver: $('#ltl-solver').value },
+    // A GR(1) controller comes as a circuit too, and its code from the circuit.
+    ltl: { suggest: $('#ltl-suggest').checked, solver: $('#ltl-solver').value, circuit: $('#ltl-solver').value === 'gr1' },
   }[engine];
   const progressText = {
     timed: (p) => `Exploring… ${fmtInt(p.visited)} states visited, ${fmtInt(p.removed)} removed`,

@@ -23,6 +23,11 @@ impl Bdd {
     pub(crate) fn is_constant(self) -> bool {
         self.0 < 2
     }
+
+    /// Its index in the node table (for keys of tables outside the diagram).
+    pub(crate) fn index(self) -> u32 {
+        self.0
+    }
 }
 
 /// The level of the terminals: below every variable.

@@ -22,17 +22,39 @@ impl Game<'_> {
     /// The controller as a circuit, from the winning region and the rings of the last round.
     /// Stops when its functions would pass `max_products` products in all.
     pub(super) fn circuit(&mut self, max_products: usize, work: &mut Work) -> Result<Circuit, Stop> {
+        // What the fixpoint and the table left behind goes first: only the game and its rings stay.
+        let mut rings = std::mem::take(&mut self.rings);
+        self.compacted = 0;
+        self.maybe_compact(&mut [], &mut rings, &mut []);
+        self.rings = rings;
         let z_next = self.next(self.z, work)?;
-        let mut goals = Vec::with_capacity(self.js.len());
-        let mut isop = Isop { memo: HashMap::new(), products: 0, max_products };
+        let mut exact = Vec::with_capacity(self.js.len());
         for l in 0..self.js.len() {
             let (writes, reached) = self.goal(l, z_next, work)?;
-            let mut logic = Vec::with_capacity(writes.len());
-            for f in writes.into_iter().chain([reached]) {
-                let (lower, upper) = self.within(f, self.z, work)?;
-                let products = isop.cover(&mut self.d, lower, upper, work)?;
-                logic.push(self.logic(&products));
-            }
+            exact.push(writes.into_iter().chain([reached]).collect::<Vec<_>>());
+        }
+        // First simplified within the winning region, which every play keeps until the
+        // environment breaks an assumption; then, where the positions that circuit reaches can
+        // be computed within a share of the work left, within those (far fewer on the
+        // arbiters: `after_1` implies nothing, `open_k` only one at a time, …).
+        let mut isop = Isop::new(max_products);
+        let winning = vec![self.z; exact.len()];
+        let (simple, mut products) = self.simplified(&exact, &winning, &mut isop, work)?;
+        let share = work.remaining() / 4;
+        let reached = work.capped(share, |work| {
+            let functions: Vec<(Vec<Bdd>, Bdd)> =
+                simple.iter().map(|fs| (fs[..fs.len() - 1].to_vec(), fs[fs.len() - 1])).collect();
+            let reached = self.reachable(&functions, work)?;
+            let mut isop = Isop::new(max_products);
+            self.simplified(&simple, &reached, &mut isop, work)
+        });
+        match reached {
+            Ok((_, tighter)) => products = tighter,
+            Err(Stop::Cancelled) => return Err(Stop::Cancelled),
+            Err(Stop::Budget { .. }) => {}
+        }
+        let mut goals = Vec::with_capacity(self.js.len());
+        for (l, mut logic) in products.into_iter().enumerate() {
             let reached = logic.pop().expect("the goal's condition");
             let comment = match self.monitors.sys.labels.get(l) {
                 Some(label) => format!("pursue {label}"),
@@ -128,6 +150,106 @@ impl Game<'_> {
         Ok((writes, reached))
     }
 
+    /// Per goal, each function simplified to an irredundant sum of products that agrees with it
+    /// on the goal's `care` positions: the sums' functions and the sums as `Logic`.
+    #[allow(clippy::type_complexity)]
+    fn simplified(
+        &mut self,
+        functions: &[Vec<Bdd>],
+        care: &[Bdd],
+        isop: &mut Isop,
+        work: &mut Work,
+    ) -> Result<(Vec<Vec<Bdd>>, Vec<Vec<Logic>>), Stop> {
+        let mut simple = Vec::with_capacity(functions.len());
+        let mut logic = Vec::with_capacity(functions.len());
+        for (fs, &care) in functions.iter().zip(care) {
+            let mut bdds = Vec::with_capacity(fs.len());
+            let mut sums = Vec::with_capacity(fs.len());
+            for &f in fs {
+                let (lower, upper) = self.within(f, care, work)?;
+                let (g, products) = isop.cover(&mut self.d, lower, upper, work)?;
+                bdds.push(g);
+                sums.push(self.logic(&products));
+            }
+            simple.push(bdds);
+            logic.push(sums);
+        }
+        Ok((simple, logic))
+    }
+
+    /// The winning positions the controller reaches from the initial one, per goal pursued,
+    /// when each goal's outputs and advance are `goals` (functions of the bits and inputs): a
+    /// forward fixpoint of images through a relation to the bits' next values (each the level
+    /// after its bit). A move leaves the winning region only by breaking an assumption, so
+    /// the circuit may do anything on the positions left out.
+    fn reachable(&mut self, goals: &[(Vec<Bdd>, Bdd)], work: &mut Work) -> Result<Vec<Bdd>, Stop> {
+        let bits = self.monitors.bits.len() + 1;
+        let primed = |game: &Self, b: usize| game.bit_level[b] + 1;
+        let outputs = self.spec.outputs();
+        let mut quantified: Vec<u32> = self.bit_level.clone();
+        quantified.extend(self.signal_level.iter().copied());
+        let unprimed = self.d.level_set(quantified);
+        let mut rename: Vec<Option<Bdd>> = vec![None; self.by.len()];
+        for b in 0..bits {
+            rename[primed(self, b) as usize] = Some(self.d.literal(self.bit_level[b], true)?);
+        }
+        // Per goal, the step as a relation of the bits, inputs and outputs to the next bits:
+        // each output equal to its function, each next bit to its next-state function.
+        let mut next_bits = Bdd::TRUE;
+        for b in (0..bits).rev() {
+            let next = self.by[self.bit_level[b] as usize].expect("a bit's successor");
+            let primed = self.d.literal(primed(self, b), true)?;
+            let same = self.equal(primed, next, work)?;
+            next_bits = self.d.and(next_bits, same, work)?;
+        }
+        let mut relations = Vec::with_capacity(goals.len());
+        for (writes, _) in goals {
+            let mut relation = next_bits;
+            for (s, &w) in outputs.iter().zip(writes) {
+                let output = self.d.literal(self.signal_level[s.index()], true)?;
+                let same = self.equal(output, w, work)?;
+                relation = self.d.and(relation, same, work)?;
+            }
+            relations.push(relation);
+        }
+        let initial = self.initial();
+        let mut reached = vec![Bdd::FALSE; goals.len()];
+        reached[0] = self.cube(&initial)?;
+        let mut frontier = reached.clone();
+        while frontier.iter().any(|&f| f != Bdd::FALSE) {
+            let mut found = vec![Bdd::FALSE; goals.len()];
+            for l in 0..goals.len() {
+                if frontier[l] == Bdd::FALSE {
+                    continue;
+                }
+                let advance = goals[l].1;
+                let stay = self.d.not(advance, work)?;
+                for (condition, to) in [(stay, l), (advance, (l + 1) % goals.len())] {
+                    let from = self.d.and(frontier[l], condition, work)?;
+                    let step = self.d.and(from, relations[l], work)?;
+                    let image = self.d.quantify(step, &unprimed, true, work)?;
+                    let image = self.d.compose(image, &rename, work)?;
+                    found[to] = self.d.or(found[to], image, work)?;
+                }
+            }
+            for l in 0..goals.len() {
+                // Outside the winning region only after the environment broke an assumption:
+                // from there on nothing the circuit does matters.
+                let kept = self.d.and(found[l], self.z, work)?;
+                let old = self.d.not(reached[l], work)?;
+                frontier[l] = self.d.and(kept, old, work)?;
+                reached[l] = self.d.or(reached[l], kept, work)?;
+            }
+        }
+        Ok(reached)
+    }
+
+    /// `f ↔ g`.
+    fn equal(&mut self, f: Bdd, g: Bdd, work: &mut Work) -> Result<Bdd, Stop> {
+        let not_g = self.d.not(g, work)?;
+        self.d.ite(f, g, not_g, work)
+    }
+
     /// The interval of functions that agree with `f` on `care`: `[f ∧ care, f ∨ ¬care]`.
     fn within(&mut self, f: Bdd, care: Bdd, work: &mut Work) -> Result<(Bdd, Bdd), Stop> {
         let lower = self.d.and(f, care, work)?;
@@ -161,15 +283,26 @@ impl Game<'_> {
 /// Minato–Morreale's irredundant sum of products of a function between two bounds, memoised
 /// per pair of bounds.
 struct Isop {
-    memo: HashMap<(Bdd, Bdd), (Bdd, Vec<Product>)>,
+    /// The pair of bounds (as `key_of` bytes: the page's bundle then carries no hash table
+    /// instance for it) to its result in `done`.
+    memo: HashMap<Vec<i8>, u32>,
+    done: Vec<(Bdd, Vec<Product>)>,
     products: usize,
     max_products: usize,
 }
 
 impl Isop {
+    fn new(max_products: usize) -> Isop {
+        Isop { memo: HashMap::new(), done: Vec::new(), products: 0, max_products }
+    }
+
+    fn key(lower: Bdd, upper: Bdd) -> Vec<i8> {
+        [lower.index(), upper.index()].into_iter().flat_map(u32::to_le_bytes).map(|b| b as i8).collect()
+    }
+
     /// An irredundant cover of some function `f` with `lower ≤ f ≤ upper`.
-    fn cover(&mut self, d: &mut Diagram, lower: Bdd, upper: Bdd, work: &mut Work) -> Result<Vec<Product>, Stop> {
-        let (_, products) = self.go(d, lower, upper, work)?;
+    fn cover(&mut self, d: &mut Diagram, lower: Bdd, upper: Bdd, work: &mut Work) -> Result<(Bdd, Vec<Product>), Stop> {
+        let (f, products) = self.go(d, lower, upper, work)?;
         self.products += products.len();
         if self.products > self.max_products {
             return Err(Stop::budget(
@@ -177,7 +310,7 @@ impl Isop {
                 format!("the circuit's functions would pass {} products", self.max_products),
             ));
         }
-        Ok(products)
+        Ok((f, products))
     }
 
     fn go(&mut self, d: &mut Diagram, lower: Bdd, upper: Bdd, work: &mut Work) -> Result<(Bdd, Vec<Product>), Stop> {
@@ -187,8 +320,8 @@ impl Isop {
         if upper == Bdd::TRUE {
             return Ok((Bdd::TRUE, vec![Vec::new()]));
         }
-        if let Some(done) = self.memo.get(&(lower, upper)) {
-            return Ok(done.clone());
+        if let Some(&i) = self.memo.get(&Isop::key(lower, upper)) {
+            return Ok(self.done[i as usize].clone());
         }
         work.spend(1)?;
         let level = d.level(lower).min(d.level(upper));
@@ -229,7 +362,8 @@ impl Isop {
                 format!("the circuit's functions would pass {} products", self.max_products),
             ));
         }
-        self.memo.insert((lower, upper), (f, products.clone()));
+        self.memo.insert(Isop::key(lower, upper), self.done.len() as u32);
+        self.done.push((f, products.clone()));
         Ok((f, products))
     }
 }

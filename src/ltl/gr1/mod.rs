@@ -161,7 +161,7 @@ struct Game<'a> {
     spec: &'a Spec,
     monitors: &'a Monitors,
     d: Diagram,
-    /// Per signal id, its level; per bit, its level.
+    /// Per signal id, its level; per bit, its level (the next level is the bit's next value).
     signal_level: Vec<u32>,
     bit_level: Vec<u32>,
     inputs: LevelSet,
@@ -199,14 +199,21 @@ impl<'a> Game<'a> {
                     level += 1;
                 }
             }
+            // Each bit is followed by a level for its next value, which only the circuit's
+            // reachable positions use (`circuit::reachable`): beside it, the step's relation
+            // stays small.
             for &b in bits {
                 bit_level[b] = level;
-                level += 1;
+                level += 2;
             }
         }
-        for l in signal_level.iter_mut().chain(bit_level.iter_mut()).filter(|l| **l == u32::MAX) {
+        for l in signal_level.iter_mut().filter(|l| **l == u32::MAX) {
             *l = level;
             level += 1;
+        }
+        for l in bit_level.iter_mut().filter(|l| **l == u32::MAX) {
+            *l = level;
+            level += 2;
         }
         let mut d = Diagram::new(max_nodes);
         let levels = |ids: Vec<SignalId>| ids.into_iter().map(|s| signal_level[s.index()]).collect::<Vec<_>>();
