@@ -379,6 +379,7 @@ fn the_gr1_game_decides_the_families_at_syntcomp_sizes() {
     let tlsf = shared().join("tlsf");
     let cfg = Config { solver: ltl::Solver::Gr1, circuit: true, ..Config::default() };
     let n = |v: i64| vec![("n".to_string(), v)];
+
     for (file, params, expected) in [
         ("simple_arbiter/simple_arbiter.tlsf", n(8), Verdict::Realizable),
         ("simple_arbiter/simple_arbiter.tlsf", n(12), Verdict::Realizable),
@@ -391,7 +392,17 @@ fn the_gr1_game_decides_the_families_at_syntcomp_sizes() {
         ("prioritized_arbiter/prioritized_arbiter.tlsf", n(4), Verdict::Realizable),
         ("round_robin_arbiter/round_robin_arbiter.tlsf", n(4), Verdict::Realizable),
         ("simple_arbiter_unreal/simple_arbiter_unreal2.tlsf", n(4), Verdict::Unrealizable),
+        (
+            "simple_arbiter_unreal/simple_arbiter_unreal1.tlsf",
+            vec![("n".into(), 4), ("u".into(), 2)],
+            Verdict::Unrealizable,
+        ),
         ("prioritized_arbiter_unreal/prioritized_arbiter_unreal2.tlsf", n(4), Verdict::Unrealizable),
+        (
+            "prioritized_arbiter_unreal/prioritized_arbiter_unreal1.tlsf",
+            vec![("n".into(), 3), ("u".into(), 4)],
+            Verdict::Unrealizable,
+        ),
     ] {
         let path = tlsf.join(file);
         let name = label(&path, &params);
@@ -401,17 +412,30 @@ fn the_gr1_game_decides_the_families_at_syntcomp_sizes() {
         assert_eq!(outcome.verdict, expected, "{name}: {}", ltl::summary(&outcome));
         if expected == Verdict::Realizable {
             let circuit = outcome.circuit.as_ref().unwrap_or_else(|| panic!("{name}: {}", ltl::summary(&outcome)));
-            let kept = bounded_check(&spec, circuit, 60).unwrap_or_else(|e| panic!("{name}: {e}"));
-            assert!(kept > 0 || spec.assumptions.is_empty(), "{name}: no play kept the assumptions");
+            let kept = bounded_check(&spec, circuit, 60).unwrap_or_else(|e| panic!("{name}: the circuit: {e}"));
+            assert!(kept > 0, "{name}: no play kept the assumptions");
             eprintln!("{name}: {}; {kept} of 60 plays kept the assumptions", ltl::summary(&outcome));
+            // The table, where there is one, too (lbt takes only the small ones).
+            if let Some(table) = &outcome.controller {
+                let kept = bounded_check_table(&spec, table, 60).unwrap_or_else(|e| panic!("{name}: the table: {e}"));
+                assert!(kept > 0, "{name}: no play kept the assumptions");
+            }
+        } else {
+            // lbt's model check of these small counter-strategies runs for more than ten
+            // minutes (its automaton of the specification at n = 4): the bounded check, with
+            // the controller's outputs the pseudo-random side, and every play must violate.
+            let counter = outcome.counter_strategy.as_ref().unwrap_or_else(|| panic!("{name}: no counter-strategy"));
+            counter.validate().unwrap_or_else(|e| panic!("{name}: {e}"));
+            let plays = bounded_check_counter(&spec, counter, 60).unwrap_or_else(|e| panic!("{name}: {e}"));
+            eprintln!("{name}: {}; all {plays} plays violate it", ltl::summary(&outcome));
         }
     }
 }
 
-/// The bounded check fails circuits that break the specification: one that never grants the
-/// first client, one that grants two clients at once.
+/// The bounded check fails controllers that break the specification: circuits that never
+/// grant the first client or grant two clients at once, a table that never grants the first.
 #[test]
-fn a_mutated_circuit_fails_the_bounded_check() {
+fn a_mutated_controller_fails_the_bounded_check() {
     let path = shared().join("tlsf/simple_arbiter/simple_arbiter.tlsf");
     let source = std::fs::read_to_string(&path).unwrap();
     let (spec, _) = ltl::compile(&source, Format::Tlsf, &[("n".to_string(), 12)]).unwrap();
@@ -428,6 +452,16 @@ fn a_mutated_circuit_fails_the_bounded_check() {
     greedy.goals[0].writes[1] = greedy.goals[0].writes[0].clone();
     let error = bounded_check(&spec, &greedy, 20).unwrap_err();
     assert!(error.contains("violates"), "{error}");
+    // A table (n = 6) that never grants the first client.
+    let (spec, _) = ltl::compile(&source, Format::Tlsf, &[("n".to_string(), 6)]).unwrap();
+    let table = ltl::synthesize(&spec, &cfg, &mut |_| true).unwrap().controller.expect("a table");
+    assert_eq!(bounded_check_table(&spec, &table, 20), Ok(20));
+    let mut starving = table.clone();
+    for row in starving.states.iter_mut().flatten() {
+        row.write &= !1;
+    }
+    let error = bounded_check_table(&spec, &starving, 20).unwrap_err();
+    assert!(error.contains("violates"), "{error}");
 }
 
 /// A bounded check of a controller circuit against the specification's own semantics, for
@@ -437,23 +471,80 @@ fn a_mutated_circuit_fails_the_bounded_check() {
 /// the whole formula, evaluated on the lasso (`Play::satisfies`, no code shared with the
 /// solver). Returns how many plays kept the assumptions (where the guarantees were at stake).
 fn bounded_check(spec: &Spec, circuit: &ltl::Circuit, runs: u64) -> Result<usize, String> {
+    let key = |state: &ltl::CircuitState| {
+        state.latches.iter().fold(mix(state.goal as u64), |h, &b| mix(h ^ u64::from(b)) ^ h << 1)
+    };
+    let step = |state: &ltl::CircuitState, input: &dyn Fn(ltl::SignalId) -> bool| {
+        let (writes, next) = circuit.step(state, input);
+        (letter_of(&circuit.reads, &circuit.writes, input, &writes), next)
+    };
+    lasso_check(spec, circuit.initial(), key, step, runs, true)
+}
+
+/// The same bounded check of a controller table (for tables past lbt's reach).
+fn bounded_check_table(spec: &Spec, machine: &ltl::Machine, runs: u64) -> Result<usize, String> {
+    lasso_check(spec, machine.init, |s: &ltl::StateId| mix(u64::from(s.0)), table_step(machine), runs, true)
+}
+
+/// The bounded check of a counter-strategy: the controller's outputs are the pseudo-random
+/// side, and every play must violate the specification. Returns the plays checked.
+fn bounded_check_counter(spec: &Spec, machine: &ltl::Machine, runs: u64) -> Result<usize, String> {
+    lasso_check(spec, machine.init, |s: &ltl::StateId| mix(u64::from(s.0)), table_step(machine), runs, false)
+}
+
+/// A machine's step as the bounded check takes it: the letter of the step and the next state.
+fn table_step(
+    machine: &ltl::Machine,
+) -> impl Fn(&ltl::StateId, &dyn Fn(ltl::SignalId) -> bool) -> (u64, ltl::StateId) + '_ {
+    move |state, input| {
+        let valuation = machine.reads.iter().enumerate().fold(0u64, |v, (i, &s)| v | u64::from(input(s)) << i);
+        let row = machine.row(*state, valuation);
+        let writes: Vec<bool> = (0..machine.writes.len()).map(|j| row.write >> j & 1 == 1).collect();
+        (letter_of(&machine.reads, &machine.writes, input, &writes), row.next)
+    }
+}
+
+/// splitmix64's finaliser.
+fn mix(mut x: u64) -> u64 {
+    x = (x ^ (x >> 30)).wrapping_mul(0xbf58476d1ce4e5b9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94d049bb133111eb);
+    x ^ (x >> 31)
+}
+
+/// A step's letter: bit `s` signal `s`.
+fn letter_of(
+    reads: &[ltl::SignalId],
+    writes: &[ltl::SignalId],
+    input: &dyn Fn(ltl::SignalId) -> bool,
+    written: &[bool],
+) -> u64 {
+    let read = reads.iter().fold(0u64, |l, &s| l | u64::from(input(s)) << s.0);
+    writes.iter().zip(written).fold(read, |l, (&s, &w)| l | u64::from(w) << s.0)
+}
+
+/// Closes the loop of a deterministic strategy (`step` from `initial`) with `runs` opponents
+/// that are fixed functions of the strategy's state (`key`), and checks that each lasso
+/// satisfies the formula (`satisfy`; a counter-strategy's must violate it). Returns the plays
+/// that kept the assumptions (a controller's) or the plays checked (a counter-strategy's).
+fn lasso_check<S: Clone + Eq + std::hash::Hash>(
+    spec: &Spec,
+    initial: S,
+    key: impl Fn(&S) -> u64,
+    step: impl Fn(&S, &dyn Fn(ltl::SignalId) -> bool) -> (u64, S),
+    runs: u64,
+    satisfy: bool,
+) -> Result<usize, String> {
     use std::collections::HashMap;
     let formula = spec.formula();
     let assumptions = ltl::Ltl::all(spec.assumptions.iter().map(|c| c.formula.clone()).collect());
-    let mix = |mut x: u64| {
-        // splitmix64's finaliser
-        x = (x ^ (x >> 30)).wrapping_mul(0xbf58476d1ce4e5b9);
-        x = (x ^ (x >> 27)).wrapping_mul(0x94d049bb133111eb);
-        x ^ (x >> 31)
-    };
     let mut kept = 0;
     let mut checked = 0;
     for run in 0..runs {
         // Per run and input, how often it is true (in 1/1000): some inputs held, some never
         // set, so that assumptions such as `G F idle` can be kept.
         let bias = |s: ltl::SignalId| [500, 0, 1000, 50, 950, 200][(mix(run << 8 | u64::from(s.0)) % 6) as usize];
-        let mut seen: HashMap<ltl::CircuitState, usize> = HashMap::new();
-        let mut state = circuit.initial();
+        let mut seen: HashMap<S, usize> = HashMap::new();
+        let mut state = initial.clone();
         let mut letters: Vec<u64> = Vec::new();
         let loop_start = loop {
             if let Some(&start) = seen.get(&state) {
@@ -463,26 +554,20 @@ fn bounded_check(spec: &Spec, circuit: &ltl::Circuit, runs: u64) -> Result<usize
                 break None;
             }
             seen.insert(state.clone(), letters.len());
-            let key = state.latches.iter().fold(mix(run ^ state.goal as u64), |h, &b| mix(h ^ u64::from(b)) ^ h << 1);
-            let input = |s: ltl::SignalId| mix(key ^ u64::from(s.0).wrapping_mul(0x9e3779b97f4a7c15)) % 1000 < bias(s);
-            let (writes, next) = circuit.step(&state, &input);
-            let mut letter = 0u64;
-            for &s in &circuit.reads {
-                letter |= u64::from(input(s)) << s.0;
-            }
-            for (&s, &w) in circuit.writes.iter().zip(&writes) {
-                letter |= u64::from(w) << s.0;
-            }
+            let here = mix(run ^ key(&state));
+            let input = |s: ltl::SignalId| mix(here ^ u64::from(s.0).wrapping_mul(0x9e3779b97f4a7c15)) % 1000 < bias(s);
+            let (letter, next) = step(&state, &input);
             letters.push(letter);
             state = next;
         };
         let Some(loop_start) = loop_start else { continue };
         let play = ltl::Play { states: Vec::new(), letters, loop_start };
         checked += 1;
-        if !play.satisfies(&formula) {
-            return Err(format!("run {run}: the circuit's play violates the specification: {}", play.describe(spec)));
+        if play.satisfies(&formula) != satisfy {
+            let what = if satisfy { "violates" } else { "satisfies" };
+            return Err(format!("run {run}: the strategy's play {what} the specification: {}", play.describe(spec)));
         }
-        kept += usize::from(play.satisfies(&assumptions));
+        kept += usize::from(!satisfy || play.satisfies(&assumptions));
     }
     if checked * 2 < runs as usize {
         return Err(format!("only {checked} of {runs} plays closed a loop within 5 000 steps"));
