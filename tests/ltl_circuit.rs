@@ -12,7 +12,7 @@ use plcsynth::ltl::{self, Circuit, Config, Format, Spec};
 use plcsynth::plc::lower::ltl::{self as lower_ltl, LowerOptions};
 use plcsynth::plc::model::exec::{self as unit_exec, Value};
 use plcsynth::plc::model::unit::{PouKind, SignalKind, Stmt, Unit};
-use plcsynth::plc::{self, print::stl::unit as unit_stl, Target};
+use plcsynth::plc::{self, Target};
 use plcsynth::rng::Rng;
 use std::path::PathBuf;
 use std::process::Command;
@@ -107,16 +107,9 @@ fn run_exec(unit: &Unit, inputs: &[u64]) -> Vec<Observed> {
 /// The STL form in awlsim: inputs as bytes `I0`, `I1`, …; per cycle the block's outputs and goal
 /// read from its instance data block.
 fn run_awlsim(name: &str, unit: &Unit, inputs: &[u64]) -> Vec<Observed> {
-    let options = plc::unit_stl_options(&plc::Options::default());
-    assert_eq!(unit_stl::check(unit, &options), Vec::<String>::new(), "{name}");
-    let text = &plc::render_unit_files(unit, Target::Stl, &plc::Options::default()).unwrap()[0].text;
-    let path = common::scratch("plcsynth-ltl-circuit", &format!("{name}.awl"), text);
-    let program = unit.pous.iter().find(|p| p.kind == PouKind::Program).unwrap();
+    let (path, locations, db, size) = common::awl_instance("plcsynth-ltl-circuit", name, unit);
     let fb = &unit.pous[0];
-    let locations = unit_stl::instance_locations(unit, &options, &program.locals[0].name);
     let location = |var: &str| locations.iter().find(|l| l.name == var).unwrap_or_else(|| panic!("no {var}"));
-    let db = locations[0].db;
-    let size = locations.iter().map(|l| l.byte + 2).max().unwrap();
     let bytes = fb.inputs.len().div_ceil(8);
     let script: Vec<String> = inputs
         .iter()

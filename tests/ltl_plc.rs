@@ -437,16 +437,9 @@ fn every_target_parses_or_validates() {
 /// The STL form of `case` run in awlsim on `scans` (a virtual clock advanced by each scan's
 /// `dt`): per cycle the block's outputs and state read from its instance DB.
 fn run_awlsim(name: &str, unit: &Unit, scans: &[Scan]) -> Vec<Observed> {
-    let options = plc::unit_stl_options(&plc::Options::default());
-    assert_eq!(unit_stl::check(unit, &options), Vec::<String>::new());
-    let text = &plc::render_unit_files(unit, Target::Stl, &plc::Options::default()).unwrap()[0].text;
-    let path = scratch(&format!("{name}.awl"), text);
-    let program = unit.pous.iter().find(|p| p.kind == PouKind::Program).unwrap();
+    let (path, locations, db, size) = common::awl_instance("plcsynth-ltl-plc", name, unit);
     let fb = &unit.pous[0];
-    let locations = unit_stl::instance_locations(unit, &options, &program.locals[0].name);
     let location = |var: &str| locations.iter().find(|l| l.name == var).unwrap_or_else(|| panic!("no {var}"));
-    let db = locations[0].db;
-    let size = locations.iter().map(|l| l.byte + 2).max().unwrap();
     let script: Vec<String> =
         scans.iter().map(|s| format!("T{} I0={} ?DB{db}:0:{size} ?Q0:1", s.dt, s.inputs)).collect();
     let text = common::run_checker("unit_run.py", &[path.as_os_str(), "--virtual-time".as_ref()], &script.join("\n"));

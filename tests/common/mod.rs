@@ -261,3 +261,23 @@ pub fn proptest_config(base: u32) -> proptest::prelude::ProptestConfig {
     let scale = std::env::var("PLCSYNTH_PROPTEST_SCALE").ok().and_then(|v| v.parse::<u32>().ok()).unwrap_or(1).max(1);
     proptest::prelude::ProptestConfig::with_cases(base.saturating_mul(scale))
 }
+
+/// The STL form of `unit` written to a scratch file for awlsim (`prefix`, `name`), checked
+/// first, with where its program's block instance lives: its variables, its data block and
+/// the bytes to read of it.
+pub fn awl_instance(
+    prefix: &str,
+    name: &str,
+    unit: &plcsynth::plc::model::unit::Unit,
+) -> (PathBuf, Vec<plcsynth::plc::print::stl::unit::Location>, u16, u32) {
+    use plcsynth::plc::{self, model::unit::PouKind, print::stl::unit as unit_stl};
+    let options = plc::unit_stl_options(&plc::Options::default());
+    assert_eq!(unit_stl::check(unit, &options), Vec::<String>::new(), "{name}");
+    let text = &plc::render_unit_files(unit, plc::Target::Stl, &plc::Options::default()).unwrap()[0].text;
+    let path = scratch(prefix, &format!("{name}.awl"), text);
+    let program = unit.pous.iter().find(|p| p.kind == PouKind::Program).unwrap();
+    let locations = unit_stl::instance_locations(unit, &options, &program.locals[0].name);
+    let db = locations[0].db;
+    let size = locations.iter().map(|l| l.byte + 2).max().unwrap();
+    (path, locations, db, size)
+}

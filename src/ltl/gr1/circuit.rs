@@ -39,7 +39,12 @@ impl Game<'_> {
         // arbiters: `after_1` implies nothing, `open_k` only one at a time, …).
         let mut isop = Isop::new(max_products);
         let winning = vec![self.z; exact.len()];
-        let (simple, mut products) = self.simplified(&exact, &winning, &mut isop, work)?;
+        let (simple, mut products) = match self.simplified(&exact, &winning, &mut isop, work) {
+            Ok((simple, products)) => (simple, Ok(products)),
+            Err(Stop::Cancelled) => return Err(Stop::Cancelled),
+            // Too large within the winning region: within the reachable positions it may not be.
+            Err(stop) => (exact, Err(stop)),
+        };
         let share = work.remaining() / 4;
         let reached = work.capped(share, |work| {
             let functions: Vec<(Vec<Bdd>, Bdd)> =
@@ -49,10 +54,11 @@ impl Game<'_> {
             self.simplified(&simple, &reached, &mut isop, work)
         });
         match reached {
-            Ok((_, tighter)) => products = tighter,
+            Ok((_, tighter)) => products = Ok(tighter),
             Err(Stop::Cancelled) => return Err(Stop::Cancelled),
             Err(Stop::Budget { .. }) => {}
         }
+        let products = products?;
         let mut goals = Vec::with_capacity(self.js.len());
         for (l, mut logic) in products.into_iter().enumerate() {
             let reached = logic.pop().expect("the goal's condition");
