@@ -5,9 +5,10 @@
 //! descend a ring, else stay in the ring's `X` while the environment misses its justice.
 //!
 //! The functions are printed as irredundant sums of products (Minato and Morreale's ISOP),
-//! with every position outside the winning region (never reached) as a don't-care, so that
-//! the function block stays readable. Latches no output, no goal condition and no other such
-//! latch reads are dropped.
+//! with every position outside the winning region as a don't-care, then again with every
+//! position the circuit does not reach (or reaches only after the environment broke an
+//! assumption), so that the function block stays readable. Latches no output, no goal
+//! condition and no other such latch reads are dropped.
 
 use super::{Game, Prop};
 use crate::ltl::bdd::diagram::{Bdd, Diagram};
@@ -35,8 +36,8 @@ impl Game<'_> {
         }
         // First simplified within the winning region, which every play keeps until the
         // environment breaks an assumption; then, where the positions that circuit reaches can
-        // be computed within a share of the work left, within those (far fewer on the
-        // arbiters: `after_1` implies nothing, `open_k` only one at a time, …).
+        // be computed within a share of the work left, within those (on the arbiters far
+        // fewer: most combinations of open requests never occur under the circuit's grants).
         let mut isop = Isop::new(max_products);
         let winning = vec![self.z; exact.len()];
         let (simple, mut products) = match self.simplified(&exact, &winning, &mut isop, work) {
