@@ -212,11 +212,25 @@ fn the_scale_table_has_a_row_per_instance_and_no_verdict_against_the_status() {
 }
 
 /// A specification wider than the explicit games' letter limit is refused with the way on: the
-/// solvers that do not enumerate letters.
+/// solvers that do not enumerate letters, the GR(1) game first where the specification is in
+/// its fragment; that game then decides it and writes the circuit's code.
 #[test]
 fn too_many_signals_for_the_explicit_games_names_the_symbolic_solvers() {
-    let out = plcsynth(&["ltl", "../shared/ltl/tlsf/simple_arbiter/simple_arbiter.tlsf", "--param", "n=12"]);
+    let arbiter = "../shared/ltl/tlsf/simple_arbiter/simple_arbiter.tlsf";
+    let out = plcsynth(&["ltl", arbiter, "--param", "n=12"]);
     assert_ne!(out.status.code(), Some(0));
     let text = format!("{}{}", stdout(&out), stderr(&out));
     assert!(text.contains("24 signals") && text.contains("--solver symbolic"), "{text}");
+    assert!(text.contains("GR(1) fragment, which `--solver gr1` decides"), "{text}");
+    let out = plcsynth(&["ltl", arbiter, "--param", "n=12", "--solver", "gr1", "--target", "st"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let code = stdout(&out);
+    assert!(code.contains("CASE goal OF") && code.contains("g_11 := open_12;"), "{code}");
+    // Outside the fragment (a persistence guarantee) the hint is not given.
+    let inputs: Vec<String> = (0..21).map(|i| format!("INPUT a{i}")).collect();
+    let wide = std::env::temp_dir().join(format!("plcsynth-wide-{}.ltl", std::process::id()));
+    std::fs::write(&wide, format!("{}\nOUTPUT o\nEVENTUALLY (ALWAYS (o <-> a0))\n", inputs.join("\n"))).unwrap();
+    let out = plcsynth(&["ltl", wide.to_str().unwrap()]);
+    let text = format!("{}{}", stdout(&out), stderr(&out));
+    assert!(text.contains("22 signals") && !text.contains("GR(1) fragment"), "{text}");
 }

@@ -231,14 +231,20 @@ pub fn synthesize(spec: &Spec, cfg: &Config, progress: &mut OnProgress<'_, Progr
         ));
     }
     if !letters_symbolic && signals > cfg.max_signals.min(63) {
+        // A specification in the GR(1) fragment is best served by that game.
+        let gr1 = if super::gr1::in_fragment(spec) {
+            "it is in the GR(1) fragment, which `--solver gr1` decides without a bound; "
+        } else {
+            ""
+        };
         return Err(Stop::budget(
             Resource::Size,
             format!(
-            "{signals} signals: the explicit games enumerate 2^{signals} letters per position, and the limit is {} \
-             (the symbolic and bdd solvers do not enumerate letters: `--solver symbolic` or `bdd`; or split the \
-             specification into parts with fewer signals)",
-            cfg.max_signals.min(63)
-        ),
+                "{signals} signals: the explicit games enumerate 2^{signals} letters per position, and the limit is {} \
+                 ({gr1}the symbolic and bdd solvers do not enumerate letters: `--solver symbolic` or `bdd`; or split \
+                 the specification into parts with fewer signals)",
+                cfg.max_signals.min(63)
+            ),
         ));
     }
     if cfg.solver == Solver::Gr1 {

@@ -41,6 +41,11 @@ use super::{Config, Resource, Stats, Stop, Synthesis, Verdict, Work};
 use hashbrown::HashMap;
 use monitor::{Justice, Monitors, Prop};
 
+/// Whether `spec` is in the fragment this game decides.
+pub(super) fn in_fragment(spec: &Spec) -> bool {
+    monitor::monitors(spec, Justice::Before).is_ok()
+}
+
 /// Decides `spec` as a GR(1) game, or stops: a specification outside the fragment stops with
 /// the clause and the reason.
 pub(super) fn synthesize(spec: &Spec, cfg: &Config, work: &mut Work) -> Result<Synthesis, Stop> {
