@@ -164,6 +164,14 @@ fn the_automaton_accepts_exactly_the_lassos_the_formula_holds_on() {
 
 /// Whether some play of `machine` (against every behaviour of its opponent) has a run of
 /// `automaton` with infinitely many accepting edges: a search of the product graph.
+/// `machine` is a complete deterministic strategy, moves first exactly when `moves_first`,
+/// and no play against it is accepted by `automaton` (that of what its player must avoid).
+fn assert_wins(machine: &Machine, moves_first: bool, automaton: &Automaton, what: &str) {
+    machine.validate().unwrap_or_else(|e| panic!("{what}: {e}"));
+    assert_eq!(machine.moves_first, moves_first, "{what}");
+    assert!(!some_play_accepted(machine, automaton), "{what}: a play against it is accepted");
+}
+
 pub(crate) fn some_play_accepted(machine: &Machine, automaton: &Automaton) -> bool {
     if automaton.is_empty() {
         return false;
@@ -382,16 +390,13 @@ fn the_gr1_game_decides_its_fragment_as_the_bounded_games_do() {
                 .controller
                 .as_ref()
                 .unwrap_or_else(|| panic!("case {case}: no controller: {:?}: {text}", outcome.limit));
-            controller.validate().unwrap();
-            assert_eq!(controller.moves_first, semantics == Semantics::Moore);
             let negation = translate(&Ltl::not(spec.formula()), &names, 100_000, u64::MAX).unwrap();
-            assert!(!some_play_accepted(controller, &negation), "case {case}: the gr1 controller violates {text}");
+            let moore = semantics == Semantics::Moore;
+            assert_wins(controller, moore, &negation, &format!("case {case}: the gr1 controller of {text}"));
             // The same strategy as a circuit, unfolded into its table.
             let circuit = outcome.circuit.as_ref().unwrap_or_else(|| panic!("case {case}: no circuit: {text}"));
             let table = circuit.to_machine(100_000).expect("a small table");
-            table.validate().unwrap();
-            assert_eq!(table.moves_first, semantics == Semantics::Moore);
-            assert!(!some_play_accepted(&table, &negation), "case {case}: the gr1 circuit violates {text}");
+            assert_wins(&table, moore, &negation, &format!("case {case}: the gr1 circuit of {text}"));
             circuits += 1;
         } else {
             unrealizable += 1;
@@ -399,10 +404,9 @@ fn the_gr1_game_decides_its_fragment_as_the_bounded_games_do() {
                 .counter_strategy
                 .as_ref()
                 .unwrap_or_else(|| panic!("case {case}: no counter-strategy: {:?}: {text}", outcome.limit));
-            counter.validate().unwrap();
-            assert_eq!(counter.moves_first, semantics == Semantics::Mealy);
             let automaton = translate(&spec.formula(), &names, 100_000, u64::MAX).unwrap();
-            assert!(!some_play_accepted(counter, &automaton), "case {case}: the gr1 counter-strategy lets {text} hold");
+            let mealy = semantics == Semantics::Mealy;
+            assert_wins(counter, mealy, &automaton, &format!("case {case}: the gr1 counter-strategy of {text}"));
         }
     }
     eprintln!(
