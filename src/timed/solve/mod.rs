@@ -492,7 +492,12 @@ impl<'g, 'p, S: Search> Solver<'g, 'p, S> {
             if let Some(lost) = self.explore()? {
                 break lost;
             }
-            if !self.enforce_progress() {
+            let settled = !self.enforce_progress();
+            // Steering charges its rankings as work (`steer_by_ranks`): a budget may end it.
+            if let Some(halt) = self.halt {
+                return Err(halt);
+            }
+            if settled {
                 break if self.space.is_winning(self.space.initial) {
                     Verdict::Realizable
                 } else {

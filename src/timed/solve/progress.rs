@@ -29,6 +29,7 @@ impl<S: Search> Solver<'_, '_, S> {
     /// One round: returns whether anything changed (removed, chosen anew or queued).
     pub(super) fn enforce_progress(&mut self) -> bool {
         let ranks = self.progress_ranks(S::COUNTING);
+        self.charge_ranking();
         if self.remove_trapped(&ranks) {
             return true;
         }
@@ -110,6 +111,13 @@ impl<S: Search> Solver<'_, '_, S> {
             return true;
         }
         false
+    }
+
+    /// Accounts one ranking of the space (`progress_ranks`, or a walk like it) as work: it reads
+    /// every state and move once. A search that ranks often (steering) is bounded by the work
+    /// budget like one that expands. Returns `false` when the search must stop.
+    pub(super) fn charge_ranking(&mut self) -> bool {
+        self.charge((self.space.states.len() + self.space.edges.len()) as u64)
     }
 
     /// The inner fixpoint of `enforce_progress`: per surviving expanded state, the round in
