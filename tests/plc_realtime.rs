@@ -959,27 +959,28 @@ fn code_of_the_scan_strategy_of_random_specs_holds_in_real_time_and_in_awlsim() 
     );
 }
 
-/// Random spec 33 at 250 ms: the scan strategy sends different requests in two states the PLC
-/// reads alike, but both states have a decision of least goal distance in common; taken from the
-/// whole winning region, it gives a scan program (where the strategy's own split would need a
-/// timer), and that program's code holds in real time.
-#[test]
-fn a_decision_shared_by_states_the_plc_reads_alike_gives_a_scan_program() {
+/// The scan program of random spec `seed` at 250 ms, whose strategy sends different requests in
+/// two states the PLC reads alike, so that each belief takes a decision all its states may take
+/// (`shared_decisions`); its code holds in 10 real-time runs of 400 scans.
+fn shared_decisions_hold(seed: u64) {
     const SCAN_MS: u64 = 250;
-    let source = random_spec::spec(33);
+    let source = random_spec::spec(seed);
     let (game, _) = compile(&source).unwrap();
     let budget = timed::Config::default();
     let outcome = plcsynth::timed::synthesize_at_scan(&game, SCAN_MS, &budget, &mut |_| true).expect("a scan game");
     assert_eq!(outcome.synthesis.solution.verdict(), Some(plcsynth::timed::solve::Verdict::Realizable));
     let scan_program = lower_timed::scan_program(&game, &outcome, &mut |_| true).unwrap_or_else(|e| panic!("{e}"));
-    assert!(scan_program.shared_decisions, "the strategy's own decisions suffice: no longer the case this test is for");
+    assert!(
+        scan_program.shared_decisions,
+        "seed {seed}: the strategy's own decisions suffice: no longer the case this test is for"
+    );
     let p = scan_program.program();
     let code = lower_timed::build_paced(
         &game,
         &p,
         lower_timed::Pacing::ScanByScan,
         Target::St,
-        "random_33",
+        &format!("random_{seed}"),
         &source,
         &Options::default(),
     )
@@ -989,8 +990,25 @@ fn a_decision_shared_by_states_the_plc_reads_alike_gives_a_scan_program() {
         let structured = lower_timed::structured(&code.0);
         let mut controller = UnitInterpreter::new(&structured).unwrap();
         let r = realtime::run(&game, &code.0, &code.1, &mut controller, &config, run);
-        assert!(r.failure.is_none(), "run {run}:\n{}\nprogram:\n{}", show(&r), p.render(&game));
+        assert!(r.failure.is_none(), "seed {seed}, run {run}:\n{}\nprogram:\n{}", show(&r), p.render(&game));
     }
+}
+
+/// Random spec 33: both states the PLC reads alike have a decision of least goal distance in
+/// common (where the strategy's own split would need a timer).
+#[test]
+fn a_decision_shared_by_states_the_plc_reads_alike_gives_a_scan_program() {
+    shared_decisions_hold(33);
+}
+
+/// Random spec 13: the strategy sends `moveto_h0s1` in one state and nothing in another the PLC
+/// reads alike (they differ in `a1.c`, a clock a plant reaction resets); no decision is nearest
+/// to the goal in both, but one is winning in both, and the program that takes it keeps the
+/// plans progressing (no program followed the scan strategy before a shared decision could be
+/// any winning one).
+#[test]
+fn a_decision_every_state_may_take_gives_a_scan_program_that_keeps_progressing() {
+    shared_decisions_hold(13);
 }
 
 /// A plant whose reactions cycle without a time constraint (`a1`: q0 -> q1 -> q3 -> q0, each a

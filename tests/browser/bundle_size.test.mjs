@@ -17,8 +17,11 @@ const BUDGET = 1_500_000;
 // second reading of the justices; the only route that decides SYNTCOMP's arbiters at their
 // sizes in the page) raised it again; 1.72 MB until the GR(1) controllers as circuits
 // (+31 109 bytes: 1 718 048 → 1 749 157; the symbolic extraction, the sums of products, the
-// reachable positions, the circuit's function block) raised it once more.
-const CEILING = 1_750_000;
+// reachable positions, the circuit's function block) raised it once more; 1.75 MB until the
+// scan programs' shared decisions (+3 644 bytes: 1 749 661 → 1 753 305; any decision every
+// state of a belief may take, the progress check of the program, the steering's batches and
+// its work accounting; issue 28) raised it by 5 KB.
+const CEILING = 1_755_000;
 
 test('the wasm bundle does not grow past its ceiling on the way to the 1.5 MB budget', (t) => {
   const bytes = statSync(join(root, 'www', 'pkg', 'plcsynth_bg.wasm')).size;

@@ -9,9 +9,11 @@
 //! So the program tracks a *belief*: the read states of the strategy, each with the sensors'
 //! memory, that agree with every image read so far. Each belief is one node of the program.
 //! Its decision is the strategy's, which must be the same in every state of the belief; where
-//! it is not, the strategy needs to know more than the PLC reads (usually how long it has
-//! waited: timers are not part of the observation yet) and no program is built. The successors
-//! of a node are the beliefs of the next read, one per image it can read.
+//! it is not, the belief takes a decision that every state in it may take (a live one), if the
+//! program still keeps the plans progressing (`stalls`); where there is none, the strategy
+//! needs to know more than the PLC reads (usually how long it has waited: timers are not part
+//! of the observation yet) and no program is built. The successors of a node are the beliefs of
+//! the next read, one per image it can read.
 //!
 //! A read that changed nothing leaves the scan game's PLC quiet until the plant changes; a
 //! real PLC reads again every scan, sees the same image and must take the same decision: a
@@ -54,6 +56,9 @@ pub enum ScanProgramError {
         image: Vec<bool>,
         /// The two decisions (`None`: no request).
         decisions: [Option<MsgId>; 2],
+        /// Decisions that every state of each belief may take were found, but they could keep
+        /// the plans from progressing for ever (see [`ScanProgramError::Stalls`]).
+        stalls: bool,
     },
     /// The belief construction passed its budget of tracked states.
     Budget { limit: usize },
@@ -61,6 +66,10 @@ pub enum ScanProgramError {
     ExactBudget,
     /// The caller's progress callback asked to stop.
     Cancelled,
+    /// Decisions shared by the states the PLC cannot tell apart could keep the plans from
+    /// progressing for ever (within the extraction; [`extract`] reports it as the ambiguity
+    /// that made it share decisions, with `stalls` set).
+    Stalls,
 }
 
 impl ScanProgramError {
@@ -72,7 +81,7 @@ impl ScanProgramError {
         };
         match self {
             ScanProgramError::NotImplementable => "the scan game is not won".into(),
-            ScanProgramError::Ambiguous { image, decisions } => {
+            ScanProgramError::Ambiguous { image, decisions, stalls } => {
                 let levels: Vec<String> = signals
                     .iter()
                     .zip(image)
@@ -84,10 +93,15 @@ impl ScanProgramError {
                     .collect();
                 format!(
                     "the PLC reads the same inputs ({}) in two states where the scan strategy must {} and {}: \
-                     the game's controller tells them apart by the plant's clocks, which the PLC does not read",
+                     the game's controller tells them apart by the plant's clocks, which the PLC does not read{}",
                     if levels.is_empty() { "none".to_string() } else { levels.join(", ") },
                     decision(&decisions[0]),
                     decision(&decisions[1]),
+                    if *stalls {
+                        "; deciding alike in such states, as every state may, could keep the plans from progressing"
+                    } else {
+                        ""
+                    },
                 )
             }
             ScanProgramError::Budget { limit } => {
@@ -98,6 +112,10 @@ impl ScanProgramError {
                     .into()
             }
             ScanProgramError::Cancelled => "cancelled".into(),
+            ScanProgramError::Stalls => {
+                "the decisions shared by the states the PLC cannot tell apart could keep the plans from progressing"
+                    .into()
+            }
         }
     }
 }
@@ -140,6 +158,9 @@ type Element = (StateId, Sensors);
 #[derive(Clone, Default)]
 struct Followed {
     next: Vec<Element>,
+    /// Where the extraction checks progress: those of `next` that the plant can reach without a
+    /// plan progressing on the way (a quiet PLC's repeated read of the same state is not one).
+    calm: Vec<Element>,
     guards: Vec<MsgId>,
 }
 
@@ -160,6 +181,8 @@ struct Extraction<'a> {
     quiet: LocId,
     budget: usize,
     work: usize,
+    /// Whether to tell the next reads reached without progress apart (`Followed::calm`).
+    track_progress: bool,
     /// What follows every element and decision followed so far (an element recurs in many
     /// beliefs).
     memo: HashMap<(Element, EdgeId), Followed>,
@@ -197,10 +220,13 @@ impl Extraction<'_> {
         }
     }
 
-    /// The decisions the PLC may take in read state `s`, preferred first: the strategy's, or
-    /// every live decision of least goal distance (ties in request selection's order).
-    fn options(&self, s: StateId) -> Vec<EdgeId> {
-        let Some(dist) = &self.distances else { return self.decision_edge[s.index()].into_iter().collect() };
+    /// The decisions the PLC may take in read state `s`, each with its goal distance: the
+    /// strategy's, or every live decision (least goal distance first, ties in request
+    /// selection's order).
+    fn options(&self, s: StateId) -> Vec<(u32, EdgeId)> {
+        let Some(dist) = &self.distances else {
+            return self.decision_edge[s.index()].into_iter().map(|e| (0, e)).collect();
+        };
         let mut live: Vec<(u32, Option<&str>, EdgeId)> = self
             .space
             .out_edges(s)
@@ -211,8 +237,7 @@ impl Extraction<'_> {
             })
             .collect();
         crate::sort::sort(&mut live);
-        let least = live.first().map(|o| o.0);
-        live.into_iter().take_while(|o| Some(o.0) == least).map(|o| o.2).collect()
+        live.into_iter().map(|o| (o.0, o.2)).collect()
     }
 
     /// The plant components' locations in state `s` (the scan automaton's among them).
@@ -237,28 +262,34 @@ impl Extraction<'_> {
     fn follow(&mut self, element: &Element, decision: EdgeId) -> Result<Followed, ScanProgramError> {
         let (_, sensors) = element;
         let request = self.request_of(decision);
-        let start = self.space.edges[decision.index()].to;
+        let edge = &self.space.edges[decision.index()];
+        let (start, progressed) = (edge.to, edge.progress);
         let mut out = Followed::default();
         if self.plc_location(start) == self.quiet {
             out.next.push(element.clone());
         }
-        self.reach(start, sensors.clone(), request, &mut out)?;
+        self.reach(start, sensors.clone(), progressed, request, &mut out)?;
         Ok(out)
     }
 
     /// Adds to `out` the read states the plant can bring the PLC to from `start` (with the
-    /// sensors' memory `sensors`), and the guards the delivery of `request` on the way enters.
+    /// sensors' memory `sensors`; `progressed`: a plan has progressed since the read), and the
+    /// guards the delivery of `request` on the way enters.
     fn reach(
         &mut self,
         start: StateId,
         sensors: Sensors,
+        progressed: bool,
         request: Option<MsgId>,
         out: &mut Followed,
     ) -> Result<(), ScanProgramError> {
-        let mut seen: std::collections::HashSet<Element> = std::collections::HashSet::new();
-        let mut stack = vec![(start, sensors)];
-        while let Some((s, sensors)) = stack.pop() {
-            if !seen.insert((s, sensors.clone())) {
+        // Without progress tracking every path counts as progressed: one search per state.
+        let progressed = progressed || !self.track_progress;
+        // Per `progressed`, the states (with the sensors' memory) seen so far.
+        let mut seen: [std::collections::HashSet<Element>; 2] = Default::default();
+        let mut stack = vec![(start, sensors, progressed)];
+        while let Some((s, sensors, progressed)) = stack.pop() {
+            if !seen[usize::from(progressed)].insert((s, sensors.clone())) {
                 continue;
             }
             self.work += 1;
@@ -269,6 +300,9 @@ impl Extraction<'_> {
                 return Err(ScanProgramError::Cancelled);
             }
             if self.is_read(s) {
+                if !progressed {
+                    out.calm.push((s, sensors.clone()));
+                }
                 out.next.push((s, sensors));
                 continue;
             }
@@ -295,9 +329,9 @@ impl Extraction<'_> {
                         let parts = info.sender.into_iter().chain(info.synchronised.iter().copied());
                         next.moved(self.game, message, e.instant, parts);
                         next.forget_unread();
-                        stack.push((e.to, next));
+                        stack.push((e.to, next, progressed || e.progress));
                     }
-                    (EdgeKind::Delay, _) => stack.push((e.to, sensors.clone())),
+                    (EdgeKind::Delay, _) => stack.push((e.to, sensors.clone(), progressed || e.progress)),
                     _ => {}
                 }
             }
@@ -308,8 +342,13 @@ impl Extraction<'_> {
 }
 
 /// The canonical order of a belief's elements.
+fn element_order(a: &Element, b: &Element) -> std::cmp::Ordering {
+    a.0.cmp(&b.0).then_with(|| a.1.memory().cmp(&b.1.memory()))
+}
+
+/// A belief's elements in canonical order, each once.
 fn canonical(mut belief: Vec<Element>) -> Vec<Element> {
-    crate::sort::sort_by(&mut belief, |a, b| a.0.cmp(&b.0).then_with(|| a.1.memory().cmp(&b.1.memory())));
+    crate::sort::sort_by(&mut belief, element_order);
     belief.dedup();
     belief
 }
@@ -344,37 +383,54 @@ pub fn extract(
         Some(exact) => exact,
         None => scan,
     };
-    match follow_beliefs(game, scan, signals, budget, false, keep_going) {
-        Err(ambiguous @ ScanProgramError::Ambiguous { .. }) => {
-            // The strategy picked one of several equally good decisions per state, and two
-            // states the PLC cannot tell apart got different ones: in the whole winning region
-            // (the exhaustive search, every decision's consequences known) a belief may take a
-            // decision all its states share instead.
-            let mut stopped = false;
-            let whole = scan.exhaustive(game, &mut |stats| {
-                stopped = stopped || !keep_going(stats.visited);
-                !stopped
-            });
-            if stopped {
-                return Err(ScanProgramError::Cancelled);
-            }
-            match whole {
-                Some(whole) if whole.synthesis.solution.is_realizable() => {
-                    match follow_beliefs(game, &whole, signals, budget, true, keep_going) {
-                        Err(ScanProgramError::Budget { .. } | ScanProgramError::Ambiguous { .. }) => Err(ambiguous),
-                        other => other,
-                    }
-                }
-                _ => Err(ambiguous),
-            }
+    let ambiguous = match follow_beliefs(game, scan, signals, budget, false, keep_going) {
+        Err(ambiguous @ ScanProgramError::Ambiguous { .. }) => ambiguous,
+        other => return other,
+    };
+    // The strategy took different decisions in two states the PLC cannot tell apart. Each
+    // belief may instead take a decision that all its states may take (it stays winning), as
+    // long as the program still makes the plans progress: first among the decisions the search
+    // tried, then in the whole winning region (the exhaustive search, every decision's
+    // consequences known).
+    let mut stalled = false;
+    let mut shared = |scan: &ScanSynthesis, keep_going: &mut dyn FnMut(usize) -> bool| match follow_beliefs(
+        game, scan, signals, budget, true, keep_going,
+    ) {
+        Err(ScanProgramError::Stalls) => {
+            stalled = true;
+            None
         }
-        other => other,
+        Err(ScanProgramError::Budget { .. } | ScanProgramError::Ambiguous { .. }) => None,
+        other => Some(other),
+    };
+    if let Some(found) = shared(scan, keep_going) {
+        return found;
+    }
+    let mut stopped = false;
+    let whole = scan.exhaustive(game, &mut |stats| {
+        stopped = stopped || !keep_going(stats.visited);
+        !stopped
+    });
+    if stopped {
+        return Err(ScanProgramError::Cancelled);
+    }
+    if let Some(whole) = whole.filter(|w| w.synthesis.solution.is_realizable()) {
+        if let Some(found) = shared(&whole, keep_going) {
+            return found;
+        }
+    }
+    match ambiguous {
+        ScanProgramError::Ambiguous { image, decisions, .. } => {
+            Err(ScanProgramError::Ambiguous { image, decisions, stalls: stalled })
+        }
+        other => Err(other),
     }
 }
 
 /// The belief construction of [`extract`] on the solved scan game `scan`: each state decides as
-/// its strategy does, or, with `shared`, each belief takes a decision of least goal distance
-/// that all its states share (`scan` must then be the whole winning region).
+/// its strategy does, or, with `shared`, each belief takes a live decision that all its states
+/// share, of least worst goal distance, and the program is refused ([`ScanProgramError::Stalls`])
+/// if its plays could then go round without a plan progressing.
 fn follow_beliefs(
     game: &Game,
     scan: &ScanSynthesis,
@@ -410,6 +466,7 @@ fn follow_beliefs(
         quiet: roles.quiet,
         budget,
         work: 0,
+        track_progress: shared,
         memo: HashMap::new(),
         guard_rules: &game.guards,
         keep_going,
@@ -424,12 +481,15 @@ fn follow_beliefs(
     let mut beliefs: Vec<Vec<Element>> = vec![Vec::new()];
     let mut index: HashMap<Vec<Element>, usize> = HashMap::new();
     if before_first_read {
-        x.reach(space.initial, sensors, None, &mut first)?;
+        x.reach(space.initial, sensors, true, None, &mut first)?;
     } else {
         beliefs[0].push((space.initial, sensors));
         index.insert(beliefs[0].clone(), 0);
     }
     let mut nodes: Vec<Node> = Vec::new();
+    // With `shared`: per belief, the moves of its states to the next read that no plan's
+    // progress interrupts (element, next element, the next element's belief).
+    let mut calm: Vec<Vec<(usize, usize, usize)>> = Vec::new();
     let mut k = 0;
     while k < beliefs.len() {
         let belief = beliefs[k].clone();
@@ -443,8 +503,10 @@ fn follow_beliefs(
         } else {
             belief.iter().zip(edges).map(|(element, edge)| x.successors(element, edge)).collect::<Result<_, _>>()?
         };
-        for followed in followed {
+        let mut calm_here: Vec<(usize, Element)> = Vec::new();
+        for (i, followed) in followed.into_iter().enumerate() {
             guards.extend(followed.guards);
+            calm_here.extend(followed.calm.into_iter().map(|e| (i, e)));
             for next in followed.next {
                 let image = next.1.image();
                 match by_image.iter_mut().find(|(i, _)| *i == image) {
@@ -463,38 +525,91 @@ fn follow_beliefs(
             });
             next.push((image, id));
         }
+        let belief_of = |e: &Element| next.iter().find(|(i, _)| *i == e.1.image()).map(|n| n.1);
+        let position = |b: usize, e: &Element| beliefs[b].binary_search_by(|x| element_order(x, e)).ok();
+        let moves =
+            calm_here.into_iter().filter_map(|(i, e)| belief_of(&e).and_then(|b| Some((i, b, position(b, &e)?))));
+        calm.push(moves.collect());
         crate::sort::sort(&mut guards);
         guards.dedup();
         nodes.push(Node { decision, guards, next, states: belief.len() });
+    }
+    let sizes: Vec<usize> = beliefs.iter().map(Vec::len).collect();
+    if shared && stalls(&sizes, &calm, before_first_read) {
+        return Err(ScanProgramError::Stalls);
     }
     let nodes = minimise(nodes);
     Ok(ScanProgram { nodes, before_first_read, signals: signals.to_vec(), work: x.work, shared_decisions: shared })
 }
 
+/// Whether some play of the program can go round for ever without a plan progressing: a cycle
+/// of (belief, state) pairs linked by the moves of `calm` (per belief, whose `sizes` states are
+/// numbered in canonical order: the state's number, the next belief and the next state's number
+/// there; the first belief's moves are skipped with `before_first_read`, it has no states). The
+/// solver makes every live decision that could close a cycle without progress bring the state
+/// closer to progress (its final cut, `keep_rank_decreasing`; the zeno memory does the rest), so
+/// decisions a belief shares in place of the strategy's should not stall either; the check costs
+/// one walk of the program and does not take that on trust. A quiet PLC that reads the same
+/// state again is not a move: time passes and the plant changes.
+fn stalls(sizes: &[usize], calm: &[Vec<(usize, usize, usize)>], before_first_read: bool) -> bool {
+    let mut offsets = Vec::with_capacity(sizes.len());
+    let mut total = 0;
+    for &size in sizes {
+        offsets.push(total);
+        total += size;
+    }
+    let mut graph = petgraph::Graph::<(), ()>::with_capacity(total, 0);
+    for _ in 0..total {
+        graph.add_node(());
+    }
+    let mut self_loop = false;
+    for (b, moves) in calm.iter().enumerate().skip(usize::from(before_first_read)) {
+        for &(i, to, j) in moves {
+            let (from, into) = (offsets[b] + i, offsets[to] + j);
+            self_loop |= from == into;
+            graph.add_edge(petgraph::graph::NodeIndex::new(from), petgraph::graph::NodeIndex::new(into), ());
+        }
+    }
+    self_loop || petgraph::algo::kosaraju_scc(&graph).iter().any(|component| component.len() > 1)
+}
+
 impl Extraction<'_> {
     /// The decision of a belief (the request, `None` for idle) and, per element, the edge that
-    /// takes it: the first of the first element's options that every element has.
+    /// takes it. Following the strategy, every element must have the same one. In the whole
+    /// winning region, it is the decision every element may take (a live one) whose worst goal
+    /// distance over the elements is least (ties: the first element's order).
     fn shared_decision(&self, belief: &[Element]) -> Result<(Option<MsgId>, Vec<EdgeId>), ScanProgramError> {
-        let options: Vec<Vec<EdgeId>> = belief.iter().map(|e| self.options(e.0)).collect();
-        let pick = |request: Option<MsgId>| -> Option<Vec<EdgeId>> {
-            options.iter().map(|o| o.iter().copied().find(|&edge| self.request_of(edge) == request)).collect()
+        let options: Vec<Vec<(u32, EdgeId)>> = belief.iter().map(|e| self.options(e.0)).collect();
+        // Per element, its best edge taking `request`, with that edge's distance.
+        let pick = |request: Option<MsgId>| -> Option<Vec<(u32, EdgeId)>> {
+            options.iter().map(|o| o.iter().copied().find(|&(_, edge)| self.request_of(edge) == request)).collect()
         };
         let first = options.first().map(Vec::as_slice).unwrap_or_default();
-        for &edge in first {
+        let mut best: Option<(u32, Option<MsgId>, Vec<EdgeId>)> = None;
+        for &(_, edge) in first {
             let request = self.request_of(edge);
+            if best.as_ref().is_some_and(|b| b.1 == request) {
+                continue;
+            }
             if let Some(edges) = pick(request) {
-                return Ok((request, edges));
+                let worst = edges.iter().map(|e| e.0).max().unwrap_or(0);
+                if best.as_ref().is_none_or(|b| worst < b.0) {
+                    best = Some((worst, request, edges.into_iter().map(|e| e.1).collect()));
+                }
             }
         }
+        if let Some((_, request, edges)) = best {
+            return Ok((request, edges));
+        }
         // No decision is shared: name the first element's preferred one and one it lacks.
-        let decision = first.first().and_then(|&e| self.request_of(e));
+        let decision = first.first().and_then(|&(_, e)| self.request_of(e));
         let (element, other) = belief
             .iter()
             .zip(&options)
-            .find(|(_, o)| !o.iter().any(|&edge| self.request_of(edge) == decision))
-            .map(|(element, o)| (element, o.first().and_then(|&e| self.request_of(e))))
+            .find(|(_, o)| !o.iter().any(|&(_, edge)| self.request_of(edge) == decision))
+            .map(|(element, o)| (element, o.first().and_then(|&(_, e)| self.request_of(e))))
             .unwrap_or((&belief[0], decision));
-        Err(ScanProgramError::Ambiguous { image: element.1.image(), decisions: [decision, other] })
+        Err(ScanProgramError::Ambiguous { image: element.1.image(), decisions: [decision, other], stalls: false })
     }
 }
 
@@ -628,5 +743,26 @@ impl ScanProgram {
         let no_label = program.fresh_id();
         self.tree(program, no_label, &no, decide, node);
         self.tree(program, yes_label, &yes, decide, node);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::stalls;
+
+    #[test]
+    fn a_cycle_of_moves_without_progress_stalls_and_a_chain_does_not() {
+        // Two beliefs, of one state and of two: state 0 of belief 0 moves to state 0 of belief
+        // 1 without progress, state 1 of belief 1 to state 0 of belief 1.
+        let sizes = [1, 2];
+        let chain = vec![vec![(0, 1, 0)], vec![(1, 1, 0)]];
+        assert!(!stalls(&sizes, &chain, false), "the chain ends at state 0 of belief 1");
+        // State 0 of belief 1 goes back to belief 0: round and round.
+        let cycle = vec![vec![(0, 1, 0)], vec![(0, 0, 0)]];
+        assert!(stalls(&sizes, &cycle, false));
+        // A state that moves to itself.
+        assert!(stalls(&sizes, &[vec![], vec![(0, 1, 0)]], false));
+        // Before the first read, belief 0 has no states and its moves are skipped.
+        assert!(!stalls(&[0, 1], &[vec![(0, 1, 0)], vec![]], true));
     }
 }
