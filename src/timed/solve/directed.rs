@@ -40,6 +40,8 @@ pub(super) struct Directed<'g> {
     next_progress_check: usize,
     /// In a scan game: the zero-time strategy that orders the commitments at a read.
     pub(super) guide: Option<&'g ScanGuide>,
+    /// Switches `steer_by_ranks` has made so far, over all its calls.
+    switches: usize,
 }
 
 impl<'g> Directed<'g> {
@@ -52,6 +54,7 @@ impl<'g> Directed<'g> {
             plan_goals: goals,
             next_progress_check: 16,
             guide,
+            switches: 0,
         }
     }
 }
@@ -217,11 +220,12 @@ impl Solver<'_, '_, Directed<'_>> {
     /// some play cycle without progress (a state it reaches that its own moves do not rank),
     /// the first such state, from the initial state, whose choice does not decrease the
     /// (optimistic) rank of the whole explored game moves onto one that does, an explored one
-    /// where possible. One switch at a time: leaving a cycle at one state often mends it for
-    /// the others. Returns whether anything changed (a choice, or something to explore).
+    /// where possible. Returns whether anything changed (a choice, or something to explore).
     ///
-    /// Each round ranks the whole strategy again, so the rounds take the first 1, 1, 2, 4, 8,
-    /// ... such states at once: a game that needs hundreds of switches (a random
+    /// Leaving a cycle at one state often mends it for the others, so the first switch is made
+    /// alone. But each round ranks the whole strategy again, so the rounds then take the first
+    /// 1, 2, 4, 8, ... such states at once, and at least a quarter as many as the search has
+    /// switched in all its calls so far: a game that needs hundreds of switches (a random
     /// specification's scan game needed 500 over 126 000 states, and six minutes when it took
     /// them one at a time) takes a logarithmic number of rounds instead of one per switch.
     fn steer_by_ranks(&mut self, ranks: &[u32]) -> bool {
@@ -231,7 +235,7 @@ impl Solver<'_, '_, Directed<'_>> {
         // guards against what generating targets may change on the way (the next round sees it).
         for _ in 0..ranks.len() {
             let strategy = self.progress_ranks(Counting::Strategy);
-            let batch = switched.max(1);
+            let batch = switched.max(self.search.switches / 4).max(1);
             let switches = self.unranked_switches(ranks, &strategy, batch);
             if !self.charge_ranking() || switches.is_empty() {
                 break;
@@ -239,6 +243,7 @@ impl Solver<'_, '_, Directed<'_>> {
             for (s, alt) in switches {
                 self.take(s, alt);
                 switched += 1;
+                self.search.switches += 1;
             }
             changed = true;
         }
