@@ -286,6 +286,19 @@ def parse_guard(tokens, pos):
     raise Undecided(f"lbt printed an unknown guard token {tok!r}")
 
 
+def guard_end(tokens, pos):
+    """The position just past the guard in prefix notation that starts at `pos`."""
+    open_operands = 1
+    while open_operands:
+        tok = tokens[pos]
+        if tok in ("&", "|"):
+            open_operands += 1
+        elif tok != "!":
+            open_operands -= 1
+        pos += 1
+    return pos
+
+
 def merge(a, b):
     out = dict(a)
     for key, value in b.items():
@@ -303,6 +316,9 @@ def parse_lbtt(text):
         raise Undecided(f"lbt printed no automaton: {text!r}")
     nstates, nsets, pos = int(tokens[0]), int(tokens[1]), 2
     states, initial = {}, None
+    # lbt repeats the same guards on many transitions: each distinct one is parsed once (the
+    # cubes are only read afterwards, so the transitions may share them).
+    guards = {}
     for _ in range(nstates):
         sid, init = int(tokens[pos]), tokens[pos + 1]
         pos += 2
@@ -314,7 +330,14 @@ def parse_lbtt(text):
         transitions = []
         while tokens[pos] != "-1":
             dest = int(tokens[pos])
-            cubes, pos = parse_guard(tokens, pos + 1)
+            end = guard_end(tokens, pos + 1)
+            key = tuple(tokens[pos + 1 : end])
+            cubes = guards.get(key)
+            if cubes is None:
+                cubes, after = parse_guard(tokens, pos + 1)
+                assert after == end
+                guards[key] = cubes
+            pos = end
             transitions.append((dest, cubes))
         pos += 1
         states[sid] = (frozenset(acc), transitions)
@@ -475,18 +498,26 @@ def search(init, rows, automata, signals):
         for guard, nxt, assign in rows[mstate]:
             base = merge(guard, assign)
             base = {index[s]: v for s, v in base.items()}
-            choices = [automata[k][1][q][1] for k, q in enumerate(qs)]
-            for combo in itertools.product(*choices):
-                partials = [base]
-                for _, cubes in combo:
-                    partials = [m for p in partials for c in cubes for m in [merge(p, c)] if m is not None]
-                    if not partials:
-                        break
-                if partials:
-                    target = (nxt, tuple(dest for dest, _ in combo))
-                    if target not in out:
-                        letter = {s: partials[0].get(i, False) for s, i in index.items()}
-                        out[target] = letter
+            # One transition per automaton, automaton by automaton: a choice of transitions is
+            # dropped as soon as its guards contradict (the full product of the automata's
+            # transitions is far larger than its consistent part). Each (destinations so far,
+            # letter so far) is kept once.
+            partials = {((), frozenset(base.items())): base}
+            for k, q in enumerate(qs):
+                extended = {}
+                for (dests, _), letter in partials.items():
+                    for dest, cubes in automata[k][1][q][1]:
+                        for cube in cubes:
+                            merged = merge(letter, cube)
+                            if merged is not None:
+                                extended.setdefault((dests + (dest,), frozenset(merged.items())), merged)
+                partials = extended
+                if not partials:
+                    break
+            for (dests, _), letter in partials.items():
+                target = (nxt, dests)
+                if target not in out:
+                    out[target] = {s: letter.get(i, False) for s, i in index.items()}
         succ[node] = list(out.items())
         return succ[node]
 
