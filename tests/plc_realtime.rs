@@ -879,7 +879,8 @@ fn code_of_the_scan_strategy_holds_in_real_time_and_in_awlsim() {
 fn code_of_the_scan_strategy_of_random_specs_holds_in_real_time_and_in_awlsim() {
     const SCAN_MS: u64 = 250;
     let count = std::env::var("PLCSYNTH_RANDOM_SPECS").ok().and_then(|v| v.parse().ok()).unwrap_or(400u64) / 4;
-    let long = awlsim_scan_runs() > 2;
+    let runs = awlsim_scan_runs();
+    let long = runs > 2;
     let budget =
         if long { timed::Config::default() } else { timed::Config { max_states: 10_000, ..timed::Config::default() } };
     let config = Config { scan_us: SCAN_MS * 1000, scans: 400, ..Config::default() };
@@ -936,7 +937,6 @@ fn code_of_the_scan_strategy_of_random_specs_holds_in_real_time_and_in_awlsim() 
     }
     // Most implementable random specs get the scan strategy's code (the rest: inputs alike).
     assert!(programs.len() * 3 > implementable * 2, "only {} of {implementable} have a scan program", programs.len());
-    let runs = awlsim_scan_runs();
     let (specs, awlsim_config) =
         if long { (programs.len(), Config { scans: SCANS, ..config.clone() }) } else { (6, config.clone()) };
     let in_awlsim: Vec<&Example> = programs.iter().take(specs).chain(&fallbacks).collect();

@@ -222,8 +222,8 @@ impl Solver<'_, '_, Directed<'_>> {
     /// (optimistic) rank of the whole explored game moves onto one that does, an explored one
     /// where possible. Returns whether anything changed (a choice, or something to explore).
     ///
-    /// Leaving a cycle at one state often mends it for the others, so the first switch is made
-    /// alone. But each round ranks the whole strategy again, so the rounds then take the first
+    /// Leaving a cycle at one state often mends it for the others, so a search's first switch
+    /// is made alone. But each round ranks the whole strategy again, so the rounds then take the first
     /// 1, 2, 4, 8, ... such states at once, and at least a quarter as many as the search has
     /// switched in all its calls so far: a game that needs hundreds of switches (a random
     /// specification's scan game needed 500 over 126 000 states, and six minutes when it took
