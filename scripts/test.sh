@@ -51,10 +51,11 @@ wait_setup() {
 }
 trap 'kill -- -"$setup_pid" 2>/dev/null || true' EXIT
 
-# 2. Formatting and lints, warnings as errors.
+# 2. Formatting and lints, warnings as errors. The wasm boundary is linted here too, compiled
+#    on the host (feature wasm-lint): a clippy run for wasm32 would check the whole library again.
 phase "lint"
 $cargo fmt --check
-$cargo clippy --all-targets --profile "$profile" -- -D warnings
+$cargo clippy --all-targets --profile "$profile" --features wasm-lint -- -D warnings
 
 # 3. Native tests: build while the installs finish, then run against the checkers. The
 #    benchmarks are not built again here (clippy above compiles them; `cargo bench` and
@@ -70,7 +71,7 @@ else
 fi
 wait_checkers
 
-# 4. The WebAssembly builds (the boundary's lint and tests, the playground) in the background,
+# 4. The WebAssembly builds (the boundary's tests, the playground) in the background,
 #    in a target directory of their own so that they never wait for the native run's cargo,
 #    once the playground's tools are installed (the installs fail: the builds stop at once).
 wasm_log=target/wasm-build.log
@@ -78,7 +79,6 @@ wasm_target_dir=$PWD/target/wasm-jobs
 setsid env CARGO_TARGET_DIR="$wasm_target_dir" bash -c "
     set -e
     while [[ ! -e $web_ready ]]; do [[ ! -e $setup_broke ]] || exit 1; sleep 1; done
-    $cargo clippy --lib --target wasm32-unknown-unknown --no-default-features -- -D warnings
     $cargo test --target wasm32-unknown-unknown --no-default-features --test wasm_api --no-run
     bash scripts/build-web.sh
 " >"$wasm_log" 2>&1 </dev/null &
@@ -97,7 +97,7 @@ $cargo test --doc --profile "$profile"
 # 5. The wasm boundary in Node, then the page in headless Chromium, on what step 4 built.
 wait_setup
 if ! wait "$wasm_pid"; then
-    say "the WebAssembly lint or builds failed:"
+    say "the WebAssembly builds failed:"
     cat "$wasm_log" >&2
     exit 1
 fi

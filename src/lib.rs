@@ -26,6 +26,7 @@ pub mod search;
 pub(crate) mod sort;
 pub(crate) mod syntax;
 pub mod timed;
-#[cfg(target_arch = "wasm32")]
+// On the host only to be linted (feature `wasm-lint`, Cargo.toml).
+#[cfg(any(target_arch = "wasm32", feature = "wasm-lint"))]
 pub mod wasm;
 pub mod zone;

@@ -1,7 +1,7 @@
 // Shared set-up of the browser tests: serves www/ with python3's static server on a free
 // port and drives Debian's Chromium (/usr/bin/chromium) with playwright-core.
 import { spawn } from 'node:child_process';
-import { mkdirSync, writeFileSync, readFileSync, existsSync } from 'node:fs';
+import { mkdirSync, writeFileSync, readFileSync, existsSync, rmSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { before, after } from 'node:test';
@@ -101,11 +101,29 @@ export async function runAndWait(page, timeout = 30000) {
 
 export const readExample = (id) => readFileSync(join(root, 'examples', 'timed', `${id}.tga`), 'utf8');
 
-/** Appends measurements (reported, never asserted) to target/screenshots/measurements.json. */
-export function record(key, value) {
+/** Appends measurements (reported, never asserted) to target/screenshots/measurements.json.
+ * The test files run in processes side by side, so the read-modify-write holds a lock (a
+ * directory: its creation is atomic); a lock left by a killed run is taken after 5 s. */
+export async function record(key, value) {
   mkdirSync(screenshots, { recursive: true });
   const file = join(screenshots, 'measurements.json');
-  const all = existsSync(file) ? JSON.parse(readFileSync(file, 'utf8')) : {};
-  all[key] = value;
-  writeFileSync(file, JSON.stringify(all, null, 2));
+  const lock = `${file}.lock`;
+  const since = Date.now();
+  for (;;) {
+    try {
+      mkdirSync(lock);
+      break;
+    } catch (e) {
+      if (e.code !== 'EEXIST') throw e;
+      if (Date.now() - since > 5000) break;
+      await new Promise((resolve) => setTimeout(resolve, 20));
+    }
+  }
+  try {
+    const all = existsSync(file) ? JSON.parse(readFileSync(file, 'utf8')) : {};
+    all[key] = value;
+    writeFileSync(file, JSON.stringify(all, null, 2));
+  } finally {
+    rmSync(lock, { recursive: true, force: true });
+  }
 }

@@ -5,7 +5,7 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { server, browser, useBrowser, newPage, open, shot, editorText, setEditorText, runAndWait, root, record } from './harness.mjs';
+import { server, browser, useBrowser, newPage, open, shot, editorText, setEditorText, runAndWait, root } from './harness.mjs';
 
 useBrowser();
 
@@ -296,29 +296,6 @@ test('a damaged share link of any form says what is wrong, never "Failed to fetc
     assert.deepEqual(fresh.errors, [], link);
     await fresh.context().close();
   }
-});
-
-test('measurements: SCT and LTL runs in the page (reported, not asserted)', async () => {
-  const page = await newPage(browser, server.url);
-  await page.evaluate(() => {
-    window.longTasks = [];
-    new PerformanceObserver((list) => window.longTasks.push(...list.getEntries().map((e) => e.duration))).observe({ type: 'longtask' });
-  });
-  const result = {};
-  for (const id of ['three_tanks', 'transfer_line_2x2', 'ex4_muting', 'fig1', 'mutex', 'arbiter_same_scan']) {
-    await page.evaluate((id) => {
-      window.longTasks = [];
-      location.hash = `#example/${id}`;
-    }, id);
-    await page.waitForFunction((id) => window.plcsynth.name === id, id);
-    const verdict = await runAndWait(page, 120000);
-    await page.waitForSelector('#run:not([disabled])');
-    result[id] = await page.evaluate(() => ({ verdict: document.querySelector('#verdict').dataset.verdict, engine_ms: Math.round(window.plcsynth.result.ms), round_trip_ms: Math.round(window.plcsynth.lastRunMs), long_tasks_ms: window.longTasks }));
-    assert.ok(['realizable', 'unrealizable'].includes(verdict), `${id}: ${verdict}`);
-  }
-  record('modes', result);
-  console.log(`# measurements: ${JSON.stringify(result)}`);
-  assert.deepEqual(page.errors, []);
 });
 
 test('completion offers the names the document declares, in each language', async () => {

@@ -362,7 +362,7 @@ test('Graphviz lays out in a worker: every automaton of round_table_8 is laid ou
   // Long tasks are reported after they end: give the last one time to arrive.
   await page.waitForTimeout(300);
   const longTasks = await page.evaluate(() => window.longTasks);
-  record('rt8_automata_drawing', { automata: count, main_thread_tasks_over_50ms: longTasks });
+  await record('rt8_automata_drawing', { automata: count, main_thread_tasks_over_50ms: longTasks });
   console.log(`# measurements: drawing ${count} automata, main-thread tasks over 50 ms: ${JSON.stringify(longTasks)}`);
   assert.ok((await page.locator('#automata svg g.edge.edge-request').count()) > 0);
   await shot(page, '32-rt8-automata');
