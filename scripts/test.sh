@@ -71,9 +71,10 @@ else
 fi
 wait_checkers
 
-# 4. The WebAssembly builds (the boundary's tests, the playground) in the background,
-#    in a target directory of their own so that they never wait for the native run's cargo,
-#    once the playground's tools are installed (the installs fail: the builds stop at once).
+# 4. The WebAssembly builds (the boundary's tests, the playground) and the boundary's tests in
+#    Node (a single-threaded minute: it fits beside the native tests better than after them) in
+#    the background, in a target directory of their own so that they never wait for the native
+#    run's cargo, once the playground's tools are installed (the installs fail: they stop at once).
 wasm_log=target/wasm-build.log
 wasm_target_dir=$PWD/target/wasm-jobs
 setsid env CARGO_TARGET_DIR="$wasm_target_dir" bash -c "
@@ -81,6 +82,7 @@ setsid env CARGO_TARGET_DIR="$wasm_target_dir" bash -c "
     while [[ ! -e $web_ready ]]; do [[ ! -e $setup_broke ]] || exit 1; sleep 1; done
     $cargo test --target wasm32-unknown-unknown --no-default-features --test wasm_api --no-run
     bash scripts/build-web.sh
+    $cargo test --target wasm32-unknown-unknown --no-default-features --test wasm_api
 " >"$wasm_log" 2>&1 </dev/null &
 wasm_pid=$!
 trap 'kill -- -"$setup_pid" 2>/dev/null || true; kill -- -"$wasm_pid" 2>/dev/null || true' EXIT
@@ -94,15 +96,14 @@ else
 fi
 $cargo test --doc --profile "$profile"
 
-# 5. The wasm boundary in Node, then the page in headless Chromium, on what step 4 built.
+# 5. The wasm boundary's results, then the page in headless Chromium, on what step 4 built.
 wait_setup
 if ! wait "$wasm_pid"; then
-    say "the WebAssembly builds failed:"
+    say "the WebAssembly builds or the wasm boundary's tests failed:"
     cat "$wasm_log" >&2
     exit 1
 fi
-phase "wasm tests"
-CARGO_TARGET_DIR="$wasm_target_dir" $cargo test --target wasm32-unknown-unknown --no-default-features --test wasm_api
+phase "wasm tests (run beside the native tests): $(grep -E '^test result' "$wasm_log" | tail -1)"
 phase "browser tests"
 node --test --test-concurrency=2 tests/browser/
 phase "all tests passed"

@@ -353,6 +353,24 @@ fn canonical(mut belief: Vec<Element>) -> Vec<Element> {
     belief
 }
 
+/// Runs one more solve of the scan game for [`extract`], reporting its progress to
+/// `keep_going` and stopping it (as cancelled) when that answers `false`.
+fn solve_again<T>(
+    keep_going: &mut dyn FnMut(usize) -> bool,
+    solve: impl FnOnce(&mut crate::search::OnProgress<'_, crate::timed::solve::Stats>) -> T,
+) -> Result<T, ScanProgramError> {
+    let mut stopped = false;
+    let solved = solve(&mut |stats| {
+        stopped = stopped || !keep_going(stats.visited);
+        !stopped
+    });
+    if stopped {
+        Err(ScanProgramError::Cancelled)
+    } else {
+        Ok(solved)
+    }
+}
+
 /// Builds the scan program of a won scan game. `game` is the specification's own game (its
 /// message ids are the scan game's first ones); `signals` are the inputs the PLC reads (per
 /// input, its messages and whether each reads it negated); `budget` bounds the read states
@@ -368,14 +386,7 @@ pub fn extract(
     // A solution with covers (inclusion) is solved again with a state per zone: a cover's
     // decision is made for its larger zone, and the plant moves it allows there blur the
     // beliefs of the PLC.
-    let mut stopped = false;
-    let exact = scan.exact(game, &mut |stats| {
-        stopped = stopped || !keep_going(stats.visited);
-        !stopped
-    });
-    if stopped {
-        return Err(ScanProgramError::Cancelled);
-    }
+    let exact = solve_again(keep_going, |progress| scan.exact(game, progress))?;
     let scan = match &exact {
         Some(exact) if matches!(exact.synthesis.solution.outcome, Err(crate::search::Stop::Budget { .. })) => {
             return Err(ScanProgramError::ExactBudget)
@@ -406,14 +417,7 @@ pub fn extract(
     if let Some(found) = shared(scan, keep_going) {
         return found;
     }
-    let mut stopped = false;
-    let whole = scan.exhaustive(game, &mut |stats| {
-        stopped = stopped || !keep_going(stats.visited);
-        !stopped
-    });
-    if stopped {
-        return Err(ScanProgramError::Cancelled);
-    }
+    let whole = solve_again(keep_going, |progress| scan.exhaustive(game, progress))?;
     if let Some(whole) = whole.filter(|w| w.synthesis.solution.is_realizable()) {
         if let Some(found) = shared(&whole, keep_going) {
             return found;
