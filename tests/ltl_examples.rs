@@ -327,7 +327,7 @@ fn the_symbolic_solver_decides_every_listed_specification() {
 fn the_bdd_solver_decides_the_listed_specifications_as_the_explicit_one() {
     let dir = scratch().join("bdd");
     std::fs::create_dir_all(&dir).unwrap();
-    let cfg = Config { solver: ltl::Solver::Bdd, max_work: 200_000_000, ..Config::default() };
+    let cfg = Config { solver: ltl::Solver::Bdd, max_work: 60_000_000, ..Config::default() };
     let mut documents = Vec::new();
     let mut beyond = Vec::new();
     for (i, ((path, params, expected), spec, explicit)) in decided().iter().enumerate() {

@@ -4,7 +4,7 @@
 //! `program::simulate` drives it in eighths of a time unit with a scan after every plant step,
 //! `plc::lower::timed::realtime` in microseconds against a PLC with a real scan period.
 
-use super::model::{ClockId, CompId, Game, Interval, LocId, MessageKind, MessageRole, MsgId};
+use super::model::{ClockId, CompId, Edge, Game, Interval, LocId, MessageKind, MessageRole, MsgId};
 use super::precompute::SplitGame;
 use super::solve::{StateId, StateKind, StateSpace};
 
@@ -213,10 +213,32 @@ impl<'g> Plant<'g> {
     /// each sending transition with each combination of `$` transitions of the units that
     /// synchronise on its message. A message nobody else synchronises on is one move.
     pub fn candidates(&self, kinds: &[MessageKind]) -> Vec<Move> {
+        self.candidates_where(|e| kinds.contains(&e.kind))
+    }
+
+    /// [`Plant::candidates`] of one message (the closed loop's requests: most of a simulated
+    /// scan's work, so only the sending transitions of that message are combined).
+    pub fn candidates_of(&self, kind: MessageKind, message: MsgId) -> Vec<Move> {
+        self.candidates_where(|e| e.kind == kind && e.message == message)
+    }
+
+    /// Whether some enabled move of `kind` is instant, without building the moves when no
+    /// transition from the current locations is instant (the usual case).
+    pub fn instant_enabled(&self, kind: MessageKind) -> bool {
+        let any_instant = self
+            .game
+            .components
+            .iter()
+            .zip(&self.locs)
+            .any(|(a, &at)| a.edges.iter().any(|e| e.instant && e.from == at));
+        any_instant && self.moves(&[kind]).iter().any(|m| m.instant)
+    }
+
+    fn candidates_where(&self, sends: impl Fn(&Edge) -> bool) -> Vec<Move> {
         let mut out = Vec::new();
         for (u, a) in self.game.components.iter().enumerate() {
             for (ei, e) in a.edges.iter().enumerate() {
-                if e.from != self.locs[u] || !kinds.contains(&e.kind) {
+                if e.from != self.locs[u] || !sends(e) {
                     continue;
                 }
                 let mut combos: Vec<Vec<(usize, usize)>> = vec![vec![(u, ei)]];

@@ -517,18 +517,15 @@ impl<'g> Simulation<'g> {
                 Condition::Delay { clock, interval } => reached(interval, sim.w.timers[(*clock).index()]),
             };
             match c.instruction {
-                Instruction::Do { .. }
-                    if self.w.plant.moves(&[MessageKind::Uncontrollable]).iter().any(|m| m.instant) =>
-                {
+                Instruction::Do { .. } if self.w.plant.instant_enabled(MessageKind::Uncontrollable) => {
                     return acted; // an instant reaction has priority: the controller acts after it
                 }
                 Instruction::Do { request } => {
-                    let candidates: Vec<PlantMove> = self
-                        .w
-                        .plant
-                        .moves(&[MessageKind::Controllable])
+                    let plant = &self.w.plant;
+                    let candidates: Vec<PlantMove> = plant
+                        .candidates_of(MessageKind::Controllable, request)
                         .into_iter()
-                        .filter(|m| m.message == request)
+                        .filter(|m| plant.enabled(m))
                         .collect();
                     if candidates.is_empty() {
                         self.report.failure = Some(Failure::RequestRefused { request: self.name(request) });

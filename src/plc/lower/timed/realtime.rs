@@ -665,6 +665,9 @@ impl Run<'_> {
     /// each), until none is.
     fn settle(&mut self) -> Option<Stop> {
         for _ in 0..10_000 {
+            if !self.plant.instant_enabled(MessageKind::Uncontrollable) {
+                return None;
+            }
             let instants: Vec<Move> =
                 self.plant.moves(&[MessageKind::Uncontrollable]).into_iter().filter(|m| m.instant).collect();
             if instants.is_empty() {
@@ -1023,8 +1026,7 @@ impl Run<'_> {
         let Some(s) = game.messages[m.index()].sender else { return "it has no sender".into() };
         let a = &game.components[s.index()];
         let here = &a.locations[self.plant.locs[s.index()].index()].name;
-        let candidates: Vec<Move> =
-            self.plant.candidates(&[MessageKind::Controllable]).into_iter().filter(|c| c.message == m).collect();
+        let candidates = self.plant.candidates_of(MessageKind::Controllable, m);
         if !a.edges.iter().any(|e| e.message == m && e.from == self.plant.locs[s.index()]) {
             return format!("{} has no ?{} in {here}", a.name, self.name(m));
         }
