@@ -6,19 +6,15 @@
 # - lbt (Debian, an LTL to Büchi translator) for tests/checkers/ltl_mc.py.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-if ! command -v xmllint >/dev/null 2>&1; then
+# Both Debian packages in one `apt-get update` and install (the update alone takes seconds).
+packages=()
+command -v xmllint >/dev/null 2>&1 || packages+=(libxml2-utils)
+command -v lbt >/dev/null 2>&1 || packages+=(lbt)
+if [ ${#packages[@]} -gt 0 ]; then
   if [ "$(id -u)" = 0 ]; then
-    apt-get update -qq && apt-get install -y -qq libxml2-utils >/dev/null
+    apt-get update -qq && apt-get install -y -qq "${packages[@]}" >/dev/null
   else
-    echo "xmllint is missing: install Debian's libxml2-utils" >&2
-    exit 1
-  fi
-fi
-if ! command -v lbt >/dev/null 2>&1; then
-  if [ "$(id -u)" = 0 ]; then
-    apt-get update -qq && apt-get install -y -qq lbt >/dev/null
-  else
-    echo "lbt is missing: install Debian's lbt" >&2
+    echo "missing: ${packages[*]} (Debian's libxml2-utils gives xmllint, lbt gives lbt); install them as root" >&2
     exit 1
   fi
 fi
