@@ -58,9 +58,17 @@ export async function launch() {
   return chromium.launch({ executablePath: '/usr/bin/chromium', headless: true, args: FLAGS });
 }
 
-/** A fresh page (own storage) at 1280×800 that fails the test on any page error or dialog. */
-export async function newPage(browser, url, { permissions = [] } = {}) {
-  const context = await browser.newContext({ viewport: { width: 1280, height: 800 }, permissions, acceptDownloads: true });
+/** A fresh page (own storage) at 1280×800 that fails the test on any page error or dialog.
+ * The page's service worker (www/sw.js: offline start) is blocked unless `serviceWorkers` is
+ * set: installing it caches every asset anew in each fresh context, CPU that the tests of
+ * everything else do not need (the offline test asks for it). */
+export async function newPage(browser, url, { permissions = [], serviceWorkers = false } = {}) {
+  const context = await browser.newContext({
+    viewport: { width: 1280, height: 800 },
+    permissions,
+    acceptDownloads: true,
+    serviceWorkers: serviceWorkers ? 'allow' : 'block',
+  });
   const page = await context.newPage();
   page.setDefaultTimeout(10000);
   page.errors = [];

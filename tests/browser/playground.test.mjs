@@ -465,7 +465,7 @@ test('examples gallery lists every example and opens one', async () => {
 test('after one visit the page starts and solves with the server gone (service worker)', async () => {
   // An own server (and so an own origin), because this test stops it.
   const own = await startServer();
-  const page = await newPage(browser, `${own.url}#example/lamp`);
+  const page = await newPage(browser, `${own.url}#example/lamp`, { serviceWorkers: true });
   await page.waitForFunction(() => navigator.serviceWorker?.controller != null, null, { timeout: 20000 });
   own.stop();
   for (let i = 0; ; i++) {

@@ -490,34 +490,50 @@ def search(init, rows, automata, signals):
     start = (init, tuple(a[0] for a in automata))
     succ = {}
 
+    def bits(cube):
+        """A cube {proposition: value} as (mask of the propositions it reads, their values)."""
+        mask = value = 0
+        for i, b in cube.items():
+            mask |= 1 << i
+            if b:
+                value |= 1 << i
+        return mask, value
+
+    # Each automaton's transitions with their cubes as bit masks: two cubes agree when they give
+    # no shared proposition different values, `(v1 ^ v2) & m1 & m2 == 0` (the dictionaries took
+    # most of the search's time on the larger products).
+    transitions = [
+        {q: [(dest, [bits(c) for c in cubes]) for dest, cubes in state[1]] for q, state in a[1].items()}
+        for a in automata
+    ]
+
     def successors(node):
         if node in succ:
             return succ[node]
         mstate, qs = node
         out = {}
         for guard, nxt, assign in rows[mstate]:
-            base = merge(guard, assign)
-            base = {index[s]: v for s, v in base.items()}
+            base = bits({index[s]: v for s, v in merge(guard, assign).items()})
             # One transition per automaton, automaton by automaton: a choice of transitions is
             # dropped as soon as its guards contradict (the full product of the automata's
             # transitions is far larger than its consistent part). Each (destinations so far,
-            # letter so far) is kept once.
-            partials = {((), frozenset(base.items())): base}
+            # letter so far) is kept once, in the order first found.
+            partials = {((),) + base: None}
             for k, q in enumerate(qs):
                 extended = {}
-                for (dests, _), letter in partials.items():
-                    for dest, cubes in automata[k][1][q][1]:
-                        for cube in cubes:
-                            merged = merge(letter, cube)
-                            if merged is not None:
-                                extended.setdefault((dests + (dest,), frozenset(merged.items())), merged)
+                for dests, mask, value in partials:
+                    for dest, cubes in transitions[k][q]:
+                        reached = dests + (dest,)
+                        for cmask, cvalue in cubes:
+                            if (value ^ cvalue) & mask & cmask == 0:
+                                extended[(reached, mask | cmask, value | cvalue)] = None
                 partials = extended
                 if not partials:
                     break
-            for (dests, _), letter in partials.items():
+            for dests, _, value in partials:
                 target = (nxt, dests)
                 if target not in out:
-                    out[target] = {s: letter.get(i, False) for s, i in index.items()}
+                    out[target] = {s: bool(value >> i & 1) for s, i in index.items()}
         succ[node] = list(out.items())
         return succ[node]
 
