@@ -20,7 +20,7 @@ test:
 ## four times longer, the scan strategies' code 50 runs in awlsim and every generated dialect
 ## parsed by blark (minutes more).
 test-long:
-	PLCSYNTH_RANDOM_SPECS=4000 PLCSYNTH_PROPTEST_SCALE=10 PLCSYNTH_ALL_DIALECTS=1 PLCSYNTH_REALTIME_RUNS=4 PLCSYNTH_AWLSIM_RUNS=50 $(MAKE) test
+	PLCSYNTH_RANDOM_SPECS=4000 PLCSYNTH_PROPTEST_SCALE=10 PLCSYNTH_ALL_DIALECTS=1 PLCSYNTH_REALTIME_RUNS=4 PLCSYNTH_AWLSIM_RUNS=50 PLCSYNTH_FULL_REFERENCE=1 $(MAKE) test
 
 ## rustfmt and clippy, warnings as errors; the wasm boundary (src/wasm) is linted on the host
 ## with the rest (feature wasm-lint), and for wasm32 in test-wasm.
