@@ -405,6 +405,7 @@ const SCAN_REFERENCE_BEYOND: &[&str] = &[
 #[test]
 fn strategy_search_agrees_with_the_exhaustive_reference() {
     // Each example on its own: two threads share them (the reference takes seconds on some).
+    let full_reference = std::env::var("PLCSYNTH_FULL_REFERENCE").is_ok_and(|v| v == "1");
     let compare = |name: &str, source: &str| -> bool {
         let (game, _) = compile(source).unwrap();
         // The larger round tables are beyond the reference: compared up to a budget it exceeds.
@@ -425,18 +426,8 @@ fn strategy_search_agrees_with_the_exhaustive_reference() {
         // seconds to find out), so there only the search runs; `make test-long`
         // (`PLCSYNTH_FULL_REFERENCE=1`) runs the reference on them too, and each must still
         // exceed the budget, so that the list stays true.
-        let full_reference = std::env::var("PLCSYNTH_FULL_REFERENCE").is_ok_and(|v| v == "1");
-        if SCAN_REFERENCE_BEYOND.contains(&name) && full_reference {
-            let (verdict, compared) = reference::compare_scan_with_reference(&game, scan_ms, 250_000)
-                .unwrap_or_else(|e| panic!("{name} at {scan_ms} ms: {e}"));
-            assert!(verdict.is_some(), "{name} at {scan_ms} ms: {verdict:?}");
-            assert!(
-                compared.is_none(),
-                "{name} at {scan_ms} ms: the reference fits; take it off SCAN_REFERENCE_BEYOND"
-            );
-            return false;
-        }
-        if SCAN_REFERENCE_BEYOND.contains(&name) {
+        let listed = SCAN_REFERENCE_BEYOND.contains(&name);
+        if listed && !full_reference {
             let options = reference::options(250_000);
             let fast = plcsynth::timed::synthesize_at_scan(&game, scan_ms, &options, &mut |_| true)
                 .unwrap_or_else(|e| panic!("{name} at {scan_ms} ms: {e}"));
@@ -447,8 +438,18 @@ fn strategy_search_agrees_with_the_exhaustive_reference() {
         let (verdict, compared) = reference::compare_scan_with_reference(&game, scan_ms, 250_000)
             .unwrap_or_else(|e| panic!("{name} at {scan_ms} ms: {e}"));
         assert!(verdict.is_some(), "{name} at {scan_ms} ms: {verdict:?}");
-        assert!(compared.is_some(), "{name} at {scan_ms} ms: over 250 000 states; list it in SCAN_REFERENCE_BEYOND");
-        true
+        if listed {
+            assert!(
+                compared.is_none(),
+                "{name} at {scan_ms} ms: the reference fits; take it off SCAN_REFERENCE_BEYOND"
+            );
+        } else {
+            assert!(
+                compared.is_some(),
+                "{name} at {scan_ms} ms: over 250 000 states; list it in SCAN_REFERENCE_BEYOND"
+            );
+        }
+        !listed
     };
     let all = examples();
     let scan_compared: usize = std::thread::scope(|scope| {

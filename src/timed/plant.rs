@@ -222,16 +222,24 @@ impl<'g> Plant<'g> {
         self.candidates_where(|e| e.kind == kind && e.message == message)
     }
 
-    /// Whether some enabled move of `kind` is instant, without building the moves when no
-    /// transition from the current locations is instant (the usual case).
-    pub fn instant_enabled(&self, kind: MessageKind) -> bool {
+    /// [`Plant::moves`] of one message (see [`Plant::candidates_of`]).
+    pub fn moves_of(&self, kind: MessageKind, message: MsgId) -> Vec<Move> {
+        self.candidates_of(kind, message).into_iter().filter(|m| self.enabled(m)).collect()
+    }
+
+    /// The enabled instant moves of `kind`, without building any move when no transition from
+    /// the current locations is instant (the usual case).
+    pub fn instant_moves(&self, kind: MessageKind) -> Vec<Move> {
         let any_instant = self
             .game
             .components
             .iter()
             .zip(&self.locs)
             .any(|(a, &at)| a.edges.iter().any(|e| e.instant && e.from == at));
-        any_instant && self.moves(&[kind]).iter().any(|m| m.instant)
+        if !any_instant {
+            return Vec::new();
+        }
+        self.moves(&[kind]).into_iter().filter(|m| m.instant).collect()
     }
 
     fn candidates_where(&self, sends: impl Fn(&Edge) -> bool) -> Vec<Move> {

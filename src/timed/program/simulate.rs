@@ -517,16 +517,11 @@ impl<'g> Simulation<'g> {
                 Condition::Delay { clock, interval } => reached(interval, sim.w.timers[(*clock).index()]),
             };
             match c.instruction {
-                Instruction::Do { .. } if self.w.plant.instant_enabled(MessageKind::Uncontrollable) => {
+                Instruction::Do { .. } if !self.w.plant.instant_moves(MessageKind::Uncontrollable).is_empty() => {
                     return acted; // an instant reaction has priority: the controller acts after it
                 }
                 Instruction::Do { request } => {
-                    let plant = &self.w.plant;
-                    let candidates: Vec<PlantMove> = plant
-                        .candidates_of(MessageKind::Controllable, request)
-                        .into_iter()
-                        .filter(|m| plant.enabled(m))
-                        .collect();
+                    let candidates = self.w.plant.moves_of(MessageKind::Controllable, request);
                     if candidates.is_empty() {
                         self.report.failure = Some(Failure::RequestRefused { request: self.name(request) });
                         return acted;

@@ -665,11 +665,7 @@ impl Run<'_> {
     /// each), until none is.
     fn settle(&mut self) -> Option<Stop> {
         for _ in 0..10_000 {
-            if !self.plant.instant_enabled(MessageKind::Uncontrollable) {
-                return None;
-            }
-            let instants: Vec<Move> =
-                self.plant.moves(&[MessageKind::Uncontrollable]).into_iter().filter(|m| m.instant).collect();
+            let instants = self.plant.instant_moves(MessageKind::Uncontrollable);
             if instants.is_empty() {
                 return None;
             }
