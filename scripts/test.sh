@@ -51,17 +51,28 @@ wait_setup() {
 }
 trap 'kill -- -"$setup_pid" 2>/dev/null || true' EXIT
 
-# 2. Formatting and lints, warnings as errors. The wasm boundary is linted here too, compiled
-#    on the host (feature wasm-lint): a clippy run for wasm32 would check the whole library again.
+# 2. Formatting, then clippy's lints (warnings as errors) while the tests compile: clippy-driver
+#    is the compiler of this package's own crates (RUSTC_WORKSPACE_WRAPPER and CLIPPY_ARGS, as
+#    `cargo clippy` sets them), so the dependencies are compiled once instead of checked for
+#    clippy and then compiled again (about 150 CPU-s). The lints see every target `cargo clippy
+#    --all-targets` sees: the library, its unit tests, the CLI, the integration tests and the
+#    benchmarks here, and the wasm boundary (src/wasm) in the wasm32 build of step 4. Without
+#    clippy-driver, `cargo clippy` runs first as `make lint` does.
 phase "lint"
 $cargo fmt --check
-$cargo clippy --all-targets --profile "$profile" --features wasm-lint -- -D warnings
+clippy_driver=$(rustup which clippy-driver 2>/dev/null || command -v clippy-driver || true)
+if [[ -n $clippy_driver ]]; then
+    export RUSTC_WORKSPACE_WRAPPER=$clippy_driver
+    export CLIPPY_ARGS="-D__CLIPPY_HACKERY__warnings__CLIPPY_HACKERY__"
+else
+    say "no clippy-driver: linting with cargo clippy first"
+    $cargo clippy --all-targets --profile "$profile" --features wasm-lint -- -D warnings
+fi
 
-# 3. Native tests: build while the installs finish, then run against the checkers. The
-#    benchmarks are not built again here (clippy above compiles them; `cargo bench` and
-#    `plcsynth bench` run them): criterion and three more binaries cost minutes of CPU.
+# 3. Native tests: build (and lint) while the installs finish, then run against the checkers.
+#    The benchmarks are built, not run (`cargo bench` and `plcsynth bench` run them): 13 CPU-s.
 targets="--lib --bins --tests"
-phase "build the native tests"
+phase "build (and lint) the native tests and the benchmarks"
 nextest=0
 if $cargo nextest --version >/dev/null 2>&1; then nextest=1; fi
 if [[ $nextest -eq 1 ]]; then
@@ -69,6 +80,7 @@ if [[ $nextest -eq 1 ]]; then
 else
     $cargo test $targets --profile "$profile" --no-run
 fi
+$cargo build --benches --profile "$profile"
 wait_checkers
 
 # 4. The WebAssembly builds (the boundary's tests, the playground) and the boundary's tests in
@@ -79,12 +91,13 @@ wasm_log=target/wasm-build.log
 wasm_target_dir=$PWD/target/wasm-jobs
 # The boundary's tests build without debug info: a sixth of the module (13 MB instead of 86) for
 # wasm-bindgen-test-runner to rewrite, and 20 CPU-s less to build; the name section stays, so a
-# failing test's backtrace still names its functions.
+# failing test's backtrace still names its functions. That build is where clippy lints the wasm
+# boundary (step 2's wrapper); the playground's release build needs no second lint.
 setsid env CARGO_TARGET_DIR="$wasm_target_dir" CARGO_PROFILE_DEV_DEBUG=false bash -c "
     set -e
     while [[ ! -e $web_ready ]]; do [[ ! -e $setup_broke ]] || exit 1; sleep 1; done
     $cargo test --target wasm32-unknown-unknown --no-default-features --test wasm_api --no-run
-    bash scripts/build-web.sh
+    env -u RUSTC_WORKSPACE_WRAPPER -u CLIPPY_ARGS bash scripts/build-web.sh
     $cargo test --target wasm32-unknown-unknown --no-default-features --test wasm_api
 " >"$wasm_log" 2>&1 </dev/null &
 wasm_pid=$!

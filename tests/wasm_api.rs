@@ -705,7 +705,7 @@ fn model_file(name: &str, bytes: &[u8], kind: &str) -> JsValue {
 /// What `importModel` throws, with its first diagnostic.
 fn import_error(files: &[JsValue], options: &str) -> (JsValue, JsValue) {
     let list: Array = files.iter().collect();
-    let err = import_model(list, js_sys::JSON::parse(options).unwrap()).err().expect("the import must fail");
+    let err = import_model(list, js_sys::JSON::parse(options).unwrap()).expect_err("the import must fail");
     assert_eq!(get(&err, "ok").as_bool(), Some(false));
     let first = array(&get(&err, "diagnostics")).get(0);
     (err, first)
