@@ -17,8 +17,8 @@ test:
 	CARGO=$(CARGO) TEST_PROFILE=$(TEST_PROFILE) bash scripts/test.sh
 
 ## The same with the random and property runs ten times bigger, the real-time closed loops
-## four times longer, the scan strategies' code 50 runs in awlsim and every generated dialect
-## parsed by blark (minutes more).
+## four times longer, the scan strategies' code 50 runs in awlsim, every generated dialect
+## parsed by blark and the page's code pane timed on IL as well as ST (minutes more).
 test-long:
 	PLCSYNTH_RANDOM_SPECS=4000 PLCSYNTH_PROPTEST_SCALE=10 PLCSYNTH_ALL_DIALECTS=1 PLCSYNTH_REALTIME_RUNS=4 PLCSYNTH_AWLSIM_RUNS=50 PLCSYNTH_FULL_REFERENCE=1 $(MAKE) test
 
