@@ -56,16 +56,23 @@ trap 'kill -- -"$setup_pid" 2>/dev/null || true' EXIT
 #    `cargo clippy` sets them), so the dependencies are compiled once instead of checked for
 #    clippy and then compiled again (about 150 CPU-s). The lints see every target `cargo clippy
 #    --all-targets` sees: the library, its unit tests, the CLI, the integration tests and the
-#    benchmarks here, and the wasm boundary (src/wasm) in the wasm32 build of step 4. Without
-#    clippy-driver, `cargo clippy` runs first as `make lint` does.
+#    benchmarks here, and the wasm boundary (src/wasm) in the wasm32 build of step 4.
+#    CLIPPY_ARGS is cargo-clippy's private protocol with clippy-driver: a canary that has two
+#    lints must compile without it and fail with it, else (or without clippy-driver) `cargo
+#    clippy` runs first, as `make lint` does.
 phase "lint"
 $cargo fmt --check
 clippy_driver=$(rustup which clippy-driver 2>/dev/null || command -v clippy-driver || true)
-if [[ -n $clippy_driver ]]; then
+clippy_args="-D__CLIPPY_HACKERY__warnings__CLIPPY_HACKERY__"
+canary=target/clippy-canary
+mkdir -p "$canary"
+printf 'fn main() {\n    let v = vec![1];\n    if v.len() == 0 {\n        println!("empty");\n    }\n}\n' >"$canary/canary.rs"
+lint_canary() { "$clippy_driver" --edition 2021 --emit=metadata --out-dir "$canary" "$canary/canary.rs" >/dev/null 2>&1; }
+if [[ -n $clippy_driver ]] && lint_canary && ! CLIPPY_ARGS=$clippy_args lint_canary; then
     export RUSTC_WORKSPACE_WRAPPER=$clippy_driver
-    export CLIPPY_ARGS="-D__CLIPPY_HACKERY__warnings__CLIPPY_HACKERY__"
+    export CLIPPY_ARGS=$clippy_args
 else
-    say "no clippy-driver: linting with cargo clippy first"
+    say "clippy-driver missing or not denying lints through CLIPPY_ARGS: linting with cargo clippy first"
     $cargo clippy --all-targets --profile "$profile" --features wasm-lint -- -D warnings
 fi
 
