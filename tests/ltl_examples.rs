@@ -240,7 +240,32 @@ fn scratch() -> PathBuf {
     dir
 }
 
+/// The checks of the decided listing, each on the one decision of [`decided`]: with a process
+/// per test (cargo-nextest), five tests would decide the listing five times (about 7 s each).
+/// They run side by side; every failing check is named, its panic printed above.
 #[test]
+fn the_decided_listing_passes_every_check() {
+    let checks: [(&str, fn()); 5] = [
+        (
+            "every_listed_specification_gets_its_known_verdict_and_a_strategy_lbt_confirms",
+            every_listed_specification_gets_its_known_verdict_and_a_strategy_lbt_confirms,
+        ),
+        (
+            "the_bdd_solver_decides_the_listed_specifications_as_the_explicit_one",
+            the_bdd_solver_decides_the_listed_specifications_as_the_explicit_one,
+        ),
+        ("gr1py_agrees_where_the_specification_is_gr1", gr1py_agrees_where_the_specification_is_gr1),
+        ("synthesised_controllers_become_code_for_every_target", synthesised_controllers_become_code_for_every_target),
+        ("compositional_and_monolithic_verdicts_agree", compositional_and_monolithic_verdicts_agree),
+    ];
+    decided();
+    let failed: Vec<&str> = std::thread::scope(|s| {
+        let running: Vec<_> = checks.iter().map(|&(name, check)| (name, s.spawn(check))).collect();
+        running.into_iter().filter_map(|(name, check)| check.join().is_err().then_some(name)).collect()
+    });
+    assert!(failed.is_empty(), "checks of the decided listing that failed (their panics are above): {failed:?}");
+}
+
 fn every_listed_specification_gets_its_known_verdict_and_a_strategy_lbt_confirms() {
     let cases = decided();
     assert!(cases.len() >= 60, "{} cases", cases.len());
@@ -323,7 +348,6 @@ fn the_symbolic_solver_decides_every_listed_specification() {
 /// budget: where it decides, the verdict and the bound of the explicit solver (the reference)
 /// and a strategy the model check confirms; where its diagrams outgrow the budget it says so
 /// (unknown, with the limit), and those specifications are named here.
-#[test]
 fn the_bdd_solver_decides_the_listed_specifications_as_the_explicit_one() {
     let dir = scratch().join("bdd");
     std::fs::create_dir_all(&dir).unwrap();
@@ -649,29 +673,49 @@ fn a_mutated_controller_is_caught_by_the_model_check() {
     }
 }
 
-#[test]
 fn gr1py_agrees_where_the_specification_is_gr1() {
     let dir = scratch();
-    let mut compared = 0;
-    for (i, ((path, params, _), spec, outcome)) in decided().iter().enumerate() {
+    let mut documents = Vec::new();
+    for (i, (_, spec, outcome)) in decided().iter().enumerate() {
         let json = dir.join(format!("gr1-{i}.json"));
         std::fs::write(&json, ltl::report_json(spec, outcome).to_string()).unwrap();
-        let (code, text) = check_with("ltl_gr1.py", &json);
-        match code {
-            4 => continue, // not GR(1)-shaped, or outside the fragment where the games agree
-            0 => {
-                let theirs = text.trim();
+        documents.push(json);
+    }
+    // One Python process for the whole listing (its start-up is most of a document's check).
+    let out = Command::new(python())
+        .arg(root().join("tests/checkers/ltl_gr1.py"))
+        .arg("--each")
+        .args(&documents)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run ltl_gr1.py: {e}"));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "ltl_gr1.py --each failed:\n{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    let answers: Vec<serde_json::Value> =
+        stdout.lines().map(|l| serde_json::from_str(l).expect("a line of JSON")).collect();
+    assert_eq!(
+        answers.len(),
+        documents.len(),
+        "ltl_gr1.py --each answered {} of {} documents",
+        answers.len(),
+        documents.len()
+    );
+    let mut compared = 0;
+    for (((path, params, _), _, outcome), answer) in decided().iter().zip(&answers) {
+        let text = |key: &str| answer[key].as_str().expect("the answer's texts").to_string();
+        match answer["code"].as_i64() {
+            Some(4) => continue, // not GR(1)-shaped, or outside the fragment where the games agree
+            Some(0) => {
+                let theirs = text("stdout");
                 let ours = if outcome.verdict == Verdict::Realizable { "realizable" } else { "unrealizable" };
-                assert_eq!(theirs, ours, "{}: gr1py disagrees", label(path, params));
+                assert_eq!(theirs.trim(), ours, "{}: gr1py disagrees", label(path, params));
                 compared += 1;
             }
-            _ => panic!("{}: ltl_gr1.py failed:\n{text}", label(path, params)),
+            _ => panic!("{}: ltl_gr1.py failed:\n{}{}", label(path, params), text("stdout"), text("stderr")),
         }
     }
     assert!(compared >= 6, "only {compared} listed specifications were compared with gr1py");
 }
 
-#[test]
 fn synthesised_controllers_become_code_for_every_target() {
     let dir = scratch();
     let options = plc::Options::default();
@@ -727,7 +771,6 @@ fn synthesised_controllers_become_code_for_every_target() {
 /// The compositional split never changes a verdict: every listed specification whose
 /// guarantees split into groups is decided again as a whole, with the same result; and every
 /// compositional controller's groups write disjoint outputs.
-#[test]
 fn compositional_and_monolithic_verdicts_agree() {
     let mut split = 0;
     for ((path, params, _), spec, outcome) in decided() {

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Second opinion on the engine's verdict for GR(1)-shaped specifications, from gr1py.
 
-Usage: ltl_gr1.py [-v] FILE.json
+Usage: ltl_gr1.py [-v] FILE.json, or ltl_gr1.py [-v] --each FILE.json... (a line of JSON per
+document with what the single form prints and exits with)
 Prints `realizable` or `unrealizable` (exit 0) as gr1py decides, or `not-gr1` (exit 4, the
 reason on stderr) when the specification is outside the fragment where gr1py's answer is
 provably the answer to our question. Exit 2: malformed document; exit 3: gr1py missing or
@@ -41,6 +42,7 @@ that every valuation has a successor, as gr1py's solver needs). Otherwise: not-g
 Signals are renamed e0 e1 ... (inputs) and s0 s1 ... (outputs): gr1c's identifiers have no dots.
 """
 import itertools
+import json
 import os
 import shutil
 import subprocess
@@ -228,31 +230,22 @@ def gr1py_command():
     return shutil.which("gr1py")
 
 
-def main(argv):
-    verbose = "-v" in argv
-    args = [a for a in argv if a != "-v"]
-    if len(args) != 1:
-        print("usage: ltl_gr1.py [-v] FILE.json", file=sys.stderr)
-        return 2
+def check(path, verbose=False):
+    """gr1py's verdict on one document: (exit code, stdout text, stderr text), as `main`."""
     try:
-        doc = load_json(args[0])
+        doc = load_json(path)
         for key in ("semantics", "inputs", "outputs"):
             if key not in doc:
                 raise Malformed(f"missing key {key!r}")
         spc = build_spc(doc)
     except Malformed as e:
-        print(f"malformed: {e}", file=sys.stderr)
-        return 2
+        return 2, "", f"malformed: {e}\n"
     except NotGr1 as e:
-        print("not-gr1")
-        print(f"not-gr1: {e}", file=sys.stderr)
-        return 4
-    if verbose:
-        print(spc, file=sys.stderr)
+        return 4, "not-gr1\n", f"not-gr1: {e}\n"
+    err = f"{spc}\n" if verbose else ""
     command = gr1py_command()
     if command is None:
-        print("gr1py is missing: pip install gr1py (bash scripts/python-checkers.sh)", file=sys.stderr)
-        return 3
+        return 3, "", err + "gr1py is missing: pip install gr1py (bash scripts/python-checkers.sh)\n"
     with tempfile.NamedTemporaryFile("w", suffix=".spc", delete=False) as f:
         f.write(spc)
     try:
@@ -260,13 +253,30 @@ def main(argv):
     finally:
         os.unlink(f.name)
     if done.returncode == 0 and "Realizable." in done.stdout:
-        print("realizable")
-        return 0
+        return 0, "realizable\n", err
     if done.returncode == 3 and "Not realizable." in done.stdout:
-        print("unrealizable")
+        return 0, "unrealizable\n", err
+    return 3, "", err + f"gr1py failed (exit {done.returncode}):\n{done.stdout}{done.stderr}\n{spc}\n"
+
+
+def main(argv):
+    verbose = "-v" in argv
+    each = "--each" in argv
+    args = [a for a in argv if a not in ("-v", "--each")]
+    if each:
+        # One process for many documents (a test's whole listing): a line of JSON per document,
+        # {"file", "code", "stdout", "stderr"}, in the order given; exit 0 once all are checked.
+        for path in args:
+            code, out, err = check(path, verbose)
+            print(json.dumps({"file": path, "code": code, "stdout": out, "stderr": err}), flush=True)
         return 0
-    print(f"gr1py failed (exit {done.returncode}):\n{done.stdout}{done.stderr}\n{spc}", file=sys.stderr)
-    return 3
+    if len(args) != 1:
+        print("usage: ltl_gr1.py [-v] FILE.json | ltl_gr1.py [-v] --each FILE.json...", file=sys.stderr)
+        return 2
+    code, out, err = check(args[0], verbose)
+    sys.stdout.write(out)
+    sys.stderr.write(err)
+    return code
 
 
 if __name__ == "__main__":
