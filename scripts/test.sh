@@ -56,7 +56,7 @@ trap 'kill -- -"$setup_pid" 2>/dev/null || true' EXIT
 #    `cargo clippy` sets them), so the dependencies are compiled once instead of checked for
 #    clippy and then compiled again (about 150 CPU-s). The lints see every target `cargo clippy
 #    --all-targets` sees: the library, its unit tests, the CLI, the integration tests and the
-#    benchmarks here, and the wasm boundary (src/wasm) in the wasm32 build of step 3.
+#    benchmarks here, and the wasm boundary (src/wasm) in the wasm32 build of step 4.
 #    CLIPPY_ARGS is cargo-clippy's private protocol with clippy-driver: a canary that has two
 #    lints must compile without it and fail with it, else (or without clippy-driver) `cargo
 #    clippy` runs first, as `make lint` does.
@@ -76,12 +76,24 @@ else
     $cargo clippy --all-targets --profile "$profile" --features wasm-lint -- -D warnings
 fi
 
-# 3. The WebAssembly builds (the boundary's tests, the playground) and the boundary's tests in
+# 3. Native tests: build (and lint) while the installs finish, then run against the checkers.
+#    The benchmarks are built, not run (`cargo bench` and `plcsynth bench` run them): 13 CPU-s.
+targets="--lib --bins --tests"
+phase "build (and lint) the native tests and the benchmarks"
+nextest=0
+if $cargo nextest --version >/dev/null 2>&1; then nextest=1; fi
+if [[ $nextest -eq 1 ]]; then
+    $cargo nextest run --cargo-profile "$profile" $targets --no-run
+else
+    $cargo test $targets --profile "$profile" --no-run
+fi
+$cargo build --benches --profile "$profile"
+wait_checkers
+
+# 4. The WebAssembly builds (the boundary's tests, the playground) and the boundary's tests in
 #    Node (a single-threaded minute: it fits beside the native tests better than after them) in
 #    the background, in a target directory of their own so that they never wait for the native
-#    run's cargo, as soon as the playground's tools are installed (the installs fail: they stop
-#    at once). Started before the native build: its tail (the largest crates, the links) leaves
-#    a core idle that these builds fill.
+#    run's cargo, once the playground's tools are installed (the installs fail: they stop at once).
 wasm_log=target/wasm-build.log
 wasm_target_dir=$PWD/target/wasm-jobs
 # The boundary's tests build without debug info: a sixth of the module (13 MB instead of 86) for
@@ -98,20 +110,6 @@ setsid env CARGO_TARGET_DIR="$wasm_target_dir" CARGO_PROFILE_DEV_DEBUG=false bas
 wasm_pid=$!
 trap 'kill -- -"$setup_pid" 2>/dev/null || true; kill -- -"$wasm_pid" 2>/dev/null || true' EXIT
 
-# 4. Native tests: build (and lint) while the installs finish, then run against the checkers.
-#    The benchmarks are built, not run (`cargo bench` and `plcsynth bench` run them): 13 CPU-s.
-targets="--lib --bins --tests"
-phase "build (and lint) the native tests and the benchmarks"
-nextest=0
-if $cargo nextest --version >/dev/null 2>&1; then nextest=1; fi
-if [[ $nextest -eq 1 ]]; then
-    $cargo nextest run --cargo-profile "$profile" $targets --no-run
-else
-    $cargo test $targets --profile "$profile" --no-run
-fi
-$cargo build --benches --profile "$profile"
-wait_checkers
-
 phase "run the native tests"
 if [[ $nextest -eq 1 ]]; then
     $cargo nextest run --cargo-profile "$profile" $targets --no-fail-fast \
@@ -121,7 +119,7 @@ else
 fi
 $cargo test --doc --profile "$profile"
 
-# 5. The wasm boundary's results, then the page in headless Chromium, on what step 3 built.
+# 5. The wasm boundary's results, then the page in headless Chromium, on what step 4 built.
 wait_setup
 if ! wait "$wasm_pid"; then
     say "the WebAssembly builds or the wasm boundary's tests failed:"

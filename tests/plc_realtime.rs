@@ -1025,6 +1025,25 @@ fn a_decision_every_state_may_take_gives_a_scan_program_that_keeps_progressing()
     shared_decisions_hold(13);
 }
 
+/// A scan solution with covers (inclusion) is followed as it is, before the game is solved
+/// again with a state per zone: two machines at 10 ms gets its program from its covers (about
+/// 11 000 states followed, half a million in the game without them); gear checking's covers
+/// make two states of a belief disagree, and its program comes from the game without them.
+#[test]
+fn a_scan_program_follows_the_covers_first_and_the_game_without_them_when_they_blur() {
+    let program_at_10_ms = |name: &str| {
+        let source = std::fs::read_to_string(root().join(format!("examples/timed/{name}.tga"))).unwrap();
+        let (game, _) = compile(&source).unwrap();
+        let outcome = plcsynth::timed::synthesize_at_scan(&game, 10, &timed::Config::default(), &mut |_| true).unwrap();
+        assert!(outcome.has_covers(), "{name}: the scan solution has covers");
+        lower_timed::scan_program(&game, &outcome, &mut |_| true).unwrap_or_else(|e| panic!("{name}: {e:?}"))
+    };
+    let two_machines = program_at_10_ms("two_machines");
+    assert!(two_machines.work < 50_000, "two machines: {} states followed", two_machines.work);
+    let gear_checking = program_at_10_ms("gear_checking");
+    assert!(gear_checking.work > 100_000, "gear checking: {} states followed", gear_checking.work);
+}
+
 /// A plant whose reactions cycle without a time constraint (`a1`: q0 -> q1 -> q3 -> q0, each a
 /// reaction, the plan progressing on one of them) can react without end within one scan. The
 /// run stops there as the plant's doing (`Stop::Timelock`, "zeno" in the trace) instead of
