@@ -673,6 +673,9 @@ async function refreshCode() {
   $('#code').textContent = '';
   $('#code').dataset.target = '';
   $('#code').dataset.complete = 'false';
+  // Timings describe the text being shown: none until this one is (a test waiting on them must
+  // not take the last text's).
+  window.plcsynth.codeTimings = null;
   renderIo(null);
   renderFiles([]);
   if (!app.result) {
