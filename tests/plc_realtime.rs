@@ -1025,6 +1025,16 @@ fn a_decision_every_state_may_take_gives_a_scan_program_that_keeps_progressing()
     shared_decisions_hold(13);
 }
 
+/// Random spec 9: where `h0` moves towards `h0s1` while `h1` rests in `h1s0`, the PLC reads
+/// alike states in which every live decision differs (idle in some, `moveto_h1s1` in others);
+/// idling is winning in all of them, but the solver's final cut had left it out of some (it is
+/// on a cycle of the game without progress). The belief takes it, and the program's own cycles
+/// progress (`stalls`): it holds in real time. (Before cut decisions counted, no program.)
+#[test]
+fn a_decision_the_final_cut_left_out_gives_a_scan_program_that_keeps_progressing() {
+    shared_decisions_hold(9);
+}
+
 /// A scan solution with covers (inclusion) is followed as it is, before the game is solved
 /// again with a state per zone: two machines at 10 ms gets its program from its covers (about
 /// 11 000 states followed, half a million in the game without them); gear checking's covers

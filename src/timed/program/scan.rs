@@ -9,8 +9,9 @@
 //! So the program tracks a *belief*: the read states of the strategy, each with the sensors'
 //! memory, that agree with every image read so far. Each belief is one node of the program.
 //! Its decision is the strategy's, which must be the same in every state of the belief; where
-//! it is not, the belief takes a decision that every state in it may take (a live one), if the
-//! program still keeps the plans progressing (`stalls`); where there is none, the strategy
+//! it is not, the belief takes a decision that every state in it may take (one into the winning
+//! region, a live one if there is), if the program still keeps the plans progressing
+//! (`stalls`); where there is none, the strategy
 //! needs to know more than the PLC reads (usually how long it has waited: timers are not part
 //! of the observation yet) and no program is built. The successors of a node are the beliefs of
 //! the next read, one per image it can read.
@@ -221,23 +222,26 @@ impl Extraction<'_> {
     }
 
     /// The decisions the PLC may take in read state `s`, each with its goal distance: the
-    /// strategy's, or every live decision (least goal distance first, ties in request
-    /// selection's order).
+    /// strategy's, or every decision into the winning region: the live ones first (least goal
+    /// distance first, ties in request selection's order), then those the solver's final cut
+    /// left out (`Edge::zeno`). A cut decision stays winning; it was cut because it may close
+    /// a cycle without progress in the game, and the program's own cycles are checked for
+    /// progress (`stalls`) whatever its decisions are.
     fn options(&self, s: StateId) -> Vec<(u32, EdgeId)> {
         let Some(dist) = &self.distances else {
             return self.decision_edge[s.index()].into_iter().map(|e| (0, e)).collect();
         };
-        let mut live: Vec<(u32, Option<&str>, EdgeId)> = self
+        let mut winning: Vec<(bool, u32, Option<&str>, EdgeId)> = self
             .space
             .out_edges(s)
-            .filter(|(_, e)| e.kind == EdgeKind::Request && self.space.is_live(e))
-            .map(|(id, _)| {
+            .filter(|(_, e)| e.kind == EdgeKind::Request && e.to != StateId::NONE && self.space.is_winning(e.to))
+            .map(|(id, e)| {
                 let name = self.request_of(id).map(|r| self.game.messages[r.index()].name.as_str());
-                (super::select::edge_distance(self.space, dist, id), name, id)
+                (e.zeno, super::select::edge_distance(self.space, dist, id), name, id)
             })
             .collect();
-        crate::sort::sort(&mut live);
-        live.into_iter().map(|o| (o.0, o.2)).collect()
+        crate::sort::sort(&mut winning);
+        winning.into_iter().map(|o| (o.1, o.3)).collect()
     }
 
     /// The plant components' locations in state `s` (the scan automaton's among them).
@@ -442,8 +446,8 @@ pub fn extract(
 }
 
 /// The belief construction of [`extract`] on the solved scan game `scan`: each state decides as
-/// its strategy does, or, with `shared`, each belief takes a live decision that all its states
-/// share, of least worst goal distance, and the program is refused ([`ScanProgramError::Stalls`])
+/// its strategy does, or, with `shared`, each belief takes a winning decision that all its
+/// states share (live ones first, then least worst goal distance), and the program is refused ([`ScanProgramError::Stalls`])
 /// if its plays could then go round without a plan progressing.
 fn follow_beliefs(
     game: &Game,
@@ -562,8 +566,9 @@ fn follow_beliefs(
 /// there; the first belief's moves are skipped with `before_first_read`, it has no states). The
 /// solver makes every live decision that could close a cycle without progress bring the state
 /// closer to progress (its final cut, `keep_rank_decreasing`; the zeno memory does the rest), so
-/// decisions a belief shares in place of the strategy's should not stall either; the check costs
-/// one walk of the program and does not take that on trust. A quiet PLC that reads the same
+/// live decisions a belief shares in place of the strategy's should not stall either; the check
+/// costs one walk of the program and does not take that on trust, and it is what rules out a
+/// stall for a decision the cut left out. A quiet PLC that reads the same
 /// state again is not a move: time passes and the plant changes.
 fn stalls(sizes: &[usize], calm: &[Vec<(usize, usize, usize)>], before_first_read: bool) -> bool {
     let mut offsets = Vec::with_capacity(sizes.len());
@@ -587,11 +592,15 @@ fn stalls(sizes: &[usize], calm: &[Vec<(usize, usize, usize)>], before_first_rea
     self_loop || petgraph::algo::kosaraju_scc(&graph).iter().any(|component| component.len() > 1)
 }
 
+/// How a decision shared by a belief ranks, least first: whether some state takes it by a move
+/// the solver's final cut left out, and its worst goal distance over the states.
+type DecisionCost = (bool, u32);
+
 impl Extraction<'_> {
     /// The decision of a belief (the request, `None` for idle) and, per element, the edge that
     /// takes it. Following the strategy, every element must have the same one. In the whole
-    /// winning region, it is the decision every element may take (a live one) whose worst goal
-    /// distance over the elements is least (ties: the first element's order).
+    /// winning region, it is the decision every element may take (live in all if there is one)
+    /// whose worst goal distance over the elements is least (ties: the first element's order).
     fn shared_decision(&self, belief: &[Element]) -> Result<(Option<MsgId>, Vec<EdgeId>), ScanProgramError> {
         let options: Vec<Vec<(u32, EdgeId)>> = belief.iter().map(|e| self.options(e.0)).collect();
         // Per element, its best edge taking `request`, with that edge's distance.
@@ -599,14 +608,17 @@ impl Extraction<'_> {
             options.iter().map(|o| o.iter().copied().find(|&(_, edge)| self.request_of(edge) == request)).collect()
         };
         let first = options.first().map(Vec::as_slice).unwrap_or_default();
-        let mut best: Option<(u32, Option<MsgId>, Vec<EdgeId>)> = None;
+        // A decision live in every state (the solver's final cut kept it) comes before one that
+        // some state may take only by a move that cut left out; then the least worst distance.
+        let mut best: Option<(DecisionCost, Option<MsgId>, Vec<EdgeId>)> = None;
         for &(_, edge) in first {
             let request = self.request_of(edge);
             if best.as_ref().is_some_and(|b| b.1 == request) {
                 continue;
             }
             if let Some(edges) = pick(request) {
-                let worst = edges.iter().map(|e| e.0).max().unwrap_or(0);
+                let cut = edges.iter().any(|&(_, e)| self.space.edges[e.index()].zeno);
+                let worst = (cut, edges.iter().map(|e| e.0).max().unwrap_or(0));
                 if best.as_ref().is_none_or(|b| worst < b.0) {
                     best = Some((worst, request, edges.into_iter().map(|e| e.1).collect()));
                 }
