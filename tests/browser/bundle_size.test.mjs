@@ -20,8 +20,10 @@ const BUDGET = 1_500_000;
 // reachable positions, the circuit's function block) raised it once more; 1.75 MB until the
 // scan programs' shared decisions (+3 644 bytes: 1 749 661 → 1 753 305; any decision every
 // state of a belief may take, the progress check of the program, the steering's batches and
-// its work accounting; issue 28) raised it by 5 KB.
-const CEILING = 1_755_000;
+// its work accounting; issue 28) raised it by 5 KB; 1.755 MB until following a scan
+// solution's covers first and letting a belief take a winning decision the final cut left out
+// (+1 738 bytes: 1 753 305 → 1 755 043; issue 28) raised it by 1 KB.
+const CEILING = 1_756_000;
 
 test('the wasm bundle does not grow past its ceiling on the way to the 1.5 MB budget', (t) => {
   const bytes = statSync(join(root, 'www', 'pkg', 'plcsynth_bg.wasm')).size;
