@@ -1026,10 +1026,10 @@ fn a_decision_every_state_may_take_gives_a_scan_program_that_keeps_progressing()
 }
 
 /// Random spec 9: where `h0` moves towards `h0s1` while `h1` rests in `h1s0`, the PLC reads
-/// alike states in which every live decision differs (idle in some, `moveto_h1s1` in others);
-/// idling is winning in all of them, but the solver's final cut had left it out of some (it is
-/// on a cycle of the game without progress). The belief takes it, and the program's own cycles
-/// progress (`stalls`): it holds in real time. (Before cut decisions counted, no program.)
+/// alike states whose live decisions differ (idle in some, `moveto_h1s1` in others); a decision
+/// the solver's final cut left out in some of them (it is on a cycle of the game without
+/// progress) is winning in all. The belief takes it, and the program's own cycles progress
+/// (`stalls`): it holds in real time. (Before cut decisions counted, no program.)
 #[test]
 fn a_decision_the_final_cut_left_out_gives_a_scan_program_that_keeps_progressing() {
     shared_decisions_hold(9);
