@@ -11,9 +11,9 @@
 //! Its decision is the strategy's, which must be the same in every state of the belief; where
 //! it is not, the belief takes a decision that every state in it may take (one into the winning
 //! region, a live one if there is), if the program still keeps the plans progressing
-//! (`stalls`); where there is none, the strategy
-//! needs to know more than the PLC reads (usually how long it has waited: timers are not part
-//! of the observation yet) and no program is built. The successors of a node are the beliefs of
+//! (`stalls`); where there is none, the strategy needs to know more than the PLC reads
+//! (usually how long it has waited: timers are not part of the observation yet) and no program
+//! is built. The successors of a node are the beliefs of
 //! the next read, one per image it can read.
 //!
 //! A read that changed nothing leaves the scan game's PLC quiet until the plant changes; a
@@ -447,8 +447,8 @@ pub fn extract(
 
 /// The belief construction of [`extract`] on the solved scan game `scan`: each state decides as
 /// its strategy does, or, with `shared`, each belief takes a winning decision that all its
-/// states share (live ones first, then least worst goal distance), and the program is refused ([`ScanProgramError::Stalls`])
-/// if its plays could then go round without a plan progressing.
+/// states share (live ones first, then least worst goal distance), and the program is refused
+/// ([`ScanProgramError::Stalls`]) if its plays could then go round without a plan progressing.
 fn follow_beliefs(
     game: &Game,
     scan: &ScanSynthesis,
@@ -568,8 +568,8 @@ fn follow_beliefs(
 /// closer to progress (its final cut, `keep_rank_decreasing`; the zeno memory does the rest), so
 /// live decisions a belief shares in place of the strategy's should not stall either; the check
 /// costs one walk of the program and does not take that on trust, and it is what rules out a
-/// stall for a decision the cut left out. A quiet PLC that reads the same
-/// state again is not a move: time passes and the plant changes.
+/// stall for a decision the cut left out. A quiet PLC that reads the same state again is not a
+/// move: time passes and the plant changes.
 fn stalls(sizes: &[usize], calm: &[Vec<(usize, usize, usize)>], before_first_read: bool) -> bool {
     let mut offsets = Vec::with_capacity(sizes.len());
     let mut total = 0;
